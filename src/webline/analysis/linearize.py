@@ -1,0 +1,159 @@
+"""Linear models of a line at its operating point, as named python-control state-space systems.
+
+The roll radii are frozen at the operating point (they change over minutes, the dynamics over
+seconds), as in thesis Sec. 4.1's set U of radii and Ch. 6's section models. Eccentricity is
+left out (it makes the model periodic). The Jacobian is analytic, from the same equations as
+the kernel; a finite-difference check of it is part of the tests.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import control
+import numpy as np
+
+from webline.analysis.operating_point import OperatingPoint, operating_point
+from webline.line import Line, load_line
+from webline.physics.roller import COULOMB_SMOOTHING
+from webline.sim import layout as L
+from webline.sim.plan import Plan, compile_plan
+
+
+def state_names(line: Line) -> list[str]:
+    """Names of the linear model's states: span tensions, node speeds, motor torques."""
+    return ([f"{line.span_name(k)}_tension" for k in range(line.n_spans)]
+            + [f"{line.node_name(i)}_omega" for i in range(line.n_nodes)]
+            + [f"{line.node_name(i)}_torque" for i in line.drives])
+
+
+def plant_matrices(line: Line, op: OperatingPoint) -> tuple[np.ndarray, ...]:
+    """(A, B, E, C) of the plant at ``op``: dx = A x + B u + E t0, y = C x.
+
+    x = (span tensions [N], node speeds [rad/s], motor torques [N·m]); u = motor torque
+    commands [N·m]; t0 = wound-in tension [N]; y = (span tensions, web speeds [m/s]).
+    """
+    plan = compile_plan(line)
+    n_s, n_n, n_d = line.n_spans, line.n_nodes, len(line.drives)
+    ws, wn = 0, n_s  # offsets of the blocks
+    wt = n_s + n_n
+    n = wt + n_d
+    ea = line.ea
+    r, v, t = op.radius, op.speed, op.tension
+    t_up = np.concatenate(([line.unwind.wound_in_tension], t))
+    a = np.zeros((n, n))
+    b = np.zeros((n, n_d))
+    e = np.zeros((n, 1))
+    for k in range(n_s):  # L dT_k/dt = EA (v_{k+1} - v_k) + T_{k-1} v_k - T_k v_{k+1}
+        length = plan.spans[k, L.S_LENGTH]
+        a[ws + k, ws + k] = -v[k + 1] / length
+        if k > 0:
+            a[ws + k, ws + k - 1] = v[k] / length
+        a[ws + k, wn + k + 1] = (ea - t[k]) * r[k + 1] / length
+        a[ws + k, wn + k] = -(ea - t_up[k]) * r[k] / length
+    e[ws, 0] = v[0] / plan.spans[0, L.S_LENGTH]
+    for i in range(n_n):  # J dω/dt = r (T_out - T_in) + n τ - b ω - c tanh(ω/ωc)
+        inertia = op.inertia[i]
+        if i < n_s:
+            a[wn + i, ws + i] = r[i] / inertia
+        if i > 0:
+            a[wn + i, ws + i - 1] = -r[i] / inertia
+        viscous, coulomb = plan.nodes[i, L.N_VISCOUS], plan.nodes[i, L.N_COULOMB]
+        slope = coulomb / COULOMB_SMOOTHING * (1.0 - np.tanh(op.omega[i] / COULOMB_SMOOTHING) ** 2)
+        a[wn + i, wn + i] = -(viscous + slope) / inertia
+        d = int(plan.nodes[i, L.N_DRIVE])
+        if d >= 0:
+            a[wn + i, wt + d] = plan.nodes[i, L.N_RATIO] / inertia
+    for d in range(n_d):  # lag dτ/dt = (u - τ)/lag
+        lag = plan.drives[d, L.D_LAG]
+        a[wt + d, wt + d] = -1.0 / lag
+        b[wt + d, d] = 1.0 / lag
+    c = np.zeros((n_s + n_n, n))
+    c[:n_s, ws:ws + n_s] = np.eye(n_s)
+    c[n_s:, wn:wn + n_n] = np.diag(r)
+    return a, b, e, c
+
+
+def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
+    """Continuous-time cascaded PI of every drive, linear at ``op``.
+
+    u = Kx x + Ki xi + Kr ref, dxi/dt = Gx x + Gi xi + Gr ref, with xi = (speed integrator
+    [N·m], tension integrator [m/s]) per drive and ref = (line speed, zone tension references).
+    """
+    line = plan.line
+    n_s, n_n, n_d = line.n_spans, line.n_nodes, len(line.drives)
+    n = n_s + n_n + n_d
+    n_ref = 1 + len(line.zones)
+    kx, ki, kr = np.zeros((n_d, n)), np.zeros((n_d, 2 * n_d)), np.zeros((n_d, n_ref))
+    gx, gi, gr = np.zeros((2 * n_d, n)), np.zeros((2 * n_d, 2 * n_d)), np.zeros((2 * n_d, n_ref))
+    ea = line.ea
+    refs = np.array([op.line_speed] + [op.tension[z.loadcell] for z in line.zones])
+    master_up = int(plan.offsets[6])  # profile index = reference index
+    for d, i in enumerate(line.drives):
+        row = plan.drives[d]
+        up = int(row[L.D_UPREF])
+        t_up = line.unwind.wound_in_tension if up < 0 else refs[up]
+        t_m = refs[master_up]
+        # e_v = ff(refs) + σ(kp_t (T_ref - T_lc) + I_t) - r ω   (linear part)
+        ev_x, ev_i, ev_r = np.zeros(n), np.zeros(2 * n_d), np.zeros(n_ref)
+        ev_r[0] = (ea - t_m) / (ea - t_up)
+        ev_r[master_up] += -op.line_speed / (ea - t_up)
+        if up >= 0:
+            ev_r[up] += op.line_speed * (ea - t_m) / (ea - t_up) ** 2
+        radius = op.radius[i]
+        ev_x[n_s + i] = -radius
+        gain = 1.0
+        if row[L.D_ADAPTIVE] > 0:
+            gain = op.inertia[i] / (plan.nodes[i, L.N_RATIO] * radius) / row[L.D_GAINNORM]
+        if row[L.D_ROLE] == L.ROLE_TENSION:
+            sigma, lc, ref = row[L.D_SIGMA], int(row[L.D_LOADCELL]), int(row[L.D_REF])
+            ev_x[lc] += -sigma * row[L.D_KPT]
+            ev_r[ref] += sigma * row[L.D_KPT]
+            ev_i[2 * d + 1] = sigma
+            gx[2 * d + 1, lc] = -row[L.D_KIT]
+            gr[2 * d + 1, ref] = row[L.D_KIT]
+        kps, kis = row[L.D_KPS] * gain, row[L.D_KIS] * gain
+        kx[d], ki[d], kr[d] = kps * ev_x, kps * ev_i, kps * ev_r
+        ki[d, 2 * d] += 1.0
+        gx[2 * d], gi[2 * d], gr[2 * d] = kis * ev_x, kis * ev_i, kis * ev_r
+    return kx, ki, kr, gx, gi, gr
+
+
+def linearize(line: Line | str, t: float = 0.0, *,
+              loop: Literal["open", "closed"] = "closed",
+              unwind_radius: float | None = None,
+              rewind_radius: float | None = None) -> control.StateSpace:
+    """Linear model of ``line`` at its operating point at time ``t`` [s].
+
+    ``loop="open"``: the plant; inputs are motor torque commands [N·m] and the wound-in
+    tension [N]. ``loop="closed"``: plant with its continuous-time cascaded PI controllers;
+    inputs are the line speed reference [m/s], each zone's tension reference [N] and the
+    wound-in tension [N]. Outputs (both): span tensions [N] and web speeds [m/s]. Signals are
+    named (``span1_tension``, ``master_speed``, ``unwind_torque_cmd``, ...; python-control
+    reserves '.').
+    """
+    line = load_line(line)
+    op = operating_point(line, t, unwind_radius=unwind_radius, rewind_radius=rewind_radius)
+    a, b, e, c = plant_matrices(line, op)
+    states = state_names(line)
+    outputs = ([f"{line.span_name(k)}_tension" for k in range(line.n_spans)]
+               + [f"{line.node_name(i)}_speed" for i in range(line.n_nodes)])
+    if loop == "open":
+        inputs = [f"{line.node_name(i)}_torque_cmd" for i in line.drives] + ["wound_in_tension"]
+        return control.ss(a, np.hstack([b, e]), c, 0.0, states=states, inputs=inputs,
+                          outputs=outputs, name=f"{line.name}-plant")
+    plan = compile_plan(line)
+    kx, ki, kr, gx, gi, gr = controller_matrices(plan, op)
+    # keep the integrators that exist: the master has no tension loop
+    used = [j for j in range(2 * len(line.drives))
+            if j % 2 == 0 or plan.drives[j // 2, L.D_ROLE] == L.ROLE_TENSION]
+    ki, gx, gi, gr = ki[:, used], gx[used], gi[np.ix_(used, used)], gr[used]
+    a_cl = np.block([[a + b @ kx, b @ ki], [gx, gi]])
+    b_cl = np.block([[b @ kr, e], [gr, np.zeros((gr.shape[0], 1))]])
+    c_cl = np.hstack([c, np.zeros((c.shape[0], gi.shape[0]))])
+    states += [f"{line.node_name(line.drives[j // 2])}_{('speed', 'tension')[j % 2]}_integral"
+               for j in used]
+    inputs = (["line_speed_ref"] + [f"zone{z}_tension_ref" for z in range(len(line.zones))]
+              + ["wound_in_tension"])
+    return control.ss(a_cl, b_cl, c_cl, 0.0, states=states, inputs=inputs, outputs=outputs,
+                      name=f"{line.name}-closed-loop")

@@ -1,0 +1,148 @@
+"""Operating point: reference speeds, tensions and equilibrium inputs of every section.
+
+Generalises thesis (6.20, 6.22, 6.28, 6.31, 6.32, 6.36, 6.37) to N sections, idle rollers and
+a different tension in each zone. From each span's tension equation (6.8) at equilibrium,
+v_k (EA - T_k^up) is the same for every node, T^up being the tension of the span entering
+the node (the wound-in tension for the unwind), so
+
+    v_i = v_master · (EA - T_master^up) / (EA - T_i^up)            (6.22, 6.31, 6.36)
+
+and each driven node's torque balance gives its equilibrium motor torque
+
+    n_i u_i = J_i dω_i/dt - r_i (T_i^down - T_i^up) + friction(ω_i)   (6.20, 6.28, 6.32, 6.37)
+
+with dω/dt = (dv/dt)/r - v (dr/dt)/r² for a roll whose radius changes (6.6). Motor torque is
+positive in the web direction, so the unwind's equilibrium torque is negative (braking).
+Across an idle roller the tension changes by its friction (and inertia) torque over r.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from webline.errors import SimulationError
+from webline.line import Line
+from webline.physics import roll, roller
+from webline.profiles import breakpoints, pwl_slope, pwl_value
+from webline.spec.schema import IdleSpec, RewindSpec, UnwindSpec
+
+
+@dataclass(frozen=True)
+class OperatingPoint:
+    """Equilibrium of a line at one instant of its references (SI throughout)."""
+
+    time: float
+    line_speed: float  #: master reference speed [m/s]
+    tension: np.ndarray  #: per span [N]
+    speed: np.ndarray  #: web speed per node [m/s]
+    omega: np.ndarray  #: angular speed per node [rad/s]
+    radius: np.ndarray  #: radius per node [m]
+    inertia: np.ndarray  #: inertia per node at the roller shaft [kg·m²]
+    accel: np.ndarray  #: angular acceleration per node [rad/s²]
+    torque: np.ndarray  #: equilibrium motor torque per drive [N·m] (order of ``drives``)
+    drives: tuple[int, ...]  #: node index of each drive
+    span_names: tuple[str, ...]
+    node_names: tuple[str, ...]
+
+    def as_dict(self) -> dict[str, object]:
+        """Plain-data view (for JSON): per-span tension, per-node speed, per-drive torque."""
+        return {
+            "time_s": self.time,
+            "line_speed_m_per_s": self.line_speed,
+            "tension_N": dict(zip(self.span_names, self.tension.tolist(), strict=True)),
+            "speed_m_per_s": dict(zip(self.node_names, self.speed.tolist(), strict=True)),
+            "torque_N_m": {self.node_names[i]: float(u)
+                           for i, u in zip(self.drives, self.torque, strict=True)},
+        }
+
+
+def node_radii(line: Line, unwind_radius: float | None = None,
+               rewind_radius: float | None = None) -> np.ndarray:
+    """Radius of every node [m]: roll radii as given (default: initial), roller radii."""
+    radii = np.array([r.radius for r in line.spec.rollers])
+    if unwind_radius is not None:
+        radii[0] = unwind_radius
+    if rewind_radius is not None:
+        radii[-1] = rewind_radius
+    return radii
+
+
+def node_inertias(line: Line, radii: np.ndarray) -> np.ndarray:
+    """Inertia of every node at its shaft [kg·m²], rolls with their web (6.1, 6.2)."""
+    web = line.spec.web
+    out = np.empty(line.n_nodes)
+    for i, r in enumerate(line.spec.rollers):
+        constant = r.inertia
+        if not isinstance(r, IdleSpec):
+            constant += r.drive.ratio**2 * r.drive.motor_inertia
+        if isinstance(r, UnwindSpec | RewindSpec):
+            constant = roll.roll_inertia(constant, radii[i], r.core_radius, web.width, web.density)
+        out[i] = constant
+    return out
+
+
+def operating_point(line: Line, t: float = 0.0, *, unwind_radius: float | None = None,
+                    rewind_radius: float | None = None) -> OperatingPoint:
+    """Equilibrium of ``line`` for its references at time ``t`` [s], rolls at the given radii
+    [m] (default: initial radii). Accounts for a ramping line speed (inertial torque)."""
+    ea = line.ea
+    rollers = line.spec.rollers
+    speed_t, speed_v = breakpoints(line.spec.speed)
+    v_line = pwl_value(speed_t, speed_v, t)
+    a_line = pwl_slope(speed_t, speed_v, t)
+    radii = node_radii(line, unwind_radius, rewind_radius)
+    inertia = node_inertias(line, radii)
+    thickness = line.spec.web.thickness
+    t0 = line.unwind.wound_in_tension
+
+    tension = np.empty(line.n_spans)
+    for zone in line.zones:
+        ref = line.spec.spans[zone.loadcell].tension
+        tension[list(zone.spans)] = pwl_value(*breakpoints(ref), t)
+
+    for _ in range(50):
+        upstream = np.concatenate(([t0], tension))
+        ratio = (ea - upstream[line.master]) / (ea - upstream)
+        speed, accel_lin = v_line * ratio, a_line * ratio
+        omega = speed / radii
+        accel = accel_lin / radii
+        for i, direction in ((0, -1.0), (line.n_nodes - 1, 1.0)):
+            r_dot = roll.radius_rate(speed[i], radii[i], thickness, direction)
+            accel[i] -= speed[i] * r_dot / radii[i] ** 2
+        previous = tension.copy()
+        for zone in line.zones:
+            for i in range(zone.loadcell + 1, zone.last):  # idle rollers downstream of loadcell
+                tension[i] = tension[i - 1] + _idle_drop(line, i, inertia, accel, omega, radii)
+            for i in range(zone.loadcell, zone.first, -1):  # and upstream of it
+                tension[i - 1] = tension[i] - _idle_drop(line, i, inertia, accel, omega, radii)
+        if np.allclose(tension, previous, rtol=1e-15, atol=0.0):
+            break
+    if np.any(tension <= 0.0):
+        k = int(np.argmin(tension))
+        raise SimulationError(f"no equilibrium: idle-roller friction leaves span "
+                              f"{line.span_name(k)} with tension {tension[k]:.3g} N <= 0")
+
+    torque = np.empty(len(line.drives))
+    for d, i in enumerate(line.drives):
+        r = rollers[i]
+        assert not isinstance(r, IdleSpec)
+        t_out = tension[i] if i < line.n_spans else 0.0
+        t_in = tension[i - 1] if i > 0 else 0.0
+        friction = roller.friction_torque(omega[i], r.friction, r.coulomb_friction)
+        torque[d] = (inertia[i] * accel[i] - radii[i] * (t_out - t_in) + friction) / r.drive.ratio
+    return OperatingPoint(
+        time=t, line_speed=v_line, tension=tension, speed=speed, omega=omega, radius=radii,
+        inertia=inertia, accel=accel, torque=torque, drives=line.drives,
+        span_names=tuple(line.span_name(k) for k in range(line.n_spans)),
+        node_names=tuple(line.node_name(i) for i in range(line.n_nodes)),
+    )
+
+
+def _idle_drop(line: Line, i: int, inertia: np.ndarray, accel: np.ndarray, omega: np.ndarray,
+               radii: np.ndarray) -> float:
+    """Tension rise [N] across idle roller ``i`` needed to turn it: (J dω/dt + friction)/r."""
+    r = line.spec.rollers[i]
+    friction = roller.friction_torque(omega[i], r.friction, r.coulomb_friction)
+    return float((inertia[i] * accel[i] + friction) / radii[i])

@@ -1,0 +1,153 @@
+"""A web line: the validated spec plus its derived topology (zones, master, who controls what).
+
+Nodes are the rollers in web order (0 = unwind roll, N = rewind roll); span k joins node k
+to node k + 1. A *tension zone* is the run of spans between two consecutive driven nodes.
+Each tension-controlled drive regulates the zone between itself and the next driven node
+towards the master-speed roller, which is how the HSWL of thesis Fig. 4.2 is arranged.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+
+from webline.spec.check import web_ea, zones
+from webline.spec.load import read_spec, spec_from_dict
+from webline.spec.schema import (
+    DrivenSpec,
+    IdleSpec,
+    LineSpec,
+    RewindSpec,
+    UnwindSpec,
+)
+
+
+@dataclass(frozen=True)
+class Zone:
+    """A tension zone: nodes ``first``..``last``, tension measured on span ``loadcell``,
+    regulated by the drive on node ``controller``."""
+
+    first: int
+    last: int
+    loadcell: int
+    controller: int
+
+    @property
+    def spans(self) -> range:
+        return range(self.first, self.last)
+
+
+@dataclass(frozen=True)
+class Line:
+    """A web line ready to simulate and analyse. Build it with ``load_line``."""
+
+    spec: LineSpec
+    source: str = "<python>"
+
+    @property
+    def name(self) -> str:
+        return self.spec.name
+
+    @property
+    def ea(self) -> float:
+        """Axial stiffness of the web E·A [N]."""
+        return web_ea(self.spec.web)
+
+    @property
+    def n_nodes(self) -> int:
+        return len(self.spec.rollers)
+
+    @property
+    def n_spans(self) -> int:
+        return len(self.spec.spans)
+
+    @cached_property
+    def master(self) -> int:
+        """Index of the master-speed roller."""
+        return next(i for i, r in enumerate(self.spec.rollers)
+                    if isinstance(r, DrivenSpec) and r.role == "master")
+
+    @cached_property
+    def drives(self) -> tuple[int, ...]:
+        """Indices of the driven nodes (rolls and driven rollers), in web order."""
+        return tuple(i for i, r in enumerate(self.spec.rollers) if not isinstance(r, IdleSpec))
+
+    @cached_property
+    def zones(self) -> tuple[Zone, ...]:
+        out = []
+        for first, last in zones(self.spec):
+            loadcell = next(k for k in range(first, last) if self.spec.spans[k].tension is not None)
+            controller = first if last <= self.master else last
+            out.append(Zone(first, last, loadcell, controller))
+        return tuple(out)
+
+    def zone_of_span(self, span: int) -> int:
+        return next(z for z, zone in enumerate(self.zones) if span in zone.spans)
+
+    def controlled_zone(self, node: int) -> int | None:
+        """The zone the drive on ``node`` regulates, or None for the master."""
+        return next((z for z, zone in enumerate(self.zones) if zone.controller == node), None)
+
+    def span_name(self, k: int) -> str:
+        return self.spec.spans[k].name or f"span{k + 1}"
+
+    def node_name(self, i: int) -> str:
+        return self.spec.rollers[i].name
+
+    @property
+    def unwind(self) -> UnwindSpec:
+        roll = self.spec.rollers[0]
+        assert isinstance(roll, UnwindSpec)
+        return roll
+
+    @property
+    def rewind(self) -> RewindSpec:
+        roll = self.spec.rollers[-1]
+        assert isinstance(roll, RewindSpec)
+        return roll
+
+    def with_scenario(self, name: str) -> Line:
+        """The line as the named scenario runs it (speed, disturbances, roll radii replaced)."""
+        from webline.errors import LineFileError
+
+        scenario = self.spec.scenarios.get(name)
+        if scenario is None:
+            known = ", ".join(self.spec.scenarios) or "none"
+            raise LineFileError(self.source, f"scenarios.{name}",
+                                f"no such scenario (this line has: {known})")
+        data = self.spec.model_dump(exclude_none=True)
+        if scenario.speed is not None:
+            data["speed"] = scenario.model_dump(exclude_none=True)["speed"]
+        if scenario.disturbances is not None:
+            data["disturbances"] = scenario.model_dump()["disturbances"]
+        if scenario.unwind_radius is not None:
+            data["rollers"][0]["radius"] = scenario.unwind_radius
+        if scenario.rewind_radius is not None:
+            data["rollers"][-1]["radius"] = scenario.rewind_radius
+        return Line(spec_from_dict(data, f"{self.source} [scenario {name}]"), self.source)
+
+    def replace(self, **changes: object) -> Line:
+        """A copy with top-level spec keys replaced by (validated) new values."""
+        data = self.spec.model_dump(exclude_none=True)
+        data.update(changes)
+        return Line(spec_from_dict(data, self.source), self.source)
+
+
+def load_line(source: str | Path | LineSpec | dict[str, object]) -> Line:
+    """Load a line from a TOML file, a built-in name (``"hswl"``), a dict or a ``LineSpec``.
+
+    Raises ``LineFileError`` naming the file, key path and problem for any malformed input.
+    """
+    if isinstance(source, Line):
+        return source
+    if isinstance(source, LineSpec):
+        return Line(source)
+    if isinstance(source, dict):
+        return Line(spec_from_dict(source, "<dict>"), "<dict>")
+    spec, label = read_spec(source)
+    return Line(spec, label)
+
+
+def is_roll(roller: object) -> bool:
+    return isinstance(roller, UnwindSpec | RewindSpec)

@@ -1,0 +1,5 @@
+"""Pure scalar functions of the physics, one module per phenomenon.
+
+They run unchanged in plain Python, on numpy arrays and inside numba-compiled loops. Each
+docstring names the thesis equation it generalises and the unit of every argument.
+"""

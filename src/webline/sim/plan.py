@@ -1,0 +1,194 @@
+"""Compile a ``Line`` into the flat arrays the numba kernel runs on."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from webline.analysis.operating_point import OperatingPoint, node_inertias, operating_point
+from webline.control.pi import PIGains, tune
+from webline.line import Line
+from webline.profiles import breakpoints
+from webline.sim import layout as L
+from webline.spec.schema import (
+    DrivenSpec,
+    EccentricRoller,
+    IdleSpec,
+    RewindSpec,
+    SpeedRipple,
+    UnwindSpec,
+    WoundInRipple,
+)
+
+
+@dataclass(frozen=True)
+class Plan:
+    """Arrays describing one line for the kernel, plus the names of what they hold."""
+
+    line: Line
+    nodes: np.ndarray
+    spans: np.ndarray
+    drives: np.ndarray
+    web: np.ndarray
+    wound_ripple: np.ndarray
+    speed_ripple: np.ndarray
+    prof_t: np.ndarray
+    prof_v: np.ndarray
+    prof_off: np.ndarray
+    offsets: np.ndarray
+    gains: tuple[PIGains, ...]
+    state_names: tuple[str, ...]
+    dt: float
+
+    @property
+    def n_x(self) -> int:
+        return len(self.state_names)
+
+    def params(self) -> tuple[np.ndarray, ...]:
+        """Parameter arrays in the order ``kernel.run`` takes them after its loop settings."""
+        return (self.nodes, self.spans, self.drives, self.web, self.wound_ripple,
+                self.speed_ripple, self.prof_t, self.prof_v, self.prof_off, self.offsets)
+
+    def initial_state(self, op: OperatingPoint) -> tuple[np.ndarray, np.ndarray]:
+        """Plant state and controller integrators at the equilibrium ``op``."""
+        off = self.offsets
+        x = np.zeros(self.n_x)
+        x[: self.line.n_spans] = op.tension
+        x[off[1]: off[1] + self.line.n_nodes] = op.omega
+        x[off[2]] = op.radius[0]
+        x[off[2] + 1] = op.radius[-1]
+        limits = self.drives[:, L.D_LIMIT]
+        x[off[3]: off[3] + len(op.torque)] = np.clip(op.torque, -limits, limits)
+        istate = np.zeros((len(op.torque), 2))
+        istate[:, 0] = x[off[3]: off[3] + len(op.torque)]
+        ea = self.line.ea
+        t_master = _profile_value(self, int(off[6]), op.time)
+        for d, i in enumerate(op.drives):
+            up = int(self.drives[d, L.D_UPREF])
+            t_up = self.web[L.W_T0] if up < 0 else _profile_value(self, up, op.time)
+            feedforward = op.line_speed * (ea - t_master) / (ea - t_up)
+            istate[d, 1] = self.drives[d, L.D_SIGMA] * (op.speed[i] - feedforward)
+        return x, istate
+
+
+def _profile_value(plan: Plan, p: int, t: float) -> float:
+    from webline.profiles import pwl_value
+
+    a, b = plan.prof_off[p], plan.prof_off[p + 1]
+    return float(pwl_value(plan.prof_t[a:b], plan.prof_v[a:b], t))
+
+
+def compile_plan(line: Line, *, sample_rate: float | None = None) -> Plan:
+    """Flatten ``line`` for the kernel; controller gains are tuned where the file leaves them."""
+    spec = line.spec
+    rollers = spec.rollers
+    n_nodes, n_spans, n_drives = line.n_nodes, line.n_spans, len(line.drives)
+    eccentric = {d.roller: d.eccentricity for d in spec.disturbances
+                 if isinstance(d, EccentricRoller)}
+
+    names = [f"{line.span_name(k)}.stretch" for k in range(n_spans)]
+    names += [f"{r.name}.omega" for r in rollers]
+    names += [f"{rollers[0].name}.radius", f"{rollers[-1].name}.radius"]
+    names += [f"{rollers[i].name}.torque" for i in line.drives]
+    ecc_nodes = [i for i, r in enumerate(rollers) if r.name in eccentric]
+    names += [f"{rollers[i].name}.angle" for i in ecc_nodes]
+    names += ["web.unwound", "web.rewound"]
+    off_w = n_spans
+    off_r = off_w + n_nodes
+    off_tq = off_r + 2
+    off_th = off_tq + n_drives
+    off_q = off_th + len(ecc_nodes)
+
+    radii = np.array([r.radius for r in rollers])
+    inertia = node_inertias(line, radii)
+    nodes = np.zeros((n_nodes, L.N_COLS))
+    kinds = {UnwindSpec: L.KIND_UNWIND, DrivenSpec: L.KIND_DRIVEN, IdleSpec: L.KIND_IDLE,
+             RewindSpec: L.KIND_REWIND}
+    for i, r in enumerate(rollers):
+        row = nodes[i]
+        row[L.N_KIND] = kinds[type(r)]
+        row[L.N_RADIUS] = r.radius
+        row[L.N_VISCOUS] = r.friction
+        row[L.N_COULOMB] = r.coulomb_friction
+        row[L.N_DRIVE] = line.drives.index(i) if i in line.drives else -1
+        row[L.N_RATIO] = 1.0 if isinstance(r, IdleSpec) else r.drive.ratio
+        row[L.N_JCONST] = inertia[i]
+        row[L.N_INVJ] = 1.0 / inertia[i]
+        if isinstance(r, UnwindSpec | RewindSpec):
+            row[L.N_CORE] = r.core_radius
+            row[L.N_JCONST] = r.inertia + r.drive.ratio**2 * r.drive.motor_inertia
+        row[L.N_ECC] = eccentric.get(r.name, 0.0)
+        row[L.N_ECCSTATE] = off_th + ecc_nodes.index(i) if i in ecc_nodes else -1
+
+    profiles = [breakpoints(spec.speed)]
+    profiles += [breakpoints(spec.spans[z.loadcell].tension) for z in line.zones]
+    prof_off = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
+
+    def zone_profile(span: int) -> int:
+        return 1 + line.zone_of_span(span)
+
+    drives = np.zeros((n_drives, L.D_COLS))
+    gains = []
+    for d, i in enumerate(line.drives):
+        r = rollers[i]
+        assert not isinstance(r, IdleSpec)
+        zone_index = line.controlled_zone(i)
+        zone = line.zones[zone_index] if zone_index is not None else None
+        zone_length = sum(spec.spans[k].length for k in zone.spans) if zone else 1.0
+        c = r.controller
+        auto = tune(inertia[i], r.drive.ratio, r.radius, zone_length, line.ea,
+                    c.speed_bandwidth, c.tension_bandwidth, c.damping)
+        g = PIGains(
+            speed_kp=auto.speed_kp if c.speed_kp is None else c.speed_kp,
+            speed_ki=auto.speed_ki if c.speed_ki is None else c.speed_ki,
+            tension_kp=(auto.tension_kp if c.tension_kp is None else c.tension_kp) if zone else 0,
+            tension_ki=(auto.tension_ki if c.tension_ki is None else c.tension_ki) if zone else 0,
+        )
+        gains.append(g)
+        row = drives[d]
+        row[L.D_NODE] = i
+        row[L.D_ROLE] = L.ROLE_TENSION if zone else L.ROLE_MASTER
+        row[L.D_LOADCELL] = zone.loadcell if zone else -1
+        row[L.D_REF] = 1 + zone_index if zone_index is not None else -1
+        row[L.D_SIGMA] = (-1.0 if zone.first == i else 1.0) if zone else 0.0
+        row[L.D_KPS], row[L.D_KIS] = g.speed_kp, g.speed_ki
+        row[L.D_KPT], row[L.D_KIT] = g.tension_kp, g.tension_ki
+        row[L.D_LIMIT] = r.drive.torque_limit
+        row[L.D_LAG] = r.drive.torque_lag
+        row[L.D_INVLAG] = 1.0 / r.drive.torque_lag
+        row[L.D_ADAPTIVE] = 1.0 if c.inertia_adaptive else 0.0
+        row[L.D_GAINNORM] = inertia[i] / (r.drive.ratio * r.radius)
+        row[L.D_UPREF] = -1 if i == 0 else zone_profile(i - 1)
+
+    master_up = zone_profile(line.master - 1)
+    offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up], dtype=np.int64)
+    web = np.zeros(L.W_COLS)
+    web[L.W_EA] = line.ea
+    web[L.W_THICK] = spec.web.thickness
+    web[L.W_WIDTH] = spec.web.width
+    web[L.W_DENSITY] = spec.web.density
+    web[L.W_T0] = line.unwind.wound_in_tension
+    wound = np.array([[d.amplitude, d.frequency, d.phase] for d in spec.disturbances
+                      if isinstance(d, WoundInRipple)]).reshape(-1, 3)
+    ripple = np.array([[line.drives.index(_node(line, d.roller)), d.amplitude, d.frequency,
+                        d.phase] for d in spec.disturbances
+                       if isinstance(d, SpeedRipple)]).reshape(-1, 4)
+    rate = sample_rate if sample_rate is not None else spec.control.sample_rate
+    return Plan(
+        line=line, nodes=nodes, drives=drives,
+        spans=np.array([[s.length, 1.0 / s.length] for s in spec.spans]),
+        web=web, wound_ripple=wound, speed_ripple=ripple,
+        prof_t=np.concatenate([t for t, _ in profiles]),
+        prof_v=np.concatenate([v for _, v in profiles]), prof_off=prof_off, offsets=offsets,
+        gains=tuple(gains), state_names=tuple(names), dt=1.0 / rate,
+    )
+
+
+def _node(line: Line, name: str) -> int:
+    return next(i for i, r in enumerate(line.spec.rollers) if r.name == name)
+
+
+def equilibrium_plan_state(plan: Plan, t: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Initial state and integrators at the line's operating point at time ``t``."""
+    return plan.initial_state(operating_point(plan.line, t))

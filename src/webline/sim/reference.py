@@ -1,0 +1,53 @@
+"""Reference path: the same plant and sampled controllers, the plant integrated by scipy's
+adaptive-step solvers between controller ticks. Slow (one solver restart per tick); it exists
+to measure the accuracy of the compiled fixed-step path."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from webline.line import Line, load_line
+from webline.sim import kernel
+from webline.sim.plan import compile_plan, equilibrium_plan_state
+from webline.sim.result import Result
+from webline.sim.simulate import _result
+
+
+def simulate_reference(line: Line | str | Path, duration: float, *, scenario: str | None = None,
+                       sample_rate: float | None = None, method: str = "DOP853",
+                       rtol: float = 1e-10, atol: float = 1e-10) -> Result:
+    """Simulate like ``webline.simulate`` but with ``scipy.integrate.solve_ivp`` (``method``,
+    tolerances ``rtol``/``atol``) over each controller period [s]."""
+    line = load_line(line)
+    if scenario is not None:
+        line = line.with_scenario(scenario)
+    plan = compile_plan(line, sample_rate=sample_rate)
+    params = plan.params()
+    nodes, spans, drives, web, wound, ripple, prof_t, prof_v, prof_off, offsets = params
+    n_ticks = max(1, round(duration / plan.dt))
+    x, istate = equilibrium_plan_state(plan)
+    n_d = drives.shape[0]
+    cmd, vref, trim = np.zeros(n_d), np.zeros(n_d), np.zeros(n_d)
+    refs = np.empty(len(prof_off) - 1)
+    work = np.empty(3 * nodes.shape[0])
+    rows = []
+
+    def derivative(t: float, y: np.ndarray) -> np.ndarray:
+        dy = np.empty_like(y)
+        kernel.rhs(t, y, cmd, nodes, spans, drives, web, wound, offsets, dy, work)
+        return dy
+
+    for j in range(n_ticks + 1):
+        t = j * plan.dt
+        kernel.control_tick(t, plan.dt, x, istate, nodes, drives, web, prof_t, prof_v,
+                            prof_off, ripple, offsets, cmd, vref, trim, refs)
+        rows.append(np.concatenate(([t], x, cmd, vref, trim)))
+        if j == n_ticks:
+            break
+        sol = solve_ivp(derivative, (t, t + plan.dt), x, method=method, rtol=rtol, atol=atol)
+        x = sol.y[:, -1].copy()
+    return _result(plan, np.array(rows), 0, np.nan,
+                   {"duration": duration, "dt": plan.dt, "substeps": 0, "record_every": 1})

@@ -1,0 +1,268 @@
+"""Simulation results: named signals over time, summaries, events and writers."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from webline.sim import layout as L
+from webline.sim.plan import Plan
+from webline.spec.load import dump_spec
+
+#: unit of each kind of signal, as attributes in the xarray output
+SIGNAL_UNITS = {
+    "tension": "N", "tension_ref": "N", "speed": "m/s", "speed_ref": "m/s", "omega": "rad/s",
+    "torque": "N*m", "torque_cmd": "N*m", "trim": "m/s", "radius": "m", "inertia": "kg*m**2",
+    "slack": "", "web_unwound": "m", "web_rewound": "m", "web_stored": "m", "wound_in": "N",
+}
+
+
+@dataclass(frozen=True)
+class SlackEvent:
+    """A span went slack (no tension) from ``start`` to ``end`` [s] (``end`` None: still slack)."""
+
+    span: str
+    start: float
+    end: float | None
+
+
+@dataclass(frozen=True)
+class Result:
+    """What ``webline.simulate`` computed. Arrays are SI; index signals by name via
+    ``to_xarray()`` or the properties below."""
+
+    plan: Plan
+    time: np.ndarray  #: [s]
+    states: np.ndarray  #: plant state per record, columns ``plan.state_names``
+    torque_cmd: np.ndarray  #: [N·m] per drive
+    speed_feedforward: np.ndarray  #: [m/s] per drive (line speed x draw + ripple)
+    trim: np.ndarray  #: [m/s] per drive (tension-loop output)
+    status: str = "ok"
+    message: str = ""
+    settings: dict[str, float] = field(default_factory=dict)
+
+    # --- named views -------------------------------------------------------------------
+
+    @property
+    def line(self):
+        return self.plan.line
+
+    @cached_property
+    def span_names(self) -> list[str]:
+        return [self.line.span_name(k) for k in range(self.line.n_spans)]
+
+    @cached_property
+    def node_names(self) -> list[str]:
+        return [self.line.node_name(i) for i in range(self.line.n_nodes)]
+
+    @cached_property
+    def drive_names(self) -> list[str]:
+        return [self.line.node_name(i) for i in self.line.drives]
+
+    def _block(self, offset_index: int, count: int) -> np.ndarray:
+        start = int(self.plan.offsets[offset_index])
+        return self.states[:, start:start + count]
+
+    @cached_property
+    def stretch(self) -> np.ndarray:
+        """Span stretch force AE·strain [N]; negative while a span is slack."""
+        return self.states[:, : self.line.n_spans]
+
+    @cached_property
+    def tension(self) -> np.ndarray:
+        """Span tensions [N], shape (time, span)."""
+        return np.maximum(self.stretch, 0.0)
+
+    @cached_property
+    def tension_ref(self) -> np.ndarray:
+        """Tension reference of each loadcell span [N] (NaN on spans without a loadcell)."""
+        from webline.profiles import breakpoints
+
+        out = np.full_like(self.tension, np.nan)
+        for zone in self.line.zones:
+            times, values = breakpoints(self.line.spec.spans[zone.loadcell].tension)
+            out[:, zone.loadcell] = np.interp(self.time, times, values)
+        return out
+
+    @cached_property
+    def omega(self) -> np.ndarray:
+        """Angular speed of each node [rad/s]."""
+        return self._block(1, self.line.n_nodes)
+
+    @cached_property
+    def radius(self) -> np.ndarray:
+        """Effective radius of each node [m] over time (roll radii, eccentric rollers)."""
+        nodes = self.plan.nodes
+        out = np.tile(nodes[:, L.N_RADIUS], (len(self.time), 1))
+        rolls = self._block(2, 2)
+        out[:, 0], out[:, -1] = rolls[:, 0], rolls[:, 1]
+        for i in range(self.line.n_nodes):
+            state = int(nodes[i, L.N_ECCSTATE])
+            if state >= 0:
+                out[:, i] += nodes[i, L.N_ECC] * np.cos(self.states[:, state])
+        return out
+
+    @cached_property
+    def speed(self) -> np.ndarray:
+        """Web speed at each node [m/s]."""
+        return self.radius * self.omega
+
+    @cached_property
+    def speed_ref(self) -> np.ndarray:
+        """Speed reference each drive's speed loop tracks [m/s] (feedforward + trim)."""
+        return self.speed_feedforward + self.trim
+
+    @cached_property
+    def drive_speed(self) -> np.ndarray:
+        """Measured web speed of each drive's node [m/s] (nominal radius for rollers)."""
+        nodes = self.plan.nodes
+        out = np.empty_like(self.trim)
+        for d, i in enumerate(self.line.drives):
+            radius = self.radius[:, i] if i in (0, self.line.n_nodes - 1) else nodes[i, L.N_RADIUS]
+            out[:, d] = radius * self.omega[:, i]
+        return out
+
+    @cached_property
+    def torque(self) -> np.ndarray:
+        """Motor torque of each drive [N·m]."""
+        return self._block(3, len(self.line.drives))
+
+    @cached_property
+    def inertia(self) -> np.ndarray:
+        """Unwind and rewind inertia at the roll shaft [kg·m²], shape (time, 2)."""
+        from webline.physics.roll import roll_inertia
+
+        web = self.line.spec.web
+        out = np.empty((len(self.time), 2))
+        for col, i in enumerate((0, self.line.n_nodes - 1)):
+            out[:, col] = roll_inertia(self.plan.nodes[i, L.N_JCONST], self.radius[:, i],
+                                       self.plan.nodes[i, L.N_CORE], web.width, web.density)
+        return out
+
+    @cached_property
+    def web_unwound(self) -> np.ndarray:
+        """Unstrained web that has left the unwind [m]."""
+        return self._block(5, 2)[:, 0]
+
+    @cached_property
+    def web_rewound(self) -> np.ndarray:
+        """Unstrained web that has reached the rewind [m]."""
+        return self._block(5, 2)[:, 1]
+
+    @cached_property
+    def web_stored(self) -> np.ndarray:
+        """Unstrained web held in the spans [m] (first order in strain, as 6.8 assumes)."""
+        lengths = self.plan.spans[:, L.S_LENGTH]
+        return (lengths * (1.0 - self.stretch / self.line.ea)).sum(axis=1)
+
+    @cached_property
+    def slack_events(self) -> list[SlackEvent]:
+        """Every interval in which a span carried no tension."""
+        events = []
+        for k, name in enumerate(self.span_names):
+            slack = self.stretch[:, k] < 0.0
+            edges = np.flatnonzero(np.diff(slack.astype(np.int8)))
+            starts = list(self.time[edges[slack[edges + 1]] + 1])
+            ends = list(self.time[edges[~slack[edges + 1]] + 1])
+            if slack[0]:
+                starts.insert(0, self.time[0])
+            for j, start in enumerate(starts):
+                events.append(SlackEvent(name, float(start),
+                                         float(ends[j]) if j < len(ends) else None))
+        return events
+
+    # --- summaries and export ------------------------------------------------------------
+
+    def summary(self) -> dict[str, dict[str, dict[str, float]]]:
+        """Per span: tension mean, standard deviation and largest error [N]; per drive: speed
+        error mean, standard deviation and largest error [m/s] against its reference."""
+        spans = {}
+        for k, name in enumerate(self.span_names):
+            tension = self.tension[:, k]
+            ref = self.tension_ref[:, k]
+            entry = {"mean": float(tension.mean()), "std": float(tension.std())}
+            if np.all(np.isfinite(ref)):
+                error = tension - ref
+                entry |= {"mean_error": float(error.mean()),
+                          "max_abs_error": float(np.abs(error).max()),
+                          "rms_error": float(np.sqrt(np.mean(error**2)))}
+            spans[name] = entry
+        drives = {}
+        for d, name in enumerate(self.drive_names):
+            error = self.drive_speed[:, d] - self.speed_ref[:, d]
+            drives[name] = {"mean_error": float(error.mean()), "std_error": float(error.std()),
+                            "max_abs_error": float(np.abs(error).max()),
+                            "max_abs_torque": float(np.abs(self.torque[:, d]).max())}
+        return {"spans": spans, "drives": drives}
+
+    def to_xarray(self) -> xr.Dataset:
+        """Dataset over time with span, node and drive coordinates; units as attributes; the
+        resolved line (TOML) and the webline version embedded."""
+        from webline import __version__
+
+        dims_span, dims_node, dims_drive = ("time", "span"), ("time", "node"), ("time", "drive")
+        data = {
+            "tension": (dims_span, self.tension),
+            "tension_ref": (dims_span, self.tension_ref),
+            "slack": (dims_span, (self.stretch < 0.0).astype(np.int8)),
+            "speed": (dims_node, self.speed),
+            "omega": (dims_node, self.omega),
+            "radius": (dims_node, self.radius),
+            "speed_ref": (dims_drive, self.speed_ref),
+            "torque": (dims_drive, self.torque),
+            "torque_cmd": (dims_drive, self.torque_cmd),
+            "trim": (dims_drive, self.trim),
+            "inertia": (("time", "roll"), self.inertia),
+            "web_unwound": (("time",), self.web_unwound),
+            "web_rewound": (("time",), self.web_rewound),
+            "web_stored": (("time",), self.web_stored),
+        }
+        ds = xr.Dataset(
+            {name: xr.Variable(dims, values, attrs={"units": SIGNAL_UNITS[name]})
+             for name, (dims, values) in data.items()},
+            coords={"time": ("time", self.time, {"units": "s"}), "span": self.span_names,
+                    "node": self.node_names, "drive": self.drive_names,
+                    "roll": [self.node_names[0], self.node_names[-1]]},
+        )
+        ds.attrs.update({
+            "line": self.line.name,
+            "line_spec_toml": dump_spec(self.line.spec),
+            "webline_version": __version__,
+            "status": self.status,
+            "message": self.message,
+            **{f"setting_{k}": v for k, v in self.settings.items()},
+        })
+        return ds
+
+    def to_netcdf(self, path: str | Path) -> Path:
+        """Write the dataset to NetCDF (scipy backend, NetCDF3). Returns the path."""
+        path = Path(path)
+        self.to_xarray().to_netcdf(path, engine="scipy")
+        return path
+
+    def to_dataframe(self):
+        """Wide table: one row per time, one column per ``signal[element]``."""
+        frame = self.to_xarray().drop_vars(["tension_ref"]).to_dataframe()
+        return frame
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write one column per named signal (``tension[span1]`` ...) with a units header."""
+        path = Path(path)
+        ds = self.to_xarray()
+        columns, headers = [self.time], ["time [s]"]
+        for name, var in ds.data_vars.items():
+            if var.dims == ("time",):
+                columns.append(var.values)
+                headers.append(f"{name} [{var.attrs['units']}]")
+                continue
+            for j, element in enumerate(ds[var.dims[1]].values):
+                columns.append(var.values[:, j])
+                headers.append(f"{name}[{element}] [{var.attrs['units']}]")
+        table = np.column_stack(columns)
+        np.savetxt(path, table, delimiter=",", header=",".join(headers), comments="",
+                   fmt="%.9g")
+        return path

@@ -1,0 +1,92 @@
+"""``webline.simulate``: the front door to the compiled simulation."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from webline.analysis.linearize import linearize
+from webline.errors import SimulationError
+from webline.line import Line, load_line
+from webline.sim import kernel
+from webline.sim import layout as L
+from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
+from webline.sim.result import Result
+
+#: RK4 sub-steps are chosen so that h·|λ|max stays below this (RK4 is accurate to ~1e-4 per
+#: step there and stable up to 2.78).
+STEP_LIMIT = 0.5
+#: Default cap on stored records; longer runs are decimated (the integration is not).
+MAX_RECORDS = 200_000
+
+
+def fastest_mode(line: Line) -> float:
+    """Largest |eigenvalue| [1/s] of the open- and closed-loop linear models at t = 0."""
+    return max(float(np.abs(np.linalg.eigvals(linearize(line, loop=loop).A)).max())
+               for loop in ("open", "closed"))
+
+
+def choose_substeps(line: Line, dt: float) -> int:
+    """RK4 sub-steps per controller period ``dt`` [s] from the line's fastest mode."""
+    return max(1, math.ceil(dt * fastest_mode(line) / STEP_LIMIT))
+
+
+def simulate(line: Line | str | Path, duration: float | None = None, *,
+             scenario: str | None = None, sample_rate: float | None = None,
+             substeps: int | None = None, record_interval: float | None = None,
+             raise_on_failure: bool = True) -> Result:
+    """Simulate ``line`` for ``duration`` [s] from equilibrium at its initial references.
+
+    ``scenario`` applies a named scenario of the line file (its duration is the default);
+    ``sample_rate`` [Hz] overrides the controllers' rate; ``substeps`` the RK4 sub-steps per
+    controller period (default: from the fastest mode); ``record_interval`` [s] how often the
+    state is stored (default every tick, up to 200 000 records). If the run leaves physical
+    validity (non-finite state, unwind roll empty) it stops there and raises
+    ``SimulationError`` whose ``partial`` is the ``Result`` so far (or, with
+    ``raise_on_failure=False``, returns it with ``status`` set).
+    """
+    line = load_line(line)
+    if scenario is not None:
+        line = line.with_scenario(scenario)
+        if duration is None:
+            duration = line.spec.scenarios[scenario].duration
+    if duration is None:
+        duration = 10.0
+    if not duration > 0:
+        raise ValueError(f"duration must be > 0 s, got {duration}")
+    plan = compile_plan(line, sample_rate=sample_rate)
+    n_ticks = max(1, round(duration / plan.dt))
+    if substeps is None:
+        substeps = choose_substeps(line, plan.dt)
+    if record_interval is None:
+        every = max(1, math.ceil((n_ticks + 1) / MAX_RECORDS))
+    else:
+        every = max(1, round(record_interval / plan.dt))
+    x0, istate0 = equilibrium_plan_state(plan)
+    rec, n_rec, status, t_fail = kernel.run(x0, istate0, n_ticks, plan.dt, substeps, every,
+                                            *plan.params())
+    result = _result(plan, rec[:n_rec], status, t_fail,
+                     {"duration": duration, "dt": plan.dt, "substeps": substeps,
+                      "record_every": every})
+    if status != L.STATUS_OK and raise_on_failure:
+        raise SimulationError(result.message, partial=result)
+    return result
+
+
+def _result(plan: Plan, rec: np.ndarray, status: int, t_fail: float,
+            settings: dict[str, float]) -> Result:
+    n_x, n_d = plan.n_x, plan.drives.shape[0]
+    text, message = "ok", ""
+    if status == L.STATUS_NONFINITE:
+        text, message = "diverged", f"the state stopped being finite at t = {t_fail:.4g} s"
+    elif status == L.STATUS_UNWIND_EMPTY:
+        text = "unwind-empty"
+        message = f"the unwind roll ran out of web (reached its core) at t = {t_fail:.4g} s"
+    return Result(
+        plan=plan, time=rec[:, 0], states=rec[:, 1:1 + n_x],
+        torque_cmd=rec[:, 1 + n_x:1 + n_x + n_d],
+        speed_feedforward=rec[:, 1 + n_x + n_d:1 + n_x + 2 * n_d],
+        trim=rec[:, 1 + n_x + 2 * n_d:], status=text, message=message, settings=settings,
+    )

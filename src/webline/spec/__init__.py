@@ -1,0 +1,1 @@
+"""Line files: schema, loading, checking, dumping."""

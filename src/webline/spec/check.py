@@ -1,0 +1,157 @@
+"""Checks that need more than one key: topology, zones, physical consistency."""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Callable, Iterable
+from typing import NoReturn
+
+from webline.errors import LineFileError
+from webline.spec.schema import (
+    DisturbanceSpec,
+    DrivenSpec,
+    EccentricRoller,
+    IdleSpec,
+    LineSpec,
+    RewindSpec,
+    SpeedRipple,
+    UnwindSpec,
+    WebSpec,
+    WoundInRipple,
+)
+
+Fail = Callable[[str, str], NoReturn]
+
+
+def web_ea(web: WebSpec) -> float:
+    """Axial stiffness E·A of the web [N]."""
+    if web.ea is not None:
+        return web.ea
+    assert web.modulus is not None
+    return web.modulus * web.thickness * web.width
+
+
+def profile_values(profile: object) -> list[float]:
+    """Every value a reference profile takes at its breakpoints [SI]."""
+    if isinstance(profile, float):
+        return [profile]
+    kind = getattr(profile, "type", None)
+    if kind == "ramp":
+        return [profile.initial, profile.final]  # type: ignore[attr-defined]
+    if kind == "steps":
+        return [profile.initial, *(s.value for s in profile.steps)]  # type: ignore[attr-defined]
+    return list(profile.value)  # type: ignore[attr-defined]
+
+
+def zones(spec: LineSpec) -> list[tuple[int, int]]:
+    """Tension zones as (first node, last node) between consecutive driven nodes."""
+    driven = [i for i, r in enumerate(spec.rollers) if not isinstance(r, IdleSpec)]
+    return list(itertools.pairwise(driven))
+
+
+def check_spec(spec: LineSpec, file: str) -> None:
+    """Raise ``LineFileError`` for the first inconsistency in ``spec``."""
+
+    def fail(key: str, problem: str) -> NoReturn:
+        raise LineFileError(file, key, problem)
+
+    web = spec.web
+    if (web.modulus is None) == (web.ea is None):
+        fail("web", "give exactly one of 'modulus' or 'ea'")
+    ea = web_ea(web)
+
+    rollers = spec.rollers
+    if not isinstance(rollers[0], UnwindSpec):
+        fail("rollers[0].type", "the first roller must be the unwind roll")
+    if not isinstance(rollers[-1], RewindSpec):
+        fail(f"rollers[{len(rollers) - 1}].type", "the last roller must be the rewind roll")
+    for i, roller in enumerate(rollers[1:-1], start=1):
+        if isinstance(roller, UnwindSpec | RewindSpec):
+            fail(f"rollers[{i}].type", f"'{roller.type}' may only be the first/last roller")
+    _unique((r.name for r in rollers), "rollers", "name", fail)
+    if len(spec.spans) != len(rollers) - 1:
+        fail("spans",
+             f"{len(rollers)} rollers need {len(rollers) - 1} spans, got {len(spec.spans)}")
+    _unique((s.name for s in spec.spans if s.name), "spans", "name", fail)
+
+    masters = [i for i, r in enumerate(rollers) if isinstance(r, DrivenSpec) and r.role == "master"]
+    if len(masters) != 1:
+        fail("rollers", f"exactly one driven roller must have role = 'master', got {len(masters)}")
+
+    for i, roller in enumerate(rollers):
+        if isinstance(roller, UnwindSpec | RewindSpec) and roller.core_radius >= roller.radius:
+            fail(f"rollers[{i}].core_radius",
+                 f"must be below the roll radius {roller.radius:g} m, got {roller.core_radius:g} m")
+        if isinstance(roller, UnwindSpec) and roller.wound_in_tension >= ea:
+            fail(f"rollers[{i}].wound_in_tension", f"must be below EA = {ea:g} N")
+
+    for z, (first, last) in enumerate(zones(spec)):
+        loadcells = [k for k in range(first, last) if spec.spans[k].tension is not None]
+        if len(loadcells) != 1:
+            names = f"spans[{first}]" + (f"..spans[{last - 1}]" if last - 1 > first else "")
+            fail(names, f"tension zone {z} ({rollers[first].name} to {rollers[last].name}) "
+                 f"needs exactly one span with a 'tension' reference, got {len(loadcells)}")
+    for k, span in enumerate(spec.spans):
+        if span.tension is not None:
+            for value in profile_values(span.tension):
+                if value >= ea:
+                    fail(f"spans[{k}].tension", f"reference {value:g} N must be below "
+                         f"EA = {ea:g} N (the web would break, strain >= 100 %)")
+
+    _check_disturbances(spec.disturbances, spec, "disturbances", fail)
+    for name, scenario in spec.scenarios.items():
+        key = f"scenarios.{name}"
+        if scenario.disturbances is not None:
+            _check_disturbances(scenario.disturbances, spec, f"{key}.disturbances", fail)
+        for attr, index in (("unwind_radius", 0), ("rewind_radius", len(rollers) - 1)):
+            radius = getattr(scenario, attr)
+            roll = rollers[index]
+            assert isinstance(roll, UnwindSpec | RewindSpec)
+            if radius is not None and radius <= roll.core_radius:
+                fail(f"{key}.{attr}", f"must be above the core radius {roll.core_radius:g} m")
+    _check_profiles(spec, fail)
+
+
+def _check_profiles(spec: LineSpec, fail: Fail) -> None:
+    profiles = [("speed", spec.speed)] + [(f"spans[{k}].tension", s.tension)
+                                          for k, s in enumerate(spec.spans)]
+    profiles += [(f"scenarios.{n}.speed", s.speed) for n, s in spec.scenarios.items()]
+    for key, profile in profiles:
+        if getattr(profile, "type", None) == "table":
+            times = profile.time  # type: ignore[union-attr]
+            if len(times) != len(profile.value):  # type: ignore[union-attr]
+                fail(key, "'time' and 'value' must have the same length")
+            if any(b < a for a, b in itertools.pairwise(times)):
+                fail(f"{key}.time", "times must not decrease")
+        if getattr(profile, "type", None) == "steps":
+            times = [s.time for s in profile.steps]  # type: ignore[union-attr]
+            if any(b < a for a, b in itertools.pairwise(times)):
+                fail(f"{key}.steps", "step times must not decrease")
+
+
+def _check_disturbances(items: list[DisturbanceSpec], spec: LineSpec, key: str,
+                        fail: Fail) -> None:
+    by_name = {r.name: r for r in spec.rollers}
+    for j, item in enumerate(items):
+        here = f"{key}[{j}]"
+        if isinstance(item, EccentricRoller | SpeedRipple):
+            roller = by_name.get(item.roller)
+            if roller is None:
+                fail(f"{here}.roller", f"no roller named {item.roller!r}")
+            elif isinstance(item, EccentricRoller):
+                if isinstance(roller, UnwindSpec | RewindSpec):
+                    fail(f"{here}.roller", "eccentricity applies to rollers, not rolls")
+                elif item.eccentricity >= roller.radius:
+                    fail(f"{here}.eccentricity", "must be below the roller radius")
+            elif isinstance(roller, IdleSpec):
+                fail(f"{here}.roller", "a speed ripple needs a driven roller")
+        elif isinstance(item, WoundInRipple) and item.amplitude >= web_ea(spec.web):
+            fail(f"{here}.amplitude", "must be below EA")
+
+
+def _unique(names: Iterable[str], key: str, attr: str, fail: Fail) -> None:
+    seen: set[str] = set()
+    for i, name in enumerate(names):
+        if name in seen:
+            fail(f"{key}[{i}].{attr}", f"duplicate name {name!r}")
+        seen.add(name)

@@ -1,0 +1,113 @@
+"""One pint registry with the units web-handling engineers use (fpm, pli, lbf, lb·ft²).
+
+Everything inside webline is SI; quantities are parsed here at the boundary.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import pint
+
+ureg = pint.UnitRegistry()
+ureg.define("fpm = foot / minute")
+ureg.define("pli = pound_force / inch")
+ureg.define("rpm_ = revolution / minute")
+
+#: The dimension each kind of parameter must have, as pint dimensionality strings.
+DIMENSIONS: dict[str, str] = {
+    "length": "[length]",
+    "speed": "[length] / [time]",
+    "force": "[mass] * [length] / [time] ** 2",
+    "torque": "[mass] * [length] ** 2 / [time] ** 2",
+    "inertia": "[mass] * [length] ** 2",
+    "rot_damping": "[mass] * [length] ** 2 / [time]",
+    "time": "[time]",
+    "frequency": "1 / [time]",
+    "density": "[mass] / [length] ** 3",
+    "pressure": "[mass] / [length] / [time] ** 2",
+    "angle": "",
+    "dimensionless": "",
+}
+
+#: SI unit shown to users for each kind.
+SI_UNITS: dict[str, str] = {
+    "length": "m",
+    "speed": "m/s",
+    "force": "N",
+    "torque": "N*m",
+    "inertia": "kg*m**2",
+    "rot_damping": "N*m*s",
+    "time": "s",
+    "frequency": "Hz",
+    "density": "kg/m**3",
+    "pressure": "Pa",
+    "angle": "rad",
+    "dimensionless": "",
+}
+
+#: Imperial display unit for each kind (where engineers use one).
+IMPERIAL_UNITS: dict[str, str] = {
+    "length": "ft",
+    "speed": "ft/min",
+    "force": "lbf",
+    "torque": "lbf*ft",
+    "inertia": "lb*ft**2",
+    "rot_damping": "lbf*ft*s",
+    "time": "s",
+    "frequency": "Hz",
+    "density": "lb/ft**3",
+    "pressure": "psi",
+    "angle": "deg",
+    "dimensionless": "",
+}
+
+
+@lru_cache(maxsize=64)
+def _dimensionality(kind: str) -> pint.util.UnitsContainer:
+    return ureg.parse_expression(SI_UNITS[kind] or "1").dimensionality
+
+
+def to_si(value: object, kind: str) -> float:
+    """Convert ``value`` (a plain SI number or a string such as ``"500 ft/min"``) to SI.
+
+    Plain numbers are taken as SI. Raises ``ValueError`` with a user-readable message.
+    """
+    if isinstance(value, bool):
+        raise ValueError(f"expected a {kind} (a number or a string with units), got {value!r}")
+    if isinstance(value, int | float):
+        number = float(value)
+    elif isinstance(value, str):
+        try:
+            quantity = ureg.Quantity(value.strip())
+        except Exception as exc:  # pint raises many types for bad strings
+            raise ValueError(f"cannot read {value!r} as a {kind}: {exc}") from None
+        if not isinstance(quantity, pint.Quantity):
+            quantity = ureg.Quantity(float(quantity), "")
+        if quantity.dimensionality != _dimensionality(kind):
+            if kind == "frequency" and quantity.dimensionless:
+                pass
+            else:
+                raise ValueError(
+                    f"expected a {kind} (e.g. {SI_UNITS[kind] or 'a plain number'}), "
+                    f"got {value!r}"
+                )
+        si = SI_UNITS[kind]
+        number = float(quantity.to(si).magnitude) if si else float(quantity.to("").magnitude)
+    else:
+        raise ValueError(f"expected a {kind} (a number or a string with units), got {value!r}")
+    if not math.isfinite(number):
+        raise ValueError(f"must be finite, got {value!r}")
+    return number
+
+
+def display_factor(kind: str, system: str) -> tuple[float, str]:
+    """Factor and unit that express an SI value of ``kind`` in ``system`` ('si' or 'imperial').
+
+    Multiply an SI value (or array) by the factor to get the display value.
+    """
+    unit = (IMPERIAL_UNITS if system == "imperial" else SI_UNITS)[kind]
+    if not unit or unit == SI_UNITS[kind]:
+        return 1.0, unit
+    return float(ureg.Quantity(1.0, SI_UNITS[kind]).to(unit).magnitude), unit
