@@ -208,22 +208,24 @@ def control_tick(t: float, dt: float, x: np.ndarray, istate: np.ndarray, nodes: 
 
 
 @_njit
-def run(x0: np.ndarray, istate0: np.ndarray, n_ticks: int, dt: float, substeps: int,
-        record_every: int, nodes: np.ndarray, spans: np.ndarray, drives: np.ndarray,
-        web: np.ndarray, wound_ripple: np.ndarray, speed_ripple: np.ndarray,
-        prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray,
-        offsets: np.ndarray) -> tuple[np.ndarray, int, int, float]:
-    """Simulate ``n_ticks`` controller periods of ``dt`` [s].
+def run(x0: np.ndarray, istate0: np.ndarray, tick0: int, n_ticks: int, dt: float, substeps: int,
+        record_every: int, include_end: bool, nodes: np.ndarray, spans: np.ndarray,
+        drives: np.ndarray, web: np.ndarray, wound_ripple: np.ndarray,
+        speed_ripple: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray,
+        offsets: np.ndarray) -> tuple[np.ndarray, int, int, float, np.ndarray, np.ndarray]:
+    """Simulate ``n_ticks`` controller periods of ``dt`` [s] from tick ``tick0``.
 
-    Returns (records, number of records, status, time of failure). Each record row is
-    [t, x..., cmd..., vref..., trim...]. The run stops early, keeping what it computed, if the
-    state stops being finite or the unwind roll runs out of web.
+    A tick is recorded when its global index is a multiple of ``record_every``; with
+    ``include_end`` the state after the last period is recorded too (a chunked run leaves it
+    to the next chunk). Returns (records, number of records, status, time of failure, final
+    state, final integrators). Each record row is [t, x..., cmd..., vref..., trim...]. The
+    run stops early, keeping what it computed, if the state stops being finite or the unwind
+    roll runs out of web.
     """
     n_x = x0.shape[0]
     n_d = drives.shape[0]
     width = 1 + n_x + 3 * n_d
-    n_rec_max = n_ticks // record_every + 1
-    rec = np.empty((n_rec_max, width))
+    rec = np.empty((n_ticks // record_every + 2, width))
     x = x0.copy()
     istate = istate0.copy()
     cmd = np.zeros(n_d)
@@ -243,10 +245,13 @@ def run(x0: np.ndarray, istate0: np.ndarray, n_ticks: int, dt: float, substeps: 
     off_r = offsets[2]
     core = nodes[0, L.N_CORE]
     for j in range(n_ticks + 1):
-        t = j * dt
+        tick = tick0 + j
+        t = tick * dt
+        if j == n_ticks and not include_end:
+            break
         control_tick(t, dt, x, istate, nodes, drives, web, prof_t, prof_v, prof_off,
                      speed_ripple, offsets, cmd, vref, trim, refs)
-        if j % record_every == 0:
+        if tick % record_every == 0 or j == n_ticks:
             rec[n_rec, 0] = t
             rec[n_rec, 1:1 + n_x] = x
             rec[n_rec, 1 + n_x:1 + n_x + n_d] = cmd
@@ -260,10 +265,12 @@ def run(x0: np.ndarray, istate0: np.ndarray, n_ticks: int, dt: float, substeps: 
             rhs(ts, x, cmd, nodes, spans, drives, web, wound_ripple, offsets, k1, work)
             for m in range(n_x):
                 tmp[m] = x[m] + 0.5 * h * k1[m]
-            rhs(ts + 0.5 * h, tmp, cmd, nodes, spans, drives, web, wound_ripple, offsets, k2, work)
+            rhs(ts + 0.5 * h, tmp, cmd, nodes, spans, drives, web, wound_ripple, offsets, k2,
+                work)
             for m in range(n_x):
                 tmp[m] = x[m] + 0.5 * h * k2[m]
-            rhs(ts + 0.5 * h, tmp, cmd, nodes, spans, drives, web, wound_ripple, offsets, k3, work)
+            rhs(ts + 0.5 * h, tmp, cmd, nodes, spans, drives, web, wound_ripple, offsets, k3,
+                work)
             for m in range(n_x):
                 tmp[m] = x[m] + h * k3[m]
             rhs(ts + h, tmp, cmd, nodes, spans, drives, web, wound_ripple, offsets, k4, work)
@@ -281,6 +288,4 @@ def run(x0: np.ndarray, istate0: np.ndarray, n_ticks: int, dt: float, substeps: 
             status = L.STATUS_UNWIND_EMPTY
             t_fail = t + dt
             break
-    return rec, n_rec, status, t_fail
-
-
+    return rec, n_rec, status, t_fail, x, istate

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -36,13 +37,15 @@ def choose_substeps(line: Line, dt: float) -> int:
 def simulate(line: Line | str | Path, duration: float | None = None, *,
              scenario: str | None = None, sample_rate: float | None = None,
              substeps: int | None = None, record_interval: float | None = None,
+             progress: Callable[[float], None] | None = None,
              raise_on_failure: bool = True) -> Result:
     """Simulate ``line`` for ``duration`` [s] from equilibrium at its initial references.
 
     ``scenario`` applies a named scenario of the line file (its duration is the default);
     ``sample_rate`` [Hz] overrides the controllers' rate; ``substeps`` the RK4 sub-steps per
     controller period (default: from the fastest mode); ``record_interval`` [s] how often the
-    state is stored (default every tick, up to 200 000 records). If the run leaves physical
+    state is stored (default every tick, up to 200 000 records). ``progress``, if given, is
+    called with the fraction done (0..1) as the run proceeds in chunks. If the run leaves physical
     validity (non-finite state, unwind roll empty) it stops there and raises
     ``SimulationError`` whose ``partial`` is the ``Result`` so far (or, with
     ``raise_on_failure=False``, returns it with ``status`` set).
@@ -64,10 +67,19 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
         every = max(1, math.ceil((n_ticks + 1) / MAX_RECORDS))
     else:
         every = max(1, round(record_interval / plan.dt))
-    x0, istate0 = equilibrium_plan_state(plan)
-    rec, n_rec, status, t_fail = kernel.run(x0, istate0, n_ticks, plan.dt, substeps, every,
-                                            *plan.params())
-    result = _result(plan, rec[:n_rec], status, t_fail,
+    x, istate = equilibrium_plan_state(plan)
+    chunk = n_ticks if progress is None else max(1000, math.ceil(n_ticks / 100))
+    blocks, status, t_fail, done = [], L.STATUS_OK, math.nan, 0
+    while done < n_ticks and status == L.STATUS_OK:
+        count = min(chunk, n_ticks - done)
+        last = done + count == n_ticks
+        rec, n_rec, status, t_fail, x, istate = kernel.run(
+            x, istate, done, count, plan.dt, substeps, every, last, *plan.params())
+        blocks.append(rec[:n_rec])
+        done += count
+        if progress is not None:
+            progress(done / n_ticks)
+    result = _result(plan, np.concatenate(blocks), status, t_fail,
                      {"duration": duration, "dt": plan.dt, "substeps": substeps,
                       "record_every": every})
     if status != L.STATUS_OK and raise_on_failure:
