@@ -134,7 +134,7 @@ class Line:
         return Line(spec_from_dict(data, self.source), self.source)
 
 
-def load_line(source: str | Path | LineSpec | dict[str, object]) -> Line:
+def load_line(source: Line | str | Path | LineSpec | dict[str, object]) -> Line:
     """Load a line from a TOML file, a built-in name (``"hswl"``), a dict or a ``LineSpec``.
 
     Raises ``LineFileError`` naming the file, key path and problem for any malformed input.

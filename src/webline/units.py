@@ -10,7 +10,7 @@ from functools import lru_cache
 
 import pint
 
-ureg = pint.UnitRegistry()
+ureg: pint.UnitRegistry = pint.UnitRegistry()
 ureg.define("fpm = foot / minute")
 ureg.define("pli = pound_force / inch")
 ureg.define("rpm_ = revolution / minute")
@@ -77,10 +77,13 @@ def to_si(value: object, kind: str) -> float:
     if isinstance(value, bool):
         raise ValueError(f"expected a {kind} (a number or a string with units), got {value!r}")
     if isinstance(value, int | float):
-        number = float(value)
+        try:
+            number = float(value)
+        except OverflowError:  # an int beyond float range
+            raise ValueError(f"must be finite, got {value!r}") from None
     elif isinstance(value, str):
         try:
-            quantity = ureg.Quantity(value.strip())
+            quantity: pint.Quantity = ureg.Quantity(value.strip())
         except Exception as exc:  # pint raises many types for bad strings
             raise ValueError(f"cannot read {value!r} as a {kind}: {exc}") from None
         if not isinstance(quantity, pint.Quantity):
@@ -94,7 +97,10 @@ def to_si(value: object, kind: str) -> float:
                     f"got {value!r}"
                 )
         si = SI_UNITS[kind]
-        number = float(quantity.to(si).magnitude) if si else float(quantity.to("").magnitude)
+        if not si or quantity.dimensionless:  # a plain-number string is taken as SI
+            number = float(quantity.to("").magnitude)
+        else:
+            number = float(quantity.to(si).magnitude)
     else:
         raise ValueError(f"expected a {kind} (a number or a string with units), got {value!r}")
     if not math.isfinite(number):

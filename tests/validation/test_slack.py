@@ -8,9 +8,11 @@ import webline
 
 
 def test_slack_span_is_modelled_and_reported(hswl):
-    # A sudden speed step of the master (no ramp) pushes web into span 1 faster than the
-    # unwind's speed loop can follow: the span goes slack for a moment, then is taken up.
-    step = {"type": "steps", "initial": "500 ft/min", "steps": [{"time": 0.5, "value": "150 ft/min"}]}
+    # A sudden drop of the line speed (no ramp): the master takes web out of span 1 slower
+    # than the heavy unwind keeps paying it in, so the span goes slack for a moment, then the
+    # unwind's loops take the slack up again.
+    step = {"type": "steps", "initial": "500 ft/min",
+            "steps": [{"time": 0.5, "value": "150 ft/min"}]}
     result = webline.simulate(hswl.replace(speed=step), 6.0)
     assert (result.tension >= 0.0).all()
     events = result.slack_events

@@ -12,6 +12,7 @@ speeds [rad/s], unwind and rewind radii [m], motor torques [N·m], eccentric-rol
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numba as nb
 import numpy as np
@@ -24,11 +25,11 @@ from webline.sim import layout as L
 _FAST = {"nsz", "arcp", "contract", "afn", "reassoc"}
 _njit = nb.njit(cache=True, fastmath=_FAST, error_model="numpy")
 _jit = nb.njit(cache=True, fastmath=_FAST, error_model="numpy", inline="always")
-_tension = _jit(span.tension)
-_roll_inertia = _jit(roll.roll_inertia)
-_radius_rate = _jit(roll.radius_rate)
-_friction = _jit(roller.friction_torque)
-_saturate = _jit(motor.saturate)
+_tension: Any = _jit(span.tension)
+_roll_inertia: Any = _jit(roll.roll_inertia)
+_radius_rate: Any = _jit(roll.radius_rate)
+_friction: Any = _jit(roller.friction_torque)
+_saturate: Any = _jit(motor.saturate)
 
 
 @_jit

@@ -13,8 +13,15 @@ from webline.spec.schema import (
     EccentricRoller,
     IdleSpec,
     LineSpec,
+    Profile,
     RewindSpec,
+    SpeedRamp,
     SpeedRipple,
+    SpeedSteps,
+    SpeedTable,
+    TensionRamp,
+    TensionSteps,
+    TensionTable,
     UnwindSpec,
     WebSpec,
     WoundInRipple,
@@ -31,16 +38,15 @@ def web_ea(web: WebSpec) -> float:
     return web.modulus * web.thickness * web.width
 
 
-def profile_values(profile: object) -> list[float]:
+def profile_values(profile: Profile) -> list[float]:
     """Every value a reference profile takes at its breakpoints [SI]."""
-    if isinstance(profile, float):
-        return [profile]
-    kind = getattr(profile, "type", None)
-    if kind == "ramp":
-        return [profile.initial, profile.final]  # type: ignore[attr-defined]
-    if kind == "steps":
-        return [profile.initial, *(s.value for s in profile.steps)]  # type: ignore[attr-defined]
-    return list(profile.value)  # type: ignore[attr-defined]
+    if isinstance(profile, float | int):
+        return [float(profile)]
+    if isinstance(profile, SpeedRamp | TensionRamp):
+        return [profile.initial, profile.final]
+    if isinstance(profile, SpeedSteps | TensionSteps):
+        return [profile.initial, *(s.value for s in profile.steps)]
+    return list(profile.value)
 
 
 def zones(spec: LineSpec) -> list[tuple[int, int]]:
@@ -113,18 +119,18 @@ def check_spec(spec: LineSpec, file: str) -> None:
 
 
 def _check_profiles(spec: LineSpec, fail: Fail) -> None:
-    profiles = [("speed", spec.speed)] + [(f"spans[{k}].tension", s.tension)
-                                          for k, s in enumerate(spec.spans)]
+    profiles: list[tuple[str, Profile | None]] = [("speed", spec.speed)]
+    profiles += [(f"spans[{k}].tension", s.tension) for k, s in enumerate(spec.spans)]
     profiles += [(f"scenarios.{n}.speed", s.speed) for n, s in spec.scenarios.items()]
     for key, profile in profiles:
-        if getattr(profile, "type", None) == "table":
-            times = profile.time  # type: ignore[union-attr]
-            if len(times) != len(profile.value):  # type: ignore[union-attr]
+        if isinstance(profile, SpeedTable | TensionTable):
+            times = profile.time
+            if len(times) != len(profile.value):
                 fail(key, "'time' and 'value' must have the same length")
             if any(b < a for a, b in itertools.pairwise(times)):
                 fail(f"{key}.time", "times must not decrease")
-        if getattr(profile, "type", None) == "steps":
-            times = [s.time for s in profile.steps]  # type: ignore[union-attr]
+        if isinstance(profile, SpeedSteps | TensionSteps):
+            times = [s.time for s in profile.steps]
             if any(b < a for a, b in itertools.pairwise(times)):
                 fail(f"{key}.steps", "step times must not decrease")
 
@@ -145,8 +151,14 @@ def _check_disturbances(items: list[DisturbanceSpec], spec: LineSpec, key: str,
                     fail(f"{here}.eccentricity", "must be below the roller radius")
             elif isinstance(roller, IdleSpec):
                 fail(f"{here}.roller", "a speed ripple needs a driven roller")
-        elif isinstance(item, WoundInRipple) and item.amplitude >= web_ea(spec.web):
-            fail(f"{here}.amplitude", "must be below EA")
+        elif isinstance(item, WoundInRipple) and item.amplitude >= _wound_in(spec):
+            fail(f"{here}.amplitude", "must be below the unwind's wound-in tension (a wound "
+                 "web cannot be in compression)")
+
+
+def _wound_in(spec: LineSpec) -> float:
+    unwind = spec.rollers[0]
+    return unwind.wound_in_tension if isinstance(unwind, UnwindSpec) else float("inf")
 
 
 def _unique(names: Iterable[str], key: str, attr: str, fail: Fail) -> None:

@@ -6,7 +6,7 @@ are errors; each component is chosen by its ``type``, never guessed from the key
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import Annotated, Literal
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Discriminator, Field, Tag
 
@@ -19,8 +19,9 @@ class Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 
-def _quantity(kind: str, bound: str | None = None) -> Any:
-    """An SI float of dimension ``kind``; ``bound`` is '>0' or '>=0'."""
+def _si(kind: str, bound: str | None = None) -> BeforeValidator:
+    """Validator turning a number or a unit string into an SI float of dimension ``kind``;
+    ``bound`` is '>0' or '>=0'."""
 
     def parse(value: object) -> float:
         number = to_si(value, kind)
@@ -30,89 +31,118 @@ def _quantity(kind: str, bound: str | None = None) -> Any:
             raise ValueError(f"must be >= 0, got {value!r}")
         return number
 
-    return Annotated[float, BeforeValidator(parse)]
+    return BeforeValidator(parse)
 
 
-Length = _quantity("length", ">0")
-Speed = _quantity("speed", ">=0")
-SignedSpeed = _quantity("speed")
-Force = _quantity("force", ">0")
-SignedForce = _quantity("force")
-Torque = _quantity("torque", ">0")
-TorqueNonNeg = _quantity("torque", ">=0")
-Inertia = _quantity("inertia", ">0")
-InertiaNonNeg = _quantity("inertia", ">=0")
-Damping = _quantity("rot_damping", ">=0")
-Time = _quantity("time", ">0")
-TimeNonNeg = _quantity("time", ">=0")
-Frequency = _quantity("frequency", ">0")
-Density = _quantity("density", ">0")
-Modulus = _quantity("pressure", ">0")
-Angle = _quantity("angle")
-Ratio = _quantity("dimensionless", ">0")
-Gain = _quantity("dimensionless", ">=0")
+Length = Annotated[float, _si("length", ">0")]
+Speed = Annotated[float, _si("speed", ">=0")]
+Force = Annotated[float, _si("force", ">0")]
+Torque = Annotated[float, _si("torque", ">0")]
+TorqueNonNeg = Annotated[float, _si("torque", ">=0")]
+Inertia = Annotated[float, _si("inertia", ">0")]
+InertiaNonNeg = Annotated[float, _si("inertia", ">=0")]
+Damping = Annotated[float, _si("rot_damping", ">=0")]
+Time = Annotated[float, _si("time", ">0")]
+TimeNonNeg = Annotated[float, _si("time", ">=0")]
+Frequency = Annotated[float, _si("frequency", ">0")]
+Density = Annotated[float, _si("density", ">0")]
+Modulus = Annotated[float, _si("pressure", ">0")]
+Angle = Annotated[float, _si("angle")]
+Ratio = Annotated[float, _si("dimensionless", ">0")]
+Gain = Annotated[float, _si("dimensionless", ">=0")]
 
 
 # --- reference profiles -------------------------------------------------------------------
 
 
-def _profile_models(kind: str, value_type: Any) -> Any:
-    """Constant, ramp, steps and table profiles for a reference of ``kind``."""
+class SpeedRamp(Strict):
+    """Linear change from ``initial`` to ``final`` over ``duration`` starting at ``start``."""
 
-    class Ramp(Strict):
-        """Linear change from ``initial`` to ``final`` over ``duration`` starting at ``start``."""
-
-        type: Literal["ramp"]
-        initial: value_type
-        final: value_type
-        start: TimeNonNeg = 0.0
-        duration: Time
-
-    class Step(Strict):
-        time: TimeNonNeg
-        value: value_type
-
-    class Steps(Strict):
-        """Piecewise-constant: ``initial`` until the first step time, then each step's value."""
-
-        type: Literal["steps"]
-        initial: value_type
-        steps: list[Step] = Field(min_length=1)
-
-    class Table(Strict):
-        """Piecewise-linear through (time, value) points; constant outside them."""
-
-        type: Literal["table"]
-        time: list[TimeNonNeg] = Field(min_length=1)  # type: ignore[valid-type]
-        value: list[value_type] = Field(min_length=1)  # type: ignore[valid-type]
-
-    Ramp.__name__ = Ramp.__qualname__ = f"{kind.title()}Ramp"
-    Steps.__name__ = Steps.__qualname__ = f"{kind.title()}Steps"
-    Table.__name__ = Table.__qualname__ = f"{kind.title()}Table"
-
-    def tag(value: object) -> str:
-        if isinstance(value, dict):
-            return str(value.get("type", "missing"))
-        if isinstance(value, BaseModel):
-            return str(getattr(value, "type", "constant"))
-        return "constant"
-
-    return Annotated[
-        Annotated[value_type, Tag("constant")]
-        | Annotated[Ramp, Tag("ramp")]
-        | Annotated[Steps, Tag("steps")]
-        | Annotated[Table, Tag("table")],
-        Discriminator(
-            tag,
-            custom_error_type="profile_type",
-            custom_error_message="a profile is a quantity or a table with type = "
-            "'ramp', 'steps' or 'table'",
-        ),
-    ]
+    type: Literal["ramp"]
+    initial: Speed
+    final: Speed
+    start: TimeNonNeg = 0.0
+    duration: Time
 
 
-SpeedProfile = _profile_models("speed", Speed)
-TensionProfile = _profile_models("tension", Force)
+class SpeedStep(Strict):
+    time: TimeNonNeg
+    value: Speed
+
+
+class SpeedSteps(Strict):
+    """Piecewise-constant: ``initial`` until the first step time, then each step's value."""
+
+    type: Literal["steps"]
+    initial: Speed
+    steps: list[SpeedStep] = Field(min_length=1)
+
+
+class SpeedTable(Strict):
+    """Piecewise-linear through (time, value) points; constant outside them."""
+
+    type: Literal["table"]
+    time: list[TimeNonNeg] = Field(min_length=1)
+    value: list[Speed] = Field(min_length=1)
+
+
+class TensionRamp(Strict):
+    """Linear change from ``initial`` to ``final`` over ``duration`` starting at ``start``."""
+
+    type: Literal["ramp"]
+    initial: Force
+    final: Force
+    start: TimeNonNeg = 0.0
+    duration: Time
+
+
+class TensionStep(Strict):
+    time: TimeNonNeg
+    value: Force
+
+
+class TensionSteps(Strict):
+    """Piecewise-constant: ``initial`` until the first step time, then each step's value."""
+
+    type: Literal["steps"]
+    initial: Force
+    steps: list[TensionStep] = Field(min_length=1)
+
+
+class TensionTable(Strict):
+    """Piecewise-linear through (time, value) points; constant outside them."""
+
+    type: Literal["table"]
+    time: list[TimeNonNeg] = Field(min_length=1)
+    value: list[Force] = Field(min_length=1)
+
+
+def _profile_tag(value: object) -> str:
+    if isinstance(value, dict):
+        return str(value.get("type", "missing"))
+    if isinstance(value, BaseModel):
+        return str(getattr(value, "type", "constant"))
+    return "constant"
+
+
+_PROFILE = Discriminator(
+    _profile_tag,
+    custom_error_type="profile_type",
+    custom_error_message="a profile is a quantity or a table with type = 'ramp', 'steps' or "
+    "'table'",
+)
+
+SpeedProfile = Annotated[
+    Annotated[Speed, Tag("constant")] | Annotated[SpeedRamp, Tag("ramp")]
+    | Annotated[SpeedSteps, Tag("steps")] | Annotated[SpeedTable, Tag("table")],
+    _PROFILE,
+]
+TensionProfile = Annotated[
+    Annotated[Force, Tag("constant")] | Annotated[TensionRamp, Tag("ramp")]
+    | Annotated[TensionSteps, Tag("steps")] | Annotated[TensionTable, Tag("table")],
+    _PROFILE,
+]
+Profile = SpeedProfile | TensionProfile
 
 
 # --- web ------------------------------------------------------------------------------------
