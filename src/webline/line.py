@@ -8,7 +8,7 @@ towards the master-speed roller, which is how the HSWL of thesis Fig. 4.2 is arr
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
@@ -44,6 +44,8 @@ class Line:
 
     spec: LineSpec
     source: str = "<python>"
+    #: memo of derived objects (compiled plans), never part of equality
+    memo: dict[object, object] = field(default_factory=dict, compare=False, repr=False)
 
     @property
     def name(self) -> str:
@@ -81,6 +83,17 @@ class Line:
             controller = first if last <= self.master else last
             out.append(Zone(first, last, loadcell, controller))
         return tuple(out)
+
+    @cached_property
+    def fastest_mode(self) -> float:
+        """Largest |eigenvalue| [1/s] of the line's open- and closed-loop linear models at t = 0
+        (what the fixed integration step must resolve)."""
+        import numpy as np
+
+        from webline.analysis.linearize import system_matrix
+
+        return max(float(np.abs(np.linalg.eigvals(system_matrix(self, loop=loop))).max())
+                   for loop in ("open", "closed"))
 
     def zone_of_span(self, span: int) -> int:
         return next(z for z, zone in enumerate(self.zones) if span in zone.spans)

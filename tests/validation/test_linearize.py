@@ -25,8 +25,9 @@ def plant_derivative(line: webline.Line, op: webline.OperatingPoint):
         x = x_op.copy()
         x[index] = z
         dx = np.empty_like(x)
-        kernel.rhs(op.time, x, u, plan.nodes, plan.spans, plan.drives, plan.web,
-                   plan.wound_ripple, plan.offsets, dx, work)
+        t0 = kernel.wound_in(op.time, plan.web, plan.wound_ripple)
+        kernel.rhs(t0, x, u, plan.nodes, plan.spans, plan.drives, plan.web, plan.offsets, dx,
+                   work)
         return dx[index]
 
     return f, x_op[index], plan

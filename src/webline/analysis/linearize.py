@@ -8,9 +8,9 @@ the kernel; a finite-difference check of it is part of the tests.
 
 from __future__ import annotations
 
-from typing import Literal
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Literal
 
-import control
 import numpy as np
 
 from webline.analysis.operating_point import OperatingPoint, operating_point
@@ -18,6 +18,9 @@ from webline.line import Line, load_line
 from webline.physics.roller import COULOMB_SMOOTHING
 from webline.sim import layout as L
 from webline.sim.plan import Plan, compile_plan
+
+if TYPE_CHECKING:
+    import control
 
 
 def state_names(line: Line) -> list[str]:
@@ -75,10 +78,13 @@ def plant_matrices(line: Line, op: OperatingPoint) -> tuple[np.ndarray, ...]:
 
 
 def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
-    """Continuous-time cascaded PI of every drive, linear at ``op``.
+    """Every drive's controller in continuous time, linear at ``op``.
 
     u = Kx x + Ki xi + Kr ref, dxi/dt = Gx x + Gi xi + Gr ref, with xi = (speed integrator
-    [N·m], tension integrator [m/s]) per drive and ref = (line speed, zone tension references).
+    [N·m], tension integrator [m/s]) per drive (used by cascaded PI only) and ref = (line
+    speed, zone tension references). Decentralized drives: u = u_eq + f - K x, with adaptive
+    estimates frozen at their design values; the dependence of their speed references on the
+    tension references (the draw, of order T/EA) is left out of Kr.
     """
     line = plan.line
     n_s, n_n, n_d = line.n_spans, line.n_nodes, len(line.drives)
@@ -91,6 +97,9 @@ def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...
     master_up = int(plan.offsets[6])  # profile index = reference index
     for d, i in enumerate(line.drives):
         row = plan.drives[d]
+        if row[L.D_FAMILY] != L.FAMILY_PI:
+            kx[d], kr[d] = _decentralized_rows(plan, op, d, i, refs)
+            continue
         up = int(row[L.D_UPREF])
         t_up = line.unwind.wound_in_tension if up < 0 else refs[up]
         t_m = refs[master_up]
@@ -119,20 +128,46 @@ def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...
     return kx, ki, kr, gx, gi, gr
 
 
-def linearize(line: Line | str, t: float = 0.0, *,
-              loop: Literal["open", "closed"] = "closed",
-              unwind_radius: float | None = None,
-              rewind_radius: float | None = None) -> control.StateSpace:
-    """Linear model of ``line`` at its operating point at time ``t`` [s].
+def _decentralized_rows(plan: Plan, op: OperatingPoint, d: int, i: int,
+                        refs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(Kx, Kr) rows of a state-feedback or adaptive drive (see ``controller_matrices``)."""
+    line, row = plan.line, plan.drives[d]
+    n_s = line.n_spans
+    kx = np.zeros(n_s + line.n_nodes + len(line.drives))
+    kr = np.zeros(len(refs))
+    radius, ratio = op.radius[i], plan.nodes[i, L.N_RATIO]
+    gain = 1.0
+    if row[L.D_ADAPTIVE] > 0:
+        gain = op.inertia[i] / (ratio * radius) / row[L.D_GAINNORM]
+    kx[n_s + i] = -gain * row[L.D_KV] * radius
+    speed_per_line = op.speed[i] / op.line_speed if op.line_speed else 1.0
+    kr[0] = gain * row[L.D_KV] * speed_per_line + row[L.D_BMODEL] * speed_per_line / (
+        radius * ratio)
+    if row[L.D_ROLE] == L.ROLE_TENSION:
+        kx[int(row[L.D_LOADCELL])] = -gain * row[L.D_KT]
+        kr[int(row[L.D_REF])] += gain * row[L.D_KT]
+    for k, sign in ((i, -1.0), (i - 1, 1.0)):  # u_eq: -r (T_out - T_in) / n
+        if 0 <= k < n_s:
+            kr[1 + line.zone_of_span(k)] += sign * radius / ratio
+    return kx, kr
 
-    ``loop="open"``: the plant; inputs are motor torque commands [N·m] and the wound-in
-    tension [N]. ``loop="closed"``: plant with its continuous-time cascaded PI controllers;
-    inputs are the line speed reference [m/s], each zone's tension reference [N] and the
-    wound-in tension [N]. Outputs (both): span tensions [N] and web speeds [m/s]. Signals are
-    named (``span1_tension``, ``master_speed``, ``unwind_torque_cmd``, ...; python-control
-    reserves '.').
-    """
-    line = load_line(line)
+
+@dataclass(frozen=True)
+class LinearModel:
+    """Matrices of a linear model (dx = A x + B u, y = C x) with the names of its signals."""
+
+    a: np.ndarray
+    b: np.ndarray
+    c: np.ndarray
+    states: list[str]
+    inputs: list[str]
+    outputs: list[str]
+
+
+def linear_model(line: Line, t: float = 0.0, *, loop: Literal["open", "closed"] = "closed",
+                 unwind_radius: float | None = None,
+                 rewind_radius: float | None = None) -> LinearModel:
+    """The matrices behind ``linearize`` (numpy only; see its docstring)."""
     op = operating_point(line, t, unwind_radius=unwind_radius, rewind_radius=rewind_radius)
     a, b, e, c = plant_matrices(line, op)
     states = state_names(line)
@@ -140,13 +175,14 @@ def linearize(line: Line | str, t: float = 0.0, *,
                + [f"{line.node_name(i)}_speed" for i in range(line.n_nodes)])
     if loop == "open":
         inputs = [f"{line.node_name(i)}_torque_cmd" for i in line.drives] + ["wound_in_tension"]
-        return control.ss(a, np.hstack([b, e]), c, 0.0, states=states, inputs=inputs,
-                          outputs=outputs, name=f"{line.name}-plant")
+        return LinearModel(a, np.hstack([b, e]), c, states, inputs, outputs)
     plan = compile_plan(line)
     kx, ki, kr, gx, gi, gr = controller_matrices(plan, op)
-    # keep the integrators that exist: the master has no tension loop
+    # keep the integrators that exist: PI drives only, and no tension loop on the master
+    pi = plan.drives[:, L.D_FAMILY] == L.FAMILY_PI
+    tension = plan.drives[:, L.D_ROLE] == L.ROLE_TENSION
     used = [j for j in range(2 * len(line.drives))
-            if j % 2 == 0 or plan.drives[j // 2, L.D_ROLE] == L.ROLE_TENSION]
+            if pi[j // 2] and (j % 2 == 0 or tension[j // 2])]
     ki, gx, gi, gr = ki[:, used], gx[used], gi[np.ix_(used, used)], gr[used]
     a_cl = np.block([[a + b @ kx, b @ ki], [gx, gi]])
     b_cl = np.block([[b @ kr, e], [gr, np.zeros((gr.shape[0], 1))]])
@@ -155,5 +191,33 @@ def linearize(line: Line | str, t: float = 0.0, *,
                for j in used]
     inputs = (["line_speed_ref"] + [f"zone{z}_tension_ref" for z in range(len(line.zones))]
               + ["wound_in_tension"])
-    return control.ss(a_cl, b_cl, c_cl, 0.0, states=states, inputs=inputs, outputs=outputs,
-                      name=f"{line.name}-closed-loop")
+    return LinearModel(a_cl, b_cl, c_cl, states, inputs, outputs)
+
+
+def system_matrix(line: Line, t: float = 0.0, *,
+                  loop: Literal["open", "closed"] = "closed") -> np.ndarray:
+    """State matrix A [SI] of the open- or closed-loop linear model at time ``t`` [s]."""
+    return linear_model(line, t, loop=loop).a
+
+
+def linearize(line: Line | str, t: float = 0.0, *,
+              loop: Literal["open", "closed"] = "closed",
+              unwind_radius: float | None = None,
+              rewind_radius: float | None = None) -> control.StateSpace:
+    """Linear model of ``line`` at its operating point at time ``t`` [s], roll radii [m] as
+    given (default: initial), as a python-control ``StateSpace`` with named signals.
+
+    ``loop="open"``: the plant; inputs are motor torque commands [N·m] and the wound-in
+    tension [N]. ``loop="closed"``: plant with its continuous-time cascaded PI controllers;
+    inputs are the line speed reference [m/s], each zone's tension reference [N] and the
+    wound-in tension [N]. Outputs (both): span tensions [N] and web speeds [m/s]. Signals are
+    named (``span1_tension``, ``master_speed``, ``unwind_torque_cmd``, ...; python-control
+    reserves '.').
+    """
+    import control
+
+    model = linear_model(load_line(line), t, loop=loop, unwind_radius=unwind_radius,
+                         rewind_radius=rewind_radius)
+    name = f"{load_line(line).name}-{'plant' if loop == 'open' else 'closed-loop'}"
+    return control.ss(model.a, model.b, model.c, 0.0, states=model.states,
+                      inputs=model.inputs, outputs=model.outputs, name=name)

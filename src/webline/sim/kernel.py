@@ -1,8 +1,8 @@
-"""The compiled simulation loop: plant and sampled cascaded-PI controllers in one numba loop.
+"""The compiled simulation loop: plant and sampled controllers in one numba loop.
 
 Between controller ticks the torque commands are held (zero-order hold) and the plant is
-integrated with fixed-step RK4 sub-steps; at each tick every controller samples the state,
-updates its integrators with anti-windup, and issues a saturated torque command.
+integrated with fixed-step RK4 sub-steps; at each tick every controller samples the state
+and issues a saturated torque command (``webline.sim.controllers``).
 
 State vector layout (offsets from ``plan.Offsets``): span stretch forces [N], node angular
 speeds [rad/s], unwind and rewind radii [m], motor torques [N·m], eccentric-roller angles
@@ -14,53 +14,28 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import numba as nb
 import numpy as np
 
-from webline.physics import motor, roll, roller, span
+from webline.physics import roll, roller, span
 from webline.sim import layout as L
+from webline.sim.controllers import control_tick
+from webline.sim.signals import jit, njit, sines
 
-#: Fast-math flags that keep NaN/inf semantics (the loop checks finiteness), and numpy's error
-#: model (no Python ZeroDivisionError branch on every division).
-_FAST = {"nsz", "arcp", "contract", "afn", "reassoc"}
-_njit = nb.njit(cache=True, fastmath=_FAST, error_model="numpy")
-_jit = nb.njit(cache=True, fastmath=_FAST, error_model="numpy", inline="always")
-_tension: Any = _jit(span.tension)
-_roll_inertia: Any = _jit(roll.roll_inertia)
-_radius_rate: Any = _jit(roll.radius_rate)
-_friction: Any = _jit(roller.friction_torque)
-_saturate: Any = _jit(motor.saturate)
+_tension: Any = jit(span.tension)
+_roll_inertia: Any = jit(roll.roll_inertia)
+_radius_rate: Any = jit(roll.radius_rate)
+_friction: Any = jit(roller.friction_torque)
 
 
-@_jit
-def profile_at(p: int, t: float, prof_t: np.ndarray, prof_v: np.ndarray,
-               prof_off: np.ndarray) -> float:
-    """Value at ``t`` [s] of profile ``p`` of the concatenated breakpoint arrays: the same
-    rule as ``webline.profiles.pwl_value``, by bisection without array views."""
-    lo, hi = prof_off[p], prof_off[p + 1] - 1
-    if t >= prof_t[hi]:
-        return prof_v[hi]
-    if t < prof_t[lo]:
-        return prof_v[lo]
-    while hi - lo > 1:  # invariant: prof_t[lo] <= t < prof_t[hi]
-        mid = (lo + hi) // 2
-        if prof_t[mid] <= t:
-            lo = mid
-        else:
-            hi = mid
-    return prof_v[lo] + (prof_v[hi] - prof_v[lo]) * (t - prof_t[lo]) / (prof_t[hi] - prof_t[lo])
+@jit
+def wound_in(t: float, web: np.ndarray, wound_ripple: np.ndarray) -> float:
+    """Wound-in tension of the unwind [N] at time ``t`` [s]: nominal plus ripple."""
+    if wound_ripple.shape[0] == 0:
+        return web[L.W_T0]
+    return web[L.W_T0] + sines(wound_ripple, t)
 
 
-@_jit
-def sines(table: np.ndarray, t: float) -> float:
-    """Sum of amplitude·sin(2π f t + phase) over rows (amplitude, frequency, phase)."""
-    total = 0.0
-    for r in range(table.shape[0]):
-        total += table[r, 0] * math.sin(2.0 * math.pi * table[r, 1] * t + table[r, 2])
-    return total
-
-
-@_jit
+@jit
 def node_arm(i: int, x: np.ndarray, nodes: np.ndarray, off_w: int, off_r: int) -> float:
     """Effective radius [m] of node ``i``: roll radius state, or roller radius + eccentricity."""
     kind = int(nodes[i, L.N_KIND])
@@ -74,21 +49,12 @@ def node_arm(i: int, x: np.ndarray, nodes: np.ndarray, off_w: int, off_r: int) -
     return nodes[i, L.N_RADIUS]
 
 
-@_jit
-def node_inertia(i: int, x: np.ndarray, nodes: np.ndarray, web: np.ndarray, off_r: int) -> float:
-    kind = int(nodes[i, L.N_KIND])
-    if kind == L.KIND_UNWIND or kind == L.KIND_REWIND:
-        radius = x[off_r] if kind == L.KIND_UNWIND else x[off_r + 1]
-        return _roll_inertia(nodes[i, L.N_JCONST], radius, nodes[i, L.N_CORE], web[L.W_WIDTH],
-                             web[L.W_DENSITY])
-    return nodes[i, L.N_JCONST]
-
-
-@_jit
-def rhs(t: float, x: np.ndarray, cmd: np.ndarray, nodes: np.ndarray, spans: np.ndarray,
-        drives: np.ndarray, web: np.ndarray, wound_ripple: np.ndarray,
-        offsets: np.ndarray, dx: np.ndarray, work: np.ndarray) -> None:
-    """Plant derivative dx/dt into ``dx`` at time ``t`` [s] with held torque commands ``cmd``.
+@jit
+def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, nodes: np.ndarray, spans: np.ndarray,
+        drives: np.ndarray, web: np.ndarray, offsets: np.ndarray, dx: np.ndarray,
+        work: np.ndarray) -> None:
+    """Plant derivative dx/dt into ``dx`` with held torque commands ``cmd`` and the unwind's
+    wound-in tension ``t0`` [N] at that instant (see ``wound_in``); nothing else depends on time.
 
     Physics as in ``webline.physics`` (span 6.8 with slack, rollers 6.9/6.11, rolls 6.1-6.6
     with J dω/dt = torque, motor lag 4.1k), written out with precomputed reciprocals because
@@ -99,9 +65,6 @@ def rhs(t: float, x: np.ndarray, cmd: np.ndarray, nodes: np.ndarray, spans: np.n
     last = n_nodes - 1
     off_w, off_r, off_tq, off_q = offsets[1], offsets[2], offsets[3], offsets[5]
     ea = web[L.W_EA]
-    t0 = web[L.W_T0]
-    if wound_ripple.shape[0] > 0:
-        t0 += sines(wound_ripple, t)
     # work = [arm of each node | web speed of each node | tension of each span]
     sp, te = n_nodes, 2 * n_nodes
     for i in range(n_nodes):
@@ -150,65 +113,7 @@ def rhs(t: float, x: np.ndarray, cmd: np.ndarray, nodes: np.ndarray, spans: np.n
     dx[off_q + 1] = v_rewind * (1.0 - work[te + n_spans - 1] * inv_ea)
 
 
-@_jit
-def control_tick(t: float, dt: float, x: np.ndarray, istate: np.ndarray, nodes: np.ndarray,
-                 drives: np.ndarray, web: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
-                 prof_off: np.ndarray, speed_ripple: np.ndarray, offsets: np.ndarray,
-                 cmd: np.ndarray, vref: np.ndarray, trim: np.ndarray, refs: np.ndarray) -> None:
-    """One sample of every drive's cascaded PI (thesis Fig. 4.3, 4.1i-j).
-
-    The tension PI trims the speed reference (line speed x draw from the tension references,
-    plus any ripple); the speed PI gives the torque command, clipped to the torque limit.
-    Integrators hold torque [N·m] and trim [m/s] and stop while the torque saturates in the
-    direction they push (conditional-integration anti-windup). ``istate[d]`` = (speed, tension)
-    integrators; ``cmd``, ``vref``, ``trim`` and the scratch ``refs`` (one per profile) are
-    written.
-    """
-    off_w, off_r = offsets[1], offsets[2]
-    ea = web[L.W_EA]
-    for p in range(prof_off.shape[0] - 1):
-        refs[p] = profile_at(p, t, prof_t, prof_v, prof_off)
-    v_line = refs[0]
-    t_master = refs[offsets[6]]
-    for d in range(drives.shape[0]):
-        i = int(drives[d, L.D_NODE])
-        kind = int(nodes[i, L.N_KIND])
-        up = int(drives[d, L.D_UPREF])
-        t_up = web[L.W_T0] if up < 0 else refs[up]
-        ref = v_line * (ea - t_master) / (ea - t_up)
-        for r in range(speed_ripple.shape[0]):
-            if int(speed_ripple[r, 0]) == d:
-                ref += speed_ripple[r, 1] * math.sin(2.0 * math.pi * speed_ripple[r, 2] * t
-                                                     + speed_ripple[r, 3])
-        radius = x[off_r] if kind == L.KIND_UNWIND else (
-            x[off_r + 1] if kind == L.KIND_REWIND else nodes[i, L.N_RADIUS])
-        v_meas = radius * x[off_w + i]
-
-        e_t = 0.0
-        tr = 0.0
-        if int(drives[d, L.D_ROLE]) == L.ROLE_TENSION:
-            t_ref = refs[int(drives[d, L.D_REF])]
-            e_t = t_ref - _tension(x[int(drives[d, L.D_LOADCELL])])
-            tr = drives[d, L.D_SIGMA] * (drives[d, L.D_KPT] * e_t + istate[d, 1])
-        gain = 1.0
-        if drives[d, L.D_ADAPTIVE] > 0.0:
-            n = nodes[i, L.N_RATIO]
-            gain = node_inertia(i, x, nodes, web, off_r) / (n * radius) / drives[d, L.D_GAINNORM]
-        e_v = ref + tr - v_meas
-        raw = drives[d, L.D_KPS] * gain * e_v + istate[d, 0]
-        limit = drives[d, L.D_LIMIT]
-        u = _saturate(raw, limit)
-        saturated = raw != u
-        if not (saturated and e_v * raw > 0.0):
-            istate[d, 0] += drives[d, L.D_KIS] * gain * e_v * dt
-        if not (saturated and drives[d, L.D_SIGMA] * e_t * raw > 0.0):
-            istate[d, 1] += drives[d, L.D_KIT] * e_t * dt
-        cmd[d] = u
-        vref[d] = ref
-        trim[d] = tr
-
-
-@_njit
+@njit
 def run(x0: np.ndarray, istate0: np.ndarray, tick0: int, n_ticks: int, dt: float, substeps: int,
         record_every: int, include_end: bool, nodes: np.ndarray, spans: np.ndarray,
         drives: np.ndarray, web: np.ndarray, wound_ripple: np.ndarray,
@@ -219,26 +124,26 @@ def run(x0: np.ndarray, istate0: np.ndarray, tick0: int, n_ticks: int, dt: float
     A tick is recorded when its global index is a multiple of ``record_every``; with
     ``include_end`` the state after the last period is recorded too (a chunked run leaves it
     to the next chunk). Returns (records, number of records, status, time of failure, final
-    state, final integrators). Each record row is [t, x..., cmd..., vref..., trim...]. The
+    state, final controller memory). Each record row is [t, x..., cmd..., vref..., trim...,
+    u_eq..., friction estimate...] (one value per drive in each group). The
     run stops early, keeping what it computed, if the state stops being finite or the unwind
     roll runs out of web.
     """
     n_x = x0.shape[0]
     n_d = drives.shape[0]
-    width = 1 + n_x + 3 * n_d
+    width = 1 + n_x + 5 * n_d
     rec = np.empty((n_ticks // record_every + 2, width))
     x = x0.copy()
     istate = istate0.copy()
-    cmd = np.zeros(n_d)
-    vref = np.zeros(n_d)
-    trim = np.zeros(n_d)
+    out = np.zeros((4, n_d))
+    cmd = out[0]
+    scratch = np.empty(prof_off.shape[0] + 3 * nodes.shape[0])
     k1 = np.empty(n_x)
     k2 = np.empty(n_x)
     k3 = np.empty(n_x)
     k4 = np.empty(n_x)
     tmp = np.empty(n_x)
     work = np.empty(3 * nodes.shape[0])
-    refs = np.empty(prof_off.shape[0] - 1)
     h = dt / substeps
     n_rec = 0
     status = L.STATUS_OK
@@ -250,33 +155,37 @@ def run(x0: np.ndarray, istate0: np.ndarray, tick0: int, n_ticks: int, dt: float
         t = tick * dt
         if j == n_ticks and not include_end:
             break
-        control_tick(t, dt, x, istate, nodes, drives, web, prof_t, prof_v, prof_off,
-                     speed_ripple, offsets, cmd, vref, trim, refs)
+        control_tick(tick, dt, x, istate, nodes, drives, web, prof_t, prof_v, prof_off,
+                     speed_ripple, offsets, out, scratch)
         if tick % record_every == 0 or j == n_ticks:
-            rec[n_rec, 0] = t
-            rec[n_rec, 1:1 + n_x] = x
-            rec[n_rec, 1 + n_x:1 + n_x + n_d] = cmd
-            rec[n_rec, 1 + n_x + n_d:1 + n_x + 2 * n_d] = vref
-            rec[n_rec, 1 + n_x + 2 * n_d:width] = trim
+            row = rec[n_rec]
+            row[0] = t
+            row[1:1 + n_x] = x
+            for q in range(4):
+                row[1 + n_x + q * n_d:1 + n_x + (q + 1) * n_d] = out[q]
+            for d in range(n_d):
+                row[1 + n_x + 4 * n_d + d] = istate[d, L.I_FRICTION]
             n_rec += 1
         if j == n_ticks:
             break
+        t0_start = wound_in(t, web, wound_ripple)
         for s in range(substeps):
             ts = t + s * h
-            rhs(ts, x, cmd, nodes, spans, drives, web, wound_ripple, offsets, k1, work)
+            t0_mid = wound_in(ts + 0.5 * h, web, wound_ripple)
+            t0_end = wound_in(ts + h, web, wound_ripple)
+            rhs(t0_start, x, cmd, nodes, spans, drives, web, offsets, k1, work)
             for m in range(n_x):
                 tmp[m] = x[m] + 0.5 * h * k1[m]
-            rhs(ts + 0.5 * h, tmp, cmd, nodes, spans, drives, web, wound_ripple, offsets, k2,
-                work)
+            rhs(t0_mid, tmp, cmd, nodes, spans, drives, web, offsets, k2, work)
             for m in range(n_x):
                 tmp[m] = x[m] + 0.5 * h * k2[m]
-            rhs(ts + 0.5 * h, tmp, cmd, nodes, spans, drives, web, wound_ripple, offsets, k3,
-                work)
+            rhs(t0_mid, tmp, cmd, nodes, spans, drives, web, offsets, k3, work)
             for m in range(n_x):
                 tmp[m] = x[m] + h * k3[m]
-            rhs(ts + h, tmp, cmd, nodes, spans, drives, web, wound_ripple, offsets, k4, work)
+            rhs(t0_end, tmp, cmd, nodes, spans, drives, web, offsets, k4, work)
             for m in range(n_x):
                 x[m] += h / 6.0 * (k1[m] + 2.0 * k2[m] + 2.0 * k3[m] + k4[m])
+            t0_start = t0_end
         finite = True
         for m in range(n_x):
             if not math.isfinite(x[m]):

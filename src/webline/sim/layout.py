@@ -10,15 +10,24 @@ S_LENGTH, S_INVLENGTH = range(2)
 S_COLS = 2
 KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
 
-# drive table columns
+# drive table columns: topology and cascaded PI ...
 (D_NODE, D_ROLE, D_LOADCELL, D_REF, D_SIGMA, D_KPS, D_KIS, D_KPT, D_KIT, D_LIMIT, D_LAG,
- D_ADAPTIVE, D_GAINNORM, D_UPREF, D_INVLAG) = range(15)
-D_COLS = 15
+ D_ADAPTIVE, D_GAINNORM, D_UPREF, D_INVLAG, D_ZFIRST, D_ZLAST,
+ # ... and the decentralized controllers of Ch. 6: family, state-feedback gains, adaptive
+ # law (rate, leakage, upper bound of the estimate) and the controller's friction model
+ D_FAMILY, D_KT, D_KV, D_GAMMA, D_LEAK, D_BMAX, D_BMODEL) = range(24)
+D_COLS = 24
 ROLE_MASTER, ROLE_TENSION = 0, 1
+FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE = 0, 1, 2
 
-# web scalars
-W_EA, W_THICK, W_WIDTH, W_DENSITY, W_T0 = range(5)
-W_COLS = 5
+# controller memory per drive: PI integrators, adaptive friction estimate [N·m·s]
+I_SPEED, I_TENSION, I_FRICTION = range(3)
+I_COLS = 3
+
+# line-wide scalars
+(W_EA, W_THICK, W_WIDTH, W_DENSITY, W_T0, W_NOISE_T, W_NOISE_V, W_SEED,
+ W_NEED_EQ) = range(9)
+W_COLS = 9
 
 # kernel status codes
 STATUS_OK, STATUS_NONFINITE, STATUS_UNWIND_EMPTY = 0, 1, 2

@@ -7,14 +7,17 @@ from dataclasses import dataclass
 import numpy as np
 
 from webline.analysis.operating_point import OperatingPoint, node_inertias, operating_point
-from webline.control.pi import PIGains, tune
+from webline.control.decentralized import SectionDesign
+from webline.control.pi import PIGains
 from webline.line import Line
 from webline.profiles import breakpoints
 from webline.sim import layout as L
+from webline.sim.drive_table import drive_table
 from webline.spec.schema import (
     DrivenSpec,
     EccentricRoller,
     IdleSpec,
+    MeasurementNoise,
     RewindSpec,
     SpeedRipple,
     UnwindSpec,
@@ -38,6 +41,7 @@ class Plan:
     prof_off: np.ndarray
     offsets: np.ndarray
     gains: tuple[PIGains, ...]
+    designs: tuple[SectionDesign | None, ...]
     state_names: tuple[str, ...]
     dt: float
 
@@ -60,15 +64,16 @@ class Plan:
         x[off[2] + 1] = op.radius[-1]
         limits = self.drives[:, L.D_LIMIT]
         x[off[3]: off[3] + len(op.torque)] = np.clip(op.torque, -limits, limits)
-        istate = np.zeros((len(op.torque), 2))
-        istate[:, 0] = x[off[3]: off[3] + len(op.torque)]
+        istate = np.zeros((len(op.torque), L.I_COLS))
+        istate[:, L.I_SPEED] = x[off[3]: off[3] + len(op.torque)]
+        istate[:, L.I_FRICTION] = self.drives[:, L.D_BMODEL]
         ea = self.line.ea
         t_master = _profile_value(self, int(off[6]), op.time)
         for d, i in enumerate(op.drives):
             up = int(self.drives[d, L.D_UPREF])
             t_up = self.web[L.W_T0] if up < 0 else _profile_value(self, up, op.time)
             feedforward = op.line_speed * (ea - t_master) / (ea - t_up)
-            istate[d, 1] = self.drives[d, L.D_SIGMA] * (op.speed[i] - feedforward)
+            istate[d, L.I_TENSION] = self.drives[d, L.D_SIGMA] * (op.speed[i] - feedforward)
         return x, istate
 
 
@@ -80,7 +85,17 @@ def _profile_value(plan: Plan, p: int, t: float) -> float:
 
 
 def compile_plan(line: Line, *, sample_rate: float | None = None) -> Plan:
-    """Flatten ``line`` for the kernel; controller gains are tuned where the file leaves them."""
+    """Flatten ``line`` for the kernel; controller gains are tuned where the file leaves them.
+
+    Plans are memoised on the (immutable) line, per sample rate.
+    """
+    key = ("plan", sample_rate)
+    if key not in line.memo:
+        line.memo[key] = _compile(line, sample_rate)
+    return line.memo[key]  # type: ignore[return-value]
+
+
+def _compile(line: Line, sample_rate: float | None) -> Plan:
     spec = line.spec
     rollers = spec.rollers
     n_nodes, n_spans, n_drives = line.n_nodes, line.n_spans, len(line.drives)
@@ -125,63 +140,32 @@ def compile_plan(line: Line, *, sample_rate: float | None = None) -> Plan:
     profiles += [breakpoints(spec.spans[z.loadcell].tension) for z in line.zones]
     prof_off = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
 
-    def zone_profile(span: int) -> int:
-        return 1 + line.zone_of_span(span)
-
-    drives = np.zeros((n_drives, L.D_COLS))
-    gains = []
-    for d, i in enumerate(line.drives):
-        r = rollers[i]
-        assert not isinstance(r, IdleSpec)
-        zone_index = line.controlled_zone(i)
-        zone = line.zones[zone_index] if zone_index is not None else None
-        zone_length = sum(spec.spans[k].length for k in zone.spans) if zone else 1.0
-        c = r.controller
-        auto = tune(inertia[i], r.drive.ratio, r.radius, zone_length, line.ea,
-                    c.speed_bandwidth, c.tension_bandwidth, c.damping)
-        g = PIGains(
-            speed_kp=auto.speed_kp if c.speed_kp is None else c.speed_kp,
-            speed_ki=auto.speed_ki if c.speed_ki is None else c.speed_ki,
-            tension_kp=(auto.tension_kp if c.tension_kp is None else c.tension_kp) if zone else 0,
-            tension_ki=(auto.tension_ki if c.tension_ki is None else c.tension_ki) if zone else 0,
-        )
-        gains.append(g)
-        row = drives[d]
-        row[L.D_NODE] = i
-        row[L.D_ROLE] = L.ROLE_TENSION if zone else L.ROLE_MASTER
-        row[L.D_LOADCELL] = zone.loadcell if zone else -1
-        row[L.D_REF] = 1 + zone_index if zone_index is not None else -1
-        row[L.D_SIGMA] = (-1.0 if zone.first == i else 1.0) if zone else 0.0
-        row[L.D_KPS], row[L.D_KIS] = g.speed_kp, g.speed_ki
-        row[L.D_KPT], row[L.D_KIT] = g.tension_kp, g.tension_ki
-        row[L.D_LIMIT] = r.drive.torque_limit
-        row[L.D_LAG] = r.drive.torque_lag
-        row[L.D_INVLAG] = 1.0 / r.drive.torque_lag
-        row[L.D_ADAPTIVE] = 1.0 if c.inertia_adaptive else 0.0
-        row[L.D_GAINNORM] = inertia[i] / (r.drive.ratio * r.radius)
-        row[L.D_UPREF] = -1 if i == 0 else zone_profile(i - 1)
-
-    master_up = zone_profile(line.master - 1)
-    offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up], dtype=np.int64)
+    rate = sample_rate if sample_rate is not None else spec.control.sample_rate
+    drives, gains, designs = drive_table(line, inertia, rate)
+    master_up = 1 + line.zone_of_span(line.master - 1)
+    offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master],
+                       dtype=np.int64)
     web = np.zeros(L.W_COLS)
     web[L.W_EA] = line.ea
     web[L.W_THICK] = spec.web.thickness
     web[L.W_WIDTH] = spec.web.width
     web[L.W_DENSITY] = spec.web.density
     web[L.W_T0] = line.unwind.wound_in_tension
+    for noise in (d for d in spec.disturbances if isinstance(d, MeasurementNoise)):
+        web[L.W_NOISE_T], web[L.W_NOISE_V], web[L.W_SEED] = noise.tension, noise.speed, noise.seed
+    web[L.W_NEED_EQ] = float(np.any(drives[:, L.D_FAMILY] != L.FAMILY_PI))
     wound = np.array([[d.amplitude, d.frequency, d.phase] for d in spec.disturbances
                       if isinstance(d, WoundInRipple)]).reshape(-1, 3)
     ripple = np.array([[line.drives.index(_node(line, d.roller)), d.amplitude, d.frequency,
                         d.phase] for d in spec.disturbances
                        if isinstance(d, SpeedRipple)]).reshape(-1, 4)
-    rate = sample_rate if sample_rate is not None else spec.control.sample_rate
     return Plan(
         line=line, nodes=nodes, drives=drives,
         spans=np.array([[s.length, 1.0 / s.length] for s in spec.spans]),
         web=web, wound_ripple=wound, speed_ripple=ripple,
         prof_t=np.concatenate([t for t, _ in profiles]),
         prof_v=np.concatenate([v for _, v in profiles]), prof_off=prof_off, offsets=offsets,
-        gains=tuple(gains), state_names=tuple(names), dt=1.0 / rate,
+        gains=gains, designs=designs, state_names=tuple(names), dt=1.0 / rate,
     )
 
 

@@ -11,6 +11,8 @@ from scipy.integrate import solve_ivp
 
 from webline.line import Line, load_line
 from webline.sim import kernel
+from webline.sim import layout as L
+from webline.sim.controllers import control_tick
 from webline.sim.plan import compile_plan, equilibrium_plan_state
 from webline.sim.result import Result
 from webline.sim.simulate import _result
@@ -30,21 +32,23 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
     n_ticks = max(1, round(duration / plan.dt))
     x, istate = equilibrium_plan_state(plan)
     n_d = drives.shape[0]
-    cmd, vref, trim = np.zeros(n_d), np.zeros(n_d), np.zeros(n_d)
-    refs = np.empty(len(prof_off) - 1)
+    out = np.zeros((4, n_d))
+    cmd = out[0]
+    scratch = np.empty(len(prof_off) + 3 * nodes.shape[0])
     work = np.empty(3 * nodes.shape[0])
     rows = []
 
     def derivative(t: float, y: np.ndarray) -> np.ndarray:
         dy = np.empty_like(y)
-        kernel.rhs(t, y, cmd, nodes, spans, drives, web, wound, offsets, dy, work)
+        kernel.rhs(kernel.wound_in(t, web, wound), y, cmd, nodes, spans, drives, web, offsets,
+                   dy, work)
         return dy
 
     for j in range(n_ticks + 1):
         t = j * plan.dt
-        kernel.control_tick(t, plan.dt, x, istate, nodes, drives, web, prof_t, prof_v,
-                            prof_off, ripple, offsets, cmd, vref, trim, refs)
-        rows.append(np.concatenate(([t], x, cmd, vref, trim)))
+        control_tick(j, plan.dt, x, istate, nodes, drives, web, prof_t, prof_v, prof_off,
+                     ripple, offsets, out, scratch)
+        rows.append(np.concatenate(([t], x, out.ravel(), istate[:, L.I_FRICTION])))
         if j == n_ticks:
             break
         sol = solve_ivp(derivative, (t, t + plan.dt), x, method=method, rtol=rtol, atol=atol)

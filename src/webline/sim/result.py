@@ -5,13 +5,16 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 
 from webline.sim import layout as L
 from webline.sim.plan import Plan
 from webline.spec.load import dump_spec
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 #: unit of each kind of signal, as attributes in the xarray output
 SIGNAL_UNITS = {
@@ -41,6 +44,8 @@ class Result:
     torque_cmd: np.ndarray  #: [N·m] per drive
     speed_feedforward: np.ndarray  #: [m/s] per drive (line speed x draw + ripple)
     trim: np.ndarray  #: [m/s] per drive (tension-loop output)
+    equilibrium_input: np.ndarray  #: [N·m] per drive (decentralized controllers; else 0)
+    friction_estimate: np.ndarray  #: adaptive controllers' friction estimate [N·m·s] per drive
     status: str = "ok"
     message: str = ""
     settings: dict[str, float] = field(default_factory=dict)
@@ -202,6 +207,8 @@ class Result:
     def to_xarray(self) -> xr.Dataset:
         """Dataset over time with span, node and drive coordinates; units as attributes; the
         resolved line (TOML) and the webline version embedded."""
+        import xarray as xr
+
         from webline import __version__
 
         dims_span, dims_node, dims_drive = ("time", "span"), ("time", "node"), ("time", "drive")

@@ -8,7 +8,6 @@ from pathlib import Path
 
 import numpy as np
 
-from webline.analysis.linearize import linearize
 from webline.errors import SimulationError
 from webline.line import Line, load_line
 from webline.sim import kernel
@@ -23,15 +22,9 @@ STEP_LIMIT = 0.5
 MAX_RECORDS = 200_000
 
 
-def fastest_mode(line: Line) -> float:
-    """Largest |eigenvalue| [1/s] of the open- and closed-loop linear models at t = 0."""
-    return max(float(np.abs(np.linalg.eigvals(linearize(line, loop=loop).A)).max())
-               for loop in ("open", "closed"))
-
-
 def choose_substeps(line: Line, dt: float) -> int:
     """RK4 sub-steps per controller period ``dt`` [s] from the line's fastest mode."""
-    return max(1, math.ceil(dt * fastest_mode(line) / STEP_LIMIT))
+    return max(1, math.ceil(dt * line.fastest_mode / STEP_LIMIT))
 
 
 def simulate(line: Line | str | Path, duration: float | None = None, *,
@@ -79,7 +72,8 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
         done += count
         if progress is not None:
             progress(done / n_ticks)
-    result = _result(plan, np.concatenate(blocks), status, t_fail,
+    records = blocks[0] if len(blocks) == 1 else np.concatenate(blocks)
+    result = _result(plan, records, status, t_fail,
                      {"duration": duration, "dt": plan.dt, "substeps": substeps,
                       "record_every": every})
     if status != L.STATUS_OK and raise_on_failure:
@@ -96,9 +90,10 @@ def _result(plan: Plan, rec: np.ndarray, status: int, t_fail: float,
     elif status == L.STATUS_UNWIND_EMPTY:
         text = "unwind-empty"
         message = f"the unwind roll ran out of web (reached its core) at t = {t_fail:.4g} s"
+    block = [rec[:, 1 + n_x + q * n_d:1 + n_x + (q + 1) * n_d] for q in range(5)]
     return Result(
-        plan=plan, time=rec[:, 0], states=rec[:, 1:1 + n_x],
-        torque_cmd=rec[:, 1 + n_x:1 + n_x + n_d],
-        speed_feedforward=rec[:, 1 + n_x + n_d:1 + n_x + 2 * n_d],
-        trim=rec[:, 1 + n_x + 2 * n_d:], status=text, message=message, settings=settings,
+        plan=plan, time=rec[:, 0], states=rec[:, 1:1 + n_x], torque_cmd=block[0],
+        speed_feedforward=block[1], trim=block[2], equilibrium_input=block[3],
+        friction_estimate=block[4], status=text, message=message,
+        settings=settings,
     )

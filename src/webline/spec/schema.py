@@ -193,6 +193,63 @@ class CascadedPISpec(Strict):
     inertia_adaptive: bool = True
 
 
+Signed = Annotated[float, _si("dimensionless")]
+
+
+class _DecentralizedSpec(Strict):
+    """Common keys of the decentralized controllers of thesis Ch. 6.
+
+    Each drive feeds back only its own section: the deviation of its zone's loadcell tension
+    and of its web speed from their references, around the equilibrium input recomputed every
+    tick from the current roll radii and inertias (6.20-6.37). Gains missing from the file are
+    designed by LQ on the section model, with the deviations scaled by ``tension_scale`` [N],
+    ``speed_scale`` [m/s] and ``torque_scale`` [N·m] (default: 1 % of the tension reference,
+    1 % of the line speed (at least 0.01 m/s), 10 % of the torque limit).
+    ``friction_estimate`` [N·m·s] is the controller's model of the bearing friction (default:
+    the roller's true value).
+    """
+
+    tension_scale: Force | None = None
+    speed_scale: Annotated[float, _si("speed", ">0")] | None = None
+    torque_scale: Torque | None = None
+    friction_estimate: Damping | None = None
+
+
+class StateFeedbackSpec(_DecentralizedSpec):
+    """Decentralized state feedback (thesis 6.39-6.42): u = u_eq - K x - f(V).
+
+    ``tension_gain`` [N·m/N] and ``speed_gain`` [N·m·s/m] act on the section deviations.
+    """
+
+    type: Literal["state_feedback"]
+    tension_gain: Signed | None = None
+    speed_gain: Signed | None = None
+
+
+class AdaptiveSpec(_DecentralizedSpec):
+    """Decentralized adaptive control (thesis 6.62-6.77, re-derived, docs/errata.md E-6.8).
+
+    The state feedback of ``state_feedback`` with each section's unknown, its bearing
+    friction, estimated on line from ``friction_estimate`` (the initial guess).
+    ``adaptation_gain`` γ [rad/s] is the corner frequency of the integral-like action the
+    estimate adds to the speed feedback; ``leakage`` σ [-] pulls the estimate towards the
+    initial guess (σ-modification); projection keeps it in [0, ``parameter_bound`` x the
+    friction whose torque at the initial speed is the torque scale].
+    """
+
+    type: Literal["adaptive"]
+    tension_gain: Signed | None = None
+    speed_gain: Signed | None = None
+    adaptation_gain: Frequency = 20.0
+    leakage: Gain = 0.0
+    parameter_bound: Annotated[float, _si("dimensionless", ">0")] = 10.0
+
+
+ControllerSpec = Annotated[
+    CascadedPISpec | StateFeedbackSpec | AdaptiveSpec, Field(discriminator="type")
+]
+
+
 # --- rollers ----------------------------------------------------------------------------------
 
 
@@ -211,7 +268,7 @@ class UnwindSpec(_RollerBase):
     core_radius: Length
     wound_in_tension: Force
     drive: DriveSpec
-    controller: CascadedPISpec = CascadedPISpec()
+    controller: ControllerSpec = CascadedPISpec()
 
 
 class RewindSpec(_RollerBase):
@@ -220,7 +277,7 @@ class RewindSpec(_RollerBase):
     type: Literal["rewind"]
     core_radius: Length
     drive: DriveSpec
-    controller: CascadedPISpec = CascadedPISpec()
+    controller: ControllerSpec = CascadedPISpec()
 
 
 class DrivenSpec(_RollerBase):
@@ -229,7 +286,7 @@ class DrivenSpec(_RollerBase):
     type: Literal["driven"]
     role: Literal["master", "tension"]
     drive: DriveSpec
-    controller: CascadedPISpec = CascadedPISpec()
+    controller: ControllerSpec = CascadedPISpec()
 
 
 class IdleSpec(_RollerBase):
@@ -282,8 +339,19 @@ class SpeedRipple(Strict):
     phase: Angle = 0.0
 
 
+class MeasurementNoise(Strict):
+    """White Gaussian noise on every controller's tension and speed measurements (standard
+    deviations ``tension`` [N], ``speed`` [m/s]), reproducible from ``seed``."""
+
+    type: Literal["measurement_noise"]
+    tension: Annotated[float, _si("force", ">=0")] = 0.0
+    speed: Speed = 0.0
+    seed: int = 0
+
+
 DisturbanceSpec = Annotated[
-    WoundInRipple | EccentricRoller | SpeedRipple, Field(discriminator="type")
+    WoundInRipple | EccentricRoller | SpeedRipple | MeasurementNoise,
+    Field(discriminator="type"),
 ]
 
 

@@ -1,0 +1,261 @@
+"""Compiled controllers: one sample of every drive's controller per tick.
+
+Families (column ``D_FAMILY`` of the drive table):
+
+* cascaded PI (thesis Fig. 4.3): a tension PI trims the speed reference of a speed PI;
+* decentralized state feedback (6.39-6.42): u = u_eq + f + U with U = -K x on the section's
+  own deviations x = (T - T_ref, V - V_ref), u_eq the equilibrium input recomputed every tick
+  from the current roll radius and inertia (6.20-6.37, re-derived), f the cancellation of the
+  roll's velocity-squared term;
+* decentralized adaptive control (6.62-6.68, re-derived, E-6.8): the state feedback with the
+  section's one unknown, its friction coefficient, estimated on line: u = u_eq(b̂) + b̂ (ω -
+  ω_ref)/n + f - K x, with db̂/dt = -γ g K_V n ω (V - V_ref) / max(ω_ref², 1) (+ leakage),
+  projected onto [0, b_max].
+
+Measurements may carry white Gaussian noise; all controllers see the same noisy signals.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from webline.physics import motor, roll, roller, span
+from webline.sim import layout as L
+from webline.sim.signals import gaussian, jit, profile_at, profile_slope_at
+
+_tension: Any = jit(span.tension)
+_roll_inertia: Any = jit(roll.roll_inertia)
+_radius_rate: Any = jit(roll.radius_rate)
+_friction: Any = jit(roller.friction_torque)
+_saturate: Any = jit(motor.saturate)
+
+
+@jit
+def node_radius(i: int, x: np.ndarray, nodes: np.ndarray, off_r: int) -> float:
+    """Radius [m] a drive works with: the roll radius state, or the nominal roller radius."""
+    kind = int(nodes[i, L.N_KIND])
+    if kind == L.KIND_UNWIND:
+        return x[off_r]
+    if kind == L.KIND_REWIND:
+        return x[off_r + 1]
+    return nodes[i, L.N_RADIUS]
+
+
+@jit
+def node_inertia(i: int, radius: float, nodes: np.ndarray, web: np.ndarray) -> float:
+    """Inertia [kg·m²] at the shaft of node ``i`` whose radius is ``radius`` [m]."""
+    kind = int(nodes[i, L.N_KIND])
+    if kind == L.KIND_UNWIND or kind == L.KIND_REWIND:
+        return _roll_inertia(nodes[i, L.N_JCONST], radius, nodes[i, L.N_CORE], web[L.W_WIDTH],
+                             web[L.W_DENSITY])
+    return nodes[i, L.N_JCONST]
+
+
+@jit
+def roll_direction(i: int, nodes: np.ndarray) -> float:
+    kind = int(nodes[i, L.N_KIND])
+    return -1.0 if kind == L.KIND_UNWIND else (1.0 if kind == L.KIND_REWIND else 0.0)
+
+
+@jit
+def reference_state(a_line: float, refs: np.ndarray, nodes: np.ndarray, drives: np.ndarray,
+                    web: np.ndarray, offsets: np.ndarray, span_ref: np.ndarray,
+                    v_ref: np.ndarray, a_ref: np.ndarray) -> None:
+    """Reference tension of every span, web speed and acceleration of every node [SI].
+
+    As ``webline.operating_point``: loadcell spans at their zone reference, tension carried
+    across idle rollers by their friction and inertia, speeds from mass flow (E-6.5). Two passes
+    of the speed/tension coupling (its effect is of order (friction/EA)²).
+    """
+    ea = web[L.W_EA]
+    n_spans = span_ref.shape[0]
+    master = offsets[7]
+    for d in range(drives.shape[0]):
+        if int(drives[d, L.D_ROLE]) == L.ROLE_TENSION:
+            for k in range(int(drives[d, L.D_ZFIRST]), int(drives[d, L.D_ZLAST])):
+                span_ref[k] = refs[int(drives[d, L.D_REF])]
+    for sweep in range(2):
+        t_master = web[L.W_T0] if master == 0 else span_ref[master - 1]
+        for i in range(n_spans + 1):
+            t_up = web[L.W_T0] if i == 0 else span_ref[i - 1]
+            ratio = (ea - t_master) / (ea - t_up)
+            v_ref[i] = refs[0] * ratio
+            a_ref[i] = a_line * ratio
+        if sweep == 1:
+            break
+        for d in range(drives.shape[0]):
+            if int(drives[d, L.D_ROLE]) != L.ROLE_TENSION:
+                continue
+            first, last = int(drives[d, L.D_ZFIRST]), int(drives[d, L.D_ZLAST])
+            loadcell = int(drives[d, L.D_LOADCELL])
+            for k in range(loadcell + 1, last):
+                span_ref[k] = span_ref[k - 1] + _idle_drop(k, v_ref, a_ref, nodes)
+            for k in range(loadcell, first, -1):
+                span_ref[k - 1] = span_ref[k] - _idle_drop(k, v_ref, a_ref, nodes)
+
+
+@jit
+def _idle_drop(i: int, v_ref: np.ndarray, a_ref: np.ndarray, nodes: np.ndarray) -> float:
+    """Tension rise [N] across idle roller ``i`` at the reference motion."""
+    r = nodes[i, L.N_RADIUS]
+    omega = v_ref[i] / r
+    torque = nodes[i, L.N_JCONST] * a_ref[i] / r
+    torque += _friction(omega, nodes[i, L.N_VISCOUS], nodes[i, L.N_COULOMB])
+    return torque / r
+
+
+@jit
+def equilibrium_input(i: int, radius: float, inertia: float, friction: float,
+                      nodes: np.ndarray, web: np.ndarray, span_ref: np.ndarray,
+                      v_ref: np.ndarray, a_ref: np.ndarray) -> float:
+    """Motor torque [N·m] that holds node ``i`` on its reference (6.20, 6.28, 6.32, 6.37 with
+    E-6.1, E-6.2), for a viscous friction coefficient ``friction`` [N·m·s]."""
+    omega = v_ref[i] / radius
+    r_dot = _radius_rate(v_ref[i], radius, web[L.W_THICK], roll_direction(i, nodes))
+    accel = a_ref[i] / radius - v_ref[i] * r_dot / (radius * radius)
+    t_out = span_ref[i] if i < span_ref.shape[0] else 0.0
+    t_in = span_ref[i - 1] if i > 0 else 0.0
+    torque = inertia * accel - radius * (t_out - t_in)
+    torque += _friction(omega, friction, nodes[i, L.N_COULOMB])
+    return torque / nodes[i, L.N_RATIO]
+
+
+@jit
+def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, nodes: np.ndarray,
+                 drives: np.ndarray, web: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
+                 prof_off: np.ndarray, speed_ripple: np.ndarray, offsets: np.ndarray,
+                 out: np.ndarray, scratch: np.ndarray) -> None:
+    """One sample of every drive's controller at tick ``tick`` (t = tick·dt [s]).
+
+    ``istate`` (drive x I_COLS) holds PI integrators and adaptive estimates; ``out`` (4 x
+    drives) receives the torque command [N·m], the speed reference [m/s], the PI trim [m/s]
+    and the equilibrium input [N·m]; ``scratch`` has room for profiles + spans + 2 x nodes.
+    """
+    t = tick * dt
+    n_nodes = nodes.shape[0]
+    n_prof = prof_off.shape[0] - 1
+    refs = scratch[:n_prof]
+    span_ref = scratch[n_prof:n_prof + n_nodes - 1]
+    v_ref = scratch[n_prof + n_nodes - 1:n_prof + 2 * n_nodes - 1]
+    a_ref = scratch[n_prof + 2 * n_nodes - 1:n_prof + 3 * n_nodes - 1]
+    for p in range(n_prof):
+        refs[p] = profile_at(p, t, prof_t, prof_v, prof_off)
+    if web[L.W_NEED_EQ] > 0.0:
+        a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)
+        reference_state(a_line, refs, nodes, drives, web, offsets, span_ref, v_ref, a_ref)
+    seed = int(web[L.W_SEED])
+    for d in range(drives.shape[0]):
+        i = int(drives[d, L.D_NODE])
+        radius = node_radius(i, x, nodes, offsets[2])
+        v_meas = radius * x[offsets[1] + i]
+        if web[L.W_NOISE_V] > 0.0:
+            v_meas += web[L.W_NOISE_V] * gaussian(seed, tick, 2 * d)
+        loadcell = int(drives[d, L.D_LOADCELL])
+        t_meas = 0.0
+        if loadcell >= 0:
+            t_meas = _tension(x[loadcell])
+            if web[L.W_NOISE_T] > 0.0:
+                t_meas += web[L.W_NOISE_T] * gaussian(seed, tick, 2 * d + 1)
+        gain = 1.0
+        if drives[d, L.D_ADAPTIVE] > 0.0:
+            inertia = node_inertia(i, radius, nodes, web)
+            gain = inertia / (nodes[i, L.N_RATIO] * radius) / drives[d, L.D_GAINNORM]
+        family = int(drives[d, L.D_FAMILY])
+        if family == L.FAMILY_PI:
+            pi_command(d, t, dt, v_meas, t_meas, gain, istate, drives, web, refs, speed_ripple,
+                       offsets, out)
+        else:
+            decentralized_command(d, i, dt, radius, v_meas, t_meas, gain, istate, nodes,
+                                  drives, web, span_ref, v_ref, a_ref, out)
+
+
+@jit
+def pi_command(d: int, t: float, dt: float, v_meas: float, t_meas: float, gain: float,
+               istate: np.ndarray, drives: np.ndarray, web: np.ndarray, refs: np.ndarray,
+               speed_ripple: np.ndarray, offsets: np.ndarray, out: np.ndarray) -> None:
+    """Cascaded PI of drive ``d`` (thesis 4.1i-j, trim sign per E-4.1).
+
+    Line speed x draw (from the tension references) + ripple is the speed feedforward; the
+    tension PI trims it; the speed PI gives the torque, clipped to the limit. Integrators hold
+    torque [N·m] and trim [m/s] and stop while the torque saturates in the direction they push
+    (conditional integration).
+    """
+    ea = web[L.W_EA]
+    up = int(drives[d, L.D_UPREF])
+    t_up = web[L.W_T0] if up < 0 else refs[up]
+    ref = refs[0] * (ea - refs[offsets[6]]) / (ea - t_up)
+    for r in range(speed_ripple.shape[0]):
+        if int(speed_ripple[r, 0]) == d:
+            ref += speed_ripple[r, 1] * math.sin(2.0 * math.pi * speed_ripple[r, 2] * t
+                                                 + speed_ripple[r, 3])
+    e_t = 0.0
+    trim = 0.0
+    if int(drives[d, L.D_ROLE]) == L.ROLE_TENSION:
+        e_t = refs[int(drives[d, L.D_REF])] - t_meas
+        trim = drives[d, L.D_SIGMA] * (drives[d, L.D_KPT] * e_t + istate[d, L.I_TENSION])
+    e_v = ref + trim - v_meas
+    raw = drives[d, L.D_KPS] * gain * e_v + istate[d, L.I_SPEED]
+    u = _saturate(raw, drives[d, L.D_LIMIT])
+    saturated = raw != u
+    if not (saturated and e_v * raw > 0.0):
+        istate[d, L.I_SPEED] += drives[d, L.D_KIS] * gain * e_v * dt
+    if not (saturated and drives[d, L.D_SIGMA] * e_t * raw > 0.0):
+        istate[d, L.I_TENSION] += drives[d, L.D_KIT] * e_t * dt
+    out[0, d] = u
+    out[1, d] = ref
+    out[2, d] = trim
+    out[3, d] = 0.0
+
+
+@jit
+def decentralized_command(d: int, i: int, dt: float, radius: float, v_meas: float,
+                          t_meas: float, gain: float, istate: np.ndarray, nodes: np.ndarray,
+                          drives: np.ndarray, web: np.ndarray, span_ref: np.ndarray,
+                          v_ref: np.ndarray, a_ref: np.ndarray, out: np.ndarray) -> None:
+    """State feedback or adaptive control of drive ``d`` on node ``i`` (module docstring)."""
+    inertia = node_inertia(i, radius, nodes, web)
+    ratio = nodes[i, L.N_RATIO]
+    adaptive = int(drives[d, L.D_FAMILY]) == L.FAMILY_ADAPTIVE
+    friction = istate[d, L.I_FRICTION] if adaptive else drives[d, L.D_BMODEL]
+    u_eq = equilibrium_input(i, radius, inertia, friction, nodes, web, span_ref, v_ref, a_ref)
+    loadcell = int(drives[d, L.D_LOADCELL])
+    x_t = t_meas - span_ref[loadcell] if loadcell >= 0 else 0.0
+    x_v = v_meas - v_ref[i]
+    # cancel the roll's velocity-squared term around the reference (the f_i of 6.39, 6.42)
+    direction = roll_direction(i, nodes)
+    comp = 0.0
+    if direction != 0.0:
+        scale = direction * inertia * web[L.W_THICK] / (2.0 * math.pi * radius**3)
+        comp = -scale * (v_meas * v_meas - v_ref[i] * v_ref[i]) / ratio
+    feedback = -gain * (drives[d, L.D_KT] * x_t + drives[d, L.D_KV] * x_v)
+    if adaptive:  # friction felt at the measured speed, not only at the reference
+        feedback += friction * x_v / (radius * ratio)
+    raw = u_eq + comp + feedback
+    u = _saturate(raw, drives[d, L.D_LIMIT])
+    if adaptive and u == raw:
+        adapt(d, dt, x_v, v_meas / radius, v_ref[i] / radius, gain, ratio, istate, drives)
+    out[0, d] = u
+    out[1, d] = v_ref[i]
+    out[2, d] = 0.0
+    out[3, d] = u_eq
+
+
+@jit
+def adapt(d: int, dt: float, x_v: float, omega: float, omega_ref: float, gain: float,
+          ratio: float, istate: np.ndarray, drives: np.ndarray) -> None:
+    """One Euler step of the friction estimate b̂ [N·m·s] (E-6.8), leakage and projection.
+
+    With b̂ = b the section closes exactly as the state feedback does; the error b̂ - b enters
+    the speed equation through B·ω/n, and the section's speed response is strictly positive
+    real, so (KYP lemma) V = eᵀPe + (b̂ - b)²/γ' decreases along db̂/dt = -γ' ω x_V, with
+    ``x_v`` the speed deviation [m/s]. γ' = γ g K_V n / max(ω_ref², 1) makes the estimate act
+    as an integral on the speed error with corner frequency γ [rad/s] at any line speed.
+    """
+    rate = drives[d, L.D_GAMMA] * gain * drives[d, L.D_KV] * ratio / max(omega_ref**2, 1.0)
+    b_hat = istate[d, L.I_FRICTION]
+    b_hat += dt * (-rate * omega * x_v - drives[d, L.D_LEAK] * drives[d, L.D_GAMMA]
+                   * (b_hat - drives[d, L.D_BMODEL]))
+    istate[d, L.I_FRICTION] = min(max(b_hat, 0.0), drives[d, L.D_BMAX])

@@ -1,0 +1,117 @@
+"""The kernel's drive table: one row per driven node with its topology and controller."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from webline.analysis.operating_point import operating_point
+from webline.control.decentralized import SectionDesign, design_section
+from webline.control.pi import PIGains, tune
+from webline.control.sections import section_models
+from webline.line import Line, is_roll
+from webline.sim import layout as L
+from webline.spec.schema import AdaptiveSpec, CascadedPISpec, IdleSpec, StateFeedbackSpec
+
+FAMILIES = {CascadedPISpec: L.FAMILY_PI, StateFeedbackSpec: L.FAMILY_STATE_FEEDBACK,
+            AdaptiveSpec: L.FAMILY_ADAPTIVE}
+
+
+Designs = tuple[SectionDesign | None, ...]
+
+
+def drive_table(line: Line, inertia: np.ndarray,
+                sample_rate: float) -> tuple[np.ndarray, tuple[PIGains, ...], Designs]:
+    """Rows of the drive table, the PI gains and the decentralized designs of every drive.
+
+    ``inertia``: inertia of every node at t = 0 [kg·m²]; ``sample_rate`` of the controllers
+    [Hz]. Reference profiles are numbered as
+    in the plan: 0 the line speed, 1 + z the tension of zone z.
+    """
+    spec = line.spec
+    rows = np.zeros((len(line.drives), L.D_COLS))
+    gains, designs = [], []
+    controllers = [getattr(spec.rollers[i], "controller", None) for i in line.drives]
+    decentralized = any(not isinstance(c, CascadedPISpec) for c in controllers)
+    op = operating_point(line) if decentralized else None
+    models = section_models(line, op) if decentralized else None
+    for d, i in enumerate(line.drives):
+        roller = spec.rollers[i]
+        assert not isinstance(roller, IdleSpec)
+        z = line.controlled_zone(i)
+        zone = line.zones[z] if z is not None else None
+        row = rows[d]
+        row[L.D_NODE] = i
+        row[L.D_ROLE] = L.ROLE_TENSION if zone else L.ROLE_MASTER
+        row[L.D_LOADCELL] = zone.loadcell if zone else -1
+        row[L.D_REF] = 1 + z if z is not None else -1
+        row[L.D_ZFIRST], row[L.D_ZLAST] = (zone.first, zone.last) if zone else (-1, -1)
+        row[L.D_SIGMA] = (-1.0 if zone.first == i else 1.0) if zone else 0.0
+        row[L.D_LIMIT] = roller.drive.torque_limit
+        row[L.D_LAG] = roller.drive.torque_lag
+        row[L.D_INVLAG] = 1.0 / roller.drive.torque_lag
+        row[L.D_GAINNORM] = inertia[i] / (roller.drive.ratio * roller.radius)
+        row[L.D_UPREF] = -1 if i == 0 else 1 + line.zone_of_span(i - 1)
+        controller = roller.controller
+        row[L.D_FAMILY] = FAMILIES[type(controller)]
+        if isinstance(controller, CascadedPISpec):
+            gains.append(_pi_columns(row, line, d, inertia[i]))
+            designs.append(None)
+        else:
+            assert op is not None and models is not None
+            gains.append(PIGains(0.0, 0.0, 0.0, 0.0))
+            designs.append(_decentralized_columns(row, line, d, op.line_speed,
+                                                  op.tension, models[d], sample_rate))
+        row[L.D_ADAPTIVE] = 1.0 if is_roll(roller) and getattr(
+            controller, "inertia_adaptive", True) else 0.0
+        estimate = getattr(controller, "friction_estimate", None)
+        row[L.D_BMODEL] = roller.friction if estimate is None else estimate
+    return rows, tuple(gains), tuple(designs)
+
+
+def _pi_columns(row: np.ndarray, line: Line, d: int, inertia: float) -> PIGains:
+    i = line.drives[d]
+    roller = line.spec.rollers[i]
+    c = roller.controller  # type: ignore[union-attr]
+    assert isinstance(c, CascadedPISpec)
+    z = line.controlled_zone(i)
+    zone_length = 1.0 if z is None else sum(line.spec.spans[k].length for k in line.zones[z].spans)
+    drive = roller.drive  # type: ignore[union-attr]
+    auto = tune(inertia, drive.ratio, roller.radius, zone_length, line.ea, c.speed_bandwidth,
+                c.tension_bandwidth, c.damping)
+    has_zone = z is not None
+    g = PIGains(
+        speed_kp=auto.speed_kp if c.speed_kp is None else c.speed_kp,
+        speed_ki=auto.speed_ki if c.speed_ki is None else c.speed_ki,
+        tension_kp=(auto.tension_kp if c.tension_kp is None else c.tension_kp) if has_zone else 0,
+        tension_ki=(auto.tension_ki if c.tension_ki is None else c.tension_ki) if has_zone else 0,
+    )
+    row[L.D_KPS], row[L.D_KIS] = g.speed_kp, g.speed_ki
+    row[L.D_KPT], row[L.D_KIT] = g.tension_kp, g.tension_ki
+    return g
+
+
+def _decentralized_columns(row: np.ndarray, line: Line, d: int, line_speed: float,
+                           tension: np.ndarray, model: object,
+                           sample_rate: float) -> SectionDesign:
+    i = line.drives[d]
+    roller = line.spec.rollers[i]
+    c = roller.controller  # type: ignore[union-attr]
+    assert isinstance(c, StateFeedbackSpec | AdaptiveSpec)
+    z = line.controlled_zone(i)
+    t_scale = c.tension_scale or (0.01 * tension[line.zones[z].loadcell] if z is not None else 1.0)
+    v_scale = c.speed_scale or max(0.01 * abs(line_speed), 0.01)
+    u_scale = c.torque_scale or 0.1 * roller.drive.torque_limit  # type: ignore[union-attr]
+    # the section models leave out the torque lag and the sampling: keep the loop well inside
+    max_bandwidth = min(0.2 / roller.drive.torque_lag, 2 * np.pi * sample_rate / 20)  # type: ignore[union-attr]
+    design = design_section(model, t_scale, v_scale, u_scale, max_bandwidth)  # type: ignore[arg-type]
+    gain = design.gain.copy()
+    if c.tension_gain is not None:
+        gain[0] = c.tension_gain
+    if c.speed_gain is not None:
+        gain[1] = c.speed_gain
+    row[L.D_KT], row[L.D_KV] = gain
+    if isinstance(c, AdaptiveSpec):
+        row[L.D_GAMMA], row[L.D_LEAK] = c.adaptation_gain, c.leakage
+        # the bound: a friction torque at the initial speed of parameter_bound x torque scale
+        row[L.D_BMAX] = c.parameter_bound * u_scale / max(abs(line_speed) / roller.radius, 1.0)
+    return design
