@@ -14,7 +14,7 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 run: $(STAMP)
-	$(BIN)/webline run hswl --out out/hswl
+	$(BIN)/webline run hswl --scenario speed-change --out out/hswl
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q

@@ -1,0 +1,92 @@
+"""Modes of a linear model: natural frequency, damping ratio and the state each one lives in.
+
+For an eigenvalue λ [1/s] of A, the natural frequency is ωn = |λ| [rad/s] (fn = ωn / 2π [Hz]),
+the damped frequency ωd = |Im λ| [rad/s] and the damping ratio ζ = -Re λ / |λ| (1 for a
+stable real pole, negative for an unstable mode). A complex pair is one mode. The dominant
+state is the one with the largest participation factor |v_i w_i| (right and left eigenvectors).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import control
+import numpy as np
+
+from webline.line import Line, load_line
+
+
+@dataclass(frozen=True)
+class Mode:
+    """One mode (a real pole or a complex-conjugate pair) of a linear model."""
+
+    eigenvalue: complex  #: [1/s], the one with Im >= 0 for a pair
+    dominant: str  #: name of the state with the largest participation factor
+
+    @property
+    def natural_frequency(self) -> float:
+        """ωn = |λ| [rad/s]."""
+        return abs(self.eigenvalue)
+
+    @property
+    def frequency_hz(self) -> float:
+        """fn = ωn / 2π [Hz]."""
+        return self.natural_frequency / (2.0 * math.pi)
+
+    @property
+    def damped_frequency(self) -> float:
+        """ωd = |Im λ| [rad/s] (0 for a real pole)."""
+        return abs(self.eigenvalue.imag)
+
+    @property
+    def damping(self) -> float:
+        """ζ = -Re λ / |λ| (dimensionless; 1 for a stable real pole, NaN at λ = 0)."""
+        return -self.eigenvalue.real / abs(self.eigenvalue) if self.eigenvalue else math.nan
+
+    @property
+    def oscillatory(self) -> bool:
+        return self.damped_frequency > 0.0
+
+    def as_dict(self) -> dict[str, object]:
+        """Plain data (for JSON): eigenvalue, ωn [rad/s], fn [Hz], ωd [rad/s], ζ, dominant."""
+        return {"eigenvalue_real": self.eigenvalue.real, "eigenvalue_imag": self.eigenvalue.imag,
+                "natural_frequency_rad_s": self.natural_frequency,
+                "natural_frequency_hz": self.frequency_hz,
+                "damped_frequency_rad_s": self.damped_frequency,
+                "damping_ratio": self.damping, "dominant_state": self.dominant}
+
+
+def modes(system: control.StateSpace) -> list[Mode]:
+    """The modes of ``system`` (its A matrix), slowest first."""
+    a = np.asarray(system.A, dtype=float)
+    if a.size == 0:
+        return []
+    values, right = np.linalg.eig(a)
+    left = np.linalg.inv(right)  # rows are the left eigenvectors
+    participation = np.abs(right * left.T)  # [state, mode]
+    names = list(system.state_labels)
+    out = []
+    for j, value in enumerate(values):
+        if value.imag < 0.0:
+            continue  # a real matrix: the conjugate of a pair counted with Im > 0
+        out.append(Mode(complex(value), names[int(np.argmax(participation[:, j]))]))
+    return sorted(out, key=lambda m: (m.natural_frequency, m.eigenvalue.imag))
+
+
+def closed_loop_modes(line: Line | str, t: float = 0.0) -> list[Mode]:
+    """Modes of ``line`` with its cascaded-PI controllers, linearized at time ``t`` [s]."""
+    from webline.analysis.linearize import linearize
+
+    return modes(linearize(load_line(line), t, loop="closed"))
+
+
+def analysis_time(line: Line) -> float:
+    """Time [s] at which to analyse ``line``: 0, or for a start from rest the end of the
+    speed ramp (a line standing still has no web-transport dynamics to speak of)."""
+    from webline.profiles import breakpoints
+
+    times, values = breakpoints(line.spec.speed)
+    if values[0] > 0.01 * float(np.max(values)):
+        return 0.0
+    return float(times[-1])

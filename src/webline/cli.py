@@ -1,0 +1,295 @@
+"""``webline``: the command line, a thin layer over the public API.
+
+Exit status: 0 success, 2 bad input (one line naming the file, key and problem), 1 a run that
+failed (what was computed until then is still written, and the failure described).
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from enum import StrEnum
+from pathlib import Path
+from typing import Annotated, TypeVar
+
+import typer
+from rich.console import Console
+from rich.markup import escape
+from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
+from rich.table import Table as RichTable
+
+from webline import __version__, load_line, operating_point, simulate
+from webline.errors import WeblineError
+from webline.line import Line
+from webline.units import to_si
+
+app = typer.Typer(
+    name="webline", add_completion=False, no_args_is_help=True, rich_markup_mode=None,
+    pretty_exceptions_enable=False,
+    help="Simulate and analyse roll-to-roll (web handling) lines described in line files.",
+)
+
+
+class Units(StrEnum):
+    si = "si"
+    imperial = "imperial"
+
+
+class DataFormat(StrEnum):
+    netcdf = "netcdf"
+    csv = "csv"
+
+
+class BadInput(WeblineError):
+    """A command-line value is wrong (exit status 2)."""
+
+    exit_code = 2
+
+
+LineArg = Annotated[str, typer.Argument(
+    metavar="LINE",
+    help="A line file (.toml) or the name of a built-in line (see 'webline lines').")]
+UnitsOpt = Annotated[Units, typer.Option("--units", "-u", help="Units to show quantities in.")]
+ScenarioOpt = Annotated[str | None, typer.Option(
+    "--scenario", "-s", help="A named scenario of the line file (see 'webline show').")]
+
+F = TypeVar("F", bound=Callable[..., None])
+
+
+def handles_errors(command: F) -> F:
+    """Turn webline's errors into one line on stderr and their exit status, no traceback."""
+
+    @functools.wraps(command)
+    def wrapper(*args: object, **kwargs: object) -> None:
+        try:
+            command(*args, **kwargs)
+        except WeblineError as exc:
+            fail(str(exc), exc.exit_code)
+
+    return wrapper  # type: ignore[return-value]
+
+
+def fail(message: str, code: int) -> None:
+    """Print ``error: message`` as one line on stderr and exit with ``code``."""
+    typer.echo("error: " + " ".join(message.split()), err=True)
+    raise typer.Exit(code)
+
+
+def _version(value: bool) -> None:
+    if value:
+        typer.echo(f"webline {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def root(version: Annotated[bool, typer.Option(
+        "--version", callback=_version, is_eager=True, help="Show the version and exit.")]
+         = False) -> None:
+    """Simulate and analyse roll-to-roll (web handling) lines described in line files."""
+
+
+# --- helpers ----------------------------------------------------------------------------------
+
+
+def _console() -> Console:
+    """Standard output for tables: the terminal's width, or 160 columns when piped."""
+    console = Console(highlight=False)
+    if not console.is_terminal:
+        console.width = 160
+    return console
+
+
+def print_tables(tables: list, console: Console) -> None:
+    """Print report tables (``webline.report.tables.Table``) with rich, skipping empty ones."""
+    for table in tables:
+        if not table.rows:
+            continue
+        out = RichTable(title=escape(table.title), title_justify="left", title_style="bold")
+        for column in table.columns:
+            out.add_column(escape(column), overflow="fold")
+        for row in table.rows:
+            out.add_row(*(escape(cell) for cell in row))
+        console.print(out)
+
+
+def _load(source: str, scenario: str | None) -> Line:
+    line = load_line(source)
+    return line.with_scenario(scenario) if scenario else line
+
+
+def _duration(text: str | None) -> float | None:
+    if text is None:
+        return None
+    try:
+        value = float(text)  # a plain number is seconds
+    except ValueError:
+        value = None
+    try:
+        value = to_si(text, "time") if value is None else value
+    except ValueError as exc:
+        raise BadInput(f"--duration: {exc}") from None
+    if not value > 0:
+        raise BadInput(f"--duration: must be > 0 s, got {text!r}")
+    return value
+
+
+def prepare_out(out: Path) -> Path:
+    """Create the output folder ``out`` and check that files can be written in it."""
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        probe = out / ".webline-write-test"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError as exc:
+        reason = exc.strerror or str(exc)
+        raise BadInput(f"{out}: cannot write to the output folder ({reason})") from None
+    return out
+
+
+@contextmanager
+def progress_bar(enabled: bool, label: str) -> Iterator[Callable[[float], None] | None]:
+    """A progress bar on stderr (cleared when done) fed with the fraction done, or None."""
+    if not enabled:
+        yield None
+        return
+    columns = (TextColumn(escape(label)), BarColumn(), TaskProgressColumn(), TimeElapsedColumn())
+    with Progress(*columns, console=Console(stderr=True), transient=True) as bar:
+        task = bar.add_task(label, total=1.0)
+        yield lambda fraction: bar.update(task, completed=fraction)
+
+
+# --- commands ---------------------------------------------------------------------------------
+
+
+@app.command()
+@handles_errors
+def run(
+    line: LineArg = "hswl",
+    duration: Annotated[str | None, typer.Option(
+        "--duration", "-d", help="Simulated time, e.g. 30 or '2 min' [s]; default: the "
+        "scenario's duration, else 10 s.")] = None,
+    scenario: ScenarioOpt = None,
+    out: Annotated[Path | None, typer.Option(
+        "--out", "-o", help="Output folder; default out/LINE[-SCENARIO].")] = None,
+    units: UnitsOpt = Units.si,
+    data_format: Annotated[DataFormat, typer.Option(
+        "--format", "-f", help="File format of the results (always SI).")] = DataFormat.netcdf,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q",
+                                        help="Print only the report's path.")] = False,
+) -> None:
+    """Simulate a line and write its results, figures and an HTML report."""
+    from webline.report import write_report, write_results
+
+    base = load_line(line)
+    scenario_line = base.with_scenario(scenario) if scenario else base
+    seconds = _duration(duration)
+    folder = prepare_out(out or Path("out") / (base.name + (f"-{scenario}" if scenario else "")))
+    err = Console(stderr=True, highlight=False)
+    started = time.perf_counter()
+    with progress_bar(not quiet, f"simulating {scenario_line.name}") as progress:
+        result = simulate(base, seconds, scenario=scenario, progress=progress,
+                          raise_on_failure=False)
+    if not quiet:
+        simulated = float(result.time[-1]) if len(result.time) else 0.0
+        err.print(f"Simulated {simulated:.4g} s of {escape(base.name)} in "
+                  f"{time.perf_counter() - started:.2f} s; writing results and report")
+    try:
+        results_file = write_results(result, folder, data_format.value)
+        files = write_report(result, folder, units=units.value, scenario=scenario,
+                             results_file=results_file)
+    except OSError as exc:
+        raise WeblineError(f"{folder}: cannot write the results: {exc}") from None
+    if not quiet:
+        from webline.report.display import Display
+        from webline.report.tables import summary_tables
+
+        console = _console()
+        print_tables(summary_tables(result, Display(units.value)), console)
+        console.print(f"Results (SI): {escape(str(results_file))}\n"
+                      f"Figures:      {escape(str(folder / 'figures'))} "
+                      f"({len(files.figures) // 2} as PNG and SVG)\n"
+                      f"Summary:      {escape(str(files.summary))}\n"
+                      "Report (open it in a browser):")
+    typer.echo(str(files.report.resolve()))
+    if result.status != "ok":
+        fail(f"simulation failed: {result.message}; what was computed until then is in "
+             f"{folder}", 1)
+
+
+@app.command()
+@handles_errors
+def validate(line: LineArg) -> None:
+    """Check a line file (and each of its scenarios); exit 2 naming the first problem."""
+    loaded = load_line(line)
+    for name in loaded.spec.scenarios:
+        loaded.with_scenario(name)
+    scenarios = ", ".join(loaded.spec.scenarios) or "none"
+    typer.echo(f"ok: {loaded.source}: line {loaded.name!r} with {loaded.n_nodes} rollers, "
+               f"{loaded.n_spans} spans, {len(loaded.drives)} drives, {len(loaded.zones)} "
+               f"tension zones; scenarios: {scenarios}")
+
+
+@app.command()
+@handles_errors
+def lines() -> None:
+    """List the built-in lines and their scenarios."""
+    from webline.report.tables import make_table
+    from webline.spec.load import builtin_lines
+
+    rows = [[name, description, ", ".join(load_line(name).spec.scenarios)]
+            for name, description in builtin_lines().items()]
+    print_tables([make_table("lines", "Built-in lines", ["name", "description", "scenarios"],
+                             rows)], _console())
+
+
+@app.command()
+@handles_errors
+def show(line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None) -> None:
+    """Show a line: sections, rollers, spans, drives, controllers and scenarios."""
+    from webline.report.describe import line_tables
+    from webline.report.display import Display
+
+    print_tables(line_tables(_load(line, scenario), Display(units.value)), _console())
+
+
+@app.command()
+@handles_errors
+def analyze(
+    line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None,
+    at: Annotated[float | None, typer.Option(
+        "--time", "-t", help="Analyse the references at this time [s]; default 0, or the end "
+        "of the speed ramp for a start from rest.")] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")]
+    = False,
+) -> None:
+    """Operating point, equilibrium inputs and closed-loop modes of a line."""
+    from webline.analysis.modes import analysis_time, closed_loop_modes
+    from webline.report.display import Display
+    from webline.report.tables import modes_table, operating_point_tables, operating_point_values
+
+    loaded = _load(line, scenario)
+    t = analysis_time(loaded) if at is None else at
+    if not t >= 0:
+        raise BadInput(f"--time: must be >= 0 s, got {at}")
+    display = Display(units.value)
+    point = operating_point(loaded, t)
+    try:
+        modes = closed_loop_modes(loaded, t)
+    except NotImplementedError as exc:  # a controller without a linear model yet
+        raise WeblineError(f"{loaded.source}: cannot linearize: {exc}") from None
+    if as_json:
+        typer.echo(json.dumps({
+            "line": loaded.name, "scenario": scenario, "units": units.value,
+            "operating_point": operating_point_values(point, display),
+            "closed_loop_modes": [m.as_dict() for m in modes]}, indent=2))
+        return
+    print_tables([*operating_point_tables(loaded, point, display), modes_table(modes)],
+                 _console())
+
+
+def main() -> None:
+    """Console-script entry point."""
+    app(prog_name="webline")

@@ -1,0 +1,154 @@
+"""A line described as tables (sections, rollers, spans, drives, controllers, scenarios) in the
+chosen units: what ``webline show`` prints and the report's line section shows."""
+
+from __future__ import annotations
+
+from webline.line import Line
+from webline.report.display import Display, number_text
+from webline.report.tables import Table, make_table, node_kind
+from webline.spec.schema import IdleSpec, RewindSpec, UnwindSpec
+
+
+def profile_text(profile: object, kind: str, display: Display) -> str:
+    """A reference profile in words: ``'14.35 lbf'``, ``'ramp 200 → 1000 ft/min, 2 s to 7 s'``."""
+    if profile is None:
+        return ""
+    if isinstance(profile, float | int):
+        return display.text(profile, kind)
+    unit = display.unit(kind)
+    kind_name = getattr(profile, "type", "")
+    if kind_name == "ramp":
+        start, end = profile.start, profile.start + profile.duration  # type: ignore[attr-defined]
+        return (f"ramp {number_text(display.value(profile.initial, kind))} → "  # type: ignore[attr-defined]
+                f"{display.text(profile.final, kind)}, {start:g} s to {end:g} s")  # type: ignore[attr-defined]
+    if kind_name == "steps":
+        steps = ", ".join(f"{number_text(display.value(s.value, kind))} at {s.time:g} s"
+                          for s in profile.steps)  # type: ignore[attr-defined]
+        return f"steps from {display.text(profile.initial, kind)}: {steps} [{unit}]"  # type: ignore[attr-defined]
+    values = [display.value(v, kind) for v in profile.value]  # type: ignore[attr-defined]
+    return (f"table of {len(values)} points, {number_text(min(values))} to "
+            f"{number_text(max(values))} {unit}")
+
+
+def line_tables(line: Line, display: Display) -> list[Table]:
+    """Tables describing ``line``: overview, rollers, spans, drives and controllers, zones,
+    disturbances and scenarios, every quantity in the chosen units."""
+    return [_overview(line, display), _rollers(line, display), _spans(line, display),
+            _drives(line, display), _zones(line), _disturbances(line, display),
+            _scenarios(line)]
+
+
+def _overview(line: Line, d: Display) -> Table:
+    spec, web = line.spec, line.spec.web
+    rows = [("name", spec.name), ("description", spec.description), ("source", spec.source),
+            ("file", line.source), ("line speed reference", profile_text(spec.speed, "speed", d)),
+            ("web EA", d.text(line.ea, "force")),
+            ("web thickness", _thickness(web.thickness, d)),
+            ("web width", d.text(web.width, "length")),
+            ("web density", d.text(web.density, "density")),
+            ("control sample rate", f"{spec.control.sample_rate:g} Hz"),
+            ("size", f"{line.n_nodes} rollers, {line.n_spans} spans, {len(line.drives)} drives, "
+                     f"{len(line.zones)} tension zones")]
+    return make_table("line", "Line", ["key", "value"], [r for r in rows if r[1]])
+
+
+def _thickness(thickness: float, d: Display) -> str:
+    """Web thickness [m] in µm (SI) or mil (imperial, 1 mil = 25.4 µm)."""
+    if d.system == "imperial":
+        return f"{thickness / 25.4e-6:.4g} mil"
+    return f"{thickness * 1e6:.4g} µm"
+
+
+def _rollers(line: Line, d: Display) -> Table:
+    rows = []
+    for i, r in enumerate(line.spec.rollers):
+        core = d.text(r.core_radius, "length") if isinstance(r, UnwindSpec | RewindSpec) else ""
+        rows.append([str(i), r.name, node_kind(line, i), d.text(r.radius, "length"), core,
+                     d.text(r.inertia, "inertia"), d.text(r.friction, "rot_damping"),
+                     "" if isinstance(r, IdleSpec) else "yes"])
+    return make_table("rollers", "Rollers (web order)",
+                      ["#", "name", "kind", "radius", "core radius", "inertia",
+                       "viscous friction", "driven"], rows)
+
+
+def _spans(line: Line, d: Display) -> Table:
+    rows = []
+    for k, span in enumerate(line.spec.spans):
+        rows.append([line.span_name(k), f"{line.node_name(k)} → {line.node_name(k + 1)}",
+                     d.text(span.length, "length"), str(line.zone_of_span(k) + 1),
+                     profile_text(span.tension, "force", d) or "(no loadcell)"])
+    return make_table("spans", "Spans", ["span", "from → to", "length", "zone",
+                                         "tension reference (loadcell)"], rows)
+
+
+def _drives(line: Line, d: Display) -> Table:
+    rows = []
+    for i in line.drives:
+        r = line.spec.rollers[i]
+        assert not isinstance(r, IdleSpec)
+        drive = r.drive
+        zone = line.controlled_zone(i)
+        task = "line speed (master)" if zone is None else \
+            f"tension of {line.span_name(line.zones[zone].loadcell)} (zone {zone + 1})"
+        rows.append([r.name, f"{drive.ratio:g}", d.text(drive.torque_limit, "torque"),
+                     f"{drive.torque_lag * 1e3:g} ms", d.text(drive.motor_inertia, "inertia"),
+                     controller_text(r.controller, zone is not None), task])
+    return make_table("drives", "Drives and controllers",
+                      ["drive", "ratio (motor/roller)", "torque limit", "torque lag",
+                       "motor inertia", "controller", "controls"], rows)
+
+
+def controller_text(controller: object, tension_loop: bool) -> str:
+    """A controller in words: its type and its settings (SI), e.g. ``'cascaded_pi: speed loop
+    40 rad/s, tension loop 8 rad/s, ζ = 1'``."""
+    kind = getattr(controller, "type", "?")
+    if kind == "cascaded_pi":
+        text = f"cascaded_pi: speed loop {controller.speed_bandwidth:g} rad/s"  # type: ignore[attr-defined]
+        if tension_loop:
+            text += f", tension loop {controller.tension_bandwidth:g} rad/s"  # type: ignore[attr-defined]
+        return text + f", ζ = {controller.damping:g}"  # type: ignore[attr-defined]
+    return kind + _settings(controller)
+
+
+def _settings(item: object) -> str:
+    """``': key = value, ...'`` for the keys of a spec that are set (type excluded)."""
+    dump = getattr(item, "model_dump", None)
+    values = dump(exclude_none=True) if dump else {}
+    parts = [f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}"
+             for k, v in values.items() if k != "type"]
+    return ": " + ", ".join(parts) if parts else ""
+
+
+def _zones(line: Line) -> Table:
+    rows = [[str(z + 1), f"{line.node_name(zone.first)} → {line.node_name(zone.last)}",
+             line.span_name(zone.loadcell), line.node_name(zone.controller)]
+            for z, zone in enumerate(line.zones)]
+    return make_table("zones", "Tension zones",
+                      ["zone", "between", "loadcell on", "tension set by drive"], rows)
+
+
+def disturbance_text(item: object, d: Display) -> str:
+    """One disturbance in words, in the chosen units."""
+    kind = getattr(item, "type", "")
+    if kind == "wound_in_ripple":
+        return (f"wound-in tension ripple {d.text(item.amplitude, 'force')} at "  # type: ignore[attr-defined]
+                f"{item.frequency:g} Hz")  # type: ignore[attr-defined]
+    if kind == "eccentric_roller":
+        return (f"eccentric roller {item.roller}: "  # type: ignore[attr-defined]
+                f"{d.text(item.eccentricity, 'length')}")  # type: ignore[attr-defined]
+    if kind == "speed_ripple":
+        return (f"speed ripple on {item.roller}: {d.text(item.amplitude, 'speed')} at "  # type: ignore[attr-defined]
+                f"{item.frequency:g} Hz")  # type: ignore[attr-defined]
+    return f"{kind}{_settings(item)} (SI)"
+
+
+def _disturbances(line: Line, d: Display) -> Table:
+    rows = [[str(j + 1), disturbance_text(item, d)]
+            for j, item in enumerate(line.spec.disturbances)]
+    return make_table("disturbances", "Disturbances", ["#", "disturbance"], rows)
+
+
+def _scenarios(line: Line) -> Table:
+    rows = [[name, f"{s.duration:g} s", s.description]
+            for name, s in line.spec.scenarios.items()]
+    return make_table("scenarios", "Scenarios", ["scenario", "duration", "description"], rows)

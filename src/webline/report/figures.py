@@ -1,0 +1,217 @@
+"""The report's figures (matplotlib, Agg): schematic, span tensions against their references,
+web speeds, motor torques, roll radii and inertias, closed-loop poles. Every axis is in the
+chosen units; time is in seconds.
+
+Long runs are drawn from a min/max envelope of each signal (``envelope``), so peaks and
+ripple stay visible while files stay small.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+
+from webline.analysis.modes import Mode
+from webline.profiles import breakpoints
+from webline.report.display import Display
+from webline.report.schematic import schematic
+from webline.sim.result import Result
+
+#: Largest number of points drawn per signal.
+MAX_POINTS = 4000
+
+
+@dataclass(frozen=True)
+class ReportFigure:
+    """A figure with the file stem (``key``) and caption it gets in the report."""
+
+    key: str
+    caption: str
+    figure: Figure
+
+
+def envelope(time: np.ndarray, values: np.ndarray,
+             points: int = MAX_POINTS) -> tuple[np.ndarray, np.ndarray]:
+    """``values`` over ``time`` reduced to at most ``points`` points: the minimum and maximum
+    of each of ``points // 2`` equal slices, in time order (extremes are kept exactly)."""
+    n = len(time)
+    if n <= points:
+        return time, values
+    buckets = points // 2
+    edges = np.linspace(0, n, buckets + 1).astype(int)
+    t_out, y_out = np.empty(2 * buckets), np.empty(2 * buckets)
+    for b in range(buckets):
+        sl = slice(edges[b], edges[b + 1])
+        lo, hi = edges[b] + np.argmin(values[sl]), edges[b] + np.argmax(values[sl])
+        first, second = (lo, hi) if lo <= hi else (hi, lo)
+        t_out[2 * b:2 * b + 2] = time[first], time[second]
+        y_out[2 * b:2 * b + 2] = values[first], values[second]
+    return t_out, y_out
+
+
+def _plot(ax: Axes, time: np.ndarray, values: np.ndarray, **style: object) -> None:
+    ax.plot(*envelope(time, values), **style)  # type: ignore[arg-type]
+
+
+def _floor_range(ax: Axes, scale: float, fraction: float = 0.02) -> None:
+    """Widen ``ax``'s y range to at least ``fraction`` of ``scale`` (a signal's typical size),
+    so that a signal that barely moves is drawn flat rather than as magnified round-off."""
+    low, high = ax.get_ylim()
+    least = fraction * abs(scale)
+    if least > 0 and np.isfinite(least) and high - low < least:
+        middle = (low + high) / 2
+        ax.set_ylim(middle - least / 2, middle + least / 2)
+    ax.ticklabel_format(axis="y", useOffset=False)
+
+
+def _size(values: np.ndarray) -> float:
+    """Typical size of a signal: its largest finite magnitude (1 if there is none)."""
+    finite = np.abs(values[np.isfinite(values)])
+    return float(finite.max()) if finite.size and finite.max() > 0 else 1.0
+
+
+def _finish(fig: Figure, axes: Sequence[Axes], result: Result) -> None:
+    """Grid, time label, and a marker where a failed run stopped."""
+    for ax in axes:
+        ax.grid(True, alpha=0.3)
+        if result.status != "ok" and len(result.time):
+            ax.axvline(result.time[-1], color="#d62728", ls=":", lw=1.2)
+    axes[-1].set_xlabel("time [s]")
+    if result.status != "ok":
+        fig.suptitle(f"run stopped: {result.message}", color="#d62728", fontsize=9)
+
+
+def tension_figure(result: Result, display: Display) -> Figure:
+    """Tension of every span (solid) against its loadcell reference (dashed); slack shaded."""
+    n = result.line.n_spans
+    fig = Figure(figsize=(9.0, 1.3 + 1.6 * n), layout="constrained")
+    axes = fig.subplots(n, 1, sharex=True, squeeze=False)[:, 0]
+    tension = display.array(result.tension, "force")
+    ref = display.array(result.tension_ref, "force")
+    for k, ax in enumerate(axes):
+        _plot(ax, result.time, tension[:, k], color="C0", lw=1.0, label="tension")
+        if np.all(np.isfinite(ref[:, k])):
+            _plot(ax, result.time, ref[:, k], color="k", ls="--", lw=1.0, label="reference")
+            title = f"{result.span_names[k]} (loadcell)"
+        else:
+            title = f"{result.span_names[k]} (no loadcell)"
+        for event in (e for e in result.slack_events if e.span == result.span_names[k]):
+            ax.axvspan(event.start, event.end if event.end is not None else result.time[-1],
+                       color="#d62728", alpha=0.2, label="slack")
+        ax.set_title(title, fontsize=9, loc="left")
+        _floor_range(ax, _size(tension[:, k]))
+        ax.set_ylabel(display.label("tension", "force"))
+        ax.legend(fontsize=7, loc="upper right")
+    _finish(fig, list(axes), result)
+    return fig
+
+
+def speed_figure(result: Result, display: Display) -> Figure:
+    """Web speed at every roller with the line speed reference, and each drive's speed-loop
+    error (measured minus reference)."""
+    fig = Figure(figsize=(9.0, 6.0), layout="constrained")
+    top, bottom = fig.subplots(2, 1, sharex=True)
+    speed = display.array(result.speed, "speed")
+    for i, name in enumerate(result.node_names):
+        _plot(top, result.time, speed[:, i], lw=1.0, label=name)
+    times, values = breakpoints(result.line.spec.speed)
+    line_ref = display.array(np.interp(result.time, times, values), "speed")
+    _plot(top, result.time, line_ref, color="k", ls="--", lw=1.0, label="line speed reference")
+    _floor_range(top, _size(speed))
+    top.set_ylabel(display.label("web speed", "speed"))
+    top.legend(fontsize=7, loc="lower right", ncol=2)
+    error = display.array(result.drive_speed - result.speed_ref, "speed")
+    for d, name in enumerate(result.drive_names):
+        _plot(bottom, result.time, error[:, d], lw=1.0, label=name)
+    _floor_range(bottom, _size(speed), 0.002)
+    bottom.set_ylabel(display.label("speed-loop error", "speed"))
+    bottom.legend(fontsize=7, loc="upper right", ncol=2)
+    _finish(fig, (top, bottom), result)
+    return fig
+
+
+def torque_figure(result: Result, display: Display) -> Figure:
+    """Motor torque of every drive (positive drives the web forward; the unwind brakes)."""
+    fig = Figure(figsize=(9.0, 3.8), layout="constrained")
+    ax = fig.subplots()
+    torque = display.array(result.torque, "torque")
+    for d, name in enumerate(result.drive_names):
+        _plot(ax, result.time, torque[:, d], lw=1.0, label=name)
+    ax.axhline(0.0, color="k", lw=0.6)
+    _floor_range(ax, _size(torque))
+    ax.set_ylabel(display.label("motor torque", "torque"))
+    ax.legend(fontsize=7, loc="upper right", ncol=2)
+    _finish(fig, (ax,), result)
+    return fig
+
+
+def roll_figure(result: Result, display: Display) -> Figure:
+    """Radius and inertia (at the roll shaft, web included) of the unwind and rewind rolls."""
+    fig = Figure(figsize=(9.0, 5.0), layout="constrained")
+    top, bottom = fig.subplots(2, 1, sharex=True)
+    radius = display.array(result.radius, "length")
+    inertia = display.array(result.inertia, "inertia")
+    for col, i in enumerate((0, result.line.n_nodes - 1)):
+        name = result.node_names[i]
+        _plot(top, result.time, radius[:, i], lw=1.2, color=f"C{col}", label=name)
+        _plot(bottom, result.time, inertia[:, col], lw=1.2, color=f"C{col}", label=name)
+    top.set_ylabel(display.label("roll radius", "length"))
+    bottom.set_ylabel(display.label("roll inertia", "inertia"))
+    _floor_range(top, _size(radius))
+    _floor_range(bottom, _size(inertia))
+    for ax in (top, bottom):
+        ax.legend(fontsize=7, loc="best")
+    _finish(fig, (top, bottom), result)
+    return fig
+
+
+def poles_figure(modes: Sequence[Mode]) -> Figure:
+    """Closed-loop poles in the complex plane [1/s] (each pair drawn with its conjugate)."""
+    fig = Figure(figsize=(7.0, 4.2), layout="constrained")
+    ax = fig.subplots()
+    values = np.array([m.eigenvalue for m in modes], dtype=complex)
+    for sign in (1.0, -1.0):
+        ax.plot(values.real, sign * values.imag, "x", color="C3", ms=8, mew=1.6)
+    title = "closed-loop poles"
+    least = min((m for m in modes if m.oscillatory), key=lambda m: m.damping, default=None)
+    if least is not None:
+        ax.plot([least.eigenvalue.real], [least.eigenvalue.imag], "o", mfc="none", color="k",
+                ms=13)
+        title += (f"; circled, least damped: ζ = {least.damping:.2f} at "
+                  f"{least.frequency_hz:.3g} Hz ({least.dominant})")
+    ax.axvline(0.0, color="k", lw=0.8)
+    ax.axhline(0.0, color="k", lw=0.5)
+    ax.set_xscale("symlog", linthresh=10.0)
+    ax.set_xlabel("real part [1/s] (symmetric log scale)")
+    ax.set_ylabel("imaginary part [rad/s]")
+    ax.grid(True, alpha=0.3)
+    ax.set_title(title, fontsize=9)
+    return fig
+
+
+def report_figures(result: Result, display: Display,
+                   modes: Sequence[Mode] = ()) -> list[ReportFigure]:
+    """Every figure of a run's report, in report order."""
+    figures = [
+        ReportFigure("schematic", "The line, drawn from its topology.",
+                     schematic(result.line, display)),
+        ReportFigure("tension", "Tension in every span against its reference.",
+                     tension_figure(result, display)),
+        ReportFigure("speed", "Web speed at every roller and each drive's speed-loop error.",
+                     speed_figure(result, display)),
+        ReportFigure("torque", "Motor torque of every drive.", torque_figure(result, display)),
+        ReportFigure("rolls", "Unwind and rewind roll radius and inertia.",
+                     roll_figure(result, display)),
+    ]
+    if modes:
+        figures.append(ReportFigure("poles", "Closed-loop poles at the operating point.",
+                                    poles_figure(modes)))
+    return figures

@@ -1,0 +1,125 @@
+"""A schematic of a line drawn from its topology: rolls, rollers, spans, drives, loadcells, zones.
+
+Rollers stand in web order from left (unwind) to right (rewind), equally spaced; each circle's
+size grows with the square root of its radius. Rolls show their core, driven rollers are
+filled (the master-speed roller in orange), idle rollers are open; each drive is a box under its
+roller, each loadcell a triangle on its span, each tension zone a shaded band.
+"""
+
+from __future__ import annotations
+
+import math
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Circle, FancyArrowPatch, Rectangle
+
+from webline.line import Line
+from webline.report.display import Display
+from webline.spec.schema import IdleSpec, RewindSpec, UnwindSpec
+
+SPACING = 3.0  #: distance between roller centres in the drawing
+COLORS = {"roll": "#d8c49a", "core": "#8c8c8c", "master": "#f28e2b", "tension": "#4e79a7",
+          "idle": "white", "drive": "#59595c", "loadcell": "#e15759", "web": "#222222"}
+ZONE_SHADES = ("#eef3f8", "#f7f1e8")
+
+
+def drawn_radius(radius: float, largest: float) -> float:
+    """Size of a roller in the drawing for its ``radius`` [m] (largest roll = 1.0)."""
+    return 0.3 + 0.7 * math.sqrt(radius / largest)
+
+
+def schematic(line: Line, display: Display | None = None) -> Figure:
+    """A figure of ``line``'s topology with span lengths and tension references in the chosen
+    units."""
+    display = display or Display()
+    rollers = line.spec.rollers
+    largest = max(r.radius for r in rollers)
+    size = [drawn_radius(r.radius, largest) for r in rollers]
+    x = [i * SPACING for i in range(line.n_nodes)]
+    fig = Figure(figsize=(max(8.0, 1.9 * line.n_nodes), 4.4), layout="constrained")
+    ax = fig.add_subplot()
+    top = max(size) + 1.6
+
+    for z, zone in enumerate(line.zones):
+        left, right = x[zone.first], x[zone.last]
+        ax.add_patch(Rectangle((left, -3.0), right - left, top + 2.8,
+                               color=ZONE_SHADES[z % 2], zorder=0))
+        ax.text((left + right) / 2, top - 0.35,
+                f"zone {z + 1}: tension set by {line.node_name(zone.controller)}",
+                ha="center", va="center", fontsize=8, color="#555555")
+
+    loadcells = {zone.loadcell for zone in line.zones}
+    for k, span in enumerate(line.spec.spans):
+        x0, x1, y0, y1 = x[k], x[k + 1], size[k], size[k + 1]
+        ax.plot([x0, x1], [y0, y1], color=COLORS["web"], lw=1.6, zorder=2)
+        xm, ym = (x0 + x1) / 2, (y0 + y1) / 2
+        ax.add_patch(FancyArrowPatch(_along(x0, y0, x1, y1, 0.2), _along(x0, y0, x1, y1, 0.3),
+                                     arrowstyle="-|>", mutation_scale=11, color=COLORS["web"],
+                                     lw=0, zorder=3))
+        label = f"{line.span_name(k)}\n{display.text(span.length, 'length', 3)}"
+        ax.text(xm, ym - 0.25, label, ha="center", va="top", fontsize=8)
+        if k in loadcells:
+            ax.plot([xm], [ym + 0.12], marker="v", ms=9, color=COLORS["loadcell"], zorder=4)
+            ref = span.tension if isinstance(span.tension, float) else None
+            text = "loadcell" + (f"\n{display.text(ref, 'force', 4)}" if ref else "")
+            ax.text(xm, ym + 0.3, text, ha="center", va="bottom", fontsize=7,
+                    color=COLORS["loadcell"])
+
+    for i, (roller, s) in enumerate(zip(rollers, size, strict=True)):
+        _roller(ax, roller, x[i], s, i == line.master)
+        if not isinstance(roller, IdleSpec):
+            ax.plot([x[i], x[i]], [-s, -s - 0.55], color=COLORS["drive"], lw=2, zorder=1)
+            ax.add_patch(Rectangle((x[i] - 0.45, -s - 1.05), 0.9, 0.5, color=COLORS["drive"],
+                                   zorder=3))
+            ax.text(x[i], -s - 0.8, "M", color="white", ha="center", va="center",
+                    fontsize=8, weight="bold", zorder=4)
+        below = -s - (1.2 if not isinstance(roller, IdleSpec) else 0.15)
+        ax.text(x[i], below, f"{roller.name}\n{display.text(roller.radius, 'length', 3)}",
+                ha="center", va="top", fontsize=8)
+
+    ax.legend(handles=_legend(), loc="lower center", bbox_to_anchor=(0.5, -0.02), ncol=7,
+              fontsize=7, frameon=False)
+    ax.set_xlim(-1.4, x[-1] + 1.4)
+    ax.set_ylim(-3.6, top)
+    ax.set_aspect("equal")
+    ax.axis("off")
+    ax.set_title(f"{line.name}: {line.n_nodes} rollers, {line.n_spans} spans, "
+                 f"{len(line.drives)} drives", fontsize=10)
+    return fig
+
+
+def _along(x0: float, y0: float, x1: float, y1: float, f: float) -> tuple[float, float]:
+    return x0 + f * (x1 - x0), y0 + f * (y1 - y0)
+
+
+def _roller(ax: object, roller: object, x: float, size: float, master: bool) -> None:
+    if isinstance(roller, UnwindSpec | RewindSpec):
+        ax.add_patch(Circle((x, 0), size, facecolor=COLORS["roll"], edgecolor="#5a4a2a",  # type: ignore[attr-defined]
+                            lw=1.2, zorder=3))
+        core = size * roller.core_radius / roller.radius
+        ax.add_patch(Circle((x, 0), core, facecolor=COLORS["core"], edgecolor="#444444",  # type: ignore[attr-defined]
+                            zorder=4))
+    elif isinstance(roller, IdleSpec):
+        ax.add_patch(Circle((x, 0), size, facecolor=COLORS["idle"], edgecolor="#555555",  # type: ignore[attr-defined]
+                            lw=1.2, zorder=3))
+    else:
+        color = COLORS["master" if master else "tension"]
+        ax.add_patch(Circle((x, 0), size, facecolor=color, edgecolor="#333333", lw=1.2,  # type: ignore[attr-defined]
+                            zorder=3))
+
+
+def _legend() -> list[Line2D]:
+    def dot(color: str, label: str, marker: str = "o", edge: str = "#333333") -> Line2D:
+        return Line2D([], [], ls="", marker=marker, ms=9, markerfacecolor=color,
+                      markeredgecolor=edge, label=label)
+
+    return [dot(COLORS["roll"], "roll (core grey)"), dot(COLORS["master"], "master (speed)"),
+            dot(COLORS["tension"], "driven (tension)"), dot(COLORS["idle"], "idle roller"),
+            dot(COLORS["drive"], "drive (motor)", "s"),
+            dot(COLORS["loadcell"], "loadcell", "v", COLORS["loadcell"]),
+            Line2D([], [], color=COLORS["web"], marker=">", ms=6, label="web (direction)")]

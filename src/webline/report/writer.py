@@ -1,0 +1,190 @@
+"""Writing a run to a folder: the HTML report, its figures (PNG and SVG), a JSON summary and the
+results (NetCDF or CSV, always SI)."""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+from dataclasses import dataclass
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Literal
+
+from webline.analysis.linearize import linearize
+from webline.analysis.modes import Mode, analysis_time, modes
+from webline.analysis.operating_point import OperatingPoint, operating_point
+from webline.errors import WeblineError
+from webline.line import Line
+from webline.report.describe import line_tables
+from webline.report.display import Display, System
+from webline.report.figures import report_figures
+from webline.report.html import Image, Section, Text, render
+from webline.report.tables import (
+    make_table,
+    modes_table,
+    operating_point_tables,
+    operating_point_values,
+    summary_tables,
+    summary_values,
+)
+from webline.sim.result import Result
+from webline.spec.load import dump_spec
+
+Format = Literal["netcdf", "csv"]
+#: Resolution of the PNG figures [dots per inch].
+DPI = 110
+
+
+@dataclass(frozen=True)
+class ReportFiles:
+    """What ``write_report`` wrote."""
+
+    report: Path  #: the HTML report
+    summary: Path  #: the summary, operating point and modes as JSON (chosen units)
+    figures: tuple[Path, ...]  #: every figure as PNG and SVG
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """Operating point and closed-loop modes of a line at time ``time`` [s], or why there are
+    none (``problem``)."""
+
+    time: float
+    point: OperatingPoint | None
+    modes: tuple[Mode, ...]
+    problem: str = ""
+
+
+def analyse(line: Line) -> Analysis:
+    """Operating point and closed-loop modes at ``analysis_time(line)``; a line without an
+    equilibrium gives an ``Analysis`` that says why instead of raising."""
+    t = analysis_time(line)
+    try:
+        return Analysis(t, operating_point(line, t), tuple(modes(linearize(line, t))))
+    except (WeblineError, ValueError, ArithmeticError, NotImplementedError) as exc:
+        return Analysis(t, None, (), str(exc))
+
+
+def write_results(result: Result, out_dir: Path, fmt: Format = "netcdf") -> Path:
+    """Write the run's signals (SI, units as attributes/headers) as ``results.nc`` or
+    ``results.csv`` in ``out_dir``; returns the path."""
+    if fmt == "csv":
+        return result.to_csv(out_dir / "results.csv")
+    return result.to_netcdf(out_dir / "results.nc")
+
+
+def write_report(result: Result, out_dir: Path, *, units: System = "si",
+                 scenario: str | None = None, results_file: Path | None = None,
+                 analysis: Analysis | None = None) -> ReportFiles:
+    """Write ``report.html`` (self-contained), ``summary.json`` and ``figures/*.png|svg`` for
+    ``result`` into ``out_dir``, every quantity in ``units`` ('si' or 'imperial')."""
+    from webline import __version__
+
+    display = Display(units)
+    line = result.line
+    analysis = analysis or analyse(line)
+    figures_dir = out_dir / "figures"
+    figures_dir.mkdir(parents=True, exist_ok=True)
+    images, written = {}, []
+    for fig in report_figures(result, display, analysis.modes):
+        buffer = io.BytesIO()
+        fig.figure.savefig(buffer, format="png", dpi=DPI)
+        images[fig.key] = Image(fig.key, fig.caption, buffer.getvalue())
+        png, svg = figures_dir / f"{fig.key}.png", figures_dir / f"{fig.key}.svg"
+        png.write_bytes(buffer.getvalue())
+        fig.figure.savefig(svg, format="svg", metadata={"Date": None})
+        written += [png, svg]
+
+    summary = summary_values(result, display)
+    summary_path = out_dir / "summary.json"
+    summary_path.write_text(json.dumps(_finite({
+        "summary": summary, "webline_version": __version__, "scenario": scenario,
+        "operating_point": (operating_point_values(analysis.point, display)
+                            if analysis.point else None),
+        "closed_loop_modes": [m.as_dict() for m in analysis.modes],
+    }), indent=2, allow_nan=False), encoding="utf-8")
+
+    html = render(
+        title=f"webline report: {line.name}" + (f", scenario {scenario}" if scenario else ""),
+        subtitle=(line.spec.scenarios[scenario].description if scenario
+                  else line.spec.description),
+        status=_status_text(result, display), ok=result.status == "ok",
+        sections=_sections(result, display, images, analysis, scenario, results_file),
+        footer=f"webline {__version__} · generated {datetime.now(UTC):%Y-%m-%d %H:%M} UTC · "
+               f"units: {units}",
+    )
+    report = out_dir / "report.html"
+    report.write_text(html, encoding="utf-8")
+    return ReportFiles(report, summary_path, tuple(written))
+
+
+def _finite(value: object) -> object:
+    """``value`` with every NaN or infinite float replaced by None (strict JSON)."""
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_finite(v) for v in value]
+    if isinstance(value, float):
+        return float(value) if math.isfinite(value) else None
+    return value
+
+
+def _status_text(result: Result, display: Display) -> str:
+    duration = float(result.time[-1]) if len(result.time) else 0.0
+    if result.status != "ok":
+        return (f"The run stopped early ({result.status}): {result.message}. Everything "
+                f"computed until t = {duration:.4g} s is shown.")
+    worst = max(result.summary()["spans"].items(),
+                key=lambda item: item[1].get("max_abs_error", -1.0))
+    text = f"Run completed: {duration:.4g} s simulated."
+    if "max_abs_error" in worst[1]:
+        text += (" Largest tension error: "
+                 f"{display.text(worst[1]['max_abs_error'], 'force')} in {worst[0]}.")
+    slack = result.slack_events
+    if slack:
+        text += f" The web went slack {len(slack)} time(s), first in {slack[0].span} at " \
+                f"t = {slack[0].start:.4g} s."
+    return text
+
+
+def _sections(result: Result, display: Display, images: dict[str, Image], analysis: Analysis,
+              scenario: str | None, results_file: Path | None) -> list[Section]:
+    from webline import __version__
+
+    line = result.line
+    described = {t.key: t for t in line_tables(line, display)}
+    slack = [f"{e.span}: slack from {e.start:.4g} s to "
+             + (f"{e.end:.4g} s" if e.end is not None else "the end of the run")
+             for e in result.slack_events]
+    if analysis.point is not None:
+        op_parts: list = [*operating_point_tables(line, analysis.point, display),
+                          modes_table(analysis.modes)]
+        if "poles" in images:
+            op_parts.append(images["poles"])
+        op_parts.insert(0, Text(f"Equilibrium of the line at its references at t = "
+                                f"{analysis.time:g} s, roll radii at their initial values; the "
+                                "modes are those of the line with its controllers (as "
+                                "continuous-time laws) linearized there."))
+    else:
+        op_parts = [Text(f"No operating point: {analysis.problem}")]
+    settings = result.settings
+    run_rows = [("webline version", __version__), ("line file", line.source),
+                ("scenario", scenario or "(none)"),
+                ("duration", f"{settings.get('duration', float('nan')):g} s"),
+                ("controller period", f"{settings.get('dt', float('nan')) * 1e3:g} ms"),
+                ("RK4 sub-steps per period", f"{settings.get('substeps', 0):g}"),
+                ("records", str(len(result.time))),
+                ("results file (SI)", str(results_file.name) if results_file else "(none)")]
+    return [
+        Section("Line", [images["schematic"], described["line"], described["rollers"],
+                         described["spans"], described["drives"]]),
+        Section("Summary", [*summary_tables(result, display),
+                            Text("; ".join(slack) if slack else "The web never went slack.")]),
+        Section("Time plots", [images[k] for k in ("tension", "speed", "torque", "rolls")]),
+        Section("Operating point and modes", op_parts),
+        Section("Run", [make_table("run", "Settings", ["key", "value"], run_rows)]),
+        Section("Resolved line file", [Text(dump_spec(line.spec), pre=True,
+                                            fold="The line as it ran (scenario applied), every "
+                                                 "quantity in SI units: show the TOML")]),
+    ]
