@@ -25,6 +25,7 @@ DIMENSIONS: dict[str, str] = {
     "rot_damping": "[mass] * [length] ** 2 / [time]",
     "time": "[time]",
     "frequency": "1 / [time]",
+    "angular_frequency": "1 / [time]",
     "density": "[mass] / [length] ** 3",
     "pressure": "[mass] / [length] / [time] ** 2",
     "angle": "",
@@ -41,6 +42,7 @@ SI_UNITS: dict[str, str] = {
     "rot_damping": "N*m*s",
     "time": "s",
     "frequency": "Hz",
+    "angular_frequency": "rad/s",
     "density": "kg/m**3",
     "pressure": "Pa",
     "angle": "rad",
@@ -57,6 +59,7 @@ IMPERIAL_UNITS: dict[str, str] = {
     "rot_damping": "lbf*ft*s",
     "time": "s",
     "frequency": "Hz",
+    "angular_frequency": "rad/s",
     "density": "lb/ft**3",
     "pressure": "psi",
     "angle": "deg",
@@ -97,7 +100,9 @@ def to_si(value: object, kind: str) -> float:
                     f"got {value!r}"
                 )
         si = SI_UNITS[kind]
-        if not si or quantity.dimensionless:  # a plain-number string is taken as SI
+        if kind == "angular_frequency" and "hertz" in str(quantity.units):
+            number = 2.0 * math.pi * float(quantity.to("Hz").magnitude)  # cycles/s -> rad/s
+        elif not si or quantity.dimensionless:  # a plain-number string is taken as SI
             number = float(quantity.to("").magnitude)
         else:
             number = float(quantity.to(si).magnitude)

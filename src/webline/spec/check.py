@@ -14,14 +14,11 @@ from webline.spec.schema import (
     IdleSpec,
     LineSpec,
     Profile,
+    Ramp,
     RewindSpec,
-    SpeedRamp,
     SpeedRipple,
-    SpeedSteps,
-    SpeedTable,
-    TensionRamp,
-    TensionSteps,
-    TensionTable,
+    Steps,
+    Table,
     UnwindSpec,
     WebSpec,
     WoundInRipple,
@@ -42,9 +39,9 @@ def profile_values(profile: Profile) -> list[float]:
     """Every value a reference profile takes at its breakpoints [SI]."""
     if isinstance(profile, float | int):
         return [float(profile)]
-    if isinstance(profile, SpeedRamp | TensionRamp):
+    if isinstance(profile, Ramp):
         return [profile.initial, profile.final]
-    if isinstance(profile, SpeedSteps | TensionSteps):
+    if isinstance(profile, Steps):
         return [profile.initial, *(s.value for s in profile.steps)]
     return list(profile.value)
 
@@ -123,13 +120,13 @@ def _check_profiles(spec: LineSpec, fail: Fail) -> None:
     profiles += [(f"spans[{k}].tension", s.tension) for k, s in enumerate(spec.spans)]
     profiles += [(f"scenarios.{n}.speed", s.speed) for n, s in spec.scenarios.items()]
     for key, profile in profiles:
-        if isinstance(profile, SpeedTable | TensionTable):
+        if isinstance(profile, Table):
             times = profile.time
             if len(times) != len(profile.value):
                 fail(key, "'time' and 'value' must have the same length")
             if any(b < a for a, b in itertools.pairwise(times)):
                 fail(f"{key}.time", "times must not decrease")
-        if isinstance(profile, SpeedSteps | TensionSteps):
+        if isinstance(profile, Steps):
             times = [s.time for s in profile.steps]
             if any(b < a for a, b in itertools.pairwise(times)):
                 fail(f"{key}.steps", "step times must not decrease")

@@ -27,19 +27,33 @@ def builtin_lines() -> dict[str, str]:
     return lines
 
 
-def _format_loc(loc: tuple[int | str, ...]) -> str:
-    """('spans', 2, 'length') -> 'spans[2].length' (dropping pydantic's union tags)."""
+_UNION_TAGS = {"constant", "ramp", "steps", "table", "unwind", "rewind", "driven", "idle",
+               "wound_in_ripple", "eccentric_roller", "speed_ripple"}
+
+
+def _format_loc(loc: tuple[int | str, ...], data: Any = None) -> str:
+    """('spans', 2, 'length') -> 'spans[2].length' (dropping pydantic's union tags).
+
+    ``data`` is the input being validated, walked alongside ``loc``: a part that is a key
+    the user wrote there (a scenario named 'ramp', say) is kept, and a part equal to the
+    table's own ``type`` is the discriminator tag pydantic inserts, whatever the union.
+    """
     out = ""
+    node = data
     for part in loc:
         if isinstance(part, int):
             out += f"[{part}]"
-        elif part in {"constant", "ramp", "steps", "table", "unwind", "rewind", "driven",
-                      "idle", "wound_in_ripple", "eccentric_roller", "speed_ripple"} and out:
-            continue  # discriminator tag, not a key the user wrote
-        elif "[" in part or "function-" in part:
-            continue
+            node = node[part] if isinstance(node, list) and 0 <= part < len(node) else None
+        elif isinstance(node, dict) and part in node:
+            out += f".{part}" if out else str(part)
+            node = node[part]
+        elif isinstance(node, dict) and part == node.get("type"):
+            continue  # discriminator tag of the table at this point
+        elif (part in _UNION_TAGS and out) or "[" in part or "function-" in part:
+            continue  # discriminator tag or validator name, not a key the user wrote
         else:
             out += f".{part}" if out else str(part)
+            node = None
     return out or "(top level)"
 
 
@@ -67,7 +81,10 @@ def spec_from_dict(data: Any, file: str = "<dict>") -> LineSpec:
         spec = LineSpec.model_validate(data)
     except ValidationError as exc:
         first = exc.errors()[0]
-        raise LineFileError(file, _format_loc(tuple(first["loc"])), _problem(first)) from None
+        key = _format_loc(tuple(first["loc"]), data)
+        if first["type"] == "union_tag_invalid":
+            key += ".type"  # the value the user wrote wrong is the 'type' key itself
+        raise LineFileError(file, key, _problem(first)) from None
     except (TypeError, ValueError, ArithmeticError) as exc:  # defensive: a validator misfired
         raise LineFileError(file, "(top level)", str(exc)) from None
     check_spec(spec, file)

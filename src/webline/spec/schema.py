@@ -6,7 +6,7 @@ are errors; each component is chosen by its ``type``, never guessed from the key
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import Annotated, Generic, Literal, TypeVar
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Discriminator, Field, Tag
 
@@ -45,6 +45,8 @@ Damping = Annotated[float, _si("rot_damping", ">=0")]
 Time = Annotated[float, _si("time", ">0")]
 TimeNonNeg = Annotated[float, _si("time", ">=0")]
 Frequency = Annotated[float, _si("frequency", ">0")]
+#: a rate in rad/s; "6 Hz" is read as 2π·6 rad/s
+AngularFrequency = Annotated[float, _si("angular_frequency", ">0")]
 Density = Annotated[float, _si("density", ">0")]
 Modulus = Annotated[float, _si("pressure", ">0")]
 Angle = Annotated[float, _si("angle")]
@@ -55,66 +57,38 @@ Gain = Annotated[float, _si("dimensionless", ">=0")]
 # --- reference profiles -------------------------------------------------------------------
 
 
-class SpeedRamp(Strict):
+Q = TypeVar("Q")
+
+
+class Ramp(Strict, Generic[Q]):
     """Linear change from ``initial`` to ``final`` over ``duration`` starting at ``start``."""
 
     type: Literal["ramp"]
-    initial: Speed
-    final: Speed
+    initial: Q
+    final: Q
     start: TimeNonNeg = 0.0
     duration: Time
 
 
-class SpeedStep(Strict):
+class Step(Strict, Generic[Q]):
     time: TimeNonNeg
-    value: Speed
+    value: Q
 
 
-class SpeedSteps(Strict):
+class Steps(Strict, Generic[Q]):
     """Piecewise-constant: ``initial`` until the first step time, then each step's value."""
 
     type: Literal["steps"]
-    initial: Speed
-    steps: list[SpeedStep] = Field(min_length=1)
+    initial: Q
+    steps: list[Step[Q]] = Field(min_length=1)
 
 
-class SpeedTable(Strict):
+class Table(Strict, Generic[Q]):
     """Piecewise-linear through (time, value) points; constant outside them."""
 
     type: Literal["table"]
     time: list[TimeNonNeg] = Field(min_length=1)
-    value: list[Speed] = Field(min_length=1)
-
-
-class TensionRamp(Strict):
-    """Linear change from ``initial`` to ``final`` over ``duration`` starting at ``start``."""
-
-    type: Literal["ramp"]
-    initial: Force
-    final: Force
-    start: TimeNonNeg = 0.0
-    duration: Time
-
-
-class TensionStep(Strict):
-    time: TimeNonNeg
-    value: Force
-
-
-class TensionSteps(Strict):
-    """Piecewise-constant: ``initial`` until the first step time, then each step's value."""
-
-    type: Literal["steps"]
-    initial: Force
-    steps: list[TensionStep] = Field(min_length=1)
-
-
-class TensionTable(Strict):
-    """Piecewise-linear through (time, value) points; constant outside them."""
-
-    type: Literal["table"]
-    time: list[TimeNonNeg] = Field(min_length=1)
-    value: list[Force] = Field(min_length=1)
+    value: list[Q] = Field(min_length=1)
 
 
 def _profile_tag(value: object) -> str:
@@ -133,16 +107,22 @@ _PROFILE = Discriminator(
 )
 
 SpeedProfile = Annotated[
-    Annotated[Speed, Tag("constant")] | Annotated[SpeedRamp, Tag("ramp")]
-    | Annotated[SpeedSteps, Tag("steps")] | Annotated[SpeedTable, Tag("table")],
+    Annotated[Speed, Tag("constant")] | Annotated[Ramp[Speed], Tag("ramp")]
+    | Annotated[Steps[Speed], Tag("steps")] | Annotated[Table[Speed], Tag("table")],
     _PROFILE,
 ]
 TensionProfile = Annotated[
-    Annotated[Force, Tag("constant")] | Annotated[TensionRamp, Tag("ramp")]
-    | Annotated[TensionSteps, Tag("steps")] | Annotated[TensionTable, Tag("table")],
+    Annotated[Force, Tag("constant")] | Annotated[Ramp[Force], Tag("ramp")]
+    | Annotated[Steps[Force], Tag("steps")] | Annotated[Table[Force], Tag("table")],
     _PROFILE,
 ]
-Profile = SpeedProfile | TensionProfile
+TorqueProfile = Annotated[
+    Annotated[TorqueNonNeg, Tag("constant")] | Annotated[Ramp[TorqueNonNeg], Tag("ramp")]
+    | Annotated[Steps[TorqueNonNeg], Tag("steps")]
+    | Annotated[Table[TorqueNonNeg], Tag("table")],
+    _PROFILE,
+]
+Profile = SpeedProfile | TensionProfile | TorqueProfile
 
 
 # --- web ------------------------------------------------------------------------------------
@@ -187,8 +167,8 @@ class CascadedPISpec(Strict):
     speed_ki: Gain | None = None
     tension_kp: Gain | None = None
     tension_ki: Gain | None = None
-    speed_bandwidth: Frequency = 40.0
-    tension_bandwidth: Frequency = 8.0
+    speed_bandwidth: AngularFrequency = 40.0
+    tension_bandwidth: AngularFrequency = 8.0
     damping: Ratio = 1.0
     inertia_adaptive: bool = True
 
@@ -240,7 +220,7 @@ class AdaptiveSpec(_DecentralizedSpec):
     type: Literal["adaptive"]
     tension_gain: Signed | None = None
     speed_gain: Signed | None = None
-    adaptation_gain: Frequency = 20.0
+    adaptation_gain: AngularFrequency = 20.0
     leakage: Gain = 0.0
     parameter_bound: Annotated[float, _si("dimensionless", ">0")] = 10.0
 
