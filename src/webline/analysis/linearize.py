@@ -14,7 +14,8 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 
 from webline.analysis.operating_point import OperatingPoint, operating_point
-from webline.line import Line, load_line
+from webline.line import Line, is_roll, load_line
+from webline.physics.roll import web_inertia
 from webline.physics.roller import COULOMB_SMOOTHING
 from webline.sim import layout as L
 from webline.sim.plan import Plan, compile_plan
@@ -24,23 +25,30 @@ if TYPE_CHECKING:
 
 
 def state_names(line: Line) -> list[str]:
-    """Names of the linear model's states: span tensions, node speeds, motor torques."""
+    """Names of the linear model's states: span tensions, node speeds, motor torques, and the
+    motor speed and twist of each compliant transmission."""
+    plan = compile_plan(line)
+    compliant = [i for d, i in enumerate(line.drives) if plan.drives[d, L.D_TSTATE] >= 0]
     return ([f"{line.span_name(k)}_tension" for k in range(line.n_spans)]
             + [f"{line.node_name(i)}_omega" for i in range(line.n_nodes)]
-            + [f"{line.node_name(i)}_torque" for i in line.drives])
+            + [f"{line.node_name(i)}_torque" for i in line.drives]
+            + [f"{line.node_name(i)}_{part}" for i in compliant
+               for part in ("motor_omega", "twist")])
 
 
 def plant_matrices(line: Line, op: OperatingPoint) -> tuple[np.ndarray, ...]:
     """(A, B, E, C) of the plant at ``op``: dx = A x + B u + E t0, y = C x.
 
-    x = (span tensions [N], node speeds [rad/s], motor torques [N·m]); u = motor torque
-    commands [N·m]; t0 = wound-in tension [N]; y = (span tensions, web speeds [m/s]).
+    x = (span tensions [N], node speeds [rad/s], motor torques [N·m], then motor speed
+    [rad/s] and twist [rad] of each compliant transmission); u = motor torque commands [N·m];
+    t0 = wound-in tension [N]; y = (span tensions, web speeds [m/s]).
     """
     plan = compile_plan(line)
     n_s, n_n, n_d = line.n_spans, line.n_nodes, len(line.drives)
     ws, wn = 0, n_s  # offsets of the blocks
     wt = n_s + n_n
-    n = wt + n_d
+    n_c = int(np.sum(plan.drives[:, L.D_TSTATE] >= 0))
+    n = wt + n_d + 2 * n_c
     ea = line.ea
     r, v, t = op.radius, op.speed, op.tension
     t_up = np.concatenate(([line.unwind.wound_in_tension], t))
@@ -55,8 +63,8 @@ def plant_matrices(line: Line, op: OperatingPoint) -> tuple[np.ndarray, ...]:
         a[ws + k, wn + k + 1] = (ea - t[k]) * r[k + 1] / length
         a[ws + k, wn + k] = -(ea - t_up[k]) * r[k] / length
     e[ws, 0] = v[0] / plan.spans[0, L.S_LENGTH]
-    for i in range(n_n):  # J dω/dt = r (T_out - T_in) + n τ - b ω - c tanh(ω/ωc)
-        inertia = op.inertia[i]
+    for i in range(n_n):  # J dω/dt = r (T_out - T_in) + shaft torque - b ω - c tanh(ω/ωc)
+        inertia = load_inertia(plan, op, i)
         if i < n_s:
             a[wn + i, ws + i] = r[i] / inertia
         if i > 0:
@@ -64,17 +72,77 @@ def plant_matrices(line: Line, op: OperatingPoint) -> tuple[np.ndarray, ...]:
         viscous, coulomb = plan.nodes[i, L.N_VISCOUS], plan.nodes[i, L.N_COULOMB]
         slope = coulomb / COULOMB_SMOOTHING * (1.0 - np.tanh(op.omega[i] / COULOMB_SMOOTHING) ** 2)
         a[wn + i, wn + i] = -(viscous + slope) / inertia
-        d = int(plan.nodes[i, L.N_DRIVE])
-        if d >= 0:
-            a[wn + i, wt + d] = plan.nodes[i, L.N_RATIO] / inertia
     for d in range(n_d):  # lag dτ/dt = (u - τ)/lag
         lag = plan.drives[d, L.D_LAG]
         a[wt + d, wt + d] = -1.0 / lag
         b[wt + d, d] = 1.0 / lag
+    _drive_block(a, plan, op, wn, wt, wt + n_d)
     c = np.zeros((n_s + n_n, n))
     c[:n_s, ws:ws + n_s] = np.eye(n_s)
     c[n_s:, wn:wn + n_n] = np.diag(r)
     return a, b, e, c
+
+
+def load_inertia(plan: Plan, op: OperatingPoint, i: int) -> float:
+    """Inertia [kg·m²] at the shaft of node ``i`` at ``op`` as the kernel sees it: with the
+    motor reflected for a rigid drive, without it across a compliant transmission."""
+    roller = plan.line.spec.rollers[i]
+    if not is_roll(roller):
+        return float(plan.nodes[i, L.N_JCONST])
+    web = plan.line.spec.web
+    return float(plan.nodes[i, L.N_JCONST]) + web_inertia(
+        op.radius[i], roller.core_radius, web.width, web.density)  # type: ignore[union-attr]
+
+
+def _drive_block(a: np.ndarray, plan: Plan, op: OperatingPoint, wn: int, wt: int,
+                 wc: int) -> None:
+    """Entries of every drive's shaft torque (see ``kernel.drive_torque``) in ``a``: the
+    node's speed row, and the motor-speed and twist rows of compliant transmissions, whose
+    states start at column ``wc``. The teeth of a backlash are taken in contact unless the
+    equilibrium torque through them is zero."""
+    c = 0
+    for d, i in enumerate(plan.line.drives):
+        row = plan.drives[d]
+        inertia = load_inertia(plan, op, i)
+        n = row[L.D_RATIO]
+        brake = plan.profile_value(int(row[L.D_BRAKE]), op.time) if row[L.D_BRAKE] >= 0 else 0
+        slope = brake / COULOMB_SMOOTHING * (1.0 - np.tanh(op.omega[i] / COULOMB_SMOOTHING) ** 2)
+        a[wn + i, wn + i] -= slope / inertia
+        if row[L.D_TSTATE] < 0:
+            a[wn + i, wt + d] = n / inertia
+            a[wn + i, wn + i] -= n * n * row[L.D_BMOTOR] / inertia
+            continue
+        wm, tw = wc + 2 * c, wc + 2 * c + 1
+        c += 1
+        gap = row[L.D_GAPNEG] + row[L.D_GAPPOS]
+        contact = gap == 0.0 or op.torque[d] != 0.0
+        k, damping = (row[L.D_KTRANS], row[L.D_CTRANS]) if contact else (0.0, 0.0)
+        jm = row[L.D_JMOTOR]
+        a[wn + i, tw] = k / inertia
+        a[wn + i, wm] = damping / (n * inertia)
+        a[wn + i, wn + i] -= damping / inertia
+        a[wm, wt + d] = 1.0 / jm
+        a[wm, tw] = -k / (n * jm)
+        a[wm, wm] = -(damping / n**2 + row[L.D_BMOTOR]) / jm
+        a[wm, wn + i] = damping / (n * jm)
+        a[tw, wm] = 1.0 / n
+        a[tw, wn + i] = -1.0
+
+
+def _speed_state(plan: Plan, d: int, i: int) -> int:
+    """State whose speed drive ``d`` measures: its motor's across a compliant transmission
+    with motor-side feedback, else its roller's."""
+    motor = plan.linear_motor_state(d)
+    if motor is not None and plan.drives[d, L.D_FEEDBACK] > 0:
+        return motor
+    return plan.line.n_spans + i
+
+
+def _speed_scale(plan: Plan, d: int) -> float:
+    """Ratio between the measured angular speed and the roller's (n for a motor encoder)."""
+    if plan.linear_motor_state(d) is not None and plan.drives[d, L.D_FEEDBACK] > 0:
+        return float(plan.drives[d, L.D_RATIO])
+    return 1.0
 
 
 def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
@@ -87,8 +155,8 @@ def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...
     tension references (the draw, of order T/EA) is left out of Kr.
     """
     line = plan.line
-    n_s, n_n, n_d = line.n_spans, line.n_nodes, len(line.drives)
-    n = n_s + n_n + n_d
+    n_d = len(line.drives)
+    n = len(state_names(line))
     n_ref = 1 + len(line.zones)
     kx, ki, kr = np.zeros((n_d, n)), np.zeros((n_d, 2 * n_d)), np.zeros((n_d, n_ref))
     gx, gi, gr = np.zeros((2 * n_d, n)), np.zeros((2 * n_d, 2 * n_d)), np.zeros((2 * n_d, n_ref))
@@ -110,7 +178,7 @@ def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...
         if up >= 0:
             ev_r[up] += op.line_speed * (ea - t_m) / (ea - t_up) ** 2
         radius = op.radius[i]
-        ev_x[n_s + i] = -radius
+        ev_x[_speed_state(plan, d, i)] = -radius / _speed_scale(plan, d)
         gain = 1.0
         if row[L.D_ADAPTIVE] > 0:
             gain = op.inertia[i] / (plan.nodes[i, L.N_RATIO] * radius) / row[L.D_GAINNORM]
@@ -133,13 +201,13 @@ def _decentralized_rows(plan: Plan, op: OperatingPoint, d: int, i: int,
     """(Kx, Kr) rows of a state-feedback or adaptive drive (see ``controller_matrices``)."""
     line, row = plan.line, plan.drives[d]
     n_s = line.n_spans
-    kx = np.zeros(n_s + line.n_nodes + len(line.drives))
+    kx = np.zeros(len(state_names(line)))
     kr = np.zeros(len(refs))
     radius, ratio = op.radius[i], plan.nodes[i, L.N_RATIO]
     gain = 1.0
     if row[L.D_ADAPTIVE] > 0:
         gain = op.inertia[i] / (ratio * radius) / row[L.D_GAINNORM]
-    kx[n_s + i] = -gain * row[L.D_KV] * radius
+    kx[_speed_state(plan, d, i)] = -gain * row[L.D_KV] * radius / _speed_scale(plan, d)
     speed_per_line = op.speed[i] / op.line_speed if op.line_speed else 1.0
     kr[0] = gain * row[L.D_KV] * speed_per_line + row[L.D_BMODEL] * speed_per_line / (
         radius * ratio)

@@ -9,7 +9,8 @@ the node (the wound-in tension for the unwind), so
 
 and each driven node's torque balance gives its equilibrium motor torque
 
-    n_i u_i = J_i dω_i/dt - r_i (T_i^down - T_i^up) + friction(ω_i)   (6.20, 6.28, 6.32, 6.37)
+    n_i u_i = J_i dω_i/dt - r_i (T_i^down - T_i^up) + friction(ω_i) + n_i² b_m ω_i
+                                                                    (6.20, 6.28, 6.32, 6.37)
 
 with dω/dt = (dv/dt)/r - v (dr/dt)/r² for a roll whose radius changes (6.6). Motor torque is
 positive in the web direction, so the unwind's equilibrium torque is negative (braking).
@@ -131,7 +132,12 @@ def operating_point(line: Line, t: float = 0.0, *, unwind_radius: float | None =
         t_out = tension[i] if i < line.n_spans else 0.0
         t_in = tension[i - 1] if i > 0 else 0.0
         friction = roller.friction_torque(omega[i], r.friction, r.coulomb_friction)
-        torque[d] = (inertia[i] * accel[i] - radii[i] * (t_out - t_in) + friction) / r.drive.ratio
+        if r.drive.brake is not None:  # a brake opposes the rotation (4.12)
+            friction += roller.friction_torque(omega[i], 0.0, pwl_value(
+                *breakpoints(r.drive.brake), t))
+        n = r.drive.ratio  # the motor's own friction acts at n ω
+        torque[d] = (inertia[i] * accel[i] - radii[i] * (t_out - t_in) + friction) / n + (
+            r.drive.motor_friction * n * omega[i])
     return OperatingPoint(
         time=t, line_speed=v_line, tension=tension, speed=speed, omega=omega, radius=radii,
         inertia=inertia, accel=accel, torque=torque, drives=line.drives,

@@ -115,3 +115,21 @@ def asymmetric_gaps(half_gap: float, position: float) -> tuple[float, float]:
     position ``position`` = a in [0, 1] (a = 0.5 is the thesis's centred case).
     """
     return 2.0 * half_gap * position, 2.0 * half_gap * (1.0 - position)
+
+
+def transmitted_torque(twist: float, twist_rate: float, stiffness: float, damping: float,
+                       gap_neg: float, gap_pos: float) -> float:
+    """Torque [N·m] a compliant transmission with backlash passes to the load shaft.
+
+    ``twist`` [rad] = θm/n - θL and ``twist_rate`` [rad/s] at the load shaft; ``stiffness``
+    [N·m/rad] and ``damping`` [N·m·s/rad] act only while the teeth touch, i.e. past the free
+    travel [-gap_neg, gap_pos] [rad] (the rotary form of 3.22-3.23 and 3.31-3.32). With no gap
+    the teeth always touch and this is the linear spring-damper exactly.
+    """
+    if twist > gap_pos:
+        return stiffness * (twist - gap_pos) + damping * twist_rate
+    if twist < -gap_neg:
+        return stiffness * (twist + gap_neg) + damping * twist_rate
+    if gap_pos + gap_neg > 0.0:
+        return 0.0
+    return stiffness * twist + damping * twist_rate

@@ -55,6 +55,17 @@ def node_inertia(i: int, radius: float, nodes: np.ndarray, web: np.ndarray) -> f
 
 
 @jit
+def drive_inertia(d: int, i: int, radius: float, nodes: np.ndarray, drives: np.ndarray,
+                  web: np.ndarray) -> float:
+    """Inertia [kg·m²] drive ``d`` accelerates, seen at its roller: the node's, plus the
+    reflected motor across a compliant transmission (a rigid one already includes it)."""
+    inertia = node_inertia(i, radius, nodes, web)
+    if drives[d, L.D_TSTATE] >= 0:
+        inertia += drives[d, L.D_RATIO] ** 2 * drives[d, L.D_JMOTOR]
+    return inertia
+
+
+@jit
 def roll_direction(i: int, nodes: np.ndarray) -> float:
     kind = int(nodes[i, L.N_KIND])
     return -1.0 if kind == L.KIND_UNWIND else (1.0 if kind == L.KIND_REWIND else 0.0)
@@ -151,6 +162,8 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, nodes:
         i = int(drives[d, L.D_NODE])
         radius = node_radius(i, x, nodes, offsets[2])
         v_meas = radius * x[offsets[1] + i]
+        if drives[d, L.D_FEEDBACK] > 0.0:  # the motor's encoder, across the transmission
+            v_meas = radius * x[int(drives[d, L.D_TSTATE])] / drives[d, L.D_RATIO]
         if web[L.W_NOISE_V] > 0.0:
             v_meas += web[L.W_NOISE_V] * gaussian(seed, tick, 2 * d)
         loadcell = int(drives[d, L.D_LOADCELL])
@@ -161,7 +174,7 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, nodes:
                 t_meas += web[L.W_NOISE_T] * gaussian(seed, tick, 2 * d + 1)
         gain = 1.0
         if drives[d, L.D_ADAPTIVE] > 0.0:
-            inertia = node_inertia(i, radius, nodes, web)
+            inertia = drive_inertia(d, i, radius, nodes, drives, web)
             gain = inertia / (nodes[i, L.N_RATIO] * radius) / drives[d, L.D_GAINNORM]
         family = int(drives[d, L.D_FAMILY])
         if family == L.FAMILY_PI:
@@ -216,11 +229,12 @@ def decentralized_command(d: int, i: int, dt: float, radius: float, v_meas: floa
                           drives: np.ndarray, web: np.ndarray, span_ref: np.ndarray,
                           v_ref: np.ndarray, a_ref: np.ndarray, out: np.ndarray) -> None:
     """State feedback or adaptive control of drive ``d`` on node ``i`` (module docstring)."""
-    inertia = node_inertia(i, radius, nodes, web)
+    inertia = drive_inertia(d, i, radius, nodes, drives, web)
     ratio = nodes[i, L.N_RATIO]
     adaptive = int(drives[d, L.D_FAMILY]) == L.FAMILY_ADAPTIVE
     friction = istate[d, L.I_FRICTION] if adaptive else drives[d, L.D_BMODEL]
     u_eq = equilibrium_input(i, radius, inertia, friction, nodes, web, span_ref, v_ref, a_ref)
+    u_eq += drives[d, L.D_BMOTOR] * ratio * v_ref[i] / radius  # the motor's own friction
     loadcell = int(drives[d, L.D_LOADCELL])
     x_t = t_meas - span_ref[loadcell] if loadcell >= 0 else 0.0
     x_v = v_meas - v_ref[i]

@@ -10,7 +10,16 @@ from webline.control.pi import PIGains, tune
 from webline.control.sections import section_models
 from webline.line import Line, is_roll
 from webline.sim import layout as L
-from webline.spec.schema import AdaptiveSpec, CascadedPISpec, IdleSpec, StateFeedbackSpec
+from webline.spec.schema import (
+    AdaptiveSpec,
+    BeltSpec,
+    CascadedPISpec,
+    DirectSpec,
+    DriveSpec,
+    IdleSpec,
+    ShaftSpec,
+    StateFeedbackSpec,
+)
 
 FAMILIES = {CascadedPISpec: L.FAMILY_PI, StateFeedbackSpec: L.FAMILY_STATE_FEEDBACK,
             AdaptiveSpec: L.FAMILY_ADAPTIVE}
@@ -54,7 +63,7 @@ def drive_table(line: Line, inertia: np.ndarray,
         controller = roller.controller
         row[L.D_FAMILY] = FAMILIES[type(controller)]
         if isinstance(controller, CascadedPISpec):
-            gains.append(_pi_columns(row, line, d, inertia[i]))
+            gains.append(_pi_columns(row, line, d, inertia[i], sample_rate))
             designs.append(None)
         else:
             assert op is not None and models is not None
@@ -68,20 +77,29 @@ def drive_table(line: Line, inertia: np.ndarray,
     return rows, tuple(gains), tuple(designs)
 
 
-def _pi_columns(row: np.ndarray, line: Line, d: int, inertia: float) -> PIGains:
+def _pi_columns(row: np.ndarray, line: Line, d: int, inertia: float,
+                sample_rate: float) -> PIGains:
     i = line.drives[d]
     roller = line.spec.rollers[i]
     c = roller.controller  # type: ignore[union-attr]
     assert isinstance(c, CascadedPISpec)
+    drive = roller.drive  # type: ignore[union-attr]
     z = line.controlled_zone(i)
     zone_length = 1.0 if z is None else sum(line.spec.spans[k].length for k in line.zones[z].spans)
-    drive = roller.drive  # type: ignore[union-attr]
     auto = tune(inertia, drive.ratio, roller.radius, zone_length, line.ea, c.speed_bandwidth,
                 c.tension_bandwidth, c.damping)
+    # Above a compliant transmission's resonance a motor-side speed loop sees only the motor:
+    # keep that loop's crossover within what the torque lag and the sampling allow, scaling
+    # kp and ki together (the PI zero stays where the tuning put it).
+    seen = inertia
+    if drive.transmission.type != "direct" and drive.feedback == "motor":
+        seen = drive.ratio**2 * drive.motor_inertia
+    limit = min(0.2 / drive.torque_lag, 2 * np.pi * sample_rate / 20)
+    scale = min(1.0, limit * seen / (drive.ratio * roller.radius) / auto.speed_kp)
     has_zone = z is not None
     g = PIGains(
-        speed_kp=auto.speed_kp if c.speed_kp is None else c.speed_kp,
-        speed_ki=auto.speed_ki if c.speed_ki is None else c.speed_ki,
+        speed_kp=scale * auto.speed_kp if c.speed_kp is None else c.speed_kp,
+        speed_ki=scale * auto.speed_ki if c.speed_ki is None else c.speed_ki,
         tension_kp=(auto.tension_kp if c.tension_kp is None else c.tension_kp) if has_zone else 0,
         tension_ki=(auto.tension_ki if c.tension_ki is None else c.tension_ki) if has_zone else 0,
     )
@@ -115,3 +133,29 @@ def _decentralized_columns(row: np.ndarray, line: Line, d: int, line_speed: floa
         # the bound: a friction torque at the initial speed of parameter_bound x torque scale
         row[L.D_BMAX] = c.parameter_bound * u_scale / max(abs(line_speed) / roller.radius, 1.0)
     return design
+
+
+def transmission(line: Line, i: int) -> DirectSpec | BeltSpec | ShaftSpec:
+    """The transmission of the drive on node ``i``."""
+    return line.spec.rollers[i].drive.transmission  # type: ignore[union-attr]
+
+
+def transmission_columns(row: np.ndarray, drive: DriveSpec, state: int, brake: int) -> None:
+    """Fill the transmission columns of a drive row; ``state`` is the index of its (motor
+    speed, twist) states or -1 for a rigid one, ``brake`` its brake profile or -1."""
+    t = drive.transmission
+    row[L.D_RATIO] = drive.ratio
+    row[L.D_JMOTOR] = drive.motor_inertia
+    row[L.D_BMOTOR] = drive.motor_friction
+    row[L.D_FEEDBACK] = 1.0 if drive.feedback == "motor" else 0.0
+    row[L.D_BRAKE] = brake
+    row[L.D_TSTATE] = state
+    row[L.D_COMPLIANT] = 0.0 if isinstance(t, DirectSpec) else 1.0
+    if isinstance(t, BeltSpec):  # the tight side seen from the load shaft
+        row[L.D_KTRANS] = t.stiffness * t.load_pulley_radius**2
+        row[L.D_CTRANS] = t.damping * t.load_pulley_radius**2
+    elif isinstance(t, ShaftSpec):
+        row[L.D_KTRANS], row[L.D_CTRANS] = t.stiffness, t.damping
+    if not isinstance(t, DirectSpec) and t.backlash is not None:
+        row[L.D_GAPNEG] = 2.0 * t.backlash.gap * t.backlash.asymmetry
+        row[L.D_GAPPOS] = 2.0 * t.backlash.gap * (1.0 - t.backlash.asymmetry)

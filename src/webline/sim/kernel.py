@@ -16,15 +16,16 @@ from typing import Any
 
 import numpy as np
 
-from webline.physics import roll, roller, span
+from webline.physics import backlash, roll, roller, span
 from webline.sim import layout as L
 from webline.sim.controllers import control_tick
-from webline.sim.signals import jit, njit, sines
+from webline.sim.signals import jit, njit, profile_at, sines
 
 _tension: Any = jit(span.tension)
 _roll_inertia: Any = jit(roll.roll_inertia)
 _radius_rate: Any = jit(roll.radius_rate)
 _friction: Any = jit(roller.friction_torque)
+_transmitted: Any = jit(backlash.transmitted_torque)
 
 
 @jit
@@ -50,23 +51,28 @@ def node_arm(i: int, x: np.ndarray, nodes: np.ndarray, off_w: int, off_r: int) -
 
 
 @jit
-def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, nodes: np.ndarray, spans: np.ndarray,
-        drives: np.ndarray, web: np.ndarray, offsets: np.ndarray, dx: np.ndarray,
-        work: np.ndarray) -> None:
-    """Plant derivative dx/dt into ``dx`` with held torque commands ``cmd`` and the unwind's
-    wound-in tension ``t0`` [N] at that instant (see ``wound_in``); nothing else depends on time.
+def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, brake: np.ndarray, nodes: np.ndarray,
+        spans: np.ndarray, drives: np.ndarray, web: np.ndarray, offsets: np.ndarray,
+        dx: np.ndarray, work: np.ndarray) -> None:
+    """Plant derivative dx/dt into ``dx`` with held torque commands ``cmd`` [N·m], held brake
+    torques ``brake`` [N·m] and the unwind's wound-in tension ``t0`` [N] at that instant (see
+    ``wound_in``); nothing else depends on time.
 
     Physics as in ``webline.physics`` (span 6.8 with slack, rollers 6.9/6.11, rolls 6.1-6.6
     with J dω/dt = torque, motor lag 4.1k), written out with precomputed reciprocals because
-    this function is the simulation's inner loop. ``work`` is scratch of 3 x nodes.
+    this function is the simulation's inner loop. ``work`` is scratch of 4 x nodes.
     """
     n_spans = spans.shape[0]
     n_nodes = nodes.shape[0]
     last = n_nodes - 1
     off_w, off_r, off_tq, off_q = offsets[1], offsets[2], offsets[3], offsets[5]
     ea = web[L.W_EA]
-    # work = [arm of each node | web speed of each node | tension of each span]
-    sp, te = n_nodes, 2 * n_nodes
+    # work = [arm of each node | web speed of each node | tension of each span | shaft torque]
+    sp, te, sh = n_nodes, 2 * n_nodes, 3 * n_nodes
+    for i in range(n_nodes):
+        work[sh + i] = 0.0
+    for d in range(drives.shape[0]):
+        work[sh + int(drives[d, L.D_NODE])] += drive_torque(d, x, cmd, brake, drives, offsets, dx)
     for i in range(n_nodes):
         work[i] = node_arm(i, x, nodes, off_w, off_r)
         work[sp + i] = work[i] * x[off_w + i]
@@ -88,9 +94,7 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, nodes: np.ndarray, spans: np.
         coulomb = nodes[i, L.N_COULOMB]
         if coulomb != 0.0:
             torque -= _friction(omega, 0.0, coulomb)
-        drive = int(nodes[i, L.N_DRIVE])
-        if drive >= 0:
-            torque += nodes[i, L.N_RATIO] * x[off_tq + drive]
+        torque += work[sh + i]
         if i == 0 or i == last:
             inertia = _roll_inertia(nodes[i, L.N_JCONST], work[i], nodes[i, L.N_CORE], width,
                                     density)
@@ -111,6 +115,36 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, nodes: np.ndarray, spans: np.
     inv_ea = 1.0 / ea
     dx[off_q] = v_unwind * (1.0 - t0 * inv_ea)
     dx[off_q + 1] = v_rewind * (1.0 - work[te + n_spans - 1] * inv_ea)
+
+
+@jit
+def drive_torque(d: int, x: np.ndarray, cmd: np.ndarray, brake: np.ndarray,
+                 drives: np.ndarray, offsets: np.ndarray, dx: np.ndarray) -> float:
+    """Torque [N·m] drive ``d`` applies to its roller shaft; writes the derivatives of a
+    compliant transmission's motor speed and twist into ``dx``.
+
+    Rigid: n τ less the motor's friction reflected (n² b_m ω). Compliant (belt 2.10, shaft
+    and backlash 3.22-3.23, belt and backlash 3.31-3.32, rotary, seen from the load shaft):
+    J_m dω_m/dt = τ - T_s/n - b_m ω_m, d(twist)/dt = ω_m/n - ω, the shaft gets T_s. A brake
+    (4.12) opposes the roller's rotation with its torque.
+    """
+    i = int(drives[d, L.D_NODE])
+    omega = x[offsets[1] + i]
+    tau = x[offsets[3] + d]
+    n = drives[d, L.D_RATIO]
+    state = int(drives[d, L.D_TSTATE])
+    if state < 0:
+        torque = n * tau - n * n * drives[d, L.D_BMOTOR] * omega
+    else:
+        omega_m = x[state]
+        rate = omega_m / n - omega
+        torque = _transmitted(x[state + 1], rate, drives[d, L.D_KTRANS], drives[d, L.D_CTRANS],
+                              drives[d, L.D_GAPNEG], drives[d, L.D_GAPPOS])
+        dx[state] = (tau - torque / n - drives[d, L.D_BMOTOR] * omega_m) / drives[d, L.D_JMOTOR]
+        dx[state + 1] = rate
+    if brake[d] != 0.0:
+        torque -= _friction(omega, 0.0, brake[d])
+    return torque
 
 
 @njit
@@ -143,7 +177,8 @@ def run(x0: np.ndarray, istate0: np.ndarray, tick0: int, n_ticks: int, dt: float
     k3 = np.empty(n_x)
     k4 = np.empty(n_x)
     tmp = np.empty(n_x)
-    work = np.empty(3 * nodes.shape[0])
+    work = np.empty(4 * nodes.shape[0])
+    brake = np.zeros(n_d)
     h = dt / substeps
     n_rec = 0
     status = L.STATUS_OK
@@ -168,21 +203,24 @@ def run(x0: np.ndarray, istate0: np.ndarray, tick0: int, n_ticks: int, dt: float
             n_rec += 1
         if j == n_ticks:
             break
+        for d in range(n_d):  # brake torques are held over the tick, like the commands
+            p = int(drives[d, L.D_BRAKE])
+            brake[d] = profile_at(p, t, prof_t, prof_v, prof_off) if p >= 0 else 0.0
         t0_start = wound_in(t, web, wound_ripple)
         for s in range(substeps):
             ts = t + s * h
             t0_mid = wound_in(ts + 0.5 * h, web, wound_ripple)
             t0_end = wound_in(ts + h, web, wound_ripple)
-            rhs(t0_start, x, cmd, nodes, spans, drives, web, offsets, k1, work)
+            rhs(t0_start, x, cmd, brake, nodes, spans, drives, web, offsets, k1, work)
             for m in range(n_x):
                 tmp[m] = x[m] + 0.5 * h * k1[m]
-            rhs(t0_mid, tmp, cmd, nodes, spans, drives, web, offsets, k2, work)
+            rhs(t0_mid, tmp, cmd, brake, nodes, spans, drives, web, offsets, k2, work)
             for m in range(n_x):
                 tmp[m] = x[m] + 0.5 * h * k2[m]
-            rhs(t0_mid, tmp, cmd, nodes, spans, drives, web, offsets, k3, work)
+            rhs(t0_mid, tmp, cmd, brake, nodes, spans, drives, web, offsets, k3, work)
             for m in range(n_x):
                 tmp[m] = x[m] + h * k3[m]
-            rhs(t0_end, tmp, cmd, nodes, spans, drives, web, offsets, k4, work)
+            rhs(t0_end, tmp, cmd, brake, nodes, spans, drives, web, offsets, k4, work)
             for m in range(n_x):
                 x[m] += h / 6.0 * (k1[m] + 2.0 * k2[m] + 2.0 * k3[m] + k4[m])
             t0_start = t0_end

@@ -15,8 +15,13 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  D_ADAPTIVE, D_GAINNORM, D_UPREF, D_INVLAG, D_ZFIRST, D_ZLAST,
  # ... and the decentralized controllers of Ch. 6: family, state-feedback gains, adaptive
  # law (rate, leakage, upper bound of the estimate) and the controller's friction model
- D_FAMILY, D_KT, D_KV, D_GAMMA, D_LEAK, D_BMAX, D_BMODEL) = range(24)
-D_COLS = 24
+ D_FAMILY, D_KT, D_KV, D_GAMMA, D_LEAK, D_BMAX, D_BMODEL,
+ # ... and the transmission: compliant or rigid, its state offset, load-side stiffness
+ # [N·m/rad], damping [N·m·s/rad] and free travel [rad], motor inertia and friction, ratio,
+ # speed feedback side (0 load, 1 motor) and brake profile (-1: none)
+ D_COMPLIANT, D_TSTATE, D_KTRANS, D_CTRANS, D_GAPNEG, D_GAPPOS, D_JMOTOR, D_BMOTOR, D_RATIO,
+ D_FEEDBACK, D_BRAKE) = range(35)
+D_COLS = 35
 ROLE_MASTER, ROLE_TENSION = 0, 1
 FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE = 0, 1, 2
 

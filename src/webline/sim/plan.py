@@ -10,9 +10,9 @@ from webline.analysis.operating_point import OperatingPoint, node_inertias, oper
 from webline.control.decentralized import SectionDesign
 from webline.control.pi import PIGains
 from webline.line import Line
-from webline.profiles import breakpoints
+from webline.profiles import breakpoints, pwl_value
 from webline.sim import layout as L
-from webline.sim.drive_table import drive_table
+from webline.sim.drive_table import drive_table, transmission, transmission_columns
 from webline.spec.schema import (
     DrivenSpec,
     EccentricRoller,
@@ -54,6 +54,19 @@ class Plan:
         return (self.nodes, self.spans, self.drives, self.web, self.wound_ripple,
                 self.speed_ripple, self.prof_t, self.prof_v, self.prof_off, self.offsets)
 
+    def profile_value(self, p: int, t: float) -> float:
+        """Value at time ``t`` [s] of the plan's reference profile number ``p``."""
+        a, b = self.prof_off[p], self.prof_off[p + 1]
+        return float(pwl_value(self.prof_t[a:b], self.prof_v[a:b], t))
+
+    def linear_motor_state(self, d: int) -> int | None:
+        """Index of drive ``d``'s motor speed in the linear model's states, if compliant."""
+        compliant = list(np.flatnonzero(self.drives[:, L.D_TSTATE] >= 0))
+        if d not in compliant:
+            return None
+        line = self.line
+        return line.n_spans + line.n_nodes + len(line.drives) + 2 * compliant.index(d)
+
     def initial_state(self, op: OperatingPoint) -> tuple[np.ndarray, np.ndarray]:
         """Plant state and controller integrators at the equilibrium ``op``."""
         off = self.offsets
@@ -64,24 +77,36 @@ class Plan:
         x[off[2] + 1] = op.radius[-1]
         limits = self.drives[:, L.D_LIMIT]
         x[off[3]: off[3] + len(op.torque)] = np.clip(op.torque, -limits, limits)
+        for d, i in enumerate(op.drives):
+            self._transmission_state(x, d, i, op)
         istate = np.zeros((len(op.torque), L.I_COLS))
         istate[:, L.I_SPEED] = x[off[3]: off[3] + len(op.torque)]
         istate[:, L.I_FRICTION] = self.drives[:, L.D_BMODEL]
         ea = self.line.ea
-        t_master = _profile_value(self, int(off[6]), op.time)
+        t_master = self.profile_value(int(off[6]), op.time)
         for d, i in enumerate(op.drives):
             up = int(self.drives[d, L.D_UPREF])
-            t_up = self.web[L.W_T0] if up < 0 else _profile_value(self, up, op.time)
+            t_up = self.web[L.W_T0] if up < 0 else self.profile_value(up, op.time)
             feedforward = op.line_speed * (ea - t_master) / (ea - t_up)
             istate[d, L.I_TENSION] = self.drives[d, L.D_SIGMA] * (op.speed[i] - feedforward)
         return x, istate
 
 
-def _profile_value(plan: Plan, p: int, t: float) -> float:
-    from webline.profiles import pwl_value
+    def _transmission_state(self, x: np.ndarray, d: int, i: int, op: OperatingPoint) -> None:
+        """Motor speed and twist of a compliant transmission at equilibrium: the twist that
+        passes the load-side torque n τ - n² (J_m dω/dt + b_m ω)."""
+        row = self.drives[d]
+        state = int(row[L.D_TSTATE])
+        if state < 0:
+            return
+        n = row[L.D_RATIO]
+        x[state] = n * op.omega[i]
+        load = n * x[int(self.offsets[3]) + d] - n**2 * (row[L.D_JMOTOR] * op.accel[i]
+                                                        + row[L.D_BMOTOR] * op.omega[i])
+        x[state + 1] = load / row[L.D_KTRANS] + (
+            row[L.D_GAPPOS] if load > 0 else (-row[L.D_GAPNEG] if load < 0 else 0.0))
 
-    a, b = plan.prof_off[p], plan.prof_off[p + 1]
-    return float(pwl_value(plan.prof_t[a:b], plan.prof_v[a:b], t))
+
 
 
 def compile_plan(line: Line, *, sample_rate: float | None = None) -> Plan:
@@ -108,12 +133,16 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     names += [f"{rollers[i].name}.torque" for i in line.drives]
     ecc_nodes = [i for i, r in enumerate(rollers) if r.name in eccentric]
     names += [f"{rollers[i].name}.angle" for i in ecc_nodes]
+    compliant = [i for i in line.drives if transmission(line, i).type != "direct"]
+    for i in compliant:
+        names += [f"{rollers[i].name}.motor_omega", f"{rollers[i].name}.twist"]
     names += ["web.unwound", "web.rewound"]
     off_w = n_spans
     off_r = off_w + n_nodes
     off_tq = off_r + 2
     off_th = off_tq + n_drives
-    off_q = off_th + len(ecc_nodes)
+    off_tr = off_th + len(ecc_nodes)
+    off_q = off_tr + 2 * len(compliant)
 
     radii = np.array([r.radius for r in rollers])
     inertia = node_inertias(line, radii)
@@ -128,23 +157,32 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         row[L.N_COULOMB] = r.coulomb_friction
         row[L.N_DRIVE] = line.drives.index(i) if i in line.drives else -1
         row[L.N_RATIO] = 1.0 if isinstance(r, IdleSpec) else r.drive.ratio
-        row[L.N_JCONST] = inertia[i]
-        row[L.N_INVJ] = 1.0 / inertia[i]
+        motor = 0.0  # a compliant transmission keeps the motor's inertia on the motor side
+        if i in compliant:
+            motor = r.drive.ratio**2 * r.drive.motor_inertia  # type: ignore[union-attr]
+        row[L.N_JCONST] = inertia[i] - motor
+        row[L.N_INVJ] = 1.0 / row[L.N_JCONST]
         if isinstance(r, UnwindSpec | RewindSpec):
             row[L.N_CORE] = r.core_radius
-            row[L.N_JCONST] = r.inertia + r.drive.ratio**2 * r.drive.motor_inertia
+            row[L.N_JCONST] = r.inertia + r.drive.ratio**2 * r.drive.motor_inertia - motor
         row[L.N_ECC] = eccentric.get(r.name, 0.0)
         row[L.N_ECCSTATE] = off_th + ecc_nodes.index(i) if i in ecc_nodes else -1
 
     profiles = [breakpoints(spec.speed)]
     profiles += [breakpoints(spec.spans[z.loadcell].tension) for z in line.zones]
+    brakes = {i: len(profiles) + b for b, i in enumerate(
+        i for i in line.drives if rollers[i].drive.brake is not None)}  # type: ignore[union-attr]
+    profiles += [breakpoints(rollers[i].drive.brake) for i in brakes]  # type: ignore[union-attr]
     prof_off = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
 
     rate = sample_rate if sample_rate is not None else spec.control.sample_rate
     drives, gains, designs = drive_table(line, inertia, rate)
+    for d, i in enumerate(line.drives):
+        state = off_tr + 2 * compliant.index(i) if i in compliant else -1
+        transmission_columns(drives[d], rollers[i].drive, state, brakes.get(i, -1))  # type: ignore[union-attr]
     master_up = 1 + line.zone_of_span(line.master - 1)
-    offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master],
-                       dtype=np.int64)
+    offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
+                        off_tr], dtype=np.int64)
     web = np.zeros(L.W_COLS)
     web[L.W_EA] = line.ea
     web[L.W_THICK] = spec.web.thickness

@@ -15,6 +15,7 @@ from webline.sim import layout as L
 from webline.sim.controllers import control_tick
 from webline.sim.plan import compile_plan, equilibrium_plan_state
 from webline.sim.result import Result
+from webline.sim.signals import profile_at
 from webline.sim.simulate import _result
 
 
@@ -35,13 +36,14 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
     out = np.zeros((4, n_d))
     cmd = out[0]
     scratch = np.empty(len(prof_off) + 3 * nodes.shape[0])
-    work = np.empty(3 * nodes.shape[0])
+    work = np.empty(4 * nodes.shape[0])
+    brake = np.zeros(n_d)
     rows = []
 
     def derivative(t: float, y: np.ndarray) -> np.ndarray:
         dy = np.empty_like(y)
-        kernel.rhs(kernel.wound_in(t, web, wound), y, cmd, nodes, spans, drives, web, offsets,
-                   dy, work)
+        kernel.rhs(kernel.wound_in(t, web, wound), y, cmd, brake, nodes, spans, drives, web,
+                   offsets, dy, work)
         return dy
 
     for j in range(n_ticks + 1):
@@ -51,6 +53,9 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
         rows.append(np.concatenate(([t], x, out.ravel(), istate[:, L.I_FRICTION])))
         if j == n_ticks:
             break
+        for d in range(n_d):
+            p = int(drives[d, L.D_BRAKE])
+            brake[d] = profile_at(p, t, prof_t, prof_v, prof_off) if p >= 0 else 0.0
         sol = solve_ivp(derivative, (t, t + plan.dt), x, method=method, rtol=rtol, atol=atol)
         x = sol.y[:, -1].copy()
     return _result(plan, np.array(rows), 0, np.nan,

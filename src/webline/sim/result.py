@@ -20,7 +20,9 @@ if TYPE_CHECKING:
 SIGNAL_UNITS = {
     "tension": "N", "tension_ref": "N", "speed": "m/s", "speed_ref": "m/s", "omega": "rad/s",
     "torque": "N*m", "torque_cmd": "N*m", "trim": "m/s", "radius": "m", "inertia": "kg*m**2",
-    "slack": "", "web_unwound": "m", "web_rewound": "m", "web_stored": "m", "wound_in": "N",
+    "slack": "", "motor_speed": "rad/s", "twist": "rad", "contact": "",
+    "friction_estimate": "N*m*s", "equilibrium_input": "N*m", "web_unwound": "m",
+    "web_rewound": "m", "web_stored": "m", "wound_in": "N",
 }
 
 
@@ -137,6 +139,39 @@ class Result:
         return self._block(3, len(self.line.drives))
 
     @cached_property
+    def motor_speed(self) -> np.ndarray:
+        """Angular speed of each drive's motor [rad/s] (n x roller speed for a rigid one)."""
+        out = np.empty_like(self.torque)
+        for d, i in enumerate(self.line.drives):
+            state = int(self.plan.drives[d, L.D_TSTATE])
+            ratio = self.plan.drives[d, L.D_RATIO]
+            out[:, d] = self.states[:, state] if state >= 0 else ratio * self.omega[:, i]
+        return out
+
+    @cached_property
+    def twist(self) -> np.ndarray:
+        """Twist θm/n - θL of each compliant transmission [rad] (NaN for rigid drives)."""
+        out = np.full_like(self.torque, np.nan)
+        for d in range(len(self.line.drives)):
+            state = int(self.plan.drives[d, L.D_TSTATE])
+            if state >= 0:
+                out[:, d] = self.states[:, state + 1]
+        return out
+
+    @cached_property
+    def contact(self) -> np.ndarray:
+        """Backlash contact of each drive: +1 forward flank, -1 backward flank, 0 in the gap
+        (NaN for drives without backlash)."""
+        out = np.full_like(self.torque, np.nan)
+        for d in range(len(self.line.drives)):
+            row = self.plan.drives[d]
+            if row[L.D_TSTATE] >= 0 and row[L.D_GAPNEG] + row[L.D_GAPPOS] > 0:
+                twist = self.twist[:, d]
+                out[:, d] = np.where(twist > row[L.D_GAPPOS], 1.0,
+                                     np.where(twist < -row[L.D_GAPNEG], -1.0, 0.0))
+        return out
+
+    @cached_property
     def inertia(self) -> np.ndarray:
         """Unwind and rewind inertia at the roll shaft [kg·m²], shape (time, 2)."""
         from webline.physics.roll import roll_inertia
@@ -223,6 +258,11 @@ class Result:
             "torque": (dims_drive, self.torque),
             "torque_cmd": (dims_drive, self.torque_cmd),
             "trim": (dims_drive, self.trim),
+            "motor_speed": (dims_drive, self.motor_speed),
+            "twist": (dims_drive, self.twist),
+            "contact": (dims_drive, self.contact),
+            "friction_estimate": (dims_drive, self.friction_estimate),
+            "equilibrium_input": (dims_drive, self.equilibrium_input),
             "inertia": (("time", "roll"), self.inertia),
             "web_unwound": (("time",), self.web_unwound),
             "web_rewound": (("time",), self.web_rewound),

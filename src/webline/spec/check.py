@@ -85,6 +85,10 @@ def check_spec(spec: LineSpec, file: str) -> None:
         if isinstance(roller, UnwindSpec | RewindSpec) and roller.core_radius >= roller.radius:
             fail(f"rollers[{i}].core_radius",
                  f"must be below the roll radius {roller.radius:g} m, got {roller.core_radius:g} m")
+        drive = getattr(roller, "drive", None)
+        if drive is not None and drive.transmission.type != "direct" and drive.motor_inertia <= 0:
+            fail(f"rollers[{i}].drive.motor_inertia",
+                 f"a {drive.transmission.type} transmission needs the motor's inertia (> 0)")
         if isinstance(roller, UnwindSpec) and roller.wound_in_tension >= ea:
             fail(f"rollers[{i}].wound_in_tension", f"must be below EA = {ea:g} N")
 

@@ -141,17 +141,67 @@ class WebSpec(Strict):
 # --- drives and controllers ---------------------------------------------------------------
 
 
-class DriveSpec(Strict):
-    """A motor and its direct transmission to the roller shaft.
+class BacklashSpec(Strict):
+    """Gear backlash in series with the transmission's compliance (thesis 3.22-3.23, 3.31-3.32).
 
-    ``ratio`` is motor speed / roller speed, so the roller sees ``ratio * motor torque`` and
-    the motor inertia reflects as ``ratio**2 * motor_inertia``.
+    The load may move ``gap`` Δ [rad at the load shaft] either way before the teeth touch; with
+    ``asymmetry`` a the free travel is 2Δa backwards and 2Δ(1 - a) forwards (Remark 3.3.1;
+    a = 0.5 is the symmetric gap).
+    """
+
+    gap: Annotated[float, _si("angle", ">=0")]
+    asymmetry: Annotated[float, Field(ge=0.0, le=1.0)] = 0.5
+
+
+class DirectSpec(Strict):
+    """Rigid transmission: the motor inertia reflects to the roller as ratio² x motor_inertia."""
+
+    type: Literal["direct"] = "direct"
+
+
+class BeltSpec(Strict):
+    """Belt-pulley transmission whose tight side is a spring (thesis 2.10): ``stiffness`` Kb
+    [N/m], ``damping`` [N·s/m], the load pulley of ``load_pulley_radius`` r2 [m] (the motor
+    pulley is r2/ratio). Seen from the load shaft: Kb r2² [N·m/rad]."""
+
+    type: Literal["belt"]
+    stiffness: Annotated[float, _si("stiffness", ">0")]
+    load_pulley_radius: Length
+    damping: Annotated[float, _si("linear_damping", ">=0")] = 0.0
+    backlash: BacklashSpec | None = None
+
+
+class ShaftSpec(Strict):
+    """Compliant shaft (or coupling) seen from the load shaft: ``stiffness`` [N·m/rad],
+    ``damping`` [N·m·s/rad] (thesis 3.22 in rotary form)."""
+
+    type: Literal["shaft"]
+    stiffness: Torque
+    damping: Damping = 0.0
+    backlash: BacklashSpec | None = None
+
+
+TransmissionSpec = Annotated[DirectSpec | BeltSpec | ShaftSpec, Field(discriminator="type")]
+
+
+class DriveSpec(Strict):
+    """A motor, its torque loop and its transmission to the roller shaft.
+
+    ``ratio`` is motor speed / roller speed, so the roller sees ``ratio * motor torque``.
+    ``feedback`` chooses where the speed loop measures: the roller ("load") or the motor's
+    encoder ("motor"), which differ across a compliant transmission (thesis 2.16-2.19).
+    ``motor_friction`` [N·m·s] acts on the motor shaft; ``brake`` [N·m] is a torque on the
+    roller shaft opposing its rotation (thesis 4.12), constant or a profile.
     """
 
     ratio: Ratio = 1.0
     torque_limit: Torque
     torque_lag: Time = 0.002
     motor_inertia: InertiaNonNeg = 0.0
+    motor_friction: Damping = 0.0
+    transmission: TransmissionSpec = DirectSpec()
+    feedback: Literal["load", "motor"] = "load"
+    brake: TorqueProfile | None = None
 
 
 class CascadedPISpec(Strict):
