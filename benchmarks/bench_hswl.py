@@ -112,7 +112,8 @@ def main(argv: list[str] | None = None) -> int:
     params = plan.params()
 
     def kernel_call() -> object:
-        return kernel.run(x0, istate0, 0, n_ticks, plan.dt, substeps, every, True, *params)
+        return kernel.run(x0, istate0, plan.initial_slip(x0), 0, n_ticks, plan.dt, substeps,
+                          every, True, *params)
 
     kernel_call()
     t_kernel, all_kernel = timed(kernel_call, repeat)

@@ -19,13 +19,15 @@ def plant_derivative(line: webline.Line, op: webline.OperatingPoint):
     index = np.r_[0:n_s, off[1]:off[1] + n_n, off[3]:off[3] + n_d, off[8]:off[8] + 2 * n_c]
     work = np.empty(4 * n_n)
     brake = np.zeros(len(line.drives))
+    slipping = np.zeros(n_n, dtype=np.int64)
 
     def f(z: np.ndarray, u: np.ndarray) -> np.ndarray:
         x = x_op.copy()
         x[index] = z
         dx = np.empty_like(x)
         t0 = kernel.wound_in(op.time, plan.web, plan.wound_ripple)
-        kernel.rhs(t0, x, u, brake, plan.nodes, plan.spans, plan.drives, plan.web, plan.offsets,
+        kernel.rhs(t0, x, u, brake, slipping, plan.nodes, plan.spans, plan.drives, plan.web,
+                   plan.offsets,
                    dx, work)
         return dx[index]
 

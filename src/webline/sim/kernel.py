@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from webline.physics import backlash, roll, roller, span
+from webline.physics import backlash, roll, roller, slip, span
 from webline.sim import layout as L
 from webline.sim.controllers import control_tick
 from webline.sim.signals import jit, njit, profile_at, sines
@@ -26,6 +26,8 @@ _roll_inertia: Any = jit(roll.roll_inertia)
 _radius_rate: Any = jit(roll.radius_rate)
 _friction: Any = jit(roller.friction_torque)
 _transmitted: Any = jit(backlash.transmitted_torque)
+_slip_velocity: Any = jit(slip.slip_velocity)
+_slip_state: Any = jit(slip.slip_state)
 
 
 @jit
@@ -51,12 +53,16 @@ def node_arm(i: int, x: np.ndarray, nodes: np.ndarray, off_w: int, off_r: int) -
 
 
 @jit
-def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, brake: np.ndarray, nodes: np.ndarray,
-        spans: np.ndarray, drives: np.ndarray, web: np.ndarray, offsets: np.ndarray,
-        dx: np.ndarray, work: np.ndarray) -> None:
+def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, brake: np.ndarray, slipping: np.ndarray,
+        nodes: np.ndarray, spans: np.ndarray, drives: np.ndarray, web: np.ndarray,
+        offsets: np.ndarray, dx: np.ndarray, work: np.ndarray) -> None:
     """Plant derivative dx/dt into ``dx`` with held torque commands ``cmd`` [N·m], held brake
-    torques ``brake`` [N·m] and the unwind's wound-in tension ``t0`` [N] at that instant (see
-    ``wound_in``); nothing else depends on time.
+    torques ``brake`` [N·m], held stick/slip states ``slipping`` (per node) and the unwind's
+    wound-in tension ``t0`` [N] at that instant (see ``wound_in``); nothing else depends on time.
+
+    Where the web slips over a roller (Ch. 5, E-5.3) the spans on both sides see the web
+    speed r ω - s, s from ``physics.slip.slip_velocity``; the roller still feels
+    r (T_out - T_in), which the friction transmits whether the web sticks or slips.
 
     Physics as in ``webline.physics`` (span 6.8 with slack, rollers 6.9/6.11, rolls 6.1-6.6
     with J dω/dt = torque, motor lag 4.1k), written out with precomputed reciprocals because
@@ -73,11 +79,17 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, brake: np.ndarray, nodes: np.
         work[sh + i] = 0.0
     for d in range(drives.shape[0]):
         work[sh + int(drives[d, L.D_NODE])] += drive_torque(d, x, cmd, brake, drives, offsets, dx)
+    for k in range(n_spans):
+        work[te + k] = _tension(x[k])
     for i in range(n_nodes):
         work[i] = node_arm(i, x, nodes, off_w, off_r)
         work[sp + i] = work[i] * x[off_w + i]
-    for k in range(n_spans):
-        work[te + k] = _tension(x[k])
+        if slipping[i] != 0:
+            surface = work[sp + i]
+            t_c = web[L.W_RHOA] * surface * surface
+            work[sp + i] -= _slip_velocity(work[te + i - 1], work[te + i], nodes[i, L.N_WRAP],
+                                           nodes[i, L.N_MU], nodes[i, L.N_MUK],
+                                           nodes[i, L.N_SLIPB], t_c, slipping[i])
 
     t_in = t0
     for k in range(n_spans):
@@ -117,6 +129,20 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, brake: np.ndarray, nodes: np.
     dx[off_q + 1] = v_rewind * (1.0 - work[te + n_spans - 1] * inv_ea)
 
 
+@njit
+def update_slip(x: np.ndarray, slipping: np.ndarray, nodes: np.ndarray, web: np.ndarray,
+                offsets: np.ndarray) -> None:
+    """Stick/slip state of every traction roller for the next tick (held over its stages, so
+    the fixed step never chatters): ``physics.slip.slip_state`` on the sampled tensions."""
+    for i in range(1, nodes.shape[0] - 1):
+        if nodes[i, L.N_TRACTION] == 0.0:
+            continue
+        surface = node_arm(i, x, nodes, offsets[1], offsets[2]) * x[offsets[1] + i]
+        slipping[i] = _slip_state(_tension(x[i - 1]), _tension(x[i]), nodes[i, L.N_WRAP],
+                                  nodes[i, L.N_MU], nodes[i, L.N_MUK],
+                                  web[L.W_RHOA] * surface * surface, slipping[i])
+
+
 @jit
 def drive_torque(d: int, x: np.ndarray, cmd: np.ndarray, brake: np.ndarray,
                  drives: np.ndarray, offsets: np.ndarray, dx: np.ndarray) -> float:
@@ -148,27 +174,32 @@ def drive_torque(d: int, x: np.ndarray, cmd: np.ndarray, brake: np.ndarray,
 
 
 @njit
-def run(x0: np.ndarray, istate0: np.ndarray, tick0: int, n_ticks: int, dt: float, substeps: int,
-        record_every: int, include_end: bool, nodes: np.ndarray, spans: np.ndarray,
+def run(x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick0: int, n_ticks: int,
+        dt: float, substeps: int, record_every: int, include_end: bool, nodes: np.ndarray,
+        spans: np.ndarray,
         drives: np.ndarray, web: np.ndarray, wound_ripple: np.ndarray,
         speed_ripple: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray,
-        offsets: np.ndarray) -> tuple[np.ndarray, int, int, float, np.ndarray, np.ndarray]:
+        offsets: np.ndarray) -> tuple[np.ndarray, int, int, float, np.ndarray, np.ndarray,
+                                      np.ndarray]:
     """Simulate ``n_ticks`` controller periods of ``dt`` [s] from tick ``tick0``.
 
     A tick is recorded when its global index is a multiple of ``record_every``; with
     ``include_end`` the state after the last period is recorded too (a chunked run leaves it
     to the next chunk). Returns (records, number of records, status, time of failure, final
-    state, final controller memory). Each record row is [t, x..., cmd..., vref..., trim...,
-    u_eq..., friction estimate...] (one value per drive in each group). The
+    state, final controller memory, final stick/slip states). Each record row is [t, x...,
+    cmd..., vref..., trim..., u_eq..., friction estimate... (one value per drive in each
+    group), slip state per node...]. The
     run stops early, keeping what it computed, if the state stops being finite or the unwind
     roll runs out of web.
     """
     n_x = x0.shape[0]
     n_d = drives.shape[0]
-    width = 1 + n_x + 5 * n_d
+    n_n = nodes.shape[0]
+    width = 1 + n_x + 5 * n_d + n_n
     rec = np.empty((n_ticks // record_every + 2, width))
     x = x0.copy()
     istate = istate0.copy()
+    slipping = slip0.copy()
     out = np.zeros((4, n_d))
     cmd = out[0]
     scratch = np.empty(prof_off.shape[0] + 3 * nodes.shape[0])
@@ -192,6 +223,7 @@ def run(x0: np.ndarray, istate0: np.ndarray, tick0: int, n_ticks: int, dt: float
             break
         control_tick(tick, dt, x, istate, nodes, drives, web, prof_t, prof_v, prof_off,
                      speed_ripple, offsets, out, scratch)
+        update_slip(x, slipping, nodes, web, offsets)
         if tick % record_every == 0 or j == n_ticks:
             row = rec[n_rec]
             row[0] = t
@@ -200,6 +232,8 @@ def run(x0: np.ndarray, istate0: np.ndarray, tick0: int, n_ticks: int, dt: float
                 row[1 + n_x + q * n_d:1 + n_x + (q + 1) * n_d] = out[q]
             for d in range(n_d):
                 row[1 + n_x + 4 * n_d + d] = istate[d, L.I_FRICTION]
+            for i in range(n_n):
+                row[1 + n_x + 5 * n_d + i] = slipping[i]
             n_rec += 1
         if j == n_ticks:
             break
@@ -211,16 +245,16 @@ def run(x0: np.ndarray, istate0: np.ndarray, tick0: int, n_ticks: int, dt: float
             ts = t + s * h
             t0_mid = wound_in(ts + 0.5 * h, web, wound_ripple)
             t0_end = wound_in(ts + h, web, wound_ripple)
-            rhs(t0_start, x, cmd, brake, nodes, spans, drives, web, offsets, k1, work)
+            rhs(t0_start, x, cmd, brake, slipping, nodes, spans, drives, web, offsets, k1, work)
             for m in range(n_x):
                 tmp[m] = x[m] + 0.5 * h * k1[m]
-            rhs(t0_mid, tmp, cmd, brake, nodes, spans, drives, web, offsets, k2, work)
+            rhs(t0_mid, tmp, cmd, brake, slipping, nodes, spans, drives, web, offsets, k2, work)
             for m in range(n_x):
                 tmp[m] = x[m] + 0.5 * h * k2[m]
-            rhs(t0_mid, tmp, cmd, brake, nodes, spans, drives, web, offsets, k3, work)
+            rhs(t0_mid, tmp, cmd, brake, slipping, nodes, spans, drives, web, offsets, k3, work)
             for m in range(n_x):
                 tmp[m] = x[m] + h * k3[m]
-            rhs(t0_end, tmp, cmd, brake, nodes, spans, drives, web, offsets, k4, work)
+            rhs(t0_end, tmp, cmd, brake, slipping, nodes, spans, drives, web, offsets, k4, work)
             for m in range(n_x):
                 x[m] += h / 6.0 * (k1[m] + 2.0 * k2[m] + 2.0 * k3[m] + k4[m])
             t0_start = t0_end
@@ -236,4 +270,4 @@ def run(x0: np.ndarray, istate0: np.ndarray, tick0: int, n_ticks: int, dt: float
             status = L.STATUS_UNWIND_EMPTY
             t_fail = t + dt
             break
-    return rec, n_rec, status, t_fail, x, istate
+    return rec, n_rec, status, t_fail, x, istate, slipping

@@ -2,8 +2,10 @@
 
 # node table columns
 (N_KIND, N_RADIUS, N_CORE, N_JCONST, N_VISCOUS, N_COULOMB, N_RATIO, N_DRIVE, N_ECC,
- N_ECCSTATE, N_INVJ) = range(11)
-N_COLS = 11
+ N_ECCSTATE, N_INVJ,
+ # web-roller traction (Ch. 5): 1 if the web may slip, wrap [rad], μ0, μ', viscous [N·s/m]
+ N_TRACTION, N_WRAP, N_MU, N_MUK, N_SLIPB) = range(16)
+N_COLS = 16
 
 # span table columns
 S_LENGTH, S_INVLENGTH = range(2)
@@ -31,8 +33,8 @@ I_COLS = 3
 
 # line-wide scalars
 (W_EA, W_THICK, W_WIDTH, W_DENSITY, W_T0, W_NOISE_T, W_NOISE_V, W_SEED,
- W_NEED_EQ) = range(9)
-W_COLS = 9
+ W_NEED_EQ, W_RHOA) = range(10)
+W_COLS = 10
 
 # kernel status codes
 STATUS_OK, STATUS_NONFINITE, STATUS_UNWIND_EMPTY = 0, 1, 2

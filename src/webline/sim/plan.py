@@ -67,6 +67,14 @@ class Plan:
         line = self.line
         return line.n_spans + line.n_nodes + len(line.drives) + 2 * compliant.index(d)
 
+    def initial_slip(self, x: np.ndarray) -> np.ndarray:
+        """Stick/slip state of every node (0 stuck, 1 slipping) for the state ``x``."""
+        from webline.sim.kernel import update_slip
+
+        slip = np.zeros(self.line.n_nodes, dtype=np.int64)
+        update_slip(x, slip, self.nodes, self.web, self.offsets)
+        return slip
+
     def initial_state(self, op: OperatingPoint) -> tuple[np.ndarray, np.ndarray]:
         """Plant state and controller integrators at the equilibrium ``op``."""
         off = self.offsets
@@ -165,6 +173,13 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         if isinstance(r, UnwindSpec | RewindSpec):
             row[L.N_CORE] = r.core_radius
             row[L.N_JCONST] = r.inertia + r.drive.ratio**2 * r.drive.motor_inertia - motor
+        contact = getattr(r, "contact", None)
+        if contact is not None and contact.type == "traction":
+            row[L.N_TRACTION], row[L.N_WRAP] = 1.0, r.wrap  # type: ignore[union-attr]
+            row[L.N_MU] = contact.friction
+            row[L.N_MUK] = contact.friction if contact.kinetic_friction is None else (
+                contact.kinetic_friction)
+            row[L.N_SLIPB] = contact.viscous
         row[L.N_ECC] = eccentric.get(r.name, 0.0)
         row[L.N_ECCSTATE] = off_th + ecc_nodes.index(i) if i in ecc_nodes else -1
 
@@ -189,6 +204,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     web[L.W_WIDTH] = spec.web.width
     web[L.W_DENSITY] = spec.web.density
     web[L.W_T0] = line.unwind.wound_in_tension
+    web[L.W_RHOA] = spec.web.density * spec.web.width * spec.web.thickness
     for noise in (d for d in spec.disturbances if isinstance(d, MeasurementNoise)):
         web[L.W_NOISE_T], web[L.W_NOISE_V], web[L.W_SEED] = noise.tension, noise.speed, noise.seed
     web[L.W_NEED_EQ] = float(np.any(drives[:, L.D_FAMILY] != L.FAMILY_PI))

@@ -32,6 +32,7 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
     nodes, spans, drives, web, wound, ripple, prof_t, prof_v, prof_off, offsets = params
     n_ticks = max(1, round(duration / plan.dt))
     x, istate = equilibrium_plan_state(plan)
+    slipping = plan.initial_slip(x)
     n_d = drives.shape[0]
     out = np.zeros((4, n_d))
     cmd = out[0]
@@ -42,15 +43,16 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
 
     def derivative(t: float, y: np.ndarray) -> np.ndarray:
         dy = np.empty_like(y)
-        kernel.rhs(kernel.wound_in(t, web, wound), y, cmd, brake, nodes, spans, drives, web,
-                   offsets, dy, work)
+        kernel.rhs(kernel.wound_in(t, web, wound), y, cmd, brake, slipping, nodes, spans,
+                   drives, web, offsets, dy, work)
         return dy
 
     for j in range(n_ticks + 1):
         t = j * plan.dt
         control_tick(j, plan.dt, x, istate, nodes, drives, web, prof_t, prof_v, prof_off,
                      ripple, offsets, out, scratch)
-        rows.append(np.concatenate(([t], x, out.ravel(), istate[:, L.I_FRICTION])))
+        kernel.update_slip(x, slipping, nodes, web, offsets)
+        rows.append(np.concatenate(([t], x, out.ravel(), istate[:, L.I_FRICTION], slipping)))
         if j == n_ticks:
             break
         for d in range(n_d):

@@ -22,6 +22,7 @@ SIGNAL_UNITS = {
     "torque": "N*m", "torque_cmd": "N*m", "trim": "m/s", "radius": "m", "inertia": "kg*m**2",
     "slack": "", "motor_speed": "rad/s", "twist": "rad", "contact": "",
     "friction_estimate": "N*m*s", "equilibrium_input": "N*m", "web_unwound": "m",
+    "surface_speed": "m/s", "slipping": "", "slip_velocity": "m/s", "slip_power": "W",
     "web_rewound": "m", "web_stored": "m", "wound_in": "N",
 }
 
@@ -48,6 +49,7 @@ class Result:
     trim: np.ndarray  #: [m/s] per drive (tension-loop output)
     equilibrium_input: np.ndarray  #: [N·m] per drive (decentralized controllers; else 0)
     friction_estimate: np.ndarray  #: adaptive controllers' friction estimate [N·m·s] per drive
+    slipping: np.ndarray  #: stick/slip state per node (0 stuck, 1 slipping), held per tick
     status: str = "ok"
     message: str = ""
     settings: dict[str, float] = field(default_factory=dict)
@@ -114,9 +116,39 @@ class Result:
         return out
 
     @cached_property
-    def speed(self) -> np.ndarray:
-        """Web speed at each node [m/s]."""
+    def surface_speed(self) -> np.ndarray:
+        """Surface speed r ω of each node [m/s]."""
         return self.radius * self.omega
+
+    @cached_property
+    def slip_velocity(self) -> np.ndarray:
+        """Surface speed minus web speed at each node [m/s] (0 where the web adheres)."""
+        from webline.physics.slip import slip_velocity
+
+        out = np.zeros_like(self.omega)
+        nodes = self.plan.nodes
+        rho_a = self.plan.web[L.W_RHOA]
+        for i in range(1, self.line.n_nodes - 1):
+            if nodes[i, L.N_TRACTION] == 0.0:
+                continue
+            surface = self.surface_speed[:, i]
+            out[:, i] = np.vectorize(slip_velocity)(
+                self.tension[:, i - 1], self.tension[:, i], nodes[i, L.N_WRAP],
+                nodes[i, L.N_MU], nodes[i, L.N_MUK], nodes[i, L.N_SLIPB],
+                rho_a * surface**2, self.slipping[:, i].astype(int))
+        return out
+
+    @cached_property
+    def slip_power(self) -> np.ndarray:
+        """Power dissipated by slip at each node [W]: (T_in - T_out)·s, never negative."""
+        out = np.zeros_like(self.omega)
+        out[:, 1:-1] = (self.tension[:, :-1] - self.tension[:, 1:]) * self.slip_velocity[:, 1:-1]
+        return out
+
+    @cached_property
+    def speed(self) -> np.ndarray:
+        """Web speed at each node [m/s]: the surface speed less any slip."""
+        return self.surface_speed - self.slip_velocity
 
     @cached_property
     def speed_ref(self) -> np.ndarray:
@@ -252,6 +284,10 @@ class Result:
             "tension_ref": (dims_span, self.tension_ref),
             "slack": (dims_span, (self.stretch < 0.0).astype(np.int8)),
             "speed": (dims_node, self.speed),
+            "surface_speed": (dims_node, self.surface_speed),
+            "slipping": (dims_node, self.slipping.astype(np.int8)),
+            "slip_velocity": (dims_node, self.slip_velocity),
+            "slip_power": (dims_node, self.slip_power),
             "omega": (dims_node, self.omega),
             "radius": (dims_node, self.radius),
             "speed_ref": (dims_drive, self.speed_ref),

@@ -8,8 +8,9 @@ from pathlib import Path
 
 import numpy as np
 
-from webline.errors import SimulationError
+from webline.errors import LineFileError, SimulationError
 from webline.line import Line, load_line
+from webline.profiles import breakpoints
 from webline.sim import kernel
 from webline.sim import layout as L
 from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
@@ -22,9 +23,39 @@ STEP_LIMIT = 0.5
 MAX_RECORDS = 200_000
 
 
+#: Most RK4 sub-steps per controller period before a line is refused as too stiff.
+MAX_SUBSTEPS = 200
+
+
 def choose_substeps(line: Line, dt: float) -> int:
-    """RK4 sub-steps per controller period ``dt`` [s] from the line's fastest mode."""
-    return max(1, math.ceil(dt * line.fastest_mode / STEP_LIMIT))
+    """RK4 sub-steps per controller period ``dt`` [s]: enough for the line's fastest mode and
+    for the spans round any slipping roller (``physics.slip.slip_rate``)."""
+    rate = line.fastest_mode
+    for i, rate_i, key in slip_rates(line):
+        if dt * rate_i / STEP_LIMIT > MAX_SUBSTEPS:
+            raise LineFileError(line.source, key, (
+                f"web slip over {line.node_name(i)} would need a step below "
+                f"{STEP_LIMIT / rate_i:.2g} s; raise the viscous traction coefficient"))
+        rate = max(rate, rate_i)
+    return max(1, math.ceil(dt * rate / STEP_LIMIT))
+
+
+def slip_rates(line: Line) -> list[tuple[int, float, str]]:
+    """(node, fastest rate [1/s], key) of the two spans round each roller that may slip."""
+    from webline.physics.slip import slip_rate
+
+    top_speed = float(np.max(breakpoints(line.spec.speed)[1]))
+    out = []
+    for i, roller in enumerate(line.spec.rollers):
+        contact = getattr(roller, "contact", None)
+        if contact is None or contact.type != "traction":
+            continue
+        kinetic = contact.friction if contact.kinetic_friction is None else contact.kinetic_friction
+        rate = slip_rate(line.ea, contact.viscous, line.spec.spans[i - 1].length,
+                         line.spec.spans[i].length, contact.friction, kinetic,
+                         roller.wrap, 1.1 * top_speed)  # type: ignore[union-attr]
+        out.append((i, rate, f"rollers[{i}].contact.viscous"))
+    return out
 
 
 def simulate(line: Line | str | Path, duration: float | None = None, *,
@@ -61,13 +92,14 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
     else:
         every = max(1, round(record_interval / plan.dt))
     x, istate = equilibrium_plan_state(plan)
+    slipping = plan.initial_slip(x)
     chunk = n_ticks if progress is None else max(1000, math.ceil(n_ticks / 100))
     blocks, status, t_fail, done = [], L.STATUS_OK, math.nan, 0
     while done < n_ticks and status == L.STATUS_OK:
         count = min(chunk, n_ticks - done)
         last = done + count == n_ticks
-        rec, n_rec, status, t_fail, x, istate = kernel.run(
-            x, istate, done, count, plan.dt, substeps, every, last, *plan.params())
+        rec, n_rec, status, t_fail, x, istate, slipping = kernel.run(
+            x, istate, slipping, done, count, plan.dt, substeps, every, last, *plan.params())
         blocks.append(rec[:n_rec])
         done += count
         if progress is not None:
@@ -91,9 +123,10 @@ def _result(plan: Plan, rec: np.ndarray, status: int, t_fail: float,
         text = "unwind-empty"
         message = f"the unwind roll ran out of web (reached its core) at t = {t_fail:.4g} s"
     block = [rec[:, 1 + n_x + q * n_d:1 + n_x + (q + 1) * n_d] for q in range(5)]
+    slipping = rec[:, 1 + n_x + 5 * n_d:]
     return Result(
         plan=plan, time=rec[:, 0], states=rec[:, 1:1 + n_x], torque_cmd=block[0],
         speed_feedforward=block[1], trim=block[2], equilibrium_input=block[3],
-        friction_estimate=block[4], status=text, message=message,
+        friction_estimate=block[4], slipping=slipping, status=text, message=message,
         settings=settings,
     )

@@ -85,6 +85,14 @@ def check_spec(spec: LineSpec, file: str) -> None:
         if isinstance(roller, UnwindSpec | RewindSpec) and roller.core_radius >= roller.radius:
             fail(f"rollers[{i}].core_radius",
                  f"must be below the roll radius {roller.radius:g} m, got {roller.core_radius:g} m")
+        contact = getattr(roller, "contact", None)
+        if contact is not None and contact.type == "traction":
+            if roller.wrap is None:  # type: ignore[union-attr]
+                fail(f"rollers[{i}].wrap", "a traction contact needs the wrap angle")
+            kinetic = contact.kinetic_friction
+            if kinetic is not None and kinetic > contact.friction:
+                fail(f"rollers[{i}].contact.kinetic_friction",
+                     f"must not exceed the static friction {contact.friction:g}")
         drive = getattr(roller, "drive", None)
         if drive is not None and drive.transmission.type != "direct" and drive.motor_inertia <= 0:
             fail(f"rollers[{i}].drive.motor_inertia",

@@ -283,6 +283,26 @@ ControllerSpec = Annotated[
 # --- rollers ----------------------------------------------------------------------------------
 
 
+class AdheredSpec(Strict):
+    """The web moves with the roller's surface: v = r ω."""
+
+    type: Literal["adhered"] = "adhered"
+
+
+class TractionSpec(Strict):
+    """Web-roller traction with stiction, Coulomb and viscous terms (thesis 5.37-5.44, E-5.3):
+    static ``friction`` μ0 [-], ``kinetic_friction`` μ' <= μ0 [-] (default μ0), ``viscous`` b
+    [N·s/m]. The web slips when the tension difference leaves the capstan band of the wrap."""
+
+    type: Literal["traction"]
+    friction: Annotated[float, _si("dimensionless", ">0")]
+    kinetic_friction: Annotated[float, _si("dimensionless", ">=0")] | None = None
+    viscous: Annotated[float, _si("linear_damping", ">0")]
+
+
+ContactSpec = Annotated[AdheredSpec | TractionSpec, Field(discriminator="type")]
+
+
 class _RollerBase(Strict):
     name: str = Field(min_length=1)
     radius: Length
@@ -311,18 +331,24 @@ class RewindSpec(_RollerBase):
 
 
 class DrivenSpec(_RollerBase):
-    """Driven roller: the master-speed roller or a tension-controlled one."""
+    """Driven roller: the master-speed roller or a tension-controlled one. ``wrap`` [rad] is
+    the web's wrap angle; ``contact`` chooses adhesion or slip (Ch. 5)."""
 
     type: Literal["driven"]
     role: Literal["master", "tension"]
+    wrap: Annotated[float, _si("angle", ">0")] | None = None
+    contact: ContactSpec = AdheredSpec()
     drive: DriveSpec
     controller: ControllerSpec = CascadedPISpec()
 
 
 class IdleSpec(_RollerBase):
-    """Idle roller: turned by the web, with bearing friction."""
+    """Idle roller: turned by the web, with bearing friction. ``wrap`` [rad] and ``contact``
+    as for a driven roller."""
 
     type: Literal["idle"]
+    wrap: Annotated[float, _si("angle", ">0")] | None = None
+    contact: ContactSpec = AdheredSpec()
 
 
 RollerSpec = Annotated[
