@@ -173,6 +173,25 @@ def roll_figure(result: Result, display: Display) -> Figure:
     return fig
 
 
+def slip_figure(result: Result, display: Display, nodes: Sequence[int]) -> Figure:
+    """Slip velocity (surface minus web speed) and slip state of the rollers that may slip."""
+    fig = Figure(figsize=(9.0, 5.0), layout="constrained")
+    top, bottom = fig.subplots(2, 1, sharex=True)
+    velocity = display.array(result.slip_velocity, "speed")
+    for k, i in enumerate(nodes):
+        name = result.node_names[i]
+        _plot(top, result.time, velocity[:, i], lw=1.0, color=f"C{k}", label=name)
+        bottom.step(result.time, result.slipping[:, i] + 0.02 * k, where="post", lw=1.0,
+                    color=f"C{k}", label=name)
+    top.axhline(0.0, color="k", lw=0.6)
+    top.set_ylabel(display.label("slip velocity", "speed"))
+    bottom.set_yticks([0, 1], ["stuck", "slipping"])
+    for ax in (top, bottom):
+        ax.legend(fontsize=7, loc="upper right", ncol=2)
+    _finish(fig, (top, bottom), result)
+    return fig
+
+
 def poles_figure(modes: Sequence[Mode]) -> Figure:
     """Closed-loop poles in the complex plane [1/s] (each pair drawn with its conjugate)."""
     fig = Figure(figsize=(7.0, 4.2), layout="constrained")
@@ -211,6 +230,11 @@ def report_figures(result: Result, display: Display,
         ReportFigure("rolls", "Unwind and rewind roll radius and inertia.",
                      roll_figure(result, display)),
     ]
+    slipping = [i for i in range(1, result.line.n_nodes - 1)
+                if getattr(result.line.spec.rollers[i].contact, "type", "") == "traction"]
+    if slipping:
+        figures.append(ReportFigure("slip", "Web slip over the rollers with a traction contact.",
+                                    slip_figure(result, display, slipping)))
     if modes:
         figures.append(ReportFigure("poles", "Closed-loop poles at the operating point.",
                                     poles_figure(modes)))
