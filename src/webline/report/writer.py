@@ -181,7 +181,8 @@ def _sections(result: Result, display: Display, images: dict[str, Image], analys
                          described["spans"], described["drives"]]),
         Section("Summary", [*summary_tables(result, display),
                             Text("; ".join(slack) if slack else "The web never went slack.")]),
-        Section("Time plots", [images[k] for k in ("tension", "speed", "torque", "rolls")]),
+        Section("Time plots", [images[k] for k in ("tension", "speed", "torque", "rolls", "slip")
+                               if k in images]),
         Section("Operating point and modes", op_parts),
         Section("Run", [make_table("run", "Settings", ["key", "value"], run_rows)]),
         Section("Resolved line file", [Text(dump_spec(line.spec), pre=True,
