@@ -6,6 +6,7 @@ Everything inside webline is SI; quantities are parsed here at the boundary.
 from __future__ import annotations
 
 import math
+import re
 from functools import lru_cache
 
 import pint
@@ -73,6 +74,11 @@ IMPERIAL_UNITS: dict[str, str] = {
 }
 
 
+#: a power with a 3-digit (or longer) or chained exponent: pint would compute it exactly,
+#: which can take forever ("9**9**9 m")
+_HUGE_POWER = re.compile(r"(\*\*|\^)\s*\(?\s*[-+]?\d{3,}|(\*\*|\^)[^*^]*(\*\*|\^)")
+
+
 @lru_cache(maxsize=64)
 def _dimensionality(kind: str) -> pint.util.UnitsContainer:
     return ureg.parse_expression(SI_UNITS[kind] or "1").dimensionality
@@ -91,6 +97,8 @@ def to_si(value: object, kind: str) -> float:
         except OverflowError:  # an int beyond float range
             raise ValueError(f"must be finite, got {value!r}") from None
     elif isinstance(value, str):
+        if _HUGE_POWER.search(value) or len(value) > 200:
+            raise ValueError(f"cannot read {value!r} as a {kind}: exponent or text too large")
         try:
             quantity: pint.Quantity = ureg.Quantity(value.strip())
         except Exception as exc:  # pint raises many types for bad strings

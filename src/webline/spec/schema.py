@@ -275,8 +275,18 @@ class AdaptiveSpec(_DecentralizedSpec):
     parameter_bound: Annotated[float, _si("dimensionless", ">0")] = 10.0
 
 
+def _controller_tag(value: object) -> str:
+    """The controller family; a table without ``type`` is the industrial cascaded PI."""
+    if isinstance(value, dict):
+        return str(value.get("type", "cascaded_pi"))
+    return str(getattr(value, "type", "cascaded_pi"))
+
+
 ControllerSpec = Annotated[
-    CascadedPISpec | StateFeedbackSpec | AdaptiveSpec, Field(discriminator="type")
+    Annotated[CascadedPISpec, Tag("cascaded_pi")]
+    | Annotated[StateFeedbackSpec, Tag("state_feedback")]
+    | Annotated[AdaptiveSpec, Tag("adaptive")],
+    Discriminator(_controller_tag),
 ]
 
 
