@@ -1,5 +1,5 @@
 """Scalar physics of web slip over a roller (thesis 5.9-5.13, 5.35-5.47, re-derived;
-docs/errata-ch5.md)."""
+docs/errata.md)."""
 
 from __future__ import annotations
 

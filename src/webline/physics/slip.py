@@ -1,5 +1,5 @@
 """Web slip over a roller: capstan limit, slip arc, traction law and web speed (thesis Ch. 5,
-5.9-5.13, 5.35-5.47, re-derived; docs/errata-ch5.md).
+5.9-5.13, 5.35-5.47, re-derived; docs/errata.md).
 
 Conventions. The web arrives at the roller from the upstream span with tension ``t_in`` [N]
 and leaves into the downstream span with ``t_out`` [N]; the wrap angle is ``wrap`` [rad]. The

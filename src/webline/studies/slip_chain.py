@@ -102,7 +102,7 @@ def printed_slip_velocity(t_in: float, t_out: float, wrap: float, mu: float, mu_
                           viscous: float) -> float:
     """Thesis (5.47) as printed: s = (t_in/b)[1 - p(1 - e^{-μα}) - t_out/t_in], p = μ'/μ,
     applied whatever the sign (no stick test). For comparison only: it breaks the second law
-    when 0 < t_in - t_out < p t_in (1 - e^{-μα}) (docs/errata-ch5.md, E-5.3)."""
+    when 0 < t_in - t_out < p t_in (1 - e^{-μα}) (docs/errata.md, E-5.3)."""
     p = mu_k / mu
     return (t_in - t_out - p * t_in * (1.0 - math.exp(-mu * wrap))) / viscous
 

@@ -17,7 +17,7 @@ Approximations, with A0 = A11 - A12 A22⁻¹ A21:
 * corrected (A-29, A-30): slow matrix A0 - ε A12 A22⁻² A21 A0 and fast matrix
   A22 + ε A22⁻¹ A21 A12, both with O(ε²) error (in the p = ε s scale for the fast one). The
   printed (A-30a) has A22⁻¹ where the first iterate of (A-24) (and A-22) gives A22⁻²: with the
-  printed form the slow error stays O(ε) (E-A.1 in docs/errata-ch2-3.md).
+  printed form the slow error stays O(ε) (E-A.1 in docs/errata.md).
 
 Matrices may depend on ε: a ``SingularlyPerturbed`` holds them evaluated at its ε.
 """
