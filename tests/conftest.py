@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+import os
+
+# The suite's matrices are small: one BLAS thread is faster than two fighting over 2 cores.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 import tomllib
 from importlib import resources
 

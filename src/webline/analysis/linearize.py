@@ -209,8 +209,11 @@ def _decentralized_rows(plan: Plan, op: OperatingPoint, d: int, i: int,
         gain = op.inertia[i] / (ratio * radius) / row[L.D_GAINNORM]
     kx[_speed_state(plan, d, i)] = -gain * row[L.D_KV] * radius / _speed_scale(plan, d)
     speed_per_line = op.speed[i] / op.line_speed if op.line_speed else 1.0
-    kr[0] = gain * row[L.D_KV] * speed_per_line + row[L.D_BMODEL] * speed_per_line / (
-        radius * ratio)
+    kr[0] = gain * row[L.D_KV] * speed_per_line
+    if row[L.D_FAMILY] == L.FAMILY_ADAPTIVE:  # b̂ (ω - ω_ref)/n with b̂ frozen at its guess
+        kx[_speed_state(plan, d, i)] += row[L.D_BMODEL] / (ratio * _speed_scale(plan, d))
+    else:  # u_eq's friction term b_model ω_ref/n
+        kr[0] += row[L.D_BMODEL] * speed_per_line / (radius * ratio)
     if row[L.D_ROLE] == L.ROLE_TENSION:
         kx[int(row[L.D_LOADCELL])] = -gain * row[L.D_KT]
         kr[int(row[L.D_REF])] += gain * row[L.D_KT]

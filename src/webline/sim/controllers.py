@@ -162,7 +162,9 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, nodes:
         i = int(drives[d, L.D_NODE])
         radius = node_radius(i, x, nodes, offsets[2])
         v_meas = radius * x[offsets[1] + i]
-        if drives[d, L.D_FEEDBACK] > 0.0:  # the motor's encoder, across the transmission
+        # the motor's encoder, across a compliant transmission (a rigid drive has no motor
+        # state: its motor speed is ratio x roller speed, the same measurement as the load's)
+        if drives[d, L.D_FEEDBACK] > 0.0 and drives[d, L.D_TSTATE] >= 0.0:
             v_meas = radius * x[int(drives[d, L.D_TSTATE])] / drives[d, L.D_RATIO]
         if web[L.W_NOISE_V] > 0.0:
             v_meas += web[L.W_NOISE_V] * gaussian(seed, tick, 2 * d)
@@ -250,7 +252,7 @@ def decentralized_command(d: int, i: int, dt: float, radius: float, v_meas: floa
     raw = u_eq + comp + feedback
     u = _saturate(raw, drives[d, L.D_LIMIT])
     if adaptive and u == raw:
-        adapt(d, dt, x_v, v_meas / radius, v_ref[i] / radius, gain, ratio, istate, drives)
+        adapt(d, dt, x_v, v_ref[i] / radius, gain, ratio, istate, drives)
     out[0, d] = u
     out[1, d] = v_ref[i]
     out[2, d] = 0.0
@@ -258,18 +260,20 @@ def decentralized_command(d: int, i: int, dt: float, radius: float, v_meas: floa
 
 
 @jit
-def adapt(d: int, dt: float, x_v: float, omega: float, omega_ref: float, gain: float,
-          ratio: float, istate: np.ndarray, drives: np.ndarray) -> None:
+def adapt(d: int, dt: float, x_v: float, omega_ref: float, gain: float, ratio: float,
+          istate: np.ndarray, drives: np.ndarray) -> None:
     """One Euler step of the friction estimate b̂ [N·m·s] (E-6.8), leakage and projection.
 
     With b̂ = b the section closes exactly as the state feedback does; the error b̂ - b enters
     the speed equation through B·ω/n, and the section's speed response is strictly positive
     real, so (KYP lemma) V = eᵀPe + (b̂ - b)²/γ' decreases along db̂/dt = -γ' ω x_V, with
-    ``x_v`` the speed deviation [m/s]. γ' = γ g K_V n / max(ω_ref², 1) makes the estimate act
-    as an integral on the speed error with corner frequency γ [rad/s] at any line speed.
+    ``x_v`` the speed deviation [m/s]. The regressor is the reference speed ω_ref [rad/s]
+    (= ω at the equilibrium): the measured ω carries the same noise as x_V, and their product
+    would bias the estimate by the noise variance. γ' = γ g K_V n / max(ω_ref², 1) makes the
+    estimate act as an integral on the speed error with corner frequency γ [rad/s].
     """
     rate = drives[d, L.D_GAMMA] * gain * drives[d, L.D_KV] * ratio / max(omega_ref**2, 1.0)
     b_hat = istate[d, L.I_FRICTION]
-    b_hat += dt * (-rate * omega * x_v - drives[d, L.D_LEAK] * drives[d, L.D_GAMMA]
+    b_hat += dt * (-rate * omega_ref * x_v - drives[d, L.D_LEAK] * drives[d, L.D_GAMMA]
                    * (b_hat - drives[d, L.D_BMODEL]))
     istate[d, L.I_FRICTION] = min(max(b_hat, 0.0), drives[d, L.D_BMAX])
