@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import functools
 import json
+import sys
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -288,6 +289,36 @@ def analyze(
         return
     print_tables([*operating_point_tables(loaded, point, display), modes_table(modes)],
                  _console())
+
+
+@app.command()
+@handles_errors
+def study(
+    name: Annotated[str | None, typer.Argument(
+        metavar="NAME", help="The study to run (see 'webline study --list').")] = None,
+    out: Annotated[Path | None, typer.Option(
+        "--out", "-o", help="Output folder; default out/study-NAME.")] = None,
+    quick: Annotated[bool, typer.Option(
+        "--quick", help="A shortened run (seconds), as the tests use.")] = False,
+    list_: Annotated[bool, typer.Option("--list", help="List the studies and exit.")] = False,
+) -> None:
+    """Run a named study (thesis reproductions): figures, table.csv and summary.txt."""
+    from webline.studies import STUDIES
+
+    if list_:
+        for key, func in STUDIES.items():
+            doc = sys.modules[func.__module__].__doc__ or ""
+            first = " ".join(doc.split("\n\n")[0].split())
+            typer.echo(f"{key}: {first}")
+        return
+    if name is None:
+        raise BadInput("give a study NAME or --list")
+    if name not in STUDIES:
+        raise BadInput(f"no study named {name!r}; known: {', '.join(sorted(STUDIES))}")
+    folder = prepare_out(out or Path("out") / f"study-{name}")
+    result = STUDIES[name](folder, quick=quick)
+    typer.echo(result.summary)
+    typer.echo(str(folder.resolve()))
 
 
 def main() -> None:
