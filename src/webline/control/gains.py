@@ -9,7 +9,7 @@ equal A_i's: state feedback through the motor changes only the speed row.
 
 The thesis's gains (Sec. 6.2) are given as closed-loop matrices ("Choose Ā_i as") in its
 units (tension lbf, speed ft/s, time s); ``thesis_closed_loops`` turns them into SI matrices
-of webline's section models (docs/decentralized.md, docs/errata-ch6.md E-6.7).
+of webline's section models (docs/decentralized.md, docs/errata.md E-6.7).
 """
 
 from __future__ import annotations
