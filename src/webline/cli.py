@@ -14,13 +14,16 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from enum import StrEnum
 from pathlib import Path
-from typing import Annotated, TypeVar
+from typing import TYPE_CHECKING, Annotated, TypeVar
 
 import typer
 from rich.console import Console
 from rich.markup import escape
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table as RichTable
+
+if TYPE_CHECKING:
+    from webline.analysis.certificate import Certificate
 
 from webline import __version__, load_line, operating_point, simulate
 from webline.errors import WeblineError
@@ -37,6 +40,19 @@ app = typer.Typer(
 class Units(StrEnum):
     si = "si"
     imperial = "imperial"
+
+
+class ControllerFamily(StrEnum):
+    pi = "pi"
+    state_feedback = "state-feedback"
+    adaptive = "adaptive"
+
+
+#: the line-file ``type`` of each --controller choice
+FAMILY_TYPES = {"pi": "cascaded_pi", "state-feedback": "state_feedback", "adaptive": "adaptive"}
+ControllerOpt = Annotated[ControllerFamily | None, typer.Option(
+    "--controller", "-c", help="Run every drive with this controller family (its default "
+    "design) instead of the line file's.")]
 
 
 class DataFormat(StrEnum):
@@ -116,8 +132,12 @@ def print_tables(tables: list, console: Console) -> None:
         console.print(out)
 
 
-def _load(source: str, scenario: str | None) -> Line:
+def _load(source: str, scenario: str | None, controller: ControllerFamily | None = None) -> Line:
     line = load_line(source)
+    if controller is not None:
+        from webline.control.select import with_controller
+
+        line = with_controller(line, FAMILY_TYPES[controller.value])  # type: ignore[arg-type]
     return line.with_scenario(scenario) if scenario else line
 
 
@@ -180,11 +200,12 @@ def run(
         "--format", "-f", help="File format of the results (always SI).")] = DataFormat.netcdf,
     quiet: Annotated[bool, typer.Option("--quiet", "-q",
                                         help="Print only the report's path.")] = False,
+    controller: ControllerOpt = None,
 ) -> None:
     """Simulate a line and write its results, figures and an HTML report."""
     from webline.report import write_report, write_results
 
-    base = load_line(line)
+    base = _load(line, None, controller)
     scenario_line = base.with_scenario(scenario) if scenario else base
     seconds = _duration(duration)
     folder = prepare_out(out or Path("out") / (base.name + (f"-{scenario}" if scenario else "")))
@@ -265,13 +286,18 @@ def analyze(
         "of the speed ramp for a start from rest.")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")]
     = False,
+    certificate: Annotated[bool, typer.Option(
+        "--certificate", help="Also the decentralized stability certificate of thesis Thm "
+        "6.2.1: distance to instability, interconnection bound and margin per section.")]
+    = False,
+    controller: ControllerOpt = None,
 ) -> None:
     """Operating point, equilibrium inputs and closed-loop modes of a line."""
     from webline.analysis.modes import analysis_time, closed_loop_modes
     from webline.report.display import Display
     from webline.report.tables import modes_table, operating_point_tables, operating_point_values
 
-    loaded = _load(line, scenario)
+    loaded = _load(line, scenario, controller)
     t = analysis_time(loaded) if at is None else at
     if not t >= 0:
         raise BadInput(f"--time: must be >= 0 s, got {at}")
@@ -281,14 +307,51 @@ def analyze(
         modes = closed_loop_modes(loaded, t)
     except NotImplementedError as exc:  # a controller without a linear model yet
         raise WeblineError(f"{loaded.source}: cannot linearize: {exc}") from None
+    cert = _certificate(loaded) if certificate else None
     if as_json:
-        typer.echo(json.dumps({
+        payload: dict[str, object] = {
             "line": loaded.name, "scenario": scenario, "units": units.value,
             "operating_point": operating_point_values(point, display),
-            "closed_loop_modes": [m.as_dict() for m in modes]}, indent=2))
+            "closed_loop_modes": [m.as_dict() for m in modes]}
+        if cert is not None:
+            payload["certificate"] = {"holds": cert.holds, "worst_ratio": cert.worst_ratio,
+                                      "max_real": cert.max_real,
+                                      "max_real_plant": cert.max_real_plant,
+                                      "sampled_radius": cert.sampled_radius,
+                                      "sections": cert.rows()}
+        typer.echo(json.dumps(payload, indent=2, default=float))
         return
-    print_tables([*operating_point_tables(loaded, point, display), modes_table(modes)],
-                 _console())
+    tables = [*operating_point_tables(loaded, point, display), modes_table(modes)]
+    print_tables(tables, _console())
+    if cert is not None:
+        _print_certificate(cert)
+
+
+def _certificate(line: Line) -> Certificate:
+    """The decentralized certificate of ``line`` with webline's default design."""
+    from webline.analysis.certificate import certificate
+
+    return certificate(line)
+
+
+def _print_certificate(cert: Certificate) -> None:
+    """Certificate rows as a table and a one-line verdict, with the true stability margin."""
+    from webline.report.tables import make_table
+
+    rows = cert.rows()
+    columns = list(rows[0])
+    table = make_table("certificate", "Decentralized certificate (thesis 6.44, 6.54)",
+                       columns, [[_fmt(row[c]) for c in columns] for row in rows])
+    print_tables([table], _console())
+    verdict = "holds" if cert.holds else "does not hold"
+    typer.echo(f"certificate {verdict}: worst ratio δs/(√N ξ) = {cert.worst_ratio:.3g}; "
+               f"interconnected sections max Re λ = {cert.max_real:.3g} 1/s; full plant "
+               f"{_fmt(cert.max_real_plant)} 1/s; sampled spectral radius "
+               f"{_fmt(cert.sampled_radius)}")
+
+
+def _fmt(value: object) -> str:
+    return f"{value:.4g}" if isinstance(value, float) else str(value)
 
 
 @app.command()
