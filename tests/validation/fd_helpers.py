@@ -17,7 +17,7 @@ def plant_derivative(line: webline.Line, op: webline.OperatingPoint):
     n_s, n_n, n_d = line.n_spans, line.n_nodes, len(line.drives)
     n_c = sum(name.endswith(".twist") for name in plan.state_names)  # compliant drives
     index = np.r_[0:n_s, off[1]:off[1] + n_n, off[3]:off[3] + n_d, off[8]:off[8] + 2 * n_c]
-    work = np.empty(4 * n_n)
+    work = np.empty(3 * n_n)
     brake = np.zeros(len(line.drives))
     slipping = np.zeros(n_n, dtype=np.int64)
 

@@ -138,21 +138,17 @@ def equilibrium_input(i: int, radius: float, inertia: float, friction: float,
 def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, nodes: np.ndarray,
                  drives: np.ndarray, web: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
                  prof_off: np.ndarray, speed_ripple: np.ndarray, offsets: np.ndarray,
-                 out: np.ndarray, scratch: np.ndarray) -> None:
+                 out: np.ndarray, refs: np.ndarray, span_ref: np.ndarray, v_ref: np.ndarray,
+                 a_ref: np.ndarray) -> None:
     """One sample of every drive's controller at tick ``tick`` (t = tick·dt [s]).
 
     ``istate`` (drive x I_COLS) holds PI integrators and adaptive estimates; ``out`` (4 x
     drives) receives the torque command [N·m], the speed reference [m/s], the PI trim [m/s]
-    and the equilibrium input [N·m]; ``scratch`` has room for profiles + spans + 2 x nodes.
+    and the equilibrium input [N·m]; ``refs`` (one per profile), ``span_ref`` (spans),
+    ``v_ref`` and ``a_ref`` (nodes) are scratch for the references.
     """
     t = tick * dt
-    n_nodes = nodes.shape[0]
-    n_prof = prof_off.shape[0] - 1
-    refs = scratch[:n_prof]
-    span_ref = scratch[n_prof:n_prof + n_nodes - 1]
-    v_ref = scratch[n_prof + n_nodes - 1:n_prof + 2 * n_nodes - 1]
-    a_ref = scratch[n_prof + 2 * n_nodes - 1:n_prof + 3 * n_nodes - 1]
-    for p in range(n_prof):
+    for p in range(prof_off.shape[0] - 1):
         refs[p] = profile_at(p, t, prof_t, prof_v, prof_off)
     if web[L.W_NEED_EQ] > 0.0:
         a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)

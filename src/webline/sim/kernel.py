@@ -26,7 +26,7 @@ _roll_inertia: Any = jit(roll.roll_inertia)
 _radius_rate: Any = jit(roll.radius_rate)
 _friction: Any = jit(roller.friction_torque)
 _transmitted: Any = jit(backlash.transmitted_torque)
-_slip_velocity: Any = jit(slip.slip_velocity)
+_slip_velocity: Any = njit(slip.slip_velocity)  # called only while a web slips
 _slip_state: Any = jit(slip.slip_state)
 
 
@@ -66,19 +66,15 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, brake: np.ndarray, slipping: 
 
     Physics as in ``webline.physics`` (span 6.8 with slack, rollers 6.9/6.11, rolls 6.1-6.6
     with J dω/dt = torque, motor lag 4.1k), written out with precomputed reciprocals because
-    this function is the simulation's inner loop. ``work`` is scratch of 4 x nodes.
+    this function is the simulation's inner loop. ``work`` is scratch of 3 x nodes.
     """
     n_spans = spans.shape[0]
     n_nodes = nodes.shape[0]
     last = n_nodes - 1
     off_w, off_r, off_tq, off_q = offsets[1], offsets[2], offsets[3], offsets[5]
     ea = web[L.W_EA]
-    # work = [arm of each node | web speed of each node | tension of each span | shaft torque]
-    sp, te, sh = n_nodes, 2 * n_nodes, 3 * n_nodes
-    for i in range(n_nodes):
-        work[sh + i] = 0.0
-    for d in range(drives.shape[0]):
-        work[sh + int(drives[d, L.D_NODE])] += drive_torque(d, x, cmd, brake, drives, offsets, dx)
+    # work = [arm of each node | web speed of each node | tension of each span]
+    sp, te = n_nodes, 2 * n_nodes
     for k in range(n_spans):
         work[te + k] = _tension(x[k])
     for i in range(n_nodes):
@@ -106,7 +102,15 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, brake: np.ndarray, slipping: 
         coulomb = nodes[i, L.N_COULOMB]
         if coulomb != 0.0:
             torque -= _friction(omega, 0.0, coulomb)
-        torque += work[sh + i]
+        d = int(nodes[i, L.N_DRIVE])
+        if d >= 0:
+            n = drives[d, L.D_RATIO]
+            if drives[d, L.D_TSTATE] < 0.0:  # rigid: n τ less the reflected motor friction
+                torque += n * (x[off_tq + d] - n * drives[d, L.D_BMOTOR] * omega)
+            else:
+                torque += compliant_torque(d, x, drives, offsets, dx)
+            if brake[d] != 0.0:  # a brake opposes the rotation (4.12)
+                torque -= _friction(omega, 0.0, brake[d])
         if i == 0 or i == last:
             inertia = _roll_inertia(nodes[i, L.N_JCONST], work[i], nodes[i, L.N_CORE], width,
                                     density)
@@ -129,7 +133,7 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, brake: np.ndarray, slipping: 
     dx[off_q + 1] = v_rewind * (1.0 - work[te + n_spans - 1] * inv_ea)
 
 
-@njit
+@jit
 def update_slip(x: np.ndarray, slipping: np.ndarray, nodes: np.ndarray, web: np.ndarray,
                 offsets: np.ndarray) -> None:
     """Stick/slip state of every traction roller for the next tick (held over its stages, so
@@ -144,32 +148,25 @@ def update_slip(x: np.ndarray, slipping: np.ndarray, nodes: np.ndarray, web: np.
 
 
 @jit
-def drive_torque(d: int, x: np.ndarray, cmd: np.ndarray, brake: np.ndarray,
-                 drives: np.ndarray, offsets: np.ndarray, dx: np.ndarray) -> float:
-    """Torque [N·m] drive ``d`` applies to its roller shaft; writes the derivatives of a
-    compliant transmission's motor speed and twist into ``dx``.
+def compliant_torque(d: int, x: np.ndarray, drives: np.ndarray, offsets: np.ndarray,
+                     dx: np.ndarray) -> float:
+    """Torque [N·m] a compliant transmission passes to its roller shaft; writes the
+    derivatives of its motor speed and twist into ``dx``.
 
-    Rigid: n τ less the motor's friction reflected (n² b_m ω). Compliant (belt 2.10, shaft
-    and backlash 3.22-3.23, belt and backlash 3.31-3.32, rotary, seen from the load shaft):
-    J_m dω_m/dt = τ - T_s/n - b_m ω_m, d(twist)/dt = ω_m/n - ω, the shaft gets T_s. A brake
-    (4.12) opposes the roller's rotation with its torque.
+    Belt (2.10), shaft and backlash (3.22-3.23), belt and backlash (3.31-3.32), in rotary
+    form seen from the load shaft: J_m dω_m/dt = τ - T_s/n - b_m ω_m, d(twist)/dt = ω_m/n - ω,
+    and the roller gets T_s.
     """
     i = int(drives[d, L.D_NODE])
-    omega = x[offsets[1] + i]
-    tau = x[offsets[3] + d]
     n = drives[d, L.D_RATIO]
     state = int(drives[d, L.D_TSTATE])
-    if state < 0:
-        torque = n * tau - n * n * drives[d, L.D_BMOTOR] * omega
-    else:
-        omega_m = x[state]
-        rate = omega_m / n - omega
-        torque = _transmitted(x[state + 1], rate, drives[d, L.D_KTRANS], drives[d, L.D_CTRANS],
-                              drives[d, L.D_GAPNEG], drives[d, L.D_GAPPOS])
-        dx[state] = (tau - torque / n - drives[d, L.D_BMOTOR] * omega_m) / drives[d, L.D_JMOTOR]
-        dx[state + 1] = rate
-    if brake[d] != 0.0:
-        torque -= _friction(omega, 0.0, brake[d])
+    omega_m = x[state]
+    rate = omega_m / n - x[offsets[1] + i]
+    torque = _transmitted(x[state + 1], rate, drives[d, L.D_KTRANS], drives[d, L.D_CTRANS],
+                          drives[d, L.D_GAPNEG], drives[d, L.D_GAPPOS])
+    dx[state] = (x[offsets[3] + d] - torque / n - drives[d, L.D_BMOTOR] * omega_m) / drives[
+        d, L.D_JMOTOR]
+    dx[state + 1] = rate
     return torque
 
 
@@ -202,13 +199,16 @@ def run(x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick0: int, n_ti
     slipping = slip0.copy()
     out = np.zeros((4, n_d))
     cmd = out[0]
-    scratch = np.empty(prof_off.shape[0] + 3 * nodes.shape[0])
+    refs = np.empty(prof_off.shape[0] - 1)
+    span_ref = np.empty(spans.shape[0])
+    v_ref = np.empty(nodes.shape[0])
+    a_ref = np.empty(nodes.shape[0])
     k1 = np.empty(n_x)
     k2 = np.empty(n_x)
     k3 = np.empty(n_x)
     k4 = np.empty(n_x)
     tmp = np.empty(n_x)
-    work = np.empty(4 * nodes.shape[0])
+    work = np.empty(3 * nodes.shape[0])
     brake = np.zeros(n_d)
     h = dt / substeps
     n_rec = 0
@@ -222,18 +222,23 @@ def run(x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick0: int, n_ti
         if j == n_ticks and not include_end:
             break
         control_tick(tick, dt, x, istate, nodes, drives, web, prof_t, prof_v, prof_off,
-                     speed_ripple, offsets, out, scratch)
+                     speed_ripple, offsets, out, refs, span_ref, v_ref, a_ref)
         update_slip(x, slipping, nodes, web, offsets)
-        if tick % record_every == 0 or j == n_ticks:
-            row = rec[n_rec]
-            row[0] = t
-            row[1:1 + n_x] = x
+        if tick % record_every == 0 or j == n_ticks:  # element-wise: slices cost refcounts
+            rec[n_rec, 0] = t
+            for m in range(n_x):
+                rec[n_rec, 1 + m] = x[m]
+            col = 1 + n_x
             for q in range(4):
-                row[1 + n_x + q * n_d:1 + n_x + (q + 1) * n_d] = out[q]
+                for d in range(n_d):
+                    rec[n_rec, col] = out[q, d]
+                    col += 1
             for d in range(n_d):
-                row[1 + n_x + 4 * n_d + d] = istate[d, L.I_FRICTION]
+                rec[n_rec, col] = istate[d, L.I_FRICTION]
+                col += 1
             for i in range(n_n):
-                row[1 + n_x + 5 * n_d + i] = slipping[i]
+                rec[n_rec, col] = slipping[i]
+                col += 1
             n_rec += 1
         if j == n_ticks:
             break

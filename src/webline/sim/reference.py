@@ -36,8 +36,11 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
     n_d = drives.shape[0]
     out = np.zeros((4, n_d))
     cmd = out[0]
-    scratch = np.empty(len(prof_off) + 3 * nodes.shape[0])
-    work = np.empty(4 * nodes.shape[0])
+    refs = np.empty(len(prof_off) - 1)
+    span_ref = np.empty(spans.shape[0])
+    v_ref = np.empty(nodes.shape[0])
+    a_ref = np.empty(nodes.shape[0])
+    work = np.empty(3 * nodes.shape[0])
     brake = np.zeros(n_d)
     rows = []
 
@@ -50,7 +53,7 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
     for j in range(n_ticks + 1):
         t = j * plan.dt
         control_tick(j, plan.dt, x, istate, nodes, drives, web, prof_t, prof_v, prof_off,
-                     ripple, offsets, out, scratch)
+                     ripple, offsets, out, refs, span_ref, v_ref, a_ref)
         kernel.update_slip(x, slipping, nodes, web, offsets)
         rows.append(np.concatenate(([t], x, out.ravel(), istate[:, L.I_FRICTION], slipping)))
         if j == n_ticks:
