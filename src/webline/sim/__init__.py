@@ -26,4 +26,5 @@ def _kernel_source_hash() -> str:
 
 if "NUMBA_CACHE_DIR" not in os.environ:
     _base = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
-    numba.config.CACHE_DIR = str(_base / "webline" / f"numba-{_kernel_source_hash()}")
+    numba.config.CACHE_DIR = str(  # type: ignore[attr-defined]
+        _base / "webline" / f"numba-{_kernel_source_hash()}")

@@ -38,7 +38,8 @@ def drive_table(line: Line, inertia: np.ndarray,
     """
     spec = line.spec
     rows = np.zeros((len(line.drives), L.D_COLS))
-    gains, designs = [], []
+    gains: list[PIGains] = []
+    designs: list[SectionDesign | None] = []
     controllers = [getattr(spec.rollers[i], "controller", None) for i in line.drives]
     decentralized = any(not isinstance(c, CascadedPISpec) for c in controllers)
     op = operating_point(line) if decentralized else None

@@ -61,7 +61,7 @@ class Plan:
 
     def linear_motor_state(self, d: int) -> int | None:
         """Index of drive ``d``'s motor speed in the linear model's states, if compliant."""
-        compliant = list(np.flatnonzero(self.drives[:, L.D_TSTATE] >= 0))
+        compliant = [int(k) for k in np.flatnonzero(self.drives[:, L.D_TSTATE] >= 0)]
         if d not in compliant:
             return None
         line = self.line

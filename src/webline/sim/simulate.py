@@ -51,9 +51,10 @@ def slip_rates(line: Line) -> list[tuple[int, float, str]]:
         if contact is None or contact.type != "traction":
             continue
         kinetic = contact.friction if contact.kinetic_friction is None else contact.kinetic_friction
+        wrap = float(getattr(roller, "wrap", 0.0))  # check_spec: a traction contact has a wrap
         rate = slip_rate(line.ea, contact.viscous, line.spec.spans[i - 1].length,
-                         line.spec.spans[i].length, contact.friction, kinetic,
-                         roller.wrap, 1.1 * top_speed)  # type: ignore[union-attr]
+                         line.spec.spans[i].length, contact.friction, kinetic, wrap,
+                         1.1 * top_speed)
         out.append((i, rate, f"rollers[{i}].contact.viscous"))
     return out
 

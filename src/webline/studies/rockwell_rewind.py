@@ -171,7 +171,7 @@ def run(out_dir: Path, *, quick: bool = False) -> StudyResult:
                        title=f"{fpm:g} FPM (Figs 4.25, 4.29, 4.30)")
     axes[0, 0].legend(fontsize=6)
     figures.append(save(fig, out_dir / "fig4_24_30_amplification.png"))
-    rows = part1 + part2
+    rows: list[dict[str, Any]] = part1 + part2
     lines = ["rockwell-rewind (thesis Sec. 4.3, Figs 4.14-4.30)"]
     for x in part1:
         lines.append(f"{x['speed_fpm']:g} FPM, backlash {x['backlash_mm']:g} mm, "
