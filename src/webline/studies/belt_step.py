@@ -22,7 +22,7 @@ from scipy.linalg import expm
 
 from webline.analysis.drivetrain import belt, equivalent
 from webline.analysis.drivetrain.params import hswl_unwind_belt_drive, load_parameter_set
-from webline.studies.drivetrain_output import finish, pyplot, save
+from webline.studies.output import finish, pyplot, save
 from webline.studies.result import StudyResult
 
 BELTS = ("12mm", "24mm", "36mm")

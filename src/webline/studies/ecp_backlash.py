@@ -33,7 +33,7 @@ from webline.analysis.drivetrain.params import (
     ecp_rectilinear_plant,
     load_parameter_set,
 )
-from webline.studies.drivetrain_output import finish, pyplot, save
+from webline.studies.output import finish, pyplot, save
 from webline.studies.result import StudyResult
 
 GAPS = ("fig3_17", "fig3_18", "fig3_19")

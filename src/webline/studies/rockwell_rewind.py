@@ -23,7 +23,7 @@ import numpy as np
 import webline
 from webline.analysis.drivetrain.params import load_parameter_set
 from webline.sim.result import Result
-from webline.studies.drivetrain_output import finish, pyplot, save
+from webline.studies.output import finish, pyplot, save
 from webline.studies.result import StudyResult
 
 FPM = 0.00508  # m/s per ft/min

@@ -28,6 +28,7 @@ from typing import Any, Literal
 import numpy as np
 
 from webline.physics import slip as sl
+from webline.studies.output import save
 from webline.studies.result import StudyResult
 from webline.studies.slip_chain import (
     Chain,
@@ -345,10 +346,7 @@ def _figure(p: FreeSpan, printed: dict[str, Run], ours: dict[str, Run], path: Pa
     ax.set_ylabel("[W]")
     ax.set_xlabel("time [s]")
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save(fig, path)
 
 
 __all__ = ["Analysis", "FreeSpan", "analyse", "free_span_chain", "load_free_span", "run",

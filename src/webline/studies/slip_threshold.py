@@ -28,6 +28,7 @@ import numpy as np
 import webline
 from webline.analysis import slip as an
 from webline.line import Line
+from webline.studies.output import save
 from webline.studies.result import StudyResult
 from webline.studies.slip_chain import (
     Chain,
@@ -302,10 +303,7 @@ def _steady_figure(steady: list[dict[str, Any]], draw: list[dict[str, Any]], c: 
     ax2.set_ylabel("smallest μ that holds")
     ax2.set_title("driven rollers: draw between zones (500 ft/min)")
     ax2.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save(fig, path)
 
 
 def _transient_figure(result: webline.Result, c: HswlContact, path: Path) -> Path:
@@ -318,10 +316,7 @@ def _transient_figure(result: webline.Result, c: HswlContact, path: Path) -> Pat
     ax.set_ylabel("μα needed [rad]")
     ax.set_title("needs along the HSWL speed change 200 -> 1000 ft/min (no-slip run)")
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save(fig, path)
 
 
 def _failure_figure(failure: dict[str, Run], c: HswlContact, path: Path) -> Path:
@@ -346,7 +341,4 @@ def _failure_figure(failure: dict[str, Run], c: HswlContact, path: Path) -> Path
     ax3.set_ylabel("v_r - v [ft/min]")
     ax3.set_title("slip velocity at the idler")
     ax3.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save(fig, path)

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from webline.analysis.drivetrain import backlash
-from webline.studies.drivetrain_output import finish, pyplot, save
+from webline.studies.output import finish, pyplot, save
 from webline.studies.result import StudyResult
 
 

@@ -19,7 +19,7 @@ import numpy as np
 import webline
 from webline.analysis.drivetrain.params import load_parameter_set
 from webline.line import Line
-from webline.studies.drivetrain_output import finish, pyplot, save
+from webline.studies.output import finish, pyplot, save
 from webline.studies.result import StudyResult
 
 CASES = ("rigid", "36mm", "24mm", "12mm")

@@ -1,6 +1,5 @@
-"""Shared output helpers of the drive-train studies (belt-step, solid-motion, ecp-backlash,
-unwind-belt-ramp, rockwell-rewind): figures with matplotlib's Agg backend, ``table.csv`` and
-``summary.txt`` in the study's folder."""
+"""Shared output helpers of the studies: figures with matplotlib's Agg backend (``save``),
+``table.csv`` and ``summary.txt`` in the study's folder (``finish``)."""
 
 from __future__ import annotations
 
@@ -24,7 +23,7 @@ def pyplot() -> Any:
 def save(fig: Any, path: Path) -> Path:
     """Write ``fig`` as PNG at ``path`` and close it."""
     fig.tight_layout()
-    fig.savefig(path, dpi=90)
+    fig.savefig(path, dpi=100)
     pyplot().close(fig)
     return path
 
