@@ -18,7 +18,7 @@ def plant_derivative(line: webline.Line, op: webline.OperatingPoint):
     n_c = sum(name.endswith(".twist") for name in plan.state_names)  # compliant drives
     index = np.r_[0:n_s, off[1]:off[1] + n_n, off[3]:off[3] + n_d, off[8]:off[8] + 2 * n_c]
     work = np.empty(3 * n_n)
-    brake = np.zeros(len(line.drives))
+    drag = np.zeros(n_n)
     slipping = np.zeros(n_n, dtype=np.int64)
 
     def f(z: np.ndarray, u: np.ndarray) -> np.ndarray:
@@ -26,7 +26,7 @@ def plant_derivative(line: webline.Line, op: webline.OperatingPoint):
         x[index] = z
         dx = np.empty_like(x)
         t0 = kernel.wound_in(op.time, plan.web, plan.wound_ripple)
-        kernel.rhs(t0, x, u, brake, slipping, plan.nodes, plan.spans, plan.drives, plan.web,
+        kernel.rhs(t0, x, u, drag, slipping, plan.nodes, plan.spans, plan.drives, plan.web,
                    plan.offsets,
                    dx, work)
         return dx[index]

@@ -23,6 +23,18 @@ def test_slip_threshold_study_runs_end_to_end(tmp_path):
     line = webline.load_line("hswl")
     c = st.load_contact()
 
+    # bearing failure on the closed-loop line: at equilibrium the idler's torque balance makes
+    # the tension step across it drag/R, slipping or not; only the small wrap slips; slip
+    # dissipates power; web length is conserved
+    idler = line.spec.rollers[3]
+    for row in tables["bearing_failure_line"]:
+        assert row["step_end_N"] == pytest.approx(c.drag / idler.radius, rel=0.02)
+        assert row["min_slip_power_W"] >= 0.0
+        assert row["max_web_balance_m"] < 1e-7
+    slipping = {row["case"]: row["slip_fraction"] for row in tables["bearing_failure_line"]}
+    assert slipping["line, adhered"] == 0.0
+    assert slipping["line, small wrap"] > 0.1
+
     # steady: the idler needs (bearing drag + inertia torque)/R over the tension, i.e.
     # mu*alpha = ln((T + ΔT - t_c)/(T - t_c)); every row is consistent with its tensions
     for row in tables["steady"]:

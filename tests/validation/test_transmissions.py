@@ -93,4 +93,18 @@ def test_brake_adds_its_torque_to_the_equilibrium_input(hswl):
     assert op.torque[0] - plain.torque[0] == pytest.approx(brake / ratio, rel=1e-9)
     result = webline.simulate(braked, 3.0)
     np.testing.assert_allclose(result.tension[-1], op.tension, rtol=1e-6)
-    assert result.plan.drives[0, L.D_BRAKE] >= 0
+    assert result.plan.nodes[0, L.N_DRAG] >= 0  # the brake is the unwind's drag profile
+
+
+def test_roller_drag_on_an_idler_raises_the_tension_across_it(hswl):
+    """A drag torque on the idler (a failing bearing) adds drag/r to the tension step across it
+    at equilibrium, and the simulated line settles there."""
+    drag = {"type": "roller_drag", "roller": "idler",
+            "torque": {"type": "steps", "initial": 0.0, "steps": [{"time": 1.0, "value": 0.2}]}}
+    line = hswl.replace(disturbances=[drag])
+    before, after = webline.operating_point(line, 0.5), webline.operating_point(line, 2.0)
+    radius = hswl.spec.rollers[3].radius
+    step = (after.tension[3] - after.tension[2]) - (before.tension[3] - before.tension[2])
+    assert step == pytest.approx(0.2 / radius, rel=1e-3)
+    result = webline.simulate(line, 12.0)
+    np.testing.assert_allclose(result.tension[-1], after.tension, rtol=1e-4)

@@ -70,6 +70,8 @@ def plant_matrices(line: Line, op: OperatingPoint) -> tuple[np.ndarray, ...]:
         if i > 0:
             a[wn + i, ws + i - 1] = -r[i] / inertia
         viscous, coulomb = plan.nodes[i, L.N_VISCOUS], plan.nodes[i, L.N_COULOMB]
+        if plan.nodes[i, L.N_DRAG] >= 0:  # a brake or drag acts like Coulomb friction
+            coulomb += plan.profile_value(int(plan.nodes[i, L.N_DRAG]), op.time)
         slope = coulomb / COULOMB_SMOOTHING * (1.0 - np.tanh(op.omega[i] / COULOMB_SMOOTHING) ** 2)
         a[wn + i, wn + i] = -(viscous + slope) / inertia
     for d in range(n_d):  # lag dτ/dt = (u - τ)/lag
@@ -105,9 +107,6 @@ def _drive_block(a: np.ndarray, plan: Plan, op: OperatingPoint, wn: int, wt: int
         row = plan.drives[d]
         inertia = load_inertia(plan, op, i)
         n = row[L.D_RATIO]
-        brake = plan.profile_value(int(row[L.D_BRAKE]), op.time) if row[L.D_BRAKE] >= 0 else 0
-        slope = brake / COULOMB_SMOOTHING * (1.0 - np.tanh(op.omega[i] / COULOMB_SMOOTHING) ** 2)
-        a[wn + i, wn + i] -= slope / inertia
         if row[L.D_TSTATE] < 0:
             a[wn + i, wt + d] = n / inertia
             a[wn + i, wn + i] -= n * n * row[L.D_BMOTOR] / inertia

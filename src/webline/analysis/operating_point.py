@@ -27,7 +27,7 @@ from webline.errors import SimulationError
 from webline.line import Line
 from webline.physics import roll, roller
 from webline.profiles import breakpoints, pwl_slope, pwl_value
-from webline.spec.schema import IdleSpec, RewindSpec, UnwindSpec
+from webline.spec.schema import IdleSpec, RewindSpec, RollerDrag, UnwindSpec
 
 
 @dataclass(frozen=True)
@@ -98,6 +98,7 @@ def operating_point(line: Line, t: float = 0.0, *, unwind_radius: float | None =
     thickness = line.spec.web.thickness
     t0 = line.unwind.wound_in_tension
 
+    drags = drag_torques(line, t)
     tension = np.empty(line.n_spans)
     for zone in line.zones:
         ref = line.spec.spans[zone.loadcell].tension
@@ -115,9 +116,11 @@ def operating_point(line: Line, t: float = 0.0, *, unwind_radius: float | None =
         previous = tension.copy()
         for zone in line.zones:
             for i in range(zone.loadcell + 1, zone.last):  # idle rollers downstream of loadcell
-                tension[i] = tension[i - 1] + _idle_drop(line, i, inertia, accel, omega, radii)
+                tension[i] = tension[i - 1] + _idle_drop(line, i, inertia, accel, omega, radii,
+                                                         drags[i])
             for i in range(zone.loadcell, zone.first, -1):  # and upstream of it
-                tension[i - 1] = tension[i] - _idle_drop(line, i, inertia, accel, omega, radii)
+                tension[i - 1] = tension[i] - _idle_drop(line, i, inertia, accel, omega, radii,
+                                                         drags[i])
         if np.allclose(tension, previous, rtol=1e-15, atol=0.0):
             break
     if np.any(tension <= 0.0):
@@ -132,9 +135,7 @@ def operating_point(line: Line, t: float = 0.0, *, unwind_radius: float | None =
         t_out = tension[i] if i < line.n_spans else 0.0
         t_in = tension[i - 1] if i > 0 else 0.0
         friction = roller.friction_torque(omega[i], r.friction, r.coulomb_friction)
-        if r.drive.brake is not None:  # a brake opposes the rotation (4.12)
-            friction += roller.friction_torque(omega[i], 0.0, pwl_value(
-                *breakpoints(r.drive.brake), t))
+        friction += roller.friction_torque(omega[i], 0.0, drags[i])  # brake (4.12) or drag
         n = r.drive.ratio  # the motor's own friction acts at n ω
         torque[d] = (inertia[i] * accel[i] - radii[i] * (t_out - t_in) + friction) / n + (
             r.drive.motor_friction * n * omega[i])
@@ -146,9 +147,24 @@ def operating_point(line: Line, t: float = 0.0, *, unwind_radius: float | None =
     )
 
 
+def drag_torques(line: Line, t: float) -> np.ndarray:
+    """Torque [N·m] opposing each roller's rotation at time ``t`` [s]: drive brakes (4.12) and
+    ``roller_drag`` disturbances."""
+    out = np.zeros(line.n_nodes)
+    for i, r in enumerate(line.spec.rollers):
+        brake = getattr(getattr(r, "drive", None), "brake", None)
+        if brake is not None:
+            out[i] = pwl_value(*breakpoints(brake), t)
+    for d in line.spec.disturbances:
+        if isinstance(d, RollerDrag):
+            i = next(k for k, r in enumerate(line.spec.rollers) if r.name == d.roller)
+            out[i] = pwl_value(*breakpoints(d.torque), t)
+    return out
+
+
 def _idle_drop(line: Line, i: int, inertia: np.ndarray, accel: np.ndarray, omega: np.ndarray,
-               radii: np.ndarray) -> float:
+               radii: np.ndarray, drag: float) -> float:
     """Tension rise [N] across idle roller ``i`` needed to turn it: (J dω/dt + friction)/r."""
     r = line.spec.rollers[i]
-    friction = roller.friction_torque(omega[i], r.friction, r.coulomb_friction)
+    friction = roller.friction_torque(omega[i], r.friction, r.coulomb_friction + drag)
     return float((inertia[i] * accel[i] + friction) / radii[i])

@@ -141,15 +141,14 @@ def transmission(line: Line, i: int) -> DirectSpec | BeltSpec | ShaftSpec:
     return line.spec.rollers[i].drive.transmission  # type: ignore[union-attr]
 
 
-def transmission_columns(row: np.ndarray, drive: DriveSpec, state: int, brake: int) -> None:
+def transmission_columns(row: np.ndarray, drive: DriveSpec, state: int) -> None:
     """Fill the transmission columns of a drive row; ``state`` is the index of its (motor
-    speed, twist) states or -1 for a rigid one, ``brake`` its brake profile or -1."""
+    speed, twist) states or -1 for a rigid one."""
     t = drive.transmission
     row[L.D_RATIO] = drive.ratio
     row[L.D_JMOTOR] = drive.motor_inertia
     row[L.D_BMOTOR] = drive.motor_friction
     row[L.D_FEEDBACK] = 1.0 if drive.feedback == "motor" else 0.0
-    row[L.D_BRAKE] = brake
     row[L.D_TSTATE] = state
     row[L.D_COMPLIANT] = 0.0 if isinstance(t, DirectSpec) else 1.0
     if isinstance(t, BeltSpec):  # the tight side seen from the load shaft

@@ -53,11 +53,12 @@ def node_arm(i: int, x: np.ndarray, nodes: np.ndarray, off_w: int, off_r: int) -
 
 
 @jit
-def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, brake: np.ndarray, slipping: np.ndarray,
+def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: np.ndarray,
         nodes: np.ndarray, spans: np.ndarray, drives: np.ndarray, web: np.ndarray,
         offsets: np.ndarray, dx: np.ndarray, work: np.ndarray) -> None:
-    """Plant derivative dx/dt into ``dx`` with held torque commands ``cmd`` [N·m], held brake
-    torques ``brake`` [N·m], held stick/slip states ``slipping`` (per node) and the unwind's
+    """Plant derivative dx/dt into ``dx`` with held torque commands ``cmd`` [N·m], held drag
+    torques ``drag`` [N·m] (brakes, failing bearings: per node), held stick/slip states
+    ``slipping`` (per node) and the unwind's
     wound-in tension ``t0`` [N] at that instant (see ``wound_in``); nothing else depends on time.
 
     Where the web slips over a roller (Ch. 5, E-5.3) the spans on both sides see the web
@@ -99,7 +100,7 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, brake: np.ndarray, slipping: 
         t_out = work[te + i] if i < n_spans else 0.0
         t_up = work[te + i - 1] if i > 0 else 0.0
         torque = work[i] * (t_out - t_up) - nodes[i, L.N_VISCOUS] * omega
-        coulomb = nodes[i, L.N_COULOMB]
+        coulomb = nodes[i, L.N_COULOMB] + drag[i]  # a brake (4.12) or drag acts like it
         if coulomb != 0.0:
             torque -= _friction(omega, 0.0, coulomb)
         d = int(nodes[i, L.N_DRIVE])
@@ -109,8 +110,6 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, brake: np.ndarray, slipping: 
                 torque += n * (x[off_tq + d] - n * drives[d, L.D_BMOTOR] * omega)
             else:
                 torque += compliant_torque(d, x, drives, offsets, dx)
-            if brake[d] != 0.0:  # a brake opposes the rotation (4.12)
-                torque -= _friction(omega, 0.0, brake[d])
         if i == 0 or i == last:
             inertia = _roll_inertia(nodes[i, L.N_JCONST], work[i], nodes[i, L.N_CORE], width,
                                     density)
@@ -209,7 +208,7 @@ def run(x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick0: int, n_ti
     k4 = np.empty(n_x)
     tmp = np.empty(n_x)
     work = np.empty(3 * nodes.shape[0])
-    brake = np.zeros(n_d)
+    drag = np.zeros(n_n)
     h = dt / substeps
     n_rec = 0
     status = L.STATUS_OK
@@ -242,24 +241,24 @@ def run(x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick0: int, n_ti
             n_rec += 1
         if j == n_ticks:
             break
-        for d in range(n_d):  # brake torques are held over the tick, like the commands
-            p = int(drives[d, L.D_BRAKE])
-            brake[d] = profile_at(p, t, prof_t, prof_v, prof_off) if p >= 0 else 0.0
+        for i in range(n_n):  # drag torques are held over the tick, like the commands
+            p = int(nodes[i, L.N_DRAG])
+            drag[i] = profile_at(p, t, prof_t, prof_v, prof_off) if p >= 0 else 0.0
         t0_start = wound_in(t, web, wound_ripple)
         for s in range(substeps):
             ts = t + s * h
             t0_mid = wound_in(ts + 0.5 * h, web, wound_ripple)
             t0_end = wound_in(ts + h, web, wound_ripple)
-            rhs(t0_start, x, cmd, brake, slipping, nodes, spans, drives, web, offsets, k1, work)
+            rhs(t0_start, x, cmd, drag, slipping, nodes, spans, drives, web, offsets, k1, work)
             for m in range(n_x):
                 tmp[m] = x[m] + 0.5 * h * k1[m]
-            rhs(t0_mid, tmp, cmd, brake, slipping, nodes, spans, drives, web, offsets, k2, work)
+            rhs(t0_mid, tmp, cmd, drag, slipping, nodes, spans, drives, web, offsets, k2, work)
             for m in range(n_x):
                 tmp[m] = x[m] + 0.5 * h * k2[m]
-            rhs(t0_mid, tmp, cmd, brake, slipping, nodes, spans, drives, web, offsets, k3, work)
+            rhs(t0_mid, tmp, cmd, drag, slipping, nodes, spans, drives, web, offsets, k3, work)
             for m in range(n_x):
                 tmp[m] = x[m] + h * k3[m]
-            rhs(t0_end, tmp, cmd, brake, slipping, nodes, spans, drives, web, offsets, k4, work)
+            rhs(t0_end, tmp, cmd, drag, slipping, nodes, spans, drives, web, offsets, k4, work)
             for m in range(n_x):
                 x[m] += h / 6.0 * (k1[m] + 2.0 * k2[m] + 2.0 * k3[m] + k4[m])
             t0_start = t0_end

@@ -4,8 +4,10 @@
 (N_KIND, N_RADIUS, N_CORE, N_JCONST, N_VISCOUS, N_COULOMB, N_RATIO, N_DRIVE, N_ECC,
  N_ECCSTATE, N_INVJ,
  # web-roller traction (Ch. 5): 1 if the web may slip, wrap [rad], μ0, μ', viscous [N·s/m]
- N_TRACTION, N_WRAP, N_MU, N_MUK, N_SLIPB) = range(16)
-N_COLS = 16
+ N_TRACTION, N_WRAP, N_MU, N_MUK, N_SLIPB,
+ # profile of a torque opposing the rotation (drive brake or roller drag), -1: none
+ N_DRAG) = range(17)
+N_COLS = 17
 
 # span table columns
 S_LENGTH, S_INVLENGTH = range(2)
@@ -20,10 +22,10 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  D_FAMILY, D_KT, D_KV, D_GAMMA, D_LEAK, D_BMAX, D_BMODEL,
  # ... and the transmission: compliant or rigid, its state offset, load-side stiffness
  # [N·m/rad], damping [N·m·s/rad] and free travel [rad], motor inertia and friction, ratio,
- # speed feedback side (0 load, 1 motor) and brake profile (-1: none)
+ # speed feedback side (0 load, 1 motor)
  D_COMPLIANT, D_TSTATE, D_KTRANS, D_CTRANS, D_GAPNEG, D_GAPPOS, D_JMOTOR, D_BMOTOR, D_RATIO,
- D_FEEDBACK, D_BRAKE) = range(35)
-D_COLS = 35
+ D_FEEDBACK) = range(34)
+D_COLS = 34
 ROLE_MASTER, ROLE_TENSION = 0, 1
 FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE = 0, 1, 2
 

@@ -19,6 +19,7 @@ from webline.spec.schema import (
     IdleSpec,
     MeasurementNoise,
     RewindSpec,
+    RollerDrag,
     SpeedRipple,
     UnwindSpec,
     WoundInRipple,
@@ -180,21 +181,26 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
             row[L.N_MUK] = contact.friction if contact.kinetic_friction is None else (
                 contact.kinetic_friction)
             row[L.N_SLIPB] = contact.viscous
+        row[L.N_DRAG] = -1
         row[L.N_ECC] = eccentric.get(r.name, 0.0)
         row[L.N_ECCSTATE] = off_th + ecc_nodes.index(i) if i in ecc_nodes else -1
 
     profiles = [breakpoints(spec.speed)]
     profiles += [breakpoints(spec.spans[z.loadcell].tension) for z in line.zones]
-    brakes = {i: len(profiles) + b for b, i in enumerate(
-        i for i in line.drives if rollers[i].drive.brake is not None)}  # type: ignore[union-attr]
-    profiles += [breakpoints(rollers[i].drive.brake) for i in brakes]  # type: ignore[union-attr]
+    drags = {i: rollers[i].drive.brake for i in line.drives  # type: ignore[union-attr]
+             if rollers[i].drive.brake is not None}  # type: ignore[union-attr]
+    drags |= {_node(line, d.roller): d.torque for d in spec.disturbances
+              if isinstance(d, RollerDrag)}
+    for i in sorted(drags):
+        nodes[i, L.N_DRAG] = len(profiles)
+        profiles.append(breakpoints(drags[i]))
     prof_off = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
 
     rate = sample_rate if sample_rate is not None else spec.control.sample_rate
     drives, gains, designs = drive_table(line, inertia, rate)
     for d, i in enumerate(line.drives):
         state = off_tr + 2 * compliant.index(i) if i in compliant else -1
-        transmission_columns(drives[d], rollers[i].drive, state, brakes.get(i, -1))  # type: ignore[union-attr]
+        transmission_columns(drives[d], rollers[i].drive, state)  # type: ignore[union-attr]
     master_up = 1 + line.zone_of_span(line.master - 1)
     offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
                         off_tr], dtype=np.int64)

@@ -41,12 +41,12 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
     v_ref = np.empty(nodes.shape[0])
     a_ref = np.empty(nodes.shape[0])
     work = np.empty(3 * nodes.shape[0])
-    brake = np.zeros(n_d)
+    drag = np.zeros(nodes.shape[0])
     rows = []
 
     def derivative(t: float, y: np.ndarray) -> np.ndarray:
         dy = np.empty_like(y)
-        kernel.rhs(kernel.wound_in(t, web, wound), y, cmd, brake, slipping, nodes, spans,
+        kernel.rhs(kernel.wound_in(t, web, wound), y, cmd, drag, slipping, nodes, spans,
                    drives, web, offsets, dy, work)
         return dy
 
@@ -58,9 +58,9 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
         rows.append(np.concatenate(([t], x, out.ravel(), istate[:, L.I_FRICTION], slipping)))
         if j == n_ticks:
             break
-        for d in range(n_d):
-            p = int(drives[d, L.D_BRAKE])
-            brake[d] = profile_at(p, t, prof_t, prof_v, prof_off) if p >= 0 else 0.0
+        for i in range(nodes.shape[0]):
+            p = int(nodes[i, L.N_DRAG])
+            drag[i] = profile_at(p, t, prof_t, prof_v, prof_off) if p >= 0 else 0.0
         sol = solve_ivp(derivative, (t, t + plan.dt), x, method=method, rtol=rtol, atol=atol)
         x = sol.y[:, -1].copy()
     return _result(plan, np.array(rows), 0, np.nan,

@@ -16,6 +16,7 @@ from webline.spec.schema import (
     Profile,
     Ramp,
     RewindSpec,
+    RollerDrag,
     SpeedRipple,
     Steps,
     Table,
@@ -149,6 +150,14 @@ def _check_disturbances(items: list[DisturbanceSpec], spec: LineSpec, key: str,
     by_name = {r.name: r for r in spec.rollers}
     for j, item in enumerate(items):
         here = f"{key}[{j}]"
+        if isinstance(item, RollerDrag):
+            roller = by_name.get(item.roller)
+            if roller is None:
+                fail(f"{here}.roller", f"no roller named {item.roller!r}")
+            dragged = [d.roller for d in items[:j] if isinstance(d, RollerDrag)]
+            braked = getattr(getattr(roller, "drive", None), "brake", None) is not None
+            if item.roller in dragged or braked:
+                fail(f"{here}.roller", f"{item.roller!r} already has a drag or brake torque")
         if isinstance(item, EccentricRoller | SpeedRipple):
             roller = by_name.get(item.roller)
             if roller is None:

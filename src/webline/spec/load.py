@@ -31,6 +31,10 @@ _UNION_TAGS = {"constant", "ramp", "steps", "table", "unwind", "rewind", "driven
                "wound_in_ripple", "eccentric_roller", "speed_ripple"}
 
 
+#: union tags a table may leave out (its ``type`` then defaults to the tag)
+_DEFAULT_TAGS = {"cascaded_pi": "cascaded_pi"}
+
+
 def _format_loc(loc: tuple[int | str, ...], data: Any = None) -> str:
     """('spans', 2, 'length') -> 'spans[2].length' (dropping pydantic's union tags).
 
@@ -47,8 +51,8 @@ def _format_loc(loc: tuple[int | str, ...], data: Any = None) -> str:
         elif isinstance(node, dict) and part in node:
             out += f".{part}" if out else str(part)
             node = node[part]
-        elif isinstance(node, dict) and part == node.get("type"):
-            continue  # discriminator tag of the table at this point
+        elif isinstance(node, dict) and part == node.get("type", _DEFAULT_TAGS.get(part)):
+            continue  # discriminator tag of the table at this point (or its default type)
         elif (part in _UNION_TAGS and out) or "[" in part or "function-" in part:
             continue  # discriminator tag or validator name, not a key the user wrote
         else:

@@ -405,6 +405,15 @@ class SpeedRipple(Strict):
     phase: Angle = 0.0
 
 
+class RollerDrag(Strict):
+    """A torque opposing a roller's rotation [N·m], constant or a profile: a failing bearing, a
+    rubbing guard, a spreader. It adds to the roller's bearing friction."""
+
+    type: Literal["roller_drag"]
+    roller: str
+    torque: TorqueProfile
+
+
 class MeasurementNoise(Strict):
     """White Gaussian noise on every controller's tension and speed measurements (standard
     deviations ``tension`` [N], ``speed`` [m/s]), reproducible from ``seed``."""
@@ -416,7 +425,7 @@ class MeasurementNoise(Strict):
 
 
 DisturbanceSpec = Annotated[
-    WoundInRipple | EccentricRoller | SpeedRipple | MeasurementNoise,
+    WoundInRipple | EccentricRoller | SpeedRipple | RollerDrag | MeasurementNoise,
     Field(discriminator="type"),
 ]
 

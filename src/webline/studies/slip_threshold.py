@@ -7,9 +7,10 @@ tensions (issue 6; thesis 5.12-5.13, 5.41-5.45).
    tensions, with and without acceleration, and with a draw between zones.
 2. Transient needs: the same check along a no-slip simulation of the HSWL speed change
    (compiled kernel), plus the slowly-varying ratio of (5.45).
-3. Bearing failure on the idler (standalone model of the rewind zone, ``slip_chain``): the
-   process and rewind surface speeds held at their operating values, the idler free, its
-   bearing drag stepped up; adhered, held by the assumed wrap, or slipping on a 10° wrap.
+3. Bearing failure on the idler, twice: in a standalone model of the rewind zone
+   (``slip_chain``: process and rewind surface speeds held) and on the closed-loop HSWL
+   (``webline.simulate`` with a ``roller_drag``); the idler's bearing drag rises, and the
+   idler is adhered, held by the assumed wrap, or slipping on a 10° wrap.
 
 Contact parameters: ``webline/data/slip/hswl_contact.toml`` (assumed; see its header).
 """
@@ -189,6 +190,37 @@ def bearing_failure(line: Line, c: HswlContact, duration: float) -> dict[str, Ru
     return out
 
 
+def bearing_failure_line(line: Line, c: HswlContact, duration: float) -> list[dict[str, Any]]:
+    """The same bearing failure on the closed-loop HSWL (compiled kernel, all its controllers
+    acting): a ``roller_drag`` ramping to the drag, the idler adhered or on a traction contact
+    with the assumed or the small wrap. One row per case: tension step across the idler,
+    slip fraction, smallest slip power (>= 0) and web balance."""
+    i = next(k for k, r in enumerate(line.spec.rollers) if r.name == c.failure_roller)
+    drag = {"type": "roller_drag", "roller": c.failure_roller,
+            "torque": {"type": "ramp", "initial": 0.0, "final": c.drag, "start": c.start,
+                       "duration": c.rise}}
+    rows = []
+    cases = (("line, adhered", None), ("line, assumed wrap", c.wraps[c.failure_roller]),
+             ("line, small wrap", c.small_wrap))
+    for name, wrap in cases:
+        data = line.spec.model_dump(exclude_none=True)
+        data["disturbances"] = [drag]
+        if wrap is not None:
+            data["rollers"][i]["wrap"] = wrap
+            data["rollers"][i]["contact"] = {"type": "traction", "friction": c.mu,
+                                             "kinetic_friction": c.mu_k, "viscous": c.viscous}
+        r = webline.simulate(webline.load_line(data), duration)
+        step = r.tension[:, i] - r.tension[:, i - 1]
+        step -= step[0]
+        balance = r.web_unwound - r.web_rewound - (r.web_stored - r.web_stored[0])
+        rows.append({"case": name, "step_end_N": float(step[-1]),
+                     "step_peak_N": float(step.max()),
+                     "slip_fraction": float(r.slipping[:, i].mean()),
+                     "min_slip_power_W": float(r.slip_power[:, i].min()),
+                     "max_web_balance_m": float(np.abs(balance).max())})
+    return rows
+
+
 def run(out_dir: Path, *, quick: bool = False) -> StudyResult:
     """Study ``slip-threshold``: three figures, the table of the worst steady need of each
     roller, and every table in ``slip_threshold.json`` (``analyse`` returns them all)."""
@@ -208,6 +240,7 @@ def analyse(out_dir: Path, *, quick: bool = False) -> Analysis:
     draw = draw_needs(line, c, 500 * FPM)
     transient, result = transient_needs(line, c, 9.0 if quick else 20.0)
     failure = bearing_failure(line, c, c.duration)
+    failure_line = bearing_failure_line(line, c, c.duration)
 
     worst: dict[str, dict[str, Any]] = {}
     for row in steady:
@@ -261,13 +294,16 @@ def analyse(out_dir: Path, *, quick: bool = False) -> Analysis:
         f"{adhered['settled_within_2pct_s']:.1f} s); on a 10 deg wrap it slips, caps the "
         f"difference (peak {small['difference_peak_N']:.2f} N, settled after "
         f"{small['settled_within_2pct_s']:.1f} s: the viscous slip damps the mode) and turns "
-        f"{small['idler_speed_deficit_fpm']:.2f} ft/min slower than the web."
+        f"{small['idler_speed_deficit_fpm']:.2f} ft/min slower than the web. "
+        "On the closed-loop line (all controllers acting) the step across the idler ends at "
+        + ", ".join(f"{x['step_end_N']:.2f} N ({x['case']}, slipping "
+                    f"{x['slip_fraction']:.0%} of the time)" for x in failure_line) + "."
     )
     return Analysis(
         name="slip-threshold", figures=figures,
         tables={"worst_steady": list(worst.values()), "steady": steady, "draw": draw,
                 "transient": [{"roller": k, **v} for k, v in transient.items()],
-                "bearing_failure": failure_rows},
+                "bearing_failure": failure_rows, "bearing_failure_line": failure_line},
         text=text, data={"worst": worst},
     )
 
