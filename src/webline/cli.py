@@ -303,10 +303,7 @@ def analyze(
         raise BadInput(f"--time: must be >= 0 s, got {at}")
     display = Display(units.value)
     point = operating_point(loaded, t)
-    try:
-        modes = closed_loop_modes(loaded, t)
-    except NotImplementedError as exc:  # a controller without a linear model yet
-        raise WeblineError(f"{loaded.source}: cannot linearize: {exc}") from None
+    modes = closed_loop_modes(loaded, t)
     cert = _certificate(loaded) if certificate else None
     if as_json:
         payload: dict[str, object] = {

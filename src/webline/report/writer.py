@@ -62,7 +62,7 @@ def analyse(line: Line) -> Analysis:
     t = analysis_time(line)
     try:
         return Analysis(t, operating_point(line, t), tuple(modes(linearize(line, t))))
-    except (WeblineError, ValueError, ArithmeticError, NotImplementedError) as exc:
+    except (WeblineError, ValueError, ArithmeticError) as exc:
         return Analysis(t, None, (), str(exc))
 
 

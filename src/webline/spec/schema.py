@@ -6,124 +6,39 @@ are errors; each component is chosen by its ``type``, never guessed from the key
 
 from __future__ import annotations
 
-from typing import Annotated, Generic, Literal, TypeVar
+from typing import Annotated, Literal
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Discriminator, Field, Tag
+from pydantic import Discriminator, Field, Tag
 
-from webline.units import to_si
-
-
-class Strict(BaseModel):
-    """Base: frozen, unknown keys rejected."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-
-def _si(kind: str, bound: str | None = None) -> BeforeValidator:
-    """Validator turning a number or a unit string into an SI float of dimension ``kind``;
-    ``bound`` is '>0' or '>=0'."""
-
-    def parse(value: object) -> float:
-        number = to_si(value, kind)
-        if bound == ">0" and not number > 0:
-            raise ValueError(f"must be > 0, got {value!r}")
-        if bound == ">=0" and not number >= 0:
-            raise ValueError(f"must be >= 0, got {value!r}")
-        return number
-
-    return BeforeValidator(parse)
-
-
-Length = Annotated[float, _si("length", ">0")]
-Speed = Annotated[float, _si("speed", ">=0")]
-Force = Annotated[float, _si("force", ">0")]
-Torque = Annotated[float, _si("torque", ">0")]
-TorqueNonNeg = Annotated[float, _si("torque", ">=0")]
-Inertia = Annotated[float, _si("inertia", ">0")]
-InertiaNonNeg = Annotated[float, _si("inertia", ">=0")]
-Damping = Annotated[float, _si("rot_damping", ">=0")]
-Time = Annotated[float, _si("time", ">0")]
-TimeNonNeg = Annotated[float, _si("time", ">=0")]
-Frequency = Annotated[float, _si("frequency", ">0")]
-#: a rate in rad/s; "6 Hz" is read as 2π·6 rad/s
-AngularFrequency = Annotated[float, _si("angular_frequency", ">0")]
-Density = Annotated[float, _si("density", ">0")]
-Modulus = Annotated[float, _si("pressure", ">0")]
-Angle = Annotated[float, _si("angle")]
-Ratio = Annotated[float, _si("dimensionless", ">0")]
-Gain = Annotated[float, _si("dimensionless", ">=0")]
-
-
-# --- reference profiles -------------------------------------------------------------------
-
-
-Q = TypeVar("Q")
-
-
-class Ramp(Strict, Generic[Q]):
-    """Linear change from ``initial`` to ``final`` over ``duration`` starting at ``start``."""
-
-    type: Literal["ramp"]
-    initial: Q
-    final: Q
-    start: TimeNonNeg = 0.0
-    duration: Time
-
-
-class Step(Strict, Generic[Q]):
-    time: TimeNonNeg
-    value: Q
-
-
-class Steps(Strict, Generic[Q]):
-    """Piecewise-constant: ``initial`` until the first step time, then each step's value."""
-
-    type: Literal["steps"]
-    initial: Q
-    steps: list[Step[Q]] = Field(min_length=1)
-
-
-class Table(Strict, Generic[Q]):
-    """Piecewise-linear through (time, value) points; constant outside them."""
-
-    type: Literal["table"]
-    time: list[TimeNonNeg] = Field(min_length=1)
-    value: list[Q] = Field(min_length=1)
-
-
-def _profile_tag(value: object) -> str:
-    if isinstance(value, dict):
-        return str(value.get("type", "missing"))
-    if isinstance(value, BaseModel):
-        return str(getattr(value, "type", "constant"))
-    return "constant"
-
-
-_PROFILE = Discriminator(
-    _profile_tag,
-    custom_error_type="profile_type",
-    custom_error_message="a profile is a quantity or a table with type = 'ramp', 'steps' or "
-    "'table'",
+from webline.spec.quantities import (  # noqa: F401 - re-exported for users of the schema
+    Angle,
+    AngularFrequency,
+    Damping,
+    Density,
+    Force,
+    Frequency,
+    Gain,
+    Inertia,
+    InertiaNonNeg,
+    Length,
+    Modulus,
+    Profile,
+    Ramp,
+    Ratio,
+    Speed,
+    SpeedProfile,
+    Step,
+    Steps,
+    Strict,
+    Table,
+    TensionProfile,
+    Time,
+    TimeNonNeg,
+    Torque,
+    TorqueNonNeg,
+    TorqueProfile,
+    si,
 )
-
-SpeedProfile = Annotated[
-    Annotated[Speed, Tag("constant")] | Annotated[Ramp[Speed], Tag("ramp")]
-    | Annotated[Steps[Speed], Tag("steps")] | Annotated[Table[Speed], Tag("table")],
-    _PROFILE,
-]
-TensionProfile = Annotated[
-    Annotated[Force, Tag("constant")] | Annotated[Ramp[Force], Tag("ramp")]
-    | Annotated[Steps[Force], Tag("steps")] | Annotated[Table[Force], Tag("table")],
-    _PROFILE,
-]
-TorqueProfile = Annotated[
-    Annotated[TorqueNonNeg, Tag("constant")] | Annotated[Ramp[TorqueNonNeg], Tag("ramp")]
-    | Annotated[Steps[TorqueNonNeg], Tag("steps")]
-    | Annotated[Table[TorqueNonNeg], Tag("table")],
-    _PROFILE,
-]
-Profile = SpeedProfile | TensionProfile | TorqueProfile
-
 
 # --- web ------------------------------------------------------------------------------------
 
@@ -149,7 +64,7 @@ class BacklashSpec(Strict):
     a = 0.5 is the symmetric gap).
     """
 
-    gap: Annotated[float, _si("angle", ">=0")]
+    gap: Annotated[float, si("angle", ">=0")]
     asymmetry: Annotated[float, Field(ge=0.0, le=1.0)] = 0.5
 
 
@@ -165,9 +80,9 @@ class BeltSpec(Strict):
     pulley is r2/ratio). Seen from the load shaft: Kb r2² [N·m/rad]."""
 
     type: Literal["belt"]
-    stiffness: Annotated[float, _si("stiffness", ">0")]
+    stiffness: Annotated[float, si("stiffness", ">0")]
     load_pulley_radius: Length
-    damping: Annotated[float, _si("linear_damping", ">=0")] = 0.0
+    damping: Annotated[float, si("linear_damping", ">=0")] = 0.0
     backlash: BacklashSpec | None = None
 
 
@@ -223,7 +138,7 @@ class CascadedPISpec(Strict):
     inertia_adaptive: bool = True
 
 
-Signed = Annotated[float, _si("dimensionless")]
+Signed = Annotated[float, si("dimensionless")]
 
 
 class _DecentralizedSpec(Strict):
@@ -240,7 +155,7 @@ class _DecentralizedSpec(Strict):
     """
 
     tension_scale: Force | None = None
-    speed_scale: Annotated[float, _si("speed", ">0")] | None = None
+    speed_scale: Annotated[float, si("speed", ">0")] | None = None
     torque_scale: Torque | None = None
     friction_estimate: Damping | None = None
 
@@ -272,7 +187,7 @@ class AdaptiveSpec(_DecentralizedSpec):
     speed_gain: Signed | None = None
     adaptation_gain: AngularFrequency = 20.0
     leakage: Gain = 0.0
-    parameter_bound: Annotated[float, _si("dimensionless", ">0")] = 10.0
+    parameter_bound: Annotated[float, si("dimensionless", ">0")] = 10.0
 
 
 def _controller_tag(value: object) -> str:
@@ -305,9 +220,9 @@ class TractionSpec(Strict):
     [N·s/m]. The web slips when the tension difference leaves the capstan band of the wrap."""
 
     type: Literal["traction"]
-    friction: Annotated[float, _si("dimensionless", ">0")]
-    kinetic_friction: Annotated[float, _si("dimensionless", ">=0")] | None = None
-    viscous: Annotated[float, _si("linear_damping", ">0")]
+    friction: Annotated[float, si("dimensionless", ">0")]
+    kinetic_friction: Annotated[float, si("dimensionless", ">=0")] | None = None
+    viscous: Annotated[float, si("linear_damping", ">0")]
 
 
 ContactSpec = Annotated[AdheredSpec | TractionSpec, Field(discriminator="type")]
@@ -346,7 +261,7 @@ class DrivenSpec(_RollerBase):
 
     type: Literal["driven"]
     role: Literal["master", "tension"]
-    wrap: Annotated[float, _si("angle", ">0")] | None = None
+    wrap: Annotated[float, si("angle", ">0")] | None = None
     contact: ContactSpec = AdheredSpec()
     drive: DriveSpec
     controller: ControllerSpec = CascadedPISpec()
@@ -357,7 +272,7 @@ class IdleSpec(_RollerBase):
     as for a driven roller."""
 
     type: Literal["idle"]
-    wrap: Annotated[float, _si("angle", ">0")] | None = None
+    wrap: Annotated[float, si("angle", ">0")] | None = None
     contact: ContactSpec = AdheredSpec()
 
 
@@ -419,7 +334,7 @@ class MeasurementNoise(Strict):
     deviations ``tension`` [N], ``speed`` [m/s]), reproducible from ``seed``."""
 
     type: Literal["measurement_noise"]
-    tension: Annotated[float, _si("force", ">=0")] = 0.0
+    tension: Annotated[float, si("force", ">=0")] = 0.0
     speed: Speed = 0.0
     seed: int = 0
 
@@ -459,5 +374,5 @@ class LineSpec(Strict):
     spans: list[SpanSpec] = Field(min_length=1)
     speed: SpeedProfile
     control: ControlSpec = ControlSpec()
-    disturbances: list[DisturbanceSpec] = []
-    scenarios: dict[str, ScenarioSpec] = {}
+    disturbances: list[DisturbanceSpec] = Field(default_factory=list)
+    scenarios: dict[str, ScenarioSpec] = Field(default_factory=dict)

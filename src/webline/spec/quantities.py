@@ -1,0 +1,125 @@
+"""Building blocks of the line-file schema: SI quantity types and reference profiles.
+
+A quantity is a plain SI number or a string with units (``"500 ft/min"``); a profile is a
+quantity (constant) or a table with ``type`` = "ramp", "steps" or "table".
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Generic, Literal, TypeVar
+
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Discriminator, Field, Tag
+
+from webline.units import to_si
+
+
+class Strict(BaseModel):
+    """Base: frozen, unknown keys rejected."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+def si(kind: str, bound: str | None = None) -> BeforeValidator:
+    """Validator turning a number or a unit string into an SI float of dimension ``kind``;
+    ``bound`` is '>0' or '>=0'."""
+
+    def parse(value: object) -> float:
+        number = to_si(value, kind)
+        if bound == ">0" and not number > 0:
+            raise ValueError(f"must be > 0, got {value!r}")
+        if bound == ">=0" and not number >= 0:
+            raise ValueError(f"must be >= 0, got {value!r}")
+        return number
+
+    return BeforeValidator(parse)
+
+
+Length = Annotated[float, si("length", ">0")]
+Speed = Annotated[float, si("speed", ">=0")]
+Force = Annotated[float, si("force", ">0")]
+Torque = Annotated[float, si("torque", ">0")]
+TorqueNonNeg = Annotated[float, si("torque", ">=0")]
+Inertia = Annotated[float, si("inertia", ">0")]
+InertiaNonNeg = Annotated[float, si("inertia", ">=0")]
+Damping = Annotated[float, si("rot_damping", ">=0")]
+Time = Annotated[float, si("time", ">0")]
+TimeNonNeg = Annotated[float, si("time", ">=0")]
+Frequency = Annotated[float, si("frequency", ">0")]
+#: a rate in rad/s; "6 Hz" is read as 2π·6 rad/s
+AngularFrequency = Annotated[float, si("angular_frequency", ">0")]
+Density = Annotated[float, si("density", ">0")]
+Modulus = Annotated[float, si("pressure", ">0")]
+Angle = Annotated[float, si("angle")]
+Ratio = Annotated[float, si("dimensionless", ">0")]
+Gain = Annotated[float, si("dimensionless", ">=0")]
+
+
+# --- reference profiles -------------------------------------------------------------------
+
+
+Q = TypeVar("Q")
+
+
+class Ramp(Strict, Generic[Q]):
+    """Linear change from ``initial`` to ``final`` over ``duration`` starting at ``start``."""
+
+    type: Literal["ramp"]
+    initial: Q
+    final: Q
+    start: TimeNonNeg = 0.0
+    duration: Time
+
+
+class Step(Strict, Generic[Q]):
+    time: TimeNonNeg
+    value: Q
+
+
+class Steps(Strict, Generic[Q]):
+    """Piecewise-constant: ``initial`` until the first step time, then each step's value."""
+
+    type: Literal["steps"]
+    initial: Q
+    steps: list[Step[Q]] = Field(min_length=1)
+
+
+class Table(Strict, Generic[Q]):
+    """Piecewise-linear through (time, value) points; constant outside them."""
+
+    type: Literal["table"]
+    time: list[TimeNonNeg] = Field(min_length=1)
+    value: list[Q] = Field(min_length=1)
+
+
+def _profile_tag(value: object) -> str:
+    if isinstance(value, dict):
+        return str(value.get("type", "missing"))
+    if isinstance(value, BaseModel):
+        return str(getattr(value, "type", "constant"))
+    return "constant"
+
+
+_PROFILE = Discriminator(
+    _profile_tag,
+    custom_error_type="profile_type",
+    custom_error_message="a profile is a quantity or a table with type = 'ramp', 'steps' or "
+    "'table'",
+)
+
+SpeedProfile = Annotated[
+    Annotated[Speed, Tag("constant")] | Annotated[Ramp[Speed], Tag("ramp")]
+    | Annotated[Steps[Speed], Tag("steps")] | Annotated[Table[Speed], Tag("table")],
+    _PROFILE,
+]
+TensionProfile = Annotated[
+    Annotated[Force, Tag("constant")] | Annotated[Ramp[Force], Tag("ramp")]
+    | Annotated[Steps[Force], Tag("steps")] | Annotated[Table[Force], Tag("table")],
+    _PROFILE,
+]
+TorqueProfile = Annotated[
+    Annotated[TorqueNonNeg, Tag("constant")] | Annotated[Ramp[TorqueNonNeg], Tag("ramp")]
+    | Annotated[Steps[TorqueNonNeg], Tag("steps")]
+    | Annotated[Table[TorqueNonNeg], Tag("table")],
+    _PROFILE,
+]
+Profile = SpeedProfile | TensionProfile | TorqueProfile
