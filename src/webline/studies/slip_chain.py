@@ -11,9 +11,9 @@ conserved across a slipping roller.
 Two integrators, built on the same right-hand side:
 
 - ``simulate_fixed``: fixed-step RK4 at ``dt`` with the stick/slip state updated once per step
-  by ``slip_state`` and held through the stages — the scheme proposed for the compiled kernel;
-- ``simulate_events``: scipy ``solve_ivp`` that locates every stick/slip switch as an event
-  and restarts there — the reference that measures the fixed-step path's error.
+  by ``slip_state`` and held through the stages — the scheme the compiled kernel uses;
+- ``slip_events.simulate_events``: scipy ``solve_ivp`` that locates every stick/slip switch as
+  an event and restarts there — the reference that measures the fixed-step path's error.
 
 Both also integrate the unstrained web that entered at roller 0 and left at roller n, the
 slip power and the length slid at each roller, for the conservation and second-law checks.
@@ -28,7 +28,6 @@ from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
-from scipy.integrate import solve_ivp
 from scipy.optimize import fsolve
 
 from webline.physics import slip as sl
@@ -139,7 +138,7 @@ def evaluate(chain: Chain, t: float, y: np.ndarray, modes: np.ndarray,
     """Right-hand side of the chain at time ``t`` [s], state ``y``, held stick/slip ``modes``;
     writes dy/dt into ``dy`` when given. State: span stretch forces [N], idle-roller speeds
     [rad/s], then unstrained web in and out [m], slip energy [J], length slid per roller [m]."""
-    lay = _layout(chain)
+    lay = chain_layout(chain)
     n, n_r = lay.n, lay.n_rollers
     tension = np.array([sp.tension(y[k]) for k in range(n)])
     t_up = np.empty(n_r)
@@ -189,7 +188,7 @@ def evaluate(chain: Chain, t: float, y: np.ndarray, modes: np.ndarray,
     return Point(tension, t_up, t_down, surface, slip, power)
 
 
-def _layout(chain: Chain) -> _Layout:
+def chain_layout(chain: Chain) -> _Layout:
     return _Layout(chain.n_spans, chain.idle, len(chain.rollers))
 
 
@@ -242,7 +241,7 @@ def stored_web(chain: Chain, y: np.ndarray) -> float:
 def initial_state(chain: Chain, tensions: np.ndarray,
                   omegas: np.ndarray | None = None) -> np.ndarray:
     """State vector with span ``tensions`` [N], idle-roller ``omegas`` [rad/s], integrals 0."""
-    lay = _layout(chain)
+    lay = chain_layout(chain)
     y = np.zeros(lay.size)
     y[:lay.n] = tensions
     if omegas is not None:
@@ -255,7 +254,7 @@ def steady_state(chain: Chain, t: float, guess: np.ndarray) -> tuple[np.ndarray,
     there), and the consistent stick/slip state: all stuck if that equilibrium lies inside
     every stiction band, else the rollers outside it slipping (repeated until consistent).
     ``guess``: the state vector to start from. Returns (state vector, modes)."""
-    lay = _layout(chain)
+    lay = chain_layout(chain)
     modes = np.zeros(lay.n_rollers, dtype=int)
     y = guess.copy()
     for _ in range(len(chain.rollers) + 1):
@@ -289,10 +288,10 @@ def _rk4_step(chain: Chain, t: float, y: np.ndarray, h: float, modes: np.ndarray
     return y + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
 
 
-def _record(chain: Chain, times: list[float], states: list[np.ndarray],
+def record_run(chain: Chain, times: list[float], states: list[np.ndarray],
             modes: list[np.ndarray], y0: np.ndarray,
             switch_times: list[list[float]]) -> Run:
-    lay = _layout(chain)
+    lay = chain_layout(chain)
     pts = [evaluate(chain, t, y, m) for t, y, m in zip(times, states, modes, strict=True)]
     ys = np.array(states)
     stored0 = stored_web(chain, y0)
@@ -336,87 +335,7 @@ def simulate_fixed(chain: Chain, y0: np.ndarray, modes0: np.ndarray, duration: f
         if j == n_steps:
             break
         y = _rk4_step(chain, t, y, dt, modes)
-    return _record(chain, times, states, mode_rec, y0, switch_times)
-
-
-def _event_margin(chain: Chain, r: int, t: float, y: np.ndarray, mode: int) -> float:
-    """Signed distance [N] of F from the switching boundary of roller ``r`` in ``mode``:
-    positive while the mode holds (stuck: inside the stiction band; slipping: outside the
-    Coulomb band)."""
-    modes = np.zeros(len(chain.rollers), dtype=int)
-    point = evaluate(chain, t, y, modes)
-    c = chain.rollers[r].contact
-    assert c is not None
-    t_in, t_out = point.t_up[r], point.t_down[r]
-    t_c = sl.centrifugal_tension(c.mass_per_length, point.surface[r])
-    f = t_in - t_out
-    fs_fwd = sl.stiction_limit(t_in, c.wrap, c.mu, t_c, 1.0)
-    fs_back = sl.stiction_limit(t_in, c.wrap, c.mu, t_c, -1.0)
-    if mode == 0:
-        return min(fs_fwd - f, fs_back + f)
-    ratio = c.mu_k / c.mu
-    return max(f - ratio * fs_fwd, -ratio * fs_back - f)
-
-
-def simulate_events(chain: Chain, y0: np.ndarray, modes0: np.ndarray, duration: float,
-                    t_eval: np.ndarray, *, method: str = "DOP853", rtol: float = 1e-10,
-                    atol: float = 1e-9, max_step: float = 0.01, t0: float = 0.0) -> Run:
-    """Adaptive reference: ``solve_ivp`` between stick/slip switches located as events
-    (break-away when F leaves the stiction band, re-stick when it enters the Coulomb band).
-    Rollers with μ' = μ0 have no hysteresis and are kept in the slipping state (their slip
-    velocity is already continuous and zero inside the band). Samples at ``t_eval`` [s]."""
-    lay = _layout(chain)
-    hysteresis = [r for r, roller in enumerate(chain.rollers)
-                  if roller.contact is not None and roller.contact.law == "webline"
-                  and roller.contact.mu_k < roller.contact.mu]
-    modes = np.asarray(modes0, dtype=int).copy()
-    for r, roller in enumerate(chain.rollers):
-        if roller.contact is not None and r not in hysteresis and roller.contact.law == "webline":
-            modes[r] = 1
-    t_end = t0 + duration
-    t, y = t0, y0.copy()
-    times: list[float] = []
-    states: list[np.ndarray] = []
-    mode_rec: list[np.ndarray] = []
-    switch_times: list[list[float]] = [[] for _ in chain.rollers]
-    while True:
-        events = []
-        for r in hysteresis:
-            def event(tt: float, yy: np.ndarray, r: int = r, m: int = int(modes[r])) -> float:
-                return _event_margin(chain, r, tt, yy, m)
-
-            event.terminal = True  # type: ignore[attr-defined]
-            event.direction = -1  # type: ignore[attr-defined]
-            events.append(event)
-
-        def rhs(tt: float, yy: np.ndarray, modes: np.ndarray = modes) -> np.ndarray:
-            dy = np.empty(lay.size)
-            evaluate(chain, tt, yy, modes, dy)
-            return dy
-
-        mask = (t_eval >= t) & (t_eval <= t_end)
-        sol = solve_ivp(rhs, (t, t_end), y, method=method, t_eval=t_eval[mask], events=events,
-                        rtol=rtol, atol=atol, max_step=max_step)
-        for tt, yy in zip(sol.t, sol.y.T, strict=True):
-            if times and tt <= times[-1]:
-                continue
-            times.append(float(tt))
-            states.append(yy.copy())
-            mode_rec.append(modes.copy())
-        if sol.status != 1:
-            break
-        # the first event that fired ends this segment
-        hits = [(ev[0], j) for j, ev in enumerate(sol.t_events) if len(ev)]
-        t_hit, j = min(hits)
-        r = hysteresis[j]
-        y = sol.y_events[j][0].copy()
-        t = float(t_hit)
-        modes = modes.copy()
-        modes[r] = 1 - modes[r]
-        switch_times[r].append(t)
-        if t >= t_end:
-            break
-    return _record(chain, times, states, mode_rec, y0, switch_times)
+    return record_run(chain, times, states, mode_rec, y0, switch_times)
 
 
 def with_contact(chain: Chain, roller: int, contact: Contact | None) -> Chain:

@@ -37,10 +37,10 @@ from webline.studies.slip_chain import (
     Run,
     constant,
     initial_state,
-    simulate_events,
     simulate_fixed,
     steady_state,
 )
+from webline.studies.slip_events import simulate_events
 from webline.units import ureg
 
 DATA_PACKAGE = "webline.data.slip"
