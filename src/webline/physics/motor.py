@@ -1,11 +1,7 @@
-"""Drive motors: a first-order torque loop with a torque limit (thesis 4.1k)."""
+"""Drive motors: the torque limit. (The first-order torque loop of thesis 4.1k,
+dτ/dt = (command - τ)/lag, is written out in the kernel with a precomputed 1/lag.)"""
 
 from __future__ import annotations
-
-
-def torque_rate(torque: float, command: float, lag: float) -> float:
-    """dτ/dt [N·m/s]: ``torque`` [N·m] follows ``command`` [N·m] with time constant ``lag`` [s]."""
-    return (command - torque) / lag
 
 
 def saturate(command: float, limit: float) -> float:

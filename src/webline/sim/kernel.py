@@ -4,9 +4,10 @@ Between controller ticks the torque commands are held (zero-order hold) and the 
 integrated with fixed-step RK4 sub-steps; at each tick every controller samples the state
 and issues a saturated torque command (``webline.sim.controllers``).
 
-State vector layout (offsets from ``plan.Offsets``): span stretch forces [N], node angular
-speeds [rad/s], unwind and rewind radii [m], motor torques [N·m], eccentric-roller angles
-[rad], and two web-length integrals [m] (unstrained web unwound and rewound).
+State vector layout (block starts in ``plan.offsets``, names in ``plan.state_names``): span
+stretch forces [N], node angular speeds [rad/s], unwind and rewind radii [m], motor torques
+[N·m], eccentric-roller angles [rad], motor speed [rad/s] and twist [rad] of each compliant
+transmission, and two web-length integrals [m] (unstrained web unwound and rewound).
 """
 
 from __future__ import annotations

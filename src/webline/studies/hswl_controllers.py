@@ -40,6 +40,7 @@ from webline.control.lumped import without_idlers
 from webline.control.select import Family, with_controller
 from webline.line import Line
 from webline.sim.result import Result
+from webline.studies.output import pyplot
 from webline.studies.result import StudyResult
 from webline.units import display_factor
 
@@ -202,10 +203,7 @@ def _write_table(rows: list[dict[str, object]], path: Path) -> None:
 
 def _case_figure(result: Result, case: Case, fpm: float, start: float, path: Path) -> Path:
     """Master speed error [ft/min] and each zone's tension error [lbf] over time."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     from webline.report.figures import envelope
 
@@ -236,10 +234,7 @@ def _case_figure(result: Result, case: Case, fpm: float, start: float, path: Pat
 
 def _summary_figure(rows: list[dict[str, object]], path: Path) -> Path:
     """RMS tension error per span, grouped by controller, one panel per speed [lbf]."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     t_factor, t_unit = display_factor("force", "imperial")
     spans = list(dict.fromkeys(str(r["span"]) for r in rows if r["span"]))

@@ -28,7 +28,7 @@ from typing import Any, Literal
 import numpy as np
 
 from webline.physics import slip as sl
-from webline.studies.output import save
+from webline.studies.output import pyplot, save
 from webline.studies.result import StudyResult
 from webline.studies.slip_chain import (
     Chain,
@@ -307,10 +307,7 @@ def _switch_shift(a: Run, b: Run) -> float:
 
 
 def _figure(p: FreeSpan, printed: dict[str, Run], ours: dict[str, Run], path: Path) -> Path:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, axes = plt.subplots(2, 2, figsize=(11, 7), sharex=True)
     styles = ["--", "-", ":", "-."]

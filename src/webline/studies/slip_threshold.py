@@ -29,7 +29,7 @@ import numpy as np
 import webline
 from webline.analysis import slip as an
 from webline.line import Line
-from webline.studies.output import save
+from webline.studies.output import pyplot, save
 from webline.studies.result import StudyResult
 from webline.studies.slip_chain import (
     Chain,
@@ -308,18 +308,9 @@ def analyse(out_dir: Path, *, quick: bool = False) -> Analysis:
     )
 
 
-def _plt() -> Any:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 def _steady_figure(steady: list[dict[str, Any]], draw: list[dict[str, Any]], c: HswlContact,
                    path: Path) -> Path:
-    plt = _plt()
+    plt = pyplot()
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4))
     for tension in sorted({r["tension_lbf"] for r in steady}):
         rows = [r for r in steady if r["roller"] == "idler" and r["tension_lbf"] == tension
@@ -343,7 +334,7 @@ def _steady_figure(steady: list[dict[str, Any]], draw: list[dict[str, Any]], c: 
 
 
 def _transient_figure(result: webline.Result, c: HswlContact, path: Path) -> Path:
-    plt = _plt()
+    plt = pyplot()
     needs = an.needs_along(result, c.wraps)
     fig, ax = plt.subplots(figsize=(8, 3.5))
     for name, values in needs.items():
@@ -356,7 +347,7 @@ def _transient_figure(result: webline.Result, c: HswlContact, path: Path) -> Pat
 
 
 def _failure_figure(failure: dict[str, Run], c: HswlContact, path: Path) -> Path:
-    plt = _plt()
+    plt = pyplot()
     fig, (ax1, ax2, ax3) = plt.subplots(1, 3, figsize=(13, 4))
     zoom = c.start + 2.5
     for (name, r), style in zip(failure.items(), ["-", "--", ":"], strict=False):
