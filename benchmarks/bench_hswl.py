@@ -109,11 +109,10 @@ def main(argv: list[str] | None = None) -> int:
     substeps = choose_substeps(line, plan.dt)
     every = max(1, math.ceil((n_ticks + 1) / MAX_RECORDS))
     x0, istate0 = equilibrium_plan_state(plan)
-    params = plan.params()
 
     def kernel_call() -> object:
-        return kernel.run(x0, istate0, plan.initial_slip(x0), 0, n_ticks, plan.dt, substeps,
-                          every, True, *params)
+        return kernel.run(plan, x0, istate0, plan.initial_slip(x0), 0, n_ticks, substeps,
+                          every, True)
 
     kernel_call()
     t_kernel, all_kernel = timed(kernel_call, repeat)

@@ -26,9 +26,8 @@ def plant_derivative(line: webline.Line, op: webline.OperatingPoint):
         x[index] = z
         dx = np.empty_like(x)
         t0 = kernel.wound_in(op.time, plan.web, plan.wound_ripple)
-        kernel.rhs(t0, x, u, drag, slipping, plan.nodes, plan.spans, plan.drives, plan.web,
-                   plan.offsets,
-                   dx, work)
+        kernel.rhs(t0, x, u, drag, slipping, *plan.structure(), plan.nodes, plan.spans,
+                   plan.drives, plan.web, dx, work)
         return dx[index]
 
     return f, x_op[index], plan

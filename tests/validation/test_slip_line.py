@@ -1,7 +1,7 @@
 """Web slip inside the simulated line (issue 6, thesis Ch. 5).
 
 A disturbance downstream of a slipping roller reaches the span upstream of it (5.33 with web
-speeds); with enough friction the slip model is exactly the no-slip model; slip dissipates
+speeds); with enough friction the slip model is the no-slip model to rounding; slip dissipates
 power, never produces it (second law, E-5.3); web length is conserved with slip.
 """
 
@@ -32,9 +32,13 @@ def adhered(hswl):
 
 
 def test_enough_friction_gives_the_no_slip_model_exactly(hswl, adhered):
+    """Same trajectory to rounding: the traction line is another structure, so another
+    compiled loop (``kernel.compiled_loop``) whose fast-math sums may round differently
+    (measured: 1e-15 relative); 1e-12 leaves room and still catches any model difference."""
     result = webline.simulate(process_roller_contact(hswl, 1.0), 6.0)
     assert not result.slipping.any()
-    assert np.array_equal(result.states, adhered.states)
+    scale = np.abs(adhered.states).max(axis=0)
+    assert (np.abs(result.states - adhered.states) / scale).max() < 1e-12
 
 
 def test_upstream_span_responds_when_the_roller_slips(hswl, adhered):

@@ -34,20 +34,22 @@ _saturate: Any = jit(motor.saturate)
 
 
 @jit
-def node_radius(i: int, x: np.ndarray, nodes: np.ndarray, off_r: int) -> float:
+def node_radius(i: int, x: np.ndarray, ns: np.ndarray, offsets: np.ndarray,
+                nodes: np.ndarray) -> float:
     """Radius [m] a drive works with: the roll radius state, or the nominal roller radius."""
-    kind = int(nodes[i, L.N_KIND])
+    kind = ns[i, L.NS_KIND]
     if kind == L.KIND_UNWIND:
-        return x[off_r]
+        return x[offsets[L.O_RADIUS]]
     if kind == L.KIND_REWIND:
-        return x[off_r + 1]
+        return x[offsets[L.O_RADIUS] + 1]
     return nodes[i, L.N_RADIUS]
 
 
 @jit
-def node_inertia(i: int, radius: float, nodes: np.ndarray, web: np.ndarray) -> float:
+def node_inertia(i: int, radius: float, ns: np.ndarray, nodes: np.ndarray,
+                 web: np.ndarray) -> float:
     """Inertia [kg·m²] at the shaft of node ``i`` whose radius is ``radius`` [m]."""
-    kind = int(nodes[i, L.N_KIND])
+    kind = ns[i, L.NS_KIND]
     if kind == L.KIND_UNWIND or kind == L.KIND_REWIND:
         return _roll_inertia(nodes[i, L.N_JCONST], radius, nodes[i, L.N_CORE], web[L.W_WIDTH],
                              web[L.W_DENSITY])
@@ -55,25 +57,25 @@ def node_inertia(i: int, radius: float, nodes: np.ndarray, web: np.ndarray) -> f
 
 
 @jit
-def drive_inertia(d: int, i: int, radius: float, nodes: np.ndarray, drives: np.ndarray,
-                  web: np.ndarray) -> float:
+def drive_inertia(d: int, i: int, radius: float, ns: np.ndarray, ds: np.ndarray,
+                  nodes: np.ndarray, drives: np.ndarray, web: np.ndarray) -> float:
     """Inertia [kg·m²] drive ``d`` accelerates, seen at its roller: the node's, plus the
     reflected motor across a compliant transmission (a rigid one already includes it)."""
-    inertia = node_inertia(i, radius, nodes, web)
-    if drives[d, L.D_TSTATE] >= 0:
+    inertia = node_inertia(i, radius, ns, nodes, web)
+    if ds[d, L.DS_TSTATE] >= 0:
         inertia += drives[d, L.D_RATIO] ** 2 * drives[d, L.D_JMOTOR]
     return inertia
 
 
 @jit
-def roll_direction(i: int, nodes: np.ndarray) -> float:
-    kind = int(nodes[i, L.N_KIND])
+def roll_direction(i: int, ns: np.ndarray) -> float:
+    kind = ns[i, L.NS_KIND]
     return -1.0 if kind == L.KIND_UNWIND else (1.0 if kind == L.KIND_REWIND else 0.0)
 
 
 @jit
-def reference_state(a_line: float, refs: np.ndarray, nodes: np.ndarray, drives: np.ndarray,
-                    web: np.ndarray, offsets: np.ndarray, span_ref: np.ndarray,
+def reference_state(a_line: float, refs: np.ndarray, ds: np.ndarray, offsets: np.ndarray,
+                    nodes: np.ndarray, web: np.ndarray, span_ref: np.ndarray,
                     v_ref: np.ndarray, a_ref: np.ndarray) -> None:
     """Reference tension of every span, web speed and acceleration of every node [SI].
 
@@ -83,11 +85,11 @@ def reference_state(a_line: float, refs: np.ndarray, nodes: np.ndarray, drives: 
     """
     ea = web[L.W_EA]
     n_spans = span_ref.shape[0]
-    master = offsets[7]
-    for d in range(drives.shape[0]):
-        if int(drives[d, L.D_ROLE]) == L.ROLE_TENSION:
-            for k in range(int(drives[d, L.D_ZFIRST]), int(drives[d, L.D_ZLAST])):
-                span_ref[k] = refs[int(drives[d, L.D_REF])]
+    master = offsets[L.O_MASTER]
+    for d in range(ds.shape[0]):
+        if ds[d, L.DS_ROLE] == L.ROLE_TENSION:
+            for k in range(ds[d, L.DS_ZFIRST], ds[d, L.DS_ZLAST]):
+                span_ref[k] = refs[ds[d, L.DS_REF]]
     for sweep in range(2):
         t_master = web[L.W_T0] if master == 0 else span_ref[master - 1]
         for i in range(n_spans + 1):
@@ -97,11 +99,11 @@ def reference_state(a_line: float, refs: np.ndarray, nodes: np.ndarray, drives: 
             a_ref[i] = a_line * ratio
         if sweep == 1:
             break
-        for d in range(drives.shape[0]):
-            if int(drives[d, L.D_ROLE]) != L.ROLE_TENSION:
+        for d in range(ds.shape[0]):
+            if ds[d, L.DS_ROLE] != L.ROLE_TENSION:
                 continue
-            first, last = int(drives[d, L.D_ZFIRST]), int(drives[d, L.D_ZLAST])
-            loadcell = int(drives[d, L.D_LOADCELL])
+            first, last = ds[d, L.DS_ZFIRST], ds[d, L.DS_ZLAST]
+            loadcell = ds[d, L.DS_LOADCELL]
             for k in range(loadcell + 1, last):
                 span_ref[k] = span_ref[k - 1] + _idle_drop(k, v_ref, a_ref, nodes)
             for k in range(loadcell, first, -1):
@@ -120,12 +122,12 @@ def _idle_drop(i: int, v_ref: np.ndarray, a_ref: np.ndarray, nodes: np.ndarray) 
 
 @jit
 def equilibrium_input(i: int, radius: float, inertia: float, friction: float,
-                      nodes: np.ndarray, web: np.ndarray, span_ref: np.ndarray,
+                      ns: np.ndarray, nodes: np.ndarray, web: np.ndarray, span_ref: np.ndarray,
                       v_ref: np.ndarray, a_ref: np.ndarray) -> float:
     """Motor torque [N·m] that holds node ``i`` on its reference (6.20, 6.28, 6.32, 6.37 with
     E-6.1, E-6.2), for a viscous friction coefficient ``friction`` [N·m·s]."""
     omega = v_ref[i] / radius
-    r_dot = _radius_rate(v_ref[i], radius, web[L.W_THICK], roll_direction(i, nodes))
+    r_dot = _radius_rate(v_ref[i], radius, web[L.W_THICK], roll_direction(i, ns))
     accel = a_ref[i] / radius - v_ref[i] * r_dot / (radius * radius)
     t_out = span_ref[i] if i < span_ref.shape[0] else 0.0
     t_in = span_ref[i - 1] if i > 0 else 0.0
@@ -135,10 +137,11 @@ def equilibrium_input(i: int, radius: float, inertia: float, friction: float,
 
 
 @jit
-def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, nodes: np.ndarray,
-                 drives: np.ndarray, web: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
-                 prof_off: np.ndarray, speed_ripple: np.ndarray, offsets: np.ndarray,
-                 out: np.ndarray, refs: np.ndarray, span_ref: np.ndarray, v_ref: np.ndarray,
+def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np.ndarray,
+                 ds: np.ndarray, offsets: np.ndarray, nodes: np.ndarray, drives: np.ndarray,
+                 web: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
+                 prof_off: np.ndarray, speed_ripple: np.ndarray, out: np.ndarray,
+                 refs: np.ndarray, span_ref: np.ndarray, v_ref: np.ndarray,
                  a_ref: np.ndarray) -> None:
     """One sample of every drive's controller at tick ``tick`` (t = tick·dt [s]).
 
@@ -150,43 +153,43 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, nodes:
     t = tick * dt
     for p in range(prof_off.shape[0] - 1):
         refs[p] = profile_at(p, t, prof_t, prof_v, prof_off)
-    if web[L.W_NEED_EQ] > 0.0:
+    if offsets[L.O_NEED_EQ]:
         a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)
-        reference_state(a_line, refs, nodes, drives, web, offsets, span_ref, v_ref, a_ref)
+        reference_state(a_line, refs, ds, offsets, nodes, web, span_ref, v_ref, a_ref)
     seed = int(web[L.W_SEED])
-    for d in range(drives.shape[0]):
-        i = int(drives[d, L.D_NODE])
-        radius = node_radius(i, x, nodes, offsets[2])
-        v_meas = radius * x[offsets[1] + i]
+    for d in range(ds.shape[0]):
+        i = ds[d, L.DS_NODE]
+        radius = node_radius(i, x, ns, offsets, nodes)
+        v_meas = radius * x[offsets[L.O_OMEGA] + i]
         # the motor's encoder, across a compliant transmission (a rigid drive has no motor
         # state: its motor speed is ratio x roller speed, the same measurement as the load's)
-        if drives[d, L.D_FEEDBACK] > 0.0 and drives[d, L.D_TSTATE] >= 0.0:
-            v_meas = radius * x[int(drives[d, L.D_TSTATE])] / drives[d, L.D_RATIO]
-        if web[L.W_NOISE_V] > 0.0:
+        if ds[d, L.DS_FEEDBACK] > 0 and ds[d, L.DS_TSTATE] >= 0:
+            v_meas = radius * x[ds[d, L.DS_TSTATE]] / drives[d, L.D_RATIO]
+        if offsets[L.O_NOISE] and web[L.W_NOISE_V] > 0.0:
             v_meas += web[L.W_NOISE_V] * gaussian(seed, tick, 2 * d)
-        loadcell = int(drives[d, L.D_LOADCELL])
+        loadcell = ds[d, L.DS_LOADCELL]
         t_meas = 0.0
         if loadcell >= 0:
             t_meas = _tension(x[loadcell])
-            if web[L.W_NOISE_T] > 0.0:
+            if offsets[L.O_NOISE] and web[L.W_NOISE_T] > 0.0:
                 t_meas += web[L.W_NOISE_T] * gaussian(seed, tick, 2 * d + 1)
         gain = 1.0
-        if drives[d, L.D_ADAPTIVE] > 0.0:
-            inertia = drive_inertia(d, i, radius, nodes, drives, web)
+        if ds[d, L.DS_ADAPTIVE] > 0:
+            inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
             gain = inertia / (nodes[i, L.N_RATIO] * radius) / drives[d, L.D_GAINNORM]
-        family = int(drives[d, L.D_FAMILY])
-        if family == L.FAMILY_PI:
-            pi_command(d, t, dt, v_meas, t_meas, gain, istate, drives, web, refs, speed_ripple,
-                       offsets, out)
+        if ds[d, L.DS_FAMILY] == L.FAMILY_PI:
+            pi_command(d, t, dt, v_meas, t_meas, gain, istate, ds, offsets, drives, web, refs,
+                       speed_ripple, out)
         else:
-            decentralized_command(d, i, dt, radius, v_meas, t_meas, gain, istate, nodes,
-                                  drives, web, span_ref, v_ref, a_ref, out)
+            decentralized_command(d, i, dt, radius, v_meas, t_meas, gain, istate, ns, ds,
+                                  nodes, drives, web, span_ref, v_ref, a_ref, out)
 
 
 @jit
 def pi_command(d: int, t: float, dt: float, v_meas: float, t_meas: float, gain: float,
-               istate: np.ndarray, drives: np.ndarray, web: np.ndarray, refs: np.ndarray,
-               speed_ripple: np.ndarray, offsets: np.ndarray, out: np.ndarray) -> None:
+               istate: np.ndarray, ds: np.ndarray, offsets: np.ndarray, drives: np.ndarray,
+               web: np.ndarray, refs: np.ndarray, speed_ripple: np.ndarray,
+               out: np.ndarray) -> None:
     """Cascaded PI of drive ``d`` (thesis 4.1i-j, trim sign per E-4.1).
 
     Line speed x draw (from the tension references) + ripple is the speed feedforward; the
@@ -195,17 +198,17 @@ def pi_command(d: int, t: float, dt: float, v_meas: float, t_meas: float, gain: 
     (conditional integration).
     """
     ea = web[L.W_EA]
-    up = int(drives[d, L.D_UPREF])
+    up = ds[d, L.DS_UPREF]
     t_up = web[L.W_T0] if up < 0 else refs[up]
-    ref = refs[0] * (ea - refs[offsets[6]]) / (ea - t_up)
+    ref = refs[0] * (ea - refs[offsets[L.O_MASTER_UP]]) / (ea - t_up)
     for r in range(speed_ripple.shape[0]):
         if int(speed_ripple[r, 0]) == d:
             ref += speed_ripple[r, 1] * math.sin(2.0 * math.pi * speed_ripple[r, 2] * t
                                                  + speed_ripple[r, 3])
     e_t = 0.0
     trim = 0.0
-    if int(drives[d, L.D_ROLE]) == L.ROLE_TENSION:
-        e_t = refs[int(drives[d, L.D_REF])] - t_meas
+    if ds[d, L.DS_ROLE] == L.ROLE_TENSION:
+        e_t = refs[ds[d, L.DS_REF]] - t_meas
         trim = drives[d, L.D_SIGMA] * (drives[d, L.D_KPT] * e_t + istate[d, L.I_TENSION])
     e_v = ref + trim - v_meas
     raw = drives[d, L.D_KPS] * gain * e_v + istate[d, L.I_SPEED]
@@ -223,21 +226,23 @@ def pi_command(d: int, t: float, dt: float, v_meas: float, t_meas: float, gain: 
 
 @jit
 def decentralized_command(d: int, i: int, dt: float, radius: float, v_meas: float,
-                          t_meas: float, gain: float, istate: np.ndarray, nodes: np.ndarray,
-                          drives: np.ndarray, web: np.ndarray, span_ref: np.ndarray,
-                          v_ref: np.ndarray, a_ref: np.ndarray, out: np.ndarray) -> None:
+                          t_meas: float, gain: float, istate: np.ndarray, ns: np.ndarray,
+                          ds: np.ndarray, nodes: np.ndarray, drives: np.ndarray,
+                          web: np.ndarray, span_ref: np.ndarray, v_ref: np.ndarray,
+                          a_ref: np.ndarray, out: np.ndarray) -> None:
     """State feedback or adaptive control of drive ``d`` on node ``i`` (module docstring)."""
-    inertia = drive_inertia(d, i, radius, nodes, drives, web)
+    inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
     ratio = nodes[i, L.N_RATIO]
-    adaptive = int(drives[d, L.D_FAMILY]) == L.FAMILY_ADAPTIVE
+    adaptive = ds[d, L.DS_FAMILY] == L.FAMILY_ADAPTIVE
     friction = istate[d, L.I_FRICTION] if adaptive else drives[d, L.D_BMODEL]
-    u_eq = equilibrium_input(i, radius, inertia, friction, nodes, web, span_ref, v_ref, a_ref)
+    u_eq = equilibrium_input(i, radius, inertia, friction, ns, nodes, web, span_ref, v_ref,
+                             a_ref)
     u_eq += drives[d, L.D_BMOTOR] * ratio * v_ref[i] / radius  # the motor's own friction
-    loadcell = int(drives[d, L.D_LOADCELL])
+    loadcell = ds[d, L.DS_LOADCELL]
     x_t = t_meas - span_ref[loadcell] if loadcell >= 0 else 0.0
     x_v = v_meas - v_ref[i]
     # cancel the roll's velocity-squared term around the reference (the f_i of 6.39, 6.42)
-    direction = roll_direction(i, nodes)
+    direction = roll_direction(i, ns)
     comp = 0.0
     if direction != 0.0:
         scale = direction * inertia * web[L.W_THICK] / (2.0 * math.pi * radius**3)

@@ -4,6 +4,11 @@ Between controller ticks the torque commands are held (zero-order hold) and the 
 integrated with fixed-step RK4 sub-steps; at each tick every controller samples the state
 and issues a saturated torque command (``webline.sim.controllers``).
 
+The loop is compiled once per line *structure* (``compiled_loop``): the integer tables of
+``webline.sim.layout`` are frozen into it as constants, so its loops over nodes and drives
+unroll and the branches on node kind, transmission, controller family and features fold
+away. Parameters stay run-time arrays, so changing a value never recompiles.
+
 State vector layout (block starts in ``plan.offsets``, names in ``plan.state_names``): span
 stretch forces [N], node angular speeds [rad/s], unwind and rewind radii [m], motor torques
 [N·m], eccentric-roller angles [rad], motor speed [rad/s] and twist [rad] of each compliant
@@ -12,15 +17,19 @@ transmission, and two web-length integrals [m] (unstrained web unwound and rewou
 
 from __future__ import annotations
 
+import functools
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from webline.physics import backlash, roll, roller, slip, span
 from webline.sim import layout as L
 from webline.sim.controllers import control_tick
-from webline.sim.signals import jit, njit, profile_at, sines
+from webline.sim.signals import jit, loop_njit, njit, profile_at, sines
+
+if TYPE_CHECKING:
+    from webline.sim.plan import Plan
 
 _tension: Any = jit(span.tension)
 _roll_inertia: Any = jit(roll.roll_inertia)
@@ -40,14 +49,15 @@ def wound_in(t: float, web: np.ndarray, wound_ripple: np.ndarray) -> float:
 
 
 @jit
-def node_arm(i: int, x: np.ndarray, nodes: np.ndarray, off_w: int, off_r: int) -> float:
+def node_arm(i: int, x: np.ndarray, ns: np.ndarray, offsets: np.ndarray,
+             nodes: np.ndarray) -> float:
     """Effective radius [m] of node ``i``: roll radius state, or roller radius + eccentricity."""
-    kind = int(nodes[i, L.N_KIND])
+    kind = ns[i, L.NS_KIND]
     if kind == L.KIND_UNWIND:
-        return x[off_r]
+        return x[offsets[L.O_RADIUS]]
     if kind == L.KIND_REWIND:
-        return x[off_r + 1]
-    ecc_state = int(nodes[i, L.N_ECCSTATE])
+        return x[offsets[L.O_RADIUS] + 1]
+    ecc_state = ns[i, L.NS_ECCSTATE]
     if ecc_state >= 0:
         return nodes[i, L.N_RADIUS] + nodes[i, L.N_ECC] * math.cos(x[ecc_state])
     return nodes[i, L.N_RADIUS]
@@ -55,12 +65,14 @@ def node_arm(i: int, x: np.ndarray, nodes: np.ndarray, off_w: int, off_r: int) -
 
 @jit
 def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: np.ndarray,
-        nodes: np.ndarray, spans: np.ndarray, drives: np.ndarray, web: np.ndarray,
-        offsets: np.ndarray, dx: np.ndarray, work: np.ndarray) -> None:
+        ns: np.ndarray, ds: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
+        spans: np.ndarray, drives: np.ndarray, web: np.ndarray, dx: np.ndarray,
+        work: np.ndarray) -> None:
     """Plant derivative dx/dt into ``dx`` with held torque commands ``cmd`` [N·m], held drag
     torques ``drag`` [N·m] (brakes, failing bearings: per node), held stick/slip states
-    ``slipping`` (per node) and the unwind's
-    wound-in tension ``t0`` [N] at that instant (see ``wound_in``); nothing else depends on time.
+    ``slipping`` (per node) and the unwind's wound-in tension ``t0`` [N] at that instant (see
+    ``wound_in``); nothing else depends on time. ``ns``, ``ds``, ``offsets`` are the line's
+    structure, the other tables its parameters (``webline.sim.layout``).
 
     Where the web slips over a roller (Ch. 5, E-5.3) the spans on both sides see the web
     speed r ω - s, s from ``physics.slip.slip_velocity``; the roller still feels
@@ -70,19 +82,20 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
     with J dω/dt = torque, motor lag 4.1k), written out with precomputed reciprocals because
     this function is the simulation's inner loop. ``work`` is scratch of 3 x nodes.
     """
-    n_spans = spans.shape[0]
-    n_nodes = nodes.shape[0]
+    n_nodes = ns.shape[0]
+    n_spans = n_nodes - 1
     last = n_nodes - 1
-    off_w, off_r, off_tq, off_q = offsets[1], offsets[2], offsets[3], offsets[5]
+    off_w, off_r = offsets[L.O_OMEGA], offsets[L.O_RADIUS]
+    off_tq, off_q = offsets[L.O_TORQUE], offsets[L.O_WEB]
     ea = web[L.W_EA]
     # work = [arm of each node | web speed of each node | tension of each span]
     sp, te = n_nodes, 2 * n_nodes
     for k in range(n_spans):
         work[te + k] = _tension(x[k])
     for i in range(n_nodes):
-        work[i] = node_arm(i, x, nodes, off_w, off_r)
+        work[i] = node_arm(i, x, ns, offsets, nodes)
         work[sp + i] = work[i] * x[off_w + i]
-        if slipping[i] != 0:
+        if ns[i, L.NS_TRACTION] != 0 and slipping[i] != 0:
             surface = work[sp + i]
             t_c = web[L.W_RHOA] * surface * surface
             work[sp + i] -= _slip_velocity(work[te + i - 1], work[te + i], nodes[i, L.N_WRAP],
@@ -101,23 +114,25 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
         t_out = work[te + i] if i < n_spans else 0.0
         t_up = work[te + i - 1] if i > 0 else 0.0
         torque = work[i] * (t_out - t_up) - nodes[i, L.N_VISCOUS] * omega
-        coulomb = nodes[i, L.N_COULOMB] + drag[i]  # a brake (4.12) or drag acts like it
+        coulomb = nodes[i, L.N_COULOMB]
+        if ns[i, L.NS_DRAG] >= 0:  # a brake (4.12) or drag acts like Coulomb friction
+            coulomb += drag[i]
         if coulomb != 0.0:
             torque -= _friction(omega, 0.0, coulomb)
-        d = int(nodes[i, L.N_DRIVE])
+        d = ns[i, L.NS_DRIVE]
         if d >= 0:
             n = drives[d, L.D_RATIO]
-            if drives[d, L.D_TSTATE] < 0.0:  # rigid: n τ less the reflected motor friction
+            if ds[d, L.DS_TSTATE] < 0:  # rigid: n τ less the reflected motor friction
                 torque += n * (x[off_tq + d] - n * drives[d, L.D_BMOTOR] * omega)
             else:
-                torque += compliant_torque(d, x, drives, offsets, dx)
+                torque += compliant_torque(d, x, ds, offsets, drives, dx)
         if i == 0 or i == last:
             inertia = _roll_inertia(nodes[i, L.N_JCONST], work[i], nodes[i, L.N_CORE], width,
                                     density)
             dx[off_w + i] = torque / inertia
         else:
             dx[off_w + i] = torque * nodes[i, L.N_INVJ]
-            ecc_state = int(nodes[i, L.N_ECCSTATE])
+            ecc_state = ns[i, L.NS_ECCSTATE]
             if ecc_state >= 0:
                 dx[ecc_state] = omega
 
@@ -125,7 +140,7 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
     dx[off_r] = _radius_rate(v_unwind, x[off_r], web[L.W_THICK], -1.0)
     dx[off_r + 1] = _radius_rate(v_rewind, x[off_r + 1], web[L.W_THICK], 1.0)
 
-    for d in range(drives.shape[0]):
+    for d in range(ds.shape[0]):
         dx[off_tq + d] = (cmd[d] - x[off_tq + d]) * drives[d, L.D_INVLAG]
 
     inv_ea = 1.0 / ea
@@ -134,22 +149,22 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
 
 
 @jit
-def update_slip(x: np.ndarray, slipping: np.ndarray, nodes: np.ndarray, web: np.ndarray,
-                offsets: np.ndarray) -> None:
+def update_slip(x: np.ndarray, slipping: np.ndarray, ns: np.ndarray, offsets: np.ndarray,
+                nodes: np.ndarray, web: np.ndarray) -> None:
     """Stick/slip state of every traction roller for the next tick (held over its stages, so
     the fixed step never chatters): ``physics.slip.slip_state`` on the sampled tensions."""
-    for i in range(1, nodes.shape[0] - 1):
-        if nodes[i, L.N_TRACTION] == 0.0:
+    for i in range(1, ns.shape[0] - 1):
+        if ns[i, L.NS_TRACTION] == 0:
             continue
-        surface = node_arm(i, x, nodes, offsets[1], offsets[2]) * x[offsets[1] + i]
+        surface = node_arm(i, x, ns, offsets, nodes) * x[offsets[L.O_OMEGA] + i]
         slipping[i] = _slip_state(_tension(x[i - 1]), _tension(x[i]), nodes[i, L.N_WRAP],
                                   nodes[i, L.N_MU], nodes[i, L.N_MUK],
                                   web[L.W_RHOA] * surface * surface, slipping[i])
 
 
 @jit
-def compliant_torque(d: int, x: np.ndarray, drives: np.ndarray, offsets: np.ndarray,
-                     dx: np.ndarray) -> float:
+def compliant_torque(d: int, x: np.ndarray, ds: np.ndarray, offsets: np.ndarray,
+                     drives: np.ndarray, dx: np.ndarray) -> float:
     """Torque [N·m] a compliant transmission passes to its roller shaft; writes the
     derivatives of its motor speed and twist into ``dx``.
 
@@ -157,74 +172,113 @@ def compliant_torque(d: int, x: np.ndarray, drives: np.ndarray, offsets: np.ndar
     form seen from the load shaft: J_m dω_m/dt = τ - T_s/n - b_m ω_m, d(twist)/dt = ω_m/n - ω,
     and the roller gets T_s.
     """
-    i = int(drives[d, L.D_NODE])
+    i = ds[d, L.DS_NODE]
     n = drives[d, L.D_RATIO]
-    state = int(drives[d, L.D_TSTATE])
+    state = ds[d, L.DS_TSTATE]
     omega_m = x[state]
-    rate = omega_m / n - x[offsets[1] + i]
+    rate = omega_m / n - x[offsets[L.O_OMEGA] + i]
     torque = _transmitted(x[state + 1], rate, drives[d, L.D_KTRANS], drives[d, L.D_CTRANS],
                           drives[d, L.D_GAPNEG], drives[d, L.D_GAPPOS])
-    dx[state] = (x[offsets[3] + d] - torque / n - drives[d, L.D_BMOTOR] * omega_m) / drives[
-        d, L.D_JMOTOR]
+    dx[state] = (x[offsets[L.O_TORQUE] + d] - torque / n - drives[d, L.D_BMOTOR] * omega_m) / (
+        drives[d, L.D_JMOTOR])
     dx[state + 1] = rate
     return torque
 
 
-@njit
-def run(x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick0: int, n_ticks: int,
-        dt: float, substeps: int, record_every: int, include_end: bool, nodes: np.ndarray,
-        spans: np.ndarray,
-        drives: np.ndarray, web: np.ndarray, wound_ripple: np.ndarray,
-        speed_ripple: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray,
-        offsets: np.ndarray) -> tuple[np.ndarray, int, int, float, np.ndarray, np.ndarray,
-                                      np.ndarray]:
-    """Simulate ``n_ticks`` controller periods of ``dt`` [s] from tick ``tick0``.
+def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick0: int,
+        n_ticks: int, substeps: int, record_every: int,
+        include_end: bool) -> tuple[np.ndarray, int, int, float, np.ndarray, np.ndarray,
+                                    np.ndarray]:
+    """Simulate ``n_ticks`` controller periods of ``plan.dt`` [s] from tick ``tick0``.
 
     A tick is recorded when its global index is a multiple of ``record_every``; with
     ``include_end`` the state after the last period is recorded too (a chunked run leaves it
     to the next chunk). Returns (records, number of records, status, time of failure, final
     state, final controller memory, final stick/slip states). Each record row is [t, x...,
     cmd..., vref..., trim..., u_eq..., friction estimate... (one value per drive in each
-    group), slip state per node...]. The
-    run stops early, keeping what it computed, if the state stops being finite or the unwind
-    roll runs out of web.
+    group), slip state per node...]. The run stops early, keeping what it computed, if the
+    state stops being finite or the unwind roll runs out of web.
+
+    This wrapper allocates every array; the compiled loop allocates none (``loop_njit``).
     """
-    n_x = x0.shape[0]
-    n_d = drives.shape[0]
-    n_n = nodes.shape[0]
-    width = 1 + n_x + 5 * n_d + n_n
-    rec = np.empty((n_ticks // record_every + 2, width))
-    x = x0.copy()
-    istate = istate0.copy()
-    slipping = slip0.copy()
+    n_x, n_d, n_n = x0.shape[0], plan.drives.shape[0], plan.nodes.shape[0]
+    x, istate, slipping = x0.copy(), istate0.copy(), slip0.copy()
+    rec = np.empty((n_ticks // record_every + 2, 1 + n_x + 5 * n_d + n_n))
     out = np.zeros((4, n_d))
+    stages = np.empty((5, n_x))  # RK4 slopes k1..k4 and the stage state
+    refs = np.empty((4, max(plan.prof_off.shape[0] - 1, n_n)))  # profiles|spans|v_ref|a_ref
+    work = np.zeros((2, 3 * n_n))  # rhs scratch | held drag torque per node
+    n_rec, status, t_fail = compiled_loop(plan)(
+        x, istate, slipping, rec, out, stages, refs, work, tick0, n_ticks, plan.dt, substeps,
+        record_every, include_end, *plan.params())
+    return rec, n_rec, status, t_fail, x, istate, slipping
+
+
+def compiled_loop(plan: Plan) -> Any:
+    """The simulation loop compiled for ``plan``'s structure (module docstring)."""
+    ns, ds, offsets = plan.structure()
+    return _compiled(tuple(map(tuple, ns.tolist())), tuple(map(tuple, ds.tolist())),
+                     tuple(offsets.tolist()))
+
+
+@functools.cache
+def _compiled(node_rows: tuple[tuple[int, ...], ...], drive_rows: tuple[tuple[int, ...], ...],
+              offset_row: tuple[int, ...]) -> Any:
+    # numba freezes a closure's arrays into the machine code as constants, and its disk cache
+    # keys each compiled closure on their contents: one cached loop per structure
+    ns = np.array(node_rows, dtype=np.int64).reshape(len(node_rows), L.NS_COLS)
+    ds = np.array(drive_rows, dtype=np.int64).reshape(len(drive_rows), L.DS_COLS)
+    offsets = np.array(offset_row, dtype=np.int64)
+
+    @loop_njit
+    def loop(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.ndarray,
+             out: np.ndarray, stages: np.ndarray, refs: np.ndarray, work: np.ndarray,
+             tick0: int, n_ticks: int, dt: float, substeps: int, record_every: int,
+             include_end: bool, nodes: np.ndarray, spans: np.ndarray, drives: np.ndarray,
+             web: np.ndarray, wound_ripple: np.ndarray, speed_ripple: np.ndarray,
+             prof_t: np.ndarray, prof_v: np.ndarray,
+             prof_off: np.ndarray) -> tuple[int, int, float]:
+        return advance(x, istate, slipping, rec, out, stages, refs, work, tick0, n_ticks, dt,
+                       substeps, record_every, include_end, ns, ds, offsets, nodes, spans,
+                       drives, web, wound_ripple, speed_ripple, prof_t, prof_v, prof_off)
+
+    return loop
+
+
+@jit
+def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.ndarray,
+            out: np.ndarray, stages: np.ndarray, refs: np.ndarray, work: np.ndarray,
+            tick0: int, n_ticks: int, dt: float, substeps: int, record_every: int,
+            include_end: bool, ns: np.ndarray, ds: np.ndarray, offsets: np.ndarray,
+            nodes: np.ndarray, spans: np.ndarray, drives: np.ndarray, web: np.ndarray,
+            wound_ripple: np.ndarray, speed_ripple: np.ndarray, prof_t: np.ndarray,
+            prof_v: np.ndarray, prof_off: np.ndarray) -> tuple[int, int, float]:
+    """The loop of ``run``: advances ``x``, ``istate`` and ``slipping`` in place, writes
+    ``rec`` and returns (records written, status, time of failure); the other arrays are
+    scratch of the shapes ``run`` gives them."""
+    n_x = offsets[L.O_WEB] + 2
+    n_d = ds.shape[0]
+    n_n = ns.shape[0]
     cmd = out[0]
-    refs = np.empty(prof_off.shape[0] - 1)
-    span_ref = np.empty(spans.shape[0])
-    v_ref = np.empty(nodes.shape[0])
-    a_ref = np.empty(nodes.shape[0])
-    k1 = np.empty(n_x)
-    k2 = np.empty(n_x)
-    k3 = np.empty(n_x)
-    k4 = np.empty(n_x)
-    tmp = np.empty(n_x)
-    work = np.empty(3 * nodes.shape[0])
-    drag = np.zeros(n_n)
+    tmp = stages[4]
+    prof, span_ref = refs[0, :prof_off.shape[0] - 1], refs[1, :n_n - 1]
+    v_ref, a_ref = refs[2, :n_n], refs[3, :n_n]
+    scratch, drag = work[0], work[1, :n_n]
     h = dt / substeps
     n_rec = 0
     status = L.STATUS_OK
     t_fail = math.nan
-    off_r = offsets[2]
+    off_r = offsets[L.O_RADIUS]
     core = nodes[0, L.N_CORE]
     for j in range(n_ticks + 1):
         tick = tick0 + j
         t = tick * dt
         if j == n_ticks and not include_end:
             break
-        control_tick(tick, dt, x, istate, nodes, drives, web, prof_t, prof_v, prof_off,
-                     speed_ripple, offsets, out, refs, span_ref, v_ref, a_ref)
-        update_slip(x, slipping, nodes, web, offsets)
-        if tick % record_every == 0 or j == n_ticks:  # element-wise: slices cost refcounts
+        control_tick(tick, dt, x, istate, ns, ds, offsets, nodes, drives, web, prof_t, prof_v,
+                     prof_off, speed_ripple, out, prof, span_ref, v_ref, a_ref)
+        update_slip(x, slipping, ns, offsets, nodes, web)
+        if tick % record_every == 0 or j == n_ticks:
             rec[n_rec, 0] = t
             for m in range(n_x):
                 rec[n_rec, 1 + m] = x[m]
@@ -243,25 +297,26 @@ def run(x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick0: int, n_ti
         if j == n_ticks:
             break
         for i in range(n_n):  # drag torques are held over the tick, like the commands
-            p = int(nodes[i, L.N_DRAG])
-            drag[i] = profile_at(p, t, prof_t, prof_v, prof_off) if p >= 0 else 0.0
+            p = ns[i, L.NS_DRAG]
+            if p >= 0:
+                drag[i] = profile_at(p, t, prof_t, prof_v, prof_off)
         t0_start = wound_in(t, web, wound_ripple)
         for s in range(substeps):
             ts = t + s * h
             t0_mid = wound_in(ts + 0.5 * h, web, wound_ripple)
             t0_end = wound_in(ts + h, web, wound_ripple)
-            rhs(t0_start, x, cmd, drag, slipping, nodes, spans, drives, web, offsets, k1, work)
+            for stage in range(4):  # one call site: the rhs is compiled once, not four times
+                state, t0 = (x, t0_start) if stage == 0 else (
+                    tmp, t0_end if stage == 3 else t0_mid)
+                rhs(t0, state, cmd, drag, slipping, ns, ds, offsets, nodes, spans, drives, web,
+                    stages[stage], scratch)
+                if stage < 3:
+                    c = h if stage == 2 else 0.5 * h
+                    for m in range(n_x):
+                        tmp[m] = x[m] + c * stages[stage, m]
             for m in range(n_x):
-                tmp[m] = x[m] + 0.5 * h * k1[m]
-            rhs(t0_mid, tmp, cmd, drag, slipping, nodes, spans, drives, web, offsets, k2, work)
-            for m in range(n_x):
-                tmp[m] = x[m] + 0.5 * h * k2[m]
-            rhs(t0_mid, tmp, cmd, drag, slipping, nodes, spans, drives, web, offsets, k3, work)
-            for m in range(n_x):
-                tmp[m] = x[m] + h * k3[m]
-            rhs(t0_end, tmp, cmd, drag, slipping, nodes, spans, drives, web, offsets, k4, work)
-            for m in range(n_x):
-                x[m] += h / 6.0 * (k1[m] + 2.0 * k2[m] + 2.0 * k3[m] + k4[m])
+                x[m] += h / 6.0 * (stages[0, m] + 2.0 * stages[1, m] + 2.0 * stages[2, m]
+                                   + stages[3, m])
             t0_start = t0_end
         finite = True
         for m in range(n_x):
@@ -275,4 +330,4 @@ def run(x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick0: int, n_ti
             status = L.STATUS_UNWIND_EMPTY
             t_fail = t + dt
             break
-    return rec, n_rec, status, t_fail, x, istate, slipping
+    return n_rec, status, t_fail

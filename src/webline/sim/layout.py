@@ -1,4 +1,13 @@
-"""Column indices of the compiled plan's parameter tables (compile-time constants in numba)."""
+"""Column indices of the compiled plan's tables (compile-time constants in numba).
+
+The float tables (nodes, spans, drives, web) hold parameters and are passed to the kernel at
+run time. The line's structure (which node is what, which drive sits where, where each state
+block starts, which features exist) is also held in small integer tables that the kernel is
+compiled against as constants (``webline.sim.kernel.compiled_loop``): its loops then have
+known lengths and its branches known outcomes, about three times faster than reading the
+structure at run time. A new parameter value reuses the compiled kernel; a new structure
+compiles (and caches) another.
+"""
 
 # node table columns
 (N_KIND, N_RADIUS, N_CORE, N_JCONST, N_VISCOUS, N_COULOMB, N_RATIO, N_DRIVE, N_ECC,
@@ -8,6 +17,11 @@
  # profile of a torque opposing the rotation (drive brake or roller drag), -1: none
  N_DRAG) = range(17)
 N_COLS = 17
+
+# node structure (integer) columns, and the float columns they copy
+NS_KIND, NS_DRIVE, NS_ECCSTATE, NS_TRACTION, NS_DRAG = range(5)
+NS_COLS = 5
+NODE_STRUCTURE = (N_KIND, N_DRIVE, N_ECCSTATE, N_TRACTION, N_DRAG)
 
 # span table columns
 S_LENGTH, S_INVLENGTH = range(2)
@@ -27,6 +41,13 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  D_FEEDBACK) = range(34)
 D_COLS = 34
 ROLE_MASTER, ROLE_TENSION = 0, 1
+
+# drive structure (integer) columns, and the float columns they copy
+(DS_NODE, DS_ROLE, DS_LOADCELL, DS_REF, DS_UPREF, DS_TSTATE, DS_FAMILY, DS_FEEDBACK,
+ DS_ADAPTIVE, DS_ZFIRST, DS_ZLAST) = range(11)
+DS_COLS = 11
+DRIVE_STRUCTURE = (D_NODE, D_ROLE, D_LOADCELL, D_REF, D_UPREF, D_TSTATE, D_FAMILY, D_FEEDBACK,
+                   D_ADAPTIVE, D_ZFIRST, D_ZLAST)
 FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE = 0, 1, 2
 
 # controller memory per drive: PI integrators, adaptive friction estimate [N·m·s]
@@ -35,8 +56,15 @@ I_COLS = 3
 
 # line-wide scalars
 (W_EA, W_THICK, W_WIDTH, W_DENSITY, W_T0, W_NOISE_T, W_NOISE_V, W_SEED,
- W_NEED_EQ, W_RHOA) = range(10)
-W_COLS = 10
+ W_RHOA) = range(9)
+W_COLS = 9
+
+# the integer ``offsets`` array: where state blocks start (spans at 0, node speeds, the two roll
+# radii, motor torques, eccentric angles, web-length integrals), the master's upstream
+# reference profile, the master node, where transmission states start, then two flags
+(O_OMEGA, O_RADIUS, O_TORQUE, O_ANGLE, O_WEB, O_MASTER_UP, O_MASTER, O_TRANSMISSION) = range(1, 9)
+O_NOISE = 9  # 1 if measurements carry noise
+O_NEED_EQ = 10  # 1 if a controller needs the reference state every tick
 
 # kernel status codes
 STATUS_OK, STATUS_NONFINITE, STATUS_UNWIND_EMPTY = 0, 1, 2

@@ -41,6 +41,8 @@ class Plan:
     prof_v: np.ndarray
     prof_off: np.ndarray
     offsets: np.ndarray
+    node_structure: np.ndarray
+    drive_structure: np.ndarray
     gains: tuple[PIGains, ...]
     designs: tuple[SectionDesign | None, ...]
     state_names: tuple[str, ...]
@@ -50,10 +52,15 @@ class Plan:
     def n_x(self) -> int:
         return len(self.state_names)
 
+    def structure(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The integer tables the kernel is compiled against: node structure, drive structure
+        and offsets (``webline.sim.layout``)."""
+        return self.node_structure, self.drive_structure, self.offsets
+
     def params(self) -> tuple[np.ndarray, ...]:
-        """Parameter arrays in the order ``kernel.run`` takes them after its loop settings."""
+        """Parameter arrays in the order the compiled loop takes them after its settings."""
         return (self.nodes, self.spans, self.drives, self.web, self.wound_ripple,
-                self.speed_ripple, self.prof_t, self.prof_v, self.prof_off, self.offsets)
+                self.speed_ripple, self.prof_t, self.prof_v, self.prof_off)
 
     def profile_value(self, p: int, t: float) -> float:
         """Value at time ``t`` [s] of the plan's reference profile number ``p``."""
@@ -73,7 +80,7 @@ class Plan:
         from webline.sim.kernel import update_slip
 
         slip = np.zeros(self.line.n_nodes, dtype=np.int64)
-        update_slip(x, slip, self.nodes, self.web, self.offsets)
+        update_slip(x, slip, self.node_structure, self.offsets, self.nodes, self.web)
         return slip
 
     def initial_state(self, op: OperatingPoint) -> tuple[np.ndarray, np.ndarray]:
@@ -202,8 +209,6 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         state = off_tr + 2 * compliant.index(i) if i in compliant else -1
         transmission_columns(drives[d], rollers[i].drive, state)  # type: ignore[union-attr]
     master_up = 1 + line.zone_of_span(line.master - 1)
-    offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
-                        off_tr], dtype=np.int64)
     web = np.zeros(L.W_COLS)
     web[L.W_EA] = line.ea
     web[L.W_THICK] = spec.web.thickness
@@ -211,9 +216,13 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     web[L.W_DENSITY] = spec.web.density
     web[L.W_T0] = line.unwind.wound_in_tension
     web[L.W_RHOA] = spec.web.density * spec.web.width * spec.web.thickness
+    noisy = False
     for noise in (d for d in spec.disturbances if isinstance(d, MeasurementNoise)):
         web[L.W_NOISE_T], web[L.W_NOISE_V], web[L.W_SEED] = noise.tension, noise.speed, noise.seed
-    web[L.W_NEED_EQ] = float(np.any(drives[:, L.D_FAMILY] != L.FAMILY_PI))
+        noisy = noise.tension > 0 or noise.speed > 0
+    need_eq = bool(np.any(drives[:, L.D_FAMILY] != L.FAMILY_PI))
+    offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
+                        off_tr, noisy, need_eq], dtype=np.int64)
     wound = np.array([[d.amplitude, d.frequency, d.phase] for d in spec.disturbances
                       if isinstance(d, WoundInRipple)]).reshape(-1, 3)
     ripple = np.array([[line.drives.index(_node(line, d.roller)), d.amplitude, d.frequency,
@@ -225,6 +234,8 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         web=web, wound_ripple=wound, speed_ripple=ripple,
         prof_t=np.concatenate([t for t, _ in profiles]),
         prof_v=np.concatenate([v for _, v in profiles]), prof_off=prof_off, offsets=offsets,
+        node_structure=nodes[:, list(L.NODE_STRUCTURE)].astype(np.int64),
+        drive_structure=drives[:, list(L.DRIVE_STRUCTURE)].astype(np.int64),
         gains=gains, designs=designs, state_names=tuple(names), dt=1.0 / rate,
     )
 

@@ -28,8 +28,8 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
     if scenario is not None:
         line = line.with_scenario(scenario)
     plan = compile_plan(line, sample_rate=sample_rate)
-    params = plan.params()
-    nodes, spans, drives, web, wound, ripple, prof_t, prof_v, prof_off, offsets = params
+    nodes, spans, drives, web, wound, ripple, prof_t, prof_v, prof_off = plan.params()
+    ns, ds, offsets = plan.structure()
     n_ticks = max(1, round(duration / plan.dt))
     x, istate = equilibrium_plan_state(plan)
     slipping = plan.initial_slip(x)
@@ -46,20 +46,20 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
 
     def derivative(t: float, y: np.ndarray) -> np.ndarray:
         dy = np.empty_like(y)
-        kernel.rhs(kernel.wound_in(t, web, wound), y, cmd, drag, slipping, nodes, spans,
-                   drives, web, offsets, dy, work)
+        kernel.rhs(kernel.wound_in(t, web, wound), y, cmd, drag, slipping, ns, ds, offsets,
+                   nodes, spans, drives, web, dy, work)
         return dy
 
     for j in range(n_ticks + 1):
         t = j * plan.dt
-        control_tick(j, plan.dt, x, istate, nodes, drives, web, prof_t, prof_v, prof_off,
-                     ripple, offsets, out, refs, span_ref, v_ref, a_ref)
-        kernel.update_slip(x, slipping, nodes, web, offsets)
+        control_tick(j, plan.dt, x, istate, ns, ds, offsets, nodes, drives, web, prof_t,
+                     prof_v, prof_off, ripple, out, refs, span_ref, v_ref, a_ref)
+        kernel.update_slip(x, slipping, ns, offsets, nodes, web)
         rows.append(np.concatenate(([t], x, out.ravel(), istate[:, L.I_FRICTION], slipping)))
         if j == n_ticks:
             break
         for i in range(nodes.shape[0]):
-            p = int(nodes[i, L.N_DRAG])
+            p = int(ns[i, L.NS_DRAG])
             drag[i] = profile_at(p, t, prof_t, prof_v, prof_off) if p >= 0 else 0.0
         sol = solve_ivp(derivative, (t, t + plan.dt), x, method=method, rtol=rtol, atol=atol)
         x = sol.y[:, -1].copy()

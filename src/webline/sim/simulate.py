@@ -100,7 +100,7 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
         count = min(chunk, n_ticks - done)
         last = done + count == n_ticks
         rec, n_rec, status, t_fail, x, istate, slipping = kernel.run(
-            x, istate, slipping, done, count, plan.dt, substeps, every, last, *plan.params())
+            plan, x, istate, slipping, done, count, substeps, every, last)
         blocks.append(rec[:n_rec])
         done += count
         if progress is not None:
