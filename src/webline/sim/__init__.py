@@ -1,7 +1,7 @@
 """Simulation: the compiled kernel, the reference path and results.
 
 numba caches a compiled function next to its source file and revalidates it only against
-that file; ``kernel.run`` inlines controllers and physics from other files, so a change there
+that file; the compiled loop inlines controllers and physics from other files, so a change there
 would leave a stale cache. The cache therefore lives in a folder named after a hash of every
 source file the kernel is built from (unless the user sets NUMBA_CACHE_DIR).
 """
