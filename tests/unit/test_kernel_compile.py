@@ -13,7 +13,7 @@ import numba as nb
 import webline
 from webline.sim import kernel
 from webline.sim.plan import compile_plan, equilibrium_plan_state
-from webline.sim.signals import FAST
+from webline.sim.signals import _NO_NRT, FAST
 
 
 def test_a_parameter_change_reuses_the_compiled_loop(hswl):
@@ -37,7 +37,7 @@ def test_the_loop_makes_no_reference_counting_call(hswl, monkeypatch):
     """Compiled afresh (cached code cannot be inspected), the loop's LLVM IR calls neither
     NRT_incref nor NRT_decref: each would be an atomic operation in the inner loop."""
     plan = compile_plan(hswl)
-    fresh = nb.njit(fastmath=FAST, error_model="numpy", _nrt=False)(
+    fresh = nb.njit(fastmath=FAST, error_model="numpy", **_NO_NRT)(
         kernel.compiled_loop(plan).py_func)
     monkeypatch.setattr(kernel, "compiled_loop", lambda _: fresh)
     x0, istate0 = equilibrium_plan_state(plan)

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numba as nb
 import numpy as np
+from numba.core.cpu import CPUTargetOptions
 
 #: Fast-math flags that keep NaN/inf semantics (the loop checks finiteness), and numpy's error
 #: model (no Python ZeroDivisionError branch on every division).
@@ -17,14 +19,14 @@ njit = nb.njit(cache=True, fastmath=FAST, error_model="numpy")
 # caller, and with it each array handed to a helper costs an atomic incref/decref pair per
 # call, a third of the run time (measured with perf). A test checks that the compiled loop
 # makes no NRT call.
+# Should a numba release drop the switch, the kernel still runs, only slower.
+_NO_NRT: dict[str, Any] = {"_nrt": False} if hasattr(CPUTargetOptions, "_nrt") else {}
 #: The simulation loop (``kernel.compiled_loop``).
-loop_njit = nb.njit(cache=True, fastmath=FAST, error_model="numpy",
-                    _nrt=False)  # type: ignore[call-overload]
+loop_njit = nb.njit(cache=True, fastmath=FAST, error_model="numpy", **_NO_NRT)
 #: Helpers of the loop: compiled once per signature and inlined by LLVM (``forceinline``), so
 #: the structure constants of each compiled loop reach them. numba's own IR-level inlining
 #: would do the same at 25x the compile time (it deep-copies the helpers' IR per call site).
-jit = nb.njit(cache=True, fastmath=FAST, error_model="numpy", forceinline=True,
-              _nrt=False)  # type: ignore[call-overload]
+jit = nb.njit(cache=True, fastmath=FAST, error_model="numpy", forceinline=True, **_NO_NRT)
 
 
 @jit
