@@ -25,7 +25,7 @@ import numpy as np
 
 from webline.physics import backlash, roll, roller, slip, span
 from webline.sim import layout as L
-from webline.sim.controllers import control_tick
+from webline.sim.controllers import control_tick, node_radius
 from webline.sim.signals import jit, loop_njit, njit, profile_at, sines
 
 if TYPE_CHECKING:
@@ -51,16 +51,12 @@ def wound_in(t: float, web: np.ndarray, wound_ripple: np.ndarray) -> float:
 @jit
 def node_arm(i: int, x: np.ndarray, ns: np.ndarray, offsets: np.ndarray,
              nodes: np.ndarray) -> float:
-    """Effective radius [m] of node ``i``: roll radius state, or roller radius + eccentricity."""
-    kind = ns[i, L.NS_KIND]
-    if kind == L.KIND_UNWIND:
-        return x[offsets[L.O_RADIUS]]
-    if kind == L.KIND_REWIND:
-        return x[offsets[L.O_RADIUS] + 1]
+    """Effective radius [m] of node ``i``: roll radius state, or roller radius + eccentricity
+    (only rollers may be eccentric, ``spec.check``)."""
     ecc_state = ns[i, L.NS_ECCSTATE]
     if ecc_state >= 0:
         return nodes[i, L.N_RADIUS] + nodes[i, L.N_ECC] * math.cos(x[ecc_state])
-    return nodes[i, L.N_RADIUS]
+    return node_radius(i, x, ns, offsets, nodes)
 
 
 @jit
