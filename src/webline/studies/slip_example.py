@@ -310,19 +310,14 @@ def _figure(p: FreeSpan, printed: dict[str, Run], ours: dict[str, Run], path: Pa
     plt = pyplot()
 
     fig, axes = plt.subplots(2, 2, figsize=(11, 7), sharex=True)
-    styles = ["--", "-", ":", "-."]
-    ax = axes[0, 0]
-    for (name, r), style in zip(printed.items(), styles, strict=False):
-        ax.plot(r.time, r.tension[:, 0] / LBF, style, label=name)
-    ax.set_title("(a) as printed: (5.47), start t2 = 42 lbf (Table 5.1)")
-    ax.set_ylabel("t2 [lbf]")
-    ax.legend(fontsize=8)
-    ax = axes[0, 1]
-    for (name, r), style in zip(ours.items(), styles, strict=False):
-        ax.plot(r.time, r.tension[:, 0] / LBF, style, label=name)
-    ax.set_title("(b) webline: general sign + stiction, start at equilibrium")
-    ax.set_ylabel("t2 [lbf]")
-    ax.legend(fontsize=8)
+    panels = (("(a) as printed: (5.47), start t2 = 42 lbf (Table 5.1)", printed),
+              ("(b) webline: general sign + stiction, start at equilibrium", ours))
+    for ax, (title, runs) in zip(axes[0], panels, strict=True):
+        for (name, r), style in zip(runs.items(), ["--", "-", ":", "-."], strict=False):
+            ax.plot(r.time, r.tension[:, 0] / LBF, style, label=name)
+        ax.set_title(title)
+        ax.set_ylabel("t2 [lbf]")
+        ax.legend(fontsize=8)
     ax = axes[1, 0]
     r = printed["slip (5.47) + 2 Hz t3"]
     ax.plot(r.time, r.slip[:, 1] / FPM, ":", label="as printed + 2 Hz")
