@@ -29,9 +29,9 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 
 from webline.analysis import scaling as sc
-from webline.analysis.operating_point import OperatingPoint, operating_point
 from webline.analysis.stability import instability_distance, solve_bounded_real_are
 from webline.line import Line
+from webline.model.operating_point import OperatingPoint, operating_point
 
 if TYPE_CHECKING:
     from webline.control.sections import SectionModel

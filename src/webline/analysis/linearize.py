@@ -13,8 +13,8 @@ from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
-from webline.analysis.operating_point import OperatingPoint, operating_point
 from webline.line import Line, is_roll, load_line
+from webline.model.operating_point import OperatingPoint, operating_point
 from webline.physics.roll import web_inertia
 from webline.physics.roller import COULOMB_SMOOTHING
 from webline.sim import layout as L

@@ -23,8 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from webline.analysis.operating_point import OperatingPoint
 from webline.line import Line
+from webline.model.operating_point import OperatingPoint
 from webline.sim.result import Result
 
 

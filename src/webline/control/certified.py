@@ -34,11 +34,11 @@ from webline.analysis.certificate import (
     structure_of,
     thesis_units,
 )
-from webline.analysis.operating_point import operating_point
 from webline.control.decentralized import SectionDesign
 from webline.control.gains import section_designs
 from webline.control.sections import section_models
 from webline.line import Line
+from webline.model.operating_point import operating_point
 
 TENSION_WEIGHTS = tuple(float(w) for w in np.logspace(-2, 2, 9))
 BANDWIDTH_FRACTIONS = (1.0, 0.5)

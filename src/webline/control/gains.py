@@ -20,11 +20,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from webline.analysis.operating_point import OperatingPoint, operating_point
 from webline.control.decentralized import SectionDesign, design_section
 from webline.control.sections import SectionModel, section_models
 from webline.control.select import with_controller
 from webline.line import Line
+from webline.model.operating_point import OperatingPoint, operating_point
 from webline.spec.schema import AdaptiveSpec, StateFeedbackSpec
 
 LBF, FT = 4.4482216152605, 0.3048  # [N], [m]

@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from webline.analysis.operating_point import OperatingPoint, operating_point
 from webline.line import Line
+from webline.model.operating_point import OperatingPoint, operating_point
 
 
 @dataclass(frozen=True)

@@ -10,8 +10,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from webline.analysis.modes import Mode
-from webline.analysis.operating_point import OperatingPoint
 from webline.line import Line
+from webline.model.operating_point import OperatingPoint
 from webline.report.display import Display, number_text
 from webline.sim.result import Result
 from webline.spec.schema import DrivenSpec

@@ -13,9 +13,9 @@ from typing import Literal
 
 from webline.analysis.linearize import linearize
 from webline.analysis.modes import Mode, analysis_time, modes
-from webline.analysis.operating_point import OperatingPoint, operating_point
 from webline.errors import WeblineError
 from webline.line import Line
+from webline.model.operating_point import OperatingPoint, operating_point
 from webline.report.describe import line_tables
 from webline.report.display import Display, System
 from webline.report.figures import report_figures

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from webline.analysis.operating_point import operating_point
 from webline.control.decentralized import SectionDesign, design_section
 from webline.control.pi import PIGains, tune
 from webline.control.sections import section_models
 from webline.line import Line, is_roll
+from webline.model.operating_point import operating_point
 from webline.sim import layout as L
 from webline.spec.schema import (
     AdaptiveSpec,

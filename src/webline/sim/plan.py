@@ -6,10 +6,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from webline.analysis.operating_point import OperatingPoint, node_inertias, operating_point
 from webline.control.decentralized import SectionDesign
 from webline.control.pi import PIGains
 from webline.line import Line
+from webline.model.operating_point import OperatingPoint, node_inertias, operating_point
 from webline.profiles import breakpoints, pwl_value
 from webline.sim import layout as L
 from webline.sim.drive_table import drive_table, transmission, transmission_columns
