@@ -1,9 +1,9 @@
 """webline: model, simulate, analyse and control roll-to-roll (web handling) process lines."""
 
-from webline.analysis.linearize import linearize
 from webline.errors import LineFileError, SimulationError, WeblineError
 from webline.line import Line, load_line
 from webline.model.operating_point import OperatingPoint, operating_point
+from webline.sim.linearize import linearize
 from webline.sim.reference import simulate_reference
 from webline.sim.result import Result
 from webline.sim.simulate import simulate

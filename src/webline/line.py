@@ -90,7 +90,7 @@ class Line:
         (what the fixed integration step must resolve)."""
         import numpy as np
 
-        from webline.analysis.linearize import system_matrix
+        from webline.sim.linearize import system_matrix
 
         return max(float(np.abs(np.linalg.eigvals(system_matrix(self, loop=loop))).max())
                    for loop in ("open", "closed"))

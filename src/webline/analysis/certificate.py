@@ -321,8 +321,8 @@ def _plant_check(line: Line, models: list[SectionModel],
     feedback."""
     import scipy.linalg
 
-    from webline.analysis.linearize import controller_matrices, linear_model, plant_matrices
     from webline.control.gains import gains_from_closed, with_gains
+    from webline.sim.linearize import controller_matrices, linear_model, plant_matrices
     from webline.sim.plan import compile_plan
 
     try:

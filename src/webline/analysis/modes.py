@@ -76,7 +76,7 @@ def modes(system: control.StateSpace) -> list[Mode]:
 
 def closed_loop_modes(line: Line | str, t: float = 0.0) -> list[Mode]:
     """Modes of ``line`` with its cascaded-PI controllers, linearized at time ``t`` [s]."""
-    from webline.analysis.linearize import linearize
+    from webline.sim.linearize import linearize
 
     return modes(linearize(load_line(line), t, loop="closed"))
 

@@ -11,7 +11,6 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Literal
 
-from webline.analysis.linearize import linearize
 from webline.analysis.modes import Mode, analysis_time, modes
 from webline.errors import WeblineError
 from webline.line import Line
@@ -28,6 +27,7 @@ from webline.report.tables import (
     summary_tables,
     summary_values,
 )
+from webline.sim.linearize import linearize
 from webline.sim.result import Result
 from webline.spec.load import dump_spec
 
