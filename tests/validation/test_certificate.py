@@ -13,7 +13,7 @@ from webline.analysis.certificate import (
     interconnection_bounds,
     section_counts,
 )
-from webline.control.certified import design_for_certificate
+from webline.analysis.certified import design_for_certificate
 from webline.control.gains import (
     THESIS_GAINS,
     closed_from_gains,

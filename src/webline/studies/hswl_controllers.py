@@ -15,7 +15,7 @@ measurement noise on every controller's tension (0.05 lbf) and speed (0.5 ft/min
 * ``state_feedback_wrong_friction``: the state feedback with the same 50 %-low friction model
   (for honesty: it has no integral action, so the model error becomes a steady error);
 * ``state_feedback_certified``: the state feedback with the gains of
-  ``webline.control.certified.design_for_certificate``, redone at each speed on the lumped
+  ``webline.analysis.certified.design_for_certificate``, redone at each speed on the lumped
   (idler-free) line, for which the decentralized certificate (6.54) holds.
 
 Metrics are taken over the second half of each run (after the adaptation transient): RMS and
@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 import webline
-from webline.control.certified import design_for_certificate
+from webline.analysis.certified import design_for_certificate
 from webline.control.lumped import without_idlers
 from webline.control.select import Family, with_controller
 from webline.line import Line
