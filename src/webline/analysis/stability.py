@@ -212,16 +212,3 @@ def solve_bounded_real_are(a_bar: np.ndarray, n: float, q: float,
         return None
     return RiccatiSolution(p, residual)
 
-
-_CERTIFICATE_NAMES = ("Certificate", "Interconnection", "SectionCertificate", "SpeedRange",
-                      "certificate", "certificate_speed_range", "interconnection_bounds")
-
-
-def __getattr__(name: str) -> object:
-    """The line-level certificate lives in ``webline.analysis.certificate``; its names are
-    reachable from here too (imported on first use: it needs the line and control layers)."""
-    if name in _CERTIFICATE_NAMES:
-        from webline.analysis import certificate as _certificate
-
-        return getattr(_certificate, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
