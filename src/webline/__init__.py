@@ -7,8 +7,7 @@ from webline.sim.linearize import linearize
 from webline.sim.reference import simulate_reference
 from webline.sim.result import Result
 from webline.sim.simulate import simulate
-
-__version__ = "0.1.0"
+from webline.version import __version__
 
 __all__ = [
     "Line",

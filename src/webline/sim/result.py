@@ -276,7 +276,7 @@ class Result:
         resolved line (TOML) and the webline version embedded."""
         import xarray as xr
 
-        from webline import __version__
+        from webline.version import __version__
 
         dims_span, dims_node, dims_drive = ("time", "span"), ("time", "node"), ("time", "drive")
         data = {
