@@ -111,7 +111,7 @@ def main(argv: list[str] | None = None) -> int:
     x0, istate0 = equilibrium_plan_state(plan)
 
     def kernel_call() -> object:
-        return kernel.run(plan, x0, istate0, plan.initial_slip(x0), 0, n_ticks, substeps,
+        return kernel.run(plan, x0, istate0, kernel.initial_slip(plan, x0), 0, n_ticks, substeps,
                           every, True)
 
     kernel_call()

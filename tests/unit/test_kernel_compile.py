@@ -41,7 +41,7 @@ def test_the_loop_makes_no_reference_counting_call(hswl, monkeypatch):
         kernel.compiled_loop(plan).py_func)
     monkeypatch.setattr(kernel, "compiled_loop", lambda _: fresh)
     x0, istate0 = equilibrium_plan_state(plan)
-    kernel.run(plan, x0, istate0, plan.initial_slip(x0), 0, 10, 1, 1, True)
+    kernel.run(plan, x0, istate0, kernel.initial_slip(plan, x0), 0, 10, 1, 1, True)
     ir = fresh.inspect_llvm(fresh.signatures[0])
     calls = set(re.findall(r"call [^@]*@(NRT_\w+)", ir))
     assert not calls & {"NRT_incref", "NRT_decref"}, calls

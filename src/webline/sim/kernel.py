@@ -158,6 +158,13 @@ def update_slip(x: np.ndarray, slipping: np.ndarray, ns: np.ndarray, offsets: np
                                   web[L.W_RHOA] * surface * surface, slipping[i])
 
 
+def initial_slip(plan: Plan, x: np.ndarray) -> np.ndarray:
+    """Stick/slip state of every node (0 stuck, 1 slipping) for the state ``x`` of ``plan``."""
+    slip = np.zeros(plan.line.n_nodes, dtype=np.int64)
+    update_slip(x, slip, plan.node_structure, plan.offsets, plan.nodes, plan.web)
+    return slip
+
+
 @jit
 def compliant_torque(d: int, x: np.ndarray, ds: np.ndarray, offsets: np.ndarray,
                      drives: np.ndarray, dx: np.ndarray) -> float:

@@ -75,14 +75,6 @@ class Plan:
         line = self.line
         return line.n_spans + line.n_nodes + len(line.drives) + 2 * compliant.index(d)
 
-    def initial_slip(self, x: np.ndarray) -> np.ndarray:
-        """Stick/slip state of every node (0 stuck, 1 slipping) for the state ``x``."""
-        from webline.sim.kernel import update_slip
-
-        slip = np.zeros(self.line.n_nodes, dtype=np.int64)
-        update_slip(x, slip, self.node_structure, self.offsets, self.nodes, self.web)
-        return slip
-
     def initial_state(self, op: OperatingPoint) -> tuple[np.ndarray, np.ndarray]:
         """Plant state and controller integrators at the equilibrium ``op``."""
         off = self.offsets

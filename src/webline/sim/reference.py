@@ -32,7 +32,7 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
     ns, ds, offsets = plan.structure()
     n_ticks = max(1, round(duration / plan.dt))
     x, istate = equilibrium_plan_state(plan)
-    slipping = plan.initial_slip(x)
+    slipping = kernel.initial_slip(plan, x)
     n_d = drives.shape[0]
     out = np.zeros((4, n_d))
     cmd = out[0]

@@ -93,7 +93,7 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
     else:
         every = max(1, round(record_interval / plan.dt))
     x, istate = equilibrium_plan_state(plan)
-    slipping = plan.initial_slip(x)
+    slipping = kernel.initial_slip(plan, x)
     chunk = n_ticks if progress is None else max(1000, math.ceil(n_ticks / 100))
     blocks, status, t_fail, done = [], L.STATUS_OK, math.nan, 0
     while done < n_ticks and status == L.STATUS_OK:
