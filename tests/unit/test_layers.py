@@ -1,0 +1,156 @@
+"""The import graph of webline keeps its layers (docs/architecture.md): every import, at module
+level, inside a function or under ``TYPE_CHECKING``, points to the same layer or one below, and
+no set of modules imports itself round in a cycle.
+
+Run as a script (``python tests/unit/test_layers.py``, as ``make lint`` does) it prints every
+violation and exits 1 if there is one.
+"""
+
+from __future__ import annotations
+
+import ast
+import sys
+from pathlib import Path
+
+SRC = Path(__file__).resolve().parents[2] / "src"
+
+#: Layers, lowest first; a module belongs to the first entry that is it or a package above it.
+#: ``webline`` itself (the front door, ``webline/__init__.py``) re-exports model and sim entry
+#: points, so it sits just above sim; the layers above may use it.
+LAYERS: tuple[tuple[str, ...], ...] = (
+    ("webline.units", "webline.errors", "webline.version", "webline.data"),
+    ("webline.spec",),
+    ("webline.line", "webline.physics", "webline.profiles"),
+    ("webline.model",),
+    ("webline.control",),
+    ("webline.sim",),
+    ("webline",),
+    ("webline.analysis",),
+    ("webline.report",),
+    ("webline.studies",),
+    ("webline.cli",),
+)
+
+
+def module_files(src: Path = SRC) -> dict[str, Path]:
+    """Dotted name -> file of every module under ``src/webline``."""
+    out = {}
+    for path in sorted((src / "webline").rglob("*.py")):
+        parts = list(path.relative_to(src).with_suffix("").parts)
+        if parts[-1] == "__init__":
+            parts.pop()
+        out[".".join(parts)] = path
+    return out
+
+
+def imports_of(name: str, path: Path, modules: dict[str, Path]) -> set[str]:
+    """webline modules ``name`` imports anywhere in its file (``from p import m`` counts as an
+    import of module ``p.m`` where that is a module, else of ``p``)."""
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            found |= {a.name for a in node.names}
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                up = package.split(".")[: len(package.split(".")) - node.level + 1]
+                base = ".".join(up + ([base] if base else []))
+            for a in node.names:
+                found.add(f"{base}.{a.name}" if f"{base}.{a.name}" in modules else base)
+    return {m for m in found if m in modules and m != name}
+
+
+def layer_of(module: str) -> int:
+    """Index in ``LAYERS`` of the most specific entry that is ``module`` or contains it."""
+    best, depth = -1, -1
+    for k, entries in enumerate(LAYERS):
+        for entry in entries:
+            if (module == entry or module.startswith(entry + ".")) and entry.count(".") > depth:
+                best, depth = k, entry.count(".")
+    if best < 0:
+        raise AssertionError(f"{module} is in no layer: add it to LAYERS and docs/architecture.md")
+    return best
+
+
+def graph(src: Path = SRC) -> dict[str, set[str]]:
+    modules = module_files(src)
+    return {name: imports_of(name, path, modules) for name, path in modules.items()}
+
+
+def upward_imports(edges: dict[str, set[str]]) -> list[str]:
+    """'a -> b' for every import of a module in a higher layer."""
+    return sorted(f"{a} (layer {layer_of(a)}) -> {b} (layer {layer_of(b)})"
+                  for a, targets in edges.items() for b in targets
+                  if layer_of(b) > layer_of(a))
+
+
+def cycles(edges: dict[str, set[str]]) -> list[list[str]]:
+    """Strongly connected components with more than one module (Tarjan), each sorted."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    out: list[list[str]] = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in sorted(edges[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                out.append(sorted(component))
+
+    for v in sorted(edges):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_every_module_is_in_a_layer() -> None:
+    for name in graph():
+        layer_of(name)
+
+
+def test_no_import_points_up() -> None:
+    assert upward_imports(graph()) == []
+
+
+def test_no_import_cycle() -> None:
+    assert cycles(graph()) == []
+
+
+def test_checks_catch_what_they_are_for(tmp_path: Path) -> None:
+    """The walker sees a lazy upward import and a TYPE_CHECKING cycle in a made-up package."""
+    pkg = tmp_path / "webline"
+    (pkg / "sim").mkdir(parents=True)
+    (pkg / "__init__.py").write_text("")
+    (pkg / "line.py").write_text("def f():\n    from webline.sim import plan\n")
+    (pkg / "sim" / "__init__.py").write_text("")
+    (pkg / "sim" / "plan.py").write_text("from . import kernel\n")
+    (pkg / "sim" / "kernel.py").write_text(
+        "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from .plan import Plan\n")
+    edges = graph(tmp_path)
+    assert upward_imports(edges) == ["webline.line (layer 2) -> webline.sim.plan (layer 5)"]
+    assert cycles(edges) == [["webline.sim.kernel", "webline.sim.plan"]]
+
+
+if __name__ == "__main__":
+    found = graph()
+    problems = upward_imports(found) + [" <-> ".join(c) for c in cycles(found)]
+    print("\n".join(problems) or f"layers ok: {len(found)} modules, "
+          f"{sum(map(len, found.values()))} imports, none upward, no cycle")
+    sys.exit(1 if problems else 0)
