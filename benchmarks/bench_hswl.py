@@ -106,7 +106,7 @@ def main(argv: list[str] | None = None) -> int:
     # --- webline: bare kernel call, exactly as simulate() makes it ---------------------
     plan = compile_plan(line)
     n_ticks = round(DURATION / plan.dt)
-    substeps = choose_substeps(line, plan.dt)
+    substeps = choose_substeps(plan)
     every = max(1, math.ceil((n_ticks + 1) / MAX_RECORDS))
     x0, istate0 = equilibrium_plan_state(plan)
 

@@ -84,17 +84,6 @@ class Line:
             out.append(Zone(first, last, loadcell, controller))
         return tuple(out)
 
-    @cached_property
-    def fastest_mode(self) -> float:
-        """Largest |eigenvalue| [1/s] of the line's open- and closed-loop linear models at t = 0
-        (what the fixed integration step must resolve)."""
-        import numpy as np
-
-        from webline.sim.linearize import system_matrix
-
-        return max(float(np.abs(np.linalg.eigvals(system_matrix(self, loop=loop))).max())
-                   for loop in ("open", "closed"))
-
     def zone_of_span(self, span: int) -> int:
         return next(z for z, zone in enumerate(self.zones) if span in zone.spans)
 

@@ -228,6 +228,6 @@ def test_default_designs_are_the_simulators(lumped):
 
     line = with_controller(lumped, "state_feedback")
     op = webline.operating_point(line)
-    _, _, designs = drive_table(line, op.inertia, line.spec.control.sample_rate)
+    _, _, designs = drive_table(line, op, line.spec.control.sample_rate)
     for mine, theirs in zip(section_designs(line), designs, strict=True):
         np.testing.assert_allclose(mine.gain, theirs.gain, rtol=1e-12)

@@ -8,7 +8,7 @@ from webline.control.decentralized import SectionDesign, design_section
 from webline.control.pi import PIGains, tune
 from webline.control.sections import section_models
 from webline.line import Line, is_roll
-from webline.model.operating_point import operating_point
+from webline.model.operating_point import OperatingPoint
 from webline.sim import layout as L
 from webline.spec.schema import (
     AdaptiveSpec,
@@ -28,13 +28,14 @@ FAMILIES = {CascadedPISpec: L.FAMILY_PI, StateFeedbackSpec: L.FAMILY_STATE_FEEDB
 Designs = tuple[SectionDesign | None, ...]
 
 
-def drive_table(line: Line, inertia: np.ndarray,
+def drive_table(line: Line, op: OperatingPoint,
                 sample_rate: float) -> tuple[np.ndarray, tuple[PIGains, ...], Designs]:
     """Rows of the drive table, the PI gains and the decentralized designs of every drive.
 
-    ``inertia``: inertia of every node at t = 0 [kg·m²]; ``sample_rate`` of the controllers
-    [Hz]. Reference profiles are numbered as
-    in the plan: 0 the line speed, 1 + z the tension of zone z.
+    ``op``: the plan's operating point (t = 0, initial radii: node inertias [kg·m²], and the
+    speeds and tensions the decentralized designs linearize at); ``sample_rate`` of the
+    controllers [Hz]. Reference profiles are numbered as in the plan: 0 the line speed, 1 + z
+    the tension of zone z.
     """
     spec = line.spec
     rows = np.zeros((len(line.drives), L.D_COLS))
@@ -42,7 +43,7 @@ def drive_table(line: Line, inertia: np.ndarray,
     designs: list[SectionDesign | None] = []
     controllers = [getattr(spec.rollers[i], "controller", None) for i in line.drives]
     decentralized = any(not isinstance(c, CascadedPISpec) for c in controllers)
-    op = operating_point(line) if decentralized else None
+    inertia = op.inertia
     models = section_models(line, op) if decentralized else None
     for d, i in enumerate(line.drives):
         roller = spec.rollers[i]
@@ -67,7 +68,7 @@ def drive_table(line: Line, inertia: np.ndarray,
             gains.append(_pi_columns(row, line, d, inertia[i], sample_rate))
             designs.append(None)
         else:
-            assert op is not None and models is not None
+            assert models is not None
             gains.append(PIGains(0.0, 0.0, 0.0, 0.0))
             designs.append(_decentralized_columns(row, line, d, op.line_speed,
                                                   op.tension, models[d], sample_rate))

@@ -27,7 +27,12 @@ if TYPE_CHECKING:
 def state_names(line: Line) -> list[str]:
     """Names of the linear model's states: span tensions, node speeds, motor torques, and the
     motor speed and twist of each compliant transmission."""
-    plan = compile_plan(line)
+    return plan_state_names(compile_plan(line))
+
+
+def plan_state_names(plan: Plan) -> list[str]:
+    """``state_names`` of the line of ``plan``."""
+    line = plan.line
     compliant = [i for d, i in enumerate(line.drives) if plan.drives[d, L.D_TSTATE] >= 0]
     return ([f"{line.span_name(k)}_tension" for k in range(line.n_spans)]
             + [f"{line.node_name(i)}_omega" for i in range(line.n_nodes)]
@@ -43,7 +48,12 @@ def plant_matrices(line: Line, op: OperatingPoint) -> tuple[np.ndarray, ...]:
     [rad/s] and twist [rad] of each compliant transmission); u = motor torque commands [N·m];
     t0 = wound-in tension [N]; y = (span tensions, web speeds [m/s]).
     """
-    plan = compile_plan(line)
+    return _plant(compile_plan(line), op)
+
+
+def _plant(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
+    """``plant_matrices`` of the line of ``plan``."""
+    line = plan.line
     n_s, n_n, n_d = line.n_spans, line.n_nodes, len(line.drives)
     ws, wn = 0, n_s  # offsets of the blocks
     wt = n_s + n_n
@@ -155,7 +165,7 @@ def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...
     """
     line = plan.line
     n_d = len(line.drives)
-    n = len(state_names(line))
+    n = len(plan_state_names(plan))
     n_ref = 1 + len(line.zones)
     kx, ki, kr = np.zeros((n_d, n)), np.zeros((n_d, 2 * n_d)), np.zeros((n_d, n_ref))
     gx, gi, gr = np.zeros((2 * n_d, n)), np.zeros((2 * n_d, 2 * n_d)), np.zeros((2 * n_d, n_ref))
@@ -165,7 +175,7 @@ def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...
     for d, i in enumerate(line.drives):
         row = plan.drives[d]
         if row[L.D_FAMILY] != L.FAMILY_PI:
-            kx[d], kr[d] = _decentralized_rows(plan, op, d, i, refs)
+            kx[d], kr[d] = _decentralized_rows(plan, op, d, i, refs, n)
             continue
         up = int(row[L.D_UPREF])
         t_up = line.unwind.wound_in_tension if up < 0 else refs[up]
@@ -195,12 +205,13 @@ def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...
     return kx, ki, kr, gx, gi, gr
 
 
-def _decentralized_rows(plan: Plan, op: OperatingPoint, d: int, i: int,
-                        refs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(Kx, Kr) rows of a state-feedback or adaptive drive (see ``controller_matrices``)."""
+def _decentralized_rows(plan: Plan, op: OperatingPoint, d: int, i: int, refs: np.ndarray,
+                        n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(Kx, Kr) rows of a state-feedback or adaptive drive (see ``controller_matrices``) over
+    the ``n`` plant states."""
     line, row = plan.line, plan.drives[d]
     n_s = line.n_spans
-    kx = np.zeros(len(state_names(line)))
+    kx = np.zeros(n)
     kr = np.zeros(len(refs))
     radius, ratio = op.radius[i], plan.nodes[i, L.N_RATIO]
     gain = 1.0
@@ -237,16 +248,55 @@ class LinearModel:
 def linear_model(line: Line, t: float = 0.0, *, loop: Literal["open", "closed"] = "closed",
                  unwind_radius: float | None = None,
                  rewind_radius: float | None = None) -> LinearModel:
-    """The matrices behind ``linearize`` (numpy only; see its docstring)."""
+    """The matrices behind ``linearize`` (numpy only; see its docstring). At t = 0 with the
+    initial radii it is the default plan's ``plan_linear_model``, built once per line."""
+    plan = compile_plan(line)
+    if t == 0.0 and unwind_radius is None and rewind_radius is None:
+        return plan_linear_model(plan, loop=loop)
     op = operating_point(line, t, unwind_radius=unwind_radius, rewind_radius=rewind_radius)
-    a, b, e, c = plant_matrices(line, op)
-    states = state_names(line)
+    return _linear_model(plan, op, loop)
+
+
+def plan_linear_model(plan: Plan, *, loop: Literal["open", "closed"] = "closed") -> LinearModel:
+    """Linear model of ``plan`` (its controllers, at its sample rate's gains) at the plan's
+    operating point ``plan.op``; built once per plan and loop, its arrays read-only."""
+    key = ("linear_model", loop)
+    if key not in plan.memo:
+        model = _linear_model(plan, plan.op, loop)
+        for array in (model.a, model.b, model.c):
+            array.setflags(write=False)
+        plan.memo[key] = model
+    return plan.memo[key]  # type: ignore[return-value]
+
+
+def plan_eigenvalues(plan: Plan, *, loop: Literal["open", "closed"] = "closed") -> np.ndarray:
+    """Eigenvalues [1/s] of ``plan_linear_model(plan, loop=loop).a``, computed once per plan and
+    loop (read-only): the closed-loop modes a stability check at ``plan.op`` needs."""
+    key = ("eigenvalues", loop)
+    if key not in plan.memo:
+        eig = np.linalg.eigvals(plan_linear_model(plan, loop=loop).a)
+        eig.setflags(write=False)
+        plan.memo[key] = eig
+    return plan.memo[key]  # type: ignore[return-value]
+
+
+def fastest_mode(plan: Plan) -> float:
+    """Largest |eigenvalue| [1/s] of the plan's open- and closed-loop linear models at its
+    operating point (what the fixed integration step must resolve)."""
+    return max(float(np.abs(plan_eigenvalues(plan, loop=loop)).max())
+               for loop in ("open", "closed"))
+
+
+def _linear_model(plan: Plan, op: OperatingPoint, loop: Literal["open", "closed"]) -> LinearModel:
+    """``linear_model`` of the line of ``plan`` at ``op``, its controllers as in ``plan``."""
+    line = plan.line
+    a, b, e, c = _plant(plan, op)
+    states = plan_state_names(plan)
     outputs = ([f"{line.span_name(k)}_tension" for k in range(line.n_spans)]
                + [f"{line.node_name(i)}_speed" for i in range(line.n_nodes)])
     if loop == "open":
         inputs = [f"{line.node_name(i)}_torque_cmd" for i in line.drives] + ["wound_in_tension"]
         return LinearModel(a, np.hstack([b, e]), c, states, inputs, outputs)
-    plan = compile_plan(line)
     kx, ki, kr, gx, gi, gr = controller_matrices(plan, op)
     # keep the integrators that exist: PI drives only, and no tension loop on the master
     pi = plan.drives[:, L.D_FAMILY] == L.FAMILY_PI

@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from webline.control.decentralized import SectionDesign
 from webline.control.pi import PIGains
 from webline.line import Line
-from webline.model.operating_point import OperatingPoint, node_inertias, operating_point
+from webline.model.operating_point import OperatingPoint, operating_point
 from webline.profiles import breakpoints, pwl_value
 from webline.sim import layout as L
 from webline.sim.drive_table import drive_table, transmission, transmission_columns
@@ -28,7 +28,13 @@ from webline.spec.schema import (
 
 @dataclass(frozen=True)
 class Plan:
-    """Arrays describing one line for the kernel, plus the names of what they hold."""
+    """Arrays describing one line for the kernel, plus the names of what they hold.
+
+    ``op`` is the line's operating point at t = 0 with its initial roll radii, computed once
+    when the plan is compiled; the drive table, the section models, the initial state, the
+    plan's linear models and its fastest mode (``webline.sim.linearize``) all take it from
+    here. ``memo`` caches what is derived from the plan (linear models, fastest mode).
+    """
 
     line: Line
     nodes: np.ndarray
@@ -47,6 +53,9 @@ class Plan:
     designs: tuple[SectionDesign | None, ...]
     state_names: tuple[str, ...]
     dt: float
+    op: OperatingPoint
+    #: derived objects cached per plan (``webline.sim.linearize``), never part of equality
+    memo: dict[object, object] = field(default_factory=dict, compare=False, repr=False)
 
     @property
     def n_x(self) -> int:
@@ -152,8 +161,8 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     off_tr = off_th + len(ecc_nodes)
     off_q = off_tr + 2 * len(compliant)
 
-    radii = np.array([r.radius for r in rollers])
-    inertia = node_inertias(line, radii)
+    op = operating_point(line)  # the plan's one operating point (t = 0, initial radii)
+    inertia = op.inertia
     nodes = np.zeros((n_nodes, L.N_COLS))
     kinds = {UnwindSpec: L.KIND_UNWIND, DrivenSpec: L.KIND_DRIVEN, IdleSpec: L.KIND_IDLE,
              RewindSpec: L.KIND_REWIND}
@@ -196,7 +205,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     prof_off = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
 
     rate = sample_rate if sample_rate is not None else spec.control.sample_rate
-    drives, gains, designs = drive_table(line, inertia, rate)
+    drives, gains, designs = drive_table(line, op, rate)
     for d, i in enumerate(line.drives):
         state = off_tr + 2 * compliant.index(i) if i in compliant else -1
         transmission_columns(drives[d], rollers[i].drive, state)  # type: ignore[union-attr]
@@ -228,7 +237,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         prof_v=np.concatenate([v for _, v in profiles]), prof_off=prof_off, offsets=offsets,
         node_structure=nodes[:, list(L.NODE_STRUCTURE)].astype(np.int64),
         drive_structure=drives[:, list(L.DRIVE_STRUCTURE)].astype(np.int64),
-        gains=gains, designs=designs, state_names=tuple(names), dt=1.0 / rate,
+        gains=gains, designs=designs, state_names=tuple(names), dt=1.0 / rate, op=op,
     )
 
 
@@ -237,5 +246,6 @@ def _node(line: Line, name: str) -> int:
 
 
 def equilibrium_plan_state(plan: Plan, t: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
-    """Initial state and integrators at the line's operating point at time ``t``."""
-    return plan.initial_state(operating_point(plan.line, t))
+    """Initial state and integrators at the line's operating point at time ``t`` [s] (the
+    plan's own ``op`` at t = 0)."""
+    return plan.initial_state(plan.op if t == 0.0 else operating_point(plan.line, t))

@@ -13,6 +13,7 @@ from webline.line import Line, load_line
 from webline.profiles import breakpoints
 from webline.sim import kernel
 from webline.sim import layout as L
+from webline.sim.linearize import fastest_mode
 from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
 from webline.sim.result import Result
 
@@ -27,10 +28,11 @@ MAX_RECORDS = 200_000
 MAX_SUBSTEPS = 200
 
 
-def choose_substeps(line: Line, dt: float) -> int:
-    """RK4 sub-steps per controller period ``dt`` [s]: enough for the line's fastest mode and
-    for the spans round any slipping roller (``physics.slip.slip_rate``)."""
-    rate = line.fastest_mode
+def choose_substeps(plan: Plan) -> int:
+    """RK4 sub-steps per controller period ``plan.dt`` [s]: enough for the plan's fastest mode
+    and for the spans round any slipping roller (``physics.slip.slip_rate``)."""
+    line, dt = plan.line, plan.dt
+    rate = fastest_mode(plan)
     for i, rate_i, key in slip_rates(line):
         if dt * rate_i / STEP_LIMIT > MAX_SUBSTEPS:
             raise LineFileError(line.source, key, (
@@ -87,7 +89,7 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
     plan = compile_plan(line, sample_rate=sample_rate)
     n_ticks = max(1, round(duration / plan.dt))
     if substeps is None:
-        substeps = choose_substeps(line, plan.dt)
+        substeps = choose_substeps(plan)
     if record_interval is None:
         every = max(1, math.ceil((n_ticks + 1) / MAX_RECORDS))
     else:
