@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import sys
-from collections.abc import Callable
 
 import numpy as np
 import pytest
@@ -34,7 +33,9 @@ def count_calls(monkeypatch: pytest.MonkeyPatch) -> list[tuple[object, ...]]:
 @pytest.mark.parametrize("family", ["cascaded_pi", "state_feedback", "adaptive"])
 def test_simulate_of_a_newly_loaded_line_computes_its_operating_point_once(
         monkeypatch: pytest.MonkeyPatch, family: str) -> None:
-    make: Callable[[], webline.Line] = lambda: with_controller(webline.load_line("hswl"), family)
+    def make() -> webline.Line:
+        return with_controller(webline.load_line("hswl"), family)
+
     webline.simulate(make(), 0.01)  # the loop of this structure compiled (or loaded) first
     calls = count_calls(monkeypatch)
     line = make()
