@@ -22,6 +22,7 @@ test: $(STAMP)
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks examples
 	$(BIN)/mypy
+	$(BIN)/python tests/unit/test_layers.py
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_hswl.py
