@@ -1,4 +1,5 @@
-"""Analyses of a line: operating point, linear models, modes, drive trains, stability."""
+"""Analyses of a line on top of the model and the simulation: modes, drive trains, stability,
+the decentralized certificate and the certified design (docs/architecture.md)."""
 
 from webline.analysis.stability import (
     distance_to_instability,

@@ -1,4 +1,5 @@
-"""Simulation: the compiled kernel, the reference path and results.
+"""Simulation: the plan (with its operating point), its linear models and fastest mode, the
+compiled kernel, the reference path and results.
 
 numba caches a compiled function next to its source file and revalidates it only against
 that file; the compiled loop inlines controllers and physics from other files, so a change there
