@@ -11,7 +11,12 @@ import pytest
 import webline
 from webline.control.select import with_controller
 from webline.model import operating_point as op_module
-from webline.sim.linearize import fastest_mode, linear_model, plan_linear_model
+from webline.sim.linearize import (
+    fastest_mode,
+    linear_model,
+    plan_eigenvalues,
+    plan_linear_model,
+)
 from webline.sim.plan import compile_plan
 
 
@@ -58,3 +63,19 @@ def test_the_plans_linear_model_is_the_one_at_its_operating_point() -> None:
     largest = max(np.abs(np.linalg.eigvals(webline.linearize(line, 1e-9, loop=loop).A)).max()
                   for loop in ("open", "closed"))
     assert fastest_mode(plan) == pytest.approx(largest, rel=1e-6)
+
+
+def test_a_stability_check_reuses_the_plans_model_and_eigenvalues(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """What a verdict's linear-stability check asks of a simulated plan costs nothing more at
+    t = 0, and one operating point at another instant; the modes are those of ``linearize``."""
+    line = webline.load_line("hswl")
+    result = webline.simulate(line, 0.1)
+    calls = count_calls(monkeypatch)
+    eig = plan_eigenvalues(result.plan, loop="closed")
+    assert len(calls) == 0 and eig is plan_eigenvalues(result.plan, loop="closed")
+    assert np.sort_complex(eig) == pytest.approx(
+        np.sort_complex(np.linalg.eigvals(webline.linearize(line).A)), rel=1e-9)
+    later = plan_eigenvalues(result.plan, loop="closed", t=5.0)
+    plan_eigenvalues(result.plan, loop="closed", t=5.0)
+    assert len(calls) == 1 and later.shape == eig.shape

@@ -258,28 +258,41 @@ def linear_model(line: Line, t: float = 0.0, *, loop: Literal["open", "closed"] 
     return _linear_model(plan, op, loop)
 
 
-def plan_linear_model(plan: Plan, *, loop: Literal["open", "closed"] = "closed") -> LinearModel:
+def plan_linear_model(plan: Plan, *, loop: Literal["open", "closed"] = "closed",
+                      t: float = 0.0) -> LinearModel:
     """Linear model of ``plan`` (its controllers, at its sample rate's gains) at the plan's
-    operating point ``plan.op``; built once per plan and loop, its arrays read-only."""
-    key = ("linear_model", loop)
+    operating point ``plan.op`` (``t`` = 0), or at the equilibrium of its references at time
+    ``t`` [s] with the initial roll radii; built once per plan, loop and ``t``, its arrays
+    read-only."""
+    key = ("linear_model", loop, t)
     if key not in plan.memo:
         plant = None
         if loop == "closed":  # the closed loop is built on the (cached) plant
-            open_ = plan_linear_model(plan, loop="open")
+            open_ = plan_linear_model(plan, loop="open", t=t)
             plant = (open_.a, open_.b[:, :-1], open_.b[:, -1:], open_.c)
-        model = _linear_model(plan, plan.op, loop, plant)
+        model = _linear_model(plan, _plan_op(plan, t), loop, plant)
         for array in (model.a, model.b, model.c):
             array.setflags(write=False)
         plan.memo[key] = model
     return plan.memo[key]  # type: ignore[return-value]
 
 
-def plan_eigenvalues(plan: Plan, *, loop: Literal["open", "closed"] = "closed") -> np.ndarray:
-    """Eigenvalues [1/s] of ``plan_linear_model(plan, loop=loop).a``, computed once per plan and
-    loop (read-only): the closed-loop modes a stability check at ``plan.op`` needs."""
-    key = ("eigenvalues", loop)
+def _plan_op(plan: Plan, t: float) -> OperatingPoint:
+    """The plan's operating point at time ``t`` [s] (``plan.op`` at 0), once per plan and t."""
+    if t == 0.0:
+        return plan.op
+    if ("op", t) not in plan.memo:
+        plan.memo[("op", t)] = operating_point(plan.line, t)
+    return plan.memo[("op", t)]  # type: ignore[return-value]
+
+
+def plan_eigenvalues(plan: Plan, *, loop: Literal["open", "closed"] = "closed",
+                     t: float = 0.0) -> np.ndarray:
+    """Eigenvalues [1/s] of ``plan_linear_model(plan, loop=loop, t=t).a``, computed once per
+    plan, loop and ``t`` (read-only): the modes a stability check at that instant needs."""
+    key = ("eigenvalues", loop, t)
     if key not in plan.memo:
-        eig = np.linalg.eigvals(plan_linear_model(plan, loop=loop).a)
+        eig = np.linalg.eigvals(plan_linear_model(plan, loop=loop, t=t).a)
         eig.setflags(write=False)
         plan.memo[key] = eig
     return plan.memo[key]  # type: ignore[return-value]
