@@ -10,8 +10,8 @@ drive regulating the zone through the idler before it â€” and its rewind: 2 + 2Â
 ``Line``, as every case of a sweep is), so every per-line cost is paid; the structure's loop is
 compiled once before timing. Reported: the whole call, the operating point, the fastest mode
 (``webline.sim.linearize.fastest_mode``, building the plan's open- and closed-loop models
-included) and the compiled loop (``kernel.run``), each the best of ``repeat`` runs [ms] (the
-least disturbed by other work on the machine).
+included, and of it the bound on their eigenvalues alone) and the compiled loop
+(``kernel.run``), each the best of ``repeat`` runs [ms] (the least disturbed by other work).
 """
 
 from __future__ import annotations
@@ -54,7 +54,8 @@ def profile(pairs: int, repeat: int) -> dict[str, float]:
     """Best times [s] of one ``simulate(line, 1.0)`` of a newly loaded long line, and of its
     parts (operating point, fastest mode, compiled loop), plus how often each part ran."""
     simulate(long_line(pairs), 0.01)  # compile the structure's loop (or load it from disk)
-    parts: dict[str, list[float]] = {"operating point": [], "fastest mode": [], "loop": []}
+    parts: dict[str, list[float]] = {"operating point": [], "fastest mode": [],
+                                     "  of which the bound": [], "loop": []}
     calls: dict[str, int] = {k: 0 for k in parts}
 
     def timing(name: str, fn: Callable[..., Any]) -> Callable[..., Any]:
@@ -67,7 +68,8 @@ def profile(pairs: int, repeat: int) -> dict[str, float]:
                 calls[name] += 1
         return wrapped
 
-    originals = (op_module.operating_point, lin_module.fastest_mode, kernel.run)
+    originals = (op_module.operating_point, lin_module.fastest_mode,
+                 lin_module.spectral_radius_bound, kernel.run)
     whole = []
     try:
         for target, attr, name, fn in _patches(originals):
@@ -94,11 +96,12 @@ def _patches(originals: tuple[Callable[..., Any], ...]) -> list[tuple[Any, str, 
     from webline.sim import plan as plan_module
     from webline.sim import simulate as sim_module
 
-    op, fastest, run = originals
+    op, fastest, bound, run = originals
     return [(op_module, "operating_point", "operating point", op),
             (plan_module, "operating_point", "operating point", op),
             (lin_module, "fastest_mode", "fastest mode", fastest),
             (sim_module, "fastest_mode", "fastest mode", fastest),
+            (lin_module, "spectral_radius_bound", "  of which the bound", bound),
             (kernel, "run", "loop", run)]
 
 
