@@ -8,12 +8,14 @@ towards the master-speed roller, which is how the HSWL of thesis Fig. 4.2 is arr
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
 from webline.spec.check import web_ea, zones
 from webline.spec.load import read_spec, spec_from_dict
+from webline.spec.paths import set_path
 from webline.spec.schema import (
     DrivenSpec,
     IdleSpec,
@@ -127,12 +129,23 @@ class Line:
             data["rollers"][0]["radius"] = scenario.unwind_radius
         if scenario.rewind_radius is not None:
             data["rollers"][-1]["radius"] = scenario.rewind_radius
+        for path, value in scenario.set.items():
+            set_path(data, path, value, f"{self.source}: scenarios.{name}.set")
         return Line(spec_from_dict(data, f"{self.source} [scenario {name}]"), self.source)
 
-    def replace(self, **changes: object) -> Line:
-        """A copy with top-level spec keys replaced by (validated) new values."""
+    def replace(self, changes: Mapping[str, object] | None = None, /,
+                **top_level: object) -> Line:
+        """A new, validated line with some values changed.
+
+        ``changes`` maps nested paths to values, with units where the line file takes them:
+        ``line.replace({"rollers.process.controller.tension_bandwidth": "2 Hz",
+        "web.ea": "9 kN", "spans.span2.length": 12})`` (list elements by name or ``[i]``,
+        see ``webline.spec.paths``). Keyword arguments replace top-level keys
+        (``line.replace(speed="800 ft/min")``). Raises ``LineFileError`` naming the path.
+        """
         data = self.spec.model_dump(exclude_none=True)
-        data.update(changes)
+        for path, value in {**(changes or {}), **top_level}.items():
+            set_path(data, path, value, self.source)
         return Line(spec_from_dict(data, self.source), self.source)
 
 

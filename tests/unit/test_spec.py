@@ -153,7 +153,7 @@ def test_hswl_zones_and_who_controls_them(hswl: Line) -> None:
 
 def test_hswl_scenarios(hswl: Line) -> None:
     assert list(hswl.spec.scenarios) == ["startup", "speed-change", "disturbance",
-                                         "roll-change"]
+                                         "roll-change", "tension-step"]
     startup = hswl.with_scenario("startup")
     assert startup.spec.speed.type == "ramp"
     assert startup.spec.speed.initial == 0.0
@@ -178,7 +178,7 @@ def test_unknown_scenario_names_the_scenarios_there_are(hswl: Line) -> None:
     err = info.value
     assert (err.file, err.key) == ("hswl.toml (built-in)", "scenarios.nope")
     assert err.problem == ("no such scenario (this line has: startup, speed-change, "
-                           "disturbance, roll-change)")
+                           "disturbance, roll-change, tension-step)")
 
 
 def test_replace_validates_the_new_value(hswl: Line) -> None:
@@ -374,10 +374,10 @@ MALFORMED: dict[str, tuple[Callable[[dict[str, Any]], None], str, str]] = {
     "no master": (_set("rollers.1.role", "tension"), "rollers",
                   "exactly one driven roller must have role = 'master', got 0"),
     "zone without loadcell": (_del("spans.0.tension"), "spans[0]",
-                              r"tension zone 0 \(unwind to master\) needs exactly one span "
+                              r"tension zone 1 \(unwind to master\) needs exactly one span "
                               r"with a 'tension' reference, got 0"),
     "zone with two loadcells": (_set("spans.2.tension", "10 lbf"), "spans[2]..spans[3]",
-                                r"tension zone 2 \(process to rewind\) .* got 2"),
+                                r"tension zone 3 \(process to rewind\) .* got 2"),
     "duplicate roller names": (_set("rollers.3.name", "master"), "rollers[3].name",
                                "duplicate name 'master'"),
     "duplicate span names": (_set("spans.1.name", "span1"), "spans[1].name",

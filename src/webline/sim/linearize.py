@@ -333,7 +333,7 @@ def _linear_model(plan: Plan, op: OperatingPoint, loop: Literal["open", "closed"
     c_cl = np.hstack([c, np.zeros((c.shape[0], gi.shape[0]))])
     states += [f"{line.node_name(line.drives[j // 2])}_{('speed', 'tension')[j % 2]}_integral"
                for j in used]
-    inputs = (["line_speed_ref"] + [f"zone{z}_tension_ref" for z in range(len(line.zones))]
+    inputs = (["line_speed_ref"] + [f"zone{z + 1}_tension_ref" for z in range(len(line.zones))]
               + ["wound_in_tension"])
     return LinearModel(a_cl, b_cl, c_cl, states, inputs, outputs)
 

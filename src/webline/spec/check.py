@@ -105,7 +105,7 @@ def check_spec(spec: LineSpec, file: str) -> None:
         loadcells = [k for k in range(first, last) if spec.spans[k].tension is not None]
         if len(loadcells) != 1:
             names = f"spans[{first}]" + (f"..spans[{last - 1}]" if last - 1 > first else "")
-            fail(names, f"tension zone {z} ({rollers[first].name} to {rollers[last].name}) "
+            fail(names, f"tension zone {z + 1} ({rollers[first].name} to {rollers[last].name}) "
                  f"needs exactly one span with a 'tension' reference, got {len(loadcells)}")
     for k, span in enumerate(spec.spans):
         if span.tension is not None:

@@ -6,7 +6,7 @@ are errors; each component is chosen by its ``type``, never guessed from the key
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import Discriminator, Field, Tag
 
@@ -353,10 +353,13 @@ class ControlSpec(Strict):
 
 class ScenarioSpec(Strict):
     """A named run of the line: it may replace the speed reference, the disturbances and the
-    initial roll radii, and sets a default duration."""
+    initial roll radii, and sets a default duration. ``set`` changes any other value by its
+    nested path (``"spans.span2.tension"`` = a steps profile, a controller's bandwidth...; see
+    ``webline.spec.paths``), applied after the keys above."""
 
     description: str = ""
     duration: Time
+    set: dict[str, Any] = Field(default_factory=dict)
     speed: SpeedProfile | None = None
     disturbances: list[DisturbanceSpec] | None = None
     unwind_radius: Length | None = None
