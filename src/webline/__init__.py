@@ -2,7 +2,7 @@
 
 from webline.analysis.linearize import linearize
 from webline.analysis.operating_point import OperatingPoint, operating_point
-from webline.errors import LineFileError, SimulationError, WeblineError
+from webline.errors import LineFileError, SimulationError, SimulationInterrupted, WeblineError
 from webline.line import Line, load_line
 from webline.sim.reference import simulate_reference
 from webline.sim.result import Result
@@ -16,6 +16,7 @@ __all__ = [
     "OperatingPoint",
     "Result",
     "SimulationError",
+    "SimulationInterrupted",
     "WeblineError",
     "__version__",
     "linearize",
