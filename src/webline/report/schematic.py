@@ -20,6 +20,7 @@ from matplotlib.patches import Circle, FancyArrowPatch, Rectangle
 
 from webline.line import Line
 from webline.report.display import Display
+from webline.report.mpl_text import literal
 from webline.spec.schema import IdleSpec, RewindSpec, UnwindSpec
 
 SPACING = 3.0  #: distance between roller centres in the drawing
@@ -50,7 +51,7 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
         ax.add_patch(Rectangle((left, -3.0), right - left, top + 2.8,
                                color=ZONE_SHADES[z % 2], zorder=0))
         ax.text((left + right) / 2, top - 0.35,
-                f"zone {z + 1}: tension set by {line.node_name(zone.controller)}",
+                literal(f"zone {z + 1}: tension set by {line.node_name(zone.controller)}"),
                 ha="center", va="center", fontsize=8, color="#555555")
 
     loadcells = {zone.loadcell for zone in line.zones}
@@ -61,7 +62,7 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
         ax.add_patch(FancyArrowPatch(_along(x0, y0, x1, y1, 0.2), _along(x0, y0, x1, y1, 0.3),
                                      arrowstyle="-|>", mutation_scale=11, color=COLORS["web"],
                                      lw=0, zorder=3))
-        label = f"{line.span_name(k)}\n{display.text(span.length, 'length', 3)}"
+        label = literal(f"{line.span_name(k)}\n{display.text(span.length, 'length', 3)}")
         ax.text(xm, ym - 0.25, label, ha="center", va="top", fontsize=8)
         if k in loadcells:
             ax.plot([xm], [ym + 0.12], marker="v", ms=9, color=COLORS["loadcell"], zorder=4)
@@ -79,7 +80,7 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
             ax.text(x[i], -s - 0.8, "M", color="white", ha="center", va="center",
                     fontsize=8, weight="bold", zorder=4)
         below = -s - (1.2 if not isinstance(roller, IdleSpec) else 0.15)
-        ax.text(x[i], below, f"{roller.name}\n{display.text(roller.radius, 'length', 3)}",
+        ax.text(x[i], below, literal(f"{roller.name}\n{display.text(roller.radius, 'length', 3)}"),
                 ha="center", va="top", fontsize=8)
 
     ax.legend(handles=_legend(), loc="lower center", bbox_to_anchor=(0.5, -0.02), ncol=7,
@@ -88,8 +89,8 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
     ax.set_ylim(-3.6, top)
     ax.set_aspect("equal")
     ax.axis("off")
-    ax.set_title(f"{line.name}: {line.n_nodes} rollers, {line.n_spans} spans, "
-                 f"{len(line.drives)} drives", fontsize=10)
+    ax.set_title(literal(f"{line.name}: {line.n_nodes} rollers, {line.n_spans} spans, "
+                         f"{len(line.drives)} drives"), fontsize=10)
     return fig
 
 
