@@ -19,6 +19,13 @@ from webline.errors import WeblineError
 TEMP_PREFIX = ".webline-tmp-"
 
 
+def _file_mode() -> int:
+    """Permissions of a new file under the process umask (``mkstemp`` makes 0600 files)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
 class OutputError(WeblineError):
     """An output file or folder cannot be written safely (exit status 2)."""
 
@@ -42,6 +49,7 @@ def atomic_write(path: str | Path, write: Callable[[Path], object]) -> Path:
     os.close(fd)
     tmp = Path(name)
     try:
+        os.chmod(tmp, _file_mode())
         write(tmp)
         os.replace(tmp, path)
     except BaseException:

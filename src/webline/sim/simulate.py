@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import math
+import signal
+import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -62,6 +65,32 @@ def next_chunk(count: int, seconds: float, n_ticks: int, progress: bool) -> int:
     return chunk
 
 
+@contextmanager
+def deferred_interrupt() -> Iterator[Callable[[], bool]]:
+    """Within the block, a first Ctrl-C (SIGINT) only sets a flag (the yielded function reads
+    it), so the chunk loop stops cleanly after the chunk under way, keeping its records; a
+    second Ctrl-C raises KeyboardInterrupt at once (e.g. while the loop still compiles). Only
+    where Python's default SIGINT handler is in place in the main thread; elsewhere the flag
+    stays False and Ctrl-C raises as usual."""
+    pressed: list[bool] = []
+    default = signal.default_int_handler
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is not default):
+        yield lambda: False
+        return
+
+    def handler(signum: int, frame: object) -> None:
+        if pressed:
+            default(signum, frame)  # type: ignore[arg-type]
+        pressed.append(True)
+
+    signal.signal(signal.SIGINT, handler)
+    try:
+        yield lambda: bool(pressed)
+    finally:
+        signal.signal(signal.SIGINT, default)
+
+
 def slip_rates(line: Line) -> list[tuple[int, float, str]]:
     """(node, fastest rate [1/s], key) of the two spans round each roller that may slip."""
     from webline.physics.slip import slip_rate
@@ -97,11 +126,11 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
     ``SimulationError`` whose ``partial`` is the ``Result`` so far (or, with
     ``raise_on_failure=False``, returns it with ``status`` set).
 
-    The run goes in chunks of about 0.1 s of wall time, so Ctrl-C (KeyboardInterrupt) is seen
-    within a chunk: it stops the run, and the ``Result`` so far has ``status`` "interrupted";
-    it is raised as ``SimulationInterrupted`` (a KeyboardInterrupt, ``partial`` = the result)
-    or, with ``raise_on_failure=False``, returned. A Ctrl-C before the first records (while the
-    loop compiles) propagates as a plain KeyboardInterrupt.
+    The run goes in chunks of about 0.1 s of wall time, so Ctrl-C is seen within a chunk: it
+    stops the run after that chunk, and the ``Result`` so far has ``status`` "interrupted"; it
+    is raised as ``SimulationInterrupted`` (a KeyboardInterrupt, ``partial`` = the result) or,
+    with ``raise_on_failure=False``, returned. A second Ctrl-C (e.g. while the loop still
+    compiles) raises a plain KeyboardInterrupt at once.
     """
     line = load_line(line)
     if scenario is not None:
@@ -126,22 +155,26 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
     status, t_fail, done, chunk = L.STATUS_OK, math.nan, 0, FIRST_CHUNK
     if progress is not None:
         chunk = min(chunk, max(1000, math.ceil(n_ticks / 100)))
-    try:
-        while done < n_ticks and status == L.STATUS_OK:
-            count = min(chunk, n_ticks - done)
-            last = done + count == n_ticks
-            started = time.perf_counter()
-            rec, n_rec, status, t_fail, x, istate, slipping = kernel.run(
-                plan, x, istate, slipping, done, count, substeps, every, last)
-            blocks.append(rec[:n_rec])
-            done += count
-            chunk = next_chunk(count, time.perf_counter() - started, n_ticks, progress is not None)
-            if progress is not None:
-                progress(done / n_ticks)
-    except KeyboardInterrupt:
-        if not blocks or not len(blocks[0]):
-            raise  # nothing computed yet (e.g. still compiling): a plain Ctrl-C
-        status = STATUS_INTERRUPTED
+    with deferred_interrupt() as interrupted:
+        try:
+            while done < n_ticks and status == L.STATUS_OK and not interrupted():
+                count = min(chunk, n_ticks - done)
+                last = done + count == n_ticks
+                started = time.perf_counter()
+                rec, n_rec, status, t_fail, x, istate, slipping = kernel.run(
+                    plan, x, istate, slipping, done, count, substeps, every, last)
+                blocks.append(rec[:n_rec])
+                done += count
+                chunk = next_chunk(count, time.perf_counter() - started, n_ticks,
+                                   progress is not None)
+                if progress is not None:
+                    progress(done / n_ticks)
+        except KeyboardInterrupt:  # raised where no deferring handler could be installed
+            if not blocks or not len(blocks[0]):
+                raise  # nothing computed yet: a plain Ctrl-C
+            status = STATUS_INTERRUPTED
+        if interrupted() and status == L.STATUS_OK and done < n_ticks:
+            status = STATUS_INTERRUPTED
     if not blocks:  # n_ticks < 1 cannot happen (max(1, ...)), kept for the type checker
         raise SimulationError("nothing was simulated")
     records = blocks[0] if len(blocks) == 1 else np.concatenate(blocks)
