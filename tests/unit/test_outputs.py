@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 from matplotlib.figure import Figure
 
-from webline.files import TEMP_PREFIX, OutputError, atomic_write, atomic_write_text
+from webline.files import OutputError, atomic_write, atomic_write_text
 from webline.report.mpl_text import legend_label, literal
 from webline.report.outputs import MANIFEST, NAME_LIMIT, OutputFolder, default_folder, safe_name
 
