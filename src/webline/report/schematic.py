@@ -107,7 +107,7 @@ def drive_train_label(drive: DriveSpec, display: Display) -> str:
     """The drive train beside a motor box, one item a line: transmission (direct, belt or
     shaft), backlash if any, the side the speed loop measures, brake if any."""
     transmission = drive.transmission
-    lines = [transmission.type]
+    lines: list[str] = [transmission.type]
     backlash = getattr(transmission, "backlash", None)
     if backlash is not None:
         lines.append(f"backlash {backlash_text(backlash, display)}")
