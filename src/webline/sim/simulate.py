@@ -151,8 +151,10 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
         every = max(1, round(record_interval / plan.dt))
     x, istate = equilibrium_plan_state(plan)
     slipping = plan.initial_slip(x)
-    blocks: list[np.ndarray] = []
-    status, t_fail, done, chunk = L.STATUS_OK, math.nan, 0, FIRST_CHUNK
+    # one buffer for the whole run, filled chunk by chunk (no concatenation)
+    buffer = np.empty((n_ticks // every + 2, kernel.record_width(
+        plan.n_x, plan.drives.shape[0], plan.nodes.shape[0])))
+    status, t_fail, done, stored, chunk = L.STATUS_OK, math.nan, 0, 0, FIRST_CHUNK
     if progress is not None:
         chunk = min(chunk, max(1000, math.ceil(n_ticks / 100)))
     with deferred_interrupt() as interrupted:
@@ -161,23 +163,23 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
                 count = min(chunk, n_ticks - done)
                 last = done + count == n_ticks
                 started = time.perf_counter()
-                rec, n_rec, status, t_fail, x, istate, slipping = kernel.run(
-                    plan, x, istate, slipping, done, count, substeps, every, last)
-                blocks.append(rec[:n_rec])
+                _, n_rec, status, t_fail, x, istate, slipping = kernel.run(
+                    plan, x, istate, slipping, done, count, substeps, every, last,
+                    buffer[stored:])
+                stored += n_rec
                 done += count
                 chunk = next_chunk(count, time.perf_counter() - started, n_ticks,
                                    progress is not None)
                 if progress is not None:
                     progress(done / n_ticks)
         except KeyboardInterrupt:  # raised where no deferring handler could be installed
-            if not blocks or not len(blocks[0]):
+            if not stored:
                 raise  # nothing computed yet: a plain Ctrl-C
             status = STATUS_INTERRUPTED
         if interrupted() and status == L.STATUS_OK and done < n_ticks:
             status = STATUS_INTERRUPTED
-    if not blocks:  # n_ticks < 1 cannot happen (max(1, ...)), kept for the type checker
-        raise SimulationError("nothing was simulated")
-    records = blocks[0] if len(blocks) == 1 else np.concatenate(blocks)
+    # a run that stopped early keeps only its records, not the whole buffer
+    records = buffer[:stored] if stored >= len(buffer) - 2 else buffer[:stored].copy()
     result = _result(plan, records, status, t_fail,
                      {"duration": duration, "dt": plan.dt, "substeps": substeps,
                       "record_every": every})
