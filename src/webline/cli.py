@@ -243,8 +243,8 @@ def run(
         files, results_file = write_run(result, folder, data_format.value, precision.value,
                                         units.value, scenario)
     except KeyboardInterrupt:
-        fail(f"interrupted while writing {folder.path}: files already written are whole, the "
-             "rest are missing", 130)
+        fail(f"interrupted while writing {folder.path}: the files written are whole, the others "
+             "missing or from the previous run", 130)
     if not quiet:
         from webline.report.display import Display
         from webline.report.tables import summary_tables
