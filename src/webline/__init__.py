@@ -1,6 +1,6 @@
 """webline: model, simulate, analyse and control roll-to-roll (web handling) process lines."""
 
-from webline.errors import LineFileError, SimulationError, WeblineError
+from webline.errors import LineFileError, SimulationError, SimulationInterrupted, WeblineError
 from webline.line import Line, load_line
 from webline.model.operating_point import OperatingPoint, operating_point
 from webline.sim.linearize import linearize
@@ -15,6 +15,7 @@ __all__ = [
     "OperatingPoint",
     "Result",
     "SimulationError",
+    "SimulationInterrupted",
     "WeblineError",
     "__version__",
     "linearize",

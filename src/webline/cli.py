@@ -60,6 +60,11 @@ class DataFormat(StrEnum):
     csv = "csv"
 
 
+class Precision(StrEnum):
+    float64 = "float64"
+    float32 = "float32"
+
+
 class BadInput(WeblineError):
     """A command-line value is wrong (exit status 2)."""
 
@@ -201,29 +206,45 @@ def run(
     quiet: Annotated[bool, typer.Option("--quiet", "-q",
                                         help="Print only the report's path.")] = False,
     controller: ControllerOpt = None,
+    precision: Annotated[Precision, typer.Option(
+        "--precision", help="Floating-point precision of the signals in results.nc.")]
+    = Precision.float64,
+    force: Annotated[bool, typer.Option(
+        "--force", help="Write into a non-empty output folder that webline did not write.")]
+    = False,
 ) -> None:
-    """Simulate a line and write its results, figures and an HTML report."""
-    from webline.report import write_report, write_results
+    """Simulate a line and write its results, figures and an HTML report.
+
+    Ctrl-C stops the simulation, writes what was computed (status interrupted) and exits 130.
+    """
+    from webline.report.run_output import open_run_folder, write_run
 
     base = _load(line, None, controller)
     scenario_line = base.with_scenario(scenario) if scenario else base
     seconds = _duration(duration)
-    folder = prepare_out(out or Path("out") / (base.name + (f"-{scenario}" if scenario else "")))
+    folder = open_run_folder(out, base.name, scenario, force)
+    prepare_out(folder.path)
     err = Console(stderr=True, highlight=False)
     started = time.perf_counter()
-    with progress_bar(not quiet, f"simulating {scenario_line.name}") as progress:
-        result = simulate(base, seconds, scenario=scenario, progress=progress,
-                          raise_on_failure=False)
+    if not quiet:
+        err.print(f"Simulating {escape(scenario_line.name)} (Ctrl-C stops and writes what was "
+                  "computed)")
+    try:
+        with progress_bar(not quiet, f"simulating {scenario_line.name}") as progress:
+            result = simulate(base, seconds, scenario=scenario, progress=progress,
+                              raise_on_failure=False)
+    except KeyboardInterrupt:
+        fail("interrupted before anything was computed; nothing written", 130)
     if not quiet:
         simulated = float(result.time[-1]) if len(result.time) else 0.0
         err.print(f"Simulated {simulated:.4g} s of {escape(base.name)} in "
                   f"{time.perf_counter() - started:.2f} s; writing results and report")
     try:
-        results_file = write_results(result, folder, data_format.value)
-        files = write_report(result, folder, units=units.value, scenario=scenario,
-                             results_file=results_file)
-    except OSError as exc:
-        raise WeblineError(f"{folder}: cannot write the results: {exc}") from None
+        files, results_file = write_run(result, folder, data_format.value, precision.value,
+                                        units.value, scenario)
+    except KeyboardInterrupt:
+        fail(f"interrupted while writing {folder.path}: the files written are whole, the others "
+             "missing or from the previous run", 130)
     if not quiet:
         from webline.report.display import Display
         from webline.report.tables import summary_tables
@@ -231,14 +252,16 @@ def run(
         console = _console()
         print_tables(summary_tables(result, Display(units.value)), console)
         console.print(f"Results (SI): {escape(str(results_file))}\n"
-                      f"Figures:      {escape(str(folder / 'figures'))} "
+                      f"Figures:      {escape(str(folder.path / 'figures'))} "
                       f"({len(files.figures) // 2} as PNG and SVG)\n"
                       f"Summary:      {escape(str(files.summary))}\n"
                       "Report (open it in a browser):")
     typer.echo(str(files.report.resolve()))
+    if result.status == "interrupted":
+        fail(f"{result.message}; what was computed until then is in {folder.path}", 130)
     if result.status != "ok":
         fail(f"simulation failed: {result.message}; what was computed until then is in "
-             f"{folder}", 1)
+             f"{folder.path}", 1)
 
 
 @app.command()

@@ -33,3 +33,14 @@ class SimulationError(WeblineError):
     def __init__(self, message: str, partial: object | None = None) -> None:
         self.partial = partial
         super().__init__(message)
+
+
+class SimulationInterrupted(KeyboardInterrupt):
+    """Ctrl-C stopped a simulation; ``partial`` holds the ``Result`` computed until then.
+
+    A ``KeyboardInterrupt`` (not a ``WeblineError``), so that it still stops a script and is not
+    swallowed by ``except Exception`` or ``except WeblineError``."""
+
+    def __init__(self, message: str, partial: object | None = None) -> None:
+        self.partial = partial
+        super().__init__(message)

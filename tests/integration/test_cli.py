@@ -253,7 +253,7 @@ def test_run_that_fails_keeps_partial_results_and_exits_1(tmp_path):
     assert 1.0 < summary["duration_s"] < 3.0
     import xarray as xr
 
-    with xr.open_dataset(out / "results.nc", engine="scipy") as ds:
+    with xr.open_dataset(out / "results.nc") as ds:
         assert ds.attrs["status"] == "unwind-empty"
         assert float(ds.time[-1]) == pytest.approx(summary["duration_s"])
     assert "run stopped early" in (out / "report.html").read_text().lower()

@@ -74,7 +74,7 @@ def test_report_summary_table_has_every_span(runs):
 
 def test_report_summary_numbers_match_the_result(runs):
     """The report's span1 mean equals the mean tension stored in results.nc."""
-    with xr.open_dataset(runs["si"].out / "results.nc", engine="scipy") as ds:
+    with xr.open_dataset(runs["si"].out / "results.nc") as ds:
         mean = float(ds.tension.sel(span="span1").mean())
         assert ds.attrs["webline_version"] == webline.__version__
         assert 'name = "hswl"' in ds.attrs["line_spec_toml"]

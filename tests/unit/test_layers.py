@@ -18,7 +18,8 @@ SRC = Path(__file__).resolve().parents[2] / "src"
 #: ``webline`` itself (the front door, ``webline/__init__.py``) re-exports model and sim entry
 #: points, so it sits just above sim; the layers above may use it.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("webline.units", "webline.errors", "webline.version", "webline.data"),
+    ("webline.units", "webline.errors", "webline.version", "webline.data", "webline.files",
+     "webline.verdict"),
     ("webline.spec",),
     ("webline.line", "webline.physics", "webline.profiles"),
     ("webline.model",),

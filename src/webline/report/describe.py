@@ -90,12 +90,43 @@ def _drives(line: Line, d: Display) -> Table:
         zone = line.controlled_zone(i)
         task = "line speed (master)" if zone is None else \
             f"tension of {line.span_name(line.zones[zone].loadcell)} (zone {zone + 1})"
-        rows.append([r.name, f"{drive.ratio:g}", d.text(drive.torque_limit, "torque"),
+        rows.append([r.name, f"{drive.ratio:g}", transmission_text(drive.transmission, d),
+                     backlash_text(getattr(drive.transmission, "backlash", None), d),
+                     drive.feedback, profile_text(drive.brake, "torque", d) or "none",
+                     d.text(drive.torque_limit, "torque"),
                      f"{drive.torque_lag * 1e3:g} ms", d.text(drive.motor_inertia, "inertia"),
                      controller_text(r.controller, zone is not None), task])
     return make_table("drives", "Drives and controllers",
-                      ["drive", "ratio (motor/roller)", "torque limit", "torque lag",
+                      ["drive", "ratio (motor/roller)", "transmission", "backlash",
+                       "speed measured on", "brake", "torque limit", "torque lag",
                        "motor inertia", "controller", "controls"], rows)
+
+
+def transmission_text(transmission: object, d: Display) -> str:
+    """A drive's transmission in words: ``'direct'``, ``'belt 2e+05 N/m, load pulley radius
+    0.0508 m'``, ``'shaft 500 N·m/rad'`` (damping added where set)."""
+    kind = getattr(transmission, "type", "direct")
+    if kind == "belt":
+        text = (f"belt {d.text(transmission.stiffness, 'stiffness')}, load pulley radius "  # type: ignore[attr-defined]
+                f"{d.text(transmission.load_pulley_radius, 'length')}")  # type: ignore[attr-defined]
+        damping = transmission.damping  # type: ignore[attr-defined]
+        return text + (f", damping {d.text(damping, 'linear_damping')}" if damping else "")
+    if kind == "shaft":
+        text = f"shaft {d.text(transmission.stiffness, 'torque')}/rad"  # type: ignore[attr-defined]
+        damping = transmission.damping  # type: ignore[attr-defined]
+        return text + (f", damping {d.text(damping, 'rot_damping')}/rad" if damping else "")
+    return "direct"
+
+
+def backlash_text(backlash: object, d: Display) -> str:
+    """A backlash in words: ``'±0.01 rad'`` (the load's free travel either way, at the load
+    shaft), ``'-0.004 rad / +0.016 rad'`` when asymmetric; ``'none'``."""
+    if backlash is None:
+        return "none"
+    gap, a = backlash.gap, backlash.asymmetry  # type: ignore[attr-defined]
+    if a == 0.5:
+        return f"±{d.text(gap, 'angle')}"
+    return f"-{d.text(2 * gap * a, 'angle')} / +{d.text(2 * gap * (1 - a), 'angle')}"
 
 
 def controller_text(controller: object, tension_loop: bool) -> str:

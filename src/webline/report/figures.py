@@ -22,6 +22,7 @@ from matplotlib.figure import Figure
 from webline.analysis.modes import Mode
 from webline.profiles import breakpoints
 from webline.report.display import Display
+from webline.report.mpl_text import legend_label, literal
 from webline.report.schematic import schematic
 from webline.sim.result import Result
 
@@ -86,7 +87,7 @@ def _finish(fig: Figure, axes: Sequence[Axes], result: Result) -> None:
             ax.axvline(result.time[-1], color="#d62728", ls=":", lw=1.2)
     axes[-1].set_xlabel("time [s]")
     if result.status != "ok":
-        fig.suptitle(f"run stopped: {result.message}", color="#d62728", fontsize=9)
+        fig.suptitle(literal(f"run stopped: {result.message}"), color="#d62728", fontsize=9)
 
 
 def tension_figure(result: Result, display: Display) -> Figure:
@@ -100,12 +101,13 @@ def tension_figure(result: Result, display: Display) -> Figure:
         _plot(ax, result.time, tension[:, k], color="C0", lw=1.0, label="tension")
         if np.all(np.isfinite(ref[:, k])):
             _plot(ax, result.time, ref[:, k], color="k", ls="--", lw=1.0, label="reference")
-            title = f"{result.span_names[k]} (loadcell)"
+            title = f"{literal(result.span_names[k])} (loadcell)"
         else:
-            title = f"{result.span_names[k]} (no loadcell)"
-        for event in (e for e in result.slack_events if e.span == result.span_names[k]):
+            title = f"{literal(result.span_names[k])} (no loadcell)"
+        events = [e for e in result.slack_events if e.span == result.span_names[k]]
+        for j, event in enumerate(events):  # one legend entry however many intervals
             ax.axvspan(event.start, event.end if event.end is not None else result.time[-1],
-                       color="#d62728", alpha=0.2, label="slack")
+                       color="#d62728", alpha=0.2, label="slack" if j == 0 else None)
         ax.set_title(title, fontsize=9, loc="left")
         _floor_range(ax, _size(tension[:, k]))
         ax.set_ylabel(display.label("tension", "force"))
@@ -121,7 +123,7 @@ def speed_figure(result: Result, display: Display) -> Figure:
     top, bottom = fig.subplots(2, 1, sharex=True)
     speed = display.array(result.speed, "speed")
     for i, name in enumerate(result.node_names):
-        _plot(top, result.time, speed[:, i], lw=1.0, label=name)
+        _plot(top, result.time, speed[:, i], lw=1.0, label=legend_label(name))
     times, values = breakpoints(result.line.spec.speed)
     line_ref = display.array(np.interp(result.time, times, values), "speed")
     _plot(top, result.time, line_ref, color="k", ls="--", lw=1.0, label="line speed reference")
@@ -130,7 +132,7 @@ def speed_figure(result: Result, display: Display) -> Figure:
     top.legend(fontsize=7, loc="lower right", ncol=2)
     error = display.array(result.drive_speed - result.speed_ref, "speed")
     for d, name in enumerate(result.drive_names):
-        _plot(bottom, result.time, error[:, d], lw=1.0, label=name)
+        _plot(bottom, result.time, error[:, d], lw=1.0, label=legend_label(name))
     _floor_range(bottom, _size(speed), 0.002)
     bottom.set_ylabel(display.label("speed-loop error", "speed"))
     bottom.legend(fontsize=7, loc="upper right", ncol=2)
@@ -144,7 +146,7 @@ def torque_figure(result: Result, display: Display) -> Figure:
     ax = fig.subplots()
     torque = display.array(result.torque, "torque")
     for d, name in enumerate(result.drive_names):
-        _plot(ax, result.time, torque[:, d], lw=1.0, label=name)
+        _plot(ax, result.time, torque[:, d], lw=1.0, label=legend_label(name))
     ax.axhline(0.0, color="k", lw=0.6)
     _floor_range(ax, _size(torque))
     ax.set_ylabel(display.label("motor torque", "torque"))
@@ -160,7 +162,7 @@ def roll_figure(result: Result, display: Display) -> Figure:
     radius = display.array(result.radius, "length")
     inertia = display.array(result.inertia, "inertia")
     for col, i in enumerate((0, result.line.n_nodes - 1)):
-        name = result.node_names[i]
+        name = legend_label(result.node_names[i])
         _plot(top, result.time, radius[:, i], lw=1.2, color=f"C{col}", label=name)
         _plot(bottom, result.time, inertia[:, col], lw=1.2, color=f"C{col}", label=name)
     top.set_ylabel(display.label("roll radius", "length"))
@@ -179,7 +181,7 @@ def slip_figure(result: Result, display: Display, nodes: Sequence[int]) -> Figur
     top, bottom = fig.subplots(2, 1, sharex=True)
     velocity = display.array(result.slip_velocity, "speed")
     for k, i in enumerate(nodes):
-        name = result.node_names[i]
+        name = legend_label(result.node_names[i])
         _plot(top, result.time, velocity[:, i], lw=1.0, color=f"C{k}", label=name)
         bottom.step(result.time, result.slipping[:, i] + 0.02 * k, where="post", lw=1.0,
                     color=f"C{k}", label=name)
@@ -205,7 +207,7 @@ def poles_figure(modes: Sequence[Mode]) -> Figure:
         ax.plot([least.eigenvalue.real], [least.eigenvalue.imag], "o", mfc="none", color="k",
                 ms=13)
         title += (f"; circled, least damped: ζ = {least.damping:.2f} at "
-                  f"{least.frequency_hz:.3g} Hz ({least.dominant})")
+                  f"{least.frequency_hz:.3g} Hz ({literal(least.dominant)})")
     ax.axvline(0.0, color="k", lw=0.8)
     ax.axhline(0.0, color="k", lw=0.5)
     ax.set_xscale("symlog", linthresh=10.0)

@@ -3,7 +3,9 @@
 Rollers stand in web order from left (unwind) to right (rewind), equally spaced; each circle's
 size grows with the square root of its radius. Rolls show their core, driven rollers are
 filled (the master-speed roller in orange), idle rollers are open; each drive is a box under its
-roller, each loadcell a triangle on its span, each tension zone a shaded band.
+roller, joined by a solid (direct), dashed (belt) or dotted (shaft) stem and labelled with its
+drive train (transmission, backlash, the side its speed is measured on, brake); each loadcell
+is a triangle on its span, each tension zone a shaded band.
 """
 
 from __future__ import annotations
@@ -19,13 +21,17 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, FancyArrowPatch, Rectangle
 
 from webline.line import Line
+from webline.report.describe import backlash_text
 from webline.report.display import Display
-from webline.spec.schema import IdleSpec, RewindSpec, UnwindSpec
+from webline.report.mpl_text import literal
+from webline.spec.schema import DriveSpec, IdleSpec, RewindSpec, UnwindSpec
 
 SPACING = 3.0  #: distance between roller centres in the drawing
 COLORS = {"roll": "#d8c49a", "core": "#8c8c8c", "master": "#f28e2b", "tension": "#4e79a7",
           "idle": "white", "drive": "#59595c", "loadcell": "#e15759", "web": "#222222"}
 ZONE_SHADES = ("#eef3f8", "#f7f1e8")
+#: line style of the motor-to-roller stem per transmission (dashed: belt, dotted: shaft)
+STEM_STYLES = {"direct": "-", "belt": "--", "shaft": ":"}
 
 
 def drawn_radius(radius: float, largest: float) -> float:
@@ -50,7 +56,7 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
         ax.add_patch(Rectangle((left, -3.0), right - left, top + 2.8,
                                color=ZONE_SHADES[z % 2], zorder=0))
         ax.text((left + right) / 2, top - 0.35,
-                f"zone {z + 1}: tension set by {line.node_name(zone.controller)}",
+                literal(f"zone {z + 1}: tension set by {line.node_name(zone.controller)}"),
                 ha="center", va="center", fontsize=8, color="#555555")
 
     loadcells = {zone.loadcell for zone in line.zones}
@@ -61,7 +67,7 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
         ax.add_patch(FancyArrowPatch(_along(x0, y0, x1, y1, 0.2), _along(x0, y0, x1, y1, 0.3),
                                      arrowstyle="-|>", mutation_scale=11, color=COLORS["web"],
                                      lw=0, zorder=3))
-        label = f"{line.span_name(k)}\n{display.text(span.length, 'length', 3)}"
+        label = literal(f"{line.span_name(k)}\n{display.text(span.length, 'length', 3)}")
         ax.text(xm, ym - 0.25, label, ha="center", va="top", fontsize=8)
         if k in loadcells:
             ax.plot([xm], [ym + 0.12], marker="v", ms=9, color=COLORS["loadcell"], zorder=4)
@@ -73,24 +79,42 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
     for i, (roller, s) in enumerate(zip(rollers, size, strict=True)):
         _roller(ax, roller, x[i], s, i == line.master)
         if not isinstance(roller, IdleSpec):
-            ax.plot([x[i], x[i]], [-s, -s - 0.55], color=COLORS["drive"], lw=2, zorder=1)
+            style = STEM_STYLES[getattr(roller.drive.transmission, "type", "direct")]
+            ax.plot([x[i], x[i]], [-s, -s - 0.55], color=COLORS["drive"], lw=2, ls=style,
+                    zorder=1)
             ax.add_patch(Rectangle((x[i] - 0.45, -s - 1.05), 0.9, 0.5, color=COLORS["drive"],
                                    zorder=3))
             ax.text(x[i], -s - 0.8, "M", color="white", ha="center", va="center",
                     fontsize=8, weight="bold", zorder=4)
+            ax.text(x[i] + 0.55, -s - 0.55, literal(drive_train_label(roller.drive, display)),
+                    ha="left", va="center", fontsize=6.5, color=COLORS["drive"], zorder=4)
         below = -s - (1.2 if not isinstance(roller, IdleSpec) else 0.15)
-        ax.text(x[i], below, f"{roller.name}\n{display.text(roller.radius, 'length', 3)}",
+        ax.text(x[i], below, literal(f"{roller.name}\n{display.text(roller.radius, 'length', 3)}"),
                 ha="center", va="top", fontsize=8)
 
     ax.legend(handles=_legend(), loc="lower center", bbox_to_anchor=(0.5, -0.02), ncol=7,
               fontsize=7, frameon=False)
-    ax.set_xlim(-1.4, x[-1] + 1.4)
+    ax.set_xlim(-1.4, x[-1] + 2.4)  # room for the rewind drive's drive-train label
     ax.set_ylim(-3.6, top)
     ax.set_aspect("equal")
     ax.axis("off")
-    ax.set_title(f"{line.name}: {line.n_nodes} rollers, {line.n_spans} spans, "
-                 f"{len(line.drives)} drives", fontsize=10)
+    ax.set_title(literal(f"{line.name}: {line.n_nodes} rollers, {line.n_spans} spans, "
+                         f"{len(line.drives)} drives"), fontsize=10)
     return fig
+
+
+def drive_train_label(drive: DriveSpec, display: Display) -> str:
+    """The drive train beside a motor box, one item a line: transmission (direct, belt or
+    shaft), backlash if any, the side the speed loop measures, brake if any."""
+    transmission = drive.transmission
+    lines: list[str] = [transmission.type]
+    backlash = getattr(transmission, "backlash", None)
+    if backlash is not None:
+        lines.append(f"backlash {backlash_text(backlash, display)}")
+    lines.append(f"speed at {drive.feedback}")
+    if drive.brake is not None:
+        lines.append("brake")
+    return "\n".join(lines)
 
 
 def _along(x0: float, y0: float, x1: float, y1: float, f: float) -> tuple[float, float]:

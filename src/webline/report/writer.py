@@ -13,12 +13,14 @@ from typing import Literal
 
 from webline.analysis.modes import Mode, analysis_time, modes
 from webline.errors import WeblineError
+from webline.files import atomic_write_bytes, atomic_write_text
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint, operating_point
 from webline.report.describe import line_tables
 from webline.report.display import Display, System
 from webline.report.figures import report_figures
 from webline.report.html import Image, Section, Text, render
+from webline.report.outputs import OutputFolder
 from webline.report.tables import (
     make_table,
     modes_table,
@@ -28,7 +30,7 @@ from webline.report.tables import (
     summary_values,
 )
 from webline.sim.linearize import linearize
-from webline.sim.result import Result
+from webline.sim.result import Precision, Result
 from webline.spec.load import dump_spec
 
 Format = Literal["netcdf", "csv"]
@@ -66,44 +68,60 @@ def analyse(line: Line) -> Analysis:
         return Analysis(t, None, (), str(exc))
 
 
-def write_results(result: Result, out_dir: Path, fmt: Format = "netcdf") -> Path:
-    """Write the run's signals (SI, units as attributes/headers) as ``results.nc`` or
-    ``results.csv`` in ``out_dir``; returns the path."""
+def write_results(result: Result, out_dir: Path, fmt: Format = "netcdf", *,
+                  precision: Precision = "float64", folder: OutputFolder | None = None) -> Path:
+    """Write the run's signals (SI, units as attributes/headers) as ``results.nc`` (NetCDF-4,
+    compressed, floats as ``precision``) or ``results.csv`` in ``out_dir``, atomically; with
+    ``folder`` (the ``OutputFolder`` of ``out_dir``) the file joins its manifest. Returns the
+    path."""
+    name = "results.csv" if fmt == "csv" else "results.nc"
+    path = folder.claim(name) if folder else out_dir / name
     if fmt == "csv":
-        return result.to_csv(out_dir / "results.csv")
-    return result.to_netcdf(out_dir / "results.nc")
+        return result.to_csv(path)
+    return result.to_netcdf(path, precision=precision)
+
+
+def _target(out_dir: Path, folder: OutputFolder | None, relative: str) -> Path:
+    """Where ``relative`` goes: claimed in ``folder``'s manifest, or plainly under out_dir."""
+    if folder is not None:
+        return folder.claim(relative)
+    target = out_dir / relative
+    target.parent.mkdir(parents=True, exist_ok=True)
+    return target
 
 
 def write_report(result: Result, out_dir: Path, *, units: System = "si",
                  scenario: str | None = None, results_file: Path | None = None,
-                 analysis: Analysis | None = None) -> ReportFiles:
+                 analysis: Analysis | None = None,
+                 folder: OutputFolder | None = None) -> ReportFiles:
     """Write ``report.html`` (self-contained), ``summary.json`` and ``figures/*.png|svg`` for
-    ``result`` into ``out_dir``, every quantity in ``units`` ('si' or 'imperial')."""
+    ``result`` into ``out_dir``, every quantity in ``units`` ('si' or 'imperial'). Each file is
+    written atomically; with ``folder`` (the ``OutputFolder`` of ``out_dir``) each joins its
+    manifest."""
     from webline import __version__
 
     display = Display(units)
     line = result.line
     analysis = analysis or analyse(line)
-    figures_dir = out_dir / "figures"
-    figures_dir.mkdir(parents=True, exist_ok=True)
     images, written = {}, []
     for fig in report_figures(result, display, analysis.modes):
         buffer = io.BytesIO()
         fig.figure.savefig(buffer, format="png", dpi=DPI)
         images[fig.key] = Image(fig.key, fig.caption, buffer.getvalue())
-        png, svg = figures_dir / f"{fig.key}.png", figures_dir / f"{fig.key}.svg"
-        png.write_bytes(buffer.getvalue())
+        png = atomic_write_bytes(_target(out_dir, folder, f"figures/{fig.key}.png"),
+                                 buffer.getvalue())
+        svg = io.BytesIO()
         fig.figure.savefig(svg, format="svg", metadata={"Date": None})
-        written += [png, svg]
+        written += [png, atomic_write_bytes(_target(out_dir, folder, f"figures/{fig.key}.svg"),
+                                            svg.getvalue())]
 
     summary = summary_values(result, display)
-    summary_path = out_dir / "summary.json"
-    summary_path.write_text(json.dumps(_finite({
+    summary_path = atomic_write_text(_target(out_dir, folder, "summary.json"), json.dumps(_finite({
         "summary": summary, "webline_version": __version__, "scenario": scenario,
         "operating_point": (operating_point_values(analysis.point, display)
                             if analysis.point else None),
         "closed_loop_modes": [m.as_dict() for m in analysis.modes],
-    }), indent=2, allow_nan=False), encoding="utf-8")
+    }), indent=2, allow_nan=False))
 
     html = render(
         title=f"webline report: {line.name}" + (f", scenario {scenario}" if scenario else ""),
@@ -114,8 +132,7 @@ def write_report(result: Result, out_dir: Path, *, units: System = "si",
         footer=f"webline {__version__} · generated {datetime.now(UTC):%Y-%m-%d %H:%M} UTC · "
                f"units: {units}",
     )
-    report = out_dir / "report.html"
-    report.write_text(html, encoding="utf-8")
+    report = atomic_write_text(_target(out_dir, folder, "report.html"), html)
     return ReportFiles(report, summary_path, tuple(written))
 
 

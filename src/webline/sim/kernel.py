@@ -190,8 +190,8 @@ def compliant_torque(d: int, x: np.ndarray, ds: np.ndarray, offsets: np.ndarray,
 
 def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick0: int,
         n_ticks: int, substeps: int, record_every: int,
-        include_end: bool) -> tuple[np.ndarray, int, int, float, np.ndarray, np.ndarray,
-                                    np.ndarray]:
+        include_end: bool, rec: np.ndarray | None = None,
+        ) -> tuple[np.ndarray, int, int, float, np.ndarray, np.ndarray, np.ndarray]:
     """Simulate ``n_ticks`` controller periods of ``plan.dt`` [s] from tick ``tick0``.
 
     A tick is recorded when its global index is a multiple of ``record_every``; with
@@ -203,10 +203,13 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
     state stops being finite or the unwind roll runs out of web.
 
     This wrapper allocates every array; the compiled loop allocates none (``loop_njit``).
+    ``rec``, if given, receives the records instead (a C-contiguous block of enough rows, e.g.
+    the rest of a whole run's buffer, so that a chunked run needs no concatenation).
     """
     n_x, n_d, n_n = x0.shape[0], plan.drives.shape[0], plan.nodes.shape[0]
     x, istate, slipping = x0.copy(), istate0.copy(), slip0.copy()
-    rec = np.empty((n_ticks // record_every + 2, 1 + n_x + 5 * n_d + n_n))
+    if rec is None:
+        rec = np.empty((n_ticks // record_every + 2, record_width(n_x, n_d, n_n)))
     out = np.zeros((4, n_d))
     stages = np.empty((5, n_x))  # RK4 slopes k1..k4 and the stage state
     refs = np.empty((4, max(plan.prof_off.shape[0] - 1, n_n)))  # profiles|spans|v_ref|a_ref
@@ -215,6 +218,11 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
         x, istate, slipping, rec, out, stages, refs, work, tick0, n_ticks, plan.dt, substeps,
         record_every, include_end, *plan.params())
     return rec, n_rec, status, t_fail, x, istate, slipping
+
+
+def record_width(n_x: int, n_d: int, n_n: int) -> int:
+    """Columns of a record row (``run``) for ``n_x`` states, ``n_d`` drives, ``n_n`` nodes."""
+    return 1 + n_x + 5 * n_d + n_n
 
 
 def compiled_loop(plan: Plan) -> Any:

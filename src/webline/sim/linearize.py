@@ -362,6 +362,7 @@ def linearize(line: Line | str, t: float = 0.0, *,
 
     model = linear_model(load_line(line), t, loop=loop, unwind_radius=unwind_radius,
                          rewind_radius=rewind_radius)
-    name = f"{load_line(line).name}-{'plant' if loop == 'open' else 'closed-loop'}"
+    # python-control reserves '.' in system names (subsystem.signal); a line name is free text
+    name = load_line(line).name.replace(".", "_") + ("-plant" if loop == "open" else "-closed-loop")
     return control.ss(model.a, model.b, model.c, 0.0, states=model.states,
                       inputs=model.inputs, outputs=model.outputs, name=name)

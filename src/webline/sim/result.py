@@ -3,28 +3,24 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from datetime import UTC, datetime
 from functools import cached_property
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
 from webline.sim import layout as L
 from webline.sim.plan import Plan
+from webline.sim.signal_attrs import SIGNAL_UNITS, signal_attrs
 from webline.spec.load import dump_spec
 
 if TYPE_CHECKING:
     import xarray as xr
 
-#: unit of each kind of signal, as attributes in the xarray output
-SIGNAL_UNITS = {
-    "tension": "N", "tension_ref": "N", "speed": "m/s", "speed_ref": "m/s", "omega": "rad/s",
-    "torque": "N*m", "torque_cmd": "N*m", "trim": "m/s", "radius": "m", "inertia": "kg*m**2",
-    "slack": "", "motor_speed": "rad/s", "twist": "rad", "contact": "",
-    "friction_estimate": "N*m*s", "equilibrium_input": "N*m", "web_unwound": "m",
-    "surface_speed": "m/s", "slipping": "", "slip_velocity": "m/s", "slip_power": "W",
-    "web_rewound": "m", "web_stored": "m", "wound_in": "N",
-}
+#: records per chunk along time in the NetCDF file
+TIME_CHUNK = 4096
+Precision = Literal["float64", "float32"]
 
 
 @dataclass(frozen=True)
@@ -305,13 +301,20 @@ class Result:
             "web_stored": (("time",), self.web_stored),
         }
         ds = xr.Dataset(
-            {name: xr.Variable(dims, values, attrs={"units": SIGNAL_UNITS[name]})
+            {name: xr.Variable(dims, values, attrs=signal_attrs(name))
              for name, (dims, values) in data.items()},
-            coords={"time": ("time", self.time, {"units": "s"}), "span": self.span_names,
-                    "node": self.node_names, "drive": self.drive_names,
+            coords={"time": ("time", self.time, {"units": "s", "long_name": "simulated time",
+                                                 "standard_name": "time", "axis": "T"}),
+                    "span": self.span_names, "node": self.node_names,
+                    "drive": self.drive_names,
                     "roll": [self.node_names[0], self.node_names[-1]]},
         )
         ds.attrs.update({
+            "Conventions": "CF-1.8",
+            "title": f"webline simulation of line {self.line.name}",
+            "source": f"webline {__version__}: compiled RK4 plant with sampled controllers",
+            "history": f"{datetime.now(UTC):%Y-%m-%dT%H:%M:%SZ} webline {__version__} "
+                       f"simulate ({self.status})",
             "line": self.line.name,
             "line_spec_toml": dump_spec(self.line.spec),
             "webline_version": __version__,
@@ -321,11 +324,23 @@ class Result:
         })
         return ds
 
-    def to_netcdf(self, path: str | Path) -> Path:
-        """Write the dataset to NetCDF (scipy backend, NetCDF3). Returns the path."""
-        path = Path(path)
-        self.to_xarray().to_netcdf(path, engine="scipy")
-        return path
+    def to_netcdf(self, path: str | Path, precision: Precision = "float64") -> Path:
+        """Write the dataset to NetCDF-4 (HDF5 via h5netcdf), zlib-compressed and chunked along
+        time, atomically (a temporary file renamed into place). ``precision`` "float32" halves
+        the float signals (time stays float64). Returns the path."""
+        from webline.files import atomic_write
+
+        ds = self.to_xarray()
+        if precision not in ("float64", "float32"):
+            raise ValueError(f"precision must be 'float64' or 'float32', got {precision!r}")
+        encoding = {}
+        for name, var in ds.data_vars.items():
+            dtype = np.float32 if precision == "float32" and var.dtype.kind == "f" else var.dtype
+            chunks = (min(len(self.time), TIME_CHUNK), *var.shape[1:])
+            encoding[name] = {"zlib": True, "complevel": 4, "shuffle": True,
+                              "chunksizes": chunks, "dtype": dtype}
+        return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf",
+                                                           encoding=encoding))
 
     def to_dataframe(self):
         """Wide table: one row per time, one column per ``signal[element]``."""
@@ -333,19 +348,21 @@ class Result:
         return frame
 
     def to_csv(self, path: str | Path) -> Path:
-        """Write one column per named signal (``tension[span1]`` ...) with a units header."""
+        """Write one column per named signal (``tension[span1]`` ...) with a units header,
+        atomically (a temporary file renamed into place). Returns the path."""
         path = Path(path)
         ds = self.to_xarray()
         columns, headers = [self.time], ["time [s]"]
         for name, var in ds.data_vars.items():
             if var.dims == ("time",):
                 columns.append(var.values)
-                headers.append(f"{name} [{var.attrs['units']}]")
+                headers.append(f"{name} [{SIGNAL_UNITS[str(name)]}]")
                 continue
             for j, element in enumerate(ds[var.dims[1]].values):
                 columns.append(var.values[:, j])
-                headers.append(f"{name}[{element}] [{var.attrs['units']}]")
+                headers.append(f"{name}[{element}] [{SIGNAL_UNITS[str(name)]}]")
         table = np.column_stack(columns)
-        np.savetxt(path, table, delimiter=",", header=",".join(headers), comments="",
-                   fmt="%.9g")
-        return path
+        from webline.files import atomic_write
+
+        return atomic_write(path, lambda tmp: np.savetxt(
+            tmp, table, delimiter=",", header=",".join(headers), comments="", fmt="%.9g"))

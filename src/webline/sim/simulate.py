@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+import signal
+import threading
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
-from webline.errors import LineFileError, SimulationError
+from webline.errors import LineFileError, SimulationError, SimulationInterrupted
 from webline.line import Line, load_line
 from webline.profiles import breakpoints
 from webline.sim import kernel
@@ -23,6 +27,15 @@ STEP_LIMIT = 0.5
 #: Default cap on stored records; longer runs are decimated (the integration is not).
 MAX_RECORDS = 200_000
 
+
+#: Ticks of the first chunk of a run; later chunks are sized from its wall time.
+FIRST_CHUNK = 2000
+#: Wall time a chunk aims at [s]: the compiled loop only returns to Python (where Ctrl-C is
+#: seen) between chunks, so this bounds the delay of an interrupt; the overhead of a chunk is
+#: a few microseconds, negligible at this size.
+CHUNK_SECONDS = 0.1
+#: ``status`` code of a run stopped by KeyboardInterrupt (the kernel's codes are >= 0).
+STATUS_INTERRUPTED = -1
 
 #: Most RK4 sub-steps per controller period before a line is refused as too stiff.
 MAX_SUBSTEPS = 200
@@ -40,6 +53,44 @@ def choose_substeps(plan: Plan) -> int:
                 f"{STEP_LIMIT / rate_i:.2g} s; raise the viscous traction coefficient"))
         rate = max(rate, rate_i)
     return max(1, math.ceil(dt * rate / STEP_LIMIT))
+
+
+def next_chunk(count: int, seconds: float, n_ticks: int, progress: bool) -> int:
+    """Ticks of the next chunk after ``count`` ticks took ``seconds`` [s] of wall time: about
+    ``CHUNK_SECONDS`` of work, at least ``FIRST_CHUNK // 4`` (a first chunk slowed by
+    compiling the loop only makes the second one small); with a progress bar also at most 1 %
+    of the run."""
+    rate = count / max(seconds, 1e-6)
+    chunk = max(FIRST_CHUNK // 4, int(rate * CHUNK_SECONDS))
+    if progress:
+        chunk = min(chunk, max(1000, math.ceil(n_ticks / 100)))
+    return chunk
+
+
+@contextmanager
+def deferred_interrupt() -> Iterator[Callable[[], bool]]:
+    """Within the block, a first Ctrl-C (SIGINT) only sets a flag (the yielded function reads
+    it), so the chunk loop stops cleanly after the chunk under way, keeping its records; a
+    second Ctrl-C raises KeyboardInterrupt at once (e.g. while the loop still compiles). Only
+    where Python's default SIGINT handler is in place in the main thread; elsewhere the flag
+    stays False and Ctrl-C raises as usual."""
+    pressed: list[bool] = []
+    default = signal.default_int_handler
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is not default):
+        yield lambda: False
+        return
+
+    def handler(signum: int, frame: object) -> None:
+        if pressed:
+            default(signum, frame)  # type: ignore[arg-type]
+        pressed.append(True)
+
+    signal.signal(signal.SIGINT, handler)
+    try:
+        yield lambda: bool(pressed)
+    finally:
+        signal.signal(signal.SIGINT, default)
 
 
 def slip_rates(line: Line) -> list[tuple[int, float, str]]:
@@ -76,6 +127,12 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
     validity (non-finite state, unwind roll empty) it stops there and raises
     ``SimulationError`` whose ``partial`` is the ``Result`` so far (or, with
     ``raise_on_failure=False``, returns it with ``status`` set).
+
+    The run goes in chunks of about 0.1 s of wall time, so Ctrl-C is seen within a chunk: it
+    stops the run after that chunk, and the ``Result`` so far has ``status`` "interrupted"; it
+    is raised as ``SimulationInterrupted`` (a KeyboardInterrupt, ``partial`` = the result) or,
+    with ``raise_on_failure=False``, returned. A second Ctrl-C (e.g. while the loop still
+    compiles) raises a plain KeyboardInterrupt at once.
     """
     line = load_line(line)
     if scenario is not None:
@@ -96,21 +153,40 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
         every = max(1, round(record_interval / plan.dt))
     x, istate = equilibrium_plan_state(plan)
     slipping = kernel.initial_slip(plan, x)
-    chunk = n_ticks if progress is None else max(1000, math.ceil(n_ticks / 100))
-    blocks, status, t_fail, done = [], L.STATUS_OK, math.nan, 0
-    while done < n_ticks and status == L.STATUS_OK:
-        count = min(chunk, n_ticks - done)
-        last = done + count == n_ticks
-        rec, n_rec, status, t_fail, x, istate, slipping = kernel.run(
-            plan, x, istate, slipping, done, count, substeps, every, last)
-        blocks.append(rec[:n_rec])
-        done += count
-        if progress is not None:
-            progress(done / n_ticks)
-    records = blocks[0] if len(blocks) == 1 else np.concatenate(blocks)
+    # one buffer for the whole run, filled chunk by chunk (no concatenation)
+    buffer = np.empty((n_ticks // every + 2, kernel.record_width(
+        plan.n_x, plan.drives.shape[0], plan.nodes.shape[0])))
+    status, t_fail, done, stored, chunk = L.STATUS_OK, math.nan, 0, 0, FIRST_CHUNK
+    if progress is not None:
+        chunk = min(chunk, max(1000, math.ceil(n_ticks / 100)))
+    with deferred_interrupt() as interrupted:
+        try:
+            while done < n_ticks and status == L.STATUS_OK and not interrupted():
+                count = min(chunk, n_ticks - done)
+                last = done + count == n_ticks
+                started = time.perf_counter()
+                _, n_rec, status, t_fail, x, istate, slipping = kernel.run(
+                    plan, x, istate, slipping, done, count, substeps, every, last,
+                    buffer[stored:])
+                stored += n_rec
+                done += count
+                chunk = next_chunk(count, time.perf_counter() - started, n_ticks,
+                                   progress is not None)
+                if progress is not None:
+                    progress(done / n_ticks)
+        except KeyboardInterrupt:  # raised where no deferring handler could be installed
+            if not stored:
+                raise  # nothing computed yet: a plain Ctrl-C
+            status = STATUS_INTERRUPTED
+        if interrupted() and status == L.STATUS_OK and done < n_ticks:
+            status = STATUS_INTERRUPTED
+    # a run that stopped early keeps only its records, not the whole buffer
+    records = buffer[:stored] if stored >= len(buffer) - 2 else buffer[:stored].copy()
     result = _result(plan, records, status, t_fail,
                      {"duration": duration, "dt": plan.dt, "substeps": substeps,
                       "record_every": every})
+    if status == STATUS_INTERRUPTED and raise_on_failure:
+        raise SimulationInterrupted(result.message, partial=result)
     if status != L.STATUS_OK and raise_on_failure:
         raise SimulationError(result.message, partial=result)
     return result
@@ -125,6 +201,9 @@ def _result(plan: Plan, rec: np.ndarray, status: int, t_fail: float,
     elif status == L.STATUS_UNWIND_EMPTY:
         text = "unwind-empty"
         message = f"the unwind roll ran out of web (reached its core) at t = {t_fail:.4g} s"
+    elif status == STATUS_INTERRUPTED:
+        end = float(rec[-1, 0]) if len(rec) else 0.0
+        text, message = "interrupted", f"interrupted by the user (Ctrl-C) at t = {end:.4g} s"
     block = [rec[:, 1 + n_x + q * n_d:1 + n_x + (q + 1) * n_d] for q in range(5)]
     slipping = rec[:, 1 + n_x + 5 * n_d:]
     return Result(

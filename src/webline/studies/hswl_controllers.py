@@ -206,6 +206,7 @@ def _case_figure(result: Result, case: Case, fpm: float, start: float, path: Pat
     plt = pyplot()
 
     from webline.report.figures import envelope
+    from webline.report.mpl_text import literal
 
     line = result.line
     v_factor, v_unit = display_factor("speed", "imperial")
@@ -219,7 +220,7 @@ def _case_figure(result: Result, case: Case, fpm: float, start: float, path: Pat
     signals = [(v_err, f"master speed\nerror [{v_unit}]")]
     for k in zones:
         err = (result.tension[:, k] - result.tension_ref[:, k]) * t_factor
-        signals.append((err, f"{line.span_name(k)} tension\nerror [{t_unit}]"))
+        signals.append((err, f"{literal(line.span_name(k))} tension\nerror [{t_unit}]"))
     for ax, (values, label) in zip(axes, signals, strict=True):
         ax.plot(*envelope(result.time, values), lw=0.6)
         ax.axvspan(start, result.time[-1], color="0.9", zorder=0)

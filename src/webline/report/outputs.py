@@ -1,0 +1,118 @@
+"""The output folder of a run: a safe default name, refusal of links and of folders webline did
+not write, and a manifest so that a rerun leaves no stale files.
+
+The manifest (``.webline-manifest.json``) lists every file webline wrote in the folder, relative
+to it. Before a file is written its name joins the manifest (so even an interrupted run leaves
+every file it created listed); ``finish`` then removes the files of the previous run that this
+run did not rewrite and writes the manifest of this run.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import unicodedata
+from pathlib import Path
+
+from webline.files import OutputError, atomic_write_text, refuse_symlink
+
+MANIFEST = ".webline-manifest.json"
+#: longest default folder name [characters]
+NAME_LIMIT = 80
+#: characters replaced in a folder name: separators, characters Windows forbids, and ``$``
+#: (shell expansion)
+_UNSAFE = re.compile(r'[/\\:*?"<>|$`]')
+
+
+def safe_name(text: str, limit: int = NAME_LIMIT) -> str:
+    """``text`` made into one harmless folder name: path separators and characters that are
+    special to shells or file systems become ``_``, control and format characters are dropped,
+    leading dots and spaces stripped (no ``..``, no hidden folder), at most ``limit``
+    characters; letters of any script are kept. Never empty (``"line"``)."""
+    text = unicodedata.normalize("NFC", text)
+    kept = "".join("_" if _UNSAFE.match(c) or c.isspace() else c for c in text
+                   if unicodedata.category(c)[0] != "C")
+    kept = re.sub(r"_+", "_", kept).lstrip("._-").rstrip(". ")[:limit].rstrip(". ")
+    return kept or "line"
+
+
+def default_folder(line_name: str, scenario: str | None = None,
+                   root: Path = Path("out")) -> Path:
+    """``root/LINE[-SCENARIO]`` with both names made safe: always a direct child of ``root``."""
+    name = safe_name(line_name) + (f"-{safe_name(scenario)}" if scenario else "")
+    return root / safe_name(name)
+
+
+class OutputFolder:
+    """A folder webline writes a run into (see the module docstring).
+
+    ``open`` refuses (``OutputError``, exit 2) a folder that is a symbolic link, a path that is
+    not a folder, and a non-empty folder without a manifest unless ``force``."""
+
+    def __init__(self, path: Path, previous: list[str]) -> None:
+        self.path = path
+        self.previous = previous  #: files of the previous run's manifest
+        self.written: list[str] = []  #: files this run wrote (relative paths)
+
+    @classmethod
+    def open(cls, path: Path, *, force: bool = False) -> OutputFolder:
+        """Check and create ``path`` for writing; read its manifest."""
+        refuse_symlink(path)
+        if path.exists() and not path.is_dir():
+            raise OutputError(f"{path}: cannot write to the output folder (not a folder)")
+        try:
+            path.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise OutputError(f"{path}: cannot write to the output folder "
+                              f"({exc.strerror or exc})") from None
+        manifest = path / MANIFEST
+        refuse_symlink(manifest)
+        previous: list[str] = []
+        if manifest.exists():
+            try:
+                previous = [str(p) for p in json.loads(manifest.read_text("utf-8"))["files"]]
+            except (ValueError, KeyError, TypeError, OSError) as exc:
+                raise OutputError(f"{manifest}: unreadable manifest ({exc}); remove it or "
+                                  "use --force") from None
+        elif any(path.iterdir()) and not force:
+            raise OutputError(f"{path}: folder is not empty and webline did not write it (no "
+                              f"{MANIFEST}); choose an empty folder or use --force")
+        return cls(path, previous)
+
+    def claim(self, relative: str) -> Path:
+        """The path of ``relative`` in the folder, recorded in the manifest before it is
+        written; its parent folder is created (a symlinked parent is refused)."""
+        target = self.path / relative
+        for parent in reversed(target.relative_to(self.path).parents[:-1]):
+            refuse_symlink(self.path / parent)
+            (self.path / parent).mkdir(exist_ok=True)
+        refuse_symlink(target)
+        if relative not in self.written:
+            self.written.append(relative)
+            self._save(sorted(set(self.previous) | set(self.written)))
+        return target
+
+    def finish(self) -> list[Path]:
+        """Remove the previous run's files that this run did not write, write this run's
+        manifest; returns the removed paths."""
+        removed = []
+        for relative in sorted(set(self.previous) - set(self.written)):
+            target = self.path / relative
+            if _inside(self.path, target) and (target.is_file() or target.is_symlink()):
+                target.unlink()
+                removed.append(target)
+        self._save(sorted(self.written))
+        self.previous = list(self.written)
+        return removed
+
+    def _save(self, files: list[str]) -> None:
+        atomic_write_text(self.path / MANIFEST, json.dumps({"files": files}, indent=1) + "\n")
+
+
+def _inside(folder: Path, target: Path) -> bool:
+    """Whether ``target`` lies in ``folder`` (a tampered manifest cannot delete elsewhere)."""
+    try:
+        target.parent.resolve().relative_to(folder.resolve())
+    except ValueError:
+        return False
+    return ".." not in Path(target).relative_to(folder).parts

@@ -1,0 +1,36 @@
+"""The files of one ``webline run``: its output folder opened, everything written into it, the
+manifest finished (see ``webline.report.outputs``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from webline.errors import WeblineError
+from webline.report.display import System
+from webline.report.outputs import OutputFolder, default_folder
+from webline.report.writer import Format, ReportFiles, write_report, write_results
+from webline.sim.result import Precision, Result
+
+
+def open_run_folder(out: Path | None, line_name: str, scenario: str | None,
+                    force: bool = False) -> OutputFolder:
+    """``out``, or ``out/LINE[-SCENARIO]`` from the sanitised names, opened for a run
+    (``OutputFolder.open``: links, non-folders and foreign non-empty folders refused)."""
+    return OutputFolder.open(out or default_folder(line_name, scenario), force=force)
+
+
+def write_run(result: Result, folder: OutputFolder, fmt: Format = "netcdf",
+              precision: Precision = "float64", units: System = "si",
+              scenario: str | None = None) -> tuple[ReportFiles, Path]:
+    """Write results, figures, summary and report into ``folder`` (each file atomically and in
+    its manifest), then finish the manifest: files of the previous run not rewritten are
+    removed. Returns the report's files and the results file."""
+    try:
+        results_file = write_results(result, folder.path, fmt, precision=precision,
+                                     folder=folder)
+        files = write_report(result, folder.path, units=units, scenario=scenario,
+                             results_file=results_file, folder=folder)
+        folder.finish()
+    except OSError as exc:
+        raise WeblineError(f"{folder.path}: cannot write the results: {exc}") from None
+    return files, results_file

@@ -1,0 +1,45 @@
+"""Units and CF attributes (long_name, units, flags) of the signals a ``Result`` exports."""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: unit of each kind of signal, as attributes in the xarray output
+SIGNAL_UNITS = {
+    "tension": "N", "tension_ref": "N", "speed": "m/s", "speed_ref": "m/s", "omega": "rad/s",
+    "torque": "N*m", "torque_cmd": "N*m", "trim": "m/s", "radius": "m", "inertia": "kg*m**2",
+    "slack": "", "motor_speed": "rad/s", "twist": "rad", "contact": "",
+    "friction_estimate": "N*m*s", "equilibrium_input": "N*m", "web_unwound": "m",
+    "surface_speed": "m/s", "slipping": "", "slip_velocity": "m/s", "slip_power": "W",
+    "web_rewound": "m", "web_stored": "m", "wound_in": "N",
+}
+
+
+#: CF ``long_name`` of each signal (the CF standard names have none for web handling)
+LONG_NAMES = {
+    "tension": "span tension", "tension_ref": "span tension reference (loadcell spans)",
+    "slack": "span is slack (no tension)", "speed": "web speed at the node",
+    "surface_speed": "roller surface speed", "slipping": "web slips over the roller",
+    "slip_velocity": "surface speed minus web speed", "slip_power": "power dissipated by slip",
+    "omega": "roller angular speed", "radius": "effective roller radius",
+    "speed_ref": "drive speed-loop reference", "torque": "motor torque",
+    "torque_cmd": "motor torque command", "trim": "tension-loop speed trim",
+    "motor_speed": "motor angular speed", "twist": "transmission twist at the load shaft",
+    "contact": "backlash contact (+1 forward flank, -1 backward, 0 in the gap)",
+    "friction_estimate": "adaptive friction estimate",
+    "equilibrium_input": "equilibrium motor torque", "inertia": "roll inertia at the shaft",
+    "web_unwound": "unstrained web unwound", "web_rewound": "unstrained web rewound",
+    "web_stored": "unstrained web held in the spans",
+}
+#: flag meanings (CF) of the integer-coded signals
+FLAGS = {"slack": ([0, 1], "taut slack"), "slipping": ([0, 1], "stuck slipping")}
+def signal_attrs(name: str) -> dict[str, object]:
+    """CF attributes of signal ``name``: ``long_name`` and ``units`` (UDUNITS syntax; "1" for
+    a ratio), flags for the coded ones."""
+    attrs: dict[str, object] = {"long_name": LONG_NAMES[name]}
+    if name in FLAGS:
+        values, meanings = FLAGS[name]
+        attrs |= {"flag_values": np.array(values, dtype=np.int8), "flag_meanings": meanings}
+    else:
+        attrs["units"] = SIGNAL_UNITS[name] or "1"
+    return attrs
