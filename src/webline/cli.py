@@ -1,7 +1,8 @@
 """``webline``: the command line, a thin layer over the public API.
 
-Exit status: 0 success, 2 bad input (one line naming the file, key and problem), 1 a run that
-failed (what was computed until then is still written, and the failure described).
+Exit status: 0 ok or warning (warnings printed), 1 a run that failed (what was computed until
+then is still written, and the failure described), 2 bad input (one line naming the file, key
+and problem), 3 unstable (``analyze``; ``run`` also for a runaway), 130 interrupted.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from rich.table import Table as RichTable
 
 if TYPE_CHECKING:
     from webline.analysis.certificate import Certificate
+    from webline.verdict import Verdict
 
 from webline import __version__, load_line, operating_point, simulate
 from webline.errors import WeblineError
@@ -33,7 +35,9 @@ from webline.units import to_si
 app = typer.Typer(
     name="webline", add_completion=False, no_args_is_help=True, rich_markup_mode=None,
     pretty_exceptions_enable=False,
-    help="Simulate and analyse roll-to-roll (web handling) lines described in line files.",
+    help="Simulate and analyse roll-to-roll (web handling) lines described in line files. "
+    "Exit status: 0 ok or warning, 1 failed run, 2 bad input, 3 unstable (analyze; run: also "
+    "a runaway), 130 interrupted.",
 )
 
 
@@ -202,7 +206,12 @@ def run(
                                         help="Print only the report's path.")] = False,
     controller: ControllerOpt = None,
 ) -> None:
-    """Simulate a line and write its results, figures and an HTML report."""
+    """Simulate a line and write its results, figures and an HTML report.
+
+    Prints the verdict (ok, warning, unstable, failed) and its findings. Exit status: 0 ok or
+    warning, 1 failed (what was computed is written), 2 bad input, 3 unstable or a runaway
+    (diverged), 130 interrupted.
+    """
     from webline.report import write_report, write_results
 
     base = _load(line, None, controller)
@@ -236,9 +245,11 @@ def run(
                       f"Summary:      {escape(str(files.summary))}\n"
                       "Report (open it in a browser):")
     typer.echo(str(files.report.resolve()))
-    if result.status != "ok":
-        fail(f"simulation failed: {result.message}; what was computed until then is in "
-             f"{folder}", 1)
+    _print_verdict(result.verdict, quiet)
+    if result.failure is not None:
+        typer.echo(f"what was computed until then is in {folder}", err=True)
+    if result.verdict.exit_code:
+        raise typer.Exit(result.verdict.exit_code)
 
 
 @app.command()
@@ -292,9 +303,14 @@ def analyze(
     = False,
     controller: ControllerOpt = None,
 ) -> None:
-    """Operating point, equilibrium inputs and closed-loop modes of a line."""
+    """Operating point, equilibrium inputs and closed-loop modes of a line, and its verdict.
+
+    Exit status: 0 stable, 2 bad input, 3 unstable (a closed-loop mode grows).
+    """
     from webline.analysis.modes import analysis_time, closed_loop_modes
     from webline.report.display import Display
+    from webline.sim.stability import stability_findings
+    from webline.verdict import Verdict
     from webline.report.tables import modes_table, operating_point_tables, operating_point_values
 
     loaded = _load(line, scenario, controller)
@@ -305,11 +321,12 @@ def analyze(
     point = operating_point(loaded, t)
     modes = closed_loop_modes(loaded, t)
     cert = _certificate(loaded) if certificate else None
+    verdict = Verdict.of(stability_findings(loaded, t))
     if as_json:
         payload: dict[str, object] = {
             "line": loaded.name, "scenario": scenario, "units": units.value,
             "operating_point": operating_point_values(point, display),
-            "closed_loop_modes": [m.as_dict() for m in modes]}
+            "closed_loop_modes": [m.as_dict() for m in modes], "verdict": verdict.as_dict()}
         if cert is not None:
             payload["certificate"] = {"holds": cert.holds, "worst_ratio": cert.worst_ratio,
                                       "max_real": cert.max_real,
@@ -317,11 +334,26 @@ def analyze(
                                       "sampled_radius": cert.sampled_radius,
                                       "sections": cert.rows()}
         typer.echo(json.dumps(payload, indent=2, default=float))
+    else:
+        tables = [*operating_point_tables(loaded, point, display), modes_table(modes)]
+        print_tables(tables, _console())
+        _print_verdict(verdict, False, err=False)
+        if cert is not None:
+            _print_certificate(cert)
+    if verdict.exit_code:
+        raise typer.Exit(verdict.exit_code)
+
+
+def _print_verdict(verdict: Verdict, quiet: bool, err: bool = True) -> None:
+    """The verdict's headline and findings (only the headline with ``quiet``; nothing for a
+    quiet ok)."""
+    from webline.report.verdict_text import verdict_lines
+
+    if quiet and verdict.ok:
         return
-    tables = [*operating_point_tables(loaded, point, display), modes_table(modes)]
-    print_tables(tables, _console())
-    if cert is not None:
-        _print_certificate(cert)
+    lines = verdict_lines(verdict)
+    for text in lines[:1] if quiet else lines:
+        typer.echo(text, err=err)
 
 
 def _certificate(line: Line) -> Certificate:

@@ -103,15 +103,29 @@ def tension_figure(result: Result, display: Display) -> Figure:
             title = f"{result.span_names[k]} (loadcell)"
         else:
             title = f"{result.span_names[k]} (no loadcell)"
-        for event in (e for e in result.slack_events if e.span == result.span_names[k]):
-            ax.axvspan(event.start, event.end if event.end is not None else result.time[-1],
-                       color="#d62728", alpha=0.2, label="slack")
+        _shade(ax, result, result.span_names[k])
         ax.set_title(title, fontsize=9, loc="left")
         _floor_range(ax, _size(tension[:, k]))
         ax.set_ylabel(display.label("tension", "force"))
         ax.legend(fontsize=7, loc="upper right")
     _finish(fig, list(axes), result)
     return fig
+
+
+#: colour of each kind of event shaded in the tension figure
+SHADES = {"slack": "#d62728", "tension_limit": "#ff7f0e"}
+
+
+def _shade(ax: Axes, result: Result, span: str) -> None:
+    """Shade every slack and over-limit interval of ``span``: one collection and one legend
+    entry per kind, however many intervals."""
+    for event in result.events:
+        if event.where == span and event.kind in SHADES:
+            spans = np.column_stack((event.intervals[:, 0],
+                                     event.intervals[:, 1] - event.intervals[:, 0]))
+            ax.broken_barh(spans, (0.0, 1.0), transform=ax.get_xaxis_transform(),
+                           color=SHADES[event.kind], alpha=0.25, lw=0,
+                           label=f"{event.kind.replace('_', ' ')} ({event.count}x)")
 
 
 def speed_figure(result: Result, display: Display) -> Figure:

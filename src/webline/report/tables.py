@@ -70,8 +70,7 @@ def summary_values(result: Result, display: Display) -> dict[str, object]:
         "units": {"tension": display.plain_unit("force"), "speed": display.plain_unit("speed"),
                   "torque": display.plain_unit("torque")},
         "spans": spans, "drives": drives,
-        "slack_events": [{"span": e.span, "start_s": e.start, "end_s": e.end}
-                         for e in result.slack_events],
+        "events": [e.as_dict() for e in result.events],
     }
 
 

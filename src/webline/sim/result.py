@@ -10,11 +10,15 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from webline.sim import layout as L
+from webline.sim.failure import Failure
 from webline.sim.plan import Plan
 from webline.spec.load import dump_spec
 
 if TYPE_CHECKING:
     import xarray as xr
+
+    from webline.sim.events import EventStats
+    from webline.verdict import Verdict
 
 #: unit of each kind of signal, as attributes in the xarray output
 SIGNAL_UNITS = {
@@ -50,9 +54,37 @@ class Result:
     equilibrium_input: np.ndarray  #: [N·m] per drive (decentralized controllers; else 0)
     friction_estimate: np.ndarray  #: adaptive controllers' friction estimate [N·m·s] per drive
     slipping: np.ndarray  #: stick/slip state per node (0 stuck, 1 slipping), held per tick
-    status: str = "ok"
-    message: str = ""
+    failure: Failure | None = None  #: why the run stopped early (None: it ran to the end)
     settings: dict[str, float] = field(default_factory=dict)
+
+    # --- verdict -------------------------------------------------------------------------
+
+    @cached_property
+    def events(self) -> list[EventStats]:
+        """Slack, torque-limit, slip, backlash and tension-limit intervals, per element."""
+        from webline.sim.events import event_stats
+
+        return event_stats(self)
+
+    @cached_property
+    def verdict(self) -> Verdict:
+        """The run's verdict: its failure, its events and the linear stability of the line
+        at ``analysis_time`` (``webline.sim.findings``)."""
+        from webline.sim.findings import run_verdict
+
+        return run_verdict(self)
+
+    @property
+    def status(self) -> str:
+        """``verdict.status``: ok, warning, unstable, failed or interrupted."""
+        return self.verdict.status
+
+    @property
+    def message(self) -> str:
+        """Why the run failed ('' if it did not), else the verdict's headline if not ok."""
+        if self.failure is not None:
+            return self.failure.message
+        return "" if self.verdict.ok else self.verdict.headline
 
     # --- named views -------------------------------------------------------------------
 
@@ -317,6 +349,7 @@ class Result:
             "webline_version": __version__,
             "status": self.status,
             "message": self.message,
+            "verdict": self.verdict.headline,
             **{f"setting_{k}": v for k, v in self.settings.items()},
         })
         return ds

@@ -14,6 +14,7 @@ from webline.profiles import breakpoints
 from webline.sim import kernel
 from webline.sim import layout as L
 from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
+from webline.sim.failure import Failure, kernel_failure
 from webline.sim.result import Result
 
 #: RK4 sub-steps are chosen so that h·|λ|max stays below this (RK4 is accurate to ~1e-4 per
@@ -71,9 +72,11 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
     controller period (default: from the fastest mode); ``record_interval`` [s] how often the
     state is stored (default every tick, up to 200 000 records). ``progress``, if given, is
     called with the fraction done (0..1) as the run proceeds in chunks. If the run leaves physical
-    validity (non-finite state, unwind roll empty) it stops there and raises
+    validity (a runaway out of the line's physical envelope, a non-finite state, the unwind
+    roll empty, a tension beyond ``web.strength``) it stops there and raises
     ``SimulationError`` whose ``partial`` is the ``Result`` so far (or, with
-    ``raise_on_failure=False``, returns it with ``status`` set).
+    ``raise_on_failure=False``, returns it with its ``failure`` set). The run's ``verdict``
+    also covers warnings (``webline.sim.events``) and the linear stability of the line.
     """
     line = load_line(line)
     if scenario is not None:
@@ -95,39 +98,33 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
     x, istate = equilibrium_plan_state(plan)
     slipping = plan.initial_slip(x)
     chunk = n_ticks if progress is None else max(1000, math.ceil(n_ticks / 100))
-    blocks, status, t_fail, done = [], L.STATUS_OK, math.nan, 0
+    blocks, status, t_fail, where, done = [], L.STATUS_OK, math.nan, -1, 0
     while done < n_ticks and status == L.STATUS_OK:
         count = min(chunk, n_ticks - done)
         last = done + count == n_ticks
-        rec, n_rec, status, t_fail, x, istate, slipping = kernel.run(
+        rec, n_rec, status, t_fail, where, x, istate, slipping = kernel.run(
             plan, x, istate, slipping, done, count, substeps, every, last)
         blocks.append(rec[:n_rec])
         done += count
         if progress is not None:
             progress(done / n_ticks)
     records = blocks[0] if len(blocks) == 1 else np.concatenate(blocks)
-    result = _result(plan, records, status, t_fail,
+    failure = kernel_failure(plan, status, t_fail, where, x)
+    result = _result(plan, records, failure,
                      {"duration": duration, "dt": plan.dt, "substeps": substeps,
                       "record_every": every})
-    if status != L.STATUS_OK and raise_on_failure:
+    if failure is not None and raise_on_failure:
         raise SimulationError(result.message, partial=result)
     return result
 
 
-def _result(plan: Plan, rec: np.ndarray, status: int, t_fail: float,
+def _result(plan: Plan, rec: np.ndarray, failure: Failure | None,
             settings: dict[str, float]) -> Result:
     n_x, n_d = plan.n_x, plan.drives.shape[0]
-    text, message = "ok", ""
-    if status == L.STATUS_NONFINITE:
-        text, message = "diverged", f"the state stopped being finite at t = {t_fail:.4g} s"
-    elif status == L.STATUS_UNWIND_EMPTY:
-        text = "unwind-empty"
-        message = f"the unwind roll ran out of web (reached its core) at t = {t_fail:.4g} s"
     block = [rec[:, 1 + n_x + q * n_d:1 + n_x + (q + 1) * n_d] for q in range(5)]
     slipping = rec[:, 1 + n_x + 5 * n_d:]
     return Result(
         plan=plan, time=rec[:, 0], states=rec[:, 1:1 + n_x], torque_cmd=block[0],
         speed_feedforward=block[1], trim=block[2], equilibrium_input=block[3],
-        friction_estimate=block[4], slipping=slipping, status=text, message=message,
-        settings=settings,
+        friction_estimate=block[4], slipping=slipping, failure=failure, settings=settings,
     )
