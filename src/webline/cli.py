@@ -309,9 +309,9 @@ def analyze(
     """
     from webline.analysis.modes import analysis_time, closed_loop_modes
     from webline.report.display import Display
+    from webline.report.tables import modes_table, operating_point_tables, operating_point_values
     from webline.sim.stability import stability_findings
     from webline.verdict import Verdict
-    from webline.report.tables import modes_table, operating_point_tables, operating_point_values
 
     loaded = _load(line, scenario, controller)
     t = analysis_time(loaded) if at is None else at

@@ -121,8 +121,8 @@ def _shade(ax: Axes, result: Result, span: str) -> None:
     entry per kind, however many intervals."""
     for event in result.events:
         if event.where == span and event.kind in SHADES:
-            spans = np.column_stack((event.intervals[:, 0],
-                                     event.intervals[:, 1] - event.intervals[:, 0]))
+            starts, ends = event.intervals[:, 0], event.intervals[:, 1]
+            spans = list(zip(starts.tolist(), (ends - starts).tolist(), strict=True))
             ax.broken_barh(spans, (0.0, 1.0), transform=ax.get_xaxis_transform(),
                            color=SHADES[event.kind], alpha=0.25, lw=0,
                            label=f"{event.kind.replace('_', ' ')} ({event.count}x)")

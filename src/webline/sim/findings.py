@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from webline.sim.stability import stability_findings
-from webline.verdict import Finding, Verdict
+from webline.verdict import Finding, Level, Verdict
 
 if TYPE_CHECKING:
     from webline.sim.result import Result
@@ -18,7 +18,7 @@ def run_verdict(result: Result) -> Verdict:
     findings = []
     failure = result.failure
     if failure is not None:
-        level = "interrupted" if failure.kind == "interrupted" else "failed"
+        level: Level = "interrupted" if failure.kind == "interrupted" else "failed"
         findings.append(Finding(level, failure.kind, failure.where, failure.message,
                                 failure.time, dict(failure.details)))
     findings += [Finding("warning", e.kind, e.where, e.sentence(), e.first, e.as_dict())

@@ -190,7 +190,8 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
     A tick is recorded when its global index is a multiple of ``record_every``; with
     ``include_end`` the state after the last period is recorded too (a chunked run leaves it
     to the next chunk). Returns (records, number of records, status, time of failure, where it
-    failed (``envelope``), final state, final controller memory, final stick/slip states). Each record row is [t, x...,
+    failed (``envelope``), final state, final controller memory, final stick/slip states).
+    Each record row is [t, x...,
     cmd..., vref..., trim..., u_eq..., friction estimate... (one value per drive in each
     group), slip state per node...]. The run stops early, keeping what it computed, if the
     state stops being finite, the unwind roll runs out of web, a tension exceeds the web's

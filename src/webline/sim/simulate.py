@@ -13,8 +13,8 @@ from webline.line import Line, load_line
 from webline.profiles import breakpoints
 from webline.sim import kernel
 from webline.sim import layout as L
-from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
 from webline.sim.failure import Failure, kernel_failure
+from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
 from webline.sim.result import Result
 
 #: RK4 sub-steps are chosen so that h·|λ|max stays below this (RK4 is accurate to ~1e-4 per
