@@ -58,10 +58,12 @@ def kernel_failure(plan: Plan, status: int, t_fail: float, where: int,
                        {"tension_N": tension, "strength_N": strength})
     if status == L.STATUS_RUNAWAY_STRETCH:
         name, stretch = line.span_name(where), float(x[where])
+        limit = float(plan.web[L.W_STRETCH_MAX] / ea)
+        beyond = (f"beyond {limit:g} x EA, a strain no web survives" if stretch > 0 else
+                  f"slack by more than {limit:.0%} of its length: the web piles up")
         return Failure("diverged", name, t_fail,
                        f"the run diverged: {name} stretch reached {stretch / ea:.3g} x EA "
-                       f"(beyond ±{plan.web[L.W_STRETCH_MAX] / ea:g} x EA, a strain no web "
-                       f"survives) {at}",
+                       f"({beyond}) {at}",
                        {"stretch_N": stretch, "ea_N": float(ea), "signal": "stretch"})
     speed_max = float(plan.web[L.W_SPEED_MAX])
     if status == L.STATUS_RUNAWAY_SPEED:
