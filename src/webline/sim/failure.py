@@ -46,7 +46,7 @@ def kernel_failure(plan: Plan, status: int, t_fail: float, where: int,
     if status == L.STATUS_UNWIND_EMPTY:
         name = line.node_name(0)
         return Failure("unwind_empty", name, t_fail,
-                       f"the unwind roll {name} ran out of web (reached its core) {at}",
+                       f"the unwind roll ran out of web (reached its core) {at}",
                        {"radius_m": float(x[plan.offsets[L.O_RADIUS]])})
     ea = plan.web[L.W_EA]
     if status == L.STATUS_STRENGTH:
