@@ -25,7 +25,6 @@ from rich.table import Table as RichTable
 
 if TYPE_CHECKING:
     from webline.analysis.certificate import Certificate
-    from webline.verdict import Verdict
 
 from webline import __version__, load_line, operating_point, simulate
 from webline.errors import WeblineError
@@ -213,6 +212,7 @@ def run(
     (diverged), 130 interrupted.
     """
     from webline.report import write_report, write_results
+    from webline.report.verdict_text import verdict_lines
 
     base = _load(line, None, controller)
     scenario_line = base.with_scenario(scenario) if scenario else base
@@ -245,7 +245,8 @@ def run(
                       f"Summary:      {escape(str(files.summary))}\n"
                       "Report (open it in a browser):")
     typer.echo(str(files.report.resolve()))
-    _print_verdict(result.verdict, quiet)
+    for text in verdict_lines(result.verdict, quiet):
+        typer.echo(text, err=True)
     if result.failure is not None:
         typer.echo(f"what was computed until then is in {folder}", err=True)
     if result.verdict.exit_code:
@@ -310,6 +311,7 @@ def analyze(
     from webline.analysis.modes import analysis_time, closed_loop_modes
     from webline.report.display import Display
     from webline.report.tables import modes_table, operating_point_tables, operating_point_values
+    from webline.report.verdict_text import verdict_lines
     from webline.sim.stability import stability_findings
     from webline.verdict import Verdict
 
@@ -337,23 +339,11 @@ def analyze(
     else:
         tables = [*operating_point_tables(loaded, point, display), modes_table(modes)]
         print_tables(tables, _console())
-        _print_verdict(verdict, False, err=False)
+        typer.echo("\n".join(verdict_lines(verdict)))
         if cert is not None:
             _print_certificate(cert)
     if verdict.exit_code:
         raise typer.Exit(verdict.exit_code)
-
-
-def _print_verdict(verdict: Verdict, quiet: bool, err: bool = True) -> None:
-    """The verdict's headline and findings (only the headline with ``quiet``; nothing for a
-    quiet ok)."""
-    from webline.report.verdict_text import verdict_lines
-
-    if quiet and verdict.ok:
-        return
-    lines = verdict_lines(verdict)
-    for text in lines[:1] if quiet else lines:
-        typer.echo(text, err=err)
 
 
 def _certificate(line: Line) -> Certificate:

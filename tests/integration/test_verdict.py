@@ -157,7 +157,7 @@ def test_a_torque_limit_reports_the_share_of_the_run_spent_at_it(hswl):
     # each interval ends at the first record off the limit: the share is that of the records
     assert event.fraction == pytest.approx(at_limit[:-1].mean(), abs=1.0 / len(result.time))
     assert 0.0 < event.fraction < 0.3
-    assert 2.0 <= event.first and event.intervals[-1, 1] <= 8.0
+    assert event.first >= 2.0 and event.intervals[-1, 1] <= 8.0
     assert result.status == "warning" and result.verdict.exit_code == 0
     assert f"({event.fraction:.1%} of the run)" in result.verdict.findings[0].message
 

@@ -13,10 +13,13 @@ STATUS_CLASS = {"ok": "ok", "warning": "warning", "unstable": "failed", "failed"
                 "interrupted": "interrupted"}
 
 
-def verdict_lines(verdict: Verdict) -> list[str]:
-    """The headline, then one indented line per finding (level, kind, where, message)."""
+def verdict_lines(verdict: Verdict, quiet: bool = False) -> list[str]:
+    """The headline, then one indented line per finding when there are several; with
+    ``quiet`` only the headline, and nothing for ok."""
+    if quiet:
+        return [] if verdict.ok else [f"verdict: {verdict.headline}"]
     lines = [f"verdict: {verdict.headline}"]
-    if len(verdict.findings) > 1 or (verdict.findings and len(verdict.headline) > 200):
+    if len(verdict.findings) > 1:
         lines += [f"  {f.level} {f.kind} [{f.where}]: {f.message}" for f in verdict.findings]
     return lines
 
