@@ -400,6 +400,8 @@ def study(
     folder = prepare_out(out or Path("out") / f"study-{name}")
     result = STUDIES[name](folder, quick=quick)
     typer.echo(result.summary)
+    if result.verdict is not None:
+        typer.echo(f"verdict of its runs: {result.verdict.headline}")
     typer.echo(str(folder.resolve()))
 
 
