@@ -5,11 +5,13 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import os
 import re
 from pathlib import Path
 
 import numpy as np
 import pytest
+from chromium import check_page, find_chromium
 from typer.testing import CliRunner
 
 import webline
@@ -189,3 +191,16 @@ def test_a_thousand_slack_events_give_one_row_and_one_legend_entry(hswl, tmp_pat
     legend = tension_figure(result, Display("si")).axes[0].get_legend()
     assert [t.get_text() for t in legend.get_texts()] == ["tension", "reference",
                                                           "slack (1000x)"]
+
+
+@pytest.mark.skipif(find_chromium() is None and not os.environ.get("CI"),
+                    reason="chromium not installed (in CI, where CI is set, this test fails)")
+def test_the_thousand_event_report_renders_in_chromium(hswl, tmp_path):
+    from webline.report import write_report
+
+    run = webline.simulate(hswl, 2.0)
+    states = run.states.copy()
+    states[np.arange(len(run.time)) % 2 == 1, 0] = -1.0
+    files = write_report(dataclasses.replace(run, states=states), tmp_path)
+    check = check_page(files.report)
+    assert check.errors == [] and len(check.screenshot) > 10_000
