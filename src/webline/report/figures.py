@@ -82,11 +82,11 @@ def _finish(fig: Figure, axes: Sequence[Axes], result: Result) -> None:
     """Grid, time label, and a marker where a failed run stopped."""
     for ax in axes:
         ax.grid(True, alpha=0.3)
-        if result.status != "ok" and len(result.time):
+        if result.failure is not None and len(result.time):
             ax.axvline(result.time[-1], color="#d62728", ls=":", lw=1.2)
     axes[-1].set_xlabel("time [s]")
-    if result.status != "ok":
-        fig.suptitle(f"run stopped: {result.message}", color="#d62728", fontsize=9)
+    if result.failure is not None:
+        fig.suptitle(f"run stopped: {result.failure.message}", color="#d62728", fontsize=9)
 
 
 def tension_figure(result: Result, display: Display) -> Figure:
