@@ -141,6 +141,12 @@ def test_web_strength_stops_the_run_where_and_when_a_tension_first_exceeds_it(hs
     assert failure.time == pytest.approx(free.time[first])
     assert failure.details["tension_N"] == pytest.approx(free.tension[first].max())
     assert broken.status == "failed" and broken.verdict.exit_code == 1
+    # the same value as a tension_limit: a warning whose first interval starts at the break
+    web = {**hswl.spec.web.model_dump(exclude_none=True), "tension_limit": strength}
+    warned = webline.simulate(hswl.replace(web=web), 6.0, scenario="speed-change")
+    event = min((e for e in warned.events if e.kind == "tension_limit"), key=lambda e: e.first)
+    assert (event.where, event.first) == (failure.where, pytest.approx(failure.time))
+    assert warned.status == "warning"
 
 
 def test_a_torque_limit_reports_the_share_of_the_run_spent_at_it(hswl):
