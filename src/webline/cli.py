@@ -306,7 +306,7 @@ def analyze(
 ) -> None:
     """Operating point, equilibrium inputs and closed-loop modes of a line, and its verdict.
 
-    Exit status: 0 stable, 2 bad input, 3 unstable (a closed-loop mode grows).
+    Exit status: 0 ok (no closed-loop mode grows), 2 bad input, 3 unstable (one grows).
     """
     from webline.analysis.modes import analysis_time, closed_loop_modes
     from webline.report.display import Display

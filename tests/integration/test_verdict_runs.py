@@ -210,3 +210,12 @@ def test_the_thousand_event_report_renders_in_chromium(hswl, tmp_path):
     files = write_report(dataclasses.replace(run, states=states), tmp_path)
     check = check_page(files.report)
     assert check.errors == [] and len(check.screenshot) > 10_000
+
+
+@pytest.mark.parametrize("command", [[], ["run"], ["analyze"]])
+def test_help_documents_the_exit_status(command):
+    text = " ".join(invoke(*command, "--help").stdout.split())
+    for code in ("0 ok", "2 bad input", "3 unstable"):
+        assert code in text, (command, code)
+    if command != ["analyze"]:
+        assert "0 ok or warning" in text and "1 failed" in text and "130 interrupted" in text
