@@ -1,7 +1,8 @@
 """``webline``: the command line, a thin layer over the public API.
 
-Exit status: 0 success, 2 bad input (one line naming the file, key and problem), 1 a run that
-failed (what was computed until then is still written, and the failure described).
+Exit status: 0 ok or warning (warnings printed), 1 a run that failed (what was computed until
+then is still written, and the failure described), 2 bad input (one line naming the file, key
+and problem), 3 unstable (``analyze``; ``run`` also for a runaway), 130 interrupted.
 """
 
 from __future__ import annotations
@@ -33,7 +34,9 @@ from webline.units import to_si
 app = typer.Typer(
     name="webline", add_completion=False, no_args_is_help=True, rich_markup_mode=None,
     pretty_exceptions_enable=False,
-    help="Simulate and analyse roll-to-roll (web handling) lines described in line files.",
+    help="Simulate and analyse roll-to-roll (web handling) lines described in line files. "
+    "Exit status: 0 ok or warning, 1 failed run, 2 bad input, 3 unstable (analyze; run: also "
+    "a runaway), 130 interrupted.",
 )
 
 
@@ -215,9 +218,12 @@ def run(
 ) -> None:
     """Simulate a line and write its results, figures and an HTML report.
 
-    Ctrl-C stops the simulation, writes what was computed (status interrupted) and exits 130.
+    Prints the verdict (ok, warning, unstable, failed) and its findings. Exit status: 0 ok or
+    warning, 1 failed (what was computed is written), 2 bad input, 3 unstable or a runaway
+    (diverged), 130 interrupted by Ctrl-C (what was computed is written, status interrupted).
     """
     from webline.report.run_output import open_run_folder, write_run
+    from webline.report.verdict_text import verdict_lines
 
     base = _load(line, None, controller)
     scenario_line = base.with_scenario(scenario) if scenario else base
@@ -257,11 +263,12 @@ def run(
                       f"Summary:      {escape(str(files.summary))}\n"
                       "Report (open it in a browser):")
     typer.echo(str(files.report.resolve()))
-    if result.status == "interrupted":
-        fail(f"{result.message}; what was computed until then is in {folder.path}", 130)
-    if result.status != "ok":
-        fail(f"simulation failed: {result.message}; what was computed until then is in "
-             f"{folder.path}", 1)
+    for text in verdict_lines(result.verdict, quiet):
+        typer.echo(text, err=True)
+    if result.failure is not None:
+        typer.echo(f"what was computed until then is in {folder.path}", err=True)
+    if result.verdict.exit_code:
+        raise typer.Exit(result.verdict.exit_code)
 
 
 @app.command()
@@ -315,10 +322,17 @@ def analyze(
     = False,
     controller: ControllerOpt = None,
 ) -> None:
-    """Operating point, equilibrium inputs and closed-loop modes of a line."""
-    from webline.analysis.modes import analysis_time, closed_loop_modes
+    """Operating point, equilibrium inputs and closed-loop modes of a line, and its verdict.
+
+    Exit status: 0 ok (no closed-loop mode grows), 2 bad input, 3 unstable (one grows).
+    """
+    from webline.analysis.modes import closed_loop_modes
+    from webline.model.operating_point import analysis_time
     from webline.report.display import Display
     from webline.report.tables import modes_table, operating_point_tables, operating_point_values
+    from webline.report.verdict_text import verdict_lines
+    from webline.sim.stability import stability_findings
+    from webline.verdict import Verdict
 
     loaded = _load(line, scenario, controller)
     t = analysis_time(loaded) if at is None else at
@@ -328,11 +342,12 @@ def analyze(
     point = operating_point(loaded, t)
     modes = closed_loop_modes(loaded, t)
     cert = _certificate(loaded) if certificate else None
+    verdict = Verdict.of(stability_findings(loaded, t))
     if as_json:
         payload: dict[str, object] = {
             "line": loaded.name, "scenario": scenario, "units": units.value,
             "operating_point": operating_point_values(point, display),
-            "closed_loop_modes": [m.as_dict() for m in modes]}
+            "closed_loop_modes": [m.as_dict() for m in modes], "verdict": verdict.as_dict()}
         if cert is not None:
             payload["certificate"] = {"holds": cert.holds, "worst_ratio": cert.worst_ratio,
                                       "max_real": cert.max_real,
@@ -340,11 +355,14 @@ def analyze(
                                       "sampled_radius": cert.sampled_radius,
                                       "sections": cert.rows()}
         typer.echo(json.dumps(payload, indent=2, default=float))
-        return
-    tables = [*operating_point_tables(loaded, point, display), modes_table(modes)]
-    print_tables(tables, _console())
-    if cert is not None:
-        _print_certificate(cert)
+    else:
+        tables = [*operating_point_tables(loaded, point, display), modes_table(modes)]
+        print_tables(tables, _console())
+        typer.echo("\n".join(verdict_lines(verdict)))
+        if cert is not None:
+            _print_certificate(cert)
+    if verdict.exit_code:
+        raise typer.Exit(verdict.exit_code)
 
 
 def _certificate(line: Line) -> Certificate:
@@ -401,6 +419,8 @@ def study(
     folder = prepare_out(out or Path("out") / f"study-{name}")
     result = STUDIES[name](folder, quick=quick)
     typer.echo(result.summary)
+    if result.verdict is not None:
+        typer.echo(f"verdict of its runs: {result.verdict.headline}")
     typer.echo(str(folder.resolve()))
 
 

@@ -243,18 +243,24 @@ def test_run_that_fails_keeps_partial_results_and_exits_1(tmp_path):
     result = invoke("run", write(tmp_path, "empty.toml", almost_empty), "-d", "5",
                     "--out", str(out))
     assert result.exit_code == 1
-    error = result.stderr.strip().splitlines()[-1]
-    assert error.startswith("error: simulation failed: the unwind roll ran out of web")
+    said = result.stderr.strip().splitlines()
+    verdict = next(line for line in said if line.startswith("verdict: "))
+    assert verdict.startswith("verdict: failed: the unwind roll ran out of web (reached its "
+                              "core) at t = ")
+    assert said[-1] == f"what was computed until then is in {out}"
     assert "Traceback" not in result.output
     assert result.stdout.strip().splitlines()[-1] == str((out / "report.html").resolve())
     assert "Span tension" in result.stdout  # the summary is still printed
-    summary = json.loads((out / "summary.json").read_text())["summary"]
-    assert summary["status"] == "unwind-empty"
+    written = json.loads((out / "summary.json").read_text())
+    summary = written["summary"]
+    assert summary["status"] == "failed"  # never reported as another failure:
+    assert [f["kind"] for f in written["verdict"]["findings"] if f["level"] == "failed"] == [
+        "unwind_empty"]
     assert 1.0 < summary["duration_s"] < 3.0
     import xarray as xr
 
     with xr.open_dataset(out / "results.nc") as ds:
-        assert ds.attrs["status"] == "unwind-empty"
+        assert ds.attrs["status"] == "failed"
         assert float(ds.time[-1]) == pytest.approx(summary["duration_s"])
     assert "run stopped early" in (out / "report.html").read_text().lower()
 

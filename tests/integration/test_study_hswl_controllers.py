@@ -84,3 +84,24 @@ def test_reductions_are_relative_to_pi(study):
             pi = rows_of(result, "cascaded_pi", speed_fpm=row["speed_fpm"], drive=row["drive"])
             ratio = row["rms_tension_error_N"] / pi[0]["rms_tension_error_N"]
             assert row["reduction_vs_pi"] == pytest.approx(1 - ratio)
+
+
+def test_summary_states_what_the_estimates_did(study):
+    """The sentence on the estimates is the table's: how many ended closer to the truth than
+    they started, and the worst one's final and initial error."""
+    _, result = study
+    adaptive = rows_of(result, "adaptive")
+
+    def error(row, key):
+        return abs(row[key] / row["friction_true_N_m_s"] - 1)
+
+    closer = sum(error(r, "friction_final_N_m_s") < error(r, "friction_initial_N_m_s")
+                 for r in adaptive)
+    worst = max(adaptive, key=lambda r: error(r, "friction_final_N_m_s"))
+    assert f"{closer} of {len(adaptive)} end closer" in result.summary
+    assert (f"the worst, {worst['drive']} at {worst['speed_fpm']:.0f} ft/min, ends "
+            f"{error(worst, 'friction_final_N_m_s'):.0%} off") in result.summary
+    final, start = error(worst, "friction_final_N_m_s"), error(worst, "friction_initial_N_m_s")
+    verb = "closer to" if final < start else "farther from"
+    assert f"({verb} the truth than its start, {start:.0%} off)" in result.summary
+    assert result.verdict is not None and result.verdict.status in ("ok", "warning")

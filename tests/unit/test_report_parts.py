@@ -10,7 +10,8 @@ import pytest
 from matplotlib.patches import Circle
 
 import webline
-from webline.analysis.modes import analysis_time, modes
+from webline.analysis.modes import modes
+from webline.model.operating_point import analysis_time
 from webline.report.describe import profile_text
 from webline.report.display import Display, number_text
 from webline.report.figures import envelope
@@ -96,6 +97,6 @@ def test_schematic_draws_every_roller_core_drive_and_loadcell():
 
 def test_render_escapes_text_and_has_no_external_reference():
     table = make_table("t", "<b>title</b>", ["a & b"], [["<script>"]])
-    page = render("t<", "s", "ok", True, [Section("S", [table, Text("x < y", pre=True)])], "f")
+    page = render("t<", "s", "ok", "ok", [Section("S", [table, Text("x < y", pre=True)])], "f")
     assert "<script>" not in page and "&lt;script&gt;" in page and "x &lt; y" in page
     assert "http" not in page.replace('"http-equiv"', "")

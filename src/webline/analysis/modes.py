@@ -79,14 +79,3 @@ def closed_loop_modes(line: Line | str, t: float = 0.0) -> list[Mode]:
     from webline.sim.linearize import linearize
 
     return modes(linearize(load_line(line), t, loop="closed"))
-
-
-def analysis_time(line: Line) -> float:
-    """Time [s] at which to analyse ``line``: 0, or for a start from rest the end of the
-    speed ramp (a line standing still has no web-transport dynamics to speak of)."""
-    from webline.profiles import breakpoints
-
-    times, values = breakpoints(line.spec.speed)
-    if values[0] > 0.01 * float(np.max(values)):
-        return 0.0
-    return float(times[-1])

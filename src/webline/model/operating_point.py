@@ -168,3 +168,12 @@ def _idle_drop(line: Line, i: int, inertia: np.ndarray, accel: np.ndarray, omega
     r = line.spec.rollers[i]
     friction = roller.friction_torque(omega[i], r.friction, r.coulomb_friction + drag)
     return float((inertia[i] * accel[i] + friction) / radii[i])
+
+
+def analysis_time(line: Line) -> float:
+    """Time [s] at which to analyse ``line``: 0, or for a start from rest the end of the
+    speed ramp (a line standing still has no web-transport dynamics to speak of)."""
+    times, values = breakpoints(line.spec.speed)
+    if values[0] > 0.01 * float(np.max(values)):
+        return 0.0
+    return float(times[-1])

@@ -83,11 +83,12 @@ def _finish(fig: Figure, axes: Sequence[Axes], result: Result) -> None:
     """Grid, time label, and a marker where a failed run stopped."""
     for ax in axes:
         ax.grid(True, alpha=0.3)
-        if result.status != "ok" and len(result.time):
+        if result.failure is not None and len(result.time):
             ax.axvline(result.time[-1], color="#d62728", ls=":", lw=1.2)
     axes[-1].set_xlabel("time [s]")
-    if result.status != "ok":
-        fig.suptitle(literal(f"run stopped: {result.message}"), color="#d62728", fontsize=9)
+    if result.failure is not None:
+        fig.suptitle(literal(f"run stopped: {result.failure.message}"), color="#d62728",
+                     fontsize=9)
 
 
 def tension_figure(result: Result, display: Display) -> Figure:
@@ -104,16 +105,29 @@ def tension_figure(result: Result, display: Display) -> Figure:
             title = f"{literal(result.span_names[k])} (loadcell)"
         else:
             title = f"{literal(result.span_names[k])} (no loadcell)"
-        events = [e for e in result.slack_events if e.span == result.span_names[k]]
-        for j, event in enumerate(events):  # one legend entry however many intervals
-            ax.axvspan(event.start, event.end if event.end is not None else result.time[-1],
-                       color="#d62728", alpha=0.2, label="slack" if j == 0 else None)
+        _shade(ax, result, result.span_names[k])
         ax.set_title(title, fontsize=9, loc="left")
         _floor_range(ax, _size(tension[:, k]))
         ax.set_ylabel(display.label("tension", "force"))
         ax.legend(fontsize=7, loc="upper right")
     _finish(fig, list(axes), result)
     return fig
+
+
+#: colour of each kind of event shaded in the tension figure
+SHADES = {"slack": "#d62728", "tension_limit": "#ff7f0e"}
+
+
+def _shade(ax: Axes, result: Result, span: str) -> None:
+    """Shade every slack and over-limit interval of ``span``: one collection and one legend
+    entry per kind, however many intervals."""
+    for event in result.events:
+        if event.where == span and event.kind in SHADES:
+            starts, ends = event.intervals[:, 0], event.intervals[:, 1]
+            spans = list(zip(starts.tolist(), (ends - starts).tolist(), strict=True))
+            ax.broken_barh(spans, (0.0, 1.0), transform=ax.get_xaxis_transform(),
+                           color=SHADES[event.kind], alpha=0.25, lw=0,
+                           label=f"{event.kind.replace('_', ' ')} ({event.count}x)")
 
 
 def speed_figure(result: Result, display: Display) -> Figure:

@@ -23,6 +23,9 @@ h1 { font-size: 1.6rem; margin-bottom: .2rem; } h2 { font-size: 1.25rem; margin-
 .status { padding: .6rem 1rem; border-radius: 6px; margin: 1rem 0; }
 .status.ok { background: #e8f5e9; border: 1px solid #a5d6a7; }
 .status.failed { background: #fdecea; border: 1px solid #f5a9a3; }
+.status.warning { background: #fff4e0; border: 1px solid #f0c36d; }
+.status.interrupted { background: #eeeeee; border: 1px solid #bbbbbb; }
+.status .headline { font-weight: 600; display: block; }
 table { border-collapse: collapse; margin: .5rem 0 1rem; font-size: .88rem; }
 th, td { border: 1px solid #ddd; padding: .25rem .6rem; text-align: right; }
 th { background: #f2f4f7; } td:first-child, th:first-child { text-align: left; }
@@ -99,9 +102,13 @@ def _part_html(part: Table | Image | Text) -> str:
     return f"<p>{escape(part.text)}</p>"
 
 
-def render(title: str, subtitle: str, status: str, ok: bool, sections: Sequence[Section],
-           footer: str) -> str:
-    """The whole page as one HTML string (UTF-8, no external resources)."""
+def render(title: str, subtitle: str, status: str, status_class: str,
+           sections: Sequence[Section], footer: str, headline: str = "") -> str:
+    """The whole page as one HTML string (UTF-8, no external resources). The status box shows
+    ``headline`` (bold) and ``status`` and is coloured by ``status_class`` (ok, warning,
+    failed, interrupted)."""
+    box = (f'<span class="headline">{escape(headline)}</span>' if headline else "") + escape(
+        status)
     body = []
     for section in sections:
         anchor = section.title.lower().replace(" ", "-")
@@ -121,7 +128,7 @@ def render(title: str, subtitle: str, status: str, ok: bool, sections: Sequence[
 <main>
 <h1>{escape(title)}</h1>
 <p class="subtitle">{escape(subtitle)}</p>
-<div class="status {'ok' if ok else 'failed'}">{escape(status)}</div>
+<div class="status {escape(status_class)}" id="verdict">{box}</div>
 {chr(10).join(body)}
 <footer>{escape(footer)}</footer>
 </main>

@@ -53,7 +53,8 @@ _DRIVE_STATS = (("mean_error", "mean speed error", "speed"),
 def summary_values(result: Result, display: Display) -> dict[str, object]:
     """The run's summary in the chosen units: per span tension statistics (reference mean,
     mean, std, mean/largest/rms error against the reference; errors absent where a span has
-    no loadcell), per drive speed-error statistics and largest torque, slack events, status."""
+    no loadcell), per drive speed-error statistics and largest torque, the event statistics
+    per span and drive [s] (``webline.sim.events``), status."""
     force, speed, torque = (display.factor(k) for k in ("force", "speed", "torque"))
     raw = result.summary()
     spans: dict[str, dict[str, float]] = {}
@@ -70,8 +71,7 @@ def summary_values(result: Result, display: Display) -> dict[str, object]:
         "units": {"tension": display.plain_unit("force"), "speed": display.plain_unit("speed"),
                   "torque": display.plain_unit("torque")},
         "spans": spans, "drives": drives,
-        "slack_events": [{"span": e.span, "start_s": e.start, "end_s": e.end}
-                         for e in result.slack_events],
+        "events": [e.as_dict() for e in result.events],
     }
 
 

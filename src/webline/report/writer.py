@@ -11,17 +11,18 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Literal
 
-from webline.analysis.modes import Mode, analysis_time, modes
+from webline.analysis.modes import Mode, modes
 from webline.errors import WeblineError
 from webline.files import atomic_write_bytes, atomic_write_text
 from webline.line import Line
-from webline.model.operating_point import OperatingPoint, operating_point
+from webline.model.operating_point import OperatingPoint, analysis_time, operating_point
 from webline.report.describe import line_tables
 from webline.report.display import Display, System
 from webline.report.figures import report_figures
 from webline.report.html import Image, Section, Text, render
 from webline.report.outputs import OutputFolder
 from webline.report.tables import (
+    Table,
     make_table,
     modes_table,
     operating_point_tables,
@@ -29,6 +30,7 @@ from webline.report.tables import (
     summary_tables,
     summary_values,
 )
+from webline.report.verdict_text import STATUS_CLASS, events_table
 from webline.sim.linearize import linearize
 from webline.sim.result import Precision, Result
 from webline.spec.load import dump_spec
@@ -121,13 +123,15 @@ def write_report(result: Result, out_dir: Path, *, units: System = "si",
         "operating_point": (operating_point_values(analysis.point, display)
                             if analysis.point else None),
         "closed_loop_modes": [m.as_dict() for m in analysis.modes],
+        "verdict": result.verdict.as_dict(),
     }), indent=2, allow_nan=False))
 
     html = render(
         title=f"webline report: {line.name}" + (f", scenario {scenario}" if scenario else ""),
         subtitle=(line.spec.scenarios[scenario].description if scenario
                   else line.spec.description),
-        status=_status_text(result, display), ok=result.status == "ok",
+        status=_status_text(result, display), status_class=STATUS_CLASS[result.status],
+        headline=result.verdict.headline,
         sections=_sections(result, display, images, analysis, scenario, results_file),
         footer=f"webline {__version__} · generated {datetime.now(UTC):%Y-%m-%d %H:%M} UTC · "
                f"units: {units}",
@@ -148,9 +152,10 @@ def _finite(value: object) -> object:
 
 
 def _status_text(result: Result, display: Display) -> str:
+    """What was simulated and the largest tension error, under the verdict's headline."""
     duration = float(result.time[-1]) if len(result.time) else 0.0
-    if result.status != "ok":
-        return (f"The run stopped early ({result.status}): {result.message}. Everything "
+    if result.failure is not None:
+        return (f"The run stopped early at t = {result.failure.time:.4g} s; everything "
                 f"computed until t = {duration:.4g} s is shown.")
     worst = max(result.summary()["spans"].items(),
                 key=lambda item: item[1].get("max_abs_error", -1.0))
@@ -158,10 +163,6 @@ def _status_text(result: Result, display: Display) -> str:
     if "max_abs_error" in worst[1]:
         text += (" Largest tension error: "
                  f"{display.text(worst[1]['max_abs_error'], 'force')} in {worst[0]}.")
-    slack = result.slack_events
-    if slack:
-        text += f" The web went slack {len(slack)} time(s), first in {slack[0].span} at " \
-                f"t = {slack[0].start:.4g} s."
     return text
 
 
@@ -171,9 +172,6 @@ def _sections(result: Result, display: Display, images: dict[str, Image], analys
 
     line = result.line
     described = {t.key: t for t in line_tables(line, display)}
-    slack = [f"{e.span}: slack from {e.start:.4g} s to "
-             + (f"{e.end:.4g} s" if e.end is not None else "the end of the run")
-             for e in result.slack_events]
     if analysis.point is not None:
         op_parts: list = [*operating_point_tables(line, analysis.point, display),
                           modes_table(analysis.modes)]
@@ -196,8 +194,7 @@ def _sections(result: Result, display: Display, images: dict[str, Image], analys
     return [
         Section("Line", [images["schematic"], described["line"], described["rollers"],
                          described["spans"], described["drives"]]),
-        Section("Summary", [*summary_tables(result, display),
-                            Text("; ".join(slack) if slack else "The web never went slack.")]),
+        Section("Summary", [*summary_tables(result, display), *_verdict_parts(result)]),
         Section("Time plots", [images[k] for k in ("tension", "speed", "torque", "rolls", "slip")
                                if k in images]),
         Section("Operating point and modes", op_parts),
@@ -206,3 +203,15 @@ def _sections(result: Result, display: Display, images: dict[str, Image], analys
                                             fold="The line as it ran (scenario applied), every "
                                                  "quantity in SI units: show the TOML")]),
     ]
+
+
+def _verdict_parts(result: Result) -> list[Table | Text]:
+    """The verdict's findings, and the events table (one row per kind and element)."""
+    parts: list[Table | Text] = [Text(f"Verdict: {f.level}, {f.kind} in {f.where}: {f.message}.")
+                                 for f in result.verdict.findings if f.level != "warning"]
+    if result.events:
+        parts.append(events_table(result.events))
+    else:
+        parts.append(Text("No events: the web never went slack, no drive sat at its torque "
+                          "limit, no web slipped, no backlash gap opened."))
+    return parts

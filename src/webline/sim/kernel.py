@@ -191,16 +191,18 @@ def compliant_torque(d: int, x: np.ndarray, ds: np.ndarray, offsets: np.ndarray,
 def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick0: int,
         n_ticks: int, substeps: int, record_every: int,
         include_end: bool, rec: np.ndarray | None = None,
-        ) -> tuple[np.ndarray, int, int, float, np.ndarray, np.ndarray, np.ndarray]:
+        ) -> tuple[np.ndarray, int, int, float, int, np.ndarray, np.ndarray, np.ndarray]:
     """Simulate ``n_ticks`` controller periods of ``plan.dt`` [s] from tick ``tick0``.
 
     A tick is recorded when its global index is a multiple of ``record_every``; with
     ``include_end`` the state after the last period is recorded too (a chunked run leaves it
-    to the next chunk). Returns (records, number of records, status, time of failure, final
-    state, final controller memory, final stick/slip states). Each record row is [t, x...,
+    to the next chunk). Returns (records, number of records, status, time of failure, where it
+    failed (``envelope``), final state, final controller memory, final stick/slip states).
+    Each record row is [t, x...,
     cmd..., vref..., trim..., u_eq..., friction estimate... (one value per drive in each
     group), slip state per node...]. The run stops early, keeping what it computed, if the
-    state stops being finite or the unwind roll runs out of web.
+    state stops being finite, the unwind roll runs out of web, a tension exceeds the web's
+    strength or the state leaves the physical envelope (``envelope``).
 
     This wrapper allocates every array; the compiled loop allocates none (``loop_njit``).
     ``rec``, if given, receives the records instead (a C-contiguous block of enough rows, e.g.
@@ -214,10 +216,10 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
     stages = np.empty((5, n_x))  # RK4 slopes k1..k4 and the stage state
     refs = np.empty((4, max(plan.prof_off.shape[0] - 1, n_n)))  # profiles|spans|v_ref|a_ref
     work = np.zeros((2, 3 * n_n))  # rhs scratch | held drag torque per node
-    n_rec, status, t_fail = compiled_loop(plan)(
+    n_rec, status, t_fail, where = compiled_loop(plan)(
         x, istate, slipping, rec, out, stages, refs, work, tick0, n_ticks, plan.dt, substeps,
         record_every, include_end, *plan.params())
-    return rec, n_rec, status, t_fail, x, istate, slipping
+    return rec, n_rec, status, t_fail, where, x, istate, slipping
 
 
 def record_width(n_x: int, n_d: int, n_n: int) -> int:
@@ -248,7 +250,7 @@ def _compiled(node_rows: tuple[tuple[int, ...], ...], drive_rows: tuple[tuple[in
              include_end: bool, nodes: np.ndarray, spans: np.ndarray, drives: np.ndarray,
              web: np.ndarray, wound_ripple: np.ndarray, speed_ripple: np.ndarray,
              prof_t: np.ndarray, prof_v: np.ndarray,
-             prof_off: np.ndarray) -> tuple[int, int, float]:
+             prof_off: np.ndarray) -> tuple[int, int, float, int]:
         return advance(x, istate, slipping, rec, out, stages, refs, work, tick0, n_ticks, dt,
                        substeps, record_every, include_end, ns, ds, offsets, nodes, spans,
                        drives, web, wound_ripple, speed_ripple, prof_t, prof_v, prof_off)
@@ -263,9 +265,10 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
             include_end: bool, ns: np.ndarray, ds: np.ndarray, offsets: np.ndarray,
             nodes: np.ndarray, spans: np.ndarray, drives: np.ndarray, web: np.ndarray,
             wound_ripple: np.ndarray, speed_ripple: np.ndarray, prof_t: np.ndarray,
-            prof_v: np.ndarray, prof_off: np.ndarray) -> tuple[int, int, float]:
+            prof_v: np.ndarray, prof_off: np.ndarray) -> tuple[int, int, float, int]:
     """The loop of ``run``: advances ``x``, ``istate`` and ``slipping`` in place, writes
-    ``rec`` and returns (records written, status, time of failure); the other arrays are
+    ``rec`` and returns (records written, status, time of failure, where: ``envelope``); the
+    other arrays are
     scratch of the shapes ``run`` gives them."""
     n_x = offsets[L.O_WEB] + 2
     n_d = ds.shape[0]
@@ -279,6 +282,7 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
     n_rec = 0
     status = L.STATUS_OK
     t_fail = math.nan
+    where = -1
     off_r = offsets[L.O_RADIUS]
     core = nodes[0, L.N_CORE]
     for j in range(n_ticks + 1):
@@ -341,4 +345,34 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
             status = L.STATUS_UNWIND_EMPTY
             t_fail = t + dt
             break
-    return n_rec, status, t_fail
+        status, where = envelope(x, ns, ds, offsets, nodes, drives, web)
+        if status != L.STATUS_OK:
+            t_fail = t + dt
+            break
+    return n_rec, status, t_fail, where
+
+
+@jit
+def envelope(x: np.ndarray, ns: np.ndarray, ds: np.ndarray, offsets: np.ndarray,
+             nodes: np.ndarray, drives: np.ndarray, web: np.ndarray) -> tuple[int, int]:
+    """(status, where) of a finite state against the physical envelope (``layout`` W_STRENGTH,
+    W_STRETCH_MAX, W_SPEED_MAX): the web's strength [N] per span, the runaway stretch [N] per
+    span, the runaway surface speed [m/s] per node and, through the ratio, per motor of a
+    compliant transmission; (STATUS_OK, -1) inside it."""
+    strength, stretch_max, speed_max = web[L.W_STRENGTH], web[L.W_STRETCH_MAX], web[L.W_SPEED_MAX]
+    for k in range(ns.shape[0] - 1):
+        if x[k] > strength:
+            return L.STATUS_STRENGTH, k
+        if abs(x[k]) > stretch_max:
+            return L.STATUS_RUNAWAY_STRETCH, k
+    off_w = offsets[L.O_OMEGA]
+    for i in range(ns.shape[0]):
+        if abs(node_arm(i, x, ns, offsets, nodes) * x[off_w + i]) > speed_max:
+            return L.STATUS_RUNAWAY_SPEED, i
+    for d in range(ds.shape[0]):
+        state = ds[d, L.DS_TSTATE]
+        if state >= 0:
+            arm = node_arm(ds[d, L.DS_NODE], x, ns, offsets, nodes)
+            if abs(x[state] / drives[d, L.D_RATIO] * arm) > speed_max:
+                return L.STATUS_RUNAWAY_MOTOR, d
+    return L.STATUS_OK, -1

@@ -56,8 +56,11 @@ I_COLS = 3
 
 # line-wide scalars
 (W_EA, W_THICK, W_WIDTH, W_DENSITY, W_T0, W_NOISE_T, W_NOISE_V, W_SEED,
- W_RHOA) = range(9)
-W_COLS = 9
+ W_RHOA,
+ # the physical envelope checked every tick: web strength [N] (inf: none given), largest
+ # |stretch| [N] and surface speed [m/s] a state may reach before the run is a runaway
+ W_STRENGTH, W_STRETCH_MAX, W_SPEED_MAX) = range(12)
+W_COLS = 12
 
 # the integer ``offsets`` array: where state blocks start (spans at 0, node speeds, the two roll
 # radii, motor torques, eccentric angles, web-length integrals), the master's upstream
@@ -66,5 +69,7 @@ W_COLS = 9
 O_NOISE = 9  # 1 if measurements carry noise
 O_NEED_EQ = 10  # 1 if a controller needs the reference state every tick
 
-# kernel status codes
+# kernel status codes; with each failure the kernel returns where it happened: the span
+# (strength, runaway stretch), node (runaway speed) or drive (runaway motor speed), else -1
 STATUS_OK, STATUS_NONFINITE, STATUS_UNWIND_EMPTY = 0, 1, 2
+STATUS_STRENGTH, STATUS_RUNAWAY_STRETCH, STATUS_RUNAWAY_SPEED, STATUS_RUNAWAY_MOTOR = 3, 4, 5, 6

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -24,6 +25,16 @@ from webline.spec.schema import (
     UnwindSpec,
     WoundInRipple,
 )
+
+#: The physical envelope of a run (``kernel.advance`` checks it every tick; outside it the run
+#: is a runaway and stops). Webs yield or break at strains of a few per cent (paper 1-4 %,
+#: aluminium foil 1-5 %, PET yields near 3-4 %); at 50 % the linear span law (6.8) means nothing
+#: and no real web is intact, so |stretch| > 0.5 EA is a state no run can honestly continue from.
+RUNAWAY_STRAIN = 0.5
+#: Surface speeds beyond 10 x the fastest speed reference (plus 10 m/s, for a line at rest)
+#: are a runaway: controlled lines overshoot their reference by tens of per cent, not ten-fold.
+RUNAWAY_SPEED_FACTOR = 10.0
+RUNAWAY_SPEED_FLOOR = 10.0  # [m/s]
 
 
 @dataclass(frozen=True)
@@ -217,6 +228,10 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     web[L.W_DENSITY] = spec.web.density
     web[L.W_T0] = line.unwind.wound_in_tension
     web[L.W_RHOA] = spec.web.density * spec.web.width * spec.web.thickness
+    web[L.W_STRENGTH] = math.inf if spec.web.strength is None else spec.web.strength
+    web[L.W_STRETCH_MAX] = RUNAWAY_STRAIN * line.ea
+    top_speed = float(np.max(np.abs(breakpoints(spec.speed)[1])))
+    web[L.W_SPEED_MAX] = RUNAWAY_SPEED_FACTOR * top_speed + RUNAWAY_SPEED_FLOOR
     noisy = False
     for noise in (d for d in spec.disturbances if isinstance(d, MeasurementNoise)):
         web[L.W_NOISE_T], web[L.W_NOISE_V], web[L.W_SEED] = noise.tension, noise.speed, noise.seed

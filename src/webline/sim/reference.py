@@ -63,5 +63,5 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
             drag[i] = profile_at(p, t, prof_t, prof_v, prof_off) if p >= 0 else 0.0
         sol = solve_ivp(derivative, (t, t + plan.dt), x, method=method, rtol=rtol, atol=atol)
         x = sol.y[:, -1].copy()
-    return _result(plan, np.array(rows), 0, np.nan,
+    return _result(plan, np.array(rows), None,
                    {"duration": duration, "dt": plan.dt, "substeps": 0, "record_every": 1})

@@ -11,12 +11,16 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 
 from webline.sim import layout as L
+from webline.sim.failure import Failure
 from webline.sim.plan import Plan
 from webline.sim.signal_attrs import SIGNAL_UNITS, signal_attrs
 from webline.spec.load import dump_spec
 
 if TYPE_CHECKING:
     import xarray as xr
+
+    from webline.sim.events import EventStats
+    from webline.verdict import Verdict
 
 #: records per chunk along time in the NetCDF file
 TIME_CHUNK = 4096
@@ -46,9 +50,49 @@ class Result:
     equilibrium_input: np.ndarray  #: [N·m] per drive (decentralized controllers; else 0)
     friction_estimate: np.ndarray  #: adaptive controllers' friction estimate [N·m·s] per drive
     slipping: np.ndarray  #: stick/slip state per node (0 stuck, 1 slipping), held per tick
-    status: str = "ok"
-    message: str = ""
+    failure: Failure | None = None  #: why the run stopped early (None: it ran to the end)
     settings: dict[str, float] = field(default_factory=dict)
+
+    # --- verdict -------------------------------------------------------------------------
+
+    @cached_property
+    def events(self) -> list[EventStats]:
+        """Slack, torque-limit, slip, backlash and tension-limit intervals, per element
+        (``webline.sim.events``): a command within ``TORQUE_LIMIT_RTOL`` of its limit is at it
+        (the controllers clip to the limit exactly); NaN contact means no backlash."""
+        from webline.sim.events import TORQUE_LIMIT_RTOL, event_stats
+
+        limit = self.line.spec.web.tension_limit
+        at_limit = self.plan.drives[:, L.D_LIMIT] * (1.0 - TORQUE_LIMIT_RTOL)
+        traction = self.plan.nodes[:, L.N_TRACTION] != 0.0
+        return event_stats(self.time, [
+            ("slack", self.span_names, self.stretch < 0.0),
+            *([("tension_limit", self.span_names, self.tension > limit)]
+              if limit is not None else []),
+            ("torque_limit", self.drive_names, np.abs(self.torque_cmd) >= at_limit),
+            ("slip", self.node_names, (self.slipping != 0) & traction),
+            ("backlash_open", self.drive_names, self.contact == 0.0),
+        ])
+
+    @cached_property
+    def verdict(self) -> Verdict:
+        """The run's verdict: its failure, its events and the linear stability of the line
+        at ``analysis_time`` (``webline.sim.findings``)."""
+        from webline.sim.findings import run_verdict
+
+        return run_verdict(self.failure, self.events, self.line, self.plan)
+
+    @property
+    def status(self) -> str:
+        """``verdict.status``: ok, warning, unstable, failed or interrupted."""
+        return self.verdict.status
+
+    @property
+    def message(self) -> str:
+        """Why the run failed ('' if it did not), else the verdict's headline if not ok."""
+        if self.failure is not None:
+            return self.failure.message
+        return "" if self.verdict.ok else self.verdict.headline
 
     # --- named views -------------------------------------------------------------------
 
@@ -320,6 +364,7 @@ class Result:
             "webline_version": __version__,
             "status": self.status,
             "message": self.message,
+            "verdict": self.verdict.headline,
             **{f"setting_{k}": v for k, v in self.settings.items()},
         })
         return ds

@@ -17,6 +17,7 @@ from webline.line import Line, load_line
 from webline.profiles import breakpoints
 from webline.sim import kernel
 from webline.sim import layout as L
+from webline.sim.failure import Failure, kernel_failure
 from webline.sim.linearize import fastest_mode
 from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
 from webline.sim.result import Result
@@ -124,9 +125,11 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
     controller period (default: from the fastest mode); ``record_interval`` [s] how often the
     state is stored (default every tick, up to 200 000 records). ``progress``, if given, is
     called with the fraction done (0..1) as the run proceeds in chunks. If the run leaves physical
-    validity (non-finite state, unwind roll empty) it stops there and raises
+    validity (a runaway out of the line's physical envelope, a non-finite state, the unwind
+    roll empty, a tension beyond ``web.strength``) it stops there and raises
     ``SimulationError`` whose ``partial`` is the ``Result`` so far (or, with
-    ``raise_on_failure=False``, returns it with ``status`` set).
+    ``raise_on_failure=False``, returns it with its ``failure`` set). The run's ``verdict``
+    also covers warnings (``webline.sim.events``) and the linear stability of the line.
 
     The run goes in chunks of about 0.1 s of wall time, so Ctrl-C is seen within a chunk: it
     stops the run after that chunk, and the ``Result`` so far has ``status`` "interrupted"; it
@@ -156,7 +159,8 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
     # one buffer for the whole run, filled chunk by chunk (no concatenation)
     buffer = np.empty((n_ticks // every + 2, kernel.record_width(
         plan.n_x, plan.drives.shape[0], plan.nodes.shape[0])))
-    status, t_fail, done, stored, chunk = L.STATUS_OK, math.nan, 0, 0, FIRST_CHUNK
+    status, t_fail, where, done, stored = L.STATUS_OK, math.nan, -1, 0, 0
+    chunk = FIRST_CHUNK
     if progress is not None:
         chunk = min(chunk, max(1000, math.ceil(n_ticks / 100)))
     with deferred_interrupt() as interrupted:
@@ -165,7 +169,7 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
                 count = min(chunk, n_ticks - done)
                 last = done + count == n_ticks
                 started = time.perf_counter()
-                _, n_rec, status, t_fail, x, istate, slipping = kernel.run(
+                _, n_rec, status, t_fail, where, x, istate, slipping = kernel.run(
                     plan, x, istate, slipping, done, count, substeps, every, last,
                     buffer[stored:])
                 stored += n_rec
@@ -182,33 +186,29 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
             status = STATUS_INTERRUPTED
     # a run that stopped early keeps only its records, not the whole buffer
     records = buffer[:stored] if stored >= len(buffer) - 2 else buffer[:stored].copy()
-    result = _result(plan, records, status, t_fail,
+    if status == STATUS_INTERRUPTED:
+        end = float(records[-1, 0]) if len(records) else 0.0
+        failure: Failure | None = Failure(
+            "interrupted", line.name, end, f"interrupted by the user (Ctrl-C) at t = {end:.4g} s")
+    else:
+        failure = kernel_failure(plan, status, t_fail, where, x)
+    result = _result(plan, records, failure,
                      {"duration": duration, "dt": plan.dt, "substeps": substeps,
                       "record_every": every})
     if status == STATUS_INTERRUPTED and raise_on_failure:
         raise SimulationInterrupted(result.message, partial=result)
-    if status != L.STATUS_OK and raise_on_failure:
+    if failure is not None and raise_on_failure:
         raise SimulationError(result.message, partial=result)
     return result
 
 
-def _result(plan: Plan, rec: np.ndarray, status: int, t_fail: float,
+def _result(plan: Plan, rec: np.ndarray, failure: Failure | None,
             settings: dict[str, float]) -> Result:
     n_x, n_d = plan.n_x, plan.drives.shape[0]
-    text, message = "ok", ""
-    if status == L.STATUS_NONFINITE:
-        text, message = "diverged", f"the state stopped being finite at t = {t_fail:.4g} s"
-    elif status == L.STATUS_UNWIND_EMPTY:
-        text = "unwind-empty"
-        message = f"the unwind roll ran out of web (reached its core) at t = {t_fail:.4g} s"
-    elif status == STATUS_INTERRUPTED:
-        end = float(rec[-1, 0]) if len(rec) else 0.0
-        text, message = "interrupted", f"interrupted by the user (Ctrl-C) at t = {end:.4g} s"
     block = [rec[:, 1 + n_x + q * n_d:1 + n_x + (q + 1) * n_d] for q in range(5)]
     slipping = rec[:, 1 + n_x + 5 * n_d:]
     return Result(
         plan=plan, time=rec[:, 0], states=rec[:, 1:1 + n_x], torque_cmd=block[0],
         speed_feedforward=block[1], trim=block[2], equilibrium_input=block[3],
-        friction_estimate=block[4], slipping=slipping, status=text, message=message,
-        settings=settings,
+        friction_estimate=block[4], slipping=slipping, failure=failure, settings=settings,
     )

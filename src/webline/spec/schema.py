@@ -44,13 +44,19 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
 
 
 class WebSpec(Strict):
-    """The web material. Give ``modulus`` (with thickness and width) or ``ea`` directly."""
+    """The web material. Give ``modulus`` (with thickness and width) or ``ea`` directly.
+
+    ``strength`` [N]: the tension at which the web breaks (a run stops there, failed);
+    ``tension_limit`` [N]: a tension the line should stay below (a warning where exceeded).
+    """
 
     thickness: Length
     width: Length
     density: Density
     modulus: Modulus | None = None
     ea: Force | None = None
+    strength: Force | None = None
+    tension_limit: Force | None = None
 
 
 # --- drives and controllers ---------------------------------------------------------------
