@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import re
 import subprocess
 import sys
@@ -36,7 +37,7 @@ def test_gain_sweep_faster_tension_loop_tracks_better() -> None:
     out = run_example("gain_sweep.py")
     rms = [float(m) for m in re.findall(r"rad/s +([\d.]+)", out)]
     assert len(rms) == 4
-    assert all(a > b for a, b in zip(rms, rms[1:], strict=False)), out
+    assert all(a > b for a, b in itertools.pairwise(rms)), out
 
 
 def test_compare_controllers_prints_each_family() -> None:

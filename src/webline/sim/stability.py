@@ -1,9 +1,9 @@
 """Linear stability of a line with its controllers, as ``unstable`` findings of a verdict.
 
 The closed-loop linear model of the plan (``sim.linearize.plan_linear_model``, cached on the
-plan) at ``analysis_time`` is checked with plain eigenvalues first (cached too); only when a mode has Re λ above the tolerance are
-eigenvectors computed, to name the states the mode lives in (participation factors) and its
-likely cause.
+plan) at ``analysis_time`` is checked with plain eigenvalues first (cached too); only when a
+mode has Re λ above the tolerance are eigenvectors computed, to name the states the mode lives
+in (participation factors) and its likely cause.
 
 Tolerance: the closed-loop model has exact zero eigenvalues (the unwind and rewind speeds of a
 line at rest, integrators that only see each other), which LAPACK returns as |Re λ| of order
