@@ -153,7 +153,9 @@ def test_sigint_during_a_long_run_writes_partial_results_and_exits_130(tmp_path)
     proc.send_signal(signal.SIGINT)
     stdout, stderr = proc.communicate(timeout=300)
     assert proc.returncode == 130, stderr
-    assert stderr.strip().splitlines()[-1].startswith("error: interrupted by the user")
+    lines = stderr.strip().splitlines()
+    assert any(t.startswith("verdict: interrupted: interrupted by the user") for t in lines)
+    assert lines[-1] == f"what was computed until then is in {out}"
     assert "Traceback" not in stderr
     assert Path(stdout.strip().splitlines()[-1]) == (out / "report.html").resolve()
     with xr.open_dataset(out / "results.nc") as ds:
