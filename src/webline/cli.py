@@ -244,14 +244,25 @@ def run(
 @app.command()
 @handles_errors
 def validate(line: LineArg) -> None:
-    """Check a line file (and each of its scenarios); exit 2 naming the first problem."""
-    loaded = load_line(line)
-    for name in loaded.spec.scenarios:
-        loaded.with_scenario(name)
+    """Check a line file (and each of its scenarios): list every problem (up to 20) with its
+    TOML line and exit 2, or print 'ok' and any warnings (unusual values) and exit 0."""
+    from webline.errors import LineFileError
+
+    try:
+        loaded = load_line(line)
+        for name in loaded.spec.scenarios:
+            loaded.with_scenario(name)
+    except LineFileError as exc:
+        for text in str(exc).splitlines():  # one problem a line (fail() would join them)
+            typer.echo("error: " + " ".join(text.split()), err=True)
+        raise typer.Exit(exc.exit_code) from None
+    for warning in loaded.warnings:
+        typer.echo(f"warning: {loaded.source}: {warning}", err=True)
     scenarios = ", ".join(loaded.spec.scenarios) or "none"
     typer.echo(f"ok: {loaded.source}: line {loaded.name!r} with {loaded.n_nodes} rollers, "
                f"{loaded.n_spans} spans, {len(loaded.drives)} drives, {len(loaded.zones)} "
-               f"tension zones; scenarios: {scenarios}")
+               f"tension zones; scenarios: {scenarios}"
+               + (f"; {len(loaded.warnings)} warnings" if loaded.warnings else ""))
 
 
 @app.command()

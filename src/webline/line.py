@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
-from webline.spec.check import web_ea, zones
+from webline.spec.check import check_spec, web_ea, zones
 from webline.spec.load import read_spec, spec_from_dict
 from webline.spec.schema import (
     DrivenSpec,
@@ -95,6 +95,14 @@ class Line:
         return max(float(np.abs(np.linalg.eigvals(system_matrix(self, loop=loop))).max())
                    for loop in ("open", "closed"))
 
+    @cached_property
+    def warnings(self) -> tuple[str, ...]:
+        """'key: problem' for every value of the line file outside its usual physical range
+        (``webline.spec.ranges``): possible, but rare enough to be a slip of the unit."""
+        from webline.spec.ranges import warnings
+
+        return tuple(warnings(self.spec))
+
     def zone_of_span(self, span: int) -> int:
         return next(z for z, zone in enumerate(self.zones) if span in zone.spans)
 
@@ -129,16 +137,21 @@ class Line:
             known = ", ".join(self.spec.scenarios) or "none"
             raise LineFileError(self.source, f"scenarios.{name}",
                                 f"no such scenario (this line has: {known})")
-        data = self.spec.model_dump(exclude_none=True)
+        # Every part of the scenario was validated with the file: swap them in without
+        # re-validating the line (which made validating a file of N scenarios cost O(N²)),
+        # keep only this scenario, and re-run the checks across keys.
+        rollers = list(self.spec.rollers)
+        for index, radius in ((0, scenario.unwind_radius), (-1, scenario.rewind_radius)):
+            if radius is not None:
+                rollers[index] = rollers[index].model_copy(update={"radius": radius})
+        changes: dict[str, object] = {"rollers": rollers, "scenarios": {name: scenario}}
         if scenario.speed is not None:
-            data["speed"] = scenario.model_dump(exclude_none=True)["speed"]
+            changes["speed"] = scenario.speed
         if scenario.disturbances is not None:
-            data["disturbances"] = scenario.model_dump()["disturbances"]
-        if scenario.unwind_radius is not None:
-            data["rollers"][0]["radius"] = scenario.unwind_radius
-        if scenario.rewind_radius is not None:
-            data["rollers"][-1]["radius"] = scenario.rewind_radius
-        return Line(spec_from_dict(data, f"{self.source} [scenario {name}]"), self.source)
+            changes["disturbances"] = scenario.disturbances
+        spec = self.spec.model_copy(update=changes)
+        check_spec(spec, f"{self.source} [scenario {name}]")
+        return Line(spec, self.source)
 
     def replace(self, **changes: object) -> Line:
         """A copy with top-level spec keys replaced by (validated) new values."""

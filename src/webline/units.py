@@ -93,10 +93,14 @@ _ANGLE_UNITS = {"radian", "degree", "revolution", "turn", "arcminute", "arcsecon
 _CYCLE_UNITS = {"hertz", "cycle"}
 
 
+def clip(text: str, limit: int) -> str:
+    """``text`` cut to at most ``limit`` characters (with '...') for error messages."""
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
 def short(value: object, limit: int = 40) -> str:
-    """``repr(value)``, cut to about ``limit`` characters for error messages."""
-    text = repr(value)
-    return text if len(text) <= limit else text[:limit - 5] + "...'"
+    """``repr(value)``, cut to at most ``limit`` characters for error messages."""
+    return clip(repr(value), limit)
 
 
 @lru_cache(maxsize=64)

@@ -6,17 +6,40 @@ quantity (constant) or a table with ``type`` = "ramp", "steps" or "table".
 
 from __future__ import annotations
 
-from typing import Annotated, Generic, Literal, TypeVar
+from typing import Annotated, ClassVar, Generic, Literal, TypeVar
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Discriminator, Field, Tag
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Discriminator,
+    Field,
+    Tag,
+    ValidationInfo,
+    field_validator,
+)
 
+from webline.spec.ranges import numbers_of, range_for
 from webline.units import to_si
 
 
 class Strict(BaseModel):
-    """Base: frozen, unknown keys rejected."""
+    """Base: frozen, unknown keys rejected, every quantity inside its physical range
+    (``webline.spec.ranges``; a model names its sections there in ``range_sections``)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
+    range_sections: ClassVar[tuple[str, ...]] = ()
+
+    @field_validator("*", mode="after")
+    @classmethod
+    def _in_physical_range(cls, value: object, info: ValidationInfo) -> object:
+        found = range_for(cls, info.field_name or "")
+        if found is not None:
+            for suffix, number in numbers_of(value):
+                problem = found.hard_problem(number)
+                if problem:  # the loader moves a [[suffix]] into the key path
+                    raise ValueError(f"[[{suffix}]] {problem}" if suffix else problem)
+        return value
 
 
 def si(kind: str, bound: str | None = None) -> BeforeValidator:
@@ -63,6 +86,7 @@ Q = TypeVar("Q")
 class Ramp(Strict, Generic[Q]):
     """Linear change from ``initial`` to ``final`` over ``duration`` starting at ``start``."""
 
+    range_sections: ClassVar[tuple[str, ...]] = ("ramp",)
     type: Literal["ramp"]
     initial: Q
     final: Q
@@ -71,6 +95,7 @@ class Ramp(Strict, Generic[Q]):
 
 
 class Step(Strict, Generic[Q]):
+    range_sections: ClassVar[tuple[str, ...]] = ("steps",)
     time: TimeNonNeg
     value: Q
 
@@ -78,6 +103,7 @@ class Step(Strict, Generic[Q]):
 class Steps(Strict, Generic[Q]):
     """Piecewise-constant: ``initial`` until the first step time, then each step's value."""
 
+    range_sections: ClassVar[tuple[str, ...]] = ("steps",)
     type: Literal["steps"]
     initial: Q
     steps: list[Step[Q]] = Field(min_length=1)
@@ -86,6 +112,7 @@ class Steps(Strict, Generic[Q]):
 class Table(Strict, Generic[Q]):
     """Piecewise-linear through (time, value) points; constant outside them."""
 
+    range_sections: ClassVar[tuple[str, ...]] = ("table",)
     type: Literal["table"]
     time: list[TimeNonNeg] = Field(min_length=1)
     value: list[Q] = Field(min_length=1)
