@@ -171,6 +171,11 @@ def load_line(source: Line | str | Path | LineSpec | dict[str, object]) -> Line:
         return Line(source)
     if isinstance(source, dict):
         return Line(spec_from_dict(source, "<dict>"), "<dict>")
+    if not isinstance(source, str | Path):
+        from webline.errors import ArgumentError
+
+        raise ArgumentError(f"line: expected a Line, a line file path, a built-in line's name, "
+                            f"a dict or a LineSpec, got {type(source).__name__}")
     spec, label = read_spec(source)
     return Line(spec, label)
 

@@ -181,6 +181,27 @@ def _si_number(quantity: pint.Quantity, kind: str, value: object) -> float:
     return float(quantity.to(SI_UNITS[kind]).magnitude)
 
 
+def argument(value: object, kind: str, name: str, bound: str = ">0",
+             within: str | None = None) -> float:
+    """An argument of a Python front-door function (``simulate(line, "2 min")``) as an SI
+    float of dimension ``kind``: a number [SI], a string with units or a pint Quantity.
+    ``bound`` is ">0" or ">=0"; ``within`` names an entry of ``webline.spec.ranges.RANGES``
+    whose hard range the value must respect. Raises ``ArgumentError`` naming the argument."""
+    from webline.errors import ArgumentError
+    from webline.spec.ranges import RANGES
+
+    try:
+        number = to_si(value, kind)
+    except ValueError as exc:
+        raise ArgumentError(f"{name}: {exc}") from None
+    if not (number > 0 if bound == ">0" else number >= 0):
+        raise ArgumentError(f"{name}: must be {bound[0]} {bound[1:]}, got {short(value)}")
+    problem = RANGES[within].hard_problem(number) if within else None
+    if problem:
+        raise ArgumentError(f"{name}: {problem}")
+    return number
+
+
 def display_factor(kind: str, system: str) -> tuple[float, str]:
     """Factor and unit that express an SI value of ``kind`` in ``system`` ('si' or 'imperial').
 

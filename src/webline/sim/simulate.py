@@ -11,10 +11,11 @@ import numpy as np
 from webline.errors import LineFileError, SimulationError
 from webline.line import Line, load_line
 from webline.profiles import breakpoints
-from webline.sim import kernel
+from webline.sim import budget, kernel
 from webline.sim import layout as L
 from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
 from webline.sim.result import Result
+from webline.units import argument
 
 #: RK4 sub-steps are chosen so that h·|λ|max stays below this (RK4 is accurate to ~1e-4 per
 #: step there and stable up to 2.78).
@@ -59,13 +60,17 @@ def slip_rates(line: Line) -> list[tuple[int, float, str]]:
     return out
 
 
-def simulate(line: Line | str | Path, duration: float | None = None, *,
-             scenario: str | None = None, sample_rate: float | None = None,
-             substeps: int | None = None, record_interval: float | None = None,
+def simulate(line: Line | str | Path, duration: float | str | None = None, *,
+             scenario: str | None = None, sample_rate: float | str | None = None,
+             substeps: int | None = None, record_interval: float | str | None = None,
              progress: Callable[[float], None] | None = None,
              raise_on_failure: bool = True) -> Result:
     """Simulate ``line`` for ``duration`` [s] from equilibrium at its initial references.
 
+    ``duration``, ``sample_rate`` and ``record_interval`` take numbers [SI], strings with
+    units (``"2 min"``, ``"500 Hz"``) or pint quantities; a wrong one raises ``ArgumentError``.
+    A run that would need more than ``budget.MAX_RK4_STEPS`` RK4 steps or
+    ``budget.MAX_RECORD_BYTES`` of records is refused (``LineFileError`` naming the key).
     ``scenario`` applies a named scenario of the line file (its duration is the default);
     ``sample_rate`` [Hz] overrides the controllers' rate; ``substeps`` the RK4 sub-steps per
     controller period (default: from the fastest mode); ``record_interval`` [s] how often the
@@ -76,14 +81,18 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
     ``raise_on_failure=False``, returns it with ``status`` set).
     """
     line = load_line(line)
+    duration, sample_rate, record_interval = (  # units and checks as the CLI's
+        None if value is None else argument(value, kind, name, within=key)
+        for value, kind, name, key in ((duration, "time", "duration", "scenario.duration"),
+                                       (sample_rate, "frequency", "sample_rate",
+                                        "control.sample_rate"),
+                                       (record_interval, "time", "record_interval", None)))
     if scenario is not None:
         line = line.with_scenario(scenario)
         if duration is None:
             duration = line.spec.scenarios[scenario].duration
     if duration is None:
         duration = 10.0
-    if not duration > 0:
-        raise ValueError(f"duration must be > 0 s, got {duration}")
     plan = compile_plan(line, sample_rate=sample_rate)
     n_ticks = max(1, round(duration / plan.dt))
     if substeps is None:
@@ -92,6 +101,9 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
         every = max(1, math.ceil((n_ticks + 1) / MAX_RECORDS))
     else:
         every = max(1, round(record_interval / plan.dt))
+    columns = 1 + plan.n_x + 5 * plan.drives.shape[0] + line.n_nodes  # as kernel.run stores
+    budget.check_work(line, budget.estimate(n_ticks, substeps, every, columns), plan.dt,
+                      sample_rate_given=sample_rate is not None)
     x, istate = equilibrium_plan_state(plan)
     slipping = plan.initial_slip(x)
     chunk = n_ticks if progress is None else max(1000, math.ceil(n_ticks / 100))
