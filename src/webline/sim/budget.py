@@ -99,7 +99,7 @@ def fastest_mode_key(line: Line) -> tuple[str, str]:
 
     best: tuple[float, str, str] = (0.0, "", "")
     for loop in ("open", "closed"):
-        model = linear_model(line, loop=loop)  # type: ignore[arg-type]
+        model = linear_model(line, loop=loop)
         values, vectors = np.linalg.eig(model.a)
         k = int(np.argmax(np.abs(values)))
         if abs(values[k]) <= best[0]:
