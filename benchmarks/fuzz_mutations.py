@@ -7,6 +7,7 @@ unknown keys, numeric edges, unit strings, topology, file-level damage.
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import math
 import tomllib
@@ -181,10 +182,9 @@ def mutate(category: str, choose: Chooser) -> bytes:
     if category == "file":
         return file_damage(data, choose)
     for _ in range(choose.integer(1, 3)):
-        try:
+        # a mutation that does not fit this (already mutated) file leaves it as it is
+        with contextlib.suppress(IndexError, KeyError, TypeError, ValueError):
             CATEGORIES[category](data, choose)
-        except (IndexError, KeyError, TypeError, ValueError):
-            pass  # the mutation did not fit this (already mutated) file; keep what we have
     try:
         return tomli_w.dumps(data).encode()
     except (TypeError, ValueError):  # a value TOML cannot hold: damage the file instead
