@@ -90,8 +90,10 @@ def handles_errors(command: F) -> F:
 
 
 def fail(message: str, code: int) -> None:
-    """Print ``error: message`` as one line on stderr and exit with ``code``."""
-    typer.echo("error: " + " ".join(message.split()), err=True)
+    """Print ``error: message`` on stderr, one line per line of ``message`` (a line file's
+    problems), and exit with ``code``."""
+    for text in message.splitlines() or [""]:
+        typer.echo("error: " + " ".join(text.split()), err=True)
     raise typer.Exit(code)
 
 
@@ -206,6 +208,8 @@ def run(
     from webline.report import write_report, write_results
 
     base = _load(line, None, controller)
+    for warning in base.warnings:  # unusual values (webline.spec.ranges)
+        typer.echo(f"warning: {base.source}: {warning}", err=True)
     scenario_line = base.with_scenario(scenario) if scenario else base
     seconds = _duration(duration)
     folder = prepare_out(out or Path("out") / (base.name + (f"-{scenario}" if scenario else "")))
@@ -246,16 +250,9 @@ def run(
 def validate(line: LineArg) -> None:
     """Check a line file (and each of its scenarios): list every problem (up to 20) with its
     TOML line and exit 2, or print 'ok' and any warnings (unusual values) and exit 0."""
-    from webline.errors import LineFileError
-
-    try:
-        loaded = load_line(line)
-        for name in loaded.spec.scenarios:
-            loaded.with_scenario(name)
-    except LineFileError as exc:
-        for text in str(exc).splitlines():  # one problem a line (fail() would join them)
-            typer.echo("error: " + " ".join(text.split()), err=True)
-        raise typer.Exit(exc.exit_code) from None
+    loaded = load_line(line)  # a LineFileError lists every problem, one a line (fail())
+    for name in loaded.spec.scenarios:
+        loaded.with_scenario(name)
     for warning in loaded.warnings:
         typer.echo(f"warning: {loaded.source}: {warning}", err=True)
     scenarios = ", ".join(loaded.spec.scenarios) or "none"
