@@ -91,6 +91,15 @@ def test_a_value_outside_its_hard_range_is_an_error(key: str, value: object, sho
     assert info.value.problem.startswith(shown)
 
 
+@pytest.mark.parametrize("seed", [10**400, -1, 2**60])
+def test_a_huge_integer_is_a_clean_range_error(seed: int) -> None:
+    data = hswl(disturbances=[{"type": "measurement_noise", "seed": seed}])
+    with pytest.raises(LineFileError) as info:
+        spec_from_dict(data, "line.toml")
+    assert info.value.key == "disturbances[0].seed"
+    assert "outside the physical range 0 .. 9.007e+15" in info.value.problem
+
+
 def test_an_unusual_value_is_a_warning_on_the_line() -> None:
     line = load_line(hswl(**{"control.sample_rate": "50 kHz"}))
     assert line.warnings == ("control.sample_rate: 5e+04 Hz is unusual (usual range 50 .. "

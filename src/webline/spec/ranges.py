@@ -202,7 +202,10 @@ def numbers_of(value: object, at: str = "") -> Iterator[tuple[str, float]]:
     if isinstance(value, bool) or value is None:
         return
     if isinstance(value, int | float):
-        yield at, float(value)
+        try:
+            yield at, float(value)
+        except OverflowError:  # an int beyond float range is beyond every range
+            yield at, math.inf if value > 0 else -math.inf
     elif isinstance(value, list | tuple):
         for i, item in enumerate(value):
             yield from numbers_of(item, f"{at}[{i}]")
