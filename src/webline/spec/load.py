@@ -159,15 +159,15 @@ def read_text(source: str | Path) -> tuple[str, str]:
     if path.suffix == ".toml" or path.exists():
         label = str(source)
         try:
-            size = path.stat().st_size
-            if size > MAX_FILE_BYTES:
-                raise LineFileError(label, "(file)", f"{size} bytes is larger than a line file "
-                                    f"may be ({MAX_FILE_BYTES} bytes)")
-            raw = path.read_bytes()
+            with path.open("rb") as handle:  # at most the limit, even from /dev/zero
+                raw = handle.read(MAX_FILE_BYTES + 1)
         except FileNotFoundError:
             raise LineFileError(label, "(file)", "no such file") from None
         except OSError as exc:
             raise LineFileError(label, "(file)", f"cannot read: {exc.strerror or exc}") from None
+        if len(raw) > MAX_FILE_BYTES:
+            raise LineFileError(label, "(file)",
+                                f"larger than a line file may be ({MAX_FILE_BYTES} bytes)")
         if b"\0" in raw:
             raise LineFileError(label, "(file)", "contains NUL bytes: not a text file")
         try:
