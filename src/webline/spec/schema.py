@@ -40,6 +40,10 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
     si,
 )
 
+#: names (of lines, rollers, spans) and free text, bounded: a name becomes a folder name
+Name = Annotated[str, Field(min_length=1, max_length=100)]
+Text = Annotated[str, Field(max_length=10_000)]
+
 # --- web ------------------------------------------------------------------------------------
 
 
@@ -252,7 +256,7 @@ ContactSpec = Annotated[AdheredSpec | TractionSpec, Field(discriminator="type")]
 
 
 class _RollerBase(Strict):
-    name: str = Field(min_length=1)
+    name: Name
     radius: Length
     inertia: Inertia
     friction: Damping = 0.0
@@ -318,7 +322,7 @@ class SpanSpec(Strict):
 
     range_sections: ClassVar[tuple[str, ...]] = ("span",)
 
-    name: str | None = None
+    name: Name | None = None
     length: Length
     tension: TensionProfile | None = None
 
@@ -343,7 +347,7 @@ class EccentricRoller(Strict):
     range_sections: ClassVar[tuple[str, ...]] = ("eccentric_roller",)
 
     type: Literal["eccentric_roller"]
-    roller: str
+    roller: Name
     eccentricity: Length
 
 
@@ -353,7 +357,7 @@ class SpeedRipple(Strict):
     range_sections: ClassVar[tuple[str, ...]] = ("speed_ripple",)
 
     type: Literal["speed_ripple"]
-    roller: str
+    roller: Name
     amplitude: Speed
     frequency: Frequency
     phase: Angle = 0.0
@@ -366,7 +370,7 @@ class RollerDrag(Strict):
     range_sections: ClassVar[tuple[str, ...]] = ("roller_drag",)
 
     type: Literal["roller_drag"]
-    roller: str
+    roller: Name
     torque: TorqueProfile
 
 
@@ -402,7 +406,7 @@ class ScenarioSpec(Strict):
 
     range_sections: ClassVar[tuple[str, ...]] = ("scenario",)
 
-    description: str = ""
+    description: Text = ""
     duration: Time
     speed: SpeedProfile | None = None
     disturbances: list[DisturbanceSpec] | None = None
@@ -415,9 +419,9 @@ class LineSpec(Strict):
 
     range_sections: ClassVar[tuple[str, ...]] = ("line",)
 
-    name: str = Field(min_length=1)
-    description: str = ""
-    source: str = ""
+    name: Name
+    description: Text = ""
+    source: Text = ""
     web: WebSpec
     rollers: list[RollerSpec] = Field(min_length=2)
     spans: list[SpanSpec] = Field(min_length=1)
