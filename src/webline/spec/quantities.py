@@ -6,7 +6,7 @@ quantity (constant) or a table with ``type`` = "ramp", "steps" or "table".
 
 from __future__ import annotations
 
-from typing import Annotated, ClassVar, Generic, Literal, TypeVar
+from typing import Annotated, Generic, Literal, TypeVar
 
 from pydantic import (
     BaseModel,
@@ -25,10 +25,9 @@ from webline.units import to_si
 
 class Strict(BaseModel):
     """Base: frozen, unknown keys rejected, every quantity inside its physical range
-    (``webline.spec.ranges``; a model names its sections there in ``range_sections``)."""
+    (``webline.spec.ranges``, which maps each model to its sections)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
-    range_sections: ClassVar[tuple[str, ...]] = ()
 
     @field_validator("*", mode="after")
     @classmethod
@@ -86,7 +85,6 @@ Q = TypeVar("Q")
 class Ramp(Strict, Generic[Q]):
     """Linear change from ``initial`` to ``final`` over ``duration`` starting at ``start``."""
 
-    range_sections: ClassVar[tuple[str, ...]] = ("ramp",)
     type: Literal["ramp"]
     initial: Q
     final: Q
@@ -95,7 +93,6 @@ class Ramp(Strict, Generic[Q]):
 
 
 class Step(Strict, Generic[Q]):
-    range_sections: ClassVar[tuple[str, ...]] = ("steps",)
     time: TimeNonNeg
     value: Q
 
@@ -103,7 +100,6 @@ class Step(Strict, Generic[Q]):
 class Steps(Strict, Generic[Q]):
     """Piecewise-constant: ``initial`` until the first step time, then each step's value."""
 
-    range_sections: ClassVar[tuple[str, ...]] = ("steps",)
     type: Literal["steps"]
     initial: Q
     steps: list[Step[Q]] = Field(min_length=1)
@@ -112,7 +108,6 @@ class Steps(Strict, Generic[Q]):
 class Table(Strict, Generic[Q]):
     """Piecewise-linear through (time, value) points; constant outside them."""
 
-    range_sections: ClassVar[tuple[str, ...]] = ("table",)
     type: Literal["table"]
     time: list[TimeNonNeg] = Field(min_length=1)
     value: list[Q] = Field(min_length=1)

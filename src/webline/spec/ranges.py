@@ -5,8 +5,8 @@ A value outside its **hard** range is no web line at all (a 1 m thick web, a 1 n
 **usual** range exists but is rare enough to be a typo (a 10 m idle roller radius): ``webline
 validate`` and ``webline run`` print it as a warning and ``Line.warnings`` keeps it.
 
-Keys are ``section.field``; a schema model names the sections it answers to in its
-``range_sections`` (``UnwindSpec``: "unwind", "roll", "roller"), the first match wins. A
+Keys are ``section.field``; ``SECTIONS`` names the sections each schema model answers to
+(``UnwindSpec``: "unwind", "roll", "roller"), the first match wins. A
 profile's values (ramp ``initial``, steps ``value``, ...) take the range of the key that holds
 the profile (``line.speed``, ``span.tension``). ``docs/line-file.md`` shows the table
 rendered by ``markdown()``; a test keeps the two equal.
@@ -181,14 +181,51 @@ RANGES: dict[str, Range] = {
                                  "the plan stores it as a float (exact to 2^53)"),
 }
 
+#: schema model name -> the sections of ``RANGES`` its fields look up, first match first
+SECTIONS: dict[str, tuple[str, ...]] = {
+    "WebSpec": ("web",),
+    "BacklashSpec": ("backlash",),
+    "BeltSpec": ("belt",),
+    "ShaftSpec": ("shaft",),
+    "DriveSpec": ("drive",),
+    "CascadedPISpec": ("cascaded_pi",),
+    "StateFeedbackSpec": ("decentralized",),
+    "AdaptiveSpec": ("adaptive", "decentralized"),
+    "TractionSpec": ("traction",),
+    "UnwindSpec": ("unwind", "roll", "roller"),
+    "RewindSpec": ("roll", "roller"),
+    "DrivenSpec": ("roller",),
+    "IdleSpec": ("roller",),
+    "SpanSpec": ("span",),
+    "WoundInRipple": ("wound_in_ripple",),
+    "EccentricRoller": ("eccentric_roller",),
+    "SpeedRipple": ("speed_ripple",),
+    "RollerDrag": ("roller_drag",),
+    "MeasurementNoise": ("measurement_noise",),
+    "ControlSpec": ("control",),
+    "ScenarioSpec": ("scenario",),
+    "LineSpec": ("line",),
+    "Ramp": ("ramp",),
+    "Step": ("steps",),
+    "Steps": ("steps",),
+    "Table": ("table",),
+}
+
 #: Fields holding no quantity of their own: profile values take the range of the profile's key.
 PROFILE_VALUE_FIELDS = {"initial", "final", "value", "steps"}
+
+
+def sections(model: type[BaseModel]) -> tuple[str, ...]:
+    """The sections of ``RANGES`` a schema model's fields look up (a generic profile model
+    ``Ramp[...]`` goes by ``Ramp``)."""
+    origin = model.__pydantic_generic_metadata__.get("origin") or model
+    return SECTIONS.get(origin.__name__, ())
 
 
 @cache
 def range_for(model: type[BaseModel], field: str) -> Range | None:
     """The range of ``field`` of a schema ``model``, or None where it has none."""
-    for section in getattr(model, "range_sections", ()):
+    for section in sections(model):
         found = RANGES.get(f"{section}.{field}")
         if found is not None:
             return found

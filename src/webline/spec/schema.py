@@ -6,7 +6,7 @@ are errors; each component is chosen by its ``type``, never guessed from the key
 
 from __future__ import annotations
 
-from typing import Annotated, ClassVar, Literal
+from typing import Annotated, Literal
 
 from pydantic import Discriminator, Field, Tag
 
@@ -53,8 +53,6 @@ class WebSpec(Strict):
     ``strength`` [N] is the tension at which the web breaks; ``tension_limit`` [N] the highest
     tension the process allows (both optional)."""
 
-    range_sections: ClassVar[tuple[str, ...]] = ("web",)
-
     thickness: Length
     width: Length
     density: Density
@@ -75,8 +73,6 @@ class BacklashSpec(Strict):
     a = 0.5 is the symmetric gap).
     """
 
-    range_sections: ClassVar[tuple[str, ...]] = ("backlash",)
-
     gap: Annotated[float, si("angle", ">=0")]
     asymmetry: Annotated[float, Field(ge=0.0, le=1.0)] = 0.5
 
@@ -92,8 +88,6 @@ class BeltSpec(Strict):
     [N/m], ``damping`` [N·s/m], the load pulley of ``load_pulley_radius`` r2 [m] (the motor
     pulley is r2/ratio). Seen from the load shaft: Kb r2² [N·m/rad]."""
 
-    range_sections: ClassVar[tuple[str, ...]] = ("belt",)
-
     type: Literal["belt"]
     stiffness: Annotated[float, si("stiffness", ">0")]
     load_pulley_radius: Length
@@ -104,8 +98,6 @@ class BeltSpec(Strict):
 class ShaftSpec(Strict):
     """Compliant shaft (or coupling) seen from the load shaft: ``stiffness`` [N·m/rad],
     ``damping`` [N·m·s/rad] (thesis 3.22 in rotary form)."""
-
-    range_sections: ClassVar[tuple[str, ...]] = ("shaft",)
 
     type: Literal["shaft"]
     stiffness: Torque
@@ -126,8 +118,6 @@ class DriveSpec(Strict):
     roller shaft opposing its rotation (thesis 4.12), constant or a profile.
     """
 
-    range_sections: ClassVar[tuple[str, ...]] = ("drive",)
-
     ratio: Ratio = 1.0
     torque_limit: Torque
     torque_lag: Time = 0.002
@@ -145,8 +135,6 @@ class CascadedPISpec(Strict):
     tension_ki [(m/s)/(N·s)]. A missing gain is tuned by pole placement from the bandwidths
     [rad/s] and damping ratio (see ``webline.control.pi.tune``).
     """
-
-    range_sections: ClassVar[tuple[str, ...]] = ("cascaded_pi",)
 
     type: Literal["cascaded_pi"] = "cascaded_pi"
     speed_kp: Gain | None = None
@@ -175,8 +163,6 @@ class _DecentralizedSpec(Strict):
     the roller's true value).
     """
 
-    range_sections: ClassVar[tuple[str, ...]] = ("decentralized",)
-
     tension_scale: Force | None = None
     speed_scale: Annotated[float, si("speed", ">0")] | None = None
     torque_scale: Torque | None = None
@@ -204,8 +190,6 @@ class AdaptiveSpec(_DecentralizedSpec):
     initial guess (σ-modification); projection keeps it in [0, ``parameter_bound`` x the
     friction whose torque at the initial speed is the torque scale].
     """
-
-    range_sections: ClassVar[tuple[str, ...]] = ("adaptive", "decentralized")
 
     type: Literal["adaptive"]
     tension_gain: Signed | None = None
@@ -244,8 +228,6 @@ class TractionSpec(Strict):
     static ``friction`` μ0 [-], ``kinetic_friction`` μ' <= μ0 [-] (default μ0), ``viscous`` b
     [N·s/m]. The web slips when the tension difference leaves the capstan band of the wrap."""
 
-    range_sections: ClassVar[tuple[str, ...]] = ("traction",)
-
     type: Literal["traction"]
     friction: Annotated[float, si("dimensionless", ">0")]
     kinetic_friction: Annotated[float, si("dimensionless", ">=0")] | None = None
@@ -266,8 +248,6 @@ class _RollerBase(Strict):
 class UnwindSpec(_RollerBase):
     """Unwind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web."""
 
-    range_sections: ClassVar[tuple[str, ...]] = ("unwind", "roll", "roller")
-
     type: Literal["unwind"]
     core_radius: Length
     wound_in_tension: Force
@@ -278,8 +258,6 @@ class UnwindSpec(_RollerBase):
 class RewindSpec(_RollerBase):
     """Rewind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web."""
 
-    range_sections: ClassVar[tuple[str, ...]] = ("roll", "roller")
-
     type: Literal["rewind"]
     core_radius: Length
     drive: DriveSpec
@@ -289,8 +267,6 @@ class RewindSpec(_RollerBase):
 class DrivenSpec(_RollerBase):
     """Driven roller: the master-speed roller or a tension-controlled one. ``wrap`` [rad] is
     the web's wrap angle; ``contact`` chooses adhesion or slip (Ch. 5)."""
-
-    range_sections: ClassVar[tuple[str, ...]] = ("roller",)
 
     type: Literal["driven"]
     role: Literal["master", "tension"]
@@ -303,8 +279,6 @@ class DrivenSpec(_RollerBase):
 class IdleSpec(_RollerBase):
     """Idle roller: turned by the web, with bearing friction. ``wrap`` [rad] and ``contact``
     as for a driven roller."""
-
-    range_sections: ClassVar[tuple[str, ...]] = ("roller",)
 
     type: Literal["idle"]
     wrap: Annotated[float, si("angle", ">0")] | None = None
@@ -320,8 +294,6 @@ RollerSpec = Annotated[
 class SpanSpec(Strict):
     """Free web span between two consecutive rollers. ``tension`` marks its zone's loadcell."""
 
-    range_sections: ClassVar[tuple[str, ...]] = ("span",)
-
     name: Name | None = None
     length: Length
     tension: TensionProfile | None = None
@@ -333,8 +305,6 @@ class SpanSpec(Strict):
 class WoundInRipple(Strict):
     """Sinusoidal component of the unwind's wound-in tension (thesis Ch. 4)."""
 
-    range_sections: ClassVar[tuple[str, ...]] = ("wound_in_ripple",)
-
     type: Literal["wound_in_ripple"]
     amplitude: Force
     frequency: Frequency
@@ -344,8 +314,6 @@ class WoundInRipple(Strict):
 class EccentricRoller(Strict):
     """Out-of-round roller: its effective radius is ``radius + eccentricity·cos(angle)``."""
 
-    range_sections: ClassVar[tuple[str, ...]] = ("eccentric_roller",)
-
     type: Literal["eccentric_roller"]
     roller: Name
     eccentricity: Length
@@ -353,8 +321,6 @@ class EccentricRoller(Strict):
 
 class SpeedRipple(Strict):
     """Sinusoidal ripple added to a driven roller's speed reference."""
-
-    range_sections: ClassVar[tuple[str, ...]] = ("speed_ripple",)
 
     type: Literal["speed_ripple"]
     roller: Name
@@ -367,8 +333,6 @@ class RollerDrag(Strict):
     """A torque opposing a roller's rotation [N·m], constant or a profile: a failing bearing, a
     rubbing guard, a spreader. It adds to the roller's bearing friction."""
 
-    range_sections: ClassVar[tuple[str, ...]] = ("roller_drag",)
-
     type: Literal["roller_drag"]
     roller: Name
     torque: TorqueProfile
@@ -377,8 +341,6 @@ class RollerDrag(Strict):
 class MeasurementNoise(Strict):
     """White Gaussian noise on every controller's tension and speed measurements (standard
     deviations ``tension`` [N], ``speed`` [m/s]), reproducible from ``seed``."""
-
-    range_sections: ClassVar[tuple[str, ...]] = ("measurement_noise",)
 
     type: Literal["measurement_noise"]
     tension: Annotated[float, si("force", ">=0")] = 0.0
@@ -395,16 +357,12 @@ DisturbanceSpec = Annotated[
 class ControlSpec(Strict):
     """Sampling of the built-in controllers."""
 
-    range_sections: ClassVar[tuple[str, ...]] = ("control",)
-
     sample_rate: Frequency = 1000.0
 
 
 class ScenarioSpec(Strict):
     """A named run of the line: it may replace the speed reference, the disturbances and the
     initial roll radii, and sets a default duration."""
-
-    range_sections: ClassVar[tuple[str, ...]] = ("scenario",)
 
     description: Text = ""
     duration: Time
@@ -416,8 +374,6 @@ class ScenarioSpec(Strict):
 
 class LineSpec(Strict):
     """A whole web line, rollers in web order (unwind first, rewind last)."""
-
-    range_sections: ClassVar[tuple[str, ...]] = ("line",)
 
     name: Name
     description: Text = ""
