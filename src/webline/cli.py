@@ -98,8 +98,10 @@ def handles_errors(command: F) -> F:
 
 
 def fail(message: str, code: int) -> None:
-    """Print ``error: message`` as one line on stderr and exit with ``code``."""
-    typer.echo("error: " + " ".join(message.split()), err=True)
+    """Print ``error: message`` on stderr, one line per line of ``message`` (a line file's
+    problems), and exit with ``code``."""
+    for text in message.splitlines() or [""]:
+        typer.echo("error: " + " ".join(text.split()), err=True)
     raise typer.Exit(code)
 
 
@@ -226,6 +228,8 @@ def run(
     from webline.report.verdict_text import verdict_lines
 
     base = _load(line, None, controller)
+    for warning in base.warnings:  # unusual values (webline.spec.ranges)
+        typer.echo(f"warning: {base.source}: {warning}", err=True)
     scenario_line = base.with_scenario(scenario) if scenario else base
     seconds = _duration(duration)
     folder = open_run_folder(out, base.name, scenario, force)
@@ -274,14 +278,18 @@ def run(
 @app.command()
 @handles_errors
 def validate(line: LineArg) -> None:
-    """Check a line file (and each of its scenarios); exit 2 naming the first problem."""
-    loaded = load_line(line)
+    """Check a line file (and each of its scenarios): list every problem (up to 20) with its
+    TOML line and exit 2, or print 'ok' and any warnings (unusual values) and exit 0."""
+    loaded = load_line(line)  # a LineFileError lists every problem, one a line (fail())
     for name in loaded.spec.scenarios:
         loaded.with_scenario(name)
+    for warning in loaded.warnings:
+        typer.echo(f"warning: {loaded.source}: {warning}", err=True)
     scenarios = ", ".join(loaded.spec.scenarios) or "none"
     typer.echo(f"ok: {loaded.source}: line {loaded.name!r} with {loaded.n_nodes} rollers, "
                f"{loaded.n_spans} spans, {len(loaded.drives)} drives, {len(loaded.zones)} "
-               f"tension zones; scenarios: {scenarios}")
+               f"tension zones; scenarios: {scenarios}"
+               + (f"; {len(loaded.warnings)} warnings" if loaded.warnings else ""))
 
 
 @app.command()

@@ -2,6 +2,24 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
+#: Most problems a ``LineFileError`` message lists (the rest are counted).
+MAX_LISTED = 20
+
+
+@dataclass(frozen=True)
+class Problem:
+    """One problem of a line file: key path, what is wrong, and its TOML line if known."""
+
+    key: str
+    problem: str
+    line: int | None = None
+
+    def text(self, file: str) -> str:
+        where = f"{file}:{self.line}" if self.line else file
+        return f"{where}: {self.key}: {self.problem}"
+
 
 class WeblineError(Exception):
     """Base of webline's own errors: the CLI turns these into one line and an exit status."""
@@ -12,17 +30,38 @@ class WeblineError(Exception):
 class LineFileError(WeblineError):
     """A line file (or a line spec built in Python) is malformed.
 
-    The message always names the file, the key path and the problem, e.g.
-    ``line.toml: spans[2].length: must be > 0, got -3 m``.
+    The message names the file, the key path and the problem, e.g.
+    ``line.toml: spans[2].length: must be > 0, got -3 m``; with several problems, one per
+    line (``file:LINE: key: problem`` where the TOML line is known), at most ``MAX_LISTED``
+    and then "and N more". ``file``, ``key`` and ``problem`` are the first problem's;
+    ``problems`` holds them all.
     """
 
     exit_code = 2
 
-    def __init__(self, file: str, key: str, problem: str) -> None:
+    def __init__(self, file: str, key: str, problem: str, *, line: int | None = None,
+                 problems: list[Problem] | None = None) -> None:
         self.file = file
         self.key = key
         self.problem = problem
-        super().__init__(f"{file}: {key}: {problem}")
+        self.problems = problems or [Problem(key, problem, line)]
+        lines = [p.text(file) for p in self.problems[:MAX_LISTED]]
+        if len(self.problems) > MAX_LISTED:
+            lines.append(f"{file}: and {len(self.problems) - MAX_LISTED} more problems")
+        super().__init__("\n".join(lines))
+
+    @classmethod
+    def of(cls, file: str, problems: list[Problem]) -> LineFileError:
+        """The error listing ``problems`` (at least one) of ``file``."""
+        first = problems[0]
+        return cls(file, first.key, first.problem, line=first.line, problems=problems)
+
+
+class ArgumentError(WeblineError):
+    """An argument of a Python front-door function (``simulate``, ``linearize``, ...) is
+    wrong; the message names the argument (exit status 2 in the CLI)."""
+
+    exit_code = 2
 
 
 class SimulationError(WeblineError):

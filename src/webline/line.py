@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
-from webline.spec.check import web_ea, zones
+from webline.spec.check import check_spec, web_ea, zones
 from webline.spec.load import read_spec, spec_from_dict
 from webline.spec.paths import set_path
 from webline.spec.schema import (
@@ -86,6 +86,14 @@ class Line:
             out.append(Zone(first, last, loadcell, controller))
         return tuple(out)
 
+    @cached_property
+    def warnings(self) -> tuple[str, ...]:
+        """'key: problem' for every value of the line file outside its usual physical range
+        (``webline.spec.ranges``): possible, but rare enough to be a slip of the unit."""
+        from webline.spec.ranges import warnings
+
+        return tuple(warnings(self.spec))
+
     def zone_of_span(self, span: int) -> int:
         return next(z for z, zone in enumerate(self.zones) if span in zone.spans)
 
@@ -120,18 +128,27 @@ class Line:
             known = ", ".join(self.spec.scenarios) or "none"
             raise LineFileError(self.source, f"scenarios.{name}",
                                 f"no such scenario (this line has: {known})")
-        data = self.spec.model_dump(exclude_none=True)
+        # Every part of the scenario was validated with the file: swap them in without
+        # re-validating the line (which made validating a file of N scenarios cost O(N²)),
+        # keep only this scenario, and re-run the checks across keys.
+        rollers = list(self.spec.rollers)
+        for index, radius in ((0, scenario.unwind_radius), (-1, scenario.rewind_radius)):
+            if radius is not None:
+                rollers[index] = rollers[index].model_copy(update={"radius": radius})
+        changes: dict[str, object] = {"rollers": rollers, "scenarios": {name: scenario}}
         if scenario.speed is not None:
-            data["speed"] = scenario.model_dump(exclude_none=True)["speed"]
+            changes["speed"] = scenario.speed
         if scenario.disturbances is not None:
-            data["disturbances"] = scenario.model_dump()["disturbances"]
-        if scenario.unwind_radius is not None:
-            data["rollers"][0]["radius"] = scenario.unwind_radius
-        if scenario.rewind_radius is not None:
-            data["rollers"][-1]["radius"] = scenario.rewind_radius
-        for path, value in scenario.set.items():
-            set_path(data, path, value, f"{self.source}: scenarios.{name}.set")
-        return Line(spec_from_dict(data, f"{self.source} [scenario {name}]"), self.source)
+            changes["disturbances"] = scenario.disturbances
+        spec = self.spec.model_copy(update=changes)
+        label = f"{self.source} [scenario {name}]"
+        if scenario.set:  # values set by path: validate the changed line as a whole
+            data = spec.model_dump(exclude_none=True)
+            for path, value in scenario.set.items():
+                set_path(data, path, value, f"{self.source}: scenarios.{name}.set")
+            return Line(spec_from_dict(data, label), self.source)
+        check_spec(spec, label)
+        return Line(spec, self.source)
 
     def replace(self, changes: Mapping[str, object] | None = None, /,
                 **top_level: object) -> Line:
@@ -160,6 +177,11 @@ def load_line(source: Line | str | Path | LineSpec | dict[str, object]) -> Line:
         return Line(source)
     if isinstance(source, dict):
         return Line(spec_from_dict(source, "<dict>"), "<dict>")
+    if not isinstance(source, str | Path):
+        from webline.errors import ArgumentError
+
+        raise ArgumentError(f"line: expected a Line, a line file path, a built-in line's name, "
+                            f"a dict or a LineSpec, got {type(source).__name__}")
     spec, label = read_spec(source)
     return Line(spec, label)
 

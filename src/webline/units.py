@@ -6,6 +6,7 @@ Everything inside webline is SI; quantities are parsed here at the boundary.
 from __future__ import annotations
 
 import math
+import numbers
 import re
 from functools import lru_cache
 
@@ -74,9 +75,32 @@ IMPERIAL_UNITS: dict[str, str] = {
 }
 
 
-#: a power with a 3-digit (or longer) or chained exponent: pint would compute it exactly,
-#: which can take forever ("9**9**9 m")
-_HUGE_POWER = re.compile(r"(\*\*|\^)\s*\(?\s*[-+]?\d{3,}|(\*\*|\^)[^*^]*(\*\*|\^)")
+#: A quantity string: a number, then optionally a unit expression, nothing else. Checked
+#: before pint, which would evaluate "1,5 m" as 15 m and "{{7*7}} m" as 49 m. A unit is
+#: words joined by '*', '/', '·' or spaces, each with an optional 1- or 2-digit power.
+_NUMBER = r"[+-]?(?:(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|inf|nan)"
+_WORD = r"(?:[A-Za-z_µμΩ°]+|%)(?:(?:\*\*|\^)-?[0-9]{1,2})?"
+_UNIT = rf"(?:1 ?/ ?)?{_WORD}(?: ?[*/·] ?{_WORD}| {_WORD})*"
+_QUANTITY = re.compile(rf" *({_NUMBER}) *({_UNIT})? *")
+#: Longest quantity string read [characters].
+MAX_QUANTITY_TEXT = 100
+#: units a plain ratio may carry (an angle such as "3 deg" is not a ratio)
+_RATIO_UNITS = {"dimensionless", "percent", "ppm", "permille"}
+#: unit names that count angle (rad, deg, turns): a frequency in rad/s is 1/(2π) Hz
+_ANGLE_UNITS = {"radian", "degree", "revolution", "turn", "arcminute", "arcsecond", "gradian",
+                "rpm_", "revolutions_per_minute", "revolutions_per_second"}
+#: unit names that count cycles: "6 Hz" is 2π·6 rad/s for an angular frequency
+_CYCLE_UNITS = {"hertz", "cycle"}
+
+
+def clip(text: str, limit: int) -> str:
+    """``text`` cut to at most ``limit`` characters (with '...') for error messages."""
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def short(value: object, limit: int = 40) -> str:
+    """``repr(value)``, cut to at most ``limit`` characters for error messages."""
+    return clip(repr(value), limit)
 
 
 @lru_cache(maxsize=64)
@@ -84,47 +108,77 @@ def _dimensionality(kind: str) -> pint.util.UnitsContainer:
     return ureg.parse_expression(SI_UNITS[kind] or "1").dimensionality
 
 
-def to_si(value: object, kind: str) -> float:
-    """Convert ``value`` (a plain SI number or a string such as ``"500 ft/min"``) to SI.
+def _parse(text: str, kind: str) -> pint.Quantity:
+    """The pint quantity of a strictly formed quantity string."""
+    if len(text) > MAX_QUANTITY_TEXT:
+        raise ValueError(f"cannot read {short(text)} as a {kind}: longer than "
+                         f"{MAX_QUANTITY_TEXT} characters")
+    if any(ord(c) < 32 or ord(c) == 127 for c in text):
+        raise ValueError(f"cannot read {short(text)} as a {kind}: it contains control characters")
+    match = _QUANTITY.fullmatch(text)
+    if match is None:
+        raise ValueError(f"cannot read {short(text)} as a {kind}: write a number and a unit, "
+                         "e.g. '1.5 m' (a decimal point, no commas or expressions)")
+    number, unit = match.groups()
+    try:
+        return ureg.Quantity(float(number), unit.strip() if unit else "")
+    except Exception as exc:  # pint raises many types for unknown units
+        raise ValueError(f"cannot read {short(text)} as a {kind}: {exc}") from None
 
-    Plain numbers are taken as SI. Raises ``ValueError`` with a user-readable message.
+
+def to_si(value: object, kind: str) -> float:
+    """Convert ``value`` to an SI float of dimension ``kind``.
+
+    ``value`` is a plain number (taken as SI), a string holding a number and a unit
+    (``"500 ft/min"``; nothing else) or a pint ``Quantity``. A ratio (``kind`` =
+    "dimensionless") accepts a plain number or a percentage, not an angle. Frequencies count
+    cycles: for an ``angular_frequency`` [rad/s] "6 Hz" is 2π·6 rad/s; for a ``frequency``
+    [Hz] "40 rad/s" is 40/(2π) Hz. Raises ``ValueError`` with a user-readable message.
     """
     if isinstance(value, bool):
         raise ValueError(f"expected a {kind} (a number or a string with units), got {value!r}")
-    if isinstance(value, int | float):
+    if isinstance(value, numbers.Real):
         try:
             number = float(value)
         except OverflowError:  # an int beyond float range
-            raise ValueError(f"must be finite, got {value!r}") from None
-    elif isinstance(value, str):
-        if _HUGE_POWER.search(value) or len(value) > 200:
-            raise ValueError(f"cannot read {value!r} as a {kind}: exponent or text too large")
-        try:
-            quantity: pint.Quantity = ureg.Quantity(value.strip())
-        except Exception as exc:  # pint raises many types for bad strings
-            raise ValueError(f"cannot read {value!r} as a {kind}: {exc}") from None
-        if not isinstance(quantity, pint.Quantity):
-            quantity = ureg.Quantity(float(quantity), "")
-        if quantity.dimensionality != _dimensionality(kind):
-            if kind == "frequency" and quantity.dimensionless:
-                pass
-            else:
-                raise ValueError(
-                    f"expected a {kind} (e.g. {SI_UNITS[kind] or 'a plain number'}), "
-                    f"got {value!r}"
-                )
-        si = SI_UNITS[kind]
-        if kind == "angular_frequency" and "hertz" in str(quantity.units):
-            number = 2.0 * math.pi * float(quantity.to("Hz").magnitude)  # cycles/s -> rad/s
-        elif not si or quantity.dimensionless:  # a plain-number string is taken as SI
-            number = float(quantity.to("").magnitude)
+            raise ValueError(f"must be finite, got {short(value)}") from None
+    elif isinstance(value, str | pint.Quantity):
+        if isinstance(value, str):
+            quantity = _parse(value, kind)
         else:
-            number = float(quantity.to(si).magnitude)
+            try:
+                quantity = ureg.Quantity(float(value.magnitude), str(value.units))
+            except Exception:  # an array, or a unit this registry does not know
+                raise ValueError(f"expected a {kind} as one number with a unit, "
+                                 f"got {short(value)}") from None
+        number = _si_number(quantity, kind, value)
     else:
-        raise ValueError(f"expected a {kind} (a number or a string with units), got {value!r}")
+        raise ValueError(f"expected a {kind} (a number or a string with units), "
+                         f"got {short(value)}")
     if not math.isfinite(number):
-        raise ValueError(f"must be finite, got {value!r}")
+        raise ValueError(f"must be finite, got {short(value)}")
     return number
+
+
+def _si_number(quantity: pint.Quantity, kind: str, value: object) -> float:
+    units = {str(name) for name, _ in quantity.unit_items()}
+    wrong = quantity.dimensionality != _dimensionality(kind)
+    if kind == "frequency" and quantity.dimensionless and not units:
+        wrong = False  # a plain number is Hz
+    if kind == "dimensionless" and not units <= _RATIO_UNITS:
+        wrong = True  # "3 deg" is an angle, not a ratio
+    if kind == "angle" and units & (_RATIO_UNITS - {"dimensionless"}):
+        wrong = True
+    if wrong:
+        raise ValueError(f"expected a {kind} (e.g. {SI_UNITS[kind] or 'a plain number'}), "
+                         f"got {short(value)}")
+    if not units:
+        return float(quantity.magnitude)  # a plain number is SI
+    if kind == "angular_frequency" and units & _CYCLE_UNITS:
+        return 2.0 * math.pi * float(quantity.to("Hz").magnitude)  # cycles/s -> rad/s
+    if kind == "frequency" and units & _ANGLE_UNITS:
+        return float(quantity.to("rad/s").magnitude) / (2.0 * math.pi)  # rad/s -> cycles/s
+    return float(quantity.to(SI_UNITS[kind]).magnitude)
 
 
 def display_factor(kind: str, system: str) -> tuple[float, str]:

@@ -96,3 +96,43 @@ def test_section_lists_exactly_the_keys_with_their_defaults(model):
             assert token and token.group(1) == ("[]" if isinstance(value, list) else "{}")
         else:
             assert default, f"{model_name(model)}.{key}: default not described"
+
+
+# --- physical ranges ----------------------------------------------------------------------
+
+
+def test_ranges_table_in_the_doc_is_the_one_in_the_code():
+    from webline.spec.ranges import markdown
+
+    text = DOC.read_text(encoding="utf-8")
+    table = text.split("<!-- ranges:begin -->\n")[1].split("<!-- ranges:end -->")[0]
+    assert table == markdown(), "run: python -m webline.spec.ranges, paste into the doc"
+
+
+def _number_fields(model: type[BaseModel]) -> list[str]:
+    """Fields of ``model`` that hold numbers (floats, ints, lists of them, profiles)."""
+    out = []
+    for name, field in model.model_fields.items():
+        text = str(field.annotation)
+        if any(word in text for word in ("float", "int", "Ramp", "Table")) and "bool" not in text:
+            out.append(name)
+    return out
+
+
+@pytest.mark.parametrize("model", documented_models(), ids=model_name)
+def test_every_number_of_the_schema_has_a_range(model):
+    from webline.spec.ranges import PROFILE_VALUE_FIELDS, range_for
+
+    for name in _number_fields(model):
+        if name in PROFILE_VALUE_FIELDS:
+            continue  # a profile's values take the range of the key holding the profile
+        assert range_for(model, name) is not None, f"{model_name(model)}.{name} has no range"
+
+
+def test_no_range_is_stale():
+    from webline.spec.quantities import Step
+    from webline.spec.ranges import RANGES, sections
+
+    keys = {f"{section}.{name}" for model in [*documented_models(), Step]
+            for name in model.model_fields for section in sections(model)}
+    assert set(RANGES) <= keys, sorted(set(RANGES) - keys)

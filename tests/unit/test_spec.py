@@ -317,7 +317,8 @@ MALFORMED: dict[str, tuple[Callable[[dict[str, Any]], None], str, str]] = {
     "unknown top-level key": (_set("colour", "red"), "colour", "^unknown key$"),
     "unknown drive key": (_set("rollers.0.drive.gear", 2), "rollers[0].drive.gear",
                           "^unknown key$"),
-    "unknown span key": (_set("spans.0.lenght", 2.0), "spans[0].lenght", "^unknown key$"),
+    "unknown span key": (_set("spans.0.lenght", 2.0), "spans[0].lenght",
+                         r"^unknown key; did you mean 'length'\?$"),
     "key of another roller type": (_set("rollers.3.core_radius", 0.01),
                                    "rollers[3].core_radius", "^unknown key$"),
     "unknown roller type": (_set("rollers.3.type", "dancer"), "rollers[3].type",
@@ -485,7 +486,8 @@ def test_error_in_a_file_names_its_path(tmp_path: Path) -> None:
                     encoding="utf-8")
     with pytest.raises(LineFileError) as info:
         load_line(path)
-    assert str(info.value) == f"{path}: spans[1].length: must be > 0, got '-33 ft'"
+    # the TOML line of the key (line 102 of the HSWL file) follows the path
+    assert str(info.value) == f"{path}:102: spans[1].length: must be > 0, got '-33 ft'"
 
 
 def test_valid_file_on_disk_loads(tmp_path: Path) -> None:

@@ -51,7 +51,14 @@ def assert_ulps(actual: float, expected: float, n: int = 4) -> None:
         ("1 min", "time", 60.0),
         ("1 kHz", "frequency", 1000.0),
         ("1 Hz", "frequency", 1.0),
-        ("40 rad/s", "frequency", 40.0),  # pint: rad is dimensionless, so rad/s = 1/s
+        # a frequency [Hz] counts cycles: 40 rad/s is 40/(2π) Hz (pint alone would say 40)
+        ("40 rad/s", "frequency", 40.0 / (2 * math.pi)),
+        ("60 rpm", "frequency", 1.0),
+        # an angular frequency [rad/s] counts radians: 6 Hz is 2π·6 rad/s (docs/line-file.md)
+        ("6 Hz", "angular_frequency", 12 * math.pi),
+        ("40 rad/s", "angular_frequency", 40.0),
+        ("60 rpm", "angular_frequency", 2 * math.pi),
+        ("5 %", "dimensionless", 0.05),
         ("1390 kg/m**3", "density", 1390.0),
         ("4.6 GPa", "pressure", 4.6e9),
         ("1 psi", "pressure", LBF / INCH**2),

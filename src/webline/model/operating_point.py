@@ -24,9 +24,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from webline.errors import SimulationError
-from webline.line import Line
+from webline.line import Line, load_line
 from webline.physics import roll, roller
 from webline.profiles import breakpoints, pwl_slope, pwl_value
+from webline.spec.ranges import argument
 from webline.spec.schema import IdleSpec, RewindSpec, RollerDrag, UnwindSpec
 
 
@@ -84,10 +85,17 @@ def node_inertias(line: Line, radii: np.ndarray) -> np.ndarray:
     return out
 
 
-def operating_point(line: Line, t: float = 0.0, *, unwind_radius: float | None = None,
-                    rewind_radius: float | None = None) -> OperatingPoint:
+def operating_point(line: Line | str, t: float | str = 0.0, *,
+                    unwind_radius: float | str | None = None,
+                    rewind_radius: float | str | None = None) -> OperatingPoint:
     """Equilibrium of ``line`` for its references at time ``t`` [s], rolls at the given radii
-    [m] (default: initial radii). Accounts for a ramping line speed (inertial torque)."""
+    [m] (default: initial radii). Accounts for a ramping line speed (inertial torque).
+    ``t`` and the radii take numbers [SI], strings with units (``"1 s"``) or pint quantities."""
+    line = load_line(line)
+    t = argument(t, "time", "t", ">=0")
+    unwind_radius, rewind_radius = (None if r is None else argument(r, "length", name)
+                                    for r, name in ((unwind_radius, "unwind_radius"),
+                                                    (rewind_radius, "rewind_radius")))
     ea = line.ea
     rollers = line.spec.rollers
     speed_t, speed_v = breakpoints(line.spec.speed)

@@ -23,6 +23,9 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
+from webline.line import Line
+from webline.profiles import breakpoints
+
 #: Blocks up to this many states get their exact eigenvalues (a dense solve: < 1 ms).
 DENSE_STATES = 40
 #: The power k of the Gelfand bound on larger blocks.
@@ -71,3 +74,22 @@ def _gelfand_bound(block: sp.csr_matrix) -> float:
         x = x / x.max() + floor
     ratio = float(np.max((m @ x) / x))
     return scale * ratio ** (1.0 / k) * (1.0 + ROUNDING)
+
+
+def slip_rates(line: Line) -> list[tuple[int, float, str]]:
+    """(node, fastest rate [1/s], key) of the two spans round each roller that may slip."""
+    from webline.physics.slip import slip_rate
+
+    top_speed = float(np.max(breakpoints(line.spec.speed)[1]))
+    out = []
+    for i, roller in enumerate(line.spec.rollers):
+        contact = getattr(roller, "contact", None)
+        if contact is None or contact.type != "traction":
+            continue
+        kinetic = contact.friction if contact.kinetic_friction is None else contact.kinetic_friction
+        wrap = float(getattr(roller, "wrap", 0.0))  # check_spec: a traction contact has a wrap
+        rate = slip_rate(line.ea, contact.viscous, line.spec.spans[i - 1].length,
+                         line.spec.spans[i].length, contact.friction, kinetic, wrap,
+                         1.1 * top_speed)
+        out.append((i, rate, f"rollers[{i}].contact.viscous"))
+    return out

@@ -344,7 +344,7 @@ def system_matrix(line: Line, t: float = 0.0, *,
     return linear_model(line, t, loop=loop).a
 
 
-def linearize(line: Line | str, t: float = 0.0, *,
+def linearize(line: Line | str, t: float | str = 0.0, *,
               loop: Literal["open", "closed"] = "closed",
               unwind_radius: float | None = None,
               rewind_radius: float | None = None) -> control.StateSpace:
@@ -360,6 +360,12 @@ def linearize(line: Line | str, t: float = 0.0, *,
     """
     import control
 
+    from webline.errors import ArgumentError
+    from webline.spec.ranges import argument
+
+    t = argument(t, "time", "t", ">=0")  # "1 s" and pint quantities too, as the CLI takes
+    if loop not in ("open", "closed"):
+        raise ArgumentError(f"loop: must be 'open' or 'closed', got {loop!r}")
     model = linear_model(load_line(line), t, loop=loop, unwind_radius=unwind_radius,
                          rewind_radius=rewind_radius)
     # python-control reserves '.' in system names (subsystem.signal); a line name is free text

@@ -14,13 +14,14 @@ import numpy as np
 
 from webline.errors import LineFileError, SimulationError, SimulationInterrupted
 from webline.line import Line, load_line
-from webline.profiles import breakpoints
-from webline.sim import kernel
+from webline.sim import budget, kernel
 from webline.sim import layout as L
 from webline.sim.failure import Failure, kernel_failure
+from webline.sim.fastest import slip_rates
 from webline.sim.linearize import fastest_mode
 from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
 from webline.sim.result import Result
+from webline.spec.ranges import argument
 
 #: RK4 sub-steps are chosen so that h·|λ|max stays below this (RK4 is accurate to ~1e-4 per
 #: step there and stable up to 2.78).
@@ -94,32 +95,17 @@ def deferred_interrupt() -> Iterator[Callable[[], bool]]:
         signal.signal(signal.SIGINT, default)
 
 
-def slip_rates(line: Line) -> list[tuple[int, float, str]]:
-    """(node, fastest rate [1/s], key) of the two spans round each roller that may slip."""
-    from webline.physics.slip import slip_rate
-
-    top_speed = float(np.max(breakpoints(line.spec.speed)[1]))
-    out = []
-    for i, roller in enumerate(line.spec.rollers):
-        contact = getattr(roller, "contact", None)
-        if contact is None or contact.type != "traction":
-            continue
-        kinetic = contact.friction if contact.kinetic_friction is None else contact.kinetic_friction
-        wrap = float(getattr(roller, "wrap", 0.0))  # check_spec: a traction contact has a wrap
-        rate = slip_rate(line.ea, contact.viscous, line.spec.spans[i - 1].length,
-                         line.spec.spans[i].length, contact.friction, kinetic, wrap,
-                         1.1 * top_speed)
-        out.append((i, rate, f"rollers[{i}].contact.viscous"))
-    return out
-
-
-def simulate(line: Line | str | Path, duration: float | None = None, *,
-             scenario: str | None = None, sample_rate: float | None = None,
-             substeps: int | None = None, record_interval: float | None = None,
+def simulate(line: Line | str | Path, duration: float | str | None = None, *,
+             scenario: str | None = None, sample_rate: float | str | None = None,
+             substeps: int | None = None, record_interval: float | str | None = None,
              progress: Callable[[float], None] | None = None,
              raise_on_failure: bool = True) -> Result:
     """Simulate ``line`` for ``duration`` [s] from equilibrium at its initial references.
 
+    ``duration``, ``sample_rate`` and ``record_interval`` take numbers [SI], strings with
+    units (``"2 min"``, ``"500 Hz"``) or pint quantities; a wrong one raises ``ArgumentError``.
+    A run that would need more than ``budget.MAX_RK4_STEPS`` RK4 steps or
+    ``budget.MAX_RECORD_BYTES`` of records is refused (``LineFileError`` naming the key).
     ``scenario`` applies a named scenario of the line file (its duration is the default);
     ``sample_rate`` [Hz] overrides the controllers' rate; ``substeps`` the RK4 sub-steps per
     controller period (default: from the fastest mode); ``record_interval`` [s] how often the
@@ -138,14 +124,18 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
     compiles) raises a plain KeyboardInterrupt at once.
     """
     line = load_line(line)
+    duration, sample_rate, record_interval = (  # units and checks as the CLI's
+        None if value is None else argument(value, kind, name, within=key)
+        for value, kind, name, key in ((duration, "time", "duration", "scenario.duration"),
+                                       (sample_rate, "frequency", "sample_rate",
+                                        "control.sample_rate"),
+                                       (record_interval, "time", "record_interval", None)))
     if scenario is not None:
         line = line.with_scenario(scenario)
         if duration is None:
             duration = line.spec.scenarios[scenario].duration
     if duration is None:
         duration = 10.0
-    if not duration > 0:
-        raise ValueError(f"duration must be > 0 s, got {duration}")
     plan = compile_plan(line, sample_rate=sample_rate)
     n_ticks = max(1, round(duration / plan.dt))
     if substeps is None:
@@ -154,6 +144,9 @@ def simulate(line: Line | str | Path, duration: float | None = None, *,
         every = max(1, math.ceil((n_ticks + 1) / MAX_RECORDS))
     else:
         every = max(1, round(record_interval / plan.dt))
+    columns = 1 + plan.n_x + 5 * plan.drives.shape[0] + line.n_nodes  # as kernel.run stores
+    budget.check_work(line, budget.estimate(n_ticks, substeps, every, columns), plan.dt,
+                      sample_rate_given=sample_rate is not None)
     x, istate = equilibrium_plan_state(plan)
     slipping = kernel.initial_slip(plan, x)
     # one buffer for the whole run, filled chunk by chunk (no concatenation)

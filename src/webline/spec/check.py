@@ -117,6 +117,8 @@ def check_spec(spec: LineSpec, file: str) -> None:
     _check_disturbances(spec.disturbances, spec, "disturbances", fail)
     for name, scenario in spec.scenarios.items():
         key = f"scenarios.{name}"
+        if not 0 < len(name) <= 100:
+            fail(f"scenarios.{name[:40]}", "a scenario's name has 1 to 100 characters")
         if scenario.disturbances is not None:
             _check_disturbances(scenario.disturbances, spec, f"{key}.disturbances", fail)
         for attr, index in (("unwind_radius", 0), ("rewind_radius", len(rollers) - 1)):

@@ -2,17 +2,21 @@
 
 from __future__ import annotations
 
+import difflib
+import re
 import tomllib
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
 import tomli_w
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
 
-from webline.errors import LineFileError
+from webline.errors import LineFileError, Problem
 from webline.spec.check import check_spec
+from webline.spec.locate import key_lines, locate
 from webline.spec.schema import LineSpec
+from webline.units import clip, short
 
 BUILTIN_PACKAGE = "webline.data.lines"
 
@@ -70,55 +74,138 @@ def _problem(error: Any) -> str:
     if error["type"] == "missing":
         return "required key is missing"
     if error["type"] == "union_tag_invalid":
-        return f"unknown type {error['input'].get('type')!r}; expected one of " + \
+        return f"unknown type {short(error['input'].get('type'))}; expected one of " + \
             str(error["ctx"]["expected_tags"])
     if error["type"] == "union_tag_not_found":
         return "a 'type' key is required here"
     return message
 
 
+#: Largest line file read [bytes]; the built-in lines are ~10 kB, 50 000 scenarios ~1.5 MB.
+MAX_FILE_BYTES = 2_000_000
+_SUFFIX = re.compile(r"^\[\[(.*?)\]\] ")  # a range validator's key suffix, see quantities.Strict
+#: every key the schema knows, for "did you mean" on an unknown key
+_ALL_KEYS: set[str] = set()
+
+
+def _known_keys() -> set[str]:
+    if not _ALL_KEYS:
+        from webline.spec import schema
+
+        for value in vars(schema).values():
+            if isinstance(value, type) and issubclass(value, BaseModel):
+                _ALL_KEYS.update(value.model_fields)
+    return _ALL_KEYS
+
+
+def _problems(exc: ValidationError, data: Any) -> list[Problem]:
+    """Every error pydantic found, each at its key path; an unknown key that resembles a
+    missing key of the same table is reported once, with a suggestion."""
+    found: list[Problem] = []
+    unknown: list[tuple[str, str, str]] = []  # (table path, key, full path)
+    missing: dict[str, set[str]] = {}  # table path -> missing keys
+    for error in exc.errors():
+        key = _format_loc(tuple(error["loc"]), data)
+        problem = _problem(error)
+        suffix = _SUFFIX.match(problem)
+        if suffix:
+            key, problem = key + suffix.group(1), problem[suffix.end():]
+        if error["type"] == "union_tag_invalid":
+            key += ".type"  # the value the user wrote wrong is the 'type' key itself
+        table, _, last = key.rpartition(".")
+        if error["type"] == "extra_forbidden":
+            unknown.append((table, last, key))
+        elif error["type"] == "missing":
+            missing.setdefault(table, set()).add(last)
+        found.append(Problem(key, problem))
+    replaced: set[str] = set()
+    for table, name, key in unknown:
+        close = difflib.get_close_matches(name, sorted(missing.get(table, ())), n=1, cutoff=0.6)
+        if close:
+            replaced.add(f"{table}.{close[0]}" if table else close[0])
+        close = close or difflib.get_close_matches(name, sorted(_known_keys() - {name}), n=1,
+                                                   cutoff=0.8)
+        if close:
+            found = [Problem(p.key, f"unknown key; did you mean {close[0]!r}?")
+                     if p.key == key and p.problem == "unknown key" else p for p in found]
+    out: list[Problem] = []
+    for item in found:  # drop the 'missing' a suggestion explains, and duplicates
+        if (item.problem == "required key is missing" and item.key in replaced) or item in out:
+            continue
+        out.append(item)
+    return out
+
+
 def spec_from_dict(data: Any, file: str = "<dict>") -> LineSpec:
-    """Validate a plain dict (as read from TOML) into a checked ``LineSpec``."""
+    """Validate a plain dict (as read from TOML) into a checked ``LineSpec``.
+
+    Raises ``LineFileError`` listing every problem the schema finds (or the first one of the
+    checks across keys, which need a valid schema)."""
     if not isinstance(data, dict):
         raise LineFileError(file, "(top level)", "a line file must be a table of keys")
     try:
         spec = LineSpec.model_validate(data)
     except ValidationError as exc:
-        first = exc.errors()[0]
-        key = _format_loc(tuple(first["loc"]), data)
-        if first["type"] == "union_tag_invalid":
-            key += ".type"  # the value the user wrote wrong is the 'type' key itself
-        raise LineFileError(file, key, _problem(first)) from None
-    except (TypeError, ValueError, ArithmeticError) as exc:  # defensive: a validator misfired
-        raise LineFileError(file, "(top level)", str(exc)) from None
+        raise LineFileError.of(file, _problems(exc, data)) from None
+    except (TypeError, ValueError, ArithmeticError, RecursionError) as exc:  # defensive
+        raise LineFileError(file, "(top level)", clip(str(exc), 200)) from None
     check_spec(spec, file)
     return spec
 
 
-def read_spec(source: str | Path) -> tuple[LineSpec, str]:
-    """Read a line from a file path or a built-in name; return the spec and its file label."""
+def read_text(source: str | Path) -> tuple[str, str]:
+    """(text, file label) of a line file path or a built-in line's name."""
     path = Path(source)
     if path.suffix == ".toml" or path.exists():
         label = str(source)
         try:
-            text = path.read_text(encoding="utf-8")
+            with path.open("rb") as handle:  # at most the limit, even from /dev/zero
+                raw = handle.read(MAX_FILE_BYTES + 1)
         except FileNotFoundError:
             raise LineFileError(label, "(file)", "no such file") from None
-        except (OSError, UnicodeDecodeError) as exc:
-            raise LineFileError(label, "(file)", f"cannot read: {exc}") from None
-    else:
-        name = str(source)
-        if name not in builtin_lines():
-            known = ", ".join(builtin_lines())
-            raise LineFileError(name, "(name)",
-                                f"no such file or built-in line (built-in: {known})")
-        label = f"{name}.toml (built-in)"
-        text = resources.files(BUILTIN_PACKAGE).joinpath(f"{name}.toml").read_text("utf-8")
+        except OSError as exc:
+            raise LineFileError(label, "(file)", f"cannot read: {exc.strerror or exc}") from None
+        if len(raw) > MAX_FILE_BYTES:
+            raise LineFileError(label, "(file)",
+                                f"larger than a line file may be ({MAX_FILE_BYTES} bytes)")
+        if b"\0" in raw:
+            raise LineFileError(label, "(file)", "contains NUL bytes: not a text file")
+        try:
+            return raw.decode("utf-8-sig"), label  # a byte-order mark is fine
+        except UnicodeDecodeError as exc:
+            raise LineFileError(label, "(file)", f"not UTF-8 text (byte {exc.start})") from None
+    name = str(source)
+    if name not in builtin_lines():
+        known = ", ".join(builtin_lines())
+        raise LineFileError(clip(name, 100), "(name)",
+                            f"no such file or built-in line (built-in: {known})")
+    label = f"{name}.toml (built-in)"
+    return resources.files(BUILTIN_PACKAGE).joinpath(f"{name}.toml").read_text("utf-8"), label
+
+
+def parse_text(text: str, label: str) -> LineSpec:
+    """The checked spec of a line file's ``text``; problems carry their TOML line."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise LineFileError(label, "(syntax)", str(exc)) from None
-    return spec_from_dict(data, label), label
+    except RecursionError:
+        raise LineFileError(label, "(syntax)", "arrays or tables nested too deeply") from None
+    except ValueError as exc:  # e.g. an integer of more than 4300 digits
+        raise LineFileError(label, "(syntax)", clip(str(exc), 200)) from None
+    try:
+        return spec_from_dict(data, label)
+    except LineFileError as exc:
+        lines = key_lines(text)
+        raise LineFileError.of(label, [
+            Problem(p.key, p.problem, p.line or locate(lines, p.key)) for p in exc.problems
+        ]) from None
+
+
+def read_spec(source: str | Path) -> tuple[LineSpec, str]:
+    """Read a line from a file path or a built-in name; return the spec and its file label."""
+    text, label = read_text(source)
+    return parse_text(text, label), label
 
 
 def dump_spec(spec: LineSpec) -> str:

@@ -8,15 +8,37 @@ from __future__ import annotations
 
 from typing import Annotated, Generic, Literal, TypeVar
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Discriminator, Field, Tag
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Discriminator,
+    Field,
+    Tag,
+    ValidationInfo,
+    field_validator,
+)
 
+from webline.spec.ranges import numbers_of, range_for
 from webline.units import to_si
 
 
 class Strict(BaseModel):
-    """Base: frozen, unknown keys rejected."""
+    """Base: frozen, unknown keys rejected, every quantity inside its physical range
+    (``webline.spec.ranges``, which maps each model to its sections)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
+
+    @field_validator("*", mode="after")
+    @classmethod
+    def _in_physical_range(cls, value: object, info: ValidationInfo) -> object:
+        found = range_for(cls, info.field_name or "")
+        if found is not None:
+            for suffix, number in numbers_of(value):
+                problem = found.hard_problem(number)
+                if problem:  # the loader moves a [[suffix]] into the key path
+                    raise ValueError(f"[[{suffix}]] {problem}" if suffix else problem)
+        return value
 
 
 def si(kind: str, bound: str | None = None) -> BeforeValidator:

@@ -40,6 +40,10 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
     si,
 )
 
+#: names (of lines, rollers, spans) and free text, bounded: a name becomes a folder name
+Name = Annotated[str, Field(min_length=1, max_length=100)]
+Text = Annotated[str, Field(max_length=10_000)]
+
 # --- web ------------------------------------------------------------------------------------
 
 
@@ -235,7 +239,7 @@ ContactSpec = Annotated[AdheredSpec | TractionSpec, Field(discriminator="type")]
 
 
 class _RollerBase(Strict):
-    name: str = Field(min_length=1)
+    name: Name
     radius: Length
     inertia: Inertia
     friction: Damping = 0.0
@@ -291,7 +295,7 @@ RollerSpec = Annotated[
 class SpanSpec(Strict):
     """Free web span between two consecutive rollers. ``tension`` marks its zone's loadcell."""
 
-    name: str | None = None
+    name: Name | None = None
     length: Length
     tension: TensionProfile | None = None
 
@@ -312,7 +316,7 @@ class EccentricRoller(Strict):
     """Out-of-round roller: its effective radius is ``radius + eccentricity·cos(angle)``."""
 
     type: Literal["eccentric_roller"]
-    roller: str
+    roller: Name
     eccentricity: Length
 
 
@@ -320,7 +324,7 @@ class SpeedRipple(Strict):
     """Sinusoidal ripple added to a driven roller's speed reference."""
 
     type: Literal["speed_ripple"]
-    roller: str
+    roller: Name
     amplitude: Speed
     frequency: Frequency
     phase: Angle = 0.0
@@ -331,7 +335,7 @@ class RollerDrag(Strict):
     rubbing guard, a spreader. It adds to the roller's bearing friction."""
 
     type: Literal["roller_drag"]
-    roller: str
+    roller: Name
     torque: TorqueProfile
 
 
@@ -363,7 +367,7 @@ class ScenarioSpec(Strict):
     nested path (``"spans.span2.tension"`` = a steps profile, a controller's bandwidth...; see
     ``webline.spec.paths``), applied after the keys above."""
 
-    description: str = ""
+    description: Text = ""
     duration: Time
     set: dict[str, Any] = Field(default_factory=dict)
     speed: SpeedProfile | None = None
@@ -375,9 +379,9 @@ class ScenarioSpec(Strict):
 class LineSpec(Strict):
     """A whole web line, rollers in web order (unwind first, rewind last)."""
 
-    name: str = Field(min_length=1)
-    description: str = ""
-    source: str = ""
+    name: Name
+    description: Text = ""
+    source: Text = ""
     web: WebSpec
     rollers: list[RollerSpec] = Field(min_length=2)
     spans: list[SpanSpec] = Field(min_length=1)

@@ -1,0 +1,116 @@
+"""The work of a run, estimated before it starts, and refused beyond a bound.
+
+A run costs ``ticks x sub-steps`` RK4 steps (ticks at the controllers' sample rate,
+sub-steps set by the line's fastest mode) and ``records x columns x 8`` bytes of records.
+The compiled loop does ~1e7 RK4 steps a second on one core for a 20-state line, so the
+bound of ``MAX_RK4_STEPS`` = 2e9 steps is several minutes; ``MAX_RECORD_BYTES`` = 4 GB of
+records is what a laptop can hold twice (the records and the result built from them). Beyond
+either, the run is refused with a ``LineFileError`` naming the key that drives the cost: the
+sample rate, or the key behind the fastest mode (a span's length, a drive's torque lag, a
+transmission's stiffness, ...), found from the participation of the states in that mode.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from webline.errors import LineFileError
+from webline.line import Line
+
+#: Most RK4 steps (ticks x sub-steps) a run may take.
+MAX_RK4_STEPS = 2_000_000_000
+#: Most bytes of stored records a run may need.
+MAX_RECORD_BYTES = 4_000_000_000
+
+
+@dataclass(frozen=True)
+class Work:
+    """The estimated work of one run."""
+
+    ticks: int
+    substeps: int
+    records: int
+    columns: int
+
+    @property
+    def rk4_steps(self) -> int:
+        return self.ticks * self.substeps
+
+    @property
+    def record_bytes(self) -> int:
+        return self.records * self.columns * 8
+
+
+def estimate(ticks: int, substeps: int, every: int, columns: int) -> Work:
+    """The work of a run of ``ticks`` controller periods with ``substeps`` RK4 steps each,
+    storing every ``every``-th tick in rows of ``columns`` floats."""
+    return Work(ticks, substeps, ticks // every + 2, columns)
+
+
+def check_work(line: Line, work: Work, dt: float, *, sample_rate_given: bool = False) -> None:
+    """Raise ``LineFileError`` naming the key that drives the cost when ``work`` is beyond
+    ``MAX_RK4_STEPS`` or ``MAX_RECORD_BYTES``; ``dt`` [s] is the controller period."""
+    rate = "the sample_rate argument" if sample_rate_given else "control.sample_rate"
+    duration = work.ticks * dt
+    if work.rk4_steps > MAX_RK4_STEPS:
+        if work.substeps > 1:
+            key, why = fastest_mode_key(line)
+            problem = (f"a {duration:.4g} s run needs {work.rk4_steps:.3g} RK4 steps "
+                       f"({work.ticks} ticks x {work.substeps} sub-steps), more than "
+                       f"{MAX_RK4_STEPS:.0e}: the step is set by the line's fastest mode, "
+                       f"{why}; check this value or run for less time")
+        else:
+            key = rate
+            problem = (f"a {duration:.4g} s run at {1 / dt:.4g} Hz needs {work.rk4_steps:.3g} "
+                       f"RK4 steps, more than {MAX_RK4_STEPS:.0e}; lower the sample rate or "
+                       "run for less time")
+        raise LineFileError(line.source, key, problem)
+    if work.record_bytes > MAX_RECORD_BYTES:
+        raise LineFileError(line.source, "record_interval", (
+            f"{work.records} records of {work.columns} values need "
+            f"{work.record_bytes / 1e9:.3g} GB, more than {MAX_RECORD_BYTES / 1e9:.3g} GB; "
+            "record less often or run for less time"))
+
+
+def state_keys(line: Line) -> dict[str, str]:
+    """Linear-model state name -> the line-file key that sets how fast that state moves."""
+    keys: dict[str, str] = {}
+    for k in range(line.n_spans):
+        keys[f"{line.span_name(k)}_tension"] = f"spans[{k}].length"
+    for i in range(line.n_nodes):
+        name, here = line.node_name(i), f"rollers[{i}]"
+        keys[f"{name}_omega"] = f"{here}.inertia"
+        keys[f"{name}_torque"] = f"{here}.drive.torque_lag"
+        keys[f"{name}_motor_omega"] = f"{here}.drive.transmission.stiffness"
+        keys[f"{name}_twist"] = f"{here}.drive.transmission.stiffness"
+        keys[f"{name}_speed_integral"] = f"{here}.controller.speed_bandwidth"
+        keys[f"{name}_tension_integral"] = f"{here}.controller.tension_bandwidth"
+    return keys
+
+
+def fastest_mode_key(line: Line) -> tuple[str, str]:
+    """(key, description) of the state that dominates the line's fastest mode (largest
+    |eigenvalue| of the open- and closed-loop models), by its participation factor
+    |v_i w_i| (unit-free, unlike the eigenvector itself)."""
+    from webline.analysis.linearize import linear_model
+    from webline.sim.fastest import slip_rates
+
+    best: tuple[float, str, str] = (0.0, "", "")
+    for loop in ("open", "closed"):
+        model = linear_model(line, loop=loop)
+        values, vectors = np.linalg.eig(model.a)
+        k = int(np.argmax(np.abs(values)))
+        if abs(values[k]) <= best[0]:
+            continue
+        try:
+            left = np.linalg.inv(vectors)[k]
+        except np.linalg.LinAlgError:
+            left = np.conj(vectors[:, k])
+        state = model.states[int(np.argmax(np.abs(vectors[:, k] * left)))]
+        best = (float(abs(values[k])), state, state_keys(line).get(state, "control.sample_rate"))
+    for i, rate, key in slip_rates(line):
+        if rate > best[0]:
+            best = (rate, f"web slip over {line.node_name(i)}", key)
+    return best[2], f"{best[0]:.3g} 1/s, which lives in {best[1]} ({best[2]})"

@@ -1,0 +1,316 @@
+"""Physical ranges of every quantity of a line file, in one table keyed by field.
+
+A value outside its **hard** range is no web line at all (a 1 m thick web, a 1 nm span, a
+1 GHz sample rate): the schema rejects it naming key, value and range. A value outside its
+**usual** range exists but is rare enough to be a typo (a 10 m idle roller radius): ``webline
+validate`` and ``webline run`` print it as a warning and ``Line.warnings`` keeps it.
+
+Keys are ``section.field``; ``SECTIONS`` names the sections each schema model answers to
+(``UnwindSpec``: "unwind", "roll", "roller"), the first match wins. A
+profile's values (ramp ``initial``, steps ``value``, ...) take the range of the key that holds
+the profile (``line.speed``, ``span.tension``). ``docs/line-file.md`` shows the table
+rendered by ``markdown()``; a test keeps the two equal.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass
+from functools import cache
+
+from pydantic import BaseModel
+
+from webline.errors import ArgumentError
+from webline.units import SI_UNITS, short, to_si
+
+TAU = 2.0 * math.pi
+
+
+@dataclass(frozen=True)
+class Range:
+    """Closed hard and usual intervals [SI] of one quantity, its unit kind and why."""
+
+    kind: str
+    hard: tuple[float, float]
+    usual: tuple[float, float]
+    why: str
+
+    @property
+    def unit(self) -> str:
+        return SI_UNITS.get(self.kind, self.kind)
+
+    def hard_problem(self, value: float) -> str | None:
+        """The error for a value outside the hard range, or None."""
+        low, high = self.hard
+        if low <= value <= high:
+            return None
+        return (f"{fmt(value)} {self.unit} is outside the physical range "
+                f"{fmt(low)} .. {fmt(high)} {self.unit}".replace("  ", " "))
+
+    def usual_problem(self, value: float) -> str | None:
+        """The warning for a value outside the usual range (inside the hard one), or None."""
+        low, high = self.usual
+        if low <= value <= high:
+            return None
+        return (f"{fmt(value)} {self.unit} is unusual (usual range {fmt(low)} .. "
+                f"{fmt(high)} {self.unit}): {self.why}".replace("  ", " "))
+
+
+def fmt(value: float) -> str:
+    """A number as the docs write it (4 significant digits)."""
+    return f"{value:.4g}"
+
+
+def _r(kind: str, hard: tuple[float, float], usual: tuple[float, float], why: str) -> Range:
+    assert hard[0] <= usual[0] <= usual[1] <= hard[1], why
+    return Range(kind, hard, usual, why)
+
+
+# Abbreviations for the table.
+LEN, FORCE, TORQUE, INERTIA, RDAMP = "length", "force", "torque", "inertia", "rot_damping"
+SPEED_RANGE = _r("speed", (0.0, 200.0), (0.0, 50.0),
+                 "the fastest paper machines run ~2000 m/min (33 m/s); 3000 m/min is 50 m/s")
+TIME_RANGE = _r("time", (0.0, 1e6), (0.0, 86400.0), "times from the start of a run; a day")
+BRAKE_RANGE = _r(TORQUE, (0.0, 1e7), (0.0, 1e5), "a brake or drag torque of a web roller")
+FRICTION_RANGE = _r(RDAMP, (0.0, 1e5), (0.0, 100.0),
+                    "bearing friction of rollers up to large rolls (thesis: 0.005-0.5 lbf·ft·s)")
+RADIUS_RANGE = _r(LEN, (1e-3, 5.0), (0.01, 1.0), "idlers 10 mm to 2 m diameter")
+ROLL_RADIUS = _r(LEN, (1e-3, 5.0), (0.02, 2.5), "a jumbo paper reel is ~3.5 m across")
+TENSION_RANGE = _r(FORCE, (1e-3, 1e8), (1.0, 1e6),
+                   "1 N (narrow film) to 1 MN (wide steel strip) of web tension")
+FREQ_RANGE = _r("frequency", (1e-5, 1e5), (1e-3, 1000.0), "a disturbance within the model's band")
+PHASE_RANGE = _r("angle", (-1e3, 1e3), (-TAU, TAU), "a phase is an angle mod 2π")
+
+#: section.field -> Range. Angular frequencies are in rad/s ("6 Hz" is 2π·6 rad/s).
+RANGES: dict[str, Range] = {
+    # web
+    "web.thickness": _r(LEN, (1e-7, 0.02), (1e-6, 5e-3),
+                        "1 µm capacitor film to 5 mm board or steel strip"),
+    "web.width": _r(LEN, (1e-3, 20.0), (0.01, 10.0), "tapes to the widest paper machines"),
+    "web.density": _r("density", (10.0, 25000.0), (100.0, 9000.0),
+                      "foams and nonwovens to copper (8960); osmium is 22600"),
+    "web.modulus": _r("pressure", (1e5, 1.2e12), (1e7, 4.2e11),
+                      "soft elastomers and nonwovens to tungsten (diamond 1.2e12)"),
+    "web.ea": _r(FORCE, (1.0, 1e11), (100.0, 5e9), "E·A of thin film strips to steel strip"),
+    "web.strength": TENSION_RANGE,
+    "web.tension_limit": TENSION_RANGE,
+    # rollers and rolls
+    "roll.radius": ROLL_RADIUS,
+    "roll.core_radius": _r(LEN, (1e-3, 5.0), (0.01, 0.5), "cores of 20 mm to 1 m diameter"),
+    "roller.radius": RADIUS_RANGE,
+    "roller.inertia": _r(INERTIA, (1e-9, 1e7), (1e-6, 1e5),
+                         "a small idler to a jumbo reel spool with shaft"),
+    "roller.friction": FRICTION_RANGE,
+    "roller.coulomb_friction": _r(TORQUE, (0.0, 1e6), (0.0, 1000.0), "dry bearing friction"),
+    "roller.wrap": _r("angle", (1e-4, 4 * math.pi), (0.05, TAU), "a web wraps at most once"),
+    "unwind.wound_in_tension": TENSION_RANGE,
+    # drives
+    "drive.ratio": _r("dimensionless", (1e-3, 1e3), (0.02, 100.0), "gearboxes up to 100:1"),
+    "drive.torque_limit": _r(TORQUE, (1e-4, 1e7), (0.01, 1e5), "servo motors to winder drives"),
+    "drive.torque_lag": _r("time", (1e-6, 10.0), (1e-4, 0.1),
+                           "current loops close in 0.1-10 ms; a lag sets the integration step"),
+    "drive.motor_inertia": _r(INERTIA, (0.0, 1e5), (0.0, 1000.0), "motor rotors"),
+    "drive.motor_friction": FRICTION_RANGE,
+    "drive.brake": BRAKE_RANGE,
+    "belt.stiffness": _r("stiffness", (1.0, 1e10), (1e3, 1e8), "timing and V-belt spans"),
+    "belt.load_pulley_radius": _r(LEN, (1e-3, 2.0), (0.01, 0.5), "belt pulleys"),
+    "belt.damping": _r("linear_damping", (0.0, 1e8), (0.0, 1e5), "belt material damping"),
+    "shaft.stiffness": _r("torque", (1e-2, 1e10), (10.0, 1e8),
+                          "couplings and shafts, [N·m/rad]"),
+    "shaft.damping": _r(RDAMP, (0.0, 1e7), (0.0, 1e4), "torsional damping"),
+    "backlash.gap": _r("angle", (0.0, 0.5), (0.0, 0.05), "gear play is a fraction of a degree"),
+    "backlash.asymmetry": _r("dimensionless", (0.0, 1.0), (0.0, 1.0), "a fraction of the gap"),
+    # controllers
+    "cascaded_pi.speed_kp": _r("N·m·s/m", (0.0, 1e9), (0.0, 1e6), "speed-loop gains"),
+    "cascaded_pi.speed_ki": _r("N·m/m", (0.0, 1e11), (0.0, 1e8), "speed-loop gains"),
+    "cascaded_pi.tension_kp": _r("(m/s)/N", (0.0, 100.0), (0.0, 1.0), "tension-loop gains"),
+    "cascaded_pi.tension_ki": _r("(m/s)/(N·s)", (0.0, 1e4), (0.0, 100.0), "tension-loop gains"),
+    "cascaded_pi.speed_bandwidth": _r("angular_frequency", (1e-3, 1e5), (1.0, 2000.0),
+                                      "below the drive's current loop"),
+    "cascaded_pi.tension_bandwidth": _r("angular_frequency", (1e-3, 1e4), (0.1, 500.0),
+                                        "below the speed loop"),
+    "cascaded_pi.damping": _r("dimensionless", (1e-3, 100.0), (0.3, 5.0),
+                              "damping ratios of tuned loops"),
+    "decentralized.tension_gain": _r("N·m/N", (-1e6, 1e6), (-1e3, 1e3), "section feedback"),
+    "decentralized.speed_gain": _r("N·m·s/m", (-1e9, 1e9), (-1e6, 1e6), "section feedback"),
+    "decentralized.tension_scale": _r(FORCE, (1e-6, 1e8), (1e-3, 1e5), "LQ scaling"),
+    "decentralized.speed_scale": _r("speed", (1e-6, 200.0), (1e-4, 10.0), "LQ scaling"),
+    "decentralized.torque_scale": _r(TORQUE, (1e-6, 1e7), (1e-3, 1e5), "LQ scaling"),
+    "decentralized.friction_estimate": FRICTION_RANGE,
+    "adaptive.adaptation_gain": _r("angular_frequency", (1e-4, 1e5), (0.1, 1000.0),
+                                   "below the speed loop"),
+    "adaptive.leakage": _r("dimensionless", (0.0, 1e3), (0.0, 10.0), "σ-modification"),
+    "adaptive.parameter_bound": _r("dimensionless", (1e-3, 1e6), (1.0, 1000.0),
+                                   "projection bound"),
+    # contact
+    "traction.friction": _r("dimensionless", (1e-3, 10.0), (0.05, 1.5),
+                            "web-roller friction coefficients"),
+    "traction.kinetic_friction": _r("dimensionless", (0.0, 10.0), (0.0, 1.5),
+                                    "web-roller friction coefficients"),
+    "traction.viscous": _r("linear_damping", (1e-3, 1e9), (10.0, 1e6),
+                           "air-film traction; small values make slip a stiff mode"),
+    # spans, speed, control, scenarios
+    "span.length": _r(LEN, (1e-3, 1000.0), (0.05, 50.0),
+                      "spans of a few cm to dryer sections; a span sets the stiffness EA/L"),
+    "span.tension": TENSION_RANGE,
+    "line.speed": SPEED_RANGE,
+    "scenario.speed": SPEED_RANGE,
+    "control.sample_rate": _r("frequency", (1.0, 1e6), (50.0, 20000.0),
+                              "drive controllers sample at 0.1-20 kHz"),
+    "scenario.duration": _r("time", (1e-6, 1e6), (1e-3, 86400.0), "a run of up to a day"),
+    "scenario.unwind_radius": ROLL_RADIUS,
+    "scenario.rewind_radius": ROLL_RADIUS,
+    # profile times
+    "ramp.start": TIME_RANGE,
+    "ramp.duration": _r("time", (1e-6, 1e6), (1e-3, 86400.0), "a ramp of up to a day"),
+    "steps.time": TIME_RANGE,
+    "table.time": TIME_RANGE,
+    # disturbances
+    "wound_in_ripple.amplitude": TENSION_RANGE,
+    "wound_in_ripple.frequency": FREQ_RANGE,
+    "wound_in_ripple.phase": PHASE_RANGE,
+    "eccentric_roller.eccentricity": _r(LEN, (0.0, 1.0), (0.0, 5e-3),
+                                        "run-out of a roller is below a few mm"),
+    "speed_ripple.amplitude": _r("speed", (0.0, 200.0), (0.0, 5.0), "a ripple on the speed"),
+    "speed_ripple.frequency": FREQ_RANGE,
+    "speed_ripple.phase": PHASE_RANGE,
+    "roller_drag.torque": BRAKE_RANGE,
+    "measurement_noise.tension": _r(FORCE, (0.0, 1e6), (0.0, 1e3), "loadcell noise"),
+    "measurement_noise.speed": _r("speed", (0.0, 100.0), (0.0, 1.0), "tachometer noise"),
+    "measurement_noise.seed": _r("integer", (0.0, 2.0**53), (0.0, 2.0**53),
+                                 "the plan stores it as a float (exact to 2^53)"),
+}
+
+#: schema model name -> the sections of ``RANGES`` its fields look up, first match first
+SECTIONS: dict[str, tuple[str, ...]] = {
+    "WebSpec": ("web",),
+    "BacklashSpec": ("backlash",),
+    "BeltSpec": ("belt",),
+    "ShaftSpec": ("shaft",),
+    "DriveSpec": ("drive",),
+    "CascadedPISpec": ("cascaded_pi",),
+    "StateFeedbackSpec": ("decentralized",),
+    "AdaptiveSpec": ("adaptive", "decentralized"),
+    "TractionSpec": ("traction",),
+    "UnwindSpec": ("unwind", "roll", "roller"),
+    "RewindSpec": ("roll", "roller"),
+    "DrivenSpec": ("roller",),
+    "IdleSpec": ("roller",),
+    "SpanSpec": ("span",),
+    "WoundInRipple": ("wound_in_ripple",),
+    "EccentricRoller": ("eccentric_roller",),
+    "SpeedRipple": ("speed_ripple",),
+    "RollerDrag": ("roller_drag",),
+    "MeasurementNoise": ("measurement_noise",),
+    "ControlSpec": ("control",),
+    "ScenarioSpec": ("scenario",),
+    "LineSpec": ("line",),
+    "Ramp": ("ramp",),
+    "Step": ("steps",),
+    "Steps": ("steps",),
+    "Table": ("table",),
+}
+
+#: Fields holding no quantity of their own: profile values take the range of the profile's key.
+PROFILE_VALUE_FIELDS = {"initial", "final", "value", "steps"}
+
+
+def sections(model: type[BaseModel]) -> tuple[str, ...]:
+    """The sections of ``RANGES`` a schema model's fields look up (a generic profile model
+    ``Ramp[...]`` goes by ``Ramp``)."""
+    origin = model.__pydantic_generic_metadata__.get("origin") or model
+    return SECTIONS.get(origin.__name__, ())
+
+
+@cache
+def range_for(model: type[BaseModel], field: str) -> Range | None:
+    """The range of ``field`` of a schema ``model``, or None where it has none."""
+    for section in sections(model):
+        found = RANGES.get(f"{section}.{field}")
+        if found is not None:
+            return found
+    return None
+
+
+def numbers_of(value: object, at: str = "") -> Iterator[tuple[str, float]]:
+    """(key suffix, number) of every number in a field's value: itself, a list's items, a
+    profile's values (``.initial``, ``.steps[2].value``, ``.value[0]``; its times have their
+    own ranges)."""
+    if isinstance(value, bool) or value is None:
+        return
+    if isinstance(value, int | float):
+        try:
+            yield at, float(value)
+        except OverflowError:  # an int beyond float range is beyond every range
+            yield at, math.inf if value > 0 else -math.inf
+    elif isinstance(value, list | tuple):
+        for i, item in enumerate(value):
+            yield from numbers_of(item, f"{at}[{i}]")
+    elif isinstance(value, BaseModel) and hasattr(value, "type"):
+        for name in ("initial", "final", "value"):
+            if name in type(value).model_fields:
+                yield from numbers_of(getattr(value, name), f"{at}.{name}")
+        for i, step in enumerate(getattr(value, "steps", ())):
+            yield from numbers_of(step.value, f"{at}.steps[{i}].value")
+
+
+def walk(model: BaseModel, key: str = "") -> Iterator[tuple[str, Range, float]]:
+    """(key path, range, value [SI]) of every ranged number in a validated spec."""
+    for name in type(model).model_fields:
+        value = getattr(model, name)
+        here = f"{key}.{name}" if key else name
+        found = range_for(type(model), name)
+        if found is not None:
+            for suffix, number in numbers_of(value):
+                yield here + suffix, found, number
+        children = value.items() if isinstance(value, dict) else (
+            enumerate(value) if isinstance(value, list) else [(None, value)])
+        for index, child in children:
+            if isinstance(child, BaseModel):
+                sub = here if index is None else (
+                    f"{here}[{index}]" if isinstance(index, int) else f"{here}.{index}")
+                yield from walk(child, sub)
+
+
+def warnings(spec: BaseModel) -> list[str]:
+    """'key: problem' for every value outside its usual range."""
+    out = []
+    for key, found, value in walk(spec):
+        problem = found.usual_problem(value)
+        if problem:
+            out.append(f"{key}: {problem}")
+    return out
+
+
+def markdown() -> str:
+    """The table of ranges as docs/line-file.md shows it."""
+    rows = ["| key | unit | hard range (error outside) | usual range (warning outside) | why |",
+            "|---|---|---|---|---|"]
+    for key, found in RANGES.items():
+        rows.append(f"| `{key}` | {found.unit or '-'} | {fmt(found.hard[0])} .. "
+                    f"{fmt(found.hard[1])} | {fmt(found.usual[0])} .. {fmt(found.usual[1])} "
+                    f"| {found.why} |")
+    return "\n".join(rows) + "\n"
+
+
+if __name__ == "__main__":  # python -m webline.spec.ranges > table (paste into the docs)
+    print(markdown(), end="")
+
+
+def argument(value: object, kind: str, name: str, bound: str = ">0",
+             within: str | None = None) -> float:
+    """An argument of a Python front-door function (``simulate(line, "2 min")``) as an SI
+    float of dimension ``kind``: a number [SI], a string with units or a pint Quantity.
+    ``bound`` is ">0" or ">=0"; ``within`` names an entry of ``webline.spec.ranges.RANGES``
+    whose hard range the value must respect. Raises ``ArgumentError`` naming the argument."""
+    try:
+        number = to_si(value, kind)
+    except ValueError as exc:
+        raise ArgumentError(f"{name}: {exc}") from None
+    if not (number > 0 if bound == ">0" else number >= 0):
+        raise ArgumentError(f"{name}: must be {bound[0]} {bound[1:]}, got {short(value)}")
+    problem = RANGES[within].hard_problem(number) if within else None
+    if problem:
+        raise ArgumentError(f"{name}: {problem}")
+    return number
