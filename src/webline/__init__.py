@@ -1,15 +1,46 @@
-"""webline: model, simulate, analyse and control roll-to-roll (web handling) process lines."""
+"""webline: model, simulate, analyse and control roll-to-roll (web handling) process lines.
 
-from webline.errors import LineFileError, SimulationError, SimulationInterrupted, WeblineError
-from webline.line import Line, load_line
-from webline.model.operating_point import OperatingPoint, operating_point
-from webline.sim.linearize import linearize
-from webline.sim.reference import simulate_reference
-from webline.sim.result import Result
-from webline.sim.simulate import simulate
+The front door: ``load_line``, ``simulate``, ``linearize``, ``operating_point`` and their
+types. Each is imported on first use (PEP 562), so ``import webline`` and the command line
+start fast; python-control, scipy and numba load only when a model or a run needs them.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING
+
+from webline.errors import (
+    ArgumentError,
+    LineFileError,
+    SimulationError,
+    SimulationInterrupted,
+    WeblineError,
+)
 from webline.version import __version__
 
+if TYPE_CHECKING:
+    from webline.line import Line, load_line
+    from webline.model.operating_point import OperatingPoint, operating_point
+    from webline.sim.linearize import linearize
+    from webline.sim.reference import simulate_reference
+    from webline.sim.result import Result
+    from webline.sim.simulate import simulate
+
+#: where each lazily imported name lives
+_LAZY = {
+    "Line": "webline.line",
+    "load_line": "webline.line",
+    "OperatingPoint": "webline.model.operating_point",
+    "operating_point": "webline.model.operating_point",
+    "linearize": "webline.sim.linearize",
+    "simulate_reference": "webline.sim.reference",
+    "Result": "webline.sim.result",
+    "simulate": "webline.sim.simulate",
+}
+
 __all__ = [
+    "ArgumentError",
     "Line",
     "LineFileError",
     "OperatingPoint",
@@ -24,3 +55,15 @@ __all__ = [
     "simulate",
     "simulate_reference",
 ]
+
+
+def __getattr__(name: str) -> object:
+    if name in _LAZY:
+        value = getattr(importlib.import_module(_LAZY[name]), name)
+        globals()[name] = value  # later look-ups skip this function
+        return value
+    raise AttributeError(f"module 'webline' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)

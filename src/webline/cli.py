@@ -23,13 +23,15 @@ from rich.markup import escape
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table as RichTable
 
+from webline.errors import WeblineError
+from webline.version import __version__
+
 if TYPE_CHECKING:
     from webline.analysis.certificate import Certificate
+    from webline.line import Line
 
-from webline import __version__, load_line, operating_point, simulate
-from webline.errors import WeblineError
-from webline.line import Line
-from webline.units import to_si
+# The simulation, analysis and report layers are imported inside the commands that use them,
+# so that `webline --version` and `webline --help` start in a fraction of a second.
 
 app = typer.Typer(
     name="webline", add_completion=False, no_args_is_help=True, rich_markup_mode=None,
@@ -80,6 +82,10 @@ LineArg = Annotated[str, typer.Argument(
 UnitsOpt = Annotated[Units, typer.Option("--units", "-u", help="Units to show quantities in.")]
 ScenarioOpt = Annotated[str | None, typer.Option(
     "--scenario", "-s", help="A named scenario of the line file (see 'webline show').")]
+SetOpt = Annotated[list[str] | None, typer.Option(
+    "--set", metavar="PATH=VALUE", help="Change one value of the line, by its nested path, "
+    "with units (repeatable): --set web.ea='9 kN' --set "
+    "rollers.process.controller.tension_bandwidth='2 Hz'. Applied after --scenario.")]
 
 F = TypeVar("F", bound=Callable[..., None])
 
@@ -142,13 +148,28 @@ def print_tables(tables: list, console: Console) -> None:
         console.print(out)
 
 
-def _load(source: str, scenario: str | None, controller: ControllerFamily | None = None) -> Line:
+def _load(source: str, scenario: str | None, controller: ControllerFamily | None = None,
+          sets: list[str] | None = None) -> Line:
+    """The line as a command runs it: loaded, with ``--controller``, ``--scenario`` and every
+    ``--set PATH=VALUE`` applied, in that order."""
+    from webline.line import load_line
+    from webline.spec.paths import parse_assignment
+
     line = load_line(source)
     if controller is not None:
         from webline.control.select import with_controller
 
         line = with_controller(line, FAMILY_TYPES[controller.value])  # type: ignore[arg-type]
-    return line.with_scenario(scenario) if scenario else line
+    if scenario:
+        line = line.with_scenario(scenario)
+    changes = {}
+    for text in sets or []:
+        try:
+            path, value = parse_assignment(text)
+        except ValueError as exc:
+            raise BadInput(f"--set: {exc}") from None
+        changes[path] = value
+    return line.replace(changes) if changes else line
 
 
 def _duration(text: str | None) -> float | None:
@@ -159,6 +180,8 @@ def _duration(text: str | None) -> float | None:
     except ValueError:
         value = None
     try:
+        from webline.units import to_si
+
         value = to_si(text, "time") if value is None else value
     except ValueError as exc:
         raise BadInput(f"--duration: {exc}") from None
@@ -182,14 +205,18 @@ def prepare_out(out: Path) -> Path:
 
 @contextmanager
 def progress_bar(enabled: bool, label: str) -> Iterator[Callable[[float], None] | None]:
-    """A progress bar on stderr (cleared when done) fed with the fraction done, or None."""
+    """A progress bar on stderr (cleared when done) fed with the fraction done, or None. Until
+    the first fraction arrives it says that the line's compiled loop is being loaded, or
+    compiled the first time a line of this structure runs (numba; seconds, then cached)."""
     if not enabled:
         yield None
         return
-    columns = (TextColumn(escape(label)), BarColumn(), TaskProgressColumn(), TimeElapsedColumn())
+    waiting = "loading the line's compiled loop (compiled once per line structure)"
+    columns = (TextColumn("{task.description}"), BarColumn(), TaskProgressColumn(),
+               TimeElapsedColumn())
     with Progress(*columns, console=Console(stderr=True), transient=True) as bar:
-        task = bar.add_task(label, total=1.0)
-        yield lambda fraction: bar.update(task, completed=fraction)
+        task = bar.add_task(escape(waiting), total=1.0)
+        yield lambda fraction: bar.update(task, completed=fraction, description=escape(label))
 
 
 # --- commands ---------------------------------------------------------------------------------
@@ -211,6 +238,7 @@ def run(
     quiet: Annotated[bool, typer.Option("--quiet", "-q",
                                         help="Print only the report's path.")] = False,
     controller: ControllerOpt = None,
+    sets: SetOpt = None,
     precision: Annotated[Precision, typer.Option(
         "--precision", help="Floating-point precision of the signals in results.nc.")]
     = Precision.float64,
@@ -226,13 +254,15 @@ def run(
     """
     from webline.report.run_output import open_run_folder, write_run
     from webline.report.verdict_text import verdict_lines
+    from webline.sim.simulate import simulate
 
-    base = _load(line, None, controller)
-    for warning in base.warnings:  # unusual values (webline.spec.ranges)
-        typer.echo(f"warning: {base.source}: {warning}", err=True)
-    scenario_line = base.with_scenario(scenario) if scenario else base
+    scenario_line = _load(line, scenario, controller, sets)
+    for warning in scenario_line.warnings:  # unusual values (webline.spec.ranges)
+        typer.echo(f"warning: {scenario_line.source}: {warning}", err=True)
     seconds = _duration(duration)
-    folder = open_run_folder(out, base.name, scenario, force)
+    if seconds is None and scenario:
+        seconds = scenario_line.spec.scenarios[scenario].duration
+    folder = open_run_folder(out, scenario_line.name, scenario, force)
     prepare_out(folder.path)
     err = Console(stderr=True, highlight=False)
     started = time.perf_counter()
@@ -241,13 +271,13 @@ def run(
                   "computed)")
     try:
         with progress_bar(not quiet, f"simulating {scenario_line.name}") as progress:
-            result = simulate(base, seconds, scenario=scenario, progress=progress,
+            result = simulate(scenario_line, seconds, progress=progress,
                               raise_on_failure=False)
     except KeyboardInterrupt:
         fail("interrupted before anything was computed; nothing written", 130)
     if not quiet:
         simulated = float(result.time[-1]) if len(result.time) else 0.0
-        err.print(f"Simulated {simulated:.4g} s of {escape(base.name)} in "
+        err.print(f"Simulated {simulated:.4g} s of {escape(scenario_line.name)} in "
                   f"{time.perf_counter() - started:.2f} s; writing results and report")
     try:
         files, results_file = write_run(result, folder, data_format.value, precision.value,
@@ -280,6 +310,8 @@ def run(
 def validate(line: LineArg) -> None:
     """Check a line file (and each of its scenarios): list every problem (up to 20) with its
     TOML line and exit 2, or print 'ok' and any warnings (unusual values) and exit 0."""
+    from webline.line import load_line
+
     loaded = load_line(line)  # a LineFileError lists every problem, one a line (fail())
     for name in loaded.spec.scenarios:
         loaded.with_scenario(name)
@@ -296,6 +328,7 @@ def validate(line: LineArg) -> None:
 @handles_errors
 def lines() -> None:
     """List the built-in lines and their scenarios."""
+    from webline.line import load_line
     from webline.report.tables import make_table
     from webline.spec.load import builtin_lines
 
@@ -307,12 +340,14 @@ def lines() -> None:
 
 @app.command()
 @handles_errors
-def show(line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None) -> None:
+def show(line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None,
+         sets: SetOpt = None) -> None:
     """Show a line: sections, rollers, spans, drives, controllers and scenarios."""
     from webline.report.describe import line_tables
     from webline.report.display import Display
 
-    print_tables(line_tables(_load(line, scenario), Display(units.value)), _console())
+    print_tables(line_tables(_load(line, scenario, None, sets), Display(units.value)),
+                 _console())
 
 
 @app.command()
@@ -329,20 +364,21 @@ def analyze(
         "6.2.1: distance to instability, interconnection bound and margin per section.")]
     = False,
     controller: ControllerOpt = None,
+    sets: SetOpt = None,
 ) -> None:
     """Operating point, equilibrium inputs and closed-loop modes of a line, and its verdict.
 
     Exit status: 0 ok (no closed-loop mode grows), 2 bad input, 3 unstable (one grows).
     """
     from webline.analysis.modes import closed_loop_modes
-    from webline.model.operating_point import analysis_time
+    from webline.model.operating_point import analysis_time, operating_point
     from webline.report.display import Display
     from webline.report.tables import modes_table, operating_point_tables, operating_point_values
     from webline.report.verdict_text import verdict_lines
     from webline.sim.stability import stability_findings
     from webline.verdict import Verdict
 
-    loaded = _load(line, scenario, controller)
+    loaded = _load(line, scenario, controller, sets)
     t = analysis_time(loaded) if at is None else at
     if not t >= 0:
         raise BadInput(f"--time: must be >= 0 s, got {at}")
