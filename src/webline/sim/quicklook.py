@@ -8,16 +8,33 @@ from __future__ import annotations
 
 import html
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
+from webline.errors import ArgumentError
+from webline.line import Line
 from webline.sim.decimate import envelope
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from webline.sim.result import Result
+
+class Run(Protocol):
+    """What a quick look reads of a ``webline.sim.result.Result`` (named here rather than
+    imported: ``Result`` delegates to this module)."""
+
+    @property
+    def line(self) -> Line: ...
+    @property
+    def time(self) -> np.ndarray: ...
+    @property
+    def tension_ref(self) -> np.ndarray: ...
+    @property
+    def status(self) -> str: ...
+    @property
+    def message(self) -> str: ...
+    def summary(self) -> dict[str, Any]: ...
 
 #: what each signal of ``plot`` draws: (Result attribute, y label, element names attribute)
 PANELS = {
@@ -33,15 +50,13 @@ def literal(text: str) -> str:
     return text.replace("$", r"\$")
 
 
-def plot_result(result: Result, signals: Sequence[str] = ("tension", "speed")) -> Figure:
+def plot_result(result: Run, signals: Sequence[str] = ("tension", "speed")) -> Figure:
     """A figure with one panel per signal (``tension``, ``speed``, ``torque``, ``radius``)
     over time [s], each line decimated to its min/max envelope; tension references dashed."""
     from matplotlib.figure import Figure
 
     unknown = [s for s in signals if s not in PANELS]
     if unknown or not signals:
-        from webline.errors import ArgumentError
-
         raise ArgumentError(f"signals: unknown {unknown}; choose from {list(PANELS)}")
     figure = Figure(figsize=(9, 2.6 * len(signals)), layout="constrained")
     axes = figure.subplots(len(signals), 1, sharex=True, squeeze=False)[:, 0]
@@ -66,7 +81,7 @@ def plot_result(result: Result, signals: Sequence[str] = ("tension", "speed")) -
     return figure
 
 
-def result_html(result: Result) -> str:
+def result_html(result: Run) -> str:
     """One-glance HTML: line, duration, status and message, tension statistics per span."""
     duration = float(result.time[-1]) if len(result.time) else 0.0
     colour = {"ok": "#1a7f37", "warning": "#9a6700"}.get(result.status, "#cf222e")

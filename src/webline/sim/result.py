@@ -6,25 +6,24 @@ from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from functools import cached_property
 from pathlib import Path
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from webline.sim import layout as L
 from webline.sim.failure import Failure
 from webline.sim.plan import Plan
-from webline.sim.signal_attrs import SIGNAL_UNITS, signal_attrs
+from webline.sim.result_files import Precision
+from webline.sim.signal_attrs import signal_attrs
 from webline.spec.load import dump_spec
 
 if TYPE_CHECKING:
     import xarray as xr
+    from matplotlib.figure import Figure
 
     from webline.sim.events import EventStats
     from webline.verdict import Verdict
 
-#: records per chunk along time in the NetCDF file
-TIME_CHUNK = 4096
-Precision = Literal["float64", "float32"]
 
 
 @dataclass(frozen=True)
@@ -373,41 +372,31 @@ class Result:
         """Write the dataset to NetCDF-4 (HDF5 via h5netcdf), zlib-compressed and chunked along
         time, atomically (a temporary file renamed into place). ``precision`` "float32" halves
         the float signals (time stays float64). Returns the path."""
-        from webline.files import atomic_write
+        from webline.sim.result_files import write_netcdf
 
-        ds = self.to_xarray()
-        if precision not in ("float64", "float32"):
-            raise ValueError(f"precision must be 'float64' or 'float32', got {precision!r}")
-        encoding = {}
-        for name, var in ds.data_vars.items():
-            dtype = np.float32 if precision == "float32" and var.dtype.kind == "f" else var.dtype
-            chunks = (min(len(self.time), TIME_CHUNK), *var.shape[1:])
-            encoding[name] = {"zlib": True, "complevel": 4, "shuffle": True,
-                              "chunksizes": chunks, "dtype": dtype}
-        return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf",
-                                                           encoding=encoding))
+        return write_netcdf(self.to_xarray(), path, precision)
 
     def to_dataframe(self):
         """Wide table: one row per time, one column per ``signal[element]``."""
-        frame = self.to_xarray().drop_vars(["tension_ref"]).to_dataframe()
-        return frame
+        return self.to_xarray().drop_vars(["tension_ref"]).to_dataframe()
 
     def to_csv(self, path: str | Path) -> Path:
         """Write one column per named signal (``tension[span1]`` ...) with a units header,
         atomically (a temporary file renamed into place). Returns the path."""
-        path = Path(path)
-        ds = self.to_xarray()
-        columns, headers = [self.time], ["time [s]"]
-        for name, var in ds.data_vars.items():
-            if var.dims == ("time",):
-                columns.append(var.values)
-                headers.append(f"{name} [{SIGNAL_UNITS[str(name)]}]")
-                continue
-            for j, element in enumerate(ds[var.dims[1]].values):
-                columns.append(var.values[:, j])
-                headers.append(f"{name}[{element}] [{SIGNAL_UNITS[str(name)]}]")
-        table = np.column_stack(columns)
-        from webline.files import atomic_write
+        from webline.sim.result_files import write_csv
 
-        return atomic_write(path, lambda tmp: np.savetxt(
-            tmp, table, delimiter=",", header=",".join(headers), comments="", fmt="%.9g"))
+        return write_csv(self.to_xarray(), path)
+
+    def plot(self, signals: tuple[str, ...] = ("tension", "speed")) -> Figure:
+        """A matplotlib figure of ``signals`` over time [s]: "tension" (with the references
+        dashed), "speed", "torque", "radius"; long runs drawn as min/max envelopes, so peaks
+        survive (``webline.sim.quicklook``)."""
+        from webline.sim.quicklook import plot_result
+
+        return plot_result(self, signals)
+
+    def _repr_html_(self) -> str:
+        """Jupyter's display: line, duration, verdict and tension statistics per span."""
+        from webline.sim.quicklook import result_html
+
+        return result_html(self)
