@@ -245,6 +245,8 @@ def run(
     force: Annotated[bool, typer.Option(
         "--force", help="Write into a non-empty output folder that webline did not write.")]
     = False,
+    svg: Annotated[bool, typer.Option(
+        "--svg", help="Also write every figure as SVG (vector) beside its PNG.")] = False,
 ) -> None:
     """Simulate a line and write its results, figures and an HTML report.
 
@@ -281,7 +283,7 @@ def run(
                   f"{time.perf_counter() - started:.2f} s; writing results and report")
     try:
         files, results_file = write_run(result, folder, data_format.value, precision.value,
-                                        units.value, scenario)
+                                        units.value, scenario, svg)
     except KeyboardInterrupt:
         fail(f"interrupted while writing {folder.path}: the files written are whole, the others "
              "missing or from the previous run", 130)
@@ -293,7 +295,7 @@ def run(
         print_tables(summary_tables(result, Display(units.value)), console)
         console.print(f"Results (SI): {escape(str(results_file))}\n"
                       f"Figures:      {escape(str(folder.path / 'figures'))} "
-                      f"({len(files.figures) // 2} as PNG and SVG)\n"
+                      f"({len(files.figures)} files, {'PNG and SVG' if svg else 'PNG'})\n"
                       f"Summary:      {escape(str(files.summary))}\n"
                       "Report (open it in a browser):")
     typer.echo(str(files.report.resolve()))

@@ -26,13 +26,13 @@ class Run:
 
 @pytest.fixture(scope="session")
 def runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Run]:
-    """`webline run hswl -s disturbance -d 2` with --units si and --units imperial."""
+    """`webline run hswl -s disturbance -d 2 --svg` with --units si and --units imperial."""
     base = tmp_path_factory.mktemp("runs")
     out = {}
     for units in ("si", "imperial"):
         folder = base / units
         result = CliRunner().invoke(app, ["run", "hswl", "-s", "disturbance", "-d", "2",
-                                          "-u", units, "--out", str(folder)])
+                                          "-u", units, "--out", str(folder), "--svg"])
         assert result.exit_code == 0, result.output
         out[units] = Run(result.stdout, result.stderr, folder)
     return out

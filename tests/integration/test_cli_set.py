@@ -46,3 +46,10 @@ def test_bad_sets_are_one_line_errors() -> None:
         lines = result.stderr.strip().splitlines()
         assert lines[0].startswith("error: ") and fragment in result.stderr
         assert "Traceback" not in result.stderr
+
+
+def test_figures_are_png_unless_svg_is_asked(tmp_path) -> None:
+    out = tmp_path / "png"
+    assert invoke("run", "hswl", "-d", "0.5", "-q", "--out", str(out)).exit_code == 0
+    names = {p.suffix for p in (out / "figures").iterdir()}
+    assert names == {".png"}

@@ -51,7 +51,7 @@ def test_path_like_and_tex_names_write_inside_out_with_every_figure(tmp_path, mo
     work.mkdir(parents=True)
     monkeypatch.chdir(work)
     (work / "line.toml").write_text(renamed(line_name), encoding="utf-8")
-    result = invoke("run", "line.toml", "-d", "0.2", "-q")
+    result = invoke("run", "line.toml", "-d", "0.2", "-q", "--svg")
     assert result.exit_code == 0, result.output
     [folder] = list((work / "out").iterdir())
     assert Path(result.stdout.strip()) == (folder / "report.html").resolve()

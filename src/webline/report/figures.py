@@ -2,8 +2,9 @@
 web speeds, motor torques, roll radii and inertias, closed-loop poles. Every axis is in the
 chosen units; time is in seconds.
 
-Long runs are drawn from a min/max envelope of each signal (``envelope``), so peaks and
-ripple stay visible while files stay small.
+Long runs are drawn at screen resolution: the minimum and maximum of each pixel column of a
+signal (``webline.sim.decimate.envelope``), so peaks and ripple stay visible while drawing and
+files stay small.
 """
 
 from __future__ import annotations
@@ -24,10 +25,8 @@ from webline.profiles import breakpoints
 from webline.report.display import Display
 from webline.report.mpl_text import legend_label, literal
 from webline.report.schematic import schematic
+from webline.sim.decimate import envelope
 from webline.sim.result import Result
-
-#: Largest number of points drawn per signal.
-MAX_POINTS = 4000
 
 
 @dataclass(frozen=True)
@@ -37,25 +36,6 @@ class ReportFigure:
     key: str
     caption: str
     figure: Figure
-
-
-def envelope(time: np.ndarray, values: np.ndarray,
-             points: int = MAX_POINTS) -> tuple[np.ndarray, np.ndarray]:
-    """``values`` over ``time`` reduced to at most ``points`` points: the minimum and maximum
-    of each of ``points // 2`` equal slices, in time order (extremes are kept exactly)."""
-    n = len(time)
-    if n <= points:
-        return time, values
-    buckets = points // 2
-    edges = np.linspace(0, n, buckets + 1).astype(int)
-    t_out, y_out = np.empty(2 * buckets), np.empty(2 * buckets)
-    for b in range(buckets):
-        sl = slice(edges[b], edges[b + 1])
-        lo, hi = edges[b] + np.argmin(values[sl]), edges[b] + np.argmax(values[sl])
-        first, second = (lo, hi) if lo <= hi else (hi, lo)
-        t_out[2 * b:2 * b + 2] = time[first], time[second]
-        y_out[2 * b:2 * b + 2] = values[first], values[second]
-    return t_out, y_out
 
 
 def _plot(ax: Axes, time: np.ndarray, values: np.ndarray, **style: object) -> None:

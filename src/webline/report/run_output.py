@@ -21,15 +21,15 @@ def open_run_folder(out: Path | None, line_name: str, scenario: str | None,
 
 def write_run(result: Result, folder: OutputFolder, fmt: Format = "netcdf",
               precision: Precision = "float64", units: System = "si",
-              scenario: str | None = None) -> tuple[ReportFiles, Path]:
-    """Write results, figures, summary and report into ``folder`` (each file atomically and in
-    its manifest), then finish the manifest: files of the previous run not rewritten are
-    removed. Returns the report's files and the results file."""
+              scenario: str | None = None, svg: bool = False) -> tuple[ReportFiles, Path]:
+    """Write results, figures (SVG too with ``svg``), summary and report into ``folder``
+    (each file atomically and in its manifest), then finish the manifest: files of the
+    previous run not rewritten are removed. Returns the report's files and the results file."""
     try:
         results_file = write_results(result, folder.path, fmt, precision=precision,
                                      folder=folder)
         files = write_report(result, folder.path, units=units, scenario=scenario,
-                             results_file=results_file, folder=folder)
+                             results_file=results_file, folder=folder, svg=svg)
         folder.finish()
     except OSError as exc:
         raise WeblineError(f"{folder.path}: cannot write the results: {exc}") from None

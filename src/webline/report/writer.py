@@ -1,5 +1,5 @@
-"""Writing a run to a folder: the HTML report, its figures (PNG and SVG), a JSON summary and the
-results (NetCDF or CSV, always SI)."""
+"""Writing a run to a folder: the HTML report, its figures (PNG, and SVG on request), a JSON
+summary and the results (NetCDF or CSV, always SI)."""
 
 from __future__ import annotations
 
@@ -46,7 +46,7 @@ class ReportFiles:
 
     report: Path  #: the HTML report
     summary: Path  #: the summary, operating point and modes as JSON (chosen units)
-    figures: tuple[Path, ...]  #: every figure as PNG and SVG
+    figures: tuple[Path, ...]  #: every figure as PNG (and SVG on request)
 
 
 @dataclass(frozen=True)
@@ -95,9 +95,10 @@ def _target(out_dir: Path, folder: OutputFolder | None, relative: str) -> Path:
 def write_report(result: Result, out_dir: Path, *, units: System = "si",
                  scenario: str | None = None, results_file: Path | None = None,
                  analysis: Analysis | None = None,
-                 folder: OutputFolder | None = None) -> ReportFiles:
-    """Write ``report.html`` (self-contained), ``summary.json`` and ``figures/*.png|svg`` for
-    ``result`` into ``out_dir``, every quantity in ``units`` ('si' or 'imperial'). Each file is
+                 folder: OutputFolder | None = None, svg: bool = False) -> ReportFiles:
+    """Write ``report.html`` (self-contained), ``summary.json`` and ``figures/*.png`` (and
+    ``figures/*.svg`` with ``svg``) for ``result`` into ``out_dir``, every quantity in
+    ``units`` ('si' or 'imperial'). Each file is
     written atomically; with ``folder`` (the ``OutputFolder`` of ``out_dir``) each joins its
     manifest."""
     from webline import __version__
@@ -105,17 +106,20 @@ def write_report(result: Result, out_dir: Path, *, units: System = "si",
     display = Display(units)
     line = result.line
     analysis = analysis or analyse(line)
-    images, written = {}, []
+    images: dict[str, Image] = {}
+    written: list[Path] = []
     for fig in report_figures(result, display, analysis.modes):
         buffer = io.BytesIO()
         fig.figure.savefig(buffer, format="png", dpi=DPI)
         images[fig.key] = Image(fig.key, fig.caption, buffer.getvalue())
         png = atomic_write_bytes(_target(out_dir, folder, f"figures/{fig.key}.png"),
                                  buffer.getvalue())
-        svg = io.BytesIO()
-        fig.figure.savefig(svg, format="svg", metadata={"Date": None})
-        written += [png, atomic_write_bytes(_target(out_dir, folder, f"figures/{fig.key}.svg"),
-                                            svg.getvalue())]
+        written.append(png)
+        if svg:  # vector copies on request: saving them doubles the time spent on figures
+            vector = io.BytesIO()
+            fig.figure.savefig(vector, format="svg", metadata={"Date": None})
+            written.append(atomic_write_bytes(
+                _target(out_dir, folder, f"figures/{fig.key}.svg"), vector.getvalue()))
 
     summary = summary_values(result, display)
     summary_path = atomic_write_text(_target(out_dir, folder, "summary.json"), json.dumps(_finite({

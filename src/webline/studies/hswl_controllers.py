@@ -227,8 +227,8 @@ def _case_figure(result: Result, case: Case, fpm: float, start: float, path: Pat
     """Master speed error [ft/min] and each zone's tension error [lbf] over time."""
     plt = pyplot()
 
-    from webline.report.figures import envelope
     from webline.report.mpl_text import literal
+    from webline.sim.decimate import envelope
 
     line = result.line
     v_factor, v_unit = display_factor("speed", "imperial")
