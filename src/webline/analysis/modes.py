@@ -9,12 +9,17 @@ state is the one with the largest participation factor |v_i w_i| (right and left
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-import control
 import numpy as np
 
 from webline.line import Line, load_line
+from webline.sim.linearize import LinearModel
+
+if TYPE_CHECKING:
+    import control
 
 
 @dataclass(frozen=True)
@@ -57,15 +62,21 @@ class Mode:
                 "damping_ratio": self.damping, "dominant_state": self.dominant}
 
 
-def modes(system: control.StateSpace) -> list[Mode]:
-    """The modes of ``system`` (its A matrix), slowest first."""
-    a = np.asarray(system.A, dtype=float)
+def modes(system: control.StateSpace | LinearModel) -> list[Mode]:
+    """The modes of ``system`` (a python-control ``StateSpace`` or webline's ``LinearModel``:
+    its A matrix and state names), slowest first."""
+    if isinstance(system, LinearModel):
+        return modes_of(np.asarray(system.a, dtype=float), list(system.states))
+    return modes_of(np.asarray(system.A, dtype=float), list(system.state_labels))
+
+
+def modes_of(a: np.ndarray, names: Sequence[str]) -> list[Mode]:
+    """The modes of the matrix ``a`` [1/s] whose states are ``names``, slowest first."""
     if a.size == 0:
         return []
     values, right = np.linalg.eig(a)
     left = np.linalg.inv(right)  # rows are the left eigenvectors
     participation = np.abs(right * left.T)  # [state, mode]
-    names = list(system.state_labels)
     out = []
     for j, value in enumerate(values):
         if value.imag < 0.0:
@@ -75,7 +86,9 @@ def modes(system: control.StateSpace) -> list[Mode]:
 
 
 def closed_loop_modes(line: Line | str, t: float = 0.0) -> list[Mode]:
-    """Modes of ``line`` with its cascaded-PI controllers, linearized at time ``t`` [s]."""
-    from webline.sim.linearize import linearize
+    """Modes of ``line`` with its controllers, linearized at time ``t`` [s] (the plan's cached
+    closed-loop model: no python-control needed)."""
+    from webline.sim.linearize import plan_linear_model
+    from webline.sim.plan import compile_plan
 
-    return modes(linearize(load_line(line), t, loop="closed"))
+    return modes(plan_linear_model(compile_plan(load_line(line)), loop="closed", t=t))

@@ -11,7 +11,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Literal
 
-from webline.analysis.modes import Mode, modes
+from webline.analysis.modes import Mode, closed_loop_modes
 from webline.errors import WeblineError
 from webline.files import atomic_write_bytes, atomic_write_text
 from webline.line import Line
@@ -31,7 +31,6 @@ from webline.report.tables import (
     summary_values,
 )
 from webline.report.verdict_text import STATUS_CLASS, events_table
-from webline.sim.linearize import linearize
 from webline.sim.result import Precision, Result
 from webline.spec.load import dump_spec
 
@@ -65,7 +64,7 @@ def analyse(line: Line) -> Analysis:
     equilibrium gives an ``Analysis`` that says why instead of raising."""
     t = analysis_time(line)
     try:
-        return Analysis(t, operating_point(line, t), tuple(modes(linearize(line, t))))
+        return Analysis(t, operating_point(line, t), tuple(closed_loop_modes(line, t)))
     except (WeblineError, ValueError, ArithmeticError) as exc:
         return Analysis(t, None, (), str(exc))
 
