@@ -164,8 +164,10 @@ def test_many_errors_are_capped_at_20() -> None:
 
 
 def test_with_scenario_does_not_revalidate_the_line(monkeypatch: pytest.MonkeyPatch) -> None:
-    # validating N scenarios used to re-validate the whole line (all N scenarios) N times
+    # validating N scenarios used to re-validate the whole line (all N scenarios) N times;
+    # only a scenario that sets values by path (a 'set' table) validates its changed line
     data = hswl()
+    data["scenarios"] = {k: v for k, v in data["scenarios"].items() if "set" not in v}
     data["scenarios"].update({f"s{i}": {"duration": 1 + i % 5} for i in range(300)})
     line = load_line(data)
     calls = []
