@@ -62,6 +62,24 @@ def imports_of(name: str, path: Path, modules: dict[str, Path]) -> set[str]:
     return {m for m in found if m in modules and m != name}
 
 
+def missing_imports(src: Path = SRC) -> list[str]:
+    """'module -> name' for every import of a ``webline`` module that does not exist (a path
+    left behind by a move: a lazy import would only fail when its function runs)."""
+    modules = module_files(src)
+    out = []
+    for name, path in modules.items():
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and not node.level and node.module:
+                targets = [node.module]
+            elif isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            else:
+                continue
+            out += [f"{name} -> {t}" for t in targets
+                    if t.split(".")[0] == "webline" and t not in modules]
+    return sorted(out)
+
+
 def layer_of(module: str) -> int:
     """Index in ``LAYERS`` of the most specific entry that is ``module`` or contains it."""
     best, depth = -1, -1
@@ -131,6 +149,11 @@ def test_no_import_points_up() -> None:
     assert not found, "imports that point up a layer:\n" + "\n".join(found)
 
 
+def test_every_webline_import_exists() -> None:
+    found = missing_imports()
+    assert not found, "imports of modules that do not exist:\n" + "\n".join(found)
+
+
 def test_no_import_cycle() -> None:
     found = cycles(graph())
     assert not found, "import cycles:\n" + "\n".join(" <-> ".join(c) for c in found)
@@ -153,7 +176,8 @@ def test_checks_catch_what_they_are_for(tmp_path: Path) -> None:
 
 if __name__ == "__main__":
     found = graph()
-    problems = upward_imports(found) + [" <-> ".join(c) for c in cycles(found)]
+    problems = (upward_imports(found) + [" <-> ".join(c) for c in cycles(found)]
+                + missing_imports())
     print("\n".join(problems) or f"layers ok: {len(found)} modules, "
           f"{sum(map(len, found.values()))} imports, none upward, no cycle")
     sys.exit(1 if problems else 0)

@@ -94,7 +94,7 @@ def fastest_mode_key(line: Line) -> tuple[str, str]:
     """(key, description) of the state that dominates the line's fastest mode (largest
     |eigenvalue| of the open- and closed-loop models), by its participation factor
     |v_i w_i| (unit-free, unlike the eigenvector itself)."""
-    from webline.analysis.linearize import linear_model
+    from webline.sim.linearize import linear_model
     from webline.sim.fastest import slip_rates
 
     best: tuple[float, str, str] = (0.0, "", "")
