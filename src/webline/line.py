@@ -121,7 +121,7 @@ class Line:
 
     def with_scenario(self, name: str) -> Line:
         """The line as the named scenario runs it (speed, disturbances, roll radii replaced)."""
-        from webline.errors import LineFileError
+        from webline.errors import LineFileError, Problem
 
         scenario = self.spec.scenarios.get(name)
         if scenario is None:
@@ -144,9 +144,14 @@ class Line:
         label = f"{self.source} [scenario {name}]"
         if scenario.set:  # values set by path: validate the changed line as a whole
             data = spec.model_dump(exclude_none=True)
-            for path, value in scenario.set.items():
-                set_path(data, path, value, f"{self.source}: scenarios.{name}.set")
-            return Line(spec_from_dict(data, label), self.source)
+            try:
+                for path, value in scenario.set.items():
+                    set_path(data, path, value)
+                return Line(spec_from_dict(data), self.source)
+            except LineFileError as err:  # named where the user wrote it: the scenario's set
+                raise LineFileError.of(self.source, [
+                    Problem(f"scenarios.{name}.set: {p.key}", p.problem)
+                    for p in err.problems]) from None
         check_spec(spec, label)
         return Line(spec, self.source)
 
