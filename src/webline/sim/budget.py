@@ -94,8 +94,8 @@ def fastest_mode_key(line: Line) -> tuple[str, str]:
     """(key, description) of the state that dominates the line's fastest mode (largest
     |eigenvalue| of the open- and closed-loop models), by its participation factor
     |v_i w_i| (unit-free, unlike the eigenvector itself)."""
-    from webline.sim.linearize import linear_model
     from webline.sim.fastest import slip_rates
+    from webline.sim.linearize import linear_model
 
     best: tuple[float, str, str] = (0.0, "", "")
     for loop in ("open", "closed"):
