@@ -7,6 +7,7 @@ from webline.sim.linearize import linearize
 from webline.sim.reference import simulate_reference
 from webline.sim.result import Result
 from webline.sim.simulate import simulate
+from webline.sim.sweep import monte_carlo, sweep
 from webline.version import __version__
 
 __all__ = [
@@ -20,7 +21,9 @@ __all__ = [
     "__version__",
     "linearize",
     "load_line",
+    "monte_carlo",
     "operating_point",
     "simulate",
     "simulate_reference",
+    "sweep",
 ]
