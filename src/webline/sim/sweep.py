@@ -11,7 +11,10 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Mapping, Sequence
+import time
+from collections.abc import Callable, Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -53,14 +56,48 @@ def _coordinate(values: list[object]) -> np.ndarray:
         return np.array([str(v) for v in values])
 
 
+#: Cases built and run together: plans are built for one block while the previous block
+#: runs (the compiled batch releases the GIL), and dropped after it, so memory stays bounded.
+BLOCK = 256
+
+
+@dataclass
+class _Built:
+    """Plans and initial states of a block of cases, ready for ``run_batch``."""
+
+    plans: list[Plan]
+    states: list[tuple[np.ndarray, np.ndarray, np.ndarray]]
+    n_ticks: list[int]
+    substeps: list[int]
+    every: list[int]
+    seconds: float
+
+
+def _build(base: Line, cases: Sequence[Mapping[str, object]], duration: float) -> _Built:
+    started = time.perf_counter()
+    built = _Built([], [], [], [], [], 0.0)
+    for changes in cases:
+        plan = compile_plan(base.replace(dict(changes)) if changes else base)
+        x, istate = equilibrium_plan_state(plan)
+        built.plans.append(plan)
+        built.states.append((x, istate, kernel.initial_slip(plan, x)))
+        ticks = max(1, round(duration / plan.dt))
+        built.n_ticks.append(ticks)
+        built.substeps.append(choose_substeps(plan))
+        built.every.append(max(1, math.ceil((ticks + 1) / MAX_RECORDS)))  # as simulate's
+    built.seconds = time.perf_counter() - started
+    return built
+
+
 def run_cases(line: Line | str | Path, cases: Sequence[Mapping[str, object]], *,
               duration: float | str | None = None, scenario: str | None = None,
               record: float | str | None = None, workers: int | None = None,
-              ) -> Any:
+              progress: Callable[[int, int], None] | None = None) -> Any:
     """Simulate ``line`` once per mapping of changes in ``cases`` for ``duration`` [s]
     (default: the scenario's, else 10 s); the Dataset of ``sweep``. ``record`` [s]: keep the
     span tensions at that interval (``tension`` over case, time, span). ``workers``: threads
-    (default: every core)."""
+    (default: every core). ``progress``, if given, is called with (cases done, cases) after
+    each block of ``BLOCK`` cases."""
     base = load_line(line)
     if scenario is not None:
         base = base.with_scenario(scenario)
@@ -69,36 +106,58 @@ def run_cases(line: Line | str | Path, cases: Sequence[Mapping[str, object]], *,
     duration = 10.0 if duration is None else argument(duration, "time", "duration",
                                                       within="scenario.duration")
     record_s = None if record is None else argument(record, "time", "record", within=None)
-    plans, states, n_ticks, substeps, every = [], [], [], [], []
-    for changes in cases:
-        plan = compile_plan(base.replace(dict(changes)) if changes else base)
-        x, istate = equilibrium_plan_state(plan)
-        plans.append(plan)
-        states.append((x, istate, kernel.initial_slip(plan, x)))
-        ticks = max(1, round(duration / plan.dt))
-        n_ticks.append(ticks)
-        substeps.append(choose_substeps(plan))
-        every.append(max(1, math.ceil((ticks + 1) / MAX_RECORDS)))  # as simulate records
-    trace_every = 0
-    n_trace = 0
+    base_plan = compile_plan(base)
+    trace_every = n_trace = 0
     if record_s is not None:
         # a multiple of the record interval, so every trace point is a record
-        step = max(every)
-        trace_every = step * max(1, round(record_s / (plans[0].dt * step)))
-        n_trace = max(n_ticks) // trace_every + 1
+        ticks = max(1, round(duration / base_plan.dt))
+        step = max(1, math.ceil((ticks + 1) / MAX_RECORDS))
+        trace_every = step * max(1, round(record_s / (base_plan.dt * step)))
+        n_trace = ticks // trace_every + 1
+    out = _Collector(base_plan.line, len(cases), list(dict.fromkeys(p for c in cases for p in c)),
+                     n_trace)
+    blocks = [range(lo, min(len(cases), lo + BLOCK)) for lo in range(0, len(cases), BLOCK)]
+    seconds = {"build": 0.0, "loop": 0.0, "collect": 0.0}
+    # one worker: build and run in turn (one core); more: build the next block meanwhile
+    with ThreadPoolExecutor(1) as builder:
+        future = builder.submit(_build, base, [cases[c] for c in blocks[0]], duration)
+        for b, block in enumerate(blocks):
+            built = future.result()
+            seconds["build"] += built.seconds
+            if b + 1 < len(blocks):
+                future = builder.submit(_build, base, [cases[c] for c in blocks[b + 1]],
+                                        duration)
+                if workers == 1:
+                    future.result()
+            _run_block(built, block, out, trace_every, n_trace, workers, seconds)
+            if progress is not None:
+                progress(block.stop, len(cases))
+    ds = out.dataset(duration, trace_every * base_plan.dt)
+    # where the time went [s] (building overlaps the compiled batch of the block before)
+    ds.attrs.update({f"seconds_{k}": v for k, v in seconds.items()})
+    return ds
+
+
+def _run_block(built: _Built, block: range, out: _Collector, trace_every: int, n_trace: int,
+               workers: int | None, seconds: dict[str, float]) -> None:
     # cases of one structure and table shapes run in one batch
     groups: dict[tuple[object, ...], list[int]] = {}
-    for c, plan in enumerate(plans):
+    for j, plan in enumerate(built.plans):
         key = (*(a.tobytes() for a in plan.structure()), plan.wound_ripple.shape,
                plan.speed_ripple.shape, plan.prof_off.shape)
-        groups.setdefault(key, []).append(c)
-    outputs: list[tuple[list[int], BatchOutput]] = []
+        groups.setdefault(key, []).append(j)
     for idx in groups.values():
-        out = run_batch([plans[c] for c in idx], [states[c] for c in idx],
-                        np.array([n_ticks[c] for c in idx]), np.array([substeps[c] for c in idx]),
-                        np.array([every[c] for c in idx]), trace_every, n_trace, workers)
-        outputs.append((idx, out))
-    return _dataset(plans, cases, outputs, duration, trace_every, n_trace, substeps)
+        started = time.perf_counter()
+        result = run_batch([built.plans[j] for j in idx], [built.states[j] for j in idx],
+                           np.array([built.n_ticks[j] for j in idx]),
+                           np.array([built.substeps[j] for j in idx]),
+                           np.array([built.every[j] for j in idx]), trace_every, n_trace,
+                           workers)
+        ran = time.perf_counter()
+        out.add([block[j] for j in idx], [built.plans[j] for j in idx],
+                [built.substeps[j] for j in idx], result)
+        seconds["loop"] += ran - started
+        seconds["collect"] += time.perf_counter() - ran
 
 
 def case_status(plan: Plan, out: BatchOutput, c: int) -> tuple[str, float]:
@@ -146,62 +205,73 @@ def _metric_arrays(out: BatchOutput) -> dict[str, np.ndarray]:
     return metrics
 
 
-def _dataset(plans: list[Plan], cases: Sequence[Mapping[str, object]],
-             outputs: list[tuple[list[int], BatchOutput]], duration: float, trace_every: int,
-             n_trace: int, substeps: list[int]) -> Any:
-    import xarray as xr
+class _Collector:
+    """Per-case metrics, statuses, coordinates and traces, filled block by block."""
 
-    line = plans[0].line
-    n_c = len(plans)
-    dims = {"span": line.n_spans, "drive": len(line.drives), "node": line.n_nodes}
-    data = {name: np.full((n_c, dims[dim]), math.nan) for name, (dim, _, _) in METRICS.items()}
-    status = np.empty(n_c, dtype=object)
-    t_fail = np.full(n_c, math.nan)
-    traces = np.full((n_c, n_trace, line.n_spans), math.nan) if n_trace else None
-    loadcell = np.zeros(line.n_spans, dtype=bool)
-    for zone in line.zones:
-        loadcell[zone.loadcell] = True
-    for idx, out in outputs:
+    def __init__(self, line: Line, n_c: int, paths: list[str], n_trace: int) -> None:
+        self.line, self.paths = line, paths
+        dims = {"span": line.n_spans, "drive": len(line.drives), "node": line.n_nodes}
+        self.data = {name: np.full((n_c, dims[dim]), math.nan)
+                     for name, (dim, _, _) in METRICS.items()}
+        self.status = np.empty(n_c, dtype=object)
+        self.t_fail = np.full(n_c, math.nan)
+        self.substeps = np.zeros(n_c, dtype=np.int64)
+        self.values: dict[str, list[object]] = {p: [None] * n_c for p in paths}
+        self.traces = np.full((n_c, n_trace, line.n_spans), math.nan) if n_trace else None
+
+    def add(self, cases: list[int], plans: list[Plan], substeps: list[int],
+            out: BatchOutput) -> None:
         arrays = _metric_arrays(out)
         for name in METRICS:
-            data[name][idx] = arrays[name]
-        for j, c in enumerate(idx):
-            status[c], t_fail[c] = case_status(plans[c], out, j)
-        if traces is not None:
-            traces[idx] = out.traces
-    for name in ("tension_rms_error", "tension_peak_error", "settling_time"):
-        data[name][:, ~loadcell] = math.nan
-    names = {"span": [line.span_name(k) for k in range(line.n_spans)],
-             "drive": [line.node_name(i) for i in line.drives],
-             "node": [line.node_name(i) for i in range(line.n_nodes)]}
-    variables = {name: xr.Variable(("case", dim), data[name],
-                                   attrs={"units": units, "long_name": text})
-                 for name, (dim, units, text) in METRICS.items()}
-    variables["status"] = xr.Variable(("case",), status.astype(str),
-                                      attrs={"long_name": "verdict status of the run"})
-    variables["failure_time"] = xr.Variable(("case",), t_fail, attrs={
-        "units": "s", "long_name": "time the run stopped early (NaN: it ran to the end)"})
-    variables["substeps"] = xr.Variable(("case",), np.array(substeps), attrs={
-        "long_name": "RK4 sub-steps per controller period"})
-    coords: dict[str, Any] = {"case": np.arange(n_c), **names}
-    paths = list(dict.fromkeys(p for case in cases for p in case))
-    for path in paths:
-        coords[path] = ("case", _coordinate([spec_value(p.line, path) for p in plans]),
-                        {"units": "SI", "long_name": f"line parameter {path}"})
-    if traces is not None:
-        dt = plans[0].dt
-        coords["time"] = ("time", np.arange(n_trace) * trace_every * dt, {"units": "s"})
-        variables["tension"] = xr.Variable(("case", "time", "span"), traces,
-                                           attrs={"units": "N", "long_name": "span tension"})
-    ds = xr.Dataset(variables, coords=coords)
-    ds.attrs.update({"line": line.name, "duration": duration, "parameters": list(paths)})
-    return ds
+            self.data[name][cases] = arrays[name]
+        for j, (c, plan) in enumerate(zip(cases, plans, strict=True)):
+            self.status[c], self.t_fail[c] = case_status(plan, out, j)
+            for path in self.paths:
+                self.values[path][c] = spec_value(plan.line, path)
+        self.substeps[cases] = substeps
+        if self.traces is not None:
+            self.traces[cases] = out.traces
+
+    def dataset(self, duration: float, trace_interval: float) -> Any:
+        import xarray as xr
+
+        line, data = self.line, self.data
+        loadcell = np.zeros(line.n_spans, dtype=bool)
+        for zone in line.zones:
+            loadcell[zone.loadcell] = True
+        for name in ("tension_rms_error", "tension_peak_error", "settling_time"):
+            data[name][:, ~loadcell] = math.nan
+        names = {"span": [line.span_name(k) for k in range(line.n_spans)],
+                 "drive": [line.node_name(i) for i in line.drives],
+                 "node": [line.node_name(i) for i in range(line.n_nodes)]}
+        variables = {name: xr.Variable(("case", dim), data[name],
+                                       attrs={"units": units, "long_name": text})
+                     for name, (dim, units, text) in METRICS.items()}
+        variables["status"] = xr.Variable(("case",), self.status.astype(str),
+                                          attrs={"long_name": "verdict status of the run"})
+        variables["failure_time"] = xr.Variable(("case",), self.t_fail, attrs={
+            "units": "s", "long_name": "time the run stopped early (NaN: it ran to the end)"})
+        variables["substeps"] = xr.Variable(("case",), self.substeps, attrs={
+            "long_name": "RK4 sub-steps per controller period"})
+        coords: dict[str, Any] = {"case": np.arange(len(self.status)), **names}
+        for path in self.paths:
+            coords[path] = ("case", _coordinate(self.values[path]),
+                            {"units": "SI", "long_name": f"line parameter {path}"})
+        if self.traces is not None:
+            coords["time"] = ("time", np.arange(self.traces.shape[1]) * trace_interval,
+                              {"units": "s"})
+            variables["tension"] = xr.Variable(("case", "time", "span"), self.traces,
+                                               attrs={"units": "N", "long_name": "span tension"})
+        ds = xr.Dataset(variables, coords=coords)
+        ds.attrs.update({"line": line.name, "duration": duration, "parameters": self.paths})
+        return ds
 
 
 def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
           duration: float | str | None = None, scenario: str | None = None,
           record: float | str | None = None, mode: str = "grid",
-          workers: int | None = None) -> Any:
+          workers: int | None = None,
+          progress: Callable[[int, int], None] | None = None) -> Any:
     """Simulate ``line`` over parameter values: ``{path: [v1, v2, ...]}`` (paths as in
     ``Line.replace``, values with units as a line file takes them). ``mode`` "grid" runs every
     combination (the last path varies fastest), "zip" the i-th value of every path together.
@@ -219,7 +289,7 @@ def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
         raise ValueError(f"mode must be 'grid' or 'zip', got {mode!r}")
     cases = [dict(zip(paths, combo, strict=True)) for combo in combos]
     ds = run_cases(line, cases, duration=duration, scenario=scenario, record=record,
-                   workers=workers)
+                   workers=workers, progress=progress)
     ds.attrs["mode"] = mode
     if mode == "grid":
         ds.attrs["shape"] = [len(c) for c in columns]
@@ -228,7 +298,8 @@ def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
 
 def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: int, *,
                 seed: int, duration: float | str | None = None, scenario: str | None = None,
-                record: float | str | None = None, workers: int | None = None) -> Any:
+                record: float | str | None = None, workers: int | None = None,
+                progress: Callable[[int, int], None] | None = None) -> Any:
     """``n`` runs of ``line`` with parameters drawn from ``distributions`` ({path: ``"normal(9
     kN, 5 %)"``, ``"uniform(0.1, 0.3)"``, ``"lognormal(9 kN, 5 %)"`` or a scipy.stats frozen
     distribution in SI}), all drawn up front from ``numpy.random.default_rng(seed)`` so the
@@ -236,6 +307,6 @@ def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: in
     samples = draw(distributions, n, seed)
     cases = [{p: float(samples[p][c]) for p in samples} for c in range(n)]
     ds = run_cases(line, cases, duration=duration, scenario=scenario, record=record,
-                   workers=workers)
+                   workers=workers, progress=progress)
     ds.attrs.update({"mode": "monte_carlo", "seed": seed})
     return ds
