@@ -270,8 +270,9 @@ class _Collector:
 def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
           duration: float | str | None = None, scenario: str | None = None,
           record: float | str | None = None, mode: str = "grid",
-          workers: int | None = None,
-          progress: Callable[[int, int], None] | None = None) -> Any:
+          workers: int | None = None, progress: Callable[[int, int], None] | None = None,
+          scheduler: Any = None, store: str | Path | None = None,
+          resume: bool = False) -> Any:
     """Simulate ``line`` over parameter values: ``{path: [v1, v2, ...]}`` (paths as in
     ``Line.replace``, values with units as a line file takes them). ``mode`` "grid" runs every
     combination (the last path varies fastest), "zip" the i-th value of every path together.
@@ -288,25 +289,47 @@ def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
     else:
         raise ValueError(f"mode must be 'grid' or 'zip', got {mode!r}")
     cases = [dict(zip(paths, combo, strict=True)) for combo in combos]
-    ds = run_cases(line, cases, duration=duration, scenario=scenario, record=record,
-                   workers=workers, progress=progress)
-    ds.attrs["mode"] = mode
+    attrs: dict[str, Any] = {"mode": mode}
     if mode == "grid":
-        ds.attrs["shape"] = [len(c) for c in columns]
-    return ds
+        attrs["shape"] = [len(c) for c in columns]
+    return _study(line, cases, attrs, duration=duration, scenario=scenario, record=record,
+                  workers=workers, progress=progress, scheduler=scheduler, store=store,
+                  resume=resume)
 
 
 def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: int, *,
                 seed: int, duration: float | str | None = None, scenario: str | None = None,
                 record: float | str | None = None, workers: int | None = None,
-                progress: Callable[[int, int], None] | None = None) -> Any:
+                progress: Callable[[int, int], None] | None = None, scheduler: Any = None,
+                store: str | Path | None = None, resume: bool = False) -> Any:
     """``n`` runs of ``line`` with parameters drawn from ``distributions`` ({path: ``"normal(9
     kN, 5 %)"``, ``"uniform(0.1, 0.3)"``, ``"lognormal(9 kN, 5 %)"`` or a scipy.stats frozen
     distribution in SI}), all drawn up front from ``numpy.random.default_rng(seed)`` so the
     result does not depend on ``workers``. Returns the Dataset of ``run_cases``."""
     samples = draw(distributions, n, seed)
-    cases = [{p: float(samples[p][c]) for p in samples} for c in range(n)]
-    ds = run_cases(line, cases, duration=duration, scenario=scenario, record=record,
-                   workers=workers, progress=progress)
-    ds.attrs.update({"mode": "monte_carlo", "seed": seed})
-    return ds
+    cases: list[dict[str, object]] = [{p: float(samples[p][c]) for p in samples}
+                                      for c in range(n)]
+    return _study(line, cases, {"mode": "monte_carlo", "seed": seed}, duration=duration,
+                  scenario=scenario, record=record, workers=workers, progress=progress,
+                  scheduler=scheduler, store=store, resume=resume)
+
+
+def _study(line: Line | str | Path, cases: list[dict[str, object]], attrs: dict[str, Any], *,
+           scheduler: Any, store: str | Path | None, resume: bool, workers: int | None,
+           progress: Callable[[int, int], None] | None, **options: Any) -> Any:
+    """Run the cases here at once, or chunk by chunk into ``store`` and/or on Dask
+    (``webline.sim.chunks``)."""
+    if scheduler is None and store is None:
+        ds = run_cases(line, cases, workers=workers, progress=progress, **options)
+        ds.attrs.update(attrs)
+        return ds
+    from webline.sim.chunks import run_chunked
+
+    if store is None:
+        import tempfile
+
+        with tempfile.TemporaryDirectory(prefix="webline-study-") as folder:
+            return run_chunked(line, cases, store=folder, scheduler=scheduler,
+                               workers=workers, progress=progress, attrs=attrs, **options)
+    return run_chunked(line, cases, store=store, resume=resume, scheduler=scheduler,
+                       workers=workers, progress=progress, attrs=attrs, **options)
