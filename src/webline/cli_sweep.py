@@ -113,7 +113,14 @@ def sweep_command(
         "--duration", "-d", help="Simulated time per case [s] or with a unit.")] = None,
     scenario: Annotated[str | None, typer.Option("--scenario", "-s")] = None,
     workers: Annotated[int | None, typer.Option(
-        "--workers", help="Threads (default: every core).")] = None,
+        "--workers", help="Threads (default: every core); with --scheduler local, the "
+        "processes of a Dask LocalCluster.")] = None,
+    scheduler: Annotated[str | None, typer.Option(
+        "--scheduler", help="A Dask scheduler address, or 'local' for a LocalCluster.")]
+    = None,
+    resume: Annotated[bool, typer.Option(
+        "--resume", help="Go on with the study stored in --out (only missing chunks run).")]
+    = False,
     zip_: Annotated[bool, typer.Option(
         "--zip", help="Pair the i-th values of every --set instead of a grid.")] = False,
     out: Annotated[Path | None, typer.Option(
@@ -125,6 +132,7 @@ def sweep_command(
     import webline
 
     spec = parse_sets(set_, samples)
+    folder = out or Path("out") / f"{Path(line).stem}-sweep"
     seconds: float | str | None = duration
     if duration is not None and duration.replace(".", "", 1).isdigit():
         seconds = float(duration)  # a plain number is seconds
@@ -139,16 +147,16 @@ def sweep_command(
             rate = done / max(time.perf_counter() - started, 1e-9)
             bar.update(task, completed=done, total=total, rate=f"{rate:.0f} cases/s")
 
+        common: dict[str, Any] = {
+            "duration": seconds, "scenario": scenario, "workers": workers,
+            "progress": progress, "scheduler": scheduler, "resume": resume,
+            "store": folder / "chunks"}  # chunk by chunk, so a killed run can resume
         if samples is not None:
-            ds = webline.monte_carlo(line, spec, samples, seed=seed, duration=seconds,
-                                     scenario=scenario, workers=workers, progress=progress)
+            ds = webline.monte_carlo(line, spec, samples, seed=seed, **common)
         else:
-            ds = webline.sweep(line, spec, duration=seconds, scenario=scenario,
-                               workers=workers, mode="zip" if zip_ else "grid",
-                               progress=progress)
+            ds = webline.sweep(line, spec, mode="zip" if zip_ else "grid", **common)
     from webline.report.sweep_report import metric_table, status_table
 
-    folder = out or Path("out") / f"{Path(line).stem}-sweep"
     results, report = write_outputs(ds, folder)
     if not quiet:
         console = Console(highlight=False, width=None if err.is_terminal else 120)

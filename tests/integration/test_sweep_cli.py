@@ -41,3 +41,19 @@ def test_bad_distribution_is_one_line_exit_2(tmp_path) -> None:
         str(tmp_path)])
     assert result.exit_code == 2
     assert result.output.strip().count("\n") == 0 and "web.ea" in result.output
+
+
+def test_resume_reuses_the_stored_chunks(tmp_path) -> None:
+    args = ["sweep", "hswl", "--set", "web.ea=1900 lbf,2100 lbf", "-d", "0.3", "--out",
+            str(tmp_path), "-q"]
+    assert CliRunner().invoke(app, args).exit_code == 0
+    first = xr.load_dataset(tmp_path / "sweep.nc", engine="h5netcdf")
+    again = CliRunner().invoke(app, args)
+    assert again.exit_code == 2 and "--resume" in again.output
+    chunk = tmp_path / "chunks" / "chunk-000000.nc"
+    stamp = chunk.stat().st_mtime_ns
+    assert CliRunner().invoke(app, [*args, "--resume"]).exit_code == 0
+    assert chunk.stat().st_mtime_ns == stamp  # nothing recomputed
+    second = xr.load_dataset(tmp_path / "sweep.nc", engine="h5netcdf")
+    np.testing.assert_array_equal(first.tension_rms_error.values,
+                                  second.tension_rms_error.values)
