@@ -4,6 +4,8 @@ Monte Carlo study with the same seed equals the local one."""
 
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 import pytest
 
@@ -64,4 +66,34 @@ def test_dask_local_cluster_equals_local_run(reference, monkeypatch) -> None:
     monkeypatch.setattr(chunks, "CHUNK", 4)  # 3 tasks over 2 worker processes
     ds = webline.monte_carlo("hswl", DISTS, N, seed=11, duration=0.3, scheduler="local",
                              workers=2)
+    assert_same(ds, reference)
+
+
+def _die() -> None:
+    import os
+
+    os._exit(1)
+
+
+@pytest.mark.dask
+def test_killed_worker_chunks_are_recomputed(reference, monkeypatch) -> None:
+    from distributed import Client, LocalCluster
+
+    from webline.sim import chunks
+
+    monkeypatch.setattr(chunks, "CHUNK", 2)  # 5 tasks over 2 worker processes
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                      dashboard_address=None) as cluster, Client(cluster) as client:
+        killed = []
+
+        def kill_one(done: int, total: int) -> None:
+            if not killed:  # after the first chunk, kill a worker (its nanny restarts it)
+                victim = sorted(client.scheduler_info()["workers"])[0]
+                killed.append(victim)
+                with contextlib.suppress(Exception):  # its connection drops as it dies
+                    client.run(_die, workers=[victim])
+
+        ds = webline.monte_carlo("hswl", DISTS, N, seed=11, duration=0.3, scheduler=client,
+                                 progress=kill_one)
+    assert killed
     assert_same(ds, reference)
