@@ -35,9 +35,9 @@ def test_killed_study_resumes_with_every_case_once(tmp_path, reference, monkeypa
     calls = []
     real = chunks._chunk_task
 
-    def counting(line, cases, offset, options):
+    def counting(run, line, cases, offset, options):
         calls.append(offset)
-        return real(line, cases, offset, options)
+        return real(run, line, cases, offset, options)
 
     monkeypatch.setattr(chunks, "_chunk_task", counting)
 

@@ -35,12 +35,11 @@ def _plain_attrs(ds: Any) -> Any:
     return ds
 
 
-def _chunk_task(line: Line, cases: list[dict[str, object]], offset: int,
-                options: dict[str, Any]) -> Any:
-    """Run one chunk (in a worker or here); its cases numbered from ``offset``."""
-    from webline.sim.sweep import run_cases
-
-    ds = run_cases(line, cases, **options)
+def _chunk_task(run: Callable[..., Any], line: Line, cases: list[dict[str, object]],
+                offset: int, options: dict[str, Any]) -> Any:
+    """Run one chunk with ``run`` (``sweep.run_cases``; in a worker or here), its cases
+    numbered from ``offset``."""
+    ds = run(line, cases, **options)
     return _plain_attrs(ds.assign_coords(case=ds.case.values + offset))
 
 
@@ -57,12 +56,13 @@ def _client(scheduler: Any, workers: int | None) -> tuple[Any, Any]:
     return Client(str(scheduler)), None
 
 
-def run_chunked(line: Line | str | Path, cases: Sequence[Mapping[str, object]], *,
-                store: str | Path, resume: bool = False, scheduler: Any = None,
-                workers: int | None = None, chunk: int | None = None,
+def run_chunked(run: Callable[..., Any], line: Line | str | Path,
+                cases: Sequence[Mapping[str, object]], *, store: str | Path,
+                resume: bool = False, scheduler: Any = None, workers: int | None = None,
+                chunk: int | None = None,
                 progress: Callable[[int, int], None] | None = None,
                 attrs: Mapping[str, Any] | None = None, **options: Any) -> Any:
-    """``run_cases`` of ``line`` over ``cases`` chunk by chunk into the folder ``store``
+    """``run`` (``sweep.run_cases``) of ``line`` over ``cases`` chunk by chunk into ``store``
     (module docstring); ``options`` are ``run_cases``'s (duration, scenario, record). Without
     ``scheduler`` the chunks run here on ``workers`` threads. Returns the merged Dataset."""
     import xarray as xr
@@ -98,13 +98,13 @@ def run_chunked(line: Line | str | Path, cases: Sequence[Mapping[str, object]], 
         if progress is not None:
             progress(done, len(cases))
 
-    def task_args(k: int) -> tuple[Line, list[dict[str, object]], int, dict[str, Any]]:
+    def task_args(k: int) -> tuple[Any, Line, list[dict[str, object]], int, dict[str, Any]]:
         lo = starts[k]
-        return line, [dict(c) for c in cases[lo:lo + chunk]], lo, options
+        return run, line, [dict(c) for c in cases[lo:lo + chunk]], lo, options
 
     if scheduler is None:
         for k in todo:
-            save(k, _chunk_task(*task_args(k)[:3], {**options, "workers": workers}))
+            save(k, _chunk_task(*task_args(k)[:4], {**options, "workers": workers}))
     elif todo:
         from distributed import as_completed
 

@@ -329,7 +329,7 @@ def _study(line: Line | str | Path, cases: list[dict[str, object]], attrs: dict[
         import tempfile
 
         with tempfile.TemporaryDirectory(prefix="webline-study-") as folder:
-            return run_chunked(line, cases, store=folder, scheduler=scheduler,
+            return run_chunked(run_cases, line, cases, store=folder, scheduler=scheduler,
                                workers=workers, progress=progress, attrs=attrs, **options)
-    return run_chunked(line, cases, store=store, resume=resume, scheduler=scheduler,
+    return run_chunked(run_cases, line, cases, store=store, resume=resume, scheduler=scheduler,
                        workers=workers, progress=progress, attrs=attrs, **options)
