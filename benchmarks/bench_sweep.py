@@ -11,6 +11,8 @@ drawn from ``uniform(1800 lbf, 2200 lbf)``. Printed, all measured in this run:
   plans (Python: ``Line.replace``, operating point, designs, RK4 step choice), the compiled
   batch, and collecting (verdicts, Dataset), and its ratio to the loop (goal <= 0.5);
 - the same on every core and its speed-up over one thread (goal >= 1.7 on 2 cores);
+- the same cases on a 2-process Dask ``LocalCluster`` and its efficiency against the local
+  batch on every core (goal >= 0.8; ``--no-dask`` skips it);
 - the peak resident memory of a process running ``--memory-cases`` cases (default 10 000)
   without traces (``resource.getrusage``; goal < 1 GB).
 """
@@ -41,6 +43,7 @@ def main() -> None:
     parser.add_argument("--cases", type=int, default=200, help="cases of the batch timings")
     parser.add_argument("--loop-cases", type=int, default=50, help="cases of the loop timing")
     parser.add_argument("--memory-cases", type=int, default=10_000)
+    parser.add_argument("--no-dask", action="store_true", help="skip the LocalCluster timing")
     parser.add_argument("--memory-child", type=int, default=0, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.memory_child:
@@ -82,6 +85,16 @@ def main() -> None:
             print(f"  compiled batch speed-up   {compiled_one / run:6.2f}")
         if cores == 1:
             break
+
+    if not args.no_dask:
+        # same cases on a 2-process LocalCluster (chunks of CHUNK cases are tasks)
+        started = time.perf_counter()
+        webline.monte_carlo(line, DISTS, args.cases, seed=3, duration=10.0,
+                            scheduler="local", workers=2)
+        dask_case = (time.perf_counter() - started) / args.cases
+        print(f"Dask LocalCluster, 2 proc.  {dask_case * 1e3:8.2f} ms/case  (cluster start "
+              "included)")
+        print(f"  efficiency vs local batch {per_case[cores] / dask_case:6.2f}   (goal >= 0.8)")
 
     child = subprocess.run([sys.executable, __file__, "--memory-child", str(args.memory_cases)],
                            capture_output=True, text=True, check=True)
