@@ -1,7 +1,7 @@
 """webline: model, simulate, analyse and control roll-to-roll (web handling) process lines.
 
-The front door: ``load_line``, ``simulate``, ``linearize``, ``operating_point`` and their
-types. Each is imported on first use (PEP 562), so ``import webline`` and the command line
+The front door: ``load_line``, ``simulate``, ``sweep``, ``monte_carlo``, ``linearize``,
+``operating_point`` and their types. Each is imported on first use (PEP 562), so ``import webline`` and the command line
 start fast; python-control, scipy and numba load only when a model or a run needs them.
 """
 
@@ -26,6 +26,7 @@ if TYPE_CHECKING:
     from webline.sim.reference import simulate_reference
     from webline.sim.result import Result
     from webline.sim.simulate import simulate
+    from webline.sim.sweep import monte_carlo, sweep
 
 #: where each lazily imported name lives
 _LAZY = {
@@ -37,6 +38,8 @@ _LAZY = {
     "simulate_reference": "webline.sim.reference",
     "Result": "webline.sim.result",
     "simulate": "webline.sim.simulate",
+    "sweep": "webline.sim.sweep",
+    "monte_carlo": "webline.sim.sweep",
 }
 
 __all__ = [
@@ -51,9 +54,11 @@ __all__ = [
     "__version__",
     "linearize",
     "load_line",
+    "monte_carlo",
     "operating_point",
     "simulate",
     "simulate_reference",
+    "sweep",
 ]
 
 

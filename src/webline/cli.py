@@ -470,6 +470,11 @@ def study(
     typer.echo(str(folder.resolve()))
 
 
+from webline.cli_sweep import sweep_command  # noqa: E402  (its own module: cli.py is long)
+
+app.command("sweep")(handles_errors(sweep_command))
+
+
 def main() -> None:
     """Console-script entry point."""
     app(prog_name="webline")

@@ -29,7 +29,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline.analysis",),
     ("webline.report",),
     ("webline.studies",),
-    ("webline.cli",),
+    ("webline.cli", "webline.cli_sweep"),
 )
 
 

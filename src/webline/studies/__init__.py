@@ -14,6 +14,7 @@ from webline.studies import (
     belt_step,
     ecp_backlash,
     hswl_controllers,
+    robustness,
     rockwell_rewind,
     slip_example,
     slip_threshold,
@@ -36,6 +37,7 @@ STUDIES: dict[str, Callable[..., StudyResult]] = {
     "rockwell-rewind": rockwell_rewind.run,
     "slip-example": slip_example.run,
     "slip-threshold": slip_threshold.run,
+    "robustness": robustness.run,
 }
 
 

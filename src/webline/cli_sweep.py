@@ -1,0 +1,173 @@
+"""``webline sweep``: a parameter sweep or Monte Carlo study from the command line.
+
+Registered on the app by ``webline.cli``; it imports nothing from there (no cycle).
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+import typer
+from rich.console import Console
+from rich.markup import escape
+from rich.progress import (
+    BarColumn,
+    MofNCompleteColumn,
+    Progress,
+    TaskProgressColumn,
+    TextColumn,
+    TimeRemainingColumn,
+)
+from rich.table import Table as RichTable
+
+from webline.errors import ArgumentError
+from webline.sim.distributions import parse_distribution
+from webline.units import ureg
+
+
+def parse_values(path: str, text: str) -> list[object]:
+    """``v1,v2,...`` or ``start:stop:n`` (n values, both ends included, in start's unit) as
+    the values of ``path``; raises ``ArgumentError`` naming the option."""
+    if text.count(":") == 2 and "," not in text:
+        start, stop, count = (part.strip() for part in text.split(":"))
+        try:
+            n = int(count)
+            a: Any = ureg.Quantity(start)
+            b: Any = ureg.Quantity(stop)
+            unit = a.units if hasattr(a, "units") else None
+            if unit is not None and hasattr(b, "to"):
+                b = b.to(unit)
+            mags = np.linspace(float(getattr(a, "magnitude", a)),
+                               float(getattr(b, "magnitude", b)), n)
+        except Exception as exc:  # pint raises many types
+            raise ArgumentError(f"--set {path}: cannot read {text!r} as start:stop:n "
+                                f"({exc})") from None
+        if n < 1:
+            raise ArgumentError(f"--set {path}: n must be at least 1, got {n}")
+        if unit is None or str(unit) == "dimensionless":
+            return [float(m) for m in mags]
+        written = start.lstrip("+-0123456789.eE ")  # the unit as the user wrote it
+        return [f"{float(m)!r} {written}" for m in mags]
+    values: list[object] = []
+    for piece in text.split(","):
+        piece = piece.strip()
+        try:
+            values.append(float(piece))
+        except ValueError:
+            values.append(piece)
+    return values
+
+
+def parse_sets(sets: list[str], samples: int | None) -> dict[str, Any]:
+    """{path: values} (a sweep) or {path: distribution} (with ``--samples``)."""
+    out: dict[str, Any] = {}
+    for item in sets:
+        path, sep, text = item.partition("=")
+        path, text = path.strip(), text.strip()
+        if not sep or not path or not text:
+            raise ArgumentError(f"--set: expected PATH=VALUES, got {item!r}")
+        if samples is not None:
+            try:
+                parse_distribution(text)
+            except ValueError as exc:
+                raise ArgumentError(f"--set {path}: {exc}") from None
+            out[path] = text
+        else:
+            out[path] = parse_values(path, text)
+    return out
+
+
+def _jsonable_attrs(ds: Any) -> Any:
+    ds = ds.copy()
+    ds.attrs = {k: (json.dumps(v) if isinstance(v, list | dict) else v)
+                for k, v in ds.attrs.items()}
+    return ds
+
+
+def write_outputs(ds: Any, folder: Path) -> tuple[Path, Path]:
+    """Write ``sweep.nc`` and ``report.html`` into ``folder`` atomically."""
+    from webline.files import atomic_write, atomic_write_text
+    from webline.report.sweep_report import sweep_html
+
+    folder.mkdir(parents=True, exist_ok=True)
+    plain = _jsonable_attrs(ds)
+    results = atomic_write(folder / "sweep.nc",
+                           lambda tmp: plain.to_netcdf(tmp, engine="h5netcdf"))
+    report = atomic_write_text(folder / "report.html", sweep_html(ds))
+    return results, report
+
+
+def sweep_command(
+    line: Annotated[str, typer.Argument(metavar="LINE", help="A line file or built-in line.")],
+    set_: Annotated[list[str], typer.Option(
+        "--set", help="PATH=v1,v2,... or PATH=start:stop:n (a sweep), or with --samples "
+        "PATH=normal(9 kN, 5 %) / uniform(a, b) / lognormal(m, s).")],
+    samples: Annotated[int | None, typer.Option(
+        "--samples", help="Monte Carlo: number of cases drawn.")] = None,
+    seed: Annotated[int, typer.Option("--seed", help="Monte Carlo seed.")] = 0,
+    duration: Annotated[str | None, typer.Option(
+        "--duration", "-d", help="Simulated time per case [s] or with a unit.")] = None,
+    scenario: Annotated[str | None, typer.Option("--scenario", "-s")] = None,
+    workers: Annotated[int | None, typer.Option(
+        "--workers", help="Threads (default: every core); with --scheduler local, the "
+        "processes of a Dask LocalCluster.")] = None,
+    scheduler: Annotated[str | None, typer.Option(
+        "--scheduler", help="A Dask scheduler address, or 'local' for a LocalCluster.")]
+    = None,
+    resume: Annotated[bool, typer.Option(
+        "--resume", help="Go on with the study stored in --out (only missing chunks run).")]
+    = False,
+    zip_: Annotated[bool, typer.Option(
+        "--zip", help="Pair the i-th values of every --set instead of a grid.")] = False,
+    out: Annotated[Path | None, typer.Option(
+        "--out", "-o", help="Output folder; default out/LINE-sweep.")] = None,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q")] = False,
+) -> None:
+    """Run a parameter sweep (grid or --zip) or, with --samples, a Monte Carlo study; write
+    sweep.nc (one row per case, metrics and verdict) and an HTML report."""
+    import webline
+
+    spec = parse_sets(set_, samples)
+    folder = out or Path("out") / f"{Path(line).stem}-sweep"
+    seconds: float | str | None = duration
+    if duration is not None and duration.replace(".", "", 1).isdigit():
+        seconds = float(duration)  # a plain number is seconds
+    err = Console(stderr=True, highlight=False)
+    columns = (TextColumn("cases"), BarColumn(), MofNCompleteColumn(), TaskProgressColumn(),
+               TextColumn("{task.fields[rate]}"), TimeRemainingColumn())
+    started = time.perf_counter()
+    with Progress(*columns, console=err, transient=True, disable=quiet) as bar:
+        task = bar.add_task("cases", total=None, rate="")
+
+        def progress(done: int, total: int) -> None:
+            rate = done / max(time.perf_counter() - started, 1e-9)
+            bar.update(task, completed=done, total=total, rate=f"{rate:.0f} cases/s")
+
+        common: dict[str, Any] = {
+            "duration": seconds, "scenario": scenario, "workers": workers,
+            "progress": progress, "scheduler": scheduler, "resume": resume,
+            "store": folder / "chunks"}  # chunk by chunk, so a killed run can resume
+        if samples is not None:
+            ds = webline.monte_carlo(line, spec, samples, seed=seed, **common)
+        else:
+            ds = webline.sweep(line, spec, mode="zip" if zip_ else "grid", **common)
+    from webline.report.sweep_report import metric_table, status_table
+
+    results, report = write_outputs(ds, folder)
+    if not quiet:
+        console = Console(highlight=False, width=None if err.is_terminal else 120)
+        for table in (status_table(ds), metric_table(ds)):
+            shown = RichTable(title=escape(table.title), title_justify="left")
+            for column in table.columns:
+                shown.add_column(escape(column))
+            for row in table.rows:
+                shown.add_row(*(escape(cell) for cell in row))
+            console.print(shown)
+        elapsed = time.perf_counter() - started
+        console.print(f"{ds.sizes['case']} cases in {elapsed:.1f} s; results: "
+                      f"{escape(str(results))}\nReport (open it in a browser):")
+    typer.echo(str(report.resolve()))

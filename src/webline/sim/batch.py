@@ -1,0 +1,306 @@
+"""Batched simulation: many cases of one line structure in one compiled call per thread.
+
+The cases' plans are built in Python once each (their operating points, designs and RK4
+sub-steps differ); their parameter tables are stacked along a leading ``case`` axis and one
+compiled function (``batch_loop``, compiled once per line structure, releasing the GIL) runs
+a range of cases without returning to Python: each case runs ``kernel.advance`` chunk by
+chunk into a small record buffer, and every chunk's records are reduced at once into the
+case's metric accumulators, so memory stays O(cases x metrics). Threads run disjoint case
+ranges, so a batch uses all cores.
+
+The reductions follow the definitions of a single run (``webline.sim.metrics``): the records
+are those ``simulate`` stores by default, events are intervals of records
+(``webline.sim.events``), and the tension reference is the loadcell profile at each record.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import os
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from typing import Any
+
+import numba as nb
+import numpy as np
+
+from webline.sim import layout as L
+from webline.sim.kernel import advance, record_width
+from webline.sim.metrics import SETTLE_BAND
+from webline.sim.plan import Plan
+from webline.sim.signals import _NO_NRT, FAST, jit, profile_at
+
+#: Ticks per chunk of a case: the record buffer holds this many rows (x ~30 columns), small
+#: enough to stay in cache, large enough that a chunk's call overhead (ns) is negligible.
+CHUNK_TICKS = 512
+
+batch_njit = nb.njit(cache=True, fastmath=FAST, error_model="numpy", nogil=True, **_NO_NRT)
+
+# accumulator layout per case: blocks of per-element columns (``Accumulators``)
+(A_SUMSQ, A_PEAK, A_TMIN, A_TMAX, A_SETTLE, A_LASTOUT) = range(6)  # per span
+SPAN_BLOCKS = 6
+# events: each element has total time, first time and the start of an open interval
+EV_TOTAL, EV_FIRST, EV_OPEN = range(3)
+EV_BLOCKS = 3
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Where each accumulator sits in a case's row (all counts per line structure)."""
+
+    n_spans: int
+    n_drives: int
+    n_nodes: int
+
+    @property
+    def n_events(self) -> int:
+        """Event elements: slack and tension limit per span, torque limit and backlash per
+        drive, slip per node."""
+        return 2 * self.n_spans + 2 * self.n_drives + self.n_nodes
+
+    @property
+    def event_base(self) -> int:
+        return SPAN_BLOCKS * self.n_spans
+
+    @property
+    def width(self) -> int:
+        return self.event_base + EV_BLOCKS * self.n_events + 1  # + number of records
+
+    def event_slices(self) -> dict[str, tuple[int, int]]:
+        """(first element, count) of each kind of event among the event elements."""
+        s, d, n = self.n_spans, self.n_drives, self.n_nodes
+        return {"slack": (0, s), "tension_limit": (s, s), "torque_limit": (2 * s, d),
+                "backlash_open": (2 * s + d, d), "slip": (2 * s + 2 * d, n)}
+
+
+@jit
+def _event(acc: np.ndarray, base: int, n_ev: int, e: int, cond: bool, t: float) -> None:
+    """Advance the interval bookkeeping of event element ``e`` by one record at ``t`` [s]:
+    an interval starts at the first record where ``cond`` holds and ends at the first where
+    it does not (``webline.sim.events.intervals``)."""
+    total, first, start = base + e, base + n_ev + e, base + 2 * n_ev + e
+    if cond:
+        if math.isnan(acc[start]):
+            acc[start] = t
+            if math.isnan(acc[first]):
+                acc[first] = t
+    elif not math.isnan(acc[start]):
+        acc[total] += t - acc[start]
+        acc[start] = math.nan
+
+
+@jit
+def _reduce(rec: np.ndarray, n_rec: int, acc: np.ndarray, trace: np.ndarray, trace_every: int,
+            dt: float, n_x: int, n_s: int, n_d: int, n_n: int, nodes: np.ndarray,
+            drives: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray,
+            span_prof: np.ndarray, tension_limit: float) -> None:
+    """Fold ``n_rec`` record rows (``kernel.run``'s layout) into the accumulators ``acc``."""
+    base = SPAN_BLOCKS * n_s
+    n_ev = 2 * n_s + 2 * n_d + n_n
+    col_n = base + EV_BLOCKS * n_ev
+    col_cmd = 1 + n_x
+    col_slip = 1 + n_x + 5 * n_d
+    for r in range(n_rec):
+        t = rec[r, 0]
+        for k in range(n_s):
+            stretch = rec[r, 1 + k]
+            tension = max(stretch, 0.0)
+            if tension < acc[A_TMIN * n_s + k]:
+                acc[A_TMIN * n_s + k] = tension
+            if tension > acc[A_TMAX * n_s + k]:
+                acc[A_TMAX * n_s + k] = tension
+            p = span_prof[k]
+            if p >= 0:
+                ref = profile_at(p, t, prof_t, prof_v, prof_off)
+                err = tension - ref
+                acc[A_SUMSQ * n_s + k] += err * err
+                if abs(err) > acc[A_PEAK * n_s + k]:
+                    acc[A_PEAK * n_s + k] = abs(err)
+                if abs(err) > SETTLE_BAND * abs(ref):
+                    acc[A_SETTLE * n_s + k] = t
+                    acc[A_LASTOUT * n_s + k] = 1.0
+                else:
+                    acc[A_LASTOUT * n_s + k] = 0.0
+            _event(acc, base, n_ev, k, stretch < 0.0, t)
+            _event(acc, base, n_ev, n_s + k, tension > tension_limit, t)
+        for d in range(n_d):
+            limit = drives[d, L.D_LIMIT] * (1.0 - 1e-6)  # events.TORQUE_LIMIT_RTOL
+            _event(acc, base, n_ev, 2 * n_s + d, abs(rec[r, col_cmd + d]) >= limit, t)
+            state = int(drives[d, L.D_TSTATE])
+            gap_neg, gap_pos = drives[d, L.D_GAPNEG], drives[d, L.D_GAPPOS]
+            open_ = False
+            if state >= 0 and gap_neg + gap_pos > 0:
+                twist = rec[r, 1 + state + 1]
+                open_ = -gap_neg <= twist <= gap_pos
+            _event(acc, base, n_ev, 2 * n_s + n_d + d, open_, t)
+        for i in range(n_n):
+            slipping = rec[r, col_slip + i] != 0.0 and nodes[i, L.N_TRACTION] != 0.0
+            _event(acc, base, n_ev, 2 * n_s + 2 * n_d + i, slipping, t)
+        if trace.shape[0] > 0:
+            tick = round(t / dt)
+            if tick % trace_every == 0:
+                row = tick // trace_every
+                if row < trace.shape[0]:
+                    for k in range(n_s):
+                        trace[row, k] = max(rec[r, 1 + k], 0.0)
+        acc[col_n] += 1.0
+
+
+@jit
+def _finish(acc: np.ndarray, n_s: int, n_d: int, n_n: int, t_last: float) -> None:
+    """Close intervals still open at the last record (they end there)."""
+    base = SPAN_BLOCKS * n_s
+    n_ev = 2 * n_s + 2 * n_d + n_n
+    for e in range(n_ev):
+        start = base + 2 * n_ev + e
+        if not math.isnan(acc[start]):
+            acc[base + e] += t_last - acc[start]
+            acc[start] = math.nan
+
+
+def batch_loop(plan: Plan) -> Any:
+    """The batch function compiled for ``plan``'s structure (``kernel.compiled_loop``'s key)."""
+    ns, ds, offsets = plan.structure()
+    return _compiled_batch(tuple(map(tuple, ns.tolist())), tuple(map(tuple, ds.tolist())),
+                           tuple(offsets.tolist()))
+
+
+@functools.cache
+def _compiled_batch(node_rows: tuple[tuple[int, ...], ...],
+                    drive_rows: tuple[tuple[int, ...], ...], offset_row: tuple[int, ...]) -> Any:
+    ns = np.array(node_rows, dtype=np.int64).reshape(len(node_rows), L.NS_COLS)
+    ds = np.array(drive_rows, dtype=np.int64).reshape(len(drive_rows), L.DS_COLS)
+    offsets = np.array(offset_row, dtype=np.int64)
+
+    @batch_njit
+    def run_cases(lo: int, hi: int, x: np.ndarray, istate: np.ndarray, slipping: np.ndarray,
+                  nodes: np.ndarray, spans: np.ndarray, drives: np.ndarray, web: np.ndarray,
+                  wound_ripple: np.ndarray, speed_ripple: np.ndarray, prof_t: np.ndarray,
+                  prof_v: np.ndarray, prof_off: np.ndarray, dt: np.ndarray,
+                  substeps: np.ndarray, n_ticks: np.ndarray, every: np.ndarray,
+                  span_prof: np.ndarray, tension_limit: np.ndarray, trace_every: np.ndarray,
+                  rec: np.ndarray, out: np.ndarray, stages: np.ndarray, refs: np.ndarray,
+                  work: np.ndarray, acc: np.ndarray, traces: np.ndarray, status: np.ndarray,
+                  t_fail: np.ndarray, where: np.ndarray) -> None:
+        n_x = offsets[L.O_WEB] + 2
+        n_n = ns.shape[0]
+        n_d = ds.shape[0]
+        n_s = n_n - 1
+        for c in range(lo, hi):
+            done = 0
+            st = L.STATUS_OK
+            tf = math.nan
+            wh = -1
+            t_last = 0.0
+            while done < n_ticks[c] and st == L.STATUS_OK:
+                count = min(CHUNK_TICKS, n_ticks[c] - done)
+                last = done + count == n_ticks[c]
+                out[:] = 0.0  # as kernel.run gives every chunk
+                work[:] = 0.0
+                n_rec, st, tf, wh = advance(
+                    x[c], istate[c], slipping[c], rec, out, stages, refs, work, done, count,
+                    dt[c], substeps[c], every[c], last, ns, ds, offsets, nodes[c], spans[c],
+                    drives[c], web[c], wound_ripple[c], speed_ripple[c], prof_t[c], prof_v[c],
+                    prof_off[c])
+                _reduce(rec, n_rec, acc[c], traces[c], trace_every[c], dt[c], n_x, n_s, n_d,
+                        n_n, nodes[c], drives[c], prof_t[c], prof_v[c], prof_off[c],
+                        span_prof, tension_limit[c])
+                if n_rec > 0:
+                    t_last = rec[n_rec - 1, 0]
+                done += count
+            _finish(acc[c], n_s, n_d, n_n, t_last)
+            status[c], t_fail[c], where[c] = st, tf, wh
+
+    return run_cases
+
+
+@dataclass
+class BatchOutput:
+    """What ``run_batch`` computed per case: accumulators (``Layout``), kernel status, time
+    [s] and place of a failure, final state, and tension traces [N] (case, time, span)."""
+
+    layout: Layout
+    acc: np.ndarray
+    status: np.ndarray
+    t_fail: np.ndarray
+    where: np.ndarray
+    x: np.ndarray
+    traces: np.ndarray
+
+
+def _stack(arrays: list[np.ndarray]) -> np.ndarray:
+    """Stack per-case arrays of one shape; pad 1-D ones of different lengths (profiles)."""
+    if all(a.shape == arrays[0].shape for a in arrays):
+        return np.ascontiguousarray(np.stack(arrays))
+    width = max(a.shape[0] for a in arrays)
+    out = np.zeros((len(arrays), width, *arrays[0].shape[1:]))
+    for c, a in enumerate(arrays):
+        out[c, :a.shape[0]] = a
+    return out
+
+
+def run_batch(plans: list[Plan], states: list[tuple[np.ndarray, np.ndarray, np.ndarray]],
+              n_ticks: np.ndarray, substeps: np.ndarray, every: np.ndarray,
+              trace_every: int = 0, n_trace: int = 0, workers: int | None = None,
+              ) -> BatchOutput:
+    """Run cases that share one line structure (and ripple table shapes) from their initial
+    (state, controller memory, stick/slip) ``states``, ``n_ticks`` controller periods each
+    with ``substeps`` RK4 sub-steps, reducing the records taken every ``every`` ticks.
+    ``trace_every`` > 0 keeps the span tensions every that many ticks (``n_trace`` rows).
+    ``workers`` threads (default: the cores) run disjoint ranges of cases."""
+    first = plans[0]
+    n_c = len(plans)
+    line = first.line
+    lay = Layout(line.n_spans, first.drives.shape[0], line.n_nodes)
+    if any(p.wound_ripple.shape != first.wound_ripple.shape
+           or p.speed_ripple.shape != first.speed_ripple.shape
+           or p.prof_off.shape != first.prof_off.shape for p in plans):
+        raise ValueError("cases of one batch must share their ripple and profile tables' shapes")
+    x = np.ascontiguousarray(np.stack([s[0] for s in states]))
+    istate = np.ascontiguousarray(np.stack([s[1] for s in states]))
+    slipping = np.ascontiguousarray(np.stack([s[2] for s in states]))
+    tables = [_stack([getattr(p, name) for p in plans]) for name in (
+        "nodes", "spans", "drives", "web", "wound_ripple", "speed_ripple", "prof_t", "prof_v")]
+    prof_off = np.ascontiguousarray(np.stack([p.prof_off for p in plans]))
+    dt = np.array([p.dt for p in plans])
+    span_prof = np.full(lay.n_spans, -1, dtype=np.int64)
+    for z, zone in enumerate(line.zones):
+        span_prof[zone.loadcell] = 1 + z  # plan profiles: speed, then each zone's loadcell
+    limit = line.spec.web.tension_limit
+    tension_limit = np.full(n_c, math.inf if limit is None else float(limit))
+    acc = np.zeros((n_c, lay.width))
+    acc[:, A_TMIN * lay.n_spans:(A_TMIN + 1) * lay.n_spans] = math.inf
+    acc[:, A_TMAX * lay.n_spans:(A_TMAX + 1) * lay.n_spans] = -math.inf
+    base = lay.event_base
+    acc[:, base + lay.n_events:base + 3 * lay.n_events] = math.nan  # first, open start
+    traces = np.full((n_c, n_trace if trace_every > 0 else 0, lay.n_spans), math.nan)
+    status = np.zeros(n_c, dtype=np.int64)
+    t_fail = np.full(n_c, math.nan)
+    where = np.full(n_c, -1, dtype=np.int64)
+    loop = batch_loop(first)
+    every = np.asarray(every, dtype=np.int64)
+    args = (x, istate, slipping, *tables, prof_off, dt,
+            np.asarray(substeps, dtype=np.int64), np.asarray(n_ticks, dtype=np.int64),
+            every, span_prof, tension_limit,
+            np.full(n_c, max(trace_every, 1), dtype=np.int64))
+    n_x, n_d, n_n = first.n_x, lay.n_drives, lay.n_nodes
+    n_prof = prof_off.shape[1] - 1
+
+    def task(lo: int, hi: int) -> None:
+        rows = CHUNK_TICKS // int(np.min(every[lo:hi])) + 2
+        scratch = (np.empty((rows, record_width(n_x, n_d, n_n))), np.zeros((4, n_d)),
+                   np.empty((5, n_x)), np.empty((4, max(n_prof, n_n))),
+                   np.zeros((2, 3 * n_n)))
+        loop(lo, hi, *args, *scratch, acc, traces, status, t_fail, where)
+
+    workers = workers or os.cpu_count() or 1
+    size = max(1, math.ceil(n_c / (4 * workers)))  # several ranges per thread: balance
+    bounds = [(lo, min(n_c, lo + size)) for lo in range(0, n_c, size)]
+    if workers == 1:
+        for lo, hi in bounds:
+            task(lo, hi)
+    else:
+        with ThreadPoolExecutor(workers) as pool:
+            list(pool.map(lambda b: task(*b), bounds))
+    return BatchOutput(lay, acc, status, t_fail, where, x, traces)

@@ -1,0 +1,130 @@
+"""Studies that survive a killed run, locally or on a Dask cluster.
+
+The cases are cut into chunks; each chunk is one task (``run_cases`` on its cases) and its
+Dataset is written to ``STORE/chunk-NNNNNN.nc`` atomically as soon as it is done, by the
+process that asked for the study (never by a worker), so a file is either whole or absent. A
+study started again with ``resume=True`` runs only the chunks without a file; a manifest
+(``study.json``: the cases and settings) refuses to resume a different study. The chunks are
+merged in case order at the end: every case once, none lost.
+
+On Dask (``dask.distributed``) a chunk is a task submitted with retries, so a chunk whose
+worker dies is recomputed on another; ``scheduler`` is a ``Client``, an address, or
+``"local"`` for a ``LocalCluster`` of ``workers`` single-threaded processes.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+from webline.errors import ArgumentError
+from webline.files import atomic_write, atomic_write_text
+from webline.line import Line, load_line
+
+#: cases per chunk (task): large enough that a task's overhead (ms) is negligible
+CHUNK = 256
+#: how often Dask retries a chunk whose worker died
+RETRIES = 3
+
+
+def _plain_attrs(ds: Any) -> Any:
+    ds.attrs = {k: (json.dumps(v) if isinstance(v, list | dict) else v)
+                for k, v in ds.attrs.items()}
+    return ds
+
+
+def _chunk_task(run: Callable[..., Any], line: Line, cases: list[dict[str, object]],
+                offset: int, options: dict[str, Any]) -> Any:
+    """Run one chunk with ``run`` (``sweep.run_cases``; in a worker or here), its cases
+    numbered from ``offset``."""
+    ds = run(line, cases, **options)
+    return _plain_attrs(ds.assign_coords(case=ds.case.values + offset))
+
+
+def _client(scheduler: Any, workers: int | None) -> tuple[Any, Any]:
+    """(client, cluster to close or None) for ``scheduler``."""
+    from distributed import Client, LocalCluster
+
+    if isinstance(scheduler, Client):
+        return scheduler, None
+    if scheduler == "local":
+        cluster = LocalCluster(n_workers=workers or 2, threads_per_worker=1, processes=True,
+                               dashboard_address=None)
+        return Client(cluster), cluster
+    return Client(str(scheduler)), None
+
+
+def run_chunked(run: Callable[..., Any], line: Line | str | Path,
+                cases: Sequence[Mapping[str, object]], *, store: str | Path,
+                resume: bool = False, scheduler: Any = None, workers: int | None = None,
+                chunk: int | None = None,
+                progress: Callable[[int, int], None] | None = None,
+                attrs: Mapping[str, Any] | None = None, **options: Any) -> Any:
+    """``run`` (``sweep.run_cases``) of ``line`` over ``cases`` chunk by chunk into ``store``
+    (module docstring); ``options`` are ``run_cases``'s (duration, scenario, record). Without
+    ``scheduler`` the chunks run here on ``workers`` threads. Returns the merged Dataset."""
+    import xarray as xr
+
+    line = load_line(line)
+    chunk = chunk or CHUNK
+    store = Path(store)
+    store.mkdir(parents=True, exist_ok=True)
+    manifest = json.dumps({"line": line.name, "cases": [dict(c) for c in cases],
+                           "chunk": chunk, "options": options}, sort_keys=True, default=str)
+    manifest_path = store / "study.json"
+    if manifest_path.exists():
+        if not resume:
+            raise ArgumentError(f"{store}: holds a study already; resume it (--resume) or "
+                                "choose another folder")
+        if manifest_path.read_text() != manifest:
+            raise ArgumentError(f"{store}: holds a different study (other cases or settings); "
+                                "cannot resume it")
+    else:
+        atomic_write_text(manifest_path, manifest)
+    starts = list(range(0, len(cases), chunk))
+
+    def path(k: int) -> Path:
+        return store / f"chunk-{k:06d}.nc"
+
+    todo = [k for k, _ in enumerate(starts) if not path(k).exists()]
+    done = len(cases) - sum(min(chunk, len(cases) - starts[k]) for k in todo)
+
+    def save(k: int, ds: Any) -> None:
+        nonlocal done
+        atomic_write(path(k), lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"))
+        done += ds.sizes["case"]
+        if progress is not None:
+            progress(done, len(cases))
+
+    def task_args(k: int) -> tuple[Any, Line, list[dict[str, object]], int, dict[str, Any]]:
+        lo = starts[k]
+        return run, line, [dict(c) for c in cases[lo:lo + chunk]], lo, options
+
+    if scheduler is None:
+        for k in todo:
+            save(k, _chunk_task(*task_args(k)[:4], {**options, "workers": workers}))
+    elif todo:
+        from distributed import as_completed
+
+        client, cluster = _client(scheduler, workers)
+        try:
+            futures = {client.submit(_chunk_task, *task_args(k), key=f"webline-chunk-{k}",
+                                     retries=RETRIES, pure=False): k for k in todo}
+            for future in as_completed(futures):
+                save(futures[future], future.result())
+        finally:
+            if cluster is not None:
+                client.close()
+                cluster.close()
+    parts = []
+    for k in range(len(starts)):
+        with xr.open_dataset(path(k), engine="h5netcdf") as part:
+            parts.append(part.load())
+    ds = xr.concat(parts, dim="case", data_vars="all", coords="different",
+                   compat="equals", combine_attrs="override")
+    ds.attrs = {k: (json.loads(v) if k in ("parameters", "shape") else v)
+                for k, v in ds.attrs.items()}
+    ds.attrs.update(attrs or {})
+    return ds

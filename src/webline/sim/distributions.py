@@ -1,0 +1,87 @@
+"""Parameter distributions of a Monte Carlo study, written as in line files and the CLI.
+
+``"normal(9 kN, 5 %)"``: mean and standard deviation (a percentage is relative to the mean);
+``"uniform(0.1, 0.3)"`` or ``"uniform(9 kN, 10 %)"``: bounds, or centre and relative half
+width; ``"lognormal(9 kN, 5 %)"``: median and the standard deviation of its logarithm (a
+percentage is that fraction). A scipy.stats frozen distribution is taken as is, in SI units.
+Every sample is drawn up front from one ``numpy.random.Generator``, parameter after
+parameter, so a study is the same whatever the number of workers.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from webline.units import ureg
+
+_CALL = re.compile(r"^\s*(normal|uniform|lognormal)\s*\((.*)\)\s*$", re.IGNORECASE)
+
+
+def _quantity(text: str) -> tuple[float, str | None]:
+    """(magnitude in SI base units, None) of ``"9 kN"``, or (fraction, "%") of ``"5 %"``."""
+    text = text.strip()
+    if text.endswith("%"):
+        return float(text[:-1]) / 100.0, "%"
+    quantity: Any = ureg.Quantity(text)
+    if hasattr(quantity, "to_base_units"):
+        return float(quantity.to_base_units().magnitude), None
+    return float(quantity), None
+
+
+def parse_distribution(text: str) -> tuple[str, float, float]:
+    """(kind, a, b) of a written distribution in SI: normal (mean, std), uniform (low,
+    high), lognormal (median, sigma of the log). Raises ``ValueError`` naming the problem."""
+    match = _CALL.match(text)
+    if not match:
+        raise ValueError(f"cannot read {text!r} as a distribution: write normal(mean, std), "
+                         "uniform(low, high) or lognormal(median, sigma)")
+    kind = match[1].lower()
+    args = [a for a in match[2].split(",")]
+    if len(args) != 2:
+        raise ValueError(f"{text!r}: {kind} takes two arguments, got {len(args)}")
+    try:
+        (a, unit_a), (b, unit_b) = _quantity(args[0]), _quantity(args[1])
+    except Exception as exc:  # pint raises many types
+        raise ValueError(f"{text!r}: {exc}") from None
+    if unit_a == "%":
+        raise ValueError(f"{text!r}: the first argument is a value, not a percentage")
+    if kind == "normal":
+        std = abs(a) * b if unit_b == "%" else b
+        if std < 0:
+            raise ValueError(f"{text!r}: the standard deviation must not be negative")
+        return kind, a, std
+    if kind == "uniform":
+        low, high = (a * (1 - b), a * (1 + b)) if unit_b == "%" else (a, b)
+        if high < low:
+            raise ValueError(f"{text!r}: the upper bound is below the lower one")
+        return kind, min(low, high), max(low, high)
+    if a <= 0 or b < 0:
+        raise ValueError(f"{text!r}: lognormal needs a positive median and sigma >= 0")
+    return kind, a, b
+
+
+def draw(distributions: Mapping[str, Any], n: int, seed: int) -> dict[str, np.ndarray]:
+    """``n`` samples [SI] of each distribution, in the order given, from one generator."""
+    rng = np.random.default_rng(seed)
+    out: dict[str, np.ndarray] = {}
+    for path, dist in distributions.items():
+        if isinstance(dist, str):
+            try:
+                kind, a, b = parse_distribution(dist)
+            except ValueError as exc:
+                raise ValueError(f"{path}: {exc}") from None
+            if kind == "normal":
+                out[path] = rng.normal(a, b, n)
+            elif kind == "uniform":
+                out[path] = rng.uniform(a, b, n)
+            else:
+                out[path] = a * np.exp(rng.normal(0.0, b, n))
+        elif hasattr(dist, "rvs"):
+            out[path] = np.asarray(dist.rvs(size=n, random_state=rng), dtype=float)
+        else:
+            out[path] = np.full(n, float(dist))  # a fixed value
+    return out

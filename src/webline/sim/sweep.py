@@ -1,0 +1,335 @@
+"""``webline.sweep`` and ``webline.monte_carlo``: many runs of one line, batched.
+
+Each case is the line with some values replaced (``Line.replace`` paths); its plan, RK4
+sub-steps and initial state are built once in Python, then all cases of one structure run
+in the batched kernel (``webline.sim.batch``) on every core. The result is an
+``xarray.Dataset`` over ``case`` with the parameters as coordinates [SI] and the metrics of
+``webline.sim.metrics`` per case, plus the verdict status of each case.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import time
+from collections.abc import Callable, Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from webline.line import Line, load_line
+from webline.sim import batch as B
+from webline.sim import kernel
+from webline.sim.batch import BatchOutput, run_batch
+from webline.sim.distributions import draw
+from webline.sim.failure import kernel_failure
+from webline.sim.metrics import METRICS
+from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
+from webline.sim.simulate import MAX_RECORDS, choose_substeps
+from webline.sim.stability import stability_findings
+from webline.spec.paths import split_path
+from webline.spec.ranges import argument
+from webline.verdict import Finding, Level, Verdict
+
+
+def spec_value(line: Line, path: str) -> object:
+    """The value at ``path`` in ``line``'s validated spec (SI numbers for quantities)."""
+    node: Any = line.spec.model_dump(exclude_none=True)
+    for part in split_path(path):
+        if isinstance(node, list):
+            if isinstance(part, str) and not part.lstrip("-").isdigit():
+                node = next(item for item in node if item.get("name") == part)
+            else:
+                node = node[int(part)]
+        else:
+            node = node[str(part)]
+    return node
+
+
+def _coordinate(values: list[object]) -> np.ndarray:
+    try:
+        return np.array([float(v) for v in values])  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        return np.array([str(v) for v in values])
+
+
+#: Cases built and run together: plans are built for one block while the previous block
+#: runs (the compiled batch releases the GIL), and dropped after it, so memory stays bounded.
+BLOCK = 256
+
+
+@dataclass
+class _Built:
+    """Plans and initial states of a block of cases, ready for ``run_batch``."""
+
+    plans: list[Plan]
+    states: list[tuple[np.ndarray, np.ndarray, np.ndarray]]
+    n_ticks: list[int]
+    substeps: list[int]
+    every: list[int]
+    seconds: float
+
+
+def _build(base: Line, cases: Sequence[Mapping[str, object]], duration: float) -> _Built:
+    started = time.perf_counter()
+    built = _Built([], [], [], [], [], 0.0)
+    for changes in cases:
+        plan = compile_plan(base.replace(dict(changes)) if changes else base)
+        x, istate = equilibrium_plan_state(plan)
+        built.plans.append(plan)
+        built.states.append((x, istate, kernel.initial_slip(plan, x)))
+        ticks = max(1, round(duration / plan.dt))
+        built.n_ticks.append(ticks)
+        built.substeps.append(choose_substeps(plan))
+        built.every.append(max(1, math.ceil((ticks + 1) / MAX_RECORDS)))  # as simulate's
+    built.seconds = time.perf_counter() - started
+    return built
+
+
+def run_cases(line: Line | str | Path, cases: Sequence[Mapping[str, object]], *,
+              duration: float | str | None = None, scenario: str | None = None,
+              record: float | str | None = None, workers: int | None = None,
+              progress: Callable[[int, int], None] | None = None) -> Any:
+    """Simulate ``line`` once per mapping of changes in ``cases`` for ``duration`` [s]
+    (default: the scenario's, else 10 s); the Dataset of ``sweep``. ``record`` [s]: keep the
+    span tensions at that interval (``tension`` over case, time, span). ``workers``: threads
+    (default: every core). ``progress``, if given, is called with (cases done, cases) after
+    each block of ``BLOCK`` cases."""
+    base = load_line(line)
+    if scenario is not None:
+        base = base.with_scenario(scenario)
+        if duration is None:
+            duration = base.spec.scenarios[scenario].duration
+    duration = 10.0 if duration is None else argument(duration, "time", "duration",
+                                                      within="scenario.duration")
+    record_s = None if record is None else argument(record, "time", "record", within=None)
+    base_plan = compile_plan(base)
+    trace_every = n_trace = 0
+    if record_s is not None:
+        # a multiple of the record interval, so every trace point is a record
+        ticks = max(1, round(duration / base_plan.dt))
+        step = max(1, math.ceil((ticks + 1) / MAX_RECORDS))
+        trace_every = step * max(1, round(record_s / (base_plan.dt * step)))
+        n_trace = ticks // trace_every + 1
+    out = _Collector(base_plan.line, len(cases), list(dict.fromkeys(p for c in cases for p in c)),
+                     n_trace)
+    blocks = [range(lo, min(len(cases), lo + BLOCK)) for lo in range(0, len(cases), BLOCK)]
+    seconds = {"build": 0.0, "loop": 0.0, "collect": 0.0}
+    # one worker: build and run in turn (one core); more: build the next block meanwhile
+    with ThreadPoolExecutor(1) as builder:
+        future = builder.submit(_build, base, [cases[c] for c in blocks[0]], duration)
+        for b, block in enumerate(blocks):
+            built = future.result()
+            seconds["build"] += built.seconds
+            if b + 1 < len(blocks):
+                future = builder.submit(_build, base, [cases[c] for c in blocks[b + 1]],
+                                        duration)
+                if workers == 1:
+                    future.result()
+            _run_block(built, block, out, trace_every, n_trace, workers, seconds)
+            if progress is not None:
+                progress(block.stop, len(cases))
+    ds = out.dataset(duration, trace_every * base_plan.dt)
+    # where the time went [s] (building overlaps the compiled batch of the block before)
+    ds.attrs.update({f"seconds_{k}": v for k, v in seconds.items()})
+    return ds
+
+
+def _run_block(built: _Built, block: range, out: _Collector, trace_every: int, n_trace: int,
+               workers: int | None, seconds: dict[str, float]) -> None:
+    # cases of one structure and table shapes run in one batch
+    groups: dict[tuple[object, ...], list[int]] = {}
+    for j, plan in enumerate(built.plans):
+        key = (*(a.tobytes() for a in plan.structure()), plan.wound_ripple.shape,
+               plan.speed_ripple.shape, plan.prof_off.shape)
+        groups.setdefault(key, []).append(j)
+    for idx in groups.values():
+        started = time.perf_counter()
+        result = run_batch([built.plans[j] for j in idx], [built.states[j] for j in idx],
+                           np.array([built.n_ticks[j] for j in idx]),
+                           np.array([built.substeps[j] for j in idx]),
+                           np.array([built.every[j] for j in idx]), trace_every, n_trace,
+                           workers)
+        ran = time.perf_counter()
+        out.add([block[j] for j in idx], [built.plans[j] for j in idx],
+                [built.substeps[j] for j in idx], result)
+        seconds["loop"] += ran - started
+        seconds["collect"] += time.perf_counter() - ran
+
+
+def case_status(plan: Plan, out: BatchOutput, c: int) -> tuple[str, float]:
+    """(verdict status, failure time [s] or NaN) of case ``c`` of a batch, built from the
+    same findings as ``Result.verdict``: failure, events (by their first time), stability."""
+    line = plan.line
+    findings: list[Finding] = []
+    failure = kernel_failure(plan, int(out.status[c]), float(out.t_fail[c]), int(out.where[c]),
+                             out.x[c])
+    if failure is not None:
+        level: Level = "interrupted" if failure.kind == "interrupted" else "failed"
+        findings.append(Finding(level, failure.kind, failure.where, failure.message,
+                                failure.time))
+    lay = out.layout
+    firsts = out.acc[c, lay.event_base + lay.n_events:lay.event_base + 2 * lay.n_events]
+    for kind, (start, count) in lay.event_slices().items():
+        for j in range(count):
+            first = firsts[start + j]
+            if math.isfinite(first):
+                findings.append(Finding("warning", kind, str(j), kind, float(first)))
+    findings += stability_findings(line, plan=plan)
+    return Verdict.of(findings).status, float(out.t_fail[c])
+
+
+def _metric_arrays(out: BatchOutput) -> dict[str, np.ndarray]:
+    """Metrics (``METRICS``) per case of a batch from its accumulators."""
+    lay, acc = out.layout, out.acc
+    s = lay.n_spans
+
+    def block(b: int) -> np.ndarray:
+        return acc[:, b * s:(b + 1) * s]
+
+    n_rec = acc[:, -1:]
+    totals = acc[:, lay.event_base:lay.event_base + lay.n_events]
+    sl = lay.event_slices()
+    settle = np.where(block(B.A_LASTOUT) > 0, math.inf, block(B.A_SETTLE))
+    metrics = {"tension_rms_error": np.sqrt(block(B.A_SUMSQ) / n_rec),
+               "tension_peak_error": block(B.A_PEAK).copy(),
+               "tension_min": block(B.A_TMIN).copy(), "tension_max": block(B.A_TMAX).copy(),
+               "settling_time": settle,
+               "slack_time": totals[:, sl["slack"][0]:sl["slack"][0] + s],
+               "torque_limit_time": totals[:, sl["torque_limit"][0]:sl["torque_limit"][0]
+                                           + lay.n_drives],
+               "slip_time": totals[:, sl["slip"][0]:sl["slip"][0] + lay.n_nodes]}
+    return metrics
+
+
+class _Collector:
+    """Per-case metrics, statuses, coordinates and traces, filled block by block."""
+
+    def __init__(self, line: Line, n_c: int, paths: list[str], n_trace: int) -> None:
+        self.line, self.paths = line, paths
+        dims = {"span": line.n_spans, "drive": len(line.drives), "node": line.n_nodes}
+        self.data = {name: np.full((n_c, dims[dim]), math.nan)
+                     for name, (dim, _, _) in METRICS.items()}
+        self.status = np.empty(n_c, dtype=object)
+        self.t_fail = np.full(n_c, math.nan)
+        self.substeps = np.zeros(n_c, dtype=np.int64)
+        self.values: dict[str, list[object]] = {p: [None] * n_c for p in paths}
+        self.traces = np.full((n_c, n_trace, line.n_spans), math.nan) if n_trace else None
+
+    def add(self, cases: list[int], plans: list[Plan], substeps: list[int],
+            out: BatchOutput) -> None:
+        arrays = _metric_arrays(out)
+        for name in METRICS:
+            self.data[name][cases] = arrays[name]
+        for j, (c, plan) in enumerate(zip(cases, plans, strict=True)):
+            self.status[c], self.t_fail[c] = case_status(plan, out, j)
+            for path in self.paths:
+                self.values[path][c] = spec_value(plan.line, path)
+        self.substeps[cases] = substeps
+        if self.traces is not None:
+            self.traces[cases] = out.traces
+
+    def dataset(self, duration: float, trace_interval: float) -> Any:
+        import xarray as xr
+
+        line, data = self.line, self.data
+        loadcell = np.zeros(line.n_spans, dtype=bool)
+        for zone in line.zones:
+            loadcell[zone.loadcell] = True
+        for name in ("tension_rms_error", "tension_peak_error", "settling_time"):
+            data[name][:, ~loadcell] = math.nan
+        names = {"span": [line.span_name(k) for k in range(line.n_spans)],
+                 "drive": [line.node_name(i) for i in line.drives],
+                 "node": [line.node_name(i) for i in range(line.n_nodes)]}
+        variables = {name: xr.Variable(("case", dim), data[name],
+                                       attrs={"units": units, "long_name": text})
+                     for name, (dim, units, text) in METRICS.items()}
+        variables["status"] = xr.Variable(("case",), self.status.astype(str),
+                                          attrs={"long_name": "verdict status of the run"})
+        variables["failure_time"] = xr.Variable(("case",), self.t_fail, attrs={
+            "units": "s", "long_name": "time the run stopped early (NaN: it ran to the end)"})
+        variables["substeps"] = xr.Variable(("case",), self.substeps, attrs={
+            "long_name": "RK4 sub-steps per controller period"})
+        coords: dict[str, Any] = {"case": np.arange(len(self.status)), **names}
+        for path in self.paths:
+            coords[path] = ("case", _coordinate(self.values[path]),
+                            {"units": "SI", "long_name": f"line parameter {path}"})
+        if self.traces is not None:
+            coords["time"] = ("time", np.arange(self.traces.shape[1]) * trace_interval,
+                              {"units": "s"})
+            variables["tension"] = xr.Variable(("case", "time", "span"), self.traces,
+                                               attrs={"units": "N", "long_name": "span tension"})
+        ds = xr.Dataset(variables, coords=coords)
+        ds.attrs.update({"line": line.name, "duration": duration, "parameters": self.paths})
+        return ds
+
+
+def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
+          duration: float | str | None = None, scenario: str | None = None,
+          record: float | str | None = None, mode: str = "grid",
+          workers: int | None = None, progress: Callable[[int, int], None] | None = None,
+          scheduler: Any = None, store: str | Path | None = None,
+          resume: bool = False) -> Any:
+    """Simulate ``line`` over parameter values: ``{path: [v1, v2, ...]}`` (paths as in
+    ``Line.replace``, values with units as a line file takes them). ``mode`` "grid" runs every
+    combination (the last path varies fastest), "zip" the i-th value of every path together.
+    Returns the Dataset of ``run_cases``; its attribute ``mode`` and, for a grid, ``shape``."""
+    paths = list(values)
+    columns = [list(values[p]) for p in paths]
+    if mode == "grid":
+        combos = list(itertools.product(*columns))
+    elif mode == "zip":
+        if len({len(c) for c in columns}) > 1:
+            counts = ", ".join(f"{p}: {len(c)}" for p, c in zip(paths, columns, strict=True))
+            raise ValueError(f"mode='zip' needs as many values for every path, got {counts}")
+        combos = list(zip(*columns, strict=True))
+    else:
+        raise ValueError(f"mode must be 'grid' or 'zip', got {mode!r}")
+    cases = [dict(zip(paths, combo, strict=True)) for combo in combos]
+    attrs: dict[str, Any] = {"mode": mode}
+    if mode == "grid":
+        attrs["shape"] = [len(c) for c in columns]
+    return _study(line, cases, attrs, duration=duration, scenario=scenario, record=record,
+                  workers=workers, progress=progress, scheduler=scheduler, store=store,
+                  resume=resume)
+
+
+def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: int, *,
+                seed: int, duration: float | str | None = None, scenario: str | None = None,
+                record: float | str | None = None, workers: int | None = None,
+                progress: Callable[[int, int], None] | None = None, scheduler: Any = None,
+                store: str | Path | None = None, resume: bool = False) -> Any:
+    """``n`` runs of ``line`` with parameters drawn from ``distributions`` ({path: ``"normal(9
+    kN, 5 %)"``, ``"uniform(0.1, 0.3)"``, ``"lognormal(9 kN, 5 %)"`` or a scipy.stats frozen
+    distribution in SI}), all drawn up front from ``numpy.random.default_rng(seed)`` so the
+    result does not depend on ``workers``. Returns the Dataset of ``run_cases``."""
+    samples = draw(distributions, n, seed)
+    cases: list[dict[str, object]] = [{p: float(samples[p][c]) for p in samples}
+                                      for c in range(n)]
+    return _study(line, cases, {"mode": "monte_carlo", "seed": seed}, duration=duration,
+                  scenario=scenario, record=record, workers=workers, progress=progress,
+                  scheduler=scheduler, store=store, resume=resume)
+
+
+def _study(line: Line | str | Path, cases: list[dict[str, object]], attrs: dict[str, Any], *,
+           scheduler: Any, store: str | Path | None, resume: bool, workers: int | None,
+           progress: Callable[[int, int], None] | None, **options: Any) -> Any:
+    """Run the cases here at once, or chunk by chunk into ``store`` and/or on Dask
+    (``webline.sim.chunks``)."""
+    if scheduler is None and store is None:
+        ds = run_cases(line, cases, workers=workers, progress=progress, **options)
+        ds.attrs.update(attrs)
+        return ds
+    from webline.sim.chunks import run_chunked
+
+    if store is None:
+        import tempfile
+
+        with tempfile.TemporaryDirectory(prefix="webline-study-") as folder:
+            return run_chunked(run_cases, line, cases, store=folder, scheduler=scheduler,
+                               workers=workers, progress=progress, attrs=attrs, **options)
+    return run_chunked(run_cases, line, cases, store=store, resume=resume, scheduler=scheduler,
+                       workers=workers, progress=progress, attrs=attrs, **options)

@@ -1,0 +1,59 @@
+"""``webline sweep`` (issue 14): a grid and a Monte Carlo study from the command line write a
+results file with one row per case and an HTML report; bad input is one line, exit 2."""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+from typer.testing import CliRunner
+
+from webline.cli import app
+
+LBF = 4.4482216152605  # [N]
+
+
+def test_grid_writes_results_and_report(tmp_path) -> None:
+    result = CliRunner().invoke(app, [
+        "sweep", "hswl", "--set", "web.ea=1800 lbf:2200 lbf:3",
+        "--set", "rollers.process.controller.tension_bandwidth=4,8", "-d", "0.5",
+        "--out", str(tmp_path), "--workers", "1"])
+    assert result.exit_code == 0, result.output
+    ds = xr.open_dataset(tmp_path / "sweep.nc", engine="h5netcdf")
+    assert ds.sizes["case"] == 6
+    # start:stop:n includes both ends, in the unit written
+    np.testing.assert_allclose(np.unique(ds["web.ea"].values), [1800 * LBF, 2000 * LBF,
+                                                               2200 * LBF], rtol=1e-9)
+    html = (tmp_path / "report.html").read_text()
+    assert 'id="sweep-status"' in html and 'id="fig-sweep-heatmap"' in html
+
+
+def test_monte_carlo_report_has_histogram(tmp_path) -> None:
+    result = CliRunner().invoke(app, [
+        "sweep", "hswl", "--set", "web.ea=normal(2000 lbf, 10 %)", "--samples", "8",
+        "--seed", "4", "-d", "0.3", "--out", str(tmp_path), "-q"])
+    assert result.exit_code == 0, result.output
+    assert 'id="fig-sweep-hist"' in (tmp_path / "report.html").read_text()
+
+
+def test_bad_distribution_is_one_line_exit_2(tmp_path) -> None:
+    result = CliRunner().invoke(app, [
+        "sweep", "hswl", "--set", "web.ea=gauss(1, 2)", "--samples", "3", "--out",
+        str(tmp_path)])
+    assert result.exit_code == 2
+    assert result.output.strip().count("\n") == 0 and "web.ea" in result.output
+
+
+def test_resume_reuses_the_stored_chunks(tmp_path) -> None:
+    args = ["sweep", "hswl", "--set", "web.ea=1900 lbf,2100 lbf", "-d", "0.3", "--out",
+            str(tmp_path), "-q"]
+    assert CliRunner().invoke(app, args).exit_code == 0
+    first = xr.load_dataset(tmp_path / "sweep.nc", engine="h5netcdf")
+    again = CliRunner().invoke(app, args)
+    assert again.exit_code == 2 and "--resume" in again.output
+    chunk = tmp_path / "chunks" / "chunk-000000.nc"
+    stamp = chunk.stat().st_mtime_ns
+    assert CliRunner().invoke(app, [*args, "--resume"]).exit_code == 0
+    assert chunk.stat().st_mtime_ns == stamp  # nothing recomputed
+    second = xr.load_dataset(tmp_path / "sweep.nc", engine="h5netcdf")
+    np.testing.assert_array_equal(first.tension_rms_error.values,
+                                  second.tension_rms_error.values)
