@@ -17,12 +17,13 @@ from webline.spec.schema import (
     DirectSpec,
     DriveSpec,
     IdleSpec,
+    MRACSpec,
     ShaftSpec,
     StateFeedbackSpec,
 )
 
 FAMILIES = {CascadedPISpec: L.FAMILY_PI, StateFeedbackSpec: L.FAMILY_STATE_FEEDBACK,
-            AdaptiveSpec: L.FAMILY_ADAPTIVE}
+            AdaptiveSpec: L.FAMILY_ADAPTIVE, MRACSpec: L.FAMILY_MRAC}
 
 
 Designs = tuple[SectionDesign | None, ...]
@@ -116,7 +117,7 @@ def _decentralized_columns(row: np.ndarray, line: Line, d: int, line_speed: floa
     i = line.drives[d]
     roller = line.spec.rollers[i]
     c = roller.controller  # type: ignore[union-attr]
-    assert isinstance(c, StateFeedbackSpec | AdaptiveSpec)
+    assert isinstance(c, StateFeedbackSpec | AdaptiveSpec | MRACSpec)
     z = line.controlled_zone(i)
     t_scale = c.tension_scale or (0.01 * tension[line.zones[z].loadcell] if z is not None else 1.0)
     v_scale = c.speed_scale or max(0.01 * abs(line_speed), 0.01)
@@ -134,7 +135,24 @@ def _decentralized_columns(row: np.ndarray, line: Line, d: int, line_speed: floa
         row[L.D_GAMMA], row[L.D_LEAK] = c.adaptation_gain, c.leakage
         # the bound: a friction torque at the initial speed of parameter_bound x torque scale
         row[L.D_BMAX] = c.parameter_bound * u_scale / max(abs(line_speed) / roller.radius, 1.0)
+    if isinstance(c, MRACSpec):
+        _mrac_columns(row, c, design, t_scale, v_scale, u_scale)
     return design
+
+
+def _mrac_columns(row: np.ndarray, c: MRACSpec, design: SectionDesign, t_scale: float,
+                  v_scale: float, u_scale: float) -> None:
+    """The MRAC's law in physical units from the scaled design: s = eᵀ P b = PBT e_T + PBV e_V
+    (P b scaled, divided by the scales), dk̂_j/dt = γ u_s/scale_j² s x_j, d(bias)/dt = γ u_s s,
+    and the projection half-widths ρ u_s/scale_j, ρ u_s."""
+    scales = np.array([t_scale, v_scale])
+    pb = design.pb_scaled / scales
+    row[L.D_PBT], row[L.D_PBV] = pb
+    row[L.D_GKT], row[L.D_GKV] = c.adaptation_gain * u_scale / scales**2
+    row[L.D_GBIAS] = c.adaptation_gain * u_scale
+    row[L.D_KBT], row[L.D_KBV] = c.parameter_bound * u_scale / scales
+    row[L.D_CBOUND] = c.parameter_bound * u_scale
+    row[L.D_GAMMA], row[L.D_LEAK] = c.adaptation_gain, c.leakage
 
 
 def transmission(line: Line, i: int) -> DirectSpec | BeltSpec | ShaftSpec:

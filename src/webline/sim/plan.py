@@ -110,6 +110,8 @@ class Plan:
         istate = np.zeros((len(op.torque), L.I_COLS))
         istate[:, L.I_SPEED] = x[off[3]: off[3] + len(op.torque)]
         istate[:, L.I_FRICTION] = self.drives[:, L.D_BMODEL]
+        istate[:, L.I_KT] = self.drives[:, L.D_KT]  # the MRAC's k̂ starts at the design
+        istate[:, L.I_KV] = self.drives[:, L.D_KV]
         ea = self.line.ea
         t_master = self.profile_value(int(off[6]), op.time)
         for d, i in enumerate(op.drives):

@@ -200,6 +200,20 @@ class AdaptiveSpec(_DecentralizedSpec):
     parameter_bound: Annotated[float, si("dimensionless", ">0")] = 10.0
 
 
+class MRACSpec(_DecentralizedSpec):
+    """Decentralized MRAC (6.62-6.68, E-6.8, E-6.14): reference model A_m = the section's LQ
+    closed loop; k̂ = (k̂_T, k̂_V) and a bias start at the design and adapt by dk̂/dt =
+    γ (eᵀP b) x in the design's scaled units; ``leakage`` σ pulls k̂ back to the design;
+    projection keeps each scaled component within ``parameter_bound`` of its start."""
+
+    type: Literal["mrac"]
+    tension_gain: Signed | None = None
+    speed_gain: Signed | None = None
+    adaptation_gain: AngularFrequency = 1.0
+    leakage: Gain = 0.01
+    parameter_bound: Annotated[float, si("dimensionless", ">0")] = 2.0
+
+
 def _controller_tag(value: object) -> str:
     """The controller family; a table without ``type`` is the industrial cascaded PI."""
     if isinstance(value, dict):
@@ -210,7 +224,8 @@ def _controller_tag(value: object) -> str:
 ControllerSpec = Annotated[
     Annotated[CascadedPISpec, Tag("cascaded_pi")]
     | Annotated[StateFeedbackSpec, Tag("state_feedback")]
-    | Annotated[AdaptiveSpec, Tag("adaptive")],
+    | Annotated[AdaptiveSpec, Tag("adaptive")]
+    | Annotated[MRACSpec, Tag("mrac")],
     Discriminator(_controller_tag),
 ]
 
