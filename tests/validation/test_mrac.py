@@ -129,3 +129,26 @@ def test_mrac_stable_with_the_study_disturbances(hswl, fpm):
     loadcells = [z.loadcell for z in hswl.zones]
     err = (result.tension - result.tension_ref)[result.time > 10.0][:, loadcells]
     assert np.abs(err).max() < 1.0
+
+
+def test_condition_6_69_is_the_certificate_of_the_reference_models(hswl):
+    """(6.69) with the corrected terms on the idler-free HSWL: the MRAC's reference models
+    are the state feedback's closed loops, so the ratios equal ``certificate``'s for that
+    design (docs/decentralized.md §5: SI 0.0056 at the process section, fails; searched 1.33,
+    holds); the interconnected reference model is Hurwitz (max Re λ ≈ -17 1/s), so K_m = 0."""
+    from webline.analysis.certificate import certificate
+    from webline.analysis.mrac import mrac_condition
+    from webline.control.lumped import without_idlers
+
+    line = without_idlers(with_controller(hswl, "mrac"))
+    si = mrac_condition(line, scaling="si")
+    assert not si.certificate.holds
+    reference = certificate(without_idlers(with_controller(hswl, "state_feedback")),
+                            scaling="si", plant=False)
+    np.testing.assert_allclose([s.ratio for s in si.certificate.sections],
+                               [s.ratio for s in reference.sections], rtol=1e-9)
+    assert si.certificate.worst_ratio == pytest.approx(0.00565, rel=0.01)
+    searched = mrac_condition(line)
+    assert searched.certificate.holds and searched.certificate.worst_ratio > 1.3
+    assert -17.5 < searched.reference_eigenvalues.real.max() < -16.5
+    assert searched.reference_hurwitz and not searched.k_m.any()
