@@ -25,6 +25,7 @@ import numpy as np
 from webline.physics import motor, roll, roller, span
 from webline.sim import layout as L
 from webline.sim.mrac import mrac_adapt, mrac_feedback
+from webline.sim.observer import observe
 from webline.sim.signals import gaussian, jit, profile_at, profile_slope_at
 
 _tension: Any = jit(span.tension)
@@ -174,6 +175,10 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
             t_meas = _tension(x[loadcell])
             if offsets[L.O_NOISE] and web[L.W_NOISE_T] > 0.0:
                 t_meas += web[L.W_NOISE_T] * gaussian(seed, tick, 2 * d + 1)
+        if drives[d, L.D_OBS] > 0.0:  # a section observer replaces the loadcell
+            inertia_d = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
+            t_meas = observe(d, i, dt, tick, radius, inertia_d, v_meas / radius, x, istate,
+                             ds, offsets, nodes, drives, web, span_ref)
         gain = 1.0
         if ds[d, L.DS_ADAPTIVE] > 0:
             inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)

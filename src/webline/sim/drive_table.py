@@ -6,7 +6,8 @@ import numpy as np
 
 from webline.control.decentralized import SectionDesign, design_section
 from webline.control.pi import PIGains, tune
-from webline.control.sections import section_models
+from webline.control.sections import SectionModel, section_models
+from webline.errors import LineFileError
 from webline.line import Line, is_roll
 from webline.model.operating_point import OperatingPoint
 from webline.sim import layout as L
@@ -137,7 +138,37 @@ def _decentralized_columns(row: np.ndarray, line: Line, d: int, line_speed: floa
         row[L.D_BMAX] = c.parameter_bound * u_scale / max(abs(line_speed) / roller.radius, 1.0)
     if isinstance(c, MRACSpec):
         _mrac_columns(row, c, design, t_scale, v_scale, u_scale)
+    if c.tension_feedback == "observer":
+        observer_columns(row, line, d, model, c.observer_bandwidth)  # type: ignore[arg-type]
+        row[L.D_OBS_EA] = line.ea if c.observer_ea is None else c.observer_ea
     return design
+
+
+def observer_columns(row: np.ndarray, line: Line, d: int, model: SectionModel,
+                     bandwidth: float) -> None:
+    """The tension observer of drive ``d`` (``sim.observer``): its zone must be one span next
+    to its roller, its drive rigid. Gains from the section model at the operating point:
+    error matrix [[-v/L, -l_T], [s r/J, -β - l_ω]] (s = +1 if the roller is the span's
+    upstream end; β = the model's speed damping) with both poles at -``bandwidth`` [rad/s]."""
+    i = line.drives[d]
+    z = line.controlled_zone(i)
+    key = f"rollers[{i}].controller.tension_feedback"
+    if z is None or len(line.zones[z].spans) != 1:
+        raise LineFileError(line.source, key, f"roller {line.node_name(i)!r}: 'observer' needs "
+                            "a zone of one span (no idle rollers)")
+    if line.spec.rollers[i].drive.transmission.type != "direct":  # type: ignore[union-attr]
+        raise LineFileError(line.source, key, f"roller {line.node_name(i)!r}: 'observer' needs "
+                            "a rigid drive")
+    k = line.zones[z].spans[0]
+    # model.a in (T, V): a[0,0] = -v/L; a[1,0] = ±r/J per N in m/s²; a[1,1] = -β
+    a = model.a
+    radius = line.spec.rollers[i].radius
+    decay, coupling, damping = -a[0, 0], a[1, 0] / radius, -a[1, 1]  # coupling: rad/s² per N
+    l_w = 2.0 * bandwidth - decay - damping
+    l_t = (bandwidth**2 - decay * (damping + l_w)) / coupling
+    row[L.D_OBS], row[L.D_OBS_LT], row[L.D_OBS_LW] = 1.0, l_t, l_w
+    row[L.D_OBS_OTHER] = k + 1 if k == i else k
+    row[L.D_OBS_LENGTH] = line.spec.spans[k].length
 
 
 def _mrac_columns(row: np.ndarray, c: MRACSpec, design: SectionDesign, t_scale: float,

@@ -42,8 +42,12 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  # ... and the MRAC of (6.66-6.68, E-6.8): P·b on (T, V) deviations [1/N, s/m], adaptation
  # rates of k̂_T, k̂_V [N·m/N², N·m·s²/m²] and of the bias [N·m], projection half-widths
  # of k̂_T, k̂_V [N·m/N, N·m·s/m] and of the bias [N·m]
- D_PBT, D_PBV, D_GKT, D_GKV, D_GBIAS, D_KBT, D_KBV, D_CBOUND) = range(42)
-D_COLS = 42
+ D_PBT, D_PBV, D_GKT, D_GKV, D_GBIAS, D_KBT, D_KBV, D_CBOUND,
+ # ... and the tension observer (sim/observer.py): 1 if used, its gains on the speed residual
+ # [N·s/rad, 1/s], the node on the other side of the observed span, its length [m] and the
+ # EA the observer assumes [N]
+ D_OBS, D_OBS_LT, D_OBS_LW, D_OBS_OTHER, D_OBS_LENGTH, D_OBS_EA) = range(48)
+D_COLS = 48
 ROLE_MASTER, ROLE_TENSION = 0, 1
 
 # drive structure (integer) columns, and the float columns they copy
@@ -56,8 +60,8 @@ FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE, FAMILY_MRAC = 0, 1, 2, 3
 
 # controller memory per drive: PI integrators, adaptive friction estimate [N·m·s], the MRAC's
 # adapted gains k̂_T [N·m/N], k̂_V [N·m·s/m] and bias [N·m]
-I_SPEED, I_TENSION, I_FRICTION, I_KT, I_KV, I_BIAS = range(6)
-I_COLS = 6
+I_SPEED, I_TENSION, I_FRICTION, I_KT, I_KV, I_BIAS, I_THAT, I_WHAT = range(8)
+I_COLS = 8
 
 # line-wide scalars
 (W_EA, W_THICK, W_WIDTH, W_DENSITY, W_T0, W_NOISE_T, W_NOISE_V, W_SEED,

@@ -168,6 +168,10 @@ class _DecentralizedSpec(Strict):
     speed_scale: Annotated[float, si("speed", ">0")] | None = None
     torque_scale: Torque | None = None
     friction_estimate: Damping | None = None
+    #: the zone tension fed back: the loadcell's, or a section observer's (sim/observer.py)
+    tension_feedback: Literal["loadcell", "observer"] = "loadcell"
+    observer_bandwidth: AngularFrequency = 30.0
+    observer_ea: Force | None = None  #: the observer's EA [N] (default: the web's)
 
 
 class StateFeedbackSpec(_DecentralizedSpec):

@@ -18,6 +18,7 @@ from webline.studies import (
     slip_example,
     slip_threshold,
     solid_motion,
+    tension_observer,
     unwind_belt_ramp,
 )
 from webline.studies.result import StudyResult
@@ -36,6 +37,7 @@ STUDIES: dict[str, Callable[..., StudyResult]] = {
     "rockwell-rewind": rockwell_rewind.run,
     "slip-example": slip_example.run,
     "slip-threshold": slip_threshold.run,
+    "tension-observer": tension_observer.run,
 }
 
 
