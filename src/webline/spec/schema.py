@@ -161,14 +161,13 @@ class _DecentralizedSpec(Strict):
     ``speed_scale`` [m/s] and ``torque_scale`` [N·m] (default: 1 % of the tension reference,
     1 % of the line speed (at least 0.01 m/s), 10 % of the torque limit).
     ``friction_estimate`` [N·m·s] is the controller's model of the bearing friction (default:
-    the roller's true value).
+    the roller's true value). ``tension_feedback = "observer"``: ``webline.sim.observer``.
     """
 
     tension_scale: Force | None = None
     speed_scale: Annotated[float, si("speed", ">0")] | None = None
     torque_scale: Torque | None = None
     friction_estimate: Damping | None = None
-    #: the zone tension fed back: the loadcell's, or a section observer's (sim/observer.py)
     tension_feedback: Literal["loadcell", "observer"] = "loadcell"
     observer_bandwidth: AngularFrequency = 30.0
     observer_ea: Force | None = None  #: the observer's EA [N] (default: the web's)
@@ -205,10 +204,7 @@ class AdaptiveSpec(_DecentralizedSpec):
 
 
 class MRACSpec(_DecentralizedSpec):
-    """Decentralized MRAC (6.62-6.68, E-6.8, E-6.14): reference model A_m = the section's LQ
-    closed loop; k̂ = (k̂_T, k̂_V) and a bias start at the design and adapt by dk̂/dt =
-    γ (eᵀP b) x in the design's scaled units; ``leakage`` σ pulls k̂ back to the design;
-    projection keeps each scaled component within ``parameter_bound`` of its start."""
+    """Decentralized MRAC of Sec. 6.3 (``webline.sim.mrac``; docs/line-file.md, E-6.14)."""
 
     type: Literal["mrac"]
     tension_gain: Signed | None = None
