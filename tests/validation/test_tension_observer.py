@@ -49,3 +49,19 @@ def test_observer_needs_a_single_span_zone(hswl):
         webline.simulate(with_controller(hswl, "state_feedback",
                                          overrides={"rewind": {"tension_feedback": "observer"}}),
                          0.1)
+
+
+def test_study_quick(tmp_path):
+    """Study ``tension-observer`` (quick): every run stable, the estimate within 0.2 N RMS of
+    the true tension (the loadcell's own noise is 0.22 N), the observer loop's span-2 error
+    within 1.5x the loadcell loop's, and the summary states both numbers."""
+    from webline.studies import run_study
+
+    result = run_study("tension-observer", tmp_path, quick=True)
+    assert len(result.table) == 8 and {r["verdict"] for r in result.table} <= {"ok", "warning"}
+    for fpm in (500.0, 1500.0):
+        at = {r["case"]: r for r in result.table if r["speed_fpm"] == fpm}
+        assert at["observer"]["estimation_rms_N"] < 0.2
+        assert at["observer"]["rms_error_span2_N"] < 1.5 * at["loadcell"]["rms_error_span2_N"]
+        assert f"{at['observer']['rms_error_span2_N']:.4f} N with the observer" in result.summary
+    assert (tmp_path / "summary.txt").exists() and (tmp_path / "tension_observer.png").exists()
