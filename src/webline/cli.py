@@ -51,10 +51,12 @@ class ControllerFamily(StrEnum):
     pi = "pi"
     state_feedback = "state-feedback"
     adaptive = "adaptive"
+    mrac = "mrac"
 
 
 #: the line-file ``type`` of each --controller choice
-FAMILY_TYPES = {"pi": "cascaded_pi", "state-feedback": "state_feedback", "adaptive": "adaptive"}
+FAMILY_TYPES = {"pi": "cascaded_pi", "state-feedback": "state_feedback", "adaptive": "adaptive",
+                "mrac": "mrac"}
 ControllerOpt = Annotated[ControllerFamily | None, typer.Option(
     "--controller", "-c", help="Run every drive with this controller family (its default "
     "design) instead of the line file's.")]

@@ -16,7 +16,7 @@ def invoke(*args: str):
 
 def test_run_with_each_controller_family(tmp_path):
     final_errors = {}
-    for family in ("pi", "state-feedback", "adaptive"):
+    for family in ("pi", "state-feedback", "adaptive", "mrac"):
         out = tmp_path / family
         result = invoke("run", "hswl", "--duration", "2", "--controller", family, "--out",
                         str(out), "--quiet")

@@ -52,7 +52,9 @@ def test_tension_errors_bounded(study):
     _, result = study
     for row in result.table:
         if row["span"]:
-            limit = 25.0 if row["controller"] == "state_feedback_wrong_friction" else 2.0
+            loose = ("state_feedback_wrong_friction", "state_feedback_thesis_gains",
+                     "mrac_thesis_gains")  # no integral action / unrealisable gains (§4)
+            limit = 25.0 if row["controller"] in loose else 2.0
             assert row["peak_tension_error_N"] < limit, row
 
 

@@ -25,7 +25,7 @@ from webline.control.sections import SectionModel, section_models
 from webline.control.select import with_controller
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint, operating_point
-from webline.spec.schema import AdaptiveSpec, StateFeedbackSpec
+from webline.spec.schema import AdaptiveSpec, MRACSpec, StateFeedbackSpec
 
 LBF, FT = 4.4482216152605, 0.3048  # [N], [m]
 #: (ft/s²)/lbf -> (m/s²)/N: the unit of the tension entries C_i1 of the thesis's Ā_i
@@ -64,7 +64,7 @@ def fixed_gains(gains: Sequence[np.ndarray]) -> Callable[[list[SectionModel]], l
 
 def with_gains(line: Line, gains: Sequence[np.ndarray], family: str = "state_feedback",
                **options: object) -> Line:
-    """``line`` with every drive running ``family`` ("state_feedback" or "adaptive") with the
+    """``line`` with every drive running ``family`` ("state_feedback", "adaptive", "mrac") with the
     gains K_i (section order = ``line.drives``) written into its line-file tables."""
     overrides = {line.node_name(i): {"tension_gain": float(k[0]), "speed_gain": float(k[1])}
                  for i, k in zip(line.drives, gains, strict=True)}
@@ -89,7 +89,7 @@ def section_designs(line: Line, op: OperatingPoint | None = None, *,
         roller = line.spec.rollers[i]
         drive = roller.drive  # type: ignore[union-attr]
         c = getattr(roller, "controller", None)
-        table = c if isinstance(c, StateFeedbackSpec | AdaptiveSpec) else None
+        table = c if isinstance(c, StateFeedbackSpec | AdaptiveSpec | MRACSpec) else None
         z = line.controlled_zone(i)
         t_scale = (table and table.tension_scale) or (
             0.01 * op.tension[line.zones[z].loadcell] if z is not None else 1.0)

@@ -8,8 +8,8 @@ from typing import Literal
 from webline.line import Line
 from webline.spec.load import spec_from_dict
 
-Family = Literal["cascaded_pi", "state_feedback", "adaptive"]
-FAMILIES: tuple[Family, ...] = ("cascaded_pi", "state_feedback", "adaptive")
+Family = Literal["cascaded_pi", "state_feedback", "adaptive", "mrac"]
+FAMILIES: tuple[Family, ...] = ("cascaded_pi", "state_feedback", "adaptive", "mrac")
 
 
 def with_controller(line: Line, family: Family, *,
@@ -20,8 +20,8 @@ def with_controller(line: Line, family: Family, *,
     Each driven roller's ``controller`` table is replaced by ``{"type": family, **options}``,
     updated with ``overrides[roller name]`` where given (per-drive gains, friction estimates).
     Options are the keys of the family's table in the line file (``CascadedPISpec``,
-    ``StateFeedbackSpec``, ``AdaptiveSpec``; SI numbers or unit strings). The new spec is
-    validated, so a key the family does not have is an error naming it.
+    ``StateFeedbackSpec``, ``AdaptiveSpec``, ``MRACSpec``; SI numbers or unit strings). The new
+    spec is validated, so a key the family does not have is an error naming it.
     """
     if family not in FAMILIES:
         raise ValueError(f"unknown controller family {family!r}; expected one of {FAMILIES}")

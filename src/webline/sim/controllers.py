@@ -24,6 +24,8 @@ import numpy as np
 
 from webline.physics import motor, roll, roller, span
 from webline.sim import layout as L
+from webline.sim.mrac import mrac_adapt, mrac_feedback
+from webline.sim.observer import observe
 from webline.sim.signals import gaussian, jit, profile_at, profile_slope_at
 
 _tension: Any = jit(span.tension)
@@ -173,6 +175,10 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
             t_meas = _tension(x[loadcell])
             if offsets[L.O_NOISE] and web[L.W_NOISE_T] > 0.0:
                 t_meas += web[L.W_NOISE_T] * gaussian(seed, tick, 2 * d + 1)
+        if drives[d, L.D_OBS] > 0.0:  # a section observer replaces the loadcell
+            inertia_d = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
+            t_meas = observe(d, i, dt, tick, radius, inertia_d, v_meas / radius, x, istate,
+                             ds, offsets, nodes, drives, web, span_ref)
         gain = 1.0
         if ds[d, L.DS_ADAPTIVE] > 0:
             inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
@@ -230,7 +236,8 @@ def decentralized_command(d: int, i: int, dt: float, radius: float, v_meas: floa
                           ds: np.ndarray, nodes: np.ndarray, drives: np.ndarray,
                           web: np.ndarray, span_ref: np.ndarray, v_ref: np.ndarray,
                           a_ref: np.ndarray, out: np.ndarray) -> None:
-    """State feedback or adaptive control of drive ``d`` on node ``i`` (module docstring)."""
+    """State feedback, adaptive control or MRAC (``sim.mrac``) of drive ``d`` on node ``i``
+    (module docstring)."""
     inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
     ratio = nodes[i, L.N_RATIO]
     adaptive = ds[d, L.DS_FAMILY] == L.FAMILY_ADAPTIVE
@@ -247,13 +254,19 @@ def decentralized_command(d: int, i: int, dt: float, radius: float, v_meas: floa
     if direction != 0.0:
         scale = direction * inertia * web[L.W_THICK] / (2.0 * math.pi * radius**3)
         comp = -scale * (v_meas * v_meas - v_ref[i] * v_ref[i]) / ratio
-    feedback = -gain * (drives[d, L.D_KT] * x_t + drives[d, L.D_KV] * x_v)
+    mrac = ds[d, L.DS_FAMILY] == L.FAMILY_MRAC
+    if mrac:
+        feedback = mrac_feedback(d, x_t, x_v, gain, istate)
+    else:
+        feedback = -gain * (drives[d, L.D_KT] * x_t + drives[d, L.D_KV] * x_v)
     if adaptive:  # friction felt at the measured speed, not only at the reference
         feedback += friction * x_v / (radius * ratio)
     raw = u_eq + comp + feedback
     u = _saturate(raw, drives[d, L.D_LIMIT])
     if adaptive and u == raw:
         adapt(d, dt, x_v, v_ref[i] / radius, gain, ratio, istate, drives)
+    if mrac and u == raw:
+        mrac_adapt(d, dt, x_t, x_v, istate, drives)
     out[0, d] = u
     out[1, d] = v_ref[i]
     out[2, d] = 0.0

@@ -6,7 +6,8 @@ import numpy as np
 
 from webline.control.decentralized import SectionDesign, design_section
 from webline.control.pi import PIGains, tune
-from webline.control.sections import section_models
+from webline.control.sections import SectionModel, section_models
+from webline.errors import LineFileError
 from webline.line import Line, is_roll
 from webline.model.operating_point import OperatingPoint
 from webline.sim import layout as L
@@ -17,12 +18,13 @@ from webline.spec.schema import (
     DirectSpec,
     DriveSpec,
     IdleSpec,
+    MRACSpec,
     ShaftSpec,
     StateFeedbackSpec,
 )
 
 FAMILIES = {CascadedPISpec: L.FAMILY_PI, StateFeedbackSpec: L.FAMILY_STATE_FEEDBACK,
-            AdaptiveSpec: L.FAMILY_ADAPTIVE}
+            AdaptiveSpec: L.FAMILY_ADAPTIVE, MRACSpec: L.FAMILY_MRAC}
 
 
 Designs = tuple[SectionDesign | None, ...]
@@ -116,7 +118,7 @@ def _decentralized_columns(row: np.ndarray, line: Line, d: int, line_speed: floa
     i = line.drives[d]
     roller = line.spec.rollers[i]
     c = roller.controller  # type: ignore[union-attr]
-    assert isinstance(c, StateFeedbackSpec | AdaptiveSpec)
+    assert isinstance(c, StateFeedbackSpec | AdaptiveSpec | MRACSpec)
     z = line.controlled_zone(i)
     t_scale = c.tension_scale or (0.01 * tension[line.zones[z].loadcell] if z is not None else 1.0)
     v_scale = c.speed_scale or max(0.01 * abs(line_speed), 0.01)
@@ -134,7 +136,54 @@ def _decentralized_columns(row: np.ndarray, line: Line, d: int, line_speed: floa
         row[L.D_GAMMA], row[L.D_LEAK] = c.adaptation_gain, c.leakage
         # the bound: a friction torque at the initial speed of parameter_bound x torque scale
         row[L.D_BMAX] = c.parameter_bound * u_scale / max(abs(line_speed) / roller.radius, 1.0)
+    if isinstance(c, MRACSpec):
+        _mrac_columns(row, c, design, t_scale, v_scale, u_scale)
+    if c.tension_feedback == "observer":
+        observer_columns(row, line, d, model, c.observer_bandwidth)  # type: ignore[arg-type]
+        row[L.D_OBS_EA] = line.ea if c.observer_ea is None else c.observer_ea
     return design
+
+
+def observer_columns(row: np.ndarray, line: Line, d: int, model: SectionModel,
+                     bandwidth: float) -> None:
+    """The tension observer of drive ``d`` (``sim.observer``): its zone must be one span next
+    to its roller, its drive rigid. Gains from the section model at the operating point:
+    error matrix [[-v/L, -l_T], [s r/J, -β - l_ω]] (s = +1 if the roller is the span's
+    upstream end; β = the model's speed damping) with both poles at -``bandwidth`` [rad/s]."""
+    i = line.drives[d]
+    z = line.controlled_zone(i)
+    key = f"rollers[{i}].controller.tension_feedback"
+    if z is None or len(line.zones[z].spans) != 1:
+        raise LineFileError(line.source, key, f"roller {line.node_name(i)!r}: 'observer' needs "
+                            "a zone of one span (no idle rollers)")
+    if line.spec.rollers[i].drive.transmission.type != "direct":  # type: ignore[union-attr]
+        raise LineFileError(line.source, key, f"roller {line.node_name(i)!r}: 'observer' needs "
+                            "a rigid drive")
+    k = line.zones[z].spans[0]
+    # model.a in (T, V): a[0,0] = -v/L; a[1,0] = ±r/J per N in m/s²; a[1,1] = -β
+    a = model.a
+    radius = line.spec.rollers[i].radius
+    decay, coupling, damping = -a[0, 0], a[1, 0] / radius, -a[1, 1]  # coupling: rad/s² per N
+    l_w = 2.0 * bandwidth - decay - damping
+    l_t = (bandwidth**2 - decay * (damping + l_w)) / coupling
+    row[L.D_OBS], row[L.D_OBS_LT], row[L.D_OBS_LW] = 1.0, l_t, l_w
+    row[L.D_OBS_OTHER] = k + 1 if k == i else k
+    row[L.D_OBS_LENGTH] = line.spec.spans[k].length
+
+
+def _mrac_columns(row: np.ndarray, c: MRACSpec, design: SectionDesign, t_scale: float,
+                  v_scale: float, u_scale: float) -> None:
+    """The MRAC's law in physical units from the scaled design: s = eᵀ P b = PBT e_T + PBV e_V
+    (P b scaled, divided by the scales), dk̂_j/dt = γ u_s/scale_j² s x_j, d(bias)/dt = γ u_s s,
+    and the projection half-widths ρ u_s/scale_j, ρ u_s."""
+    scales = np.array([t_scale, v_scale])
+    pb = design.pb_scaled / scales
+    row[L.D_PBT], row[L.D_PBV] = pb
+    row[L.D_GKT], row[L.D_GKV] = c.adaptation_gain * u_scale / scales**2
+    row[L.D_GBIAS] = c.adaptation_gain * u_scale
+    row[L.D_KBT], row[L.D_KBV] = c.parameter_bound * u_scale / scales
+    row[L.D_CBOUND] = c.parameter_bound * u_scale
+    row[L.D_GAMMA], row[L.D_LEAK] = c.adaptation_gain, c.leakage
 
 
 def transmission(line: Line, i: int) -> DirectSpec | BeltSpec | ShaftSpec:

@@ -38,8 +38,16 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  # [N·m/rad], damping [N·m·s/rad] and free travel [rad], motor inertia and friction, ratio,
  # speed feedback side (0 load, 1 motor)
  D_COMPLIANT, D_TSTATE, D_KTRANS, D_CTRANS, D_GAPNEG, D_GAPPOS, D_JMOTOR, D_BMOTOR, D_RATIO,
- D_FEEDBACK) = range(34)
-D_COLS = 34
+ D_FEEDBACK,
+ # ... and the MRAC of (6.66-6.68, E-6.8): P·b on (T, V) deviations [1/N, s/m], adaptation
+ # rates of k̂_T, k̂_V [N·m/N², N·m·s²/m²] and of the bias [N·m], projection half-widths
+ # of k̂_T, k̂_V [N·m/N, N·m·s/m] and of the bias [N·m]
+ D_PBT, D_PBV, D_GKT, D_GKV, D_GBIAS, D_KBT, D_KBV, D_CBOUND,
+ # ... and the tension observer (sim/observer.py): 1 if used, its gains on the speed residual
+ # [N·s/rad, 1/s], the node on the other side of the observed span, its length [m] and the
+ # EA the observer assumes [N]
+ D_OBS, D_OBS_LT, D_OBS_LW, D_OBS_OTHER, D_OBS_LENGTH, D_OBS_EA) = range(48)
+D_COLS = 48
 ROLE_MASTER, ROLE_TENSION = 0, 1
 
 # drive structure (integer) columns, and the float columns they copy
@@ -48,11 +56,12 @@ ROLE_MASTER, ROLE_TENSION = 0, 1
 DS_COLS = 11
 DRIVE_STRUCTURE = (D_NODE, D_ROLE, D_LOADCELL, D_REF, D_UPREF, D_TSTATE, D_FAMILY, D_FEEDBACK,
                    D_ADAPTIVE, D_ZFIRST, D_ZLAST)
-FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE = 0, 1, 2
+FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE, FAMILY_MRAC = 0, 1, 2, 3
 
-# controller memory per drive: PI integrators, adaptive friction estimate [N·m·s]
-I_SPEED, I_TENSION, I_FRICTION = range(3)
-I_COLS = 3
+# controller memory per drive: PI integrators, adaptive friction estimate [N·m·s], the MRAC's
+# adapted gains k̂_T [N·m/N], k̂_V [N·m·s/m] and bias [N·m]
+I_SPEED, I_TENSION, I_FRICTION, I_KT, I_KV, I_BIAS, I_THAT, I_WHAT = range(8)
+I_COLS = 8
 
 # line-wide scalars
 (W_EA, W_THICK, W_WIDTH, W_DENSITY, W_T0, W_NOISE_T, W_NOISE_V, W_SEED,

@@ -110,6 +110,12 @@ class Plan:
         istate = np.zeros((len(op.torque), L.I_COLS))
         istate[:, L.I_SPEED] = x[off[3]: off[3] + len(op.torque)]
         istate[:, L.I_FRICTION] = self.drives[:, L.D_BMODEL]
+        istate[:, L.I_KT] = self.drives[:, L.D_KT]  # the MRAC's k̂ starts at the design
+        istate[:, L.I_KV] = self.drives[:, L.D_KV]
+        for d, i in enumerate(op.drives):  # the tension observers start at the equilibrium
+            loadcell = int(self.drives[d, L.D_LOADCELL])
+            istate[d, L.I_THAT] = op.tension[loadcell] if loadcell >= 0 else 0.0
+            istate[d, L.I_WHAT] = op.omega[i]
         ea = self.line.ea
         t_master = self.profile_value(int(off[6]), op.time)
         for d, i in enumerate(op.drives):

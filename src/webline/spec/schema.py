@@ -161,13 +161,16 @@ class _DecentralizedSpec(Strict):
     ``speed_scale`` [m/s] and ``torque_scale`` [N·m] (default: 1 % of the tension reference,
     1 % of the line speed (at least 0.01 m/s), 10 % of the torque limit).
     ``friction_estimate`` [N·m·s] is the controller's model of the bearing friction (default:
-    the roller's true value).
+    the roller's true value). ``tension_feedback = "observer"``: ``webline.sim.observer``.
     """
 
     tension_scale: Force | None = None
     speed_scale: Annotated[float, si("speed", ">0")] | None = None
     torque_scale: Torque | None = None
     friction_estimate: Damping | None = None
+    tension_feedback: Literal["loadcell", "observer"] = "loadcell"
+    observer_bandwidth: AngularFrequency = 30.0
+    observer_ea: Force | None = None  #: the observer's EA [N] (default: the web's)
 
 
 class StateFeedbackSpec(_DecentralizedSpec):
@@ -200,6 +203,17 @@ class AdaptiveSpec(_DecentralizedSpec):
     parameter_bound: Annotated[float, si("dimensionless", ">0")] = 10.0
 
 
+class MRACSpec(_DecentralizedSpec):
+    """Decentralized MRAC of Sec. 6.3 (``webline.sim.mrac``; docs/line-file.md, E-6.14)."""
+
+    type: Literal["mrac"]
+    tension_gain: Signed | None = None
+    speed_gain: Signed | None = None
+    adaptation_gain: AngularFrequency = 1.0
+    leakage: Gain = 0.01
+    parameter_bound: Annotated[float, si("dimensionless", ">0")] = 2.0
+
+
 def _controller_tag(value: object) -> str:
     """The controller family; a table without ``type`` is the industrial cascaded PI."""
     if isinstance(value, dict):
@@ -210,7 +224,8 @@ def _controller_tag(value: object) -> str:
 ControllerSpec = Annotated[
     Annotated[CascadedPISpec, Tag("cascaded_pi")]
     | Annotated[StateFeedbackSpec, Tag("state_feedback")]
-    | Annotated[AdaptiveSpec, Tag("adaptive")],
+    | Annotated[AdaptiveSpec, Tag("adaptive")]
+    | Annotated[MRACSpec, Tag("mrac")],
     Discriminator(_controller_tag),
 ]
 

@@ -19,6 +19,7 @@ from webline.studies import (
     slip_example,
     slip_threshold,
     solid_motion,
+    tension_observer,
     unwind_belt_ramp,
 )
 from webline.studies.result import StudyResult
@@ -38,6 +39,7 @@ STUDIES: dict[str, Callable[..., StudyResult]] = {
     "slip-example": slip_example.run,
     "slip-threshold": slip_threshold.run,
     "robustness": robustness.run,
+    "tension-observer": tension_observer.run,
 }
 
 
