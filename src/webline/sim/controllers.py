@@ -173,6 +173,8 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
             t_meas = _tension(x[loadcell])
             if offsets[L.O_NOISE] and web[L.W_NOISE_T] > 0.0:
                 t_meas += web[L.W_NOISE_T] * gaussian(seed, tick, 2 * d + 1)
+        if ds[d, L.DS_DANCER] >= 0:
+            t_meas = dancer_measurement(d, x, ns, ds, nodes, refs)
         gain = 1.0
         if ds[d, L.DS_ADAPTIVE] > 0:
             inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
@@ -183,6 +185,20 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
         else:
             decentralized_command(d, i, dt, radius, v_meas, t_meas, gain, istate, ns, ds,
                                   nodes, drives, web, span_ref, v_ref, a_ref, out)
+
+
+@jit
+def dancer_measurement(d: int, x: np.ndarray, ns: np.ndarray, ds: np.ndarray,
+                       nodes: np.ndarray, refs: np.ndarray) -> float:
+    """What drive ``d``'s tension loop reads from its zone's dancer (docs/winder.md, D3):
+    as a tension sensor, T = (load - k (y - y_set)) / 2 [N]; for position control, the
+    reference less the position error y - y_set, so that the loop's error T_ref - T_meas is
+    y - y_set [m] (gains in (m/s)/m, ``sim.dancer.drive_columns``)."""
+    i = ds[d, L.DS_DANCER]
+    y = x[ns[i, L.NS_DANCER]] - nodes[i, L.N_DSET]
+    if ds[d, L.DS_DUSE] == L.DANCER_TENSION:
+        return 0.5 * (refs[int(nodes[i, L.N_DLOAD])] - nodes[i, L.N_DK] * y)
+    return refs[ds[d, L.DS_REF]] - y
 
 
 @jit

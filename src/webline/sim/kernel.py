@@ -26,6 +26,7 @@ import numpy as np
 from webline.physics import backlash, roll, roller, slip, span
 from webline.sim import layout as L
 from webline.sim.controllers import control_tick, node_radius
+from webline.sim.dancer_loop import dancer_rate, span_motion
 from webline.sim.signals import jit, loop_njit, njit, profile_at, sines
 
 if TYPE_CHECKING:
@@ -66,7 +67,8 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
         work: np.ndarray) -> None:
     """Plant derivative dx/dt into ``dx`` with held torque commands ``cmd`` [N·m], held drag
     torques ``drag`` [N·m] (brakes, failing bearings: per node), held stick/slip states
-    ``slipping`` (per node) and the unwind's wound-in tension ``t0`` [N] at that instant (see
+    ``slipping`` (per node; ``drag[nodes + i]``: the load [N] on a dancer on node i) and the
+    unwind's wound-in tension ``t0`` [N] at that instant (see
     ``wound_in``); nothing else depends on time. ``ns``, ``ds``, ``offsets`` are the line's
     structure, the other tables its parameters (``webline.sim.layout``).
 
@@ -101,7 +103,12 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
     t_in = t0
     for k in range(n_spans):
         v_in, v_out, t_out = work[sp + k], work[sp + k + 1], work[te + k]
-        dx[k] = (ea * (v_out - v_in) + t_in * v_in - t_out * v_out) * spans[k, L.S_INVLENGTH]
+        flow = ea * (v_out - v_in) + t_in * v_in - t_out * v_out
+        if ns[k, L.NS_DANCER] >= 0 or ns[k + 1, L.NS_DANCER] >= 0:
+            length, rate = span_motion(k, x, ns, nodes, spans)
+            dx[k] = (flow + (ea - x[k]) * rate) / length  # docs/winder.md (D1)
+        else:
+            dx[k] = flow * spans[k, L.S_INVLENGTH]
         t_in = t_out
 
     width, density = web[L.W_WIDTH], web[L.W_DENSITY]
@@ -138,6 +145,9 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
 
     for d in range(ds.shape[0]):
         dx[off_tq + d] = (cmd[d] - x[off_tq + d]) * drives[d, L.D_INVLAG]
+    for i in range(1, last):
+        if ns[i, L.NS_DANCER] >= 0:
+            dancer_rate(i, x, ns, nodes, work[te + i - 1] + work[te + i], drag[n_nodes + i], dx)
 
     inv_ea = 1.0 / ea
     dx[off_q] = v_unwind * (1.0 - t0 * inv_ea)
@@ -215,7 +225,7 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
     out = np.zeros((4, n_d))
     stages = np.empty((5, n_x))  # RK4 slopes k1..k4 and the stage state
     refs = np.empty((4, max(plan.prof_off.shape[0] - 1, n_n)))  # profiles|spans|v_ref|a_ref
-    work = np.zeros((2, 3 * n_n))  # rhs scratch | held drag torque per node
+    work = np.zeros((2, 3 * n_n))  # rhs scratch | held drag torque, dancer load per node
     n_rec, status, t_fail, where = compiled_loop(plan)(
         x, istate, slipping, rec, out, stages, refs, work, tick0, n_ticks, plan.dt, substeps,
         record_every, include_end, *plan.params())
@@ -277,7 +287,7 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
     tmp = stages[4]
     prof, span_ref = refs[0, :prof_off.shape[0] - 1], refs[1, :n_n - 1]
     v_ref, a_ref = refs[2, :n_n], refs[3, :n_n]
-    scratch, drag = work[0], work[1, :n_n]
+    scratch, drag = work[0], work[1, :2 * n_n]
     h = dt / substeps
     n_rec = 0
     status = L.STATUS_OK
@@ -315,6 +325,9 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
             p = ns[i, L.NS_DRAG]
             if p >= 0:
                 drag[i] = profile_at(p, t, prof_t, prof_v, prof_off)
+            if ns[i, L.NS_DANCER] >= 0:
+                drag[n_n + i] = profile_at(int(nodes[i, L.N_DLOAD]), t, prof_t, prof_v,
+                                           prof_off)
         t0_start = wound_in(t, web, wound_ripple)
         for s in range(substeps):
             ts = t + s * h

@@ -15,13 +15,17 @@ kernel; a new structure compiles (and caches) another.
  # web-roller traction (Ch. 5): 1 if the web may slip, wrap [rad], μ0, μ', viscous [N·s/m]
  N_TRACTION, N_WRAP, N_MU, N_MUK, N_SLIPB,
  # profile of a torque opposing the rotation (drive brake or roller drag), -1: none
- N_DRAG) = range(17)
-N_COLS = 17
+ N_DRAG,
+ # dancer (docs/winder.md): index of its position state (-1: none; velocity follows), 1/mass
+ # [1/kg], spring [N/m], damper [N·s/m], set position, travel [m], end-stop spring [N/m] and
+ # damper [N·s/m], load profile
+ N_DANCER, N_DINVM, N_DK, N_DC, N_DSET, N_DTRAVEL, N_DSTOP, N_DSTOPC, N_DLOAD) = range(26)
+N_COLS = 26
 
 # node structure (integer) columns, and the float columns they copy
-NS_KIND, NS_DRIVE, NS_ECCSTATE, NS_TRACTION, NS_DRAG = range(5)
-NS_COLS = 5
-NODE_STRUCTURE = (N_KIND, N_DRIVE, N_ECCSTATE, N_TRACTION, N_DRAG)
+NS_KIND, NS_DRIVE, NS_ECCSTATE, NS_TRACTION, NS_DRAG, NS_DANCER = range(6)
+NS_COLS = 6
+NODE_STRUCTURE = (N_KIND, N_DRIVE, N_ECCSTATE, N_TRACTION, N_DRAG, N_DANCER)
 
 # span table columns
 S_LENGTH, S_INVLENGTH = range(2)
@@ -38,16 +42,19 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  # [N·m/rad], damping [N·m·s/rad] and free travel [rad], motor inertia and friction, ratio,
  # speed feedback side (0 load, 1 motor)
  D_COMPLIANT, D_TSTATE, D_KTRANS, D_CTRANS, D_GAPNEG, D_GAPPOS, D_JMOTOR, D_BMOTOR, D_RATIO,
- D_FEEDBACK) = range(34)
-D_COLS = 34
+ D_FEEDBACK,
+ # ... and the dancer its zone's PI uses: node (-1 none) and use (DANCER_POSITION/_TENSION)
+ D_DANCER, D_DUSE) = range(36)
+D_COLS = 36
+DANCER_NONE, DANCER_POSITION, DANCER_TENSION = 0, 1, 2
 ROLE_MASTER, ROLE_TENSION = 0, 1
 
 # drive structure (integer) columns, and the float columns they copy
 (DS_NODE, DS_ROLE, DS_LOADCELL, DS_REF, DS_UPREF, DS_TSTATE, DS_FAMILY, DS_FEEDBACK,
- DS_ADAPTIVE, DS_ZFIRST, DS_ZLAST) = range(11)
-DS_COLS = 11
+ DS_ADAPTIVE, DS_ZFIRST, DS_ZLAST, DS_DANCER, DS_DUSE) = range(13)
+DS_COLS = 13
 DRIVE_STRUCTURE = (D_NODE, D_ROLE, D_LOADCELL, D_REF, D_UPREF, D_TSTATE, D_FAMILY, D_FEEDBACK,
-                   D_ADAPTIVE, D_ZFIRST, D_ZLAST)
+                   D_ADAPTIVE, D_ZFIRST, D_ZLAST, D_DANCER, D_DUSE)
 FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE = 0, 1, 2
 
 # controller memory per drive: PI integrators, adaptive friction estimate [N·m·s]

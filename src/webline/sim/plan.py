@@ -12,9 +12,11 @@ from webline.control.pi import PIGains
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint, operating_point
 from webline.profiles import breakpoints, pwl_value
+from webline.sim import dancer as dancers
 from webline.sim import layout as L
 from webline.sim.drive_table import drive_table, transmission, transmission_columns
 from webline.spec.schema import (
+    DancerSpec,
     DrivenSpec,
     EccentricRoller,
     IdleSpec,
@@ -107,6 +109,11 @@ class Plan:
         x[off[3]: off[3] + len(op.torque)] = np.clip(op.torque, -limits, limits)
         for d, i in enumerate(op.drives):
             self._transmission_state(x, d, i, op)
+        for i in dancers.dancer_nodes(self.line):
+            state = int(self.nodes[i, L.N_DANCER])
+            load = self.profile_value(int(self.nodes[i, L.N_DLOAD]), op.time)
+            x[state] = dancers.equilibrium_position(self.line, i, op.tension[i - 1],
+                                                    op.tension[i], load)
         istate = np.zeros((len(op.torque), L.I_COLS))
         istate[:, L.I_SPEED] = x[off[3]: off[3] + len(op.torque)]
         istate[:, L.I_FRICTION] = self.drives[:, L.D_BMODEL]
@@ -164,19 +171,23 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     compliant = [i for i in line.drives if transmission(line, i).type != "direct"]
     for i in compliant:
         names += [f"{rollers[i].name}.motor_omega", f"{rollers[i].name}.twist"]
+    dancer_nodes = dancers.dancer_nodes(line)
+    for i in dancer_nodes:
+        names += [f"{rollers[i].name}.position", f"{rollers[i].name}.velocity"]
     names += ["web.unwound", "web.rewound"]
     off_w = n_spans
     off_r = off_w + n_nodes
     off_tq = off_r + 2
     off_th = off_tq + n_drives
     off_tr = off_th + len(ecc_nodes)
-    off_q = off_tr + 2 * len(compliant)
+    off_dn = off_tr + 2 * len(compliant)
+    off_q = off_dn + 2 * len(dancer_nodes)
 
     op = operating_point(line)  # the plan's one operating point (t = 0, initial radii)
     inertia = op.inertia
     nodes = np.zeros((n_nodes, L.N_COLS))
     kinds = {UnwindSpec: L.KIND_UNWIND, DrivenSpec: L.KIND_DRIVEN, IdleSpec: L.KIND_IDLE,
-             RewindSpec: L.KIND_REWIND}
+             DancerSpec: L.KIND_IDLE, RewindSpec: L.KIND_REWIND}
     for i, r in enumerate(rollers):
         row = nodes[i]
         row[L.N_KIND] = kinds[type(r)]
@@ -201,6 +212,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
                 contact.kinetic_friction)
             row[L.N_SLIPB] = contact.viscous
         row[L.N_DRAG] = -1
+        row[L.N_DANCER] = -1
         row[L.N_ECC] = eccentric.get(r.name, 0.0)
         row[L.N_ECCSTATE] = off_th + ecc_nodes.index(i) if i in ecc_nodes else -1
 
@@ -213,6 +225,9 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     for i in sorted(drags):
         nodes[i, L.N_DRAG] = len(profiles)
         profiles.append(breakpoints(drags[i]))
+    for j, i in enumerate(dancer_nodes):
+        dancers.node_columns(nodes[i], line, i, off_dn + 2 * j, len(profiles))
+        profiles.append(dancers.load_profile(line, i))
     prof_off = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
 
     rate = sample_rate if sample_rate is not None else spec.control.sample_rate
@@ -220,6 +235,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     for d, i in enumerate(line.drives):
         state = off_tr + 2 * compliant.index(i) if i in compliant else -1
         transmission_columns(drives[d], rollers[i].drive, state)  # type: ignore[union-attr]
+    dancers.drive_columns(drives, line)
     master_up = 1 + line.zone_of_span(line.master - 1)
     web = np.zeros(L.W_COLS)
     web[L.W_EA] = line.ea

@@ -268,8 +268,19 @@ class Result:
     @cached_property
     def web_stored(self) -> np.ndarray:
         """Unstrained web held in the spans [m] (first order in strain, as 6.8 assumes)."""
-        lengths = self.plan.spans[:, L.S_LENGTH]
-        return (lengths * (1.0 - self.stretch / self.line.ea)).sum(axis=1)
+        return (self.span_lengths * (1.0 - self.stretch / self.line.ea)).sum(axis=1)
+
+    @cached_property
+    def span_lengths(self) -> np.ndarray:
+        """Length of every span over time [m]: as in the file, plus the excursion of a dancer
+        at either end from its set position (``kernel.span_motion``)."""
+        nodes = self.plan.nodes
+        lengths = np.tile(self.plan.spans[:, L.S_LENGTH], (len(self.time), 1))
+        for i in np.flatnonzero(nodes[:, L.N_DANCER] >= 0):
+            index = self.plan.state_names.index(f"{self.line.node_name(int(i))}.position")
+            excursion = self.states[:, index] - nodes[i, L.N_DSET]
+            lengths[:, [i - 1, i]] += excursion[:, None]
+        return lengths
 
     @cached_property
     def slack_events(self) -> list[SlackEvent]:

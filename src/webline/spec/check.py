@@ -7,6 +7,7 @@ from collections.abc import Callable, Iterable
 from typing import NoReturn
 
 from webline.errors import LineFileError
+from webline.spec.dancer import check_dancers
 from webline.spec.schema import (
     DisturbanceSpec,
     DrivenSpec,
@@ -107,6 +108,7 @@ def check_spec(spec: LineSpec, file: str) -> None:
             names = f"spans[{first}]" + (f"..spans[{last - 1}]" if last - 1 > first else "")
             fail(names, f"tension zone {z + 1} ({rollers[first].name} to {rollers[last].name}) "
                  f"needs exactly one span with a 'tension' reference, got {len(loadcells)}")
+    check_dancers(rollers, spec.spans, zones(spec), fail)
     for k, span in enumerate(spec.spans):
         if span.tension is not None:
             for value in profile_values(span.tension):

@@ -197,6 +197,8 @@ SECTIONS: dict[str, tuple[str, ...]] = {
     "RewindSpec": ("roll", "roller"),
     "DrivenSpec": ("roller",),
     "IdleSpec": ("roller",),
+    "DancerSpec": ("roller",),
+    "DancerCarriage": ("dancer",),
     "SpanSpec": ("span",),
     "WoundInRipple": ("wound_in_ripple",),
     "EccentricRoller": ("eccentric_roller",),

@@ -10,6 +10,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Discriminator, Field, Tag
 
+from webline.spec.dancer import DancerCarriage
 from webline.spec.quantities import (  # noqa: F401 - re-exported for users of the schema
     Angle,
     AngularFrequency,
@@ -286,8 +287,15 @@ class IdleSpec(_RollerBase):
     contact: ContactSpec = AdheredSpec()
 
 
+class DancerSpec(IdleSpec):
+    """Idle roller on a moving carriage or arm: a dancer (``webline.spec.dancer``)."""
+
+    type: Literal["dancer"]  # type: ignore[assignment]
+    dancer: DancerCarriage
+
+
 RollerSpec = Annotated[
-    UnwindSpec | RewindSpec | DrivenSpec | IdleSpec,
+    UnwindSpec | RewindSpec | DrivenSpec | IdleSpec | DancerSpec,
     Field(discriminator="type"),
 ]
 
