@@ -105,6 +105,18 @@ RANGES: dict[str, Range] = {
     "roller.coulomb_friction": _r(TORQUE, (0.0, 1e6), (0.0, 1000.0), "dry bearing friction"),
     "roller.wrap": _r("angle", (1e-4, 4 * math.pi), (0.05, TAU), "a web wraps at most once"),
     "unwind.wound_in_tension": TENSION_RANGE,
+    # dancers (docs/winder.md)
+    "dancer.mass": _r("mass", (1e-3, 1e5), (0.1, 2000.0), "a light slide to a heavy arm"),
+    "dancer.travel": _r(LEN, (1e-3, 20.0), (0.01, 3.0), "strokes of mm to metres"),
+    "dancer.position": _r(LEN, (1e-4, 20.0), (1e-3, 3.0), "within the travel"),
+    "dancer.load": TENSION_RANGE,
+    "dancer.stiffness": _r("stiffness", (0.0, 1e9), (0.0, 1e6), "air springs to steel"),
+    "dancer.damping": _r("linear_damping", (0.0, 1e8), (0.0, 1e5), "dashpots"),
+    "dancer.stop_stiffness": _r("stiffness", (1.0, 1e10), (1e3, 1e8), "rubber to steel"),
+    "dancer.arm_length": _r(LEN, (1e-3, 20.0), (0.05, 3.0), "pivoting arms"),
+    "dancer.arm_inertia": _r(INERTIA, (1e-9, 1e6), (1e-4, 1e4), "pivoting arms"),
+    "dancer.position_kp": _r("1/s", (0.0, 1e4), (0.0, 100.0), "position-loop gains"),
+    "dancer.position_ki": _r("1/s²", (0.0, 1e6), (0.0, 1e4), "position-loop gains"),
     # drives
     "drive.ratio": _r("dimensionless", (1e-3, 1e3), (0.02, 100.0), "gearboxes up to 100:1"),
     "drive.torque_limit": _r(TORQUE, (1e-4, 1e7), (0.01, 1e5), "servo motors to winder drives"),
