@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from webline.physics import motor, roll, roller, span
+from webline.physics import motor, roll, roller, span, taper
 from webline.sim import layout as L
 from webline.sim.signals import gaussian, jit, profile_at, profile_slope_at
 
@@ -31,6 +31,8 @@ _roll_inertia: Any = jit(roll.roll_inertia)
 _radius_rate: Any = jit(roll.radius_rate)
 _friction: Any = jit(roller.friction_torque)
 _saturate: Any = jit(motor.saturate)
+_taper: Any = jit(taper.taper_factor)
+_TABLE = taper.TABLE
 
 
 @jit
@@ -153,6 +155,11 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
     t = tick * dt
     for p in range(prof_off.shape[0] - 1):
         refs[p] = profile_at(p, t, prof_t, prof_v, prof_off)
+    for d in range(ds.shape[0]):
+        if drives[d, L.D_TAPER] > 0.0:
+            refs[ds[d, L.DS_REF]] *= taper_at(d, node_radius(ds[d, L.DS_NODE], x, ns, offsets,
+                                                             nodes), drives, prof_t, prof_v,
+                                              prof_off)
     if offsets[L.O_NEED_EQ]:
         a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)
         reference_state(a_line, refs, ds, offsets, nodes, web, span_ref, v_ref, a_ref)
@@ -185,6 +192,18 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
         else:
             decentralized_command(d, i, dt, radius, v_meas, t_meas, gain, istate, ns, ds,
                                   nodes, drives, web, span_ref, v_ref, a_ref, out)
+
+
+@jit
+def taper_at(d: int, radius: float, drives: np.ndarray, prof_t: np.ndarray,
+             prof_v: np.ndarray, prof_off: np.ndarray) -> float:
+    """Taper factor [-] of drive ``d``'s tension reference at roll radius ``radius`` [m]
+    (docs/winder.md W1): a table's profile read at the diameter, else ``physics.taper``."""
+    kind = int(drives[d, L.D_TAPER])
+    if kind == _TABLE:
+        return profile_at(int(drives[d, L.D_TAPERP]), 2.0 * radius, prof_t, prof_v, prof_off)
+    return _taper(kind, drives[d, L.D_TAPERK], drives[d, L.D_TAPERDC], drives[d, L.D_TAPERDM],
+                  2.0 * radius)
 
 
 @jit

@@ -44,8 +44,11 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  D_COMPLIANT, D_TSTATE, D_KTRANS, D_CTRANS, D_GAPNEG, D_GAPPOS, D_JMOTOR, D_BMOTOR, D_RATIO,
  D_FEEDBACK,
  # ... and the dancer its zone's PI uses: node (-1 none) and use (DANCER_POSITION/_TENSION)
- D_DANCER, D_DUSE) = range(36)
-D_COLS = 36
+ D_DANCER, D_DUSE,
+ # ... and the rewind's taper (docs/winder.md W1): kind (0 none, physics.taper), taper [-],
+ # core and largest diameter [m], profile of its (diameter, factor) table
+ D_TAPER, D_TAPERK, D_TAPERDC, D_TAPERDM, D_TAPERP) = range(41)
+D_COLS = 41
 DANCER_NONE, DANCER_POSITION, DANCER_TENSION = 0, 1, 2
 ROLE_MASTER, ROLE_TENSION = 0, 1
 

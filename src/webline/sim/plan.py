@@ -14,6 +14,7 @@ from webline.model.operating_point import OperatingPoint, operating_point
 from webline.profiles import breakpoints, pwl_value
 from webline.sim import dancer as dancers
 from webline.sim import layout as L
+from webline.sim import winder
 from webline.sim.drive_table import drive_table, transmission, transmission_columns
 from webline.spec.schema import (
     DancerSpec,
@@ -228,6 +229,8 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     for j, i in enumerate(dancer_nodes):
         dancers.node_columns(nodes[i], line, i, off_dn + 2 * j, len(profiles))
         profiles.append(dancers.load_profile(line, i))
+    taper_profile = len(profiles)
+    profiles += winder.taper_profiles(line)
     prof_off = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
 
     rate = sample_rate if sample_rate is not None else spec.control.sample_rate
@@ -236,6 +239,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         state = off_tr + 2 * compliant.index(i) if i in compliant else -1
         transmission_columns(drives[d], rollers[i].drive, state)  # type: ignore[union-attr]
     dancers.drive_columns(drives, line)
+    winder.taper_columns(drives, line, taper_profile)
     master_up = 1 + line.zone_of_span(line.master - 1)
     web = np.zeros(L.W_COLS)
     web[L.W_EA] = line.ea

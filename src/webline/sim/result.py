@@ -128,13 +128,21 @@ class Result:
 
     @cached_property
     def tension_ref(self) -> np.ndarray:
-        """Tension reference of each loadcell span [N] (NaN on spans without a loadcell)."""
+        """Tension reference of each loadcell span [N] (NaN on spans without a loadcell), the
+        rewind's taper applied (docs/winder.md W1)."""
         from webline.profiles import breakpoints
 
         out = np.full_like(self.tension, np.nan)
         for zone in self.line.zones:
             times, values = breakpoints(self.line.spec.spans[zone.loadcell].tension)
             out[:, zone.loadcell] = np.interp(self.time, times, values)
+        rewind = self.line.rewind
+        if rewind.taper is not None and self.line.controlled_zone(self.line.n_nodes - 1) is not None:
+            from webline.physics.taper import spec_factor
+
+            k = self.line.zones[self.line.controlled_zone(self.line.n_nodes - 1)].loadcell
+            out[:, k] *= [spec_factor(rewind.taper, rewind.core_radius, r)
+                          for r in self._block(2, 2)[:, 1]]  # as the controller sets it
         return out
 
     @cached_property

@@ -25,6 +25,7 @@ from webline.spec.schema import (
     WebSpec,
     WoundInRipple,
 )
+from webline.spec.winder import check_taper
 
 Fail = Callable[[str, str], NoReturn]
 
@@ -109,6 +110,7 @@ def check_spec(spec: LineSpec, file: str) -> None:
             fail(names, f"tension zone {z + 1} ({rollers[first].name} to {rollers[last].name}) "
                  f"needs exactly one span with a 'tension' reference, got {len(loadcells)}")
     check_dancers(rollers, spec.spans, zones(spec), fail)
+    check_taper(getattr(rollers[-1], "taper", None), f"rollers[{len(rollers) - 1}].taper", fail)
     for k, span in enumerate(spec.spans):
         if span.tension is not None:
             for value in profile_values(span.tension):

@@ -117,6 +117,10 @@ RANGES: dict[str, Range] = {
     "dancer.arm_inertia": _r(INERTIA, (1e-9, 1e6), (1e-4, 1e4), "pivoting arms"),
     "dancer.position_kp": _r("1/s", (0.0, 1e4), (0.0, 100.0), "position-loop gains"),
     "dancer.position_ki": _r("1/s²", (0.0, 1e6), (0.0, 1e4), "position-loop gains"),
+    "taper.taper": _r("dimensionless", (0.0, 1.0), (0.0, 0.8), "taper of 0 to 80 %"),
+    "taper.max_diameter": _r(LEN, (1e-3, 10.0), (0.05, 4.0), "reels up to 4 m"),
+    "taper.diameter": _r(LEN, (1e-3, 10.0), (0.02, 4.0), "cores to reels"),
+    "taper.factor": _r("dimensionless", (0.0, 1.0), (0.05, 1.0), "a fraction of the reference"),
     # drives
     "drive.ratio": _r("dimensionless", (1e-3, 1e3), (0.02, 100.0), "gearboxes up to 100:1"),
     "drive.torque_limit": _r(TORQUE, (1e-4, 1e7), (0.01, 1e5), "servo motors to winder drives"),
@@ -211,6 +215,7 @@ SECTIONS: dict[str, tuple[str, ...]] = {
     "IdleSpec": ("roller",),
     "DancerSpec": ("roller",),
     "DancerCarriage": ("dancer",),
+    "TaperSpec": ("taper",),
     "SpanSpec": ("span",),
     "WoundInRipple": ("wound_in_ripple",),
     "EccentricRoller": ("eccentric_roller",),

@@ -40,6 +40,7 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
     TorqueProfile,
     si,
 )
+from webline.spec.winder import TaperSpec
 
 #: names (of lines, rollers, spans) and free text, bounded: a name becomes a folder name
 Name = Annotated[str, Field(min_length=1, max_length=100)]
@@ -258,12 +259,14 @@ class UnwindSpec(_RollerBase):
 
 
 class RewindSpec(_RollerBase):
-    """Rewind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web."""
+    """Rewind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web;
+    ``taper`` makes its zone's tension reference a function of its diameter."""
 
     type: Literal["rewind"]
     core_radius: Length
     drive: DriveSpec
     controller: ControllerSpec = CascadedPISpec()
+    taper: TaperSpec | None = None
 
 
 class DrivenSpec(_RollerBase):

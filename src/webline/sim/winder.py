@@ -1,0 +1,35 @@
+"""Winder functions in the compiled plan (docs/winder.md): the rewind's taper columns."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from webline.line import Line
+from webline.physics.taper import KINDS
+from webline.sim import layout as L
+
+
+def taper_profiles(line: Line) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The rewind's taper table as a profile over diameter [m] (none for other tapers)."""
+    taper = line.rewind.taper
+    if taper is None or taper.type != "table":
+        return []
+    return [(np.array(taper.diameter, dtype=float), np.array(taper.factor, dtype=float))]
+
+
+def taper_columns(drives: np.ndarray, line: Line, profile: int) -> None:
+    """Fill the taper columns of the rewind's drive row (if it controls a zone and has a
+    taper); ``profile``: the index of its table's profile (``taper_profiles``)."""
+    rewind = line.rewind
+    last = line.n_nodes - 1
+    if rewind.taper is None or line.controlled_zone(last) is None:
+        return
+    row = drives[line.drives.index(last)]
+    row[L.D_TAPER] = KINDS[rewind.taper.type]
+    row[L.D_TAPERK] = rewind.taper.taper
+    row[L.D_TAPERDC] = 2.0 * rewind.core_radius
+    d_max = rewind.taper.max_diameter
+    row[L.D_TAPERDM] = math.inf if d_max is None else d_max
+    row[L.D_TAPERP] = profile

@@ -1,0 +1,41 @@
+"""Line-file keys of the winder functions (docs/winder.md): taper tension."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Annotated, Any, Literal
+
+from pydantic import Field
+
+from webline.spec.quantities import Length, Strict
+
+Fraction = Annotated[float, Field(ge=0.0, le=1.0)]
+
+
+class TaperSpec(Strict):
+    """The rewind's tension reference as a function of its diameter D: the zone's reference
+    times a factor f(D) (docs/winder.md, W1). D_c is the core diameter.
+
+    ``"linear"``: f = 1 - taper (D - D_c)/(``max_diameter`` - D_c); ``"hyperbolic"``:
+    f = 1 - taper (1 - D_c/D) (taper = 1 is constant torque); ``"table"``: f interpolated
+    in (``diameter`` [m], ``factor``), constant beyond its ends.
+    """
+
+    type: Literal["linear", "hyperbolic", "table"]
+    taper: Fraction = 0.0
+    max_diameter: Length | None = None
+    diameter: list[Length] = Field(default_factory=list)
+    factor: list[Fraction] = Field(default_factory=list)
+
+
+def check_taper(taper: TaperSpec | None, key: str, fail: Callable[[str, str], Any]) -> None:
+    """Fail on a taper that lacks the keys of its type."""
+    if taper is None:
+        return
+    if taper.type == "linear" and taper.max_diameter is None:
+        fail(f"{key}.max_diameter", "a linear taper needs the largest diameter")
+    if taper.type == "table":
+        if not taper.diameter or len(taper.diameter) != len(taper.factor):
+            fail(f"{key}.factor", "a taper table needs as many factors as diameters (>= 1)")
+        if any(b <= a for a, b in zip(taper.diameter, taper.diameter[1:], strict=False)):
+            fail(f"{key}.diameter", "diameters must increase")
