@@ -137,10 +137,11 @@ class Result:
             times, values = breakpoints(self.line.spec.spans[zone.loadcell].tension)
             out[:, zone.loadcell] = np.interp(self.time, times, values)
         rewind = self.line.rewind
-        if rewind.taper is not None and self.line.controlled_zone(self.line.n_nodes - 1) is not None:
+        zone = self.line.controlled_zone(self.line.n_nodes - 1)
+        if rewind.taper is not None and zone is not None:
             from webline.physics.taper import spec_factor
 
-            k = self.line.zones[self.line.controlled_zone(self.line.n_nodes - 1)].loadcell
+            k = self.line.zones[zone].loadcell
             out[:, k] *= [spec_factor(rewind.taper, rewind.core_radius, r)
                           for r in self._block(2, 2)[:, 1]]  # as the controller sets it
         return out
