@@ -16,17 +16,16 @@ T_REF = 10 * 4.4482216152605  # rockwell's 10 lbf [N]
 
 
 def dancer_line(use: str = "position", neighbours: float = 1.0, **carriage: object):
-    """rockwell with a dancer between unwind and pull roll (two 5 ft spans); ``neighbours``
-    multiplies the inertia of the unwind and pull roll."""
+    """rockwell, whose dancer sits between unwind and pull roll (two 5 ft spans), with the
+    carriage given here; ``neighbours`` multiplies the inertia of the unwind and pull roll."""
     data = webline.load_line("rockwell").spec.model_dump(exclude_none=True)
+    assert data["rollers"][1]["type"] == "dancer"
+    assert [s["length"] for s in data["spans"][:2]] == pytest.approx([1.524, 1.524])
     c = {"mass": 5.0, "travel": 0.3, "position": 0.15, "damping": 100.0, "use": use}
     c.update(carriage)
-    data["rollers"].insert(1, {"name": "dancer", "type": "dancer", "radius": 0.05,
-                               "inertia": 0.002, "friction": 1e-4, "dancer": c})
+    data["rollers"][1].update(radius=0.05, inertia=0.002, friction=1e-4, dancer=c)
     for i in (0, 2):
         data["rollers"][i]["inertia"] *= neighbours
-    data["spans"][0]["length"] = 1.524
-    data["spans"].insert(1, {"name": "dancer_span", "length": 1.524})
     return webline.load_line(data)
 
 

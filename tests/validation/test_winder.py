@@ -34,3 +34,26 @@ def test_taper_followed_in_steady_winding(thick_hswl, taper):
     steady = result.time > 2.0
     error = np.abs(result.tension[steady, k] / reference[steady] - 1.0)
     assert error.max() < 0.02  # issue 15: within 2 % in steady winding
+
+
+def test_calculated_diameter_within_one_percent_through_a_roll_change(hswl):
+    """Start from rest with the rewind's diameter guessed 10 % high (speed-ratio method, held
+    at rest, filtered at 0.1 s) and the unwind's measured (thickness integration); wind a 2 mm
+    web until the unwind is empty (~90 s)."""
+    line = hswl.with_scenario("startup").replace({
+        "web.thickness": "2 mm", "web.modulus": None, "web.ea": hswl.ea,
+        "rollers.rewind.diameter": {"method": "speed_ratio", "filter": "0.1 s",
+                                    "initial": 2 * 1.1 * hswl.rewind.radius},
+        "rollers.unwind.diameter": {"method": "thickness"}})
+    result = webline.simulate(line, 200.0, raise_on_failure=False)
+    assert result.failure is not None and result.failure.kind == "unwind_empty"
+    radius = result.radius[:, [0, -1]]
+    assert radius[-1, 0] < 1.2 * line.unwind.core_radius  # a whole roll
+    assert radius[-1, 1] > 1.5 * line.rewind.radius
+    error = result.control_radius[:, [0, -1]] / radius - 1.0
+    assert error[0, 1] == pytest.approx(0.1)  # the guess, held while the line stands
+    # the rewind's first revolution: its angle integrated from the recorded speeds
+    angle = np.concatenate(([0.0], np.cumsum(np.diff(result.time) * result.omega[1:, -1])))
+    after = angle >= 2 * np.pi
+    assert after.any()
+    assert np.abs(error[after]).max() < 0.01  # issue 15: within 1 %

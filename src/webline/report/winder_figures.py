@@ -1,5 +1,5 @@
 """Report figures of the winder functions (docs/winder.md): the rewind's set tension against
-its diameter (taper) and the dancers' positions."""
+its diameter (taper), the dancers' positions and the diameter calculators' errors."""
 
 from __future__ import annotations
 
@@ -26,7 +26,29 @@ def winder_figures(result: Result, display: Display) -> list[tuple[str, str, Fig
     if len(dancers):
         out.append(("dancer", "Dancer positions against their set positions.",
                     dancer_figure(result, display, [int(i) for i in dancers])))
+    calculated = [d for d in range(len(line.drives))
+                  if result.plan.drives[d, L.D_DCALC] > 0]
+    if calculated:
+        out.append(("diameter", "Calculated roll diameter less the true one.",
+                    diameter_figure(result, display, calculated)))
     return out
+
+
+def diameter_figure(result: Result, display: Display, drives: list[int]) -> Figure:
+    """Error of each diameter calculator: calculated less true diameter over time."""
+    fig = Figure(figsize=(9.0, 3.6), layout="constrained")
+    ax = fig.subplots()
+    for k, d in enumerate(drives):
+        i = result.line.drives[d]
+        error = 2.0 * (result.control_radius[:, d] - result.radius[:, i])
+        ax.plot(result.time, display.array(error, "length"), lw=1.0, color=f"C{k}",
+                label=legend_label(result.node_names[i]))
+    ax.axhline(0.0, color="k", lw=0.6)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel(display.label("diameter error", "length"))
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    return fig
 
 
 def taper_figure(result: Result, display: Display, span: int) -> Figure:

@@ -24,6 +24,7 @@ import numpy as np
 
 from webline.physics import motor, roll, roller, span, taper
 from webline.sim import layout as L
+from webline.sim.diameter import update_radius
 from webline.sim.signals import gaussian, jit, profile_at, profile_slope_at
 
 _tension: Any = jit(span.tension)
@@ -147,7 +148,8 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
                  a_ref: np.ndarray) -> None:
     """One sample of every drive's controller at tick ``tick`` (t = tick·dt [s]).
 
-    ``istate`` (drive x I_COLS) holds PI integrators and adaptive estimates; ``out`` (4 x
+    ``istate`` (drive x I_COLS) holds PI integrators, adaptive estimates and the radius each
+    drive's controller uses (``sim.diameter``, updated first); ``out`` (4 x
     drives) receives the torque command [N·m], the speed reference [m/s], the PI trim [m/s]
     and the equilibrium input [N·m]; ``refs`` (one per profile), ``span_ref`` (spans),
     ``v_ref`` and ``a_ref`` (nodes) are scratch for the references.
@@ -155,10 +157,12 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
     t = tick * dt
     for p in range(prof_off.shape[0] - 1):
         refs[p] = profile_at(p, t, prof_t, prof_v, prof_off)
-    for d in range(ds.shape[0]):
+    for d in range(ds.shape[0]):  # the radius each controller uses (calculated or true)
+        i = ds[d, L.DS_NODE]
+        update_radius(d, i, dt, node_radius(i, x, ns, offsets, nodes), x, istate, ns, offsets,
+                      nodes, drives, web)
         if drives[d, L.D_TAPER] > 0.0:
-            refs[ds[d, L.DS_REF]] *= taper_at(d, node_radius(ds[d, L.DS_NODE], x, ns, offsets,
-                                                             nodes), drives, prof_t, prof_v,
+            refs[ds[d, L.DS_REF]] *= taper_at(d, istate[d, L.I_RADIUS], drives, prof_t, prof_v,
                                               prof_off)
     if offsets[L.O_NEED_EQ]:
         a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)
@@ -166,7 +170,7 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
     seed = int(web[L.W_SEED])
     for d in range(ds.shape[0]):
         i = ds[d, L.DS_NODE]
-        radius = node_radius(i, x, ns, offsets, nodes)
+        radius = istate[d, L.I_RADIUS]
         v_meas = radius * x[offsets[L.O_OMEGA] + i]
         # the motor's encoder, across a compliant transmission (a rigid drive has no motor
         # state: its motor speed is ratio x roller speed, the same measurement as the load's)

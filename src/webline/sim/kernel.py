@@ -208,11 +208,11 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
     ``include_end`` the state after the last period is recorded too (a chunked run leaves it
     to the next chunk). Returns (records, number of records, status, time of failure, where it
     failed (``envelope``), final state, final controller memory, final stick/slip states).
-    Each record row is [t, x...,
-    cmd..., vref..., trim..., u_eq..., friction estimate... (one value per drive in each
-    group), slip state per node...]. The run stops early, keeping what it computed, if the
-    state stops being finite, the unwind roll runs out of web, a tension exceeds the web's
-    strength or the state leaves the physical envelope (``envelope``).
+    Each record row is [t, x..., cmd..., vref..., trim..., u_eq..., friction estimate...,
+    controller radius... (one value per drive in each group), slip state per node...]. The
+    run stops early, keeping what it computed, if the state stops being finite, the unwind
+    roll runs out of web, a tension exceeds the web's strength or the state leaves the
+    physical envelope (``envelope``).
 
     This wrapper allocates every array; the compiled loop allocates none (``loop_njit``).
     ``rec``, if given, receives the records instead (a C-contiguous block of enough rows, e.g.
@@ -234,7 +234,7 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
 
 def record_width(n_x: int, n_d: int, n_n: int) -> int:
     """Columns of a record row (``run``) for ``n_x`` states, ``n_d`` drives, ``n_n`` nodes."""
-    return 1 + n_x + 5 * n_d + n_n
+    return 1 + n_x + 6 * n_d + n_n
 
 
 def compiled_loop(plan: Plan) -> Any:
@@ -312,9 +312,10 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
                 for d in range(n_d):
                     rec[n_rec, col] = out[q, d]
                     col += 1
-            for d in range(n_d):
-                rec[n_rec, col] = istate[d, L.I_FRICTION]
-                col += 1
+            for q in (L.I_FRICTION, L.I_RADIUS):
+                for d in range(n_d):
+                    rec[n_rec, col] = istate[d, q]
+                    col += 1
             for i in range(n_n):
                 rec[n_rec, col] = slipping[i]
                 col += 1

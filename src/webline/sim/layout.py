@@ -47,8 +47,13 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  D_DANCER, D_DUSE,
  # ... and the rewind's taper (docs/winder.md W1): kind (0 none, physics.taper), taper [-],
  # core and largest diameter [m], profile of its (diameter, factor) table
- D_TAPER, D_TAPERK, D_TAPERDC, D_TAPERDM, D_TAPERP) = range(41)
-D_COLS = 41
+ D_TAPER, D_TAPERK, D_TAPERDC, D_TAPERDM, D_TAPERP,
+ # ... and the diameter calculator (W2): method (0 none: the true radius), filter time
+ # constant [s], rate limit [m/s of diameter], hold below [m/s], initial diameter [m] (0:
+ # measured)
+ D_DCALC, D_DFILTER, D_DRATE, D_DHOLD, D_DINIT) = range(46)
+D_COLS = 46
+DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = 0, 1, 2
 DANCER_NONE, DANCER_POSITION, DANCER_TENSION = 0, 1, 2
 ROLE_MASTER, ROLE_TENSION = 0, 1
 
@@ -60,9 +65,10 @@ DRIVE_STRUCTURE = (D_NODE, D_ROLE, D_LOADCELL, D_REF, D_UPREF, D_TSTATE, D_FAMIL
                    D_ADAPTIVE, D_ZFIRST, D_ZLAST, D_DANCER, D_DUSE)
 FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE = 0, 1, 2
 
-# controller memory per drive: PI integrators, adaptive friction estimate [N·m·s]
-I_SPEED, I_TENSION, I_FRICTION = range(3)
-I_COLS = 3
+# controller memory per drive: PI integrators, adaptive friction estimate [N·m·s], the
+# radius the controller uses [m] (calculated, or the true one)
+I_SPEED, I_TENSION, I_FRICTION, I_RADIUS = range(4)
+I_COLS = 4
 
 # line-wide scalars
 (W_EA, W_THICK, W_WIDTH, W_DENSITY, W_T0, W_NOISE_T, W_NOISE_V, W_SEED,

@@ -118,6 +118,8 @@ class Plan:
         istate = np.zeros((len(op.torque), L.I_COLS))
         istate[:, L.I_SPEED] = x[off[3]: off[3] + len(op.torque)]
         istate[:, L.I_FRICTION] = self.drives[:, L.D_BMODEL]
+        for d, i in enumerate(op.drives):
+            istate[d, L.I_RADIUS] = winder.initial_radius(self.drives, d, op.radius[i])
         ea = self.line.ea
         t_master = self.profile_value(int(off[6]), op.time)
         for d, i in enumerate(op.drives):
@@ -240,6 +242,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         transmission_columns(drives[d], rollers[i].drive, state)  # type: ignore[union-attr]
     dancers.drive_columns(drives, line)
     winder.taper_columns(drives, line, taper_profile)
+    winder.diameter_columns(drives, line)
     master_up = 1 + line.zone_of_span(line.master - 1)
     web = np.zeros(L.W_COLS)
     web[L.W_EA] = line.ea

@@ -55,7 +55,8 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
         control_tick(j, plan.dt, x, istate, ns, ds, offsets, nodes, drives, web, prof_t,
                      prof_v, prof_off, ripple, out, refs, span_ref, v_ref, a_ref)
         kernel.update_slip(x, slipping, ns, offsets, nodes, web)
-        rows.append(np.concatenate(([t], x, out.ravel(), istate[:, L.I_FRICTION], slipping)))
+        rows.append(np.concatenate(([t], x, out.ravel(), istate[:, L.I_FRICTION],
+                                     istate[:, L.I_RADIUS], slipping)))
         if j == n_ticks:
             break
         for i in range(nodes.shape[0]):

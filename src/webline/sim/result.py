@@ -49,6 +49,7 @@ class Result:
     trim: np.ndarray  #: [m/s] per drive (tension-loop output)
     equilibrium_input: np.ndarray  #: [N·m] per drive (decentralized controllers; else 0)
     friction_estimate: np.ndarray  #: adaptive controllers' friction estimate [N·m·s] per drive
+    control_radius: np.ndarray  #: radius each drive's controller uses [m] (calculated or true)
     slipping: np.ndarray  #: stick/slip state per node (0 stuck, 1 slipping), held per tick
     failure: Failure | None = None  #: why the run stopped early (None: it ran to the end)
     settings: dict[str, float] = field(default_factory=dict)
@@ -358,6 +359,7 @@ class Result:
             "twist": (dims_drive, self.twist),
             "contact": (dims_drive, self.contact),
             "friction_estimate": (dims_drive, self.friction_estimate),
+            "control_radius": (dims_drive, self.control_radius),
             "equilibrium_input": (dims_drive, self.equilibrium_input),
             "inertia": (("time", "roll"), self.inertia),
             "web_unwound": (("time",), self.web_unwound),

@@ -198,10 +198,11 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
 def _result(plan: Plan, rec: np.ndarray, failure: Failure | None,
             settings: dict[str, float]) -> Result:
     n_x, n_d = plan.n_x, plan.drives.shape[0]
-    block = [rec[:, 1 + n_x + q * n_d:1 + n_x + (q + 1) * n_d] for q in range(5)]
-    slipping = rec[:, 1 + n_x + 5 * n_d:]
+    block = [rec[:, 1 + n_x + q * n_d:1 + n_x + (q + 1) * n_d] for q in range(6)]
+    slipping = rec[:, 1 + n_x + 6 * n_d:]
     return Result(
         plan=plan, time=rec[:, 0], states=rec[:, 1:1 + n_x], torque_cmd=block[0],
         speed_feedforward=block[1], trim=block[2], equilibrium_input=block[3],
-        friction_estimate=block[4], slipping=slipping, failure=failure, settings=settings,
+        friction_estimate=block[4], control_radius=block[5], slipping=slipping,
+        failure=failure, settings=settings,
     )

@@ -33,3 +33,25 @@ def taper_columns(drives: np.ndarray, line: Line, profile: int) -> None:
     d_max = rewind.taper.max_diameter
     row[L.D_TAPERDM] = math.inf if d_max is None else d_max
     row[L.D_TAPERP] = profile
+
+
+def diameter_columns(drives: np.ndarray, line: Line) -> None:
+    """Fill the diameter-calculator columns of the roll drives that have one."""
+    for i in (0, line.n_nodes - 1):
+        spec = line.spec.rollers[i].diameter  # type: ignore[union-attr]
+        if spec is None:
+            continue
+        row = drives[line.drives.index(i)]
+        row[L.D_DCALC] = (L.DCALC_SPEED_RATIO if spec.method == "speed_ratio"
+                          else L.DCALC_THICKNESS)
+        row[L.D_DFILTER] = spec.filter
+        row[L.D_DRATE] = math.inf if spec.rate_limit is None else spec.rate_limit
+        row[L.D_DHOLD] = spec.hold_below
+        row[L.D_DINIT] = 0.0 if spec.initial == "measured" else float(spec.initial)
+
+
+def initial_radius(drives: np.ndarray, d: int, true_radius: float) -> float:
+    """The radius [m] drive ``d``'s controller starts from: the calculator's guess, else the
+    true radius."""
+    guess = drives[d, L.D_DINIT]
+    return guess / 2.0 if drives[d, L.D_DCALC] > 0 and guess > 0 else true_radius

@@ -121,6 +121,10 @@ RANGES: dict[str, Range] = {
     "taper.max_diameter": _r(LEN, (1e-3, 10.0), (0.05, 4.0), "reels up to 4 m"),
     "taper.diameter": _r(LEN, (1e-3, 10.0), (0.02, 4.0), "cores to reels"),
     "taper.factor": _r("dimensionless", (0.0, 1.0), (0.05, 1.0), "a fraction of the reference"),
+    "diameter.initial": _r(LEN, (1e-3, 10.0), (0.02, 4.0), "cores to reels"),
+    "diameter.filter": _r("time", (1e-4, 100.0), (0.01, 5.0), "a fraction of a revolution"),
+    "diameter.rate_limit": _r("speed", (1e-9, 10.0), (1e-6, 0.1), "rolls grow by mm/s"),
+    "diameter.hold_below": _r("speed", (0.0, 50.0), (0.0, 2.0), "a crawl"),
     # drives
     "drive.ratio": _r("dimensionless", (1e-3, 1e3), (0.02, 100.0), "gearboxes up to 100:1"),
     "drive.torque_limit": _r(TORQUE, (1e-4, 1e7), (0.01, 1e5), "servo motors to winder drives"),
@@ -216,6 +220,7 @@ SECTIONS: dict[str, tuple[str, ...]] = {
     "DancerSpec": ("roller",),
     "DancerCarriage": ("dancer",),
     "TaperSpec": ("taper",),
+    "DiameterSpec": ("diameter",),
     "SpanSpec": ("span",),
     "WoundInRipple": ("wound_in_ripple",),
     "EccentricRoller": ("eccentric_roller",),

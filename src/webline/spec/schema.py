@@ -40,7 +40,7 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
     TorqueProfile,
     si,
 )
-from webline.spec.winder import TaperSpec
+from webline.spec.winder import DiameterSpec, TaperSpec
 
 #: names (of lines, rollers, spans) and free text, bounded: a name becomes a folder name
 Name = Annotated[str, Field(min_length=1, max_length=100)]
@@ -256,6 +256,7 @@ class UnwindSpec(_RollerBase):
     wound_in_tension: Force
     drive: DriveSpec
     controller: ControllerSpec = CascadedPISpec()
+    diameter: DiameterSpec | None = None
 
 
 class RewindSpec(_RollerBase):
@@ -267,6 +268,7 @@ class RewindSpec(_RollerBase):
     drive: DriveSpec
     controller: ControllerSpec = CascadedPISpec()
     taper: TaperSpec | None = None
+    diameter: DiameterSpec | None = None
 
 
 class DrivenSpec(_RollerBase):

@@ -1,4 +1,5 @@
-"""Line-file keys of the winder functions (docs/winder.md): taper tension."""
+"""Line-file keys of the winder functions (docs/winder.md): taper tension, diameter
+calculation."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field
 
-from webline.spec.quantities import Length, Strict
+from webline.spec.quantities import Length, Strict, si
 
 Fraction = Annotated[float, Field(ge=0.0, le=1.0)]
 
@@ -39,3 +40,21 @@ def check_taper(taper: TaperSpec | None, key: str, fail: Callable[[str, str], An
             fail(f"{key}.factor", "a taper table needs as many factors as diameters (>= 1)")
         if any(b <= a for a, b in zip(taper.diameter, taper.diameter[1:], strict=False)):
             fail(f"{key}.diameter", "diameters must increase")
+
+
+class DiameterSpec(Strict):
+    """A roll drive's diameter calculator (docs/winder.md, W2): its controllers use the
+    calculated radius, not the true one.
+
+    ``"speed_ratio"``: D = 2 v_line / ω_spindle, v_line the master roller's surface speed,
+    low-pass filtered with ``filter`` [s], its rate limited to ``rate_limit`` [m/s] of
+    diameter, held while |v_line| < ``hold_below`` [m/s]. ``"thickness"``: each revolution
+    adds (rewind) or removes (unwind) two web thicknesses. ``initial``: ``"measured"`` (the
+    true diameter at the start) or a guessed diameter [m].
+    """
+
+    method: Literal["speed_ratio", "thickness"]
+    initial: Literal["measured"] | Length = "measured"
+    filter: Annotated[float, si("time", ">0")] = 0.2
+    rate_limit: Annotated[float, si("speed", ">0")] | None = None
+    hold_below: Annotated[float, si("speed", ">=0")] = 0.05
