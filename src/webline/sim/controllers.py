@@ -26,6 +26,7 @@ from webline.physics import motor, roll, roller, span, taper
 from webline.sim import layout as L
 from webline.sim.diameter import update_radius
 from webline.sim.signals import gaussian, jit, profile_at, profile_slope_at
+from webline.sim.winder_loop import compensation, open_loop_command
 
 _tension: Any = jit(span.tension)
 _roll_inertia: Any = jit(roll.roll_inertia)
@@ -190,12 +191,23 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
         if ds[d, L.DS_ADAPTIVE] > 0:
             inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
             gain = inertia / (nodes[i, L.N_RATIO] * radius) / drives[d, L.D_GAINNORM]
+        comp = 0.0  # a centre winder's compensations (docs/winder.md W3)
+        if drives[d, L.D_COMPJ] + drives[d, L.D_COMPCS] + drives[d, L.D_COMPB] > 0.0:
+            comp = compensation(d, drive_inertia(d, i, radius, ns, ds, nodes, drives, web),
+                                radius, v_meas / radius,
+                                profile_slope_at(0, t, prof_t, prof_v, prof_off), drives)
         if ds[d, L.DS_FAMILY] == L.FAMILY_PI:
             pi_command(d, t, dt, v_meas, t_meas, gain, istate, ds, offsets, drives, web, refs,
                        speed_ripple, out)
+        elif ds[d, L.DS_FAMILY] == L.FAMILY_OPEN_LOOP:
+            open_loop_command(d, roll_direction(i, ns), radius, refs[ds[d, L.DS_REF]], comp,
+                              drives, out)
+            continue
         else:
             decentralized_command(d, i, dt, radius, v_meas, t_meas, gain, istate, ns, ds,
                                   nodes, drives, web, span_ref, v_ref, a_ref, out)
+        if comp != 0.0:
+            out[0, d] = _saturate(out[0, d] + comp, drives[d, L.D_LIMIT])
 
 
 @jit

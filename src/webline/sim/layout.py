@@ -51,8 +51,11 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  # ... and the diameter calculator (W2): method (0 none: the true radius), filter time
  # constant [s], rate limit [m/s of diameter], hold below [m/s], initial diameter [m] (0:
  # measured)
- D_DCALC, D_DFILTER, D_DRATE, D_DHOLD, D_DINIT) = range(46)
-D_COLS = 46
+ D_DCALC, D_DFILTER, D_DRATE, D_DHOLD, D_DINIT,
+ # ... and the centre winder's compensation (W3): inertia (1 on), static [N·m] and viscous
+ # [N·m·s] friction at the roll shaft
+ D_COMPJ, D_COMPCS, D_COMPB) = range(49)
+D_COLS = 49
 DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = 0, 1, 2
 DANCER_NONE, DANCER_POSITION, DANCER_TENSION = 0, 1, 2
 ROLE_MASTER, ROLE_TENSION = 0, 1
@@ -64,6 +67,7 @@ DS_COLS = 13
 DRIVE_STRUCTURE = (D_NODE, D_ROLE, D_LOADCELL, D_REF, D_UPREF, D_TSTATE, D_FAMILY, D_FEEDBACK,
                    D_ADAPTIVE, D_ZFIRST, D_ZLAST, D_DANCER, D_DUSE)
 FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE = 0, 1, 2
+FAMILY_OPEN_LOOP = 3  # indirect tension control of a centre winder (docs/winder.md W4)
 
 # controller memory per drive: PI integrators, adaptive friction estimate [N·m·s], the
 # radius the controller uses [m] (calculated, or the true one)

@@ -19,6 +19,7 @@ from webline.physics.roll import web_inertia
 from webline.physics.roller import COULOMB_SMOOTHING
 from webline.sim import dancer_linear as dancers
 from webline.sim import layout as L
+from webline.sim import winder
 from webline.sim.fastest import spectral_radius_bound
 from webline.sim.plan import Plan, compile_plan
 
@@ -188,8 +189,14 @@ def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...
     master_up = int(plan.offsets[6])  # profile index = reference index
     for d, i in enumerate(line.drives):
         row = plan.drives[d]
+        direction = {0: -1.0, line.n_nodes - 1: 1.0}.get(i, 0.0)
+        if winder.linear_rows(row, direction, op.radius[i], line.n_spans + i,
+                              int(row[L.D_REF]), kx[d], kr[d]):
+            continue  # open-loop tension control: no feedback but the compensation's
         if row[L.D_FAMILY] != L.FAMILY_PI:
-            kx[d], kr[d] = _decentralized_rows(plan, op, d, i, refs, n)
+            rows = _decentralized_rows(plan, op, d, i, refs, n)
+            kx[d] += rows[0]
+            kr[d] += rows[1]
             continue
         up = int(row[L.D_UPREF])
         t_up = line.unwind.wound_in_tension if up < 0 else refs[up]
@@ -214,7 +221,9 @@ def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...
             gx[2 * d + 1, sensor] = -row[L.D_KIT] * slope
             gr[2 * d + 1, ref] = row[L.D_KIT]
         kps, kis = row[L.D_KPS] * gain, row[L.D_KIS] * gain
-        kx[d], ki[d], kr[d] = kps * ev_x, kps * ev_i, kps * ev_r
+        kx[d] += kps * ev_x
+        ki[d] = kps * ev_i
+        kr[d] += kps * ev_r
         ki[d, 2 * d] += 1.0
         gx[2 * d], gi[2 * d], gr[2 * d] = kis * ev_x, kis * ev_i, kis * ev_r
     return kx, ki, kr, gx, gi, gr

@@ -11,7 +11,7 @@ from webline.control.decentralized import SectionDesign
 from webline.control.pi import PIGains
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint, operating_point
-from webline.profiles import breakpoints, pwl_value
+from webline.profiles import breakpoints, pwl_slope, pwl_value
 from webline.sim import dancer as dancers
 from webline.sim import layout as L
 from webline.sim import winder
@@ -90,6 +90,11 @@ class Plan:
         a, b = self.prof_off[p], self.prof_off[p + 1]
         return float(pwl_value(self.prof_t[a:b], self.prof_v[a:b], t))
 
+    def profile_slope(self, p: int, t: float) -> float:
+        """Rate of change [unit/s] at time ``t`` [s] of the plan's profile number ``p``."""
+        a, b = self.prof_off[p], self.prof_off[p + 1]
+        return float(pwl_slope(self.prof_t[a:b], self.prof_v[a:b], t))
+
     def linear_motor_state(self, d: int) -> int | None:
         """Index of drive ``d``'s motor speed in the linear model's states, if compliant."""
         compliant = [int(k) for k in np.flatnonzero(self.drives[:, L.D_TSTATE] >= 0)]
@@ -117,6 +122,10 @@ class Plan:
                                                     op.tension[i], load)
         istate = np.zeros((len(op.torque), L.I_COLS))
         istate[:, L.I_SPEED] = x[off[3]: off[3] + len(op.torque)]
+        for d, i in enumerate(op.drives):  # the compensations carry their part of the torque
+            istate[d, L.I_SPEED] -= winder.compensation_torque(
+                self.drives[d], op.inertia[i], op.radius[i], op.omega[i],
+                self.profile_slope(0, op.time))
         istate[:, L.I_FRICTION] = self.drives[:, L.D_BMODEL]
         for d, i in enumerate(op.drives):
             istate[d, L.I_RADIUS] = winder.initial_radius(self.drives, d, op.radius[i])
@@ -243,6 +252,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     dancers.drive_columns(drives, line)
     winder.taper_columns(drives, line, taper_profile)
     winder.diameter_columns(drives, line)
+    winder.compensation_columns(drives, line)
     master_up = 1 + line.zone_of_span(line.master - 1)
     web = np.zeros(L.W_COLS)
     web[L.W_EA] = line.ea

@@ -55,3 +55,40 @@ def initial_radius(drives: np.ndarray, d: int, true_radius: float) -> float:
     true radius."""
     guess = drives[d, L.D_DINIT]
     return guess / 2.0 if drives[d, L.D_DCALC] > 0 and guess > 0 else true_radius
+
+
+def compensation_columns(drives: np.ndarray, line: Line) -> None:
+    """Fill the compensation columns of the roll drives with a ``winder`` table; an open-loop
+    one becomes the family ``FAMILY_OPEN_LOOP`` (if it controls a zone)."""
+    for i in (0, line.n_nodes - 1):
+        spec = line.spec.rollers[i].winder  # type: ignore[union-attr]
+        if spec is None:
+            continue
+        row = drives[line.drives.index(i)]
+        row[L.D_COMPJ] = 1.0 if spec.inertia_compensation else 0.0
+        row[L.D_COMPCS], row[L.D_COMPB] = spec.static_friction, spec.viscous_friction
+        if spec.mode == "open_loop" and line.controlled_zone(i) is not None:
+            row[L.D_FAMILY] = L.FAMILY_OPEN_LOOP
+
+
+def compensation_torque(row: np.ndarray, inertia: float, radius: float, omega: float,
+                        a_line: float) -> float:
+    """Motor torque [N·m] of a drive's compensations (``sim.winder_loop.compensation``, the
+    same formula) at shaft inertia ``inertia`` [kg·m²], radius [m], speed [rad/s] and line
+    acceleration [m/s²]."""
+    torque = row[L.D_COMPJ] * inertia * a_line / radius
+    torque += row[L.D_COMPCS] * float(np.sign(omega)) + row[L.D_COMPB] * omega
+    return float(torque / row[L.D_RATIO])
+
+
+def linear_rows(row: np.ndarray, direction: float, radius: float, omega_state: int,
+                ref: int, kx: np.ndarray, kr: np.ndarray) -> bool:
+    """Add a roll drive's viscous compensation b ω / n to its row ``kx`` of the linear
+    controller (static friction and the line acceleration are constant at an equilibrium)
+    and, for open-loop tension control, ±R/n on its reference ``ref`` in ``kr``; True if the
+    drive is open-loop (its row is then complete)."""
+    kx[omega_state] += row[L.D_COMPB] / row[L.D_RATIO]
+    if row[L.D_FAMILY] != L.FAMILY_OPEN_LOOP:
+        return False
+    kr[ref] += direction * radius / row[L.D_RATIO]
+    return True

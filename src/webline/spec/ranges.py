@@ -125,6 +125,8 @@ RANGES: dict[str, Range] = {
     "diameter.filter": _r("time", (1e-4, 100.0), (0.01, 5.0), "a fraction of a revolution"),
     "diameter.rate_limit": _r("speed", (1e-9, 10.0), (1e-6, 0.1), "rolls grow by mm/s"),
     "diameter.hold_below": _r("speed", (0.0, 50.0), (0.0, 2.0), "a crawl"),
+    "winder.static_friction": _r(TORQUE, (0.0, 1e6), (0.0, 1000.0), "dry bearing friction"),
+    "winder.viscous_friction": FRICTION_RANGE,
     # drives
     "drive.ratio": _r("dimensionless", (1e-3, 1e3), (0.02, 100.0), "gearboxes up to 100:1"),
     "drive.torque_limit": _r(TORQUE, (1e-4, 1e7), (0.01, 1e5), "servo motors to winder drives"),
@@ -221,6 +223,7 @@ SECTIONS: dict[str, tuple[str, ...]] = {
     "DancerCarriage": ("dancer",),
     "TaperSpec": ("taper",),
     "DiameterSpec": ("diameter",),
+    "WinderSpec": ("winder",),
     "SpanSpec": ("span",),
     "WoundInRipple": ("wound_in_ripple",),
     "EccentricRoller": ("eccentric_roller",),

@@ -40,7 +40,7 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
     TorqueProfile,
     si,
 )
-from webline.spec.winder import DiameterSpec, TaperSpec
+from webline.spec.winder import DiameterSpec, TaperSpec, WinderSpec
 
 #: names (of lines, rollers, spans) and free text, bounded: a name becomes a folder name
 Name = Annotated[str, Field(min_length=1, max_length=100)]
@@ -257,6 +257,7 @@ class UnwindSpec(_RollerBase):
     drive: DriveSpec
     controller: ControllerSpec = CascadedPISpec()
     diameter: DiameterSpec | None = None
+    winder: WinderSpec | None = None
 
 
 class RewindSpec(_RollerBase):
@@ -269,6 +270,7 @@ class RewindSpec(_RollerBase):
     controller: ControllerSpec = CascadedPISpec()
     taper: TaperSpec | None = None
     diameter: DiameterSpec | None = None
+    winder: WinderSpec | None = None
 
 
 class DrivenSpec(_RollerBase):

@@ -1,5 +1,5 @@
 """Line-file keys of the winder functions (docs/winder.md): taper tension, diameter
-calculation."""
+calculation, compensation and open-loop tension control."""
 
 from __future__ import annotations
 
@@ -58,3 +58,22 @@ class DiameterSpec(Strict):
     filter: Annotated[float, si("time", ">0")] = 0.2
     rate_limit: Annotated[float, si("speed", ">0")] | None = None
     hold_below: Annotated[float, si("speed", ">=0")] = 0.05
+
+
+class WinderSpec(Strict):
+    """A centre winder's torque functions (docs/winder.md, W3-W4) on a roll's drive.
+
+    ``mode``: ``"closed_loop"`` keeps the roll's controller (its tension loop on the loadcell
+    or dancer); ``"open_loop"`` is indirect tension control: torque = T_ref R / ratio plus the
+    compensations, no tension measurement and no speed loop. ``inertia_compensation`` adds
+    J(D) a_line / (R ratio), J the roll's inertia (core, shaft and motor, and the web from the
+    diameter, width and density) and a_line the line-speed reference's acceleration;
+    ``static_friction`` [N·m] and ``viscous_friction`` [N·m·s] at the roll shaft add
+    (static sign(ω) + viscous ω) / ratio. The radius is the calculated one where the roll has
+    a ``diameter`` calculator.
+    """
+
+    mode: Literal["closed_loop", "open_loop"] = "closed_loop"
+    inertia_compensation: bool = False
+    static_friction: Annotated[float, si("torque", ">=0")] = 0.0
+    viscous_friction: Annotated[float, si("rot_damping", ">=0")] = 0.0
