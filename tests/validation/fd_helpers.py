@@ -21,7 +21,7 @@ def plant_derivative(line: webline.Line, op: webline.OperatingPoint):
     index = np.r_[0:n_s, off[1]:off[1] + n_n, off[3]:off[3] + n_d,
                   off[8]:off[8] + 2 * n_c + 2 * n_dn]
     work = np.empty(3 * n_n)
-    drag = np.zeros(2 * n_n)
+    drag = np.zeros(3 * n_n)
     slipping = np.zeros(n_n, dtype=np.int64)
 
     def f(z: np.ndarray, u: np.ndarray) -> np.ndarray:

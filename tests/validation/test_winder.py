@@ -96,3 +96,48 @@ def test_open_loop_tension_control_holds_the_reference_without_a_loadcell():
     # steady: T R / n balances the web exactly, up to the idle roller's bearing drag
     assert error[-1] < 0.01 * reference
     assert error[(time > 1.0) & (time < 4.0)].max() < 0.15 * reference
+
+
+def _broken_rockwell(**dancer: float) -> tuple[object, dict]:
+    """rockwell whose web breaks in the dancer's downstream span at 2 s (stop in 2 s)."""
+    data = webline.load_line("rockwell").spec.model_dump(exclude_none=True)
+    data["rollers"][1]["dancer"].update(dancer)
+    brk = {"type": "web_break", "span": "dancer_span", "at": 2.0, "stop_time": 2.0}
+    return data, brk
+
+
+@pytest.mark.parametrize("method", ["tension", "dancer"])
+def test_web_break_detected_within_50_ms(method):
+    # a light dancer (1 kg, 10 N s/m) 2 cm from its stop; for the dancer method the tension
+    # monitor is off (threshold 0): the carriage, pushed by 2 T = 89 N and no web, reaches
+    # its stop in about sqrt(2 x 0.02 m / 89 m/s²) = 21 ms
+    data, brk = _broken_rockwell(mass=1.0, travel=0.1, position=0.08, damping=10.0)
+    if method == "dancer":
+        brk["threshold"] = 0.0
+    data["disturbances"] = [brk]
+    result = webline.simulate(webline.load_line(data), 6.0)
+    detected, how = result.break_monitor
+    assert how == {"tension": L.BREAK_TENSION, "dancer": L.BREAK_DANCER}[method]
+    assert 0.0 <= detected - 2.0 < 0.05  # issue 15: within 50 ms
+    # the broken zone carries no tension; the line ramped to a stop, torque off
+    broken = result.time > 2.0
+    assert np.all(result.tension[broken, :2] == 0.0)
+    stopped = result.time > detected + 2.0 + 0.5
+    assert np.all(result.torque_cmd[stopped] == 0.0)
+    # the driven nodes coast down from near zero (the idlers spin on freely without web)
+    driven = list(result.line.drives)
+    assert np.abs(result.speed[stopped][:, driven]).max() < 0.25 * result.line.spec.speed
+    assert np.all(result.speed_feedforward[stopped] == 0.0)
+    finding = next(f for f in result.verdict.findings if f.kind == "web_break")
+    assert finding.level == "warning" and finding.details["method"].startswith(method)
+    assert f"{1000 * (detected - 2.0):.3g} ms" in finding.message
+
+
+def test_undetected_web_break_fails_the_run():
+    data, brk = _broken_rockwell(travel=0.3, position=0.15)
+    brk["threshold"] = 0.0  # no tension monitor; the damped 3 kg dancer drifts (no stop)
+    data["disturbances"] = [brk]
+    data["rollers"][1]["dancer"]["stiffness"] = 5000.0  # a spring holds it off its stop
+    result = webline.simulate(webline.load_line(data), 3.0)
+    assert result.break_monitor[0] < 0.0
+    assert result.status == "failed"

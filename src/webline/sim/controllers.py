@@ -26,7 +26,7 @@ from webline.physics import motor, roll, roller, span, taper
 from webline.sim import layout as L
 from webline.sim.diameter import update_radius
 from webline.sim.signals import gaussian, jit, profile_at, profile_slope_at
-from webline.sim.winder_loop import compensation, open_loop_command
+from webline.sim.winder_loop import break_monitor, compensation, open_loop_command
 
 _tension: Any = jit(span.tension)
 _roll_inertia: Any = jit(roll.roll_inertia)
@@ -165,6 +165,10 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
         if drives[d, L.D_TAPER] > 0.0:
             refs[ds[d, L.DS_REF]] *= taper_at(d, istate[d, L.I_RADIUS], drives, prof_t, prof_v,
                                               prof_off)
+    stopping = 1.0  # the line-speed factor of a ramp to stop after a detected web break
+    if offsets[L.O_BREAK]:
+        stopping = break_monitor(t, x, istate, ns, ds, nodes, web, refs)
+        refs[0] *= stopping
     if offsets[L.O_NEED_EQ]:
         a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)
         reference_state(a_line, refs, ds, offsets, nodes, web, span_ref, v_ref, a_ref)
@@ -187,6 +191,8 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
                 t_meas += web[L.W_NOISE_T] * gaussian(seed, tick, 2 * d + 1)
         if ds[d, L.DS_DANCER] >= 0:
             t_meas = dancer_measurement(d, x, ns, ds, nodes, refs)
+        if stopping < 1.0 and ds[d, L.DS_ROLE] == L.ROLE_TENSION:  # tension loops frozen
+            t_meas = refs[ds[d, L.DS_REF]]
         gain = 1.0
         if ds[d, L.DS_ADAPTIVE] > 0:
             inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
@@ -202,12 +208,16 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
         elif ds[d, L.DS_FAMILY] == L.FAMILY_OPEN_LOOP:
             open_loop_command(d, roll_direction(i, ns), radius, refs[ds[d, L.DS_REF]], comp,
                               drives, out)
+            if offsets[L.O_BREAK] and stopping == 0.0:
+                out[0, d] = 0.0
             continue
         else:
             decentralized_command(d, i, dt, radius, v_meas, t_meas, gain, istate, ns, ds,
                                   nodes, drives, web, span_ref, v_ref, a_ref, out)
         if comp != 0.0:
             out[0, d] = _saturate(out[0, d] + comp, drives[d, L.D_LIMIT])
+        if offsets[L.O_BREAK] and stopping == 0.0:  # stopped after a break: torque off
+            out[0, d] = 0.0
 
 
 @jit

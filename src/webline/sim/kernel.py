@@ -67,7 +67,8 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
         work: np.ndarray) -> None:
     """Plant derivative dx/dt into ``dx`` with held torque commands ``cmd`` [N·m], held drag
     torques ``drag`` [N·m] (brakes, failing bearings: per node), held stick/slip states
-    ``slipping`` (per node; ``drag[nodes + i]``: the load [N] on a dancer on node i) and the
+    ``slipping`` (per node; ``drag[nodes + i]``: the load [N] on a dancer on node i,
+    ``drag[2 nodes + k]`` 1 while span k is broken) and the
     unwind's wound-in tension ``t0`` [N] at that instant (see
     ``wound_in``); nothing else depends on time. ``ns``, ``ds``, ``offsets`` are the line's
     structure, the other tables its parameters (``webline.sim.layout``).
@@ -90,6 +91,8 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
     sp, te = n_nodes, 2 * n_nodes
     for k in range(n_spans):
         work[te + k] = _tension(x[k])
+        if offsets[L.O_BREAK] and drag[2 * n_nodes + k] != 0.0:  # broken: no tension
+            work[te + k] = 0.0
     for i in range(n_nodes):
         work[i] = node_arm(i, x, ns, offsets, nodes)
         work[sp + i] = work[i] * x[off_w + i]
@@ -104,7 +107,9 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
     for k in range(n_spans):
         v_in, v_out, t_out = work[sp + k], work[sp + k + 1], work[te + k]
         flow = ea * (v_out - v_in) + t_in * v_in - t_out * v_out
-        if ns[k, L.NS_DANCER] >= 0 or ns[k + 1, L.NS_DANCER] >= 0:
+        if offsets[L.O_BREAK] and drag[2 * n_nodes + k] != 0.0:
+            dx[k] = 0.0
+        elif ns[k, L.NS_DANCER] >= 0 or ns[k + 1, L.NS_DANCER] >= 0:
             length, rate = span_motion(k, x, ns, nodes, spans)
             dx[k] = (flow + (ea - x[k]) * rate) / length  # docs/winder.md (D1)
         else:
@@ -225,7 +230,8 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
     out = np.zeros((4, n_d))
     stages = np.empty((5, n_x))  # RK4 slopes k1..k4 and the stage state
     refs = np.empty((4, max(plan.prof_off.shape[0] - 1, n_n)))  # profiles|spans|v_ref|a_ref
-    work = np.zeros((2, 3 * n_n))  # rhs scratch | held drag torque, dancer load per node
+    work = np.zeros((2, 3 * n_n))  # rhs scratch | held drag torque, dancer load per node,
+    # broken flag per span
     n_rec, status, t_fail, where = compiled_loop(plan)(
         x, istate, slipping, rec, out, stages, refs, work, tick0, n_ticks, plan.dt, substeps,
         record_every, include_end, *plan.params())
@@ -287,7 +293,7 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
     tmp = stages[4]
     prof, span_ref = refs[0, :prof_off.shape[0] - 1], refs[1, :n_n - 1]
     v_ref, a_ref = refs[2, :n_n], refs[3, :n_n]
-    scratch, drag = work[0], work[1, :2 * n_n]
+    scratch, drag = work[0], work[1]
     h = dt / substeps
     n_rec = 0
     status = L.STATUS_OK
@@ -300,6 +306,11 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
         t = tick * dt
         if j == n_ticks and not include_end:
             break
+        if offsets[L.O_BREAK]:  # a broken span carries no tension from its break on
+            for k in range(n_n - 1):
+                if t >= spans[k, L.S_BREAK] and drag[2 * n_n + k] == 0.0:
+                    drag[2 * n_n + k] = 1.0
+                    x[k] = 0.0
         control_tick(tick, dt, x, istate, ns, ds, offsets, nodes, drives, web, prof_t, prof_v,
                      prof_off, speed_ripple, out, prof, span_ref, v_ref, a_ref)
         update_slip(x, slipping, ns, offsets, nodes, web)

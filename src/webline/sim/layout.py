@@ -28,8 +28,8 @@ NS_COLS = 6
 NODE_STRUCTURE = (N_KIND, N_DRIVE, N_ECCSTATE, N_TRACTION, N_DRAG, N_DANCER)
 
 # span table columns
-S_LENGTH, S_INVLENGTH = range(2)
-S_COLS = 2
+S_LENGTH, S_INVLENGTH, S_BREAK = range(3)  # length [m], 1/length, time it breaks [s] (inf)
+S_COLS = 3
 KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
 
 # drive table columns: topology and cascaded PI ...
@@ -71,16 +71,20 @@ FAMILY_OPEN_LOOP = 3  # indirect tension control of a centre winder (docs/winder
 
 # controller memory per drive: PI integrators, adaptive friction estimate [N·m·s], the
 # radius the controller uses [m] (calculated, or the true one)
-I_SPEED, I_TENSION, I_FRICTION, I_RADIUS = range(4)
-I_COLS = 4
+# and the break monitor's detection time [s] (-1: none) and method (BREAK_*), in every row
+I_SPEED, I_TENSION, I_FRICTION, I_RADIUS, I_DETECT, I_METHOD = range(6)
+I_COLS = 6
 
 # line-wide scalars
 (W_EA, W_THICK, W_WIDTH, W_DENSITY, W_T0, W_NOISE_T, W_NOISE_V, W_SEED,
  W_RHOA,
  # the physical envelope checked every tick: web strength [N] (inf: none given), largest
  # |stretch| [N] and surface speed [m/s] a state may reach before the run is a runaway
- W_STRENGTH, W_STRETCH_MAX, W_SPEED_MAX) = range(12)
-W_COLS = 12
+ W_STRENGTH, W_STRETCH_MAX, W_SPEED_MAX,
+ # the break monitor: tension threshold [fraction of the reference], ramp-to-stop time [s]
+ W_BTHRESH, W_BSTOP) = range(14)
+W_COLS = 14
+BREAK_TENSION, BREAK_DANCER = 1, 2  # how the monitor detected a break
 
 # the integer ``offsets`` array: where state blocks start (spans at 0, node speeds, the two roll
 # radii, motor torques, eccentric angles, web-length integrals), the master's upstream
@@ -88,6 +92,7 @@ W_COLS = 12
 (O_OMEGA, O_RADIUS, O_TORQUE, O_ANGLE, O_WEB, O_MASTER_UP, O_MASTER, O_TRANSMISSION) = range(1, 9)
 O_NOISE = 9  # 1 if measurements carry noise
 O_NEED_EQ = 10  # 1 if a controller needs the reference state every tick
+O_BREAK = 11  # 1 if the web breaks in this run (docs/winder.md W5): the break monitor is on
 
 # kernel status codes; with each failure the kernel returns where it happened: the span
 # (strength, runaway stretch), node (runaway speed) or drive (runaway motor speed), else -1

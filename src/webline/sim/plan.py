@@ -127,6 +127,7 @@ class Plan:
                 self.drives[d], op.inertia[i], op.radius[i], op.omega[i],
                 self.profile_slope(0, op.time))
         istate[:, L.I_FRICTION] = self.drives[:, L.D_BMODEL]
+        istate[:, L.I_DETECT] = -1.0  # no web break detected
         for d, i in enumerate(op.drives):
             istate[d, L.I_RADIUS] = winder.initial_radius(self.drives, d, op.radius[i])
         ea = self.line.ea
@@ -270,8 +271,10 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         web[L.W_NOISE_T], web[L.W_NOISE_V], web[L.W_SEED] = noise.tension, noise.speed, noise.seed
         noisy = noise.tension > 0 or noise.speed > 0
     need_eq = bool(np.any(drives[:, L.D_FAMILY] != L.FAMILY_PI))
+    span_table = np.array([[s.length, 1.0 / s.length, 0.0] for s in spec.spans])
+    breaks = winder.break_columns(line, span_table, web)
     offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
-                        off_tr, noisy, need_eq], dtype=np.int64)
+                        off_tr, noisy, need_eq, breaks], dtype=np.int64)
     wound = np.array([[d.amplitude, d.frequency, d.phase] for d in spec.disturbances
                       if isinstance(d, WoundInRipple)]).reshape(-1, 3)
     ripple = np.array([[line.drives.index(_node(line, d.roller)), d.amplitude, d.frequency,
@@ -279,7 +282,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
                        if isinstance(d, SpeedRipple)]).reshape(-1, 4)
     return Plan(
         line=line, nodes=nodes, drives=drives,
-        spans=np.array([[s.length, 1.0 / s.length] for s in spec.spans]),
+        spans=span_table,
         web=web, wound_ripple=wound, speed_ripple=ripple,
         prof_t=np.concatenate([t for t, _ in profiles]),
         prof_v=np.concatenate([v for _, v in profiles]), prof_off=prof_off, offsets=offsets,

@@ -41,7 +41,7 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
     v_ref = np.empty(nodes.shape[0])
     a_ref = np.empty(nodes.shape[0])
     work = np.empty(3 * nodes.shape[0])
-    drag = np.zeros(2 * nodes.shape[0])
+    drag = np.zeros(3 * nodes.shape[0])
     rows = []
 
     def derivative(t: float, y: np.ndarray) -> np.ndarray:

@@ -53,6 +53,9 @@ class Result:
     slipping: np.ndarray  #: stick/slip state per node (0 stuck, 1 slipping), held per tick
     failure: Failure | None = None  #: why the run stopped early (None: it ran to the end)
     settings: dict[str, float] = field(default_factory=dict)
+    #: the web-break monitor at the end (docs/winder.md W5): time [s] it detected a break
+    #: (-1: none) and how (``layout.BREAK_TENSION``, ``BREAK_DANCER``)
+    break_monitor: tuple[float, int] = (-1.0, 0)
 
     # --- verdict -------------------------------------------------------------------------
 
@@ -80,8 +83,10 @@ class Result:
         """The run's verdict: its failure, its events and the linear stability of the line
         at ``analysis_time`` (``webline.sim.findings``)."""
         from webline.sim.findings import run_verdict
+        from webline.sim.winder_findings import break_findings
 
-        return run_verdict(self.failure, self.events, self.line, self.plan)
+        return run_verdict(self.failure, self.events, self.line, self.plan,
+                           break_findings(self.line, self.time, self.speed, self.break_monitor))
 
     @property
     def status(self) -> str:

@@ -1,4 +1,5 @@
-"""Winder functions in the compiled plan (docs/winder.md): the rewind's taper columns."""
+"""Winder functions in the compiled plan (docs/winder.md): taper, diameter calculator,
+compensation and web-break columns."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import numpy as np
 from webline.line import Line
 from webline.physics.taper import KINDS
 from webline.sim import layout as L
+from webline.spec.winder import WebBreak
 
 
 def taper_profiles(line: Line) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -92,3 +94,17 @@ def linear_rows(row: np.ndarray, direction: float, radius: float, omega_state: i
         return False
     kr[ref] += direction * radius / row[L.D_RATIO]
     return True
+
+
+def break_columns(line: Line, spans: np.ndarray, web: np.ndarray) -> bool:
+    """Mark the time each span breaks (every span of a broken span's zone) and the monitor's
+    settings; True if the web breaks in this run."""
+    spans[:, L.S_BREAK] = math.inf
+    breaks = [d for d in line.spec.disturbances if isinstance(d, WebBreak)]
+    names = [line.span_name(k) for k in range(line.n_spans)]
+    for b in breaks:
+        zone = line.zones[line.zone_of_span(names.index(b.span))]
+        for k in zone.spans:
+            spans[k, L.S_BREAK] = min(spans[k, L.S_BREAK], b.at)
+        web[L.W_BTHRESH], web[L.W_BSTOP] = b.threshold, b.stop_time
+    return bool(breaks)

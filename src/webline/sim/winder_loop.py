@@ -35,3 +35,34 @@ def open_loop_command(d: int, direction: float, radius: float, tension_ref: floa
     out[1, d] = 0.0
     out[2, d] = 0.0
     out[3, d] = raw
+
+
+@jit
+def break_monitor(t: float, x: np.ndarray, istate: np.ndarray, ns: np.ndarray,
+                  ds: np.ndarray, nodes: np.ndarray, web: np.ndarray,
+                  refs: np.ndarray) -> float:
+    """Web-break monitor and reaction (W5), once per tick before the controllers: detect a
+    loadcell tension below the threshold x its reference, or a dancer at an end stop (the
+    first found is kept with its time in ``istate``; every zone's loadcell counts, also where
+    a dancer controls the zone); once detected, return the factor
+    [0, 1] of the line-speed ramp to a stop (1 before)."""
+    if istate[0, L.I_DETECT] < 0.0:
+        method = 0
+        for d in range(ds.shape[0]):
+            loadcell = ds[d, L.DS_LOADCELL]
+            if loadcell >= 0 and ds[d, L.DS_ROLE] == L.ROLE_TENSION:  # dancer zones too
+                tension = x[loadcell] if x[loadcell] > 0.0 else 0.0
+                if tension < web[L.W_BTHRESH] * refs[ds[d, L.DS_REF]]:
+                    method = L.BREAK_TENSION
+        for i in range(ns.shape[0]):
+            state = ns[i, L.NS_DANCER]
+            if state >= 0 and method == 0 and (x[state] <= 0.0
+                                               or x[state] >= nodes[i, L.N_DTRAVEL]):
+                method = L.BREAK_DANCER
+        if method == 0:
+            return 1.0
+        for d in range(ds.shape[0]):
+            istate[d, L.I_DETECT] = t
+            istate[d, L.I_METHOD] = method
+    factor = 1.0 - (t - istate[0, L.I_DETECT]) / web[L.W_BSTOP]
+    return factor if factor > 0.0 else 0.0

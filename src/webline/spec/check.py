@@ -25,7 +25,7 @@ from webline.spec.schema import (
     WebSpec,
     WoundInRipple,
 )
-from webline.spec.winder import check_taper
+from webline.spec.winder import WebBreak, check_taper
 
 Fail = Callable[[str, str], NoReturn]
 
@@ -156,6 +156,9 @@ def _check_disturbances(items: list[DisturbanceSpec], spec: LineSpec, key: str,
     by_name = {r.name: r for r in spec.rollers}
     for j, item in enumerate(items):
         here = f"{key}[{j}]"
+        if isinstance(item, WebBreak) and item.span not in {
+                spec.spans[k].name or f"span{k + 1}" for k in range(len(spec.spans))}:
+            fail(f"{here}.span", f"no span named {item.span!r}")
         if isinstance(item, RollerDrag):
             roller = by_name.get(item.roller)
             if roller is None:

@@ -127,6 +127,9 @@ RANGES: dict[str, Range] = {
     "diameter.hold_below": _r("speed", (0.0, 50.0), (0.0, 2.0), "a crawl"),
     "winder.static_friction": _r(TORQUE, (0.0, 1e6), (0.0, 1000.0), "dry bearing friction"),
     "winder.viscous_friction": FRICTION_RANGE,
+    "web_break.at": TIME_RANGE,
+    "web_break.threshold": _r("dimensionless", (0.0, 1.0), (0.05, 0.8), "of the reference"),
+    "web_break.stop_time": _r("time", (1e-3, 1e4), (0.1, 600.0), "an emergency ramp"),
     # drives
     "drive.ratio": _r("dimensionless", (1e-3, 1e3), (0.02, 100.0), "gearboxes up to 100:1"),
     "drive.torque_limit": _r(TORQUE, (1e-4, 1e7), (0.01, 1e5), "servo motors to winder drives"),
@@ -224,6 +227,7 @@ SECTIONS: dict[str, tuple[str, ...]] = {
     "TaperSpec": ("taper",),
     "DiameterSpec": ("diameter",),
     "WinderSpec": ("winder",),
+    "WebBreak": ("web_break",),
     "SpanSpec": ("span",),
     "WoundInRipple": ("wound_in_ripple",),
     "EccentricRoller": ("eccentric_roller",),

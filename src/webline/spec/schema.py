@@ -40,7 +40,7 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
     TorqueProfile,
     si,
 )
-from webline.spec.winder import DiameterSpec, TaperSpec, WinderSpec
+from webline.spec.winder import DiameterSpec, TaperSpec, WebBreak, WinderSpec
 
 #: names (of lines, rollers, spans) and free text, bounded: a name becomes a folder name
 Name = Annotated[str, Field(min_length=1, max_length=100)]
@@ -365,7 +365,7 @@ class MeasurementNoise(Strict):
 
 
 DisturbanceSpec = Annotated[
-    WoundInRipple | EccentricRoller | SpeedRipple | RollerDrag | MeasurementNoise,
+    WoundInRipple | EccentricRoller | SpeedRipple | RollerDrag | MeasurementNoise | WebBreak,
     Field(discriminator="type"),
 ]
 

@@ -77,3 +77,18 @@ class WinderSpec(Strict):
     inertia_compensation: bool = False
     static_friction: Annotated[float, si("torque", ">=0")] = 0.0
     viscous_friction: Annotated[float, si("rot_damping", ">=0")] = 0.0
+
+
+class WebBreak(Strict):
+    """A web break (docs/winder.md, W5): at time ``at`` [s] span ``span`` breaks; every span
+    of its tension zone then carries no tension (the free end runs through the idle rollers
+    up to the driven ones that grip it). The line's break monitor is on in a run with a
+    break: it detects a loadcell tension below ``threshold`` x its reference, or a dancer at
+    an end stop, and reacts by ramping the line to a stop in ``stop_time`` [s], tension loops
+    frozen, then switching every torque off."""
+
+    type: Literal["web_break"]
+    span: Annotated[str, Field(min_length=1, max_length=100)]
+    at: Annotated[float, si("time", ">=0")]
+    threshold: Fraction = 0.2
+    stop_time: Annotated[float, si("time", ">0")] = 2.0
