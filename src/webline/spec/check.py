@@ -125,6 +125,9 @@ def check_spec(spec: LineSpec, file: str) -> None:
             fail(f"scenarios.{name[:40]}", "a scenario's name has 1 to 100 characters")
         if scenario.disturbances is not None:
             _check_disturbances(scenario.disturbances, spec, f"{key}.disturbances", fail)
+        span_names = {s.name or f"span{k + 1}" for k, s in enumerate(spec.spans)}
+        if scenario.break_ is not None and scenario.break_.span not in span_names:
+            fail(f"{key}.break.span", f"no span named {scenario.break_.span!r}")
         for attr, index in (("unwind_radius", 0), ("rewind_radius", len(rollers) - 1)):
             radius = getattr(scenario, attr)
             roll = rollers[index]

@@ -228,6 +228,7 @@ SECTIONS: dict[str, tuple[str, ...]] = {
     "DiameterSpec": ("diameter",),
     "WinderSpec": ("winder",),
     "WebBreak": ("web_break",),
+    "BreakEvent": ("web_break",),
     "SpanSpec": ("span",),
     "WoundInRipple": ("wound_in_ripple",),
     "EccentricRoller": ("eccentric_roller",),

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from pydantic import Discriminator, Field, Tag
+from pydantic import ConfigDict, Discriminator, Field, Tag
 
 from webline.spec.dancer import DancerCarriage
 from webline.spec.quantities import (  # noqa: F401 - re-exported for users of the schema
@@ -40,7 +40,7 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
     TorqueProfile,
     si,
 )
-from webline.spec.winder import DiameterSpec, TaperSpec, WebBreak, WinderSpec
+from webline.spec.winder import BreakEvent, DiameterSpec, TaperSpec, WebBreak, WinderSpec
 
 #: names (of lines, rollers, spans) and free text, bounded: a name becomes a folder name
 Name = Annotated[str, Field(min_length=1, max_length=100)]
@@ -378,9 +378,9 @@ class ControlSpec(Strict):
 
 class ScenarioSpec(Strict):
     """A named run of the line: it may replace the speed reference, the disturbances and the
-    initial roll radii, and sets a default duration. ``set`` changes any other value by its
-    nested path (``"spans.span2.tension"`` = a steps profile, a controller's bandwidth...; see
-    ``webline.spec.paths``), applied after the keys above."""
+    initial roll radii, add a web ``break``, and sets a default duration. ``set`` changes any
+    other value by its nested path (``"spans.span2.tension"`` = a steps profile, a
+    controller's bandwidth...; see ``webline.spec.paths``), applied after the keys above."""
 
     description: Text = ""
     duration: Time
@@ -389,6 +389,9 @@ class ScenarioSpec(Strict):
     disturbances: list[DisturbanceSpec] | None = None
     unwind_radius: Length | None = None
     rewind_radius: Length | None = None
+    # ``break`` in the file (a Python keyword); a dump writes break_, which reads back too
+    break_: BreakEvent | None = Field(None, alias="break")
+    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
 
 
 class LineSpec(Strict):

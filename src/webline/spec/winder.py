@@ -92,3 +92,10 @@ class WebBreak(Strict):
     at: Annotated[float, si("time", ">=0")]
     threshold: Fraction = 0.2
     stop_time: Annotated[float, si("time", ">0")] = 2.0
+
+
+class BreakEvent(WebBreak):
+    """A scenario's ``break = { span = "...", at = "12 s" }``: a ``web_break`` disturbance
+    added to the scenario's disturbances (``type`` may be left out)."""
+
+    type: Literal["web_break"] = "web_break"
