@@ -230,8 +230,7 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
     out = np.zeros((4, n_d))
     stages = np.empty((5, n_x))  # RK4 slopes k1..k4 and the stage state
     refs = np.empty((4, max(plan.prof_off.shape[0] - 1, n_n)))  # profiles|spans|v_ref|a_ref
-    work = np.zeros((2, 3 * n_n))  # rhs scratch | held drag torque, dancer load per node,
-    # broken flag per span
+    work = np.zeros((2, 3 * n_n))  # rhs scratch | held drag, dancer load, span broken flag
     n_rec, status, t_fail, where = compiled_loop(plan)(
         x, istate, slipping, rec, out, stages, refs, work, tick0, n_ticks, plan.dt, substeps,
         record_every, include_end, *plan.params())
@@ -306,11 +305,9 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
         t = tick * dt
         if j == n_ticks and not include_end:
             break
-        if offsets[L.O_BREAK]:  # a broken span carries no tension from its break on
-            for k in range(n_n - 1):
-                if t >= spans[k, L.S_BREAK] and drag[2 * n_n + k] == 0.0:
-                    drag[2 * n_n + k] = 1.0
-                    x[k] = 0.0
+        for k in range(n_n - 1 if offsets[L.O_BREAK] else 0):  # a broken span: no tension
+            if t >= spans[k, L.S_BREAK] and drag[2 * n_n + k] == 0.0:
+                drag[2 * n_n + k], x[k] = 1.0, 0.0
         control_tick(tick, dt, x, istate, ns, ds, offsets, nodes, drives, web, prof_t, prof_v,
                      prof_off, speed_ripple, out, prof, span_ref, v_ref, a_ref)
         update_slip(x, slipping, ns, offsets, nodes, web)
@@ -323,10 +320,9 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
                 for d in range(n_d):
                     rec[n_rec, col] = out[q, d]
                     col += 1
-            for q in (L.I_FRICTION, L.I_RADIUS):
-                for d in range(n_d):
-                    rec[n_rec, col] = istate[d, q]
-                    col += 1
+            for q in range(2 * n_d):  # friction estimate, controller radius
+                rec[n_rec, col + q] = istate[q % n_d, L.I_FRICTION if q < n_d else L.I_RADIUS]
+            col += 2 * n_d
             for i in range(n_n):
                 rec[n_rec, col] = slipping[i]
                 col += 1
