@@ -83,3 +83,35 @@ def test_dancer_mode_is_its_spring_mass_frequency():
     nearest = eig[np.argmin(np.abs(np.abs(eig.imag) - expected))]
     # the remaining coupling (transport terms, unwind-roll web) shifts it by < 0.1 %
     assert abs(nearest.imag) == pytest.approx(expected, rel=1e-3)
+
+
+def test_closed_loop_with_position_control_matches_finite_differences():
+    # the cascaded PI written out here, the unwind's outer loop on y - y_set (independent of
+    # linearize.controller_matrices and sim.dancer_linear)
+    from test_linearize import continuous_pi
+
+    from webline.sim import layout as L
+
+    # the helper measures every speed on the roller: the rewind's encoder goes there too
+    line = dancer_line("position", stiffness=500.0).replace(
+        {"rollers.rewind.drive.feedback": "load"})
+    op = webline.operating_point(line)
+    f, z0, plan = plant_derivative(line, op)
+    sys = webline.linearize(line, loop="closed")
+    refs = np.array([op.line_speed] + [op.tension[z.loadcell] for z in line.zones])
+    n_z, y_state = len(z0), sys.state_labels.index("dancer_position")
+    y_set = plan.nodes[1, L.N_DSET]
+    _, istate = plan.initial_state(op)
+    xi0 = np.array([v for d, row in enumerate(plan.drives)
+                    for v in ([istate[d, 0], istate[d, 1]] if row[L.D_ROLE] else [istate[d, 0]])])
+    lc = int(plan.drives[0, L.D_LOADCELL])
+
+    def closed(w: np.ndarray, _: object) -> np.ndarray:
+        z, xi = w[:n_z].copy(), w[n_z:]
+        z[lc] = refs[int(plan.drives[0, L.D_REF])] - (z[y_state] - y_set)  # what it reads
+        u, dxi = continuous_pi(plan, op, z, xi, refs)
+        return np.concatenate([f(w[:n_z], u), dxi])
+
+    w0 = np.concatenate([z0, xi0])
+    fd = jacobian(closed, w0, None, np.maximum(np.abs(w0), 1.0))
+    np.testing.assert_allclose(sys.A, fd, rtol=1e-5, atol=1e-6 * np.abs(sys.A).max())
