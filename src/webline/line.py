@@ -120,7 +120,8 @@ class Line:
         return roll
 
     def with_scenario(self, name: str) -> Line:
-        """The line as the named scenario runs it (speed, disturbances, roll radii replaced)."""
+        """The line as the named scenario runs it (speed, disturbances, roll radii replaced, a
+        web break added)."""
         from webline.errors import LineFileError, Problem
 
         scenario = self.spec.scenarios.get(name)
@@ -140,6 +141,10 @@ class Line:
             changes["speed"] = scenario.speed
         if scenario.disturbances is not None:
             changes["disturbances"] = scenario.disturbances
+        if scenario.break_ is not None:  # docs/winder.md: a web_break disturbance
+            before = (scenario.disturbances if scenario.disturbances is not None
+                      else self.spec.disturbances)
+            changes["disturbances"] = [*before, scenario.break_]
         spec = self.spec.model_copy(update=changes)
         label = f"{self.source} [scenario {name}]"
         if scenario.set:  # values set by path: validate the changed line as a whole

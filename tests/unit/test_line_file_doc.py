@@ -72,7 +72,7 @@ def test_every_schema_model_has_a_section():
 def test_section_lists_exactly_the_keys_with_their_defaults(model):
     rows = sections()[model_name(model)]
     keys = {key: row for row in rows for key in re.findall(r"`(\w+)`", row[0])}
-    fields = model.model_fields
+    fields = {field.alias or key: field for key, field in model.model_fields.items()}
     assert set(keys) == set(fields), f"{model_name(model)}: documented {sorted(keys)}"
     for key, field in fields.items():
         row = keys[key]

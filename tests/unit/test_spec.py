@@ -321,9 +321,9 @@ MALFORMED: dict[str, tuple[Callable[[dict[str, Any]], None], str, str]] = {
                          r"^unknown key; did you mean 'length'\?$"),
     "key of another roller type": (_set("rollers.3.core_radius", 0.01),
                                    "rollers[3].core_radius", "^unknown key$"),
-    "unknown roller type": (_set("rollers.3.type", "dancer"), "rollers[3].type",
-                            r"unknown type 'dancer'; expected one of 'unwind', 'rewind', "
-                            r"'driven', 'idle'"),
+    "unknown roller type": (_set("rollers.3.type", "festoon"), "rollers[3].type",
+                            r"unknown type 'festoon'; expected one of 'unwind', 'rewind', "
+                            r"'driven', 'idle', 'dancer'"),
     "missing roller type": (_del("rollers.3.type"), "rollers[3]", "'type' key is required"),
     "unknown role": (_set("rollers.2.role", "boss"), "rollers[2].role",
                      "'master' or 'tension'"),

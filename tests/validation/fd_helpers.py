@@ -10,15 +10,18 @@ from webline.sim.plan import compile_plan
 
 
 def plant_derivative(line: webline.Line, op: webline.OperatingPoint):
-    """f(z, u) on the linear model's states z = (tensions, speeds, torques), radii frozen."""
+    """f(z, u) on the linear model's states z = (tensions, speeds, torques, transmissions,
+    dancers), radii frozen."""
     plan = compile_plan(line)
     x_op, _ = plan.initial_state(op)
     off = plan.offsets
     n_s, n_n, n_d = line.n_spans, line.n_nodes, len(line.drives)
     n_c = sum(name.endswith(".twist") for name in plan.state_names)  # compliant drives
-    index = np.r_[0:n_s, off[1]:off[1] + n_n, off[3]:off[3] + n_d, off[8]:off[8] + 2 * n_c]
+    n_dn = sum(name.endswith(".velocity") for name in plan.state_names)  # dancers follow
+    index = np.r_[0:n_s, off[1]:off[1] + n_n, off[3]:off[3] + n_d,
+                  off[8]:off[8] + 2 * n_c + 2 * n_dn]
     work = np.empty(3 * n_n)
-    drag = np.zeros(n_n)
+    drag = np.zeros(3 * n_n)
     slipping = np.zeros(n_n, dtype=np.int64)
 
     def f(z: np.ndarray, u: np.ndarray) -> np.ndarray:

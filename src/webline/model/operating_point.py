@@ -24,8 +24,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from webline.errors import SimulationError
-from webline.line import Line, load_line
+from webline.line import Line, Zone, load_line
 from webline.physics import roll, roller
+from webline.physics.taper import spec_factor
 from webline.profiles import breakpoints, pwl_slope, pwl_value
 from webline.spec.ranges import argument
 from webline.spec.schema import IdleSpec, RewindSpec, RollerDrag, UnwindSpec
@@ -110,7 +111,7 @@ def operating_point(line: Line | str, t: float | str = 0.0, *,
     tension = np.empty(line.n_spans)
     for zone in line.zones:
         ref = line.spec.spans[zone.loadcell].tension
-        tension[list(zone.spans)] = pwl_value(*breakpoints(ref), t)
+        tension[list(zone.spans)] = pwl_value(*breakpoints(ref), t) * _taper(line, zone, radii)
 
     for _ in range(50):
         upstream = np.concatenate(([t0], tension))
@@ -185,3 +186,12 @@ def analysis_time(line: Line) -> float:
     if values[0] > 0.01 * float(np.max(values)):
         return 0.0
     return float(times[-1])
+
+
+def _taper(line: Line, zone: Zone, radii: np.ndarray) -> float:
+    """Taper factor on the reference of ``zone`` (docs/winder.md): the rewind's, if it
+    controls the zone, at its radius."""
+    rewind = line.rewind
+    if zone.controller != line.n_nodes - 1 or rewind.taper is None:
+        return 1.0
+    return spec_factor(rewind.taper, rewind.core_radius, radii[-1])

@@ -25,6 +25,7 @@ from webline.profiles import breakpoints
 from webline.report.display import Display
 from webline.report.mpl_text import legend_label, literal
 from webline.report.schematic import schematic
+from webline.report.winder_figures import winder_figures
 from webline.sim.decimate import envelope
 from webline.sim.result import Result
 
@@ -231,6 +232,7 @@ def report_figures(result: Result, display: Display,
     if slipping:
         figures.append(ReportFigure("slip", "Web slip over the rollers with a traction contact.",
                                     slip_figure(result, display, slipping)))
+    figures += [ReportFigure(*parts) for parts in winder_figures(result, display)]
     if modes:
         figures.append(ReportFigure("poles", "Closed-loop poles at the operating point.",
                                     poles_figure(modes)))

@@ -100,7 +100,7 @@ def _reduce(rec: np.ndarray, n_rec: int, acc: np.ndarray, trace: np.ndarray, tra
     n_ev = 2 * n_s + 2 * n_d + n_n
     col_n = base + EV_BLOCKS * n_ev
     col_cmd = 1 + n_x
-    col_slip = 1 + n_x + 5 * n_d
+    col_slip = 1 + n_x + 6 * n_d  # after commands, references, trims, u_eq, friction, radius
     for r in range(n_rec):
         t = rec[r, 0]
         for k in range(n_s):

@@ -22,17 +22,21 @@ from typing import Any
 
 import numpy as np
 
-from webline.physics import motor, roll, roller, span
+from webline.physics import motor, roll, roller, span, taper
 from webline.sim import layout as L
+from webline.sim.diameter import update_radius
 from webline.sim.mrac import mrac_adapt, mrac_feedback
 from webline.sim.observer import observe
 from webline.sim.signals import gaussian, jit, profile_at, profile_slope_at
+from webline.sim.winder_loop import break_monitor, compensation, open_loop_command
 
 _tension: Any = jit(span.tension)
 _roll_inertia: Any = jit(roll.roll_inertia)
 _radius_rate: Any = jit(roll.radius_rate)
 _friction: Any = jit(roller.friction_torque)
 _saturate: Any = jit(motor.saturate)
+_taper: Any = jit(taper.taper_factor)
+_TABLE = taper.TABLE
 
 
 @jit
@@ -147,7 +151,8 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
                  a_ref: np.ndarray) -> None:
     """One sample of every drive's controller at tick ``tick`` (t = tick·dt [s]).
 
-    ``istate`` (drive x I_COLS) holds PI integrators and adaptive estimates; ``out`` (4 x
+    ``istate`` (drive x I_COLS) holds PI integrators, adaptive estimates and the radius each
+    drive's controller uses (``sim.diameter``, updated first); ``out`` (4 x
     drives) receives the torque command [N·m], the speed reference [m/s], the PI trim [m/s]
     and the equilibrium input [N·m]; ``refs`` (one per profile), ``span_ref`` (spans),
     ``v_ref`` and ``a_ref`` (nodes) are scratch for the references.
@@ -155,13 +160,24 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
     t = tick * dt
     for p in range(prof_off.shape[0] - 1):
         refs[p] = profile_at(p, t, prof_t, prof_v, prof_off)
+    for d in range(ds.shape[0]):  # the radius each controller uses (calculated or true)
+        i = ds[d, L.DS_NODE]
+        update_radius(d, i, dt, node_radius(i, x, ns, offsets, nodes), x, istate, ns, offsets,
+                      nodes, drives, web)
+        if drives[d, L.D_TAPER] > 0.0:
+            refs[ds[d, L.DS_REF]] *= taper_at(d, istate[d, L.I_RADIUS], drives, prof_t, prof_v,
+                                              prof_off)
+    stopping = 1.0  # the line-speed factor of a ramp to stop after a detected web break
+    if offsets[L.O_BREAK]:
+        stopping = break_monitor(t, x, istate, ns, ds, nodes, web, refs)
+        refs[0] *= stopping
     if offsets[L.O_NEED_EQ]:
         a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)
         reference_state(a_line, refs, ds, offsets, nodes, web, span_ref, v_ref, a_ref)
     seed = int(web[L.W_SEED])
     for d in range(ds.shape[0]):
         i = ds[d, L.DS_NODE]
-        radius = node_radius(i, x, ns, offsets, nodes)
+        radius = istate[d, L.I_RADIUS]
         v_meas = radius * x[offsets[L.O_OMEGA] + i]
         # the motor's encoder, across a compliant transmission (a rigid drive has no motor
         # state: its motor speed is ratio x roller speed, the same measurement as the load's)
@@ -179,16 +195,61 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
             inertia_d = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
             t_meas = observe(d, i, dt, tick, radius, inertia_d, v_meas / radius, x, istate,
                              ds, offsets, nodes, drives, web, span_ref)
+        if ds[d, L.DS_DANCER] >= 0:
+            t_meas = dancer_measurement(d, x, ns, ds, nodes, refs)
+        if stopping < 1.0 and ds[d, L.DS_ROLE] == L.ROLE_TENSION:  # tension loops frozen
+            t_meas = refs[ds[d, L.DS_REF]]
         gain = 1.0
         if ds[d, L.DS_ADAPTIVE] > 0:
             inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
             gain = inertia / (nodes[i, L.N_RATIO] * radius) / drives[d, L.D_GAINNORM]
+        comp = 0.0  # a centre winder's compensations (docs/winder.md W3)
+        if drives[d, L.D_COMPJ] + drives[d, L.D_COMPCS] + drives[d, L.D_COMPB] > 0.0:
+            comp = compensation(d, drive_inertia(d, i, radius, ns, ds, nodes, drives, web),
+                                radius, v_meas / radius,
+                                profile_slope_at(0, t, prof_t, prof_v, prof_off), drives)
         if ds[d, L.DS_FAMILY] == L.FAMILY_PI:
             pi_command(d, t, dt, v_meas, t_meas, gain, istate, ds, offsets, drives, web, refs,
                        speed_ripple, out)
+        elif ds[d, L.DS_FAMILY] == L.FAMILY_OPEN_LOOP:
+            open_loop_command(d, roll_direction(i, ns), radius, refs[ds[d, L.DS_REF]], comp,
+                              drives, out)
+            if offsets[L.O_BREAK] and stopping == 0.0:
+                out[0, d] = 0.0
+            continue
         else:
             decentralized_command(d, i, dt, radius, v_meas, t_meas, gain, istate, ns, ds,
                                   nodes, drives, web, span_ref, v_ref, a_ref, out)
+        if comp != 0.0:
+            out[0, d] = _saturate(out[0, d] + comp, drives[d, L.D_LIMIT])
+        if offsets[L.O_BREAK] and stopping == 0.0:  # stopped after a break: torque off
+            out[0, d] = 0.0
+
+
+@jit
+def taper_at(d: int, radius: float, drives: np.ndarray, prof_t: np.ndarray,
+             prof_v: np.ndarray, prof_off: np.ndarray) -> float:
+    """Taper factor [-] of drive ``d``'s tension reference at roll radius ``radius`` [m]
+    (docs/winder.md W1): a table's profile read at the diameter, else ``physics.taper``."""
+    kind = int(drives[d, L.D_TAPER])
+    if kind == _TABLE:
+        return profile_at(int(drives[d, L.D_TAPERP]), 2.0 * radius, prof_t, prof_v, prof_off)
+    return _taper(kind, drives[d, L.D_TAPERK], drives[d, L.D_TAPERDC], drives[d, L.D_TAPERDM],
+                  2.0 * radius)
+
+
+@jit
+def dancer_measurement(d: int, x: np.ndarray, ns: np.ndarray, ds: np.ndarray,
+                       nodes: np.ndarray, refs: np.ndarray) -> float:
+    """What drive ``d``'s tension loop reads from its zone's dancer (docs/winder.md, D3):
+    as a tension sensor, T = (load - k (y - y_set)) / 2 [N]; for position control, the
+    reference less the position error y - y_set, so that the loop's error T_ref - T_meas is
+    y - y_set [m] (gains in (m/s)/m, ``sim.dancer.drive_columns``)."""
+    i = ds[d, L.DS_DANCER]
+    y = x[ns[i, L.NS_DANCER]] - nodes[i, L.N_DSET]
+    if ds[d, L.DS_DUSE] == L.DANCER_TENSION:
+        return 0.5 * (refs[int(nodes[i, L.N_DLOAD])] - nodes[i, L.N_DK] * y)
+    return refs[ds[d, L.DS_REF]] - y
 
 
 @jit

@@ -13,7 +13,7 @@ from webline.verdict import Finding, Level, Verdict
 
 
 def run_verdict(failure: Failure | None, events: Sequence[EventStats], line: Line,
-                plan: Plan) -> Verdict:
+                plan: Plan, extra: Sequence[Finding] = ()) -> Verdict:
     """``failed`` (or ``interrupted``) for a run that stopped early, ``unstable`` for a line
     with a growing closed-loop mode at ``analysis_time``, ``warning`` for each kind of event
     on each element (``webline.sim.events``), else ``ok``."""
@@ -25,4 +25,5 @@ def run_verdict(failure: Failure | None, events: Sequence[EventStats], line: Lin
     findings += [Finding("warning", e.kind, e.where, e.sentence(), e.first, e.as_dict())
                  for e in events]
     findings += stability_findings(line, plan=plan)
+    findings += extra  # e.g. a web break and its detection (``sim.winder_findings``)
     return Verdict.of(findings)

@@ -26,6 +26,7 @@ import numpy as np
 from webline.physics import backlash, roll, roller, slip, span
 from webline.sim import layout as L
 from webline.sim.controllers import control_tick, node_radius
+from webline.sim.dancer_loop import dancer_rate, span_motion
 from webline.sim.signals import jit, loop_njit, njit, profile_at, sines
 
 if TYPE_CHECKING:
@@ -66,7 +67,9 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
         work: np.ndarray) -> None:
     """Plant derivative dx/dt into ``dx`` with held torque commands ``cmd`` [N·m], held drag
     torques ``drag`` [N·m] (brakes, failing bearings: per node), held stick/slip states
-    ``slipping`` (per node) and the unwind's wound-in tension ``t0`` [N] at that instant (see
+    ``slipping`` (per node; ``drag[nodes + i]``: the load [N] on a dancer on node i,
+    ``drag[2 nodes + k]`` 1 while span k is broken) and the
+    unwind's wound-in tension ``t0`` [N] at that instant (see
     ``wound_in``); nothing else depends on time. ``ns``, ``ds``, ``offsets`` are the line's
     structure, the other tables its parameters (``webline.sim.layout``).
 
@@ -88,6 +91,8 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
     sp, te = n_nodes, 2 * n_nodes
     for k in range(n_spans):
         work[te + k] = _tension(x[k])
+        if offsets[L.O_BREAK] and drag[2 * n_nodes + k] != 0.0:  # broken: no tension
+            work[te + k] = 0.0
     for i in range(n_nodes):
         work[i] = node_arm(i, x, ns, offsets, nodes)
         work[sp + i] = work[i] * x[off_w + i]
@@ -101,7 +106,14 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
     t_in = t0
     for k in range(n_spans):
         v_in, v_out, t_out = work[sp + k], work[sp + k + 1], work[te + k]
-        dx[k] = (ea * (v_out - v_in) + t_in * v_in - t_out * v_out) * spans[k, L.S_INVLENGTH]
+        flow = ea * (v_out - v_in) + t_in * v_in - t_out * v_out
+        if offsets[L.O_BREAK] and drag[2 * n_nodes + k] != 0.0:
+            dx[k] = 0.0
+        elif ns[k, L.NS_DANCER] >= 0 or ns[k + 1, L.NS_DANCER] >= 0:
+            length, rate = span_motion(k, x, ns, nodes, spans)
+            dx[k] = (flow + (ea - x[k]) * rate) / length  # docs/winder.md (D1)
+        else:
+            dx[k] = flow * spans[k, L.S_INVLENGTH]
         t_in = t_out
 
     width, density = web[L.W_WIDTH], web[L.W_DENSITY]
@@ -138,6 +150,9 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
 
     for d in range(ds.shape[0]):
         dx[off_tq + d] = (cmd[d] - x[off_tq + d]) * drives[d, L.D_INVLAG]
+    for i in range(1, last):
+        if ns[i, L.NS_DANCER] >= 0:
+            dancer_rate(i, x, ns, nodes, work[te + i - 1] + work[te + i], drag[n_nodes + i], dx)
 
     inv_ea = 1.0 / ea
     dx[off_q] = v_unwind * (1.0 - t0 * inv_ea)
@@ -198,11 +213,11 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
     ``include_end`` the state after the last period is recorded too (a chunked run leaves it
     to the next chunk). Returns (records, number of records, status, time of failure, where it
     failed (``envelope``), final state, final controller memory, final stick/slip states).
-    Each record row is [t, x...,
-    cmd..., vref..., trim..., u_eq..., friction estimate... (one value per drive in each
-    group), slip state per node...]. The run stops early, keeping what it computed, if the
-    state stops being finite, the unwind roll runs out of web, a tension exceeds the web's
-    strength or the state leaves the physical envelope (``envelope``).
+    Each record row is [t, x..., cmd..., vref..., trim..., u_eq..., friction estimate...,
+    controller radius... (one value per drive in each group), slip state per node...]. The
+    run stops early, keeping what it computed, if the state stops being finite, the unwind
+    roll runs out of web, a tension exceeds the web's strength or the state leaves the
+    physical envelope (``envelope``).
 
     This wrapper allocates every array; the compiled loop allocates none (``loop_njit``).
     ``rec``, if given, receives the records instead (a C-contiguous block of enough rows, e.g.
@@ -215,7 +230,7 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
     out = np.zeros((4, n_d))
     stages = np.empty((5, n_x))  # RK4 slopes k1..k4 and the stage state
     refs = np.empty((4, max(plan.prof_off.shape[0] - 1, n_n)))  # profiles|spans|v_ref|a_ref
-    work = np.zeros((2, 3 * n_n))  # rhs scratch | held drag torque per node
+    work = np.zeros((2, 3 * n_n))  # rhs scratch | held drag, dancer load, span broken flag
     n_rec, status, t_fail, where = compiled_loop(plan)(
         x, istate, slipping, rec, out, stages, refs, work, tick0, n_ticks, plan.dt, substeps,
         record_every, include_end, *plan.params())
@@ -224,7 +239,7 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
 
 def record_width(n_x: int, n_d: int, n_n: int) -> int:
     """Columns of a record row (``run``) for ``n_x`` states, ``n_d`` drives, ``n_n`` nodes."""
-    return 1 + n_x + 5 * n_d + n_n
+    return 1 + n_x + 6 * n_d + n_n
 
 
 def compiled_loop(plan: Plan) -> Any:
@@ -277,7 +292,7 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
     tmp = stages[4]
     prof, span_ref = refs[0, :prof_off.shape[0] - 1], refs[1, :n_n - 1]
     v_ref, a_ref = refs[2, :n_n], refs[3, :n_n]
-    scratch, drag = work[0], work[1, :n_n]
+    scratch, drag = work[0], work[1]
     h = dt / substeps
     n_rec = 0
     status = L.STATUS_OK
@@ -290,6 +305,9 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
         t = tick * dt
         if j == n_ticks and not include_end:
             break
+        for k in range(n_n - 1 if offsets[L.O_BREAK] else 0):  # a broken span: no tension
+            if t >= spans[k, L.S_BREAK] and drag[2 * n_n + k] == 0.0:
+                drag[2 * n_n + k], x[k] = 1.0, 0.0
         control_tick(tick, dt, x, istate, ns, ds, offsets, nodes, drives, web, prof_t, prof_v,
                      prof_off, speed_ripple, out, prof, span_ref, v_ref, a_ref)
         update_slip(x, slipping, ns, offsets, nodes, web)
@@ -302,9 +320,9 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
                 for d in range(n_d):
                     rec[n_rec, col] = out[q, d]
                     col += 1
-            for d in range(n_d):
-                rec[n_rec, col] = istate[d, L.I_FRICTION]
-                col += 1
+            for q in range(2 * n_d):  # friction estimate, controller radius
+                rec[n_rec, col + q] = istate[q % n_d, L.I_FRICTION if q < n_d else L.I_RADIUS]
+            col += 2 * n_d
             for i in range(n_n):
                 rec[n_rec, col] = slipping[i]
                 col += 1
@@ -315,6 +333,9 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
             p = ns[i, L.NS_DRAG]
             if p >= 0:
                 drag[i] = profile_at(p, t, prof_t, prof_v, prof_off)
+            if ns[i, L.NS_DANCER] >= 0:
+                drag[n_n + i] = profile_at(int(nodes[i, L.N_DLOAD]), t, prof_t, prof_v,
+                                           prof_off)
         t0_start = wound_in(t, web, wound_ripple)
         for s in range(substeps):
             ts = t + s * h

@@ -15,17 +15,21 @@ kernel; a new structure compiles (and caches) another.
  # web-roller traction (Ch. 5): 1 if the web may slip, wrap [rad], μ0, μ', viscous [N·s/m]
  N_TRACTION, N_WRAP, N_MU, N_MUK, N_SLIPB,
  # profile of a torque opposing the rotation (drive brake or roller drag), -1: none
- N_DRAG) = range(17)
-N_COLS = 17
+ N_DRAG,
+ # dancer (docs/winder.md): index of its position state (-1: none; velocity follows), 1/mass
+ # [1/kg], spring [N/m], damper [N·s/m], set position, travel [m], end-stop spring [N/m] and
+ # damper [N·s/m], load profile
+ N_DANCER, N_DINVM, N_DK, N_DC, N_DSET, N_DTRAVEL, N_DSTOP, N_DSTOPC, N_DLOAD) = range(26)
+N_COLS = 26
 
 # node structure (integer) columns, and the float columns they copy
-NS_KIND, NS_DRIVE, NS_ECCSTATE, NS_TRACTION, NS_DRAG = range(5)
-NS_COLS = 5
-NODE_STRUCTURE = (N_KIND, N_DRIVE, N_ECCSTATE, N_TRACTION, N_DRAG)
+NS_KIND, NS_DRIVE, NS_ECCSTATE, NS_TRACTION, NS_DRAG, NS_DANCER = range(6)
+NS_COLS = 6
+NODE_STRUCTURE = (N_KIND, N_DRIVE, N_ECCSTATE, N_TRACTION, N_DRAG, N_DANCER)
 
 # span table columns
-S_LENGTH, S_INVLENGTH = range(2)
-S_COLS = 2
+S_LENGTH, S_INVLENGTH, S_BREAK = range(3)  # length [m], 1/length, time it breaks [s] (inf)
+S_COLS = 3
 KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
 
 # drive table columns: topology and cascaded PI ...
@@ -46,30 +50,51 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  # ... and the tension observer (sim/observer.py): 1 if used, its gains on the speed residual
  # [N·s/rad, 1/s], the node on the other side of the observed span, its length [m] and the
  # EA the observer assumes [N]
- D_OBS, D_OBS_LT, D_OBS_LW, D_OBS_OTHER, D_OBS_LENGTH, D_OBS_EA) = range(48)
-D_COLS = 48
+ D_OBS, D_OBS_LT, D_OBS_LW, D_OBS_OTHER, D_OBS_LENGTH, D_OBS_EA,
+ # ... and the dancer its zone's PI uses: node (-1 none) and use (DANCER_POSITION/_TENSION)
+ D_DANCER, D_DUSE,
+ # ... and the rewind's taper (docs/winder.md W1): kind (0 none, physics.taper), taper [-],
+ # core and largest diameter [m], profile of its (diameter, factor) table
+ D_TAPER, D_TAPERK, D_TAPERDC, D_TAPERDM, D_TAPERP,
+ # ... and the diameter calculator (W2): method (0 none: the true radius), filter time
+ # constant [s], rate limit [m/s of diameter], hold below [m/s], initial diameter [m] (0:
+ # measured)
+ D_DCALC, D_DFILTER, D_DRATE, D_DHOLD, D_DINIT,
+ # ... and the centre winder's compensation (W3): inertia (1 on), static [N·m] and viscous
+ # [N·m·s] friction at the roll shaft
+ D_COMPJ, D_COMPCS, D_COMPB) = range(63)
+D_COLS = 63
+DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = 0, 1, 2
+DANCER_NONE, DANCER_POSITION, DANCER_TENSION = 0, 1, 2
 ROLE_MASTER, ROLE_TENSION = 0, 1
 
 # drive structure (integer) columns, and the float columns they copy
 (DS_NODE, DS_ROLE, DS_LOADCELL, DS_REF, DS_UPREF, DS_TSTATE, DS_FAMILY, DS_FEEDBACK,
- DS_ADAPTIVE, DS_ZFIRST, DS_ZLAST) = range(11)
-DS_COLS = 11
+ DS_ADAPTIVE, DS_ZFIRST, DS_ZLAST, DS_DANCER, DS_DUSE) = range(13)
+DS_COLS = 13
 DRIVE_STRUCTURE = (D_NODE, D_ROLE, D_LOADCELL, D_REF, D_UPREF, D_TSTATE, D_FAMILY, D_FEEDBACK,
-                   D_ADAPTIVE, D_ZFIRST, D_ZLAST)
+                   D_ADAPTIVE, D_ZFIRST, D_ZLAST, D_DANCER, D_DUSE)
 FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE, FAMILY_MRAC = 0, 1, 2, 3
+FAMILY_OPEN_LOOP = 4  # indirect tension control of a centre winder (docs/winder.md W4)
 
 # controller memory per drive: PI integrators, adaptive friction estimate [N·m·s], the MRAC's
-# adapted gains k̂_T [N·m/N], k̂_V [N·m·s/m] and bias [N·m]
-I_SPEED, I_TENSION, I_FRICTION, I_KT, I_KV, I_BIAS, I_THAT, I_WHAT = range(8)
-I_COLS = 8
+# adapted gains k̂_T [N·m/N], k̂_V [N·m·s/m] and bias [N·m] and its observer's estimates, the
+# radius the controller uses [m] (calculated, or the true one) and the break monitor's
+# detection time [s] (-1: none) and method (BREAK_*), in every row
+(I_SPEED, I_TENSION, I_FRICTION, I_KT, I_KV, I_BIAS, I_THAT, I_WHAT, I_RADIUS, I_DETECT,
+ I_METHOD) = range(11)
+I_COLS = 11
 
 # line-wide scalars
 (W_EA, W_THICK, W_WIDTH, W_DENSITY, W_T0, W_NOISE_T, W_NOISE_V, W_SEED,
  W_RHOA,
  # the physical envelope checked every tick: web strength [N] (inf: none given), largest
  # |stretch| [N] and surface speed [m/s] a state may reach before the run is a runaway
- W_STRENGTH, W_STRETCH_MAX, W_SPEED_MAX) = range(12)
-W_COLS = 12
+ W_STRENGTH, W_STRETCH_MAX, W_SPEED_MAX,
+ # the break monitor: tension threshold [fraction of the reference], ramp-to-stop time [s]
+ W_BTHRESH, W_BSTOP) = range(14)
+W_COLS = 14
+BREAK_TENSION, BREAK_DANCER = 1, 2  # how the monitor detected a break
 
 # the integer ``offsets`` array: where state blocks start (spans at 0, node speeds, the two roll
 # radii, motor torques, eccentric angles, web-length integrals), the master's upstream
@@ -77,6 +102,7 @@ W_COLS = 12
 (O_OMEGA, O_RADIUS, O_TORQUE, O_ANGLE, O_WEB, O_MASTER_UP, O_MASTER, O_TRANSMISSION) = range(1, 9)
 O_NOISE = 9  # 1 if measurements carry noise
 O_NEED_EQ = 10  # 1 if a controller needs the reference state every tick
+O_BREAK = 11  # 1 if the web breaks in this run (docs/winder.md W5): the break monitor is on
 
 # kernel status codes; with each failure the kernel returns where it happened: the span
 # (strength, runaway stretch), node (runaway speed) or drive (runaway motor speed), else -1

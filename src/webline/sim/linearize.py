@@ -17,7 +17,9 @@ from webline.line import Line, is_roll, load_line
 from webline.model.operating_point import OperatingPoint, operating_point
 from webline.physics.roll import web_inertia
 from webline.physics.roller import COULOMB_SMOOTHING
+from webline.sim import dancer_linear as dancers
 from webline.sim import layout as L
+from webline.sim import winder
 from webline.sim.fastest import spectral_radius_bound
 from webline.sim.plan import Plan, compile_plan
 
@@ -39,7 +41,7 @@ def plan_state_names(plan: Plan) -> list[str]:
             + [f"{line.node_name(i)}_omega" for i in range(line.n_nodes)]
             + [f"{line.node_name(i)}_torque" for i in line.drives]
             + [f"{line.node_name(i)}_{part}" for i in compliant
-               for part in ("motor_omega", "twist")])
+               for part in ("motor_omega", "twist")] + dancers.linear_states(plan))
 
 
 def plant_matrices(line: Line, op: OperatingPoint) -> tuple[np.ndarray, ...]:
@@ -59,7 +61,8 @@ def _plant(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
     ws, wn = 0, n_s  # offsets of the blocks
     wt = n_s + n_n
     n_c = int(np.sum(plan.drives[:, L.D_TSTATE] >= 0))
-    n = wt + n_d + 2 * n_c
+    n_dn = len(dancers.dancer_nodes(line))
+    n = wt + n_d + 2 * n_c + 2 * n_dn
     ea = line.ea
     r, v, t = op.radius, op.speed, op.tension
     t_up = np.concatenate(([line.unwind.wound_in_tension], t))
@@ -90,6 +93,7 @@ def _plant(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
         a[wt + d, wt + d] = -1.0 / lag
         b[wt + d, d] = 1.0 / lag
     _drive_block(a, plan, op, wn, wt, wt + n_d)
+    dancers.plant_rows(a, e, plan, t, wt + n_d + 2 * n_c)
     c = np.zeros((n_s + n_n, n))
     c[:n_s, ws:ws + n_s] = np.eye(n_s)
     c[n_s:, wn:wn + n_n] = np.diag(r)
@@ -148,6 +152,16 @@ def _speed_state(plan: Plan, d: int, i: int) -> int:
     return plan.line.n_spans + i
 
 
+def _tension_sensor(plan: Plan, d: int) -> tuple[int, float]:
+    """(linear state, d(measured tension)/d(state)) of drive ``d``'s tension measurement: its
+    zone's loadcell span (1), or a dancer (``sim.dancer.measurement_row``)."""
+    line = plan.line
+    n_c = int(np.sum(plan.drives[:, L.D_TSTATE] >= 0))
+    first = line.n_spans + line.n_nodes + len(line.drives) + 2 * n_c
+    found = dancers.measurement_row(plan, d, first)
+    return found if found is not None else (int(plan.drives[d, L.D_LOADCELL]), 1.0)
+
+
 def _speed_scale(plan: Plan, d: int) -> float:
     """Ratio between the measured angular speed and the roller's (n for a motor encoder)."""
     if plan.linear_motor_state(d) is not None and plan.drives[d, L.D_FEEDBACK] > 0:
@@ -175,8 +189,14 @@ def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...
     master_up = int(plan.offsets[6])  # profile index = reference index
     for d, i in enumerate(line.drives):
         row = plan.drives[d]
+        direction = {0: -1.0, line.n_nodes - 1: 1.0}.get(i, 0.0)
+        if winder.linear_rows(row, direction, op.radius[i], line.n_spans + i,
+                              int(row[L.D_REF]), kx[d], kr[d]):
+            continue  # open-loop tension control: no feedback but the compensation's
         if row[L.D_FAMILY] != L.FAMILY_PI:
-            kx[d], kr[d] = _decentralized_rows(plan, op, d, i, refs, n)
+            rows = _decentralized_rows(plan, op, d, i, refs, n)
+            kx[d] += rows[0]
+            kr[d] += rows[1]
             continue
         up = int(row[L.D_UPREF])
         t_up = line.unwind.wound_in_tension if up < 0 else refs[up]
@@ -193,14 +213,17 @@ def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...
         if row[L.D_ADAPTIVE] > 0:
             gain = op.inertia[i] / (plan.nodes[i, L.N_RATIO] * radius) / row[L.D_GAINNORM]
         if row[L.D_ROLE] == L.ROLE_TENSION:
-            sigma, lc, ref = row[L.D_SIGMA], int(row[L.D_LOADCELL]), int(row[L.D_REF])
-            ev_x[lc] += -sigma * row[L.D_KPT]
+            sigma, ref = row[L.D_SIGMA], int(row[L.D_REF])
+            sensor, slope = _tension_sensor(plan, d)
+            ev_x[sensor] += -sigma * row[L.D_KPT] * slope
             ev_r[ref] += sigma * row[L.D_KPT]
             ev_i[2 * d + 1] = sigma
-            gx[2 * d + 1, lc] = -row[L.D_KIT]
+            gx[2 * d + 1, sensor] = -row[L.D_KIT] * slope
             gr[2 * d + 1, ref] = row[L.D_KIT]
         kps, kis = row[L.D_KPS] * gain, row[L.D_KIS] * gain
-        kx[d], ki[d], kr[d] = kps * ev_x, kps * ev_i, kps * ev_r
+        kx[d] += kps * ev_x
+        ki[d] = kps * ev_i
+        kr[d] += kps * ev_r
         ki[d, 2 * d] += 1.0
         gx[2 * d], gi[2 * d], gr[2 * d] = kis * ev_x, kis * ev_i, kis * ev_r
     return kx, ki, kr, gx, gi, gr
@@ -226,7 +249,8 @@ def _decentralized_rows(plan: Plan, op: OperatingPoint, d: int, i: int, refs: np
     else:  # u_eq's friction term b_model ω_ref/n
         kr[0] += row[L.D_BMODEL] * speed_per_line / (radius * ratio)
     if row[L.D_ROLE] == L.ROLE_TENSION:
-        kx[int(row[L.D_LOADCELL])] = -gain * row[L.D_KT]
+        sensor, slope = _tension_sensor(plan, d)
+        kx[sensor] = -gain * row[L.D_KT] * slope
         kr[int(row[L.D_REF])] += gain * row[L.D_KT]
     for k, sign in ((i, -1.0), (i - 1, 1.0)):  # u_eq: -r (T_out - T_in) / n
         if 0 <= k < n_s:

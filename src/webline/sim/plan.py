@@ -11,10 +11,13 @@ from webline.control.decentralized import SectionDesign
 from webline.control.pi import PIGains
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint, operating_point
-from webline.profiles import breakpoints, pwl_value
+from webline.profiles import breakpoints, pwl_slope, pwl_value
+from webline.sim import dancer as dancers
 from webline.sim import layout as L
+from webline.sim import winder
 from webline.sim.drive_table import drive_table, transmission, transmission_columns
 from webline.spec.schema import (
+    DancerSpec,
     DrivenSpec,
     EccentricRoller,
     IdleSpec,
@@ -87,6 +90,11 @@ class Plan:
         a, b = self.prof_off[p], self.prof_off[p + 1]
         return float(pwl_value(self.prof_t[a:b], self.prof_v[a:b], t))
 
+    def profile_slope(self, p: int, t: float) -> float:
+        """Rate of change [unit/s] at time ``t`` [s] of the plan's profile number ``p``."""
+        a, b = self.prof_off[p], self.prof_off[p + 1]
+        return float(pwl_slope(self.prof_t[a:b], self.prof_v[a:b], t))
+
     def linear_motor_state(self, d: int) -> int | None:
         """Index of drive ``d``'s motor speed in the linear model's states, if compliant."""
         compliant = [int(k) for k in np.flatnonzero(self.drives[:, L.D_TSTATE] >= 0)]
@@ -107,8 +115,17 @@ class Plan:
         x[off[3]: off[3] + len(op.torque)] = np.clip(op.torque, -limits, limits)
         for d, i in enumerate(op.drives):
             self._transmission_state(x, d, i, op)
+        for i in dancers.dancer_nodes(self.line):
+            state = int(self.nodes[i, L.N_DANCER])
+            load = self.profile_value(int(self.nodes[i, L.N_DLOAD]), op.time)
+            x[state] = dancers.equilibrium_position(self.line, i, op.tension[i - 1],
+                                                    op.tension[i], load)
         istate = np.zeros((len(op.torque), L.I_COLS))
         istate[:, L.I_SPEED] = x[off[3]: off[3] + len(op.torque)]
+        for d, i in enumerate(op.drives):  # the compensations carry their part of the torque
+            istate[d, L.I_SPEED] -= winder.compensation_torque(
+                self.drives[d], op.inertia[i], op.radius[i], op.omega[i],
+                self.profile_slope(0, op.time))
         istate[:, L.I_FRICTION] = self.drives[:, L.D_BMODEL]
         istate[:, L.I_KT] = self.drives[:, L.D_KT]  # the MRAC's k̂ starts at the design
         istate[:, L.I_KV] = self.drives[:, L.D_KV]
@@ -116,6 +133,9 @@ class Plan:
             loadcell = int(self.drives[d, L.D_LOADCELL])
             istate[d, L.I_THAT] = op.tension[loadcell] if loadcell >= 0 else 0.0
             istate[d, L.I_WHAT] = op.omega[i]
+        istate[:, L.I_DETECT] = -1.0  # no web break detected
+        for d, i in enumerate(op.drives):
+            istate[d, L.I_RADIUS] = winder.initial_radius(self.drives, d, op.radius[i])
         ea = self.line.ea
         t_master = self.profile_value(int(off[6]), op.time)
         for d, i in enumerate(op.drives):
@@ -170,19 +190,23 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     compliant = [i for i in line.drives if transmission(line, i).type != "direct"]
     for i in compliant:
         names += [f"{rollers[i].name}.motor_omega", f"{rollers[i].name}.twist"]
+    dancer_nodes = dancers.dancer_nodes(line)
+    for i in dancer_nodes:
+        names += [f"{rollers[i].name}.position", f"{rollers[i].name}.velocity"]
     names += ["web.unwound", "web.rewound"]
     off_w = n_spans
     off_r = off_w + n_nodes
     off_tq = off_r + 2
     off_th = off_tq + n_drives
     off_tr = off_th + len(ecc_nodes)
-    off_q = off_tr + 2 * len(compliant)
+    off_dn = off_tr + 2 * len(compliant)
+    off_q = off_dn + 2 * len(dancer_nodes)
 
     op = operating_point(line)  # the plan's one operating point (t = 0, initial radii)
     inertia = op.inertia
     nodes = np.zeros((n_nodes, L.N_COLS))
     kinds = {UnwindSpec: L.KIND_UNWIND, DrivenSpec: L.KIND_DRIVEN, IdleSpec: L.KIND_IDLE,
-             RewindSpec: L.KIND_REWIND}
+             DancerSpec: L.KIND_IDLE, RewindSpec: L.KIND_REWIND}
     for i, r in enumerate(rollers):
         row = nodes[i]
         row[L.N_KIND] = kinds[type(r)]
@@ -207,6 +231,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
                 contact.kinetic_friction)
             row[L.N_SLIPB] = contact.viscous
         row[L.N_DRAG] = -1
+        row[L.N_DANCER] = -1
         row[L.N_ECC] = eccentric.get(r.name, 0.0)
         row[L.N_ECCSTATE] = off_th + ecc_nodes.index(i) if i in ecc_nodes else -1
 
@@ -219,6 +244,11 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     for i in sorted(drags):
         nodes[i, L.N_DRAG] = len(profiles)
         profiles.append(breakpoints(drags[i]))
+    for j, i in enumerate(dancer_nodes):
+        dancers.node_columns(nodes[i], line, i, off_dn + 2 * j, len(profiles))
+        profiles.append(dancers.load_profile(line, i))
+    taper_profile = len(profiles)
+    profiles += winder.taper_profiles(line)
     prof_off = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
 
     rate = sample_rate if sample_rate is not None else spec.control.sample_rate
@@ -226,6 +256,10 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     for d, i in enumerate(line.drives):
         state = off_tr + 2 * compliant.index(i) if i in compliant else -1
         transmission_columns(drives[d], rollers[i].drive, state)  # type: ignore[union-attr]
+    dancers.drive_columns(drives, line)
+    winder.taper_columns(drives, line, taper_profile)
+    winder.diameter_columns(drives, line)
+    winder.compensation_columns(drives, line)
     master_up = 1 + line.zone_of_span(line.master - 1)
     web = np.zeros(L.W_COLS)
     web[L.W_EA] = line.ea
@@ -243,8 +277,10 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         web[L.W_NOISE_T], web[L.W_NOISE_V], web[L.W_SEED] = noise.tension, noise.speed, noise.seed
         noisy = noise.tension > 0 or noise.speed > 0
     need_eq = bool(np.any(drives[:, L.D_FAMILY] != L.FAMILY_PI))
+    span_table = np.array([[s.length, 1.0 / s.length, 0.0] for s in spec.spans])
+    breaks = winder.break_columns(line, span_table, web)
     offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
-                        off_tr, noisy, need_eq], dtype=np.int64)
+                        off_tr, noisy, need_eq, breaks], dtype=np.int64)
     wound = np.array([[d.amplitude, d.frequency, d.phase] for d in spec.disturbances
                       if isinstance(d, WoundInRipple)]).reshape(-1, 3)
     ripple = np.array([[line.drives.index(_node(line, d.roller)), d.amplitude, d.frequency,
@@ -252,7 +288,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
                        if isinstance(d, SpeedRipple)]).reshape(-1, 4)
     return Plan(
         line=line, nodes=nodes, drives=drives,
-        spans=np.array([[s.length, 1.0 / s.length] for s in spec.spans]),
+        spans=span_table,
         web=web, wound_ripple=wound, speed_ripple=ripple,
         prof_t=np.concatenate([t for t, _ in profiles]),
         prof_v=np.concatenate([v for _, v in profiles]), prof_off=prof_off, offsets=offsets,

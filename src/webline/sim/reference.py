@@ -41,7 +41,7 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
     v_ref = np.empty(nodes.shape[0])
     a_ref = np.empty(nodes.shape[0])
     work = np.empty(3 * nodes.shape[0])
-    drag = np.zeros(nodes.shape[0])
+    drag = np.zeros(3 * nodes.shape[0])
     rows = []
 
     def derivative(t: float, y: np.ndarray) -> np.ndarray:
@@ -55,12 +55,16 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
         control_tick(j, plan.dt, x, istate, ns, ds, offsets, nodes, drives, web, prof_t,
                      prof_v, prof_off, ripple, out, refs, span_ref, v_ref, a_ref)
         kernel.update_slip(x, slipping, ns, offsets, nodes, web)
-        rows.append(np.concatenate(([t], x, out.ravel(), istate[:, L.I_FRICTION], slipping)))
+        rows.append(np.concatenate(([t], x, out.ravel(), istate[:, L.I_FRICTION],
+                                     istate[:, L.I_RADIUS], slipping)))
         if j == n_ticks:
             break
         for i in range(nodes.shape[0]):
             p = int(ns[i, L.NS_DRAG])
             drag[i] = profile_at(p, t, prof_t, prof_v, prof_off) if p >= 0 else 0.0
+            if ns[i, L.NS_DANCER] >= 0:  # the dancer's load, held like the drag
+                drag[nodes.shape[0] + i] = profile_at(int(nodes[i, L.N_DLOAD]), t, prof_t,
+                                                      prof_v, prof_off)
         sol = solve_ivp(derivative, (t, t + plan.dt), x, method=method, rtol=rtol, atol=atol)
         x = sol.y[:, -1].copy()
     return _result(plan, np.array(rows), None,

@@ -48,9 +48,13 @@ class Result:
     trim: np.ndarray  #: [m/s] per drive (tension-loop output)
     equilibrium_input: np.ndarray  #: [N·m] per drive (decentralized controllers; else 0)
     friction_estimate: np.ndarray  #: adaptive controllers' friction estimate [N·m·s] per drive
+    control_radius: np.ndarray  #: radius each drive's controller uses [m] (calculated or true)
     slipping: np.ndarray  #: stick/slip state per node (0 stuck, 1 slipping), held per tick
     failure: Failure | None = None  #: why the run stopped early (None: it ran to the end)
     settings: dict[str, float] = field(default_factory=dict)
+    #: the web-break monitor at the end (docs/winder.md W5): time [s] it detected a break
+    #: (-1: none) and how (``layout.BREAK_TENSION``, ``BREAK_DANCER``)
+    break_monitor: tuple[float, int] = (-1.0, 0)
 
     # --- verdict -------------------------------------------------------------------------
 
@@ -78,8 +82,10 @@ class Result:
         """The run's verdict: its failure, its events and the linear stability of the line
         at ``analysis_time`` (``webline.sim.findings``)."""
         from webline.sim.findings import run_verdict
+        from webline.sim.winder_findings import break_findings
 
-        return run_verdict(self.failure, self.events, self.line, self.plan)
+        return run_verdict(self.failure, self.events, self.line, self.plan,
+                           break_findings(self.line, self.time, self.speed, self.break_monitor))
 
     @property
     def status(self) -> str:
@@ -127,13 +133,22 @@ class Result:
 
     @cached_property
     def tension_ref(self) -> np.ndarray:
-        """Tension reference of each loadcell span [N] (NaN on spans without a loadcell)."""
+        """Tension reference of each loadcell span [N] (NaN on spans without a loadcell), the
+        rewind's taper applied (docs/winder.md W1)."""
         from webline.profiles import breakpoints
 
         out = np.full_like(self.tension, np.nan)
         for zone in self.line.zones:
             times, values = breakpoints(self.line.spec.spans[zone.loadcell].tension)
             out[:, zone.loadcell] = np.interp(self.time, times, values)
+        rewind = self.line.rewind
+        zone = self.line.controlled_zone(self.line.n_nodes - 1)
+        if rewind.taper is not None and zone is not None:
+            from webline.physics.taper import spec_factor
+
+            k = self.line.zones[zone].loadcell
+            out[:, k] *= [spec_factor(rewind.taper, rewind.core_radius, r)
+                          for r in self._block(2, 2)[:, 1]]  # as the controller sets it
         return out
 
     @cached_property
@@ -267,8 +282,19 @@ class Result:
     @cached_property
     def web_stored(self) -> np.ndarray:
         """Unstrained web held in the spans [m] (first order in strain, as 6.8 assumes)."""
-        lengths = self.plan.spans[:, L.S_LENGTH]
-        return (lengths * (1.0 - self.stretch / self.line.ea)).sum(axis=1)
+        return (self.span_lengths * (1.0 - self.stretch / self.line.ea)).sum(axis=1)
+
+    @cached_property
+    def span_lengths(self) -> np.ndarray:
+        """Length of every span over time [m]: as in the file, plus the excursion of a dancer
+        at either end from its set position (``kernel.span_motion``)."""
+        nodes = self.plan.nodes
+        lengths = np.tile(self.plan.spans[:, L.S_LENGTH], (len(self.time), 1))
+        for i in np.flatnonzero(nodes[:, L.N_DANCER] >= 0):
+            index = self.plan.state_names.index(f"{self.line.node_name(int(i))}.position")
+            excursion = self.states[:, index] - nodes[i, L.N_DSET]
+            lengths[:, [i - 1, i]] += excursion[:, None]
+        return lengths
 
     @cached_property
     def slack_events(self) -> list[SlackEvent]:
@@ -337,6 +363,7 @@ class Result:
             "twist": (dims_drive, self.twist),
             "contact": (dims_drive, self.contact),
             "friction_estimate": (dims_drive, self.friction_estimate),
+            "control_radius": (dims_drive, self.control_radius),
             "equilibrium_input": (dims_drive, self.equilibrium_input),
             "inertia": (("time", "roll"), self.inertia),
             "web_unwound": (("time",), self.web_unwound),

@@ -9,7 +9,8 @@ SIGNAL_UNITS = {
     "tension": "N", "tension_ref": "N", "speed": "m/s", "speed_ref": "m/s", "omega": "rad/s",
     "torque": "N*m", "torque_cmd": "N*m", "trim": "m/s", "radius": "m", "inertia": "kg*m**2",
     "slack": "", "motor_speed": "rad/s", "twist": "rad", "contact": "",
-    "friction_estimate": "N*m*s", "equilibrium_input": "N*m", "web_unwound": "m",
+    "friction_estimate": "N*m*s", "control_radius": "m", "equilibrium_input": "N*m",
+    "web_unwound": "m",
     "surface_speed": "m/s", "slipping": "", "slip_velocity": "m/s", "slip_power": "W",
     "web_rewound": "m", "web_stored": "m", "wound_in": "N",
 }
@@ -27,6 +28,7 @@ LONG_NAMES = {
     "motor_speed": "motor angular speed", "twist": "transmission twist at the load shaft",
     "contact": "backlash contact (+1 forward flank, -1 backward, 0 in the gap)",
     "friction_estimate": "adaptive friction estimate",
+    "control_radius": "radius the drive's controllers use (calculated or true)",
     "equilibrium_input": "equilibrium motor torque", "inertia": "roll inertia at the shaft",
     "web_unwound": "unstrained web unwound", "web_rewound": "unstrained web rewound",
     "web_stored": "unstrained web held in the spans",

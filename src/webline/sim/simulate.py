@@ -144,7 +144,7 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
         every = max(1, math.ceil((n_ticks + 1) / MAX_RECORDS))
     else:
         every = max(1, round(record_interval / plan.dt))
-    columns = 1 + plan.n_x + 5 * plan.drives.shape[0] + line.n_nodes  # as kernel.run stores
+    columns = kernel.record_width(plan.n_x, plan.drives.shape[0], line.n_nodes)
     budget.check_work(line, budget.estimate(n_ticks, substeps, every, columns), plan.dt,
                       sample_rate_given=sample_rate is not None)
     x, istate = equilibrium_plan_state(plan)
@@ -187,7 +187,9 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
         failure = kernel_failure(plan, status, t_fail, where, x)
     result = _result(plan, records, failure,
                      {"duration": duration, "dt": plan.dt, "substeps": substeps,
-                      "record_every": every})
+                      "record_every": every},
+                     (float(istate[0, L.I_DETECT]), int(istate[0, L.I_METHOD]))
+                     if len(istate) else (-1.0, 0))
     if status == STATUS_INTERRUPTED and raise_on_failure:
         raise SimulationInterrupted(result.message, partial=result)
     if failure is not None and raise_on_failure:
@@ -196,12 +198,13 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
 
 
 def _result(plan: Plan, rec: np.ndarray, failure: Failure | None,
-            settings: dict[str, float]) -> Result:
+            settings: dict[str, float], monitor: tuple[float, int] = (-1.0, 0)) -> Result:
     n_x, n_d = plan.n_x, plan.drives.shape[0]
-    block = [rec[:, 1 + n_x + q * n_d:1 + n_x + (q + 1) * n_d] for q in range(5)]
-    slipping = rec[:, 1 + n_x + 5 * n_d:]
+    block = [rec[:, 1 + n_x + q * n_d:1 + n_x + (q + 1) * n_d] for q in range(6)]
+    slipping = rec[:, 1 + n_x + 6 * n_d:]
     return Result(
         plan=plan, time=rec[:, 0], states=rec[:, 1:1 + n_x], torque_cmd=block[0],
         speed_feedforward=block[1], trim=block[2], equilibrium_input=block[3],
-        friction_estimate=block[4], slipping=slipping, failure=failure, settings=settings,
+        friction_estimate=block[4], control_radius=block[5], slipping=slipping,
+        failure=failure, settings=settings, break_monitor=monitor,
     )

@@ -7,6 +7,7 @@ from collections.abc import Callable, Iterable
 from typing import NoReturn
 
 from webline.errors import LineFileError
+from webline.spec.dancer import check_dancers
 from webline.spec.schema import (
     DisturbanceSpec,
     DrivenSpec,
@@ -24,6 +25,7 @@ from webline.spec.schema import (
     WebSpec,
     WoundInRipple,
 )
+from webline.spec.winder import WebBreak, check_taper
 
 Fail = Callable[[str, str], NoReturn]
 
@@ -107,6 +109,8 @@ def check_spec(spec: LineSpec, file: str) -> None:
             names = f"spans[{first}]" + (f"..spans[{last - 1}]" if last - 1 > first else "")
             fail(names, f"tension zone {z + 1} ({rollers[first].name} to {rollers[last].name}) "
                  f"needs exactly one span with a 'tension' reference, got {len(loadcells)}")
+    check_dancers(rollers, spec.spans, zones(spec), fail)
+    check_taper(getattr(rollers[-1], "taper", None), f"rollers[{len(rollers) - 1}].taper", fail)
     for k, span in enumerate(spec.spans):
         if span.tension is not None:
             for value in profile_values(span.tension):
@@ -121,6 +125,9 @@ def check_spec(spec: LineSpec, file: str) -> None:
             fail(f"scenarios.{name[:40]}", "a scenario's name has 1 to 100 characters")
         if scenario.disturbances is not None:
             _check_disturbances(scenario.disturbances, spec, f"{key}.disturbances", fail)
+        span_names = {s.name or f"span{k + 1}" for k, s in enumerate(spec.spans)}
+        if scenario.break_ is not None and scenario.break_.span not in span_names:
+            fail(f"{key}.break.span", f"no span named {scenario.break_.span!r}")
         for attr, index in (("unwind_radius", 0), ("rewind_radius", len(rollers) - 1)):
             radius = getattr(scenario, attr)
             roll = rollers[index]
@@ -152,6 +159,9 @@ def _check_disturbances(items: list[DisturbanceSpec], spec: LineSpec, key: str,
     by_name = {r.name: r for r in spec.rollers}
     for j, item in enumerate(items):
         here = f"{key}[{j}]"
+        if isinstance(item, WebBreak) and item.span not in {
+                spec.spans[k].name or f"span{k + 1}" for k in range(len(spec.spans))}:
+            fail(f"{here}.span", f"no span named {item.span!r}")
         if isinstance(item, RollerDrag):
             roller = by_name.get(item.roller)
             if roller is None:

@@ -8,8 +8,9 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from pydantic import Discriminator, Field, Tag
+from pydantic import ConfigDict, Discriminator, Field, Tag
 
+from webline.spec.dancer import DancerCarriage
 from webline.spec.quantities import (  # noqa: F401 - re-exported for users of the schema
     Angle,
     AngularFrequency,
@@ -39,6 +40,7 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
     TorqueProfile,
     si,
 )
+from webline.spec.winder import BreakEvent, DiameterSpec, TaperSpec, WebBreak, WinderSpec
 
 #: names (of lines, rollers, spans) and free text, bounded: a name becomes a folder name
 Name = Annotated[str, Field(min_length=1, max_length=100)]
@@ -269,15 +271,21 @@ class UnwindSpec(_RollerBase):
     wound_in_tension: Force
     drive: DriveSpec
     controller: ControllerSpec = CascadedPISpec()
+    diameter: DiameterSpec | None = None
+    winder: WinderSpec | None = None
 
 
 class RewindSpec(_RollerBase):
-    """Rewind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web."""
+    """Rewind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web;
+    ``taper`` makes its zone's tension reference a function of its diameter."""
 
     type: Literal["rewind"]
     core_radius: Length
     drive: DriveSpec
     controller: ControllerSpec = CascadedPISpec()
+    taper: TaperSpec | None = None
+    diameter: DiameterSpec | None = None
+    winder: WinderSpec | None = None
 
 
 class DrivenSpec(_RollerBase):
@@ -301,8 +309,15 @@ class IdleSpec(_RollerBase):
     contact: ContactSpec = AdheredSpec()
 
 
+class DancerSpec(IdleSpec):
+    """Idle roller on a moving carriage or arm: a dancer (``webline.spec.dancer``)."""
+
+    type: Literal["dancer"]  # type: ignore[assignment]
+    dancer: DancerCarriage
+
+
 RollerSpec = Annotated[
-    UnwindSpec | RewindSpec | DrivenSpec | IdleSpec,
+    UnwindSpec | RewindSpec | DrivenSpec | IdleSpec | DancerSpec,
     Field(discriminator="type"),
 ]
 
@@ -365,7 +380,7 @@ class MeasurementNoise(Strict):
 
 
 DisturbanceSpec = Annotated[
-    WoundInRipple | EccentricRoller | SpeedRipple | RollerDrag | MeasurementNoise,
+    WoundInRipple | EccentricRoller | SpeedRipple | RollerDrag | MeasurementNoise | WebBreak,
     Field(discriminator="type"),
 ]
 
@@ -378,9 +393,9 @@ class ControlSpec(Strict):
 
 class ScenarioSpec(Strict):
     """A named run of the line: it may replace the speed reference, the disturbances and the
-    initial roll radii, and sets a default duration. ``set`` changes any other value by its
-    nested path (``"spans.span2.tension"`` = a steps profile, a controller's bandwidth...; see
-    ``webline.spec.paths``), applied after the keys above."""
+    initial roll radii, add a web ``break``, and sets a default duration. ``set`` changes any
+    other value by its nested path (``"spans.span2.tension"`` = a steps profile, a
+    controller's bandwidth...; see ``webline.spec.paths``), applied after the keys above."""
 
     description: Text = ""
     duration: Time
@@ -389,6 +404,9 @@ class ScenarioSpec(Strict):
     disturbances: list[DisturbanceSpec] | None = None
     unwind_radius: Length | None = None
     rewind_radius: Length | None = None
+    # ``break`` in the file (a Python keyword); a dump writes break_, which reads back too
+    break_: BreakEvent | None = Field(None, alias="break")
+    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
 
 
 class LineSpec(Strict):

@@ -1,0 +1,48 @@
+"""Verdict findings of the winder functions (docs/winder.md W5): a web break, how and when
+the monitor detected it, and the stop."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from webline.line import Line
+from webline.sim import layout as L
+from webline.spec.winder import WebBreak
+from webline.verdict import Finding
+
+METHODS = {L.BREAK_TENSION: "tension below its threshold",
+           L.BREAK_DANCER: "dancer at its end stop"}
+
+
+def break_findings(line: Line, time: np.ndarray, speed: np.ndarray,
+                   monitor: tuple[float, int]) -> list[Finding]:
+    """One finding per web break that happened within a run of ``line`` (record times [s],
+    web speeds [m/s], the monitor's detection time [s] and method): ``warning`` when the
+    monitor detected it (method, time to detect, the stop), ``failed`` when it did not."""
+    out = []
+    end = float(time[-1]) if len(time) else 0.0
+    detected, method = monitor
+    for b in line.spec.disturbances:
+        if not isinstance(b, WebBreak) or b.at > end:
+            continue
+        details: dict[str, object] = {"break_s": b.at, "span": b.span}
+        if detected < 0.0:
+            out.append(Finding("failed", "web_break", b.span,
+                               f"the web broke in {b.span} at t = {b.at:.4g} s and the "
+                               f"monitor did not detect it by the end, t = {end:.4g} s",
+                               b.at, details))
+            continue
+        delay = detected - b.at
+        stop = detected + b.stop_time
+        after = time >= stop
+        residual = float(np.abs(speed[after]).max()) if after.any() else float("nan")
+        details |= {"detected_s": detected, "time_to_detect_s": delay,
+                    "method": METHODS[method], "stop_s": stop,
+                    "largest_speed_after_stop_m_per_s": residual}
+        stopped = (f"ramped to a stop by t = {stop:.4g} s, torque off" if after.any()
+                   else f"ramping to a stop by t = {stop:.4g} s (after the run)")
+        out.append(Finding("warning", "web_break", b.span,
+                           f"web break in {b.span} at t = {b.at:.4g} s detected by "
+                           f"{METHODS[method]} after {1000 * delay:.3g} ms; {stopped}",
+                           b.at, details))
+    return out

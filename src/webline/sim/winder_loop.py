@@ -1,0 +1,68 @@
+"""Centre-winder torque functions in the compiled loop (docs/winder.md, W3-W4): inertia and
+friction compensation, and open-loop (indirect) tension control."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from webline.sim import layout as L
+from webline.sim.signals import jit
+
+
+@jit
+def compensation(d: int, inertia: float, radius: float, omega: float, a_line: float,
+                 drives: np.ndarray) -> float:
+    """Motor torque [N·m] drive ``d`` adds for its roll's inertia and friction (W3):
+    (J a_line / R + c_s sign(ω) + b ω) / n, J [kg·m²] and R [m] as the controller knows them,
+    a_line [m/s²] the line-speed reference's acceleration, ω [rad/s] the measured speed."""
+    torque = drives[d, L.D_COMPJ] * inertia * a_line / radius
+    if omega > 0.0:
+        torque += drives[d, L.D_COMPCS]
+    elif omega < 0.0:
+        torque -= drives[d, L.D_COMPCS]
+    torque += drives[d, L.D_COMPB] * omega
+    return torque / drives[d, L.D_RATIO]
+
+
+@jit
+def open_loop_command(d: int, direction: float, radius: float, tension_ref: float,
+                      comp: float, drives: np.ndarray, out: np.ndarray) -> None:
+    """Indirect tension control (W4): τ = ±T_ref R / n + compensation, + on a rewind (the web
+    pulls it back), - on an unwind (the motor brakes it); clipped to the torque limit."""
+    raw = direction * tension_ref * radius / drives[d, L.D_RATIO] + comp
+    limit = drives[d, L.D_LIMIT]
+    out[0, d] = min(max(raw, -limit), limit)
+    out[1, d] = 0.0
+    out[2, d] = 0.0
+    out[3, d] = raw
+
+
+@jit
+def break_monitor(t: float, x: np.ndarray, istate: np.ndarray, ns: np.ndarray,
+                  ds: np.ndarray, nodes: np.ndarray, web: np.ndarray,
+                  refs: np.ndarray) -> float:
+    """Web-break monitor and reaction (W5), once per tick before the controllers: detect a
+    loadcell tension below the threshold x its reference, or a dancer at an end stop (the
+    first found is kept with its time in ``istate``; every zone's loadcell counts, also where
+    a dancer controls the zone); once detected, return the factor
+    [0, 1] of the line-speed ramp to a stop (1 before)."""
+    if istate[0, L.I_DETECT] < 0.0:
+        method = 0
+        for d in range(ds.shape[0]):
+            loadcell = ds[d, L.DS_LOADCELL]
+            if loadcell >= 0 and ds[d, L.DS_ROLE] == L.ROLE_TENSION:  # dancer zones too
+                tension = x[loadcell] if x[loadcell] > 0.0 else 0.0
+                if tension < web[L.W_BTHRESH] * refs[ds[d, L.DS_REF]]:
+                    method = L.BREAK_TENSION
+        for i in range(ns.shape[0]):
+            state = ns[i, L.NS_DANCER]
+            if state >= 0 and method == 0 and (x[state] <= 0.0
+                                               or x[state] >= nodes[i, L.N_DTRAVEL]):
+                method = L.BREAK_DANCER
+        if method == 0:
+            return 1.0
+        for d in range(ds.shape[0]):
+            istate[d, L.I_DETECT] = t
+            istate[d, L.I_METHOD] = method
+    factor = 1.0 - (t - istate[0, L.I_DETECT]) / web[L.W_BSTOP]
+    return factor if factor > 0.0 else 0.0

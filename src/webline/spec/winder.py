@@ -1,0 +1,101 @@
+"""Line-file keys of the winder functions (docs/winder.md): taper tension, diameter
+calculation, compensation and open-loop tension control."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Annotated, Any, Literal
+
+from pydantic import Field
+
+from webline.spec.quantities import Length, Strict, si
+
+Fraction = Annotated[float, Field(ge=0.0, le=1.0)]
+
+
+class TaperSpec(Strict):
+    """The rewind's tension reference as a function of its diameter D: the zone's reference
+    times a factor f(D) (docs/winder.md, W1). D_c is the core diameter.
+
+    ``"linear"``: f = 1 - taper (D - D_c)/(``max_diameter`` - D_c); ``"hyperbolic"``:
+    f = 1 - taper (1 - D_c/D) (taper = 1 is constant torque); ``"table"``: f interpolated
+    in (``diameter`` [m], ``factor``), constant beyond its ends.
+    """
+
+    type: Literal["linear", "hyperbolic", "table"]
+    taper: Fraction = 0.0
+    max_diameter: Length | None = None
+    diameter: list[Length] = Field(default_factory=list)
+    factor: list[Fraction] = Field(default_factory=list)
+
+
+def check_taper(taper: TaperSpec | None, key: str, fail: Callable[[str, str], Any]) -> None:
+    """Fail on a taper that lacks the keys of its type."""
+    if taper is None:
+        return
+    if taper.type == "linear" and taper.max_diameter is None:
+        fail(f"{key}.max_diameter", "a linear taper needs the largest diameter")
+    if taper.type == "table":
+        if not taper.diameter or len(taper.diameter) != len(taper.factor):
+            fail(f"{key}.factor", "a taper table needs as many factors as diameters (>= 1)")
+        if any(b <= a for a, b in zip(taper.diameter, taper.diameter[1:], strict=False)):
+            fail(f"{key}.diameter", "diameters must increase")
+
+
+class DiameterSpec(Strict):
+    """A roll drive's diameter calculator (docs/winder.md, W2): its controllers use the
+    calculated radius, not the true one.
+
+    ``"speed_ratio"``: D = 2 v_line / ω_spindle, v_line the master roller's surface speed,
+    low-pass filtered with ``filter`` [s], its rate limited to ``rate_limit`` [m/s] of
+    diameter, held while |v_line| < ``hold_below`` [m/s]. ``"thickness"``: each revolution
+    adds (rewind) or removes (unwind) two web thicknesses. ``initial``: ``"measured"`` (the
+    true diameter at the start) or a guessed diameter [m].
+    """
+
+    method: Literal["speed_ratio", "thickness"]
+    initial: Literal["measured"] | Length = "measured"
+    filter: Annotated[float, si("time", ">0")] = 0.2
+    rate_limit: Annotated[float, si("speed", ">0")] | None = None
+    hold_below: Annotated[float, si("speed", ">=0")] = 0.05
+
+
+class WinderSpec(Strict):
+    """A centre winder's torque functions (docs/winder.md, W3-W4) on a roll's drive.
+
+    ``mode``: ``"closed_loop"`` keeps the roll's controller (its tension loop on the loadcell
+    or dancer); ``"open_loop"`` is indirect tension control: torque = T_ref R / ratio plus the
+    compensations, no tension measurement and no speed loop. ``inertia_compensation`` adds
+    J(D) a_line / (R ratio), J the roll's inertia (core, shaft and motor, and the web from the
+    diameter, width and density) and a_line the line-speed reference's acceleration;
+    ``static_friction`` [N·m] and ``viscous_friction`` [N·m·s] at the roll shaft add
+    (static sign(ω) + viscous ω) / ratio. The radius is the calculated one where the roll has
+    a ``diameter`` calculator.
+    """
+
+    mode: Literal["closed_loop", "open_loop"] = "closed_loop"
+    inertia_compensation: bool = False
+    static_friction: Annotated[float, si("torque", ">=0")] = 0.0
+    viscous_friction: Annotated[float, si("rot_damping", ">=0")] = 0.0
+
+
+class WebBreak(Strict):
+    """A web break (docs/winder.md, W5): at time ``at`` [s] span ``span`` breaks; every span
+    of its tension zone then carries no tension (the free end runs through the idle rollers
+    up to the driven ones that grip it). The line's break monitor is on in a run with a
+    break: it detects a loadcell tension below ``threshold`` x its reference, or a dancer at
+    an end stop, and reacts by ramping the line to a stop in ``stop_time`` [s], tension loops
+    frozen, then switching every torque off."""
+
+    type: Literal["web_break"]
+    span: Annotated[str, Field(min_length=1, max_length=100)]
+    at: Annotated[float, si("time", ">=0")]
+    threshold: Fraction = 0.2
+    stop_time: Annotated[float, si("time", ">0")] = 2.0
+
+
+class BreakEvent(WebBreak):
+    """A scenario's ``break = { span = "...", at = "12 s" }``: a ``web_break`` disturbance
+    added to the scenario's disturbances (``type`` may be left out)."""
+
+    type: Literal["web_break"] = "web_break"

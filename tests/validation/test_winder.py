@@ -1,0 +1,143 @@
+"""Winder functions (issue 15, docs/winder.md): taper tension, diameter calculation,
+inertia compensation and open-loop tension control."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import webline
+from webline.physics.taper import spec_factor
+from webline.sim import layout as L
+
+
+@pytest.fixture(scope="module")
+def thick_hswl(hswl):
+    """hswl winding a 1 mm web (EA kept): at 2.54 m/s the rewind's radius grows by about
+    2 mm/s, 8 cm in 40 s, enough for its taper to move the set tension by tens of per cent."""
+    return hswl.replace({"web.thickness": "1 mm", "web.modulus": None, "web.ea": hswl.ea})
+
+
+@pytest.mark.parametrize("taper", [
+    {"type": "linear", "taper": 0.5, "max_diameter": "0.5 m"},
+    {"type": "hyperbolic", "taper": 0.8},
+    {"type": "table", "diameter": ["0.4 m", "0.5 m"], "factor": [1.0, 0.6]},
+])
+def test_taper_followed_in_steady_winding(thick_hswl, taper):
+    line = thick_hswl.replace({"rollers.rewind.taper": taper})
+    result = webline.simulate(line, 40.0)
+    rewind = line.rewind
+    k = line.zones[line.controlled_zone(line.n_nodes - 1)].loadcell
+    radius = result.radius[:, -1]
+    factor = np.array([spec_factor(rewind.taper, rewind.core_radius, r) for r in radius])
+    reference = line.spec.spans[k].tension * factor
+    assert factor.max() - factor.min() > 0.05  # the taper moved the set tension
+    np.testing.assert_allclose(result.tension_ref[:, k], reference, rtol=1e-12)
+    steady = result.time > 2.0
+    error = np.abs(result.tension[steady, k] / reference[steady] - 1.0)
+    assert error.max() < 0.02  # issue 15: within 2 % in steady winding
+
+
+def test_calculated_diameter_within_one_percent_through_a_roll_change(hswl):
+    """Start from rest with the rewind's diameter guessed 10 % high (speed-ratio method, held
+    at rest, filtered at 0.1 s) and the unwind's measured (thickness integration); wind a 2 mm
+    web until the unwind is empty (~90 s)."""
+    line = hswl.with_scenario("startup").replace({
+        "web.thickness": "2 mm", "web.modulus": None, "web.ea": hswl.ea,
+        "rollers.rewind.diameter": {"method": "speed_ratio", "filter": "0.1 s",
+                                    "initial": 2 * 1.1 * hswl.rewind.radius},
+        "rollers.unwind.diameter": {"method": "thickness"}})
+    result = webline.simulate(line, 200.0, raise_on_failure=False)
+    assert result.failure is not None and result.failure.kind == "unwind_empty"
+    radius = result.radius[:, [0, -1]]
+    assert radius[-1, 0] < 1.2 * line.unwind.core_radius  # a whole roll
+    assert radius[-1, 1] > 1.5 * line.rewind.radius
+    error = result.control_radius[:, [0, -1]] / radius - 1.0
+    assert error[0, 1] == pytest.approx(0.1)  # the guess, held while the line stands
+    # the rewind's first revolution: its angle integrated from the recorded speeds
+    angle = np.concatenate(([0.0], np.cumsum(np.diff(result.time) * result.omega[1:, -1])))
+    after = angle >= 2 * np.pi
+    assert after.any()
+    assert np.abs(error[after]).max() < 0.01  # issue 15: within 1 %
+
+
+RAMP = {"type": "ramp", "initial": "100 ft/min", "final": "300 ft/min", "start": 1.0,
+        "duration": 2.0}
+
+
+def _rewind_ramp_error(winder: dict | None) -> tuple[np.ndarray, np.ndarray, object]:
+    """|T - T_ref| of rockwell's rewind zone over a 100 -> 300 ft/min ramp in 2 s [N]."""
+    line = webline.load_line("rockwell").replace(speed=RAMP)
+    if winder is not None:
+        line = line.replace({"rollers.rewind.winder": winder})
+    result = webline.simulate(line, 10.0)
+    k = line.zones[line.controlled_zone(line.n_nodes - 1)].loadcell
+    return result.time, np.abs(result.tension[:, k] - result.tension_ref[:, k]), result
+
+
+def test_inertia_compensation_reduces_the_tension_error_during_a_ramp():
+    # rockwell's rewind (29 lb ft² of discs) on a soft 10 rad/s speed loop: without
+    # compensation its tension loop must find the accelerating torque itself
+    time, plain, _ = _rewind_ramp_error(None)
+    _, compensated, _ = _rewind_ramp_error({"inertia_compensation": True})
+    ramp = (time > 1.0) & (time < 4.0)
+    # measured: 47.1 N -> 3.9 N largest error (12 x); ask for at least 5 x
+    assert compensated[ramp].max() < 0.2 * plain[ramp].max()
+    assert plain[ramp].max() > 10.0  # the ramp does disturb the uncompensated winder
+
+
+def test_open_loop_tension_control_holds_the_reference_without_a_loadcell():
+    line = webline.load_line("rockwell")
+    friction = line.rewind.friction
+    time, error, result = _rewind_ramp_error({"mode": "open_loop", "inertia_compensation": True,
+                                              "viscous_friction": friction})
+    assert result.plan.drives[-1, L.D_FAMILY] == L.FAMILY_OPEN_LOOP  # no tension feedback
+    reference = 10 * 4.4482216152605
+    # steady: T R / n balances the web exactly, up to the idle roller's bearing drag
+    assert error[-1] < 0.01 * reference
+    assert error[(time > 1.0) & (time < 4.0)].max() < 0.15 * reference
+
+
+def _broken_rockwell(**dancer: float) -> tuple[object, dict]:
+    """rockwell whose web breaks in the dancer's downstream span at 2 s (stop in 2 s)."""
+    data = webline.load_line("rockwell").spec.model_dump(exclude_none=True)
+    data["rollers"][1]["dancer"].update(dancer)
+    brk = {"type": "web_break", "span": "dancer_span", "at": 2.0, "stop_time": 2.0}
+    return data, brk
+
+
+@pytest.mark.parametrize("method", ["tension", "dancer"])
+def test_web_break_detected_within_50_ms(method):
+    # a light dancer (1 kg, 10 N s/m) 2 cm from its stop; for the dancer method the tension
+    # monitor is off (threshold 0): the carriage, pushed by 2 T = 89 N and no web, reaches
+    # its stop in about sqrt(2 x 0.02 m / 89 m/s²) = 21 ms
+    data, brk = _broken_rockwell(mass=1.0, travel=0.1, position=0.08, damping=10.0)
+    if method == "dancer":
+        brk["threshold"] = 0.0
+    data["disturbances"] = [brk]
+    result = webline.simulate(webline.load_line(data), 6.0)
+    detected, how = result.break_monitor
+    assert how == {"tension": L.BREAK_TENSION, "dancer": L.BREAK_DANCER}[method]
+    assert 0.0 <= detected - 2.0 < 0.05  # issue 15: within 50 ms
+    # the broken zone carries no tension; the line ramped to a stop, torque off
+    broken = result.time > 2.0
+    assert np.all(result.tension[broken, :2] == 0.0)
+    stopped = result.time > detected + 2.0 + 0.5
+    assert np.all(result.torque_cmd[stopped] == 0.0)
+    # the driven nodes coast down from near zero (the idlers spin on freely without web)
+    driven = list(result.line.drives)
+    assert np.abs(result.speed[stopped][:, driven]).max() < 0.25 * result.line.spec.speed
+    assert np.all(result.speed_feedforward[stopped] == 0.0)
+    finding = next(f for f in result.verdict.findings if f.kind == "web_break")
+    assert finding.level == "warning" and finding.details["method"].startswith(method)
+    assert f"{1000 * (detected - 2.0):.3g} ms" in finding.message
+
+
+def test_undetected_web_break_fails_the_run():
+    data, brk = _broken_rockwell(travel=0.3, position=0.15)
+    brk["threshold"] = 0.0  # no tension monitor; the damped 3 kg dancer drifts (no stop)
+    data["disturbances"] = [brk]
+    data["rollers"][1]["dancer"]["stiffness"] = 5000.0  # a spring holds it off its stop
+    result = webline.simulate(webline.load_line(data), 3.0)
+    assert result.break_monitor[0] < 0.0
+    assert result.status == "failed"
