@@ -25,13 +25,16 @@ from rich.progress import (
 from rich.table import Table as RichTable
 
 from webline.errors import ArgumentError
-from webline.sim.distributions import parse_distribution
-from webline.units import ureg
+
+# webline.units (pint) and the simulation layers load inside the functions that use them, so
+# that `webline --version` and `--help` stay fast.
 
 
 def parse_values(path: str, text: str) -> list[object]:
     """``v1,v2,...`` or ``start:stop:n`` (n values, both ends included, in start's unit) as
     the values of ``path``; raises ``ArgumentError`` naming the option."""
+    from webline.units import ureg
+
     if text.count(":") == 2 and "," not in text:
         start, stop, count = (part.strip() for part in text.split(":"))
         try:
@@ -64,6 +67,8 @@ def parse_values(path: str, text: str) -> list[object]:
 
 def parse_sets(sets: list[str], samples: int | None) -> dict[str, Any]:
     """{path: values} (a sweep) or {path: distribution} (with ``--samples``)."""
+    from webline.sim.distributions import parse_distribution
+
     out: dict[str, Any] = {}
     for item in sets:
         path, sep, text = item.partition("=")
