@@ -16,19 +16,22 @@ if TYPE_CHECKING:
 
 #: records per chunk along time in the NetCDF file
 TIME_CHUNK = 4096
+#: zlib level: with the shuffle filter, level 1 writes 30 % faster than level 4 and the file
+#: is 2-3 % larger (20 s of the HSWL, measured)
+COMPLEVEL = 1
 Precision = Literal["float64", "float32"]
 
 
 def write_netcdf(ds: xr.Dataset, path: str | Path, precision: Precision = "float64") -> Path:
-    """Write ``ds`` (``Result.to_xarray()``) to NetCDF-4 through h5netcdf: zlib level 4 with
-    shuffle, chunks of ``TIME_CHUNK`` records; float signals as ``precision``."""
+    """Write ``ds`` (``Result.to_xarray()``) to NetCDF-4 through h5netcdf: zlib (``COMPLEVEL``)
+    with shuffle, chunks of ``TIME_CHUNK`` records; float signals as ``precision``."""
     if precision not in ("float64", "float32"):
         raise ArgumentError(f"precision: must be 'float64' or 'float32', got {precision!r}")
     encoding = {}
     for name, var in ds.data_vars.items():
         dtype = np.float32 if precision == "float32" and var.dtype.kind == "f" else var.dtype
         chunks = (min(ds.sizes["time"], TIME_CHUNK), *var.shape[1:])
-        encoding[name] = {"zlib": True, "complevel": 4, "shuffle": True,
+        encoding[name] = {"zlib": True, "complevel": COMPLEVEL, "shuffle": True,
                           "chunksizes": chunks, "dtype": dtype}
     return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf",
                                                        encoding=encoding))
