@@ -7,28 +7,37 @@ and problem), 3 unstable (``analyze``; ``run`` also for a runaway), 130 interrup
 
 from __future__ import annotations
 
-import functools
-import json
 import sys
 import time
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
-from enum import StrEnum
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, TypeVar
+from typing import Annotated
 
 import typer
 from rich.console import Console
 from rich.markup import escape
-from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
-from rich.table import Table as RichTable
 
-from webline.errors import WeblineError
+from webline.cli_analyze import analyze
+from webline.cli_common import (
+    BadInput,
+    ControllerOpt,
+    DataFormat,
+    LineArg,
+    Precision,
+    ScenarioOpt,
+    SetOpt,
+    Units,
+    UnitsOpt,
+    _console,
+    _duration,
+    _load,
+    fail,
+    handles_errors,
+    prepare_out,
+    print_tables,
+    progress_bar,
+)
+from webline.cli_sweep import sweep_command
 from webline.version import __version__
-
-if TYPE_CHECKING:
-    from webline.analysis.certificate import Certificate
-    from webline.line import Line
 
 # The simulation, analysis and report layers are imported inside the commands that use them,
 # so that `webline --version` and `webline --help` start in a fraction of a second.
@@ -40,77 +49,6 @@ app = typer.Typer(
     "Exit status: 0 ok or warning, 1 failed run, 2 bad input, 3 unstable (analyze; run: also "
     "a runaway), 130 interrupted.",
 )
-
-
-class Units(StrEnum):
-    si = "si"
-    imperial = "imperial"
-
-
-class ControllerFamily(StrEnum):
-    pi = "pi"
-    state_feedback = "state-feedback"
-    adaptive = "adaptive"
-    mrac = "mrac"
-
-
-#: the line-file ``type`` of each --controller choice
-FAMILY_TYPES = {"pi": "cascaded_pi", "state-feedback": "state_feedback", "adaptive": "adaptive",
-                "mrac": "mrac"}
-ControllerOpt = Annotated[ControllerFamily | None, typer.Option(
-    "--controller", "-c", help="Run every drive with this controller family (its default "
-    "design) instead of the line file's.")]
-
-
-class DataFormat(StrEnum):
-    netcdf = "netcdf"
-    csv = "csv"
-
-
-class Precision(StrEnum):
-    float64 = "float64"
-    float32 = "float32"
-
-
-class BadInput(WeblineError):
-    """A command-line value is wrong (exit status 2)."""
-
-    exit_code = 2
-
-
-LineArg = Annotated[str, typer.Argument(
-    metavar="LINE",
-    help="A line file (.toml) or the name of a built-in line (see 'webline lines').")]
-UnitsOpt = Annotated[Units, typer.Option("--units", "-u", help="Units to show quantities in.")]
-ScenarioOpt = Annotated[str | None, typer.Option(
-    "--scenario", "-s", help="A named scenario of the line file (see 'webline show').")]
-SetOpt = Annotated[list[str] | None, typer.Option(
-    "--set", metavar="PATH=VALUE", help="Change one value of the line, by its nested path, "
-    "with units (repeatable): --set web.ea='9 kN' --set "
-    "rollers.process.controller.tension_bandwidth='2 Hz'. Applied after --scenario.")]
-
-F = TypeVar("F", bound=Callable[..., None])
-
-
-def handles_errors(command: F) -> F:
-    """Turn webline's errors into one line on stderr and their exit status, no traceback."""
-
-    @functools.wraps(command)
-    def wrapper(*args: object, **kwargs: object) -> None:
-        try:
-            command(*args, **kwargs)
-        except WeblineError as exc:
-            fail(str(exc), exc.exit_code)
-
-    return wrapper  # type: ignore[return-value]
-
-
-def fail(message: str, code: int) -> None:
-    """Print ``error: message`` on stderr, one line per line of ``message`` (a line file's
-    problems), and exit with ``code``."""
-    for text in message.splitlines() or [""]:
-        typer.echo("error: " + " ".join(text.split()), err=True)
-    raise typer.Exit(code)
 
 
 def _version(value: bool) -> None:
@@ -127,98 +65,6 @@ def root(version: Annotated[bool, typer.Option(
 
 
 # --- helpers ----------------------------------------------------------------------------------
-
-
-def _console() -> Console:
-    """Standard output for tables: the terminal's width, or 160 columns when piped."""
-    console = Console(highlight=False)
-    if not console.is_terminal:
-        console.width = 160
-    return console
-
-
-def print_tables(tables: list, console: Console) -> None:
-    """Print report tables (``webline.report.tables.Table``) with rich, skipping empty ones."""
-    for table in tables:
-        if not table.rows:
-            continue
-        out = RichTable(title=escape(table.title), title_justify="left", title_style="bold")
-        for column in table.columns:
-            out.add_column(escape(column), overflow="fold")
-        for row in table.rows:
-            out.add_row(*(escape(cell) for cell in row))
-        console.print(out)
-
-
-def _load(source: str, scenario: str | None, controller: ControllerFamily | None = None,
-          sets: list[str] | None = None) -> Line:
-    """The line as a command runs it: loaded, with ``--controller``, ``--scenario`` and every
-    ``--set PATH=VALUE`` applied, in that order."""
-    from webline.line import load_line
-    from webline.spec.paths import parse_assignment
-
-    line = load_line(source)
-    if controller is not None:
-        from webline.control.select import with_controller
-
-        line = with_controller(line, FAMILY_TYPES[controller.value])  # type: ignore[arg-type]
-    if scenario:
-        line = line.with_scenario(scenario)
-    changes = {}
-    for text in sets or []:
-        try:
-            path, value = parse_assignment(text)
-        except ValueError as exc:
-            raise BadInput(f"--set: {exc}") from None
-        changes[path] = value
-    return line.replace(changes) if changes else line
-
-
-def _duration(text: str | None) -> float | None:
-    if text is None:
-        return None
-    try:
-        value = float(text)  # a plain number is seconds
-    except ValueError:
-        value = None
-    try:
-        from webline.units import to_si
-
-        value = to_si(text, "time") if value is None else value
-    except ValueError as exc:
-        raise BadInput(f"--duration: {exc}") from None
-    if not value > 0:
-        raise BadInput(f"--duration: must be > 0 s, got {text!r}")
-    return value
-
-
-def prepare_out(out: Path) -> Path:
-    """Create the output folder ``out`` and check that files can be written in it."""
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-        probe = out / ".webline-write-test"
-        probe.write_bytes(b"")
-        probe.unlink()
-    except OSError as exc:
-        reason = exc.strerror or str(exc)
-        raise BadInput(f"{out}: cannot write to the output folder ({reason})") from None
-    return out
-
-
-@contextmanager
-def progress_bar(enabled: bool, label: str) -> Iterator[Callable[[float], None] | None]:
-    """A progress bar on stderr (cleared when done) fed with the fraction done, or None. Until
-    the first fraction arrives it says that the line's compiled loop is being loaded, or
-    compiled the first time a line of this structure runs (numba; seconds, then cached)."""
-    if not enabled:
-        yield None
-        return
-    waiting = "loading the line's compiled loop (compiled once per line structure)"
-    columns = (TextColumn("{task.description}"), BarColumn(), TaskProgressColumn(),
-               TimeElapsedColumn())
-    with Progress(*columns, console=Console(stderr=True), transient=True) as bar:
-        task = bar.add_task(escape(waiting), total=1.0)
-        yield lambda fraction: bar.update(task, completed=fraction, description=escape(label))
 
 
 # --- commands ---------------------------------------------------------------------------------
@@ -354,90 +200,7 @@ def show(line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None
                  _console())
 
 
-@app.command()
-@handles_errors
-def analyze(
-    line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None,
-    at: Annotated[float | None, typer.Option(
-        "--time", "-t", help="Analyse the references at this time [s]; default 0, or the end "
-        "of the speed ramp for a start from rest.")] = None,
-    as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")]
-    = False,
-    certificate: Annotated[bool, typer.Option(
-        "--certificate", help="Also the decentralized stability certificate of thesis Thm "
-        "6.2.1: distance to instability, interconnection bound and margin per section.")]
-    = False,
-    controller: ControllerOpt = None,
-    sets: SetOpt = None,
-) -> None:
-    """Operating point, equilibrium inputs and closed-loop modes of a line, and its verdict.
-
-    Exit status: 0 ok (no closed-loop mode grows), 2 bad input, 3 unstable (one grows).
-    """
-    from webline.analysis.modes import closed_loop_modes
-    from webline.model.operating_point import analysis_time, operating_point
-    from webline.report.display import Display
-    from webline.report.tables import modes_table, operating_point_tables, operating_point_values
-    from webline.report.verdict_text import verdict_lines
-    from webline.sim.stability import stability_findings
-    from webline.verdict import Verdict
-
-    loaded = _load(line, scenario, controller, sets)
-    t = analysis_time(loaded) if at is None else at
-    if not t >= 0:
-        raise BadInput(f"--time: must be >= 0 s, got {at}")
-    display = Display(units.value)
-    point = operating_point(loaded, t)
-    modes = closed_loop_modes(loaded, t)
-    cert = _certificate(loaded) if certificate else None
-    verdict = Verdict.of(stability_findings(loaded, t))
-    if as_json:
-        payload: dict[str, object] = {
-            "line": loaded.name, "scenario": scenario, "units": units.value,
-            "operating_point": operating_point_values(point, display),
-            "closed_loop_modes": [m.as_dict() for m in modes], "verdict": verdict.as_dict()}
-        if cert is not None:
-            payload["certificate"] = {"holds": cert.holds, "worst_ratio": cert.worst_ratio,
-                                      "max_real": cert.max_real,
-                                      "max_real_plant": cert.max_real_plant,
-                                      "sampled_radius": cert.sampled_radius,
-                                      "sections": cert.rows()}
-        typer.echo(json.dumps(payload, indent=2, default=float))
-    else:
-        tables = [*operating_point_tables(loaded, point, display), modes_table(modes)]
-        print_tables(tables, _console())
-        typer.echo("\n".join(verdict_lines(verdict)))
-        if cert is not None:
-            _print_certificate(cert)
-    if verdict.exit_code:
-        raise typer.Exit(verdict.exit_code)
-
-
-def _certificate(line: Line) -> Certificate:
-    """The decentralized certificate of ``line`` with webline's default design."""
-    from webline.analysis.certificate import certificate
-
-    return certificate(line)
-
-
-def _print_certificate(cert: Certificate) -> None:
-    """Certificate rows as a table and a one-line verdict, with the true stability margin."""
-    from webline.report.tables import make_table
-
-    rows = cert.rows()
-    columns = list(rows[0])
-    table = make_table("certificate", "Decentralized certificate (thesis 6.44, 6.54)",
-                       columns, [[_fmt(row[c]) for c in columns] for row in rows])
-    print_tables([table], _console())
-    verdict = "holds" if cert.holds else "does not hold"
-    typer.echo(f"certificate {verdict}: worst ratio δs/(√N ξ) = {cert.worst_ratio:.3g}; "
-               f"interconnected sections max Re λ = {cert.max_real:.3g} 1/s; full plant "
-               f"{_fmt(cert.max_real_plant)} 1/s; sampled spectral radius "
-               f"{_fmt(cert.sampled_radius)}")
-
-
-def _fmt(value: object) -> str:
-    return f"{value:.4g}" if isinstance(value, float) else str(value)
+app.command("analyze")(handles_errors(analyze))
 
 
 @app.command()
@@ -471,8 +234,6 @@ def study(
         typer.echo(f"verdict of its runs: {result.verdict.headline}")
     typer.echo(str(folder.resolve()))
 
-
-from webline.cli_sweep import sweep_command  # noqa: E402  (its own module: cli.py is long)
 
 app.command("sweep")(handles_errors(sweep_command))
 

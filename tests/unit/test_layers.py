@@ -29,7 +29,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline.analysis",),
     ("webline.report",),
     ("webline.studies",),
-    ("webline.cli", "webline.cli_sweep"),
+    ("webline.cli", "webline.cli_analyze", "webline.cli_common", "webline.cli_sweep"),
 )
 
 

@@ -1,0 +1,185 @@
+"""What every ``webline`` command shares: option types, the error wrapper, the terminal's
+tables and progress bar, and loading a line as a command runs it (``--controller``,
+``--scenario``, ``--set``)."""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from enum import StrEnum
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated, TypeVar
+
+import typer
+from rich.console import Console
+from rich.markup import escape
+from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
+from rich.table import Table as RichTable
+
+from webline.errors import WeblineError
+
+if TYPE_CHECKING:
+    from webline.line import Line
+
+class Units(StrEnum):
+    si = "si"
+    imperial = "imperial"
+
+
+class ControllerFamily(StrEnum):
+    pi = "pi"
+    state_feedback = "state-feedback"
+    adaptive = "adaptive"
+    mrac = "mrac"
+
+
+#: the line-file ``type`` of each --controller choice
+FAMILY_TYPES = {"pi": "cascaded_pi", "state-feedback": "state_feedback", "adaptive": "adaptive",
+                "mrac": "mrac"}
+ControllerOpt = Annotated[ControllerFamily | None, typer.Option(
+    "--controller", "-c", help="Run every drive with this controller family (its default "
+    "design) instead of the line file's.")]
+
+
+class DataFormat(StrEnum):
+    netcdf = "netcdf"
+    csv = "csv"
+
+
+class Precision(StrEnum):
+    float64 = "float64"
+    float32 = "float32"
+
+
+class BadInput(WeblineError):
+    """A command-line value is wrong (exit status 2)."""
+
+    exit_code = 2
+
+
+LineArg = Annotated[str, typer.Argument(
+    metavar="LINE",
+    help="A line file (.toml) or the name of a built-in line (see 'webline lines').")]
+UnitsOpt = Annotated[Units, typer.Option("--units", "-u", help="Units to show quantities in.")]
+ScenarioOpt = Annotated[str | None, typer.Option(
+    "--scenario", "-s", help="A named scenario of the line file (see 'webline show').")]
+SetOpt = Annotated[list[str] | None, typer.Option(
+    "--set", metavar="PATH=VALUE", help="Change one value of the line, by its nested path, "
+    "with units (repeatable): --set web.ea='9 kN' --set "
+    "rollers.process.controller.tension_bandwidth='2 Hz'. Applied after --scenario.")]
+
+F = TypeVar("F", bound=Callable[..., None])
+
+
+def handles_errors(command: F) -> F:
+    """Turn webline's errors into one line on stderr and their exit status, no traceback."""
+
+    @functools.wraps(command)
+    def wrapper(*args: object, **kwargs: object) -> None:
+        try:
+            command(*args, **kwargs)
+        except WeblineError as exc:
+            fail(str(exc), exc.exit_code)
+
+    return wrapper  # type: ignore[return-value]
+
+
+def fail(message: str, code: int) -> None:
+    """Print ``error: message`` on stderr, one line per line of ``message`` (a line file's
+    problems), and exit with ``code``."""
+    for text in message.splitlines() or [""]:
+        typer.echo("error: " + " ".join(text.split()), err=True)
+    raise typer.Exit(code)
+
+
+def _console() -> Console:
+    """Standard output for tables: the terminal's width, or 160 columns when piped."""
+    console = Console(highlight=False)
+    if not console.is_terminal:
+        console.width = 160
+    return console
+
+
+def print_tables(tables: list, console: Console) -> None:
+    """Print report tables (``webline.report.tables.Table``) with rich, skipping empty ones."""
+    for table in tables:
+        if not table.rows:
+            continue
+        out = RichTable(title=escape(table.title), title_justify="left", title_style="bold")
+        for column in table.columns:
+            out.add_column(escape(column), overflow="fold")
+        for row in table.rows:
+            out.add_row(*(escape(cell) for cell in row))
+        console.print(out)
+
+
+def _load(source: str, scenario: str | None, controller: ControllerFamily | None = None,
+          sets: list[str] | None = None) -> Line:
+    """The line as a command runs it: loaded, with ``--controller``, ``--scenario`` and every
+    ``--set PATH=VALUE`` applied, in that order."""
+    from webline.line import load_line
+    from webline.spec.paths import parse_assignment
+
+    line = load_line(source)
+    if controller is not None:
+        from webline.control.select import with_controller
+
+        line = with_controller(line, FAMILY_TYPES[controller.value])  # type: ignore[arg-type]
+    if scenario:
+        line = line.with_scenario(scenario)
+    changes = {}
+    for text in sets or []:
+        try:
+            path, value = parse_assignment(text)
+        except ValueError as exc:
+            raise BadInput(f"--set: {exc}") from None
+        changes[path] = value
+    return line.replace(changes) if changes else line
+
+
+def _duration(text: str | None) -> float | None:
+    if text is None:
+        return None
+    try:
+        value = float(text)  # a plain number is seconds
+    except ValueError:
+        value = None
+    try:
+        from webline.units import to_si
+
+        value = to_si(text, "time") if value is None else value
+    except ValueError as exc:
+        raise BadInput(f"--duration: {exc}") from None
+    if not value > 0:
+        raise BadInput(f"--duration: must be > 0 s, got {text!r}")
+    return value
+
+
+def prepare_out(out: Path) -> Path:
+    """Create the output folder ``out`` and check that files can be written in it."""
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        probe = out / ".webline-write-test"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError as exc:
+        reason = exc.strerror or str(exc)
+        raise BadInput(f"{out}: cannot write to the output folder ({reason})") from None
+    return out
+
+
+@contextmanager
+def progress_bar(enabled: bool, label: str) -> Iterator[Callable[[float], None] | None]:
+    """A progress bar on stderr (cleared when done) fed with the fraction done, or None. Until
+    the first fraction arrives it says that the line's compiled loop is being loaded, or
+    compiled the first time a line of this structure runs (numba; seconds, then cached)."""
+    if not enabled:
+        yield None
+        return
+    waiting = "loading the line's compiled loop (compiled once per line structure)"
+    columns = (TextColumn("{task.description}"), BarColumn(), TaskProgressColumn(),
+               TimeElapsedColumn())
+    with Progress(*columns, console=Console(stderr=True), transient=True) as bar:
+        task = bar.add_task(escape(waiting), total=1.0)
+        yield lambda fraction: bar.update(task, completed=fraction, description=escape(label))
