@@ -11,6 +11,15 @@ from typing import Annotated, Any, Literal
 from pydantic import ConfigDict, Discriminator, Field, Tag
 
 from webline.spec.dancer import DancerCarriage
+from webline.spec.disturbances import (  # noqa: F401 - re-exported for users of the schema
+    DisturbanceSpec,
+    EccentricRoller,
+    MeasurementNoise,
+    Name,
+    RollerDrag,
+    SpeedRipple,
+    WoundInRipple,
+)
 from webline.spec.quantities import (  # noqa: F401 - re-exported for users of the schema
     Angle,
     AngularFrequency,
@@ -40,10 +49,9 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
     TorqueProfile,
     si,
 )
-from webline.spec.winder import BreakEvent, DiameterSpec, TaperSpec, WebBreak, WinderSpec
+from webline.spec.winder import BreakEvent, DiameterSpec, TaperSpec, WebBreak, WinderSpec  # noqa: F401
 
-#: names (of lines, rollers, spans) and free text, bounded: a name becomes a folder name
-Name = Annotated[str, Field(min_length=1, max_length=100)]
+#: free text, bounded
 Text = Annotated[str, Field(max_length=10_000)]
 
 # --- web ------------------------------------------------------------------------------------
@@ -328,61 +336,6 @@ class SpanSpec(Strict):
     name: Name | None = None
     length: Length
     tension: TensionProfile | None = None
-
-
-# --- disturbances ---------------------------------------------------------------------------
-
-
-class WoundInRipple(Strict):
-    """Sinusoidal component of the unwind's wound-in tension (thesis Ch. 4)."""
-
-    type: Literal["wound_in_ripple"]
-    amplitude: Force
-    frequency: Frequency
-    phase: Angle = 0.0
-
-
-class EccentricRoller(Strict):
-    """Out-of-round roller: its effective radius is ``radius + eccentricity·cos(angle)``."""
-
-    type: Literal["eccentric_roller"]
-    roller: Name
-    eccentricity: Length
-
-
-class SpeedRipple(Strict):
-    """Sinusoidal ripple added to a driven roller's speed reference."""
-
-    type: Literal["speed_ripple"]
-    roller: Name
-    amplitude: Speed
-    frequency: Frequency
-    phase: Angle = 0.0
-
-
-class RollerDrag(Strict):
-    """A torque opposing a roller's rotation [N·m], constant or a profile: a failing bearing, a
-    rubbing guard, a spreader. It adds to the roller's bearing friction."""
-
-    type: Literal["roller_drag"]
-    roller: Name
-    torque: TorqueProfile
-
-
-class MeasurementNoise(Strict):
-    """White Gaussian noise on every controller's tension and speed measurements (standard
-    deviations ``tension`` [N], ``speed`` [m/s]), reproducible from ``seed``."""
-
-    type: Literal["measurement_noise"]
-    tension: Annotated[float, si("force", ">=0")] = 0.0
-    speed: Speed = 0.0
-    seed: int = 0
-
-
-DisturbanceSpec = Annotated[
-    WoundInRipple | EccentricRoller | SpeedRipple | RollerDrag | MeasurementNoise | WebBreak,
-    Field(discriminator="type"),
-]
 
 
 class ControlSpec(Strict):

@@ -1,0 +1,76 @@
+"""Disturbances a line file can put on a line: wound-in ripple, eccentric and dragging
+rollers, speed ripple, measurement noise and a web break (SI floats, as in the schema)."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field
+
+from webline.spec.quantities import (
+    Angle,
+    Force,
+    Frequency,
+    Length,
+    Speed,
+    Strict,
+    TorqueProfile,
+    si,
+)
+from webline.spec.winder import WebBreak
+
+#: names (of lines, rollers, spans), bounded: a name becomes a folder name
+Name = Annotated[str, Field(min_length=1, max_length=100)]
+
+class WoundInRipple(Strict):
+    """Sinusoidal component of the unwind's wound-in tension (thesis Ch. 4)."""
+
+    type: Literal["wound_in_ripple"]
+    amplitude: Force
+    frequency: Frequency
+    phase: Angle = 0.0
+
+
+class EccentricRoller(Strict):
+    """Out-of-round roller: its effective radius is ``radius + eccentricity·cos(angle)``."""
+
+    type: Literal["eccentric_roller"]
+    roller: Name
+    eccentricity: Length
+
+
+class SpeedRipple(Strict):
+    """Sinusoidal ripple added to a driven roller's speed reference."""
+
+    type: Literal["speed_ripple"]
+    roller: Name
+    amplitude: Speed
+    frequency: Frequency
+    phase: Angle = 0.0
+
+
+class RollerDrag(Strict):
+    """A torque opposing a roller's rotation [N·m], constant or a profile: a failing bearing, a
+    rubbing guard, a spreader. It adds to the roller's bearing friction."""
+
+    type: Literal["roller_drag"]
+    roller: Name
+    torque: TorqueProfile
+
+
+class MeasurementNoise(Strict):
+    """White Gaussian noise on every controller's tension and speed measurements (standard
+    deviations ``tension`` [N], ``speed`` [m/s]), reproducible from ``seed``."""
+
+    type: Literal["measurement_noise"]
+    tension: Annotated[float, si("force", ">=0")] = 0.0
+    speed: Speed = 0.0
+    seed: int = 0
+
+
+DisturbanceSpec = Annotated[
+    WoundInRipple | EccentricRoller | SpeedRipple | RollerDrag | MeasurementNoise | WebBreak,
+    Field(discriminator="type"),
+]
+
+
