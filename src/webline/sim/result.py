@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from datetime import UTC, datetime
 from functools import cached_property
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -14,8 +13,6 @@ from webline.sim import layout as L
 from webline.sim.failure import Failure
 from webline.sim.plan import Plan
 from webline.sim.result_files import Precision
-from webline.sim.signal_attrs import signal_attrs
-from webline.spec.load import dump_spec
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -338,62 +335,10 @@ class Result:
 
     def to_xarray(self) -> xr.Dataset:
         """Dataset over time with span, node and drive coordinates; units as attributes; the
-        resolved line (TOML) and the webline version embedded."""
-        import xarray as xr
+        resolved line (TOML) and the webline version embedded (``webline.sim.result_dataset``)."""
+        from webline.sim.result_dataset import to_xarray
 
-        from webline.version import __version__
-
-        dims_span, dims_node, dims_drive = ("time", "span"), ("time", "node"), ("time", "drive")
-        data = {
-            "tension": (dims_span, self.tension),
-            "tension_ref": (dims_span, self.tension_ref),
-            "slack": (dims_span, (self.stretch < 0.0).astype(np.int8)),
-            "speed": (dims_node, self.speed),
-            "surface_speed": (dims_node, self.surface_speed),
-            "slipping": (dims_node, self.slipping.astype(np.int8)),
-            "slip_velocity": (dims_node, self.slip_velocity),
-            "slip_power": (dims_node, self.slip_power),
-            "omega": (dims_node, self.omega),
-            "radius": (dims_node, self.radius),
-            "speed_ref": (dims_drive, self.speed_ref),
-            "torque": (dims_drive, self.torque),
-            "torque_cmd": (dims_drive, self.torque_cmd),
-            "trim": (dims_drive, self.trim),
-            "motor_speed": (dims_drive, self.motor_speed),
-            "twist": (dims_drive, self.twist),
-            "contact": (dims_drive, self.contact),
-            "friction_estimate": (dims_drive, self.friction_estimate),
-            "control_radius": (dims_drive, self.control_radius),
-            "equilibrium_input": (dims_drive, self.equilibrium_input),
-            "inertia": (("time", "roll"), self.inertia),
-            "web_unwound": (("time",), self.web_unwound),
-            "web_rewound": (("time",), self.web_rewound),
-            "web_stored": (("time",), self.web_stored),
-        }
-        ds = xr.Dataset(
-            {name: xr.Variable(dims, values, attrs=signal_attrs(name))
-             for name, (dims, values) in data.items()},
-            coords={"time": ("time", self.time, {"units": "s", "long_name": "simulated time",
-                                                 "standard_name": "time", "axis": "T"}),
-                    "span": self.span_names, "node": self.node_names,
-                    "drive": self.drive_names,
-                    "roll": [self.node_names[0], self.node_names[-1]]},
-        )
-        ds.attrs.update({
-            "Conventions": "CF-1.8",
-            "title": f"webline simulation of line {self.line.name}",
-            "source": f"webline {__version__}: compiled RK4 plant with sampled controllers",
-            "history": f"{datetime.now(UTC):%Y-%m-%dT%H:%M:%SZ} webline {__version__} "
-                       f"simulate ({self.status})",
-            "line": self.line.name,
-            "line_spec_toml": dump_spec(self.line.spec),
-            "webline_version": __version__,
-            "status": self.status,
-            "message": self.message,
-            "verdict": self.verdict.headline,
-            **{f"setting_{k}": v for k, v in self.settings.items()},
-        })
-        return ds
+        return to_xarray(self)
 
     def to_netcdf(self, path: str | Path, precision: Precision = "float64") -> Path:
         """Write the dataset to NetCDF-4 (HDF5 via h5netcdf), zlib-compressed and chunked along
