@@ -4,7 +4,7 @@ attributes, for ``Result.to_xarray`` and the file writers."""
 from __future__ import annotations
 
 from datetime import UTC, datetime
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -14,12 +14,11 @@ from webline.spec.load import dump_spec
 if TYPE_CHECKING:
     import xarray as xr
 
-    from webline.sim.result import Result
 
-
-def to_xarray(result: Result) -> xr.Dataset:
-    """``result`` as a dataset over time with span, node and drive coordinates; units as
-    attributes; the resolved line (TOML) and the webline version embedded."""
+def to_xarray(result: Any) -> xr.Dataset:
+    """``result`` (a ``Result``, which imports this module) as a dataset over time with span,
+    node and drive coordinates; units as attributes; the resolved line (TOML) and the webline
+    version embedded."""
     import xarray as xr
 
     from webline.version import __version__
