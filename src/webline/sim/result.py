@@ -344,9 +344,10 @@ class Result:
         """Write the dataset to NetCDF-4 (HDF5 via h5netcdf), zlib-compressed and chunked along
         time, atomically (a temporary file renamed into place). ``precision`` "float32" halves
         the float signals (time stays float64). Returns the path."""
+        from webline.sim.result_dataset import result_variables
         from webline.sim.result_files import write_netcdf
 
-        return write_netcdf(self.to_xarray(), path, precision)
+        return write_netcdf(result_variables(self), path, precision)
 
     def to_dataframe(self):
         """Wide table: one row per time, one column per ``signal[element]``."""
@@ -355,9 +356,10 @@ class Result:
     def to_csv(self, path: str | Path) -> Path:
         """Write one column per named signal (``tension[span1]`` ...) with a units header,
         atomically (a temporary file renamed into place). Returns the path."""
+        from webline.sim.result_dataset import result_variables
         from webline.sim.result_files import write_csv
 
-        return write_csv(self.to_xarray(), path)
+        return write_csv(result_variables(self), path)
 
     def plot(self, signals: tuple[str, ...] = ("tension", "speed")) -> Figure:
         """A matplotlib figure of ``signals`` over time [s]: "tension" (with the references

@@ -3,6 +3,7 @@ attributes, for ``Result.to_xarray`` and the file writers."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from datetime import UTC, datetime
 from typing import TYPE_CHECKING, Any
 
@@ -15,12 +16,24 @@ if TYPE_CHECKING:
     import xarray as xr
 
 
-def to_xarray(result: Any) -> xr.Dataset:
-    """``result`` (a ``Result``, which imports this module) as a dataset over time with span,
-    node and drive coordinates; units as attributes; the resolved line (TOML) and the webline
-    version embedded."""
-    import xarray as xr
+#: one exported variable: dimensions, values and CF attributes
+Variable = tuple[tuple[str, ...], np.ndarray, dict[str, object]]
 
+
+@dataclass(frozen=True)
+class ResultVariables:
+    """A result as the variables of a CF dataset: coordinates, data and global attributes,
+    with no xarray (the NetCDF writer needs none)."""
+
+    coords: dict[str, Variable]
+    data: dict[str, Variable]
+    attrs: dict[str, object]
+
+
+def result_variables(result: Any) -> ResultVariables:
+    """``result`` (a ``Result``, which imports this module) as named variables over time with
+    span, node and drive coordinates; SI units as attributes; the resolved line (TOML) and the
+    webline version embedded."""
     from webline.version import __version__
 
     dims_span, dims_node, dims_drive = ("time", "span"), ("time", "node"), ("time", "drive")
@@ -50,16 +63,14 @@ def to_xarray(result: Any) -> xr.Dataset:
         "web_rewound": (("time",), result.web_rewound),
         "web_stored": (("time",), result.web_stored),
     }
-    ds = xr.Dataset(
-        {name: xr.Variable(dims, values, attrs=signal_attrs(name))
-         for name, (dims, values) in data.items()},
-        coords={"time": ("time", result.time, {"units": "s", "long_name": "simulated time",
-                                             "standard_name": "time", "axis": "T"}),
-                "span": result.span_names, "node": result.node_names,
-                "drive": result.drive_names,
-                "roll": [result.node_names[0], result.node_names[-1]]},
-    )
-    ds.attrs.update({
+    names = {"span": result.span_names, "node": result.node_names,
+             "drive": result.drive_names, "roll": [result.node_names[0], result.node_names[-1]]}
+    coords: dict[str, Variable] = {
+        "time": (("time",), result.time, {"units": "s", "long_name": "simulated time",
+                                          "standard_name": "time", "axis": "T"}),
+        **{dim: ((dim,), np.array(values, dtype=object), {}) for dim, values in names.items()},
+    }
+    attrs = {
         "Conventions": "CF-1.8",
         "title": f"webline simulation of line {result.line.name}",
         "source": f"webline {__version__}: compiled RK4 plant with sampled controllers",
@@ -72,6 +83,22 @@ def to_xarray(result: Any) -> xr.Dataset:
         "message": result.message,
         "verdict": result.verdict.headline,
         **{f"setting_{k}": v for k, v in result.settings.items()},
-    })
-    return ds
+    }
+    return ResultVariables(
+        coords, {name: (dims, values, signal_attrs(name)) for name, (dims, values) in data.items()},
+        attrs)
 
+
+def to_xarray(result: Any) -> xr.Dataset:
+    """``result_variables(result)`` as an ``xarray.Dataset``."""
+    import xarray as xr
+
+    variables = result_variables(result)
+    ds = xr.Dataset(
+        {name: xr.Variable(*variable) for name, variable in variables.data.items()},
+        coords={name: xr.Variable(dims, values.astype(str) if values.dtype == object else values,
+                                  attrs=attrs)
+                for name, (dims, values, attrs) in variables.coords.items()},
+    )
+    ds.attrs.update(variables.attrs)
+    return ds

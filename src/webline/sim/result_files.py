@@ -12,7 +12,7 @@ from webline.files import atomic_write
 from webline.sim.signal_attrs import SIGNAL_UNITS
 
 if TYPE_CHECKING:
-    import xarray as xr
+    from webline.sim.result_dataset import ResultVariables
 
 #: records per chunk along time in the NetCDF file
 TIME_CHUNK = 4096
@@ -22,32 +22,56 @@ COMPLEVEL = 1
 Precision = Literal["float64", "float32"]
 
 
-def write_netcdf(ds: xr.Dataset, path: str | Path, precision: Precision = "float64") -> Path:
-    """Write ``ds`` (``Result.to_xarray()``) to NetCDF-4 through h5netcdf: zlib (``COMPLEVEL``)
-    with shuffle, chunks of ``TIME_CHUNK`` records; float signals as ``precision``."""
+def write_netcdf(variables: ResultVariables, path: str | Path,
+                 precision: Precision = "float64") -> Path:
+    """Write ``variables`` (``result_dataset.result_variables``) to NetCDF-4 with h5netcdf
+    directly (xarray, pandas and their import are not needed to write): zlib (``COMPLEVEL``)
+    with shuffle, chunks of ``TIME_CHUNK`` records, float signals as ``precision``; names as
+    variable-length UTF-8 strings. ``xarray.open_dataset`` reads it back as
+    ``Result.to_xarray()``."""
     if precision not in ("float64", "float32"):
         raise ArgumentError(f"precision: must be 'float64' or 'float32', got {precision!r}")
-    encoding = {}
-    for name, var in ds.data_vars.items():
-        dtype = np.float32 if precision == "float32" and var.dtype.kind == "f" else var.dtype
-        chunks = (min(ds.sizes["time"], TIME_CHUNK), *var.shape[1:])
-        encoding[name] = {"zlib": True, "complevel": COMPLEVEL, "shuffle": True,
-                          "chunksizes": chunks, "dtype": dtype}
-    return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf",
-                                                       encoding=encoding))
+
+    def write(tmp: Path) -> None:
+        import h5netcdf
+        import h5py
+
+        with h5netcdf.File(tmp, "w") as f:
+            for dim, (_, values, _) in variables.coords.items():
+                f.dimensions[dim] = len(values)
+            for name, (dims, values, attrs) in variables.coords.items():
+                if values.dtype == object:
+                    var = f.create_variable(name, dims, dtype=h5py.string_dtype(),
+                                            data=values.astype(str).astype(object))
+                else:
+                    var = f.create_variable(name, dims, data=values)
+                var.attrs.update(attrs)
+            n_time = len(variables.coords["time"][1])
+            for name, (dims, values, attrs) in variables.data.items():
+                dtype = np.float32 if precision == "float32" and values.dtype.kind == "f" \
+                    else values.dtype
+                chunks = (min(n_time, TIME_CHUNK), *values.shape[1:]) if n_time else None
+                var = f.create_variable(name, dims, dtype=dtype, data=values.astype(dtype),
+                                        chunks=chunks, compression="gzip",
+                                        compression_opts=COMPLEVEL, shuffle=True)
+                var.attrs.update(attrs)
+            f.attrs.update(variables.attrs)
+
+    return atomic_write(Path(path), write)
 
 
-def write_csv(ds: xr.Dataset, path: str | Path) -> Path:
-    """One column per named signal (``tension[span1] [N]`` ...) of ``ds``, time first."""
-    columns, headers = [ds["time"].values], ["time [s]"]
-    for name, var in ds.data_vars.items():
-        if var.dims == ("time",):
-            columns.append(var.values)
-            headers.append(f"{name} [{SIGNAL_UNITS[str(name)]}]")
+def write_csv(variables: ResultVariables, path: str | Path) -> Path:
+    """One column per named signal (``tension[span1] [N]`` ...) of ``variables``, time
+    first."""
+    columns, headers = [variables.coords["time"][1]], ["time [s]"]
+    for name, (dims, values, _) in variables.data.items():
+        if dims == ("time",):
+            columns.append(values)
+            headers.append(f"{name} [{SIGNAL_UNITS[name]}]")
             continue
-        for j, element in enumerate(ds[var.dims[1]].values):
-            columns.append(var.values[:, j])
-            headers.append(f"{name}[{element}] [{SIGNAL_UNITS[str(name)]}]")
+        for j, element in enumerate(variables.coords[dims[1]][1]):
+            columns.append(values[:, j])
+            headers.append(f"{name}[{element}] [{SIGNAL_UNITS[name]}]")
     table = np.column_stack(columns)
     return atomic_write(Path(path), lambda tmp: np.savetxt(
         tmp, table, delimiter=",", header=",".join(headers), comments="", fmt="%.9g"))
