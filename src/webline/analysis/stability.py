@@ -32,7 +32,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
-import scipy.optimize
 
 #: Hamiltonian eigenvalues with |Re λ| below this times ‖H_ρ‖ are candidates for the imaginary
 #: axis; a generous value costs only extra σ_min evaluations, since every candidate is checked.
@@ -82,6 +81,8 @@ def frequency_sweep_distance(a: np.ndarray, omegas: np.ndarray) -> float:
 
 def _polish(a: np.ndarray, omega: float, width: float) -> tuple[float, float]:
     """Local minimum of σ_min(A - jωI) in [omega - width, omega + width]: (value, ω)."""
+    import scipy.optimize  # here: importing it costs ~0.3 s, and a run's report never needs it
+
     res = scipy.optimize.minimize_scalar(lambda w: sigma_min(a, w), bounds=(omega - width,
                                          omega + width), method="bounded",
                                          options={"xatol": 1e-14 * max(1.0, abs(omega))})
