@@ -44,7 +44,7 @@ def _registry() -> pint.UnitRegistry:
             return pint.UnitRegistry(cache_folder=folder)
         folder.parent.mkdir(parents=True, exist_ok=True)
         building = Path(tempfile.mkdtemp(prefix=".building-", dir=folder.parent))
-        registry = pint.UnitRegistry(cache_folder=building)
+        registry: pint.UnitRegistry = pint.UnitRegistry(cache_folder=building)
         try:
             building.rename(folder)
         except OSError:  # another process put its complete cache there first
