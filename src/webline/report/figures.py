@@ -9,7 +9,7 @@ files stay small.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import matplotlib
@@ -213,27 +213,41 @@ def poles_figure(modes: Sequence[Mode]) -> Figure:
     return fig
 
 
-def report_figures(result: Result, display: Display,
-                   modes: Sequence[Mode] = ()) -> list[ReportFigure]:
-    """Every figure of a run's report, in report order."""
-    figures = [
-        ReportFigure("schematic", "The line, drawn from its topology.",
-                     schematic(result.line, display)),
-        ReportFigure("tension", "Tension in every span against its reference.",
-                     tension_figure(result, display)),
-        ReportFigure("speed", "Web speed at every roller and each drive's speed-loop error.",
-                     speed_figure(result, display)),
-        ReportFigure("torque", "Motor torque of every drive.", torque_figure(result, display)),
-        ReportFigure("rolls", "Unwind and rewind roll radius and inertia.",
-                     roll_figure(result, display)),
+#: a figure job: builds one or more figures when called (in this process or a forked one)
+FigureJob = Callable[[], list[ReportFigure]]
+
+
+def figure_jobs(result: Result, display: Display,
+                modes: Sequence[Mode] = ()) -> list[FigureJob]:
+    """The jobs that build every figure of a run's report, in report order; each is
+    independent of the others, so they may run in parallel (``webline.report.render``)."""
+    def one(key: str, caption: str, make: Callable[[], Figure]) -> FigureJob:
+        return lambda: [ReportFigure(key, caption, make())]
+
+    jobs = [
+        one("schematic", "The line, drawn from its topology.",
+            lambda: schematic(result.line, display)),
+        one("tension", "Tension in every span against its reference.",
+            lambda: tension_figure(result, display)),
+        one("speed", "Web speed at every roller and each drive's speed-loop error.",
+            lambda: speed_figure(result, display)),
+        one("torque", "Motor torque of every drive.", lambda: torque_figure(result, display)),
+        one("rolls", "Unwind and rewind roll radius and inertia.",
+            lambda: roll_figure(result, display)),
     ]
     slipping = [i for i in range(1, result.line.n_nodes - 1)
                 if getattr(result.line.spec.rollers[i].contact, "type", "") == "traction"]
     if slipping:
-        figures.append(ReportFigure("slip", "Web slip over the rollers with a traction contact.",
-                                    slip_figure(result, display, slipping)))
-    figures += [ReportFigure(*parts) for parts in winder_figures(result, display)]
+        jobs.append(one("slip", "Web slip over the rollers with a traction contact.",
+                        lambda: slip_figure(result, display, slipping)))
+    jobs.append(lambda: [ReportFigure(*parts) for parts in winder_figures(result, display)])
     if modes:
-        figures.append(ReportFigure("poles", "Closed-loop poles at the operating point.",
-                                    poles_figure(modes)))
-    return figures
+        jobs.append(one("poles", "Closed-loop poles at the operating point.",
+                        lambda: poles_figure(modes)))
+    return jobs
+
+
+def report_figures(result: Result, display: Display,
+                   modes: Sequence[Mode] = ()) -> list[ReportFigure]:
+    """Every figure of a run's report, in report order."""
+    return [fig for job in figure_jobs(result, display, modes) for fig in job()]

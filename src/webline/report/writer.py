@@ -3,7 +3,6 @@ summary and the results (NetCDF or CSV, always SI)."""
 
 from __future__ import annotations
 
-import io
 import json
 import math
 from dataclasses import dataclass
@@ -18,9 +17,10 @@ from webline.line import Line
 from webline.model.operating_point import OperatingPoint, analysis_time, operating_point
 from webline.report.describe import line_tables
 from webline.report.display import Display, System
-from webline.report.figures import report_figures
+from webline.report.figures import figure_jobs
 from webline.report.html import Image, Section, Text, render
 from webline.report.outputs import OutputFolder
+from webline.report.render import render_figures
 from webline.report.tables import (
     Table,
     make_table,
@@ -107,18 +107,13 @@ def write_report(result: Result, out_dir: Path, *, units: System = "si",
     analysis = analysis or analyse(line)
     images: dict[str, Image] = {}
     written: list[Path] = []
-    for fig in report_figures(result, display, analysis.modes):
-        buffer = io.BytesIO()
-        fig.figure.savefig(buffer, format="png", dpi=DPI)
-        images[fig.key] = Image(fig.key, fig.caption, buffer.getvalue())
-        png = atomic_write_bytes(_target(out_dir, folder, f"figures/{fig.key}.png"),
-                                 buffer.getvalue())
-        written.append(png)
-        if svg:  # vector copies on request: saving them doubles the time spent on figures
-            vector = io.BytesIO()
-            fig.figure.savefig(vector, format="svg", metadata={"Date": None})
+    for fig in render_figures(figure_jobs(result, display, analysis.modes), DPI, svg=svg):
+        images[fig.key] = Image(fig.key, fig.caption, fig.png)
+        written.append(atomic_write_bytes(_target(out_dir, folder, f"figures/{fig.key}.png"),
+                                          fig.png))
+        if fig.svg is not None:
             written.append(atomic_write_bytes(
-                _target(out_dir, folder, f"figures/{fig.key}.svg"), vector.getvalue()))
+                _target(out_dir, folder, f"figures/{fig.key}.svg"), fig.svg))
 
     summary = summary_values(result, display)
     summary_path = atomic_write_text(_target(out_dir, folder, "summary.json"), json.dumps(_finite({
