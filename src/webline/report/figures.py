@@ -23,6 +23,7 @@ from matplotlib.figure import Figure
 from webline.analysis.modes import Mode
 from webline.profiles import breakpoints
 from webline.report.display import Display
+from webline.report.frame import framed_figure, make_room_for_title
 from webline.report.mpl_text import legend_label, literal
 from webline.report.schematic import schematic
 from webline.report.winder_figures import winder_figures
@@ -68,6 +69,7 @@ def _finish(fig: Figure, axes: Sequence[Axes], result: Result) -> None:
             ax.axvline(result.time[-1], color="#d62728", ls=":", lw=1.2)
     axes[-1].set_xlabel("time [s]")
     if result.failure is not None:
+        make_room_for_title(fig)
         fig.suptitle(literal(f"run stopped: {result.failure.message}"), color="#d62728",
                      fontsize=9)
 
@@ -75,7 +77,7 @@ def _finish(fig: Figure, axes: Sequence[Axes], result: Result) -> None:
 def tension_figure(result: Result, display: Display) -> Figure:
     """Tension of every span (solid) against its loadcell reference (dashed); slack shaded."""
     n = result.line.n_spans
-    fig = Figure(figsize=(9.0, 1.3 + 1.6 * n), layout="constrained")
+    fig = framed_figure(9.0, 1.3 + 1.6 * n, rows=n)
     axes = fig.subplots(n, 1, sharex=True, squeeze=False)[:, 0]
     tension = display.array(result.tension, "force")
     ref = display.array(result.tension_ref, "force")
@@ -114,7 +116,7 @@ def _shade(ax: Axes, result: Result, span: str) -> None:
 def speed_figure(result: Result, display: Display) -> Figure:
     """Web speed at every roller with the line speed reference, and each drive's speed-loop
     error (measured minus reference)."""
-    fig = Figure(figsize=(9.0, 6.0), layout="constrained")
+    fig = framed_figure(9.0, 6.0, rows=2)
     top, bottom = fig.subplots(2, 1, sharex=True)
     speed = display.array(result.speed, "speed")
     for i, name in enumerate(result.node_names):
@@ -137,7 +139,7 @@ def speed_figure(result: Result, display: Display) -> Figure:
 
 def torque_figure(result: Result, display: Display) -> Figure:
     """Motor torque of every drive (positive drives the web forward; the unwind brakes)."""
-    fig = Figure(figsize=(9.0, 3.8), layout="constrained")
+    fig = framed_figure(9.0, 3.8)
     ax = fig.subplots()
     torque = display.array(result.torque, "torque")
     for d, name in enumerate(result.drive_names):
@@ -152,7 +154,7 @@ def torque_figure(result: Result, display: Display) -> Figure:
 
 def roll_figure(result: Result, display: Display) -> Figure:
     """Radius and inertia (at the roll shaft, web included) of the unwind and rewind rolls."""
-    fig = Figure(figsize=(9.0, 5.0), layout="constrained")
+    fig = framed_figure(9.0, 5.0, rows=2)
     top, bottom = fig.subplots(2, 1, sharex=True)
     radius = display.array(result.radius, "length")
     inertia = display.array(result.inertia, "inertia")
@@ -172,7 +174,7 @@ def roll_figure(result: Result, display: Display) -> Figure:
 
 def slip_figure(result: Result, display: Display, nodes: Sequence[int]) -> Figure:
     """Slip velocity (surface minus web speed) and slip state of the rollers that may slip."""
-    fig = Figure(figsize=(9.0, 5.0), layout="constrained")
+    fig = framed_figure(9.0, 5.0, rows=2)
     top, bottom = fig.subplots(2, 1, sharex=True)
     velocity = display.array(result.slip_velocity, "speed")
     for k, i in enumerate(nodes):
@@ -191,7 +193,7 @@ def slip_figure(result: Result, display: Display, nodes: Sequence[int]) -> Figur
 
 def poles_figure(modes: Sequence[Mode]) -> Figure:
     """Closed-loop poles in the complex plane [1/s] (each pair drawn with its conjugate)."""
-    fig = Figure(figsize=(7.0, 4.2), layout="constrained")
+    fig = framed_figure(7.0, 4.2)
     ax = fig.subplots()
     values = np.array([m.eigenvalue for m in modes], dtype=complex)
     for sign in (1.0, -1.0):

@@ -7,6 +7,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from webline.report.display import Display
+from webline.report.frame import framed_figure
 from webline.report.mpl_text import legend_label
 from webline.sim import layout as L
 from webline.sim.result import Result
@@ -36,7 +37,7 @@ def winder_figures(result: Result, display: Display) -> list[tuple[str, str, Fig
 
 def diameter_figure(result: Result, display: Display, drives: list[int]) -> Figure:
     """Error of each diameter calculator: calculated less true diameter over time."""
-    fig = Figure(figsize=(9.0, 3.6), layout="constrained")
+    fig = framed_figure(9.0, 3.6)
     ax = fig.subplots()
     for k, d in enumerate(drives):
         i = result.line.drives[d]
@@ -53,7 +54,7 @@ def diameter_figure(result: Result, display: Display, drives: list[int]) -> Figu
 
 def taper_figure(result: Result, display: Display, span: int) -> Figure:
     """Set tension (the taper's) and the measured tension of ``span`` against diameter."""
-    fig = Figure(figsize=(7.0, 4.2), layout="constrained")
+    fig = framed_figure(7.0, 4.2)
     ax = fig.subplots()
     diameter = display.array(2.0 * result.radius[:, -1], "length")
     ax.plot(diameter, display.array(result.tension[:, span], "force"), lw=0.8, color="C0",
@@ -69,7 +70,7 @@ def taper_figure(result: Result, display: Display, span: int) -> Figure:
 
 def dancer_figure(result: Result, display: Display, nodes: list[int]) -> Figure:
     """Position of every dancer over time against its set position."""
-    fig = Figure(figsize=(9.0, 3.6), layout="constrained")
+    fig = framed_figure(9.0, 3.6)
     ax = fig.subplots()
     for k, i in enumerate(nodes):
         name = result.node_names[i]
