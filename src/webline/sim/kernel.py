@@ -239,7 +239,7 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
 
 def record_width(n_x: int, n_d: int, n_n: int) -> int:
     """Columns of a record row (``run``) for ``n_x`` states, ``n_d`` drives, ``n_n`` nodes."""
-    return 1 + n_x + 6 * n_d + n_n
+    return 1 + n_x + 6 * n_d + n_n + 3 * n_d
 
 
 def compiled_loop(plan: Plan) -> Any:
@@ -326,6 +326,11 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
             for i in range(n_n):
                 rec[n_rec, col] = slipping[i]
                 col += 1
+            for d in range(n_d):  # the MRAC's adapted gains k̂ (tension, speed) and bias ĉ
+                rec[n_rec, col] = istate[d, L.I_KT]
+                rec[n_rec, col + 1] = istate[d, L.I_KV]
+                rec[n_rec, col + 2] = istate[d, L.I_BIAS]
+                col += 3
             n_rec += 1
         if j == n_ticks:
             break

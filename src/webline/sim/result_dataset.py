@@ -63,6 +63,11 @@ def result_variables(result: Any) -> ResultVariables:
         "web_rewound": (("time",), result.web_rewound),
         "web_stored": (("time",), result.web_stored),
     }
+    if result.has_mrac.any():
+        gains = result.mrac_gains
+        data |= {"mrac_gain_tension": (dims_drive, gains[:, :, 0]),
+                 "mrac_gain_speed": (dims_drive, gains[:, :, 1]),
+                 "mrac_bias": (dims_drive, gains[:, :, 2])}
     names = {"span": result.span_names, "node": result.node_names,
              "drive": result.drive_names, "roll": [result.node_names[0], result.node_names[-1]]}
     coords: dict[str, Variable] = {

@@ -13,6 +13,7 @@ SIGNAL_UNITS = {
     "web_unwound": "m",
     "surface_speed": "m/s", "slipping": "", "slip_velocity": "m/s", "slip_power": "W",
     "web_rewound": "m", "web_stored": "m", "wound_in": "N",
+    "mrac_gain_tension": "m", "mrac_gain_speed": "N*s", "mrac_bias": "N*m",
 }
 
 
@@ -32,6 +33,9 @@ LONG_NAMES = {
     "equilibrium_input": "equilibrium motor torque", "inertia": "roll inertia at the shaft",
     "web_unwound": "unstrained web unwound", "web_rewound": "unstrained web rewound",
     "web_stored": "unstrained web held in the spans",
+    "mrac_gain_tension": "MRAC adapted gain on the tension deviation",
+    "mrac_gain_speed": "MRAC adapted gain on the speed deviation",
+    "mrac_bias": "MRAC adapted bias (equilibrium input error)",
 }
 #: flag meanings (CF) of the integer-coded signals
 FLAGS = {"slack": ([0, 1], "taut slack"), "slipping": ([0, 1], "stuck slipping")}

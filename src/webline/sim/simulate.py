@@ -201,10 +201,12 @@ def _result(plan: Plan, rec: np.ndarray, failure: Failure | None,
             settings: dict[str, float], monitor: tuple[float, int] = (-1.0, 0)) -> Result:
     n_x, n_d = plan.n_x, plan.drives.shape[0]
     block = [rec[:, 1 + n_x + q * n_d:1 + n_x + (q + 1) * n_d] for q in range(6)]
-    slipping = rec[:, 1 + n_x + 6 * n_d:]
+    n_n = plan.nodes.shape[0]
+    slipping = rec[:, 1 + n_x + 6 * n_d:1 + n_x + 6 * n_d + n_n]
+    adapted = rec[:, 1 + n_x + 6 * n_d + n_n:].reshape(len(rec), n_d, 3)
     return Result(
         plan=plan, time=rec[:, 0], states=rec[:, 1:1 + n_x], torque_cmd=block[0],
         speed_feedforward=block[1], trim=block[2], equilibrium_input=block[3],
         friction_estimate=block[4], control_radius=block[5], slipping=slipping,
-        failure=failure, settings=settings, break_monitor=monitor,
+        adapted_gains=adapted, failure=failure, settings=settings, break_monitor=monitor,
     )
