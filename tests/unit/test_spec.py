@@ -153,7 +153,7 @@ def test_hswl_zones_and_who_controls_them(hswl: Line) -> None:
 
 def test_hswl_scenarios(hswl: Line) -> None:
     assert list(hswl.spec.scenarios) == ["startup", "speed-change", "disturbance",
-                                         "roll-change", "tension-step"]
+                                         "roll-change", "tension-step", "speed-change-surge"]
     startup = hswl.with_scenario("startup")
     assert startup.spec.speed.type == "ramp"
     assert startup.spec.speed.initial == 0.0
@@ -178,7 +178,7 @@ def test_unknown_scenario_names_the_scenarios_there_are(hswl: Line) -> None:
     err = info.value
     assert (err.file, err.key) == ("hswl.toml (built-in)", "scenarios.nope")
     assert err.problem == ("no such scenario (this line has: startup, speed-change, "
-                           "disturbance, roll-change, tension-step)")
+                           "disturbance, roll-change, tension-step, speed-change-surge)")
 
 
 def test_replace_validates_the_new_value(hswl: Line) -> None:

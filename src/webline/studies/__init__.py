@@ -19,6 +19,7 @@ from webline.studies import (
     slip_example,
     slip_threshold,
     solid_motion,
+    speed_change_surge,
     tension_observer,
     unwind_belt_ramp,
 )
@@ -40,6 +41,7 @@ STUDIES: dict[str, Callable[..., StudyResult]] = {
     "slip-threshold": slip_threshold.run,
     "robustness": robustness.run,
     "tension-observer": tension_observer.run,
+    "speed-change-surge": speed_change_surge.run,
 }
 
 

@@ -11,6 +11,12 @@ the load speed's oscillation about its final value (Fig. 2.11) and its FFT (Fig.
 peak is compared with the closed-loop belt mode (eigenvalues of the loop) and with the two
 open-loop natural frequencies of ``analysis.drivetrain.belt.natural_frequencies``: the motor in
 velocity mode (2.37) and in torque mode (two free inertias).
+
+The thesis's setup (``studies.belt_step_thesis``): motor-encoder feedback as Sec. 2.5 states,
+the same loop sampled at Appendix B's 35.36 ms, and load-side feedback, each stepped with the
+torque limit; the summary puts the thesis's FFT peaks, its 5 RPM amplitude and its stated
+(2.37) frequencies (rad/s printed as Hz, E-2.6) beside webline's, and says which setup, if
+any, sustains an oscillation (E-2.8).
 """
 
 from __future__ import annotations
@@ -22,6 +28,7 @@ from scipy.linalg import expm
 
 from webline.analysis.drivetrain import belt, equivalent
 from webline.analysis.drivetrain.params import hswl_unwind_belt_drive, load_parameter_set
+from webline.studies import belt_step_thesis as thesis
 from webline.studies.output import finish, pyplot, save
 from webline.studies.result import StudyResult
 
@@ -114,9 +121,34 @@ def run(out_dir: Path, *, quick: bool = False) -> StudyResult:
             "velocity_mode_Hz": r["velocity_mode_hz"], "torque_mode_Hz": r["torque_mode_hz"],
             "load_overshoot_pct": float(100 * (load.max() / r["final"] - 1.0)),
         })
+    fig, axes = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
+    kps = np.geomspace(0.1, 1000.0, 121)
+    for name in BELTS:
+        hz, zeta = thesis.kp_sweep(name, kps)
+        axes[0].semilogx(kps, hz, label=name)
+        axes[1].semilogx(kps, zeta, label=name)
+    for peak in set(thesis.THESIS_PEAK_HZ.values()):
+        axes[0].axhline(peak, ls=":", color="k", lw=0.8)
+    axes[0].set(ylabel="belt mode [Hz]",
+                title="Motor-feedback PI: belt mode against kp (dotted: thesis FFT peaks)")
+    axes[1].set(xlabel="speed kp [N m s]", ylabel="damping ratio")
+    axes[0].legend(fontsize=8)
+    figures.append(save(fig, out_dir / "belt_mode_vs_kp.png"))
+    setups = thesis.thesis_rows(BELTS, quick=quick)
+    limits = {name: thesis.light_damping_limit(name) for name in BELTS}
+    j_motor = {name: equivalent.inertia_motor_side(hswl_unwind_belt_drive(name))
+               for name in BELTS}
     summary = "belt-step (thesis Sec. 2.5, Figs 2.10-2.12)\n" + "\n".join(
         f"{r['belt']}: FFT peak {r['fft_peak_Hz']:.3f} Hz, closed-loop belt mode "
         f"{r['closed_loop_belt_mode_Hz']:.3f} Hz (damping {r['closed_loop_belt_mode_damping']:.3f})"
         f", velocity mode {r['velocity_mode_Hz']:.3f} Hz, torque mode {r['torque_mode_Hz']:.3f} Hz,"
         f" load overshoot {r['load_overshoot_pct']:.0f} %" for r in rows)
-    return finish("belt-step", out_dir, figures, rows, summary)
+    summary += ("\nthesis stated (2.37), webline (2.37) in rad/s: " + ", ".join(
+        f"{r['belt']} {r['thesis_stated_2_37']} 'Hz' vs {r['webline_2_37_rad_s']:.2f} rad/s"
+        for r in setups if r["setup"] == thesis.SETUPS[0][0]) + " (the thesis's unit is rad/s)")
+    summary += "\nthesis setup (200 RPM step, torque limit):\n" + "\n".join(
+        thesis.verdict(r) for r in setups)
+    summary += "\nmotor feedback, continuous: belt mode damping ratio < 0.1 only for " + \
+        ", ".join(f"{b} kp < {k:.2f} N m s ({hz:.2f} Hz; a rigid-loop bandwidth "
+                  f"{k / (2 * j_motor[b]):.3f} rad/s)" for b, (k, hz) in limits.items())
+    return finish("belt-step", out_dir, figures, rows + setups, summary)
