@@ -33,7 +33,7 @@ from scipy.linalg import expm
 from webline.line import Line
 from webline.physics.backlash import transmitted_torque
 from webline.sim import layout as L
-from webline.sim.linearize import LinearModel, load_inertia, plan_linear_model
+from webline.sim.linearize import LinearModel, linear_model, load_inertia, plan_linear_model
 from webline.sim.plan import compile_plan
 
 
@@ -105,13 +105,15 @@ def rewind_gap_margin(line: Line, *, brake: float = 0.0, horizon: float = 8.0,
     return GapMargin(mean, radius, load_inertia(plan, op, node), k, float(drop.max()), tension)
 
 
-def ripple_gains(line: Line, roller: str, freqs: list[float]) -> tuple[np.ndarray, np.ndarray]:
+def ripple_gains(line: Line, roller: str, freqs: list[float],
+                 rewind_radius: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(|G_τ|, |G_T|) at ``freqs`` [Hz]: amplitude of the rewind's spring torque [N·m] and of its
     span's tension [N] per m/s of a ``speed_ripple`` in the speed reference of drive ``roller``
-    (the linear closed loop; the ripple enters the drive's PI like its speed reference)."""
+    (the linear closed loop at the initial or the given ``rewind_radius`` [m]; the ripple
+    enters the drive's PI like its speed reference)."""
     plan = compile_plan(line)
-    model = plan_linear_model(plan, loop="closed")
-    open_ = plan_linear_model(plan, loop="open")
+    model = linear_model(line, loop="closed", rewind_radius=rewind_radius)
+    open_ = linear_model(line, loop="open", rewind_radius=rewind_radius)
     d = [line.node_name(i) for i in line.drives].index(roller)
     if plan.drives[d, L.D_FAMILY] != L.FAMILY_PI:
         raise ValueError(f"{roller}: ripple gains need a cascaded-PI drive")
