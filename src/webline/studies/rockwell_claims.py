@@ -82,8 +82,8 @@ def claims(rows: list[dict[str, Any]]) -> list[str]:
             f" at {lo['ripple_Hz']:g} Hz (open {lo['gap_open_fraction']:.1%}), "
             f"x{hi['amplification']:.3f} at {hi['ripple_Hz']:g} Hz (open "
             f"{hi['gap_open_fraction']:.1%}) -> "
-            + ("reproduced under stated conditions (6 FPM ripple during a slow-down at "
-               f"{lo['multiple_of_threshold']:g} d*)" if falls else
+            + ("reproduced under stated conditions, in direction only (6 FPM ripple during a "
+               f"slow-down at {lo['multiple_of_threshold']:g} d*)" if falls else
                "not reproduced because the amplification does not fall by 0.5 % or more"))
     brakes = {x["brake_lbf_ft"]: x for x in rows if x["part"] == "gap_brake"}
     if 0.0 in brakes and 10.0 in brakes:

@@ -7,7 +7,8 @@ rewind's belt and gear reaches zero. Mean τ̄ = R T_r + b_L V/R + τ_b (4.19 N�
 slackens the web iff a > T_r/|G_T(j2πf)|; a slow-down ramp opens it iff its deceleration
 d > d* = τ̄/σ (σ: peak torque drop per m/s², from the linear ramp response; R τ̄/J_L quasi-
 statically). Runs, each without and with the 1.5 mm backlash: slow-downs 300 -> 100 FPM at
-multiples of d*; the thesis's 6 FPM ripple at 0.5-2 Hz during a slow-down at 1.25 d*; brakes
+multiples of d*; the thesis's 6 FPM ripple at 0.5-2 Hz during a slow-down at 0.93 d* (shut
+while τ̄ (1 - 0.93) > a |G_τ|); brakes
 0-14 lbf ft at 2 d*. For each: gap-open share, mean tension shift, amplification (tension std
 with backlash / without), and the (4.9)-(4.10) prediction from the recorded deviation torque.
 """
@@ -114,8 +115,14 @@ def gap_rows(base: webline.Line, gap: float, quick: bool) -> tuple[list[dict], G
         rows.append({"part": "gap_slowdown", "multiple_of_threshold": x,
                      "predicted_open": bool(x > 1), **pair(base, x * d_star, p, gap)})
     x = p["ripple"]["multiple"]
-    for f in p["ripple"][f"{q}frequencies_hz"]:  # the ramp alone opens the gap at its start
-        rows.append({"part": "gap_ripple", "multiple_of_threshold": x, "predicted_open": x > 1,
+    freqs = list(p["ripple"][f"{q}frequencies_hz"])
+    g_tau, _ = ripple_gains(base, "pull_roll", freqs)
+    for f, gt in zip(freqs, g_tau, strict=True):
+        # τ̄ (1 - x) - a |G_τ| > 0: shut whatever the phases (the ramp's peak drop is x τ̄);
+        # below 0 the gap opens if the ripple's trough meets the ramp's peak
+        left = (1 - x) * margin.mean_torque - gt * p["ripple"]["amplitude"]
+        rows.append({"part": "gap_ripple", "multiple_of_threshold": x,
+                     "predicted_open": bool(left < 0), "margin_N_m": float(left),
                      **pair(base, x * d_star, p, gap, ripple_hz=f)})
     x = p["brake"]["multiple"]
     for brake in p["brake"][f"{q}torques_lbf_ft"]:
@@ -146,7 +153,8 @@ def plot(plt: Any, rows: list[dict], margin: GapMargin) -> Any:
         axis.plot(x, [r["amplification"] for r in sel], "o-", label="amplification (sim)")
         axis.plot(x, [r["amplification_4_10"] for r in sel], "x--", label="(4.10) prediction")
         axis.plot(x, [1 + r["gap_open_fraction"] for r in sel], "s:", label="1 + gap-open share")
-        axis.set(xlabel=label, ylabel="[-]", title=f"slow-down at {sel[0]['multiple_of_threshold']:g}"
-                 f" d* (d* = {margin.decel_threshold:.3f} m/s²)")
+        title = (f"slow-down at {sel[0]['multiple_of_threshold']:g} d* "
+                 f"(d* = {margin.decel_threshold:.3f} m/s²)")
+        axis.set(xlabel=label, ylabel="[-]", title=title)
         axis.legend(fontsize=7)
     return fig
