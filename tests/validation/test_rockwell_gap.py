@@ -8,7 +8,11 @@ import numpy as np
 import pytest
 
 import webline
-from webline.analysis.drivetrain.gap_condition import rewind_gap_margin, ripple_gains
+from webline.analysis.drivetrain.gap_condition import (
+    rewind_gap_margin,
+    ripple_gains,
+    tension_bound,
+)
 from webline.sim import layout as L
 from webline.sim.plan import compile_plan
 from webline.studies import rockwell_gap
@@ -43,6 +47,9 @@ def test_slowdown_threshold_predicts_the_gap_on_both_sides(setup, multiple):
         # (4.9)-(4.10) through the linear loop predict the simulated shift and std
         assert row["amplification_4_10"] == pytest.approx(row["amplification"], abs=0.005)
         assert row["mean_shift_pct_4_9"] == pytest.approx(row["mean_shift_pct"], abs=0.05)
+        # and no motion in the gap moves the tension farther than the L1 bound of (4.8) allows
+        bound = tension_bound(base, gap, from_contact=True)
+        assert 0 < row["max_tension_deviation_N"] <= bound
 
 
 def test_quasi_static_threshold_is_the_roll_inertia_formula(setup):

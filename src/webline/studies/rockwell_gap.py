@@ -27,6 +27,7 @@ from webline.analysis.drivetrain.gap_condition import (
     deviation_torque,
     rewind_gap_margin,
     ripple_gains,
+    tension_bound,
     tension_deviation,
 )
 from webline.analysis.drivetrain.params import load_parameter_set
@@ -88,6 +89,7 @@ def pair(base: webline.Line, decel: float, p: dict[str, Any], gap: float, *,
             "mean_shift_pct_4_9": float(100 * pred.mean_shift / pred.mean_without),
             "amplification": float(t1.std() / t0.std()),
             "amplification_4_10": float(pred.std_with / pred.std_without),
+            "max_tension_deviation_N": float(np.abs(r1.tension[:, -1] - r0.tension[:, -1]).max()),
             "status_with": r1.status}
 
 
@@ -102,6 +104,15 @@ def threshold_rows(base: webline.Line, margin: GapMargin, p: dict[str, Any]) -> 
              "slack_threshold_fpm": float(margin.tension / gT / FPM),
              "first": "gap" if margin.mean_torque / gt < margin.tension / gT else "slack"}
             for f, gt, gT in zip(freqs, g_tau, g_t, strict=True)]
+
+
+def bound_rows(lines: dict[float, webline.Line], gaps: dict[float, float]) -> list[dict]:
+    """The L1 bound of (4.8) on the tension a gap can add, per speed [FPM] (backlash-free
+    ``lines``) and clearance [mm] (half gaps ``gaps`` [rad]): it bounds the mean shift and the
+    change of the std for any motion in the gap, and the change of an amplitude by twice it."""
+    return [{"part": "gap_bound", "speed_fpm": fpm, "backlash_mm": mm,
+             "tension_bound_lbf": tension_bound(line, gap) / LBF}
+            for fpm, line in lines.items() for mm, gap in gaps.items()]
 
 
 def gap_rows(base: webline.Line, gap: float, quick: bool) -> tuple[list[dict], GapMargin]:
