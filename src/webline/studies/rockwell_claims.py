@@ -77,7 +77,7 @@ def claims(rows: list[dict[str, Any]]) -> list[str]:
             gain = 2 * bound[0]["tension_bound_lbf"]
             out.append(f"  bound: any motion in the 1.5 mm gap changes that amplitude by at most "
                        f"{gain:.2f} lbf (2 x L1 bound of (4.8)); the thesis's +0.95 lbf is "
-                       + ("within it" if 0.95 <= gain else "beyond it"))
+                       + ("within it" if gain >= 0.95 else "beyond it"))
     if opened:
         best = max(opened, key=lambda x: x["amplification"])
         out.append(

@@ -167,10 +167,11 @@ def tension_bound(line: Line, gap: float, *, from_contact: bool = False) -> floa
     D| dσ over the linear closed loop (``l1_bound``); it also bounds the steady-state mean shift
     and change of std. ``from_contact``: for a backlash run that starts resting on the driving
     flank (twist + Δ, as webline starts one), φ - kΔ drives the difference, so the peak of the
-    response to a constant kΔ (``printed_bound_peak``) is added. The damping c·rate that also drops out while the teeth are apart
-    is left out (0.13 N·m·s/rad on ``rockwell``: 2 % of kΔ at 1 rad/s). The integral runs over
-    12 time constants of the slowest mode (tail below e^-12) on 40 000 points: within 1e-3 of
-    ``l1_bound``'s 40 time constants on its finer grid, in a tenth of a second."""
+    response to a constant kΔ (``printed_bound_peak``) is added. The damping c·rate that also
+    drops out while the teeth are apart is left out (0.13 N·m·s/rad on ``rockwell``: 2 % of kΔ
+    at 1 rad/s). The integral runs over 12 time constants of the slowest mode (tail below
+    e^-12) on 40 000 points: within 1e-3 of ``l1_bound``'s 40 time constants on its finer
+    grid, in a tenth of a second."""
     plan = compile_plan(line)
     model = plan_linear_model(plan, loop="closed")
     node, d = _rewind(line)
