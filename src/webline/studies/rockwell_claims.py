@@ -52,6 +52,18 @@ def claims(rows: list[dict[str, Any]]) -> list[str]:
                      + ("within reach only if the gap opened" if thesis <= pct else
                         "out of reach of this model"))
         out.append(line)
+    if part1:
+        t_std = max(x["tension_std_lbf"] for x in part1)
+        v_std = max(x["speed_std_fpm"] for x in part1)
+        v_err = max(abs(x["speed_mean_fpm"] / x["speed_fpm"] - 1) for x in part1)
+        out.append("tension std < 1.5 lbf and speed std < 6 FPM in all four cases (Figs "
+                   f"4.19-4.20): webline <= {t_std:.3f} lbf and <= {v_std:.3f} FPM -> "
+                   + ("reproduced" if t_std < 1.5 and v_std < 6.0 else
+                      "not reproduced because a standard deviation exceeds the thesis's limit"))
+        held = v_err < 0.01  # within 1 % of the reference
+        out.append(f"mean speed held at the reference (Figs 4.14-4.18): webline within "
+                   f"{100 * v_err:.2f} % -> " + ("reproduced" if held else
+                                                 "not reproduced because it is 1 % or more off"))
     if opened:
         shift = max(abs(x["mean_shift_pct"]) for x in opened)
         pred = max(abs(x["mean_shift_pct_4_9"]) for x in opened)

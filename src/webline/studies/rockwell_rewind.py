@@ -15,8 +15,10 @@ Part 3 (``studies/rockwell_gap.py``): when the gap opens. It opens when the spri
 ripple of amplitude a at f opens it iff a > a*(f) = τ̄/|G_τ(j2πf)| with τ̄ = R T_r + b_L V/R +
 τ_b (the web slackens iff a > T_r/|G_T(j2πf)|), a slow-down iff its deceleration exceeds
 d* = τ̄/σ (quasi-statically R τ̄/J_L). Runs on both sides of d*, with the 6 FPM ripple and with
-brakes; gap-open share, mean shift, amplification and the (4.9)-(4.10) prediction. The summary
-ends with the thesis's numbers beside webline's and a verdict for each (``rockwell_claims``).
+brakes; gap-open share, mean shift, amplification and the (4.9)-(4.10) prediction; the L1
+bound of (4.8) on the tension any motion in the gap can add. Derivation and numbers:
+docs/drivetrain.md, "When the gap opens". The summary ends with the thesis's numbers beside
+webline's and a verdict for each (``rockwell_claims``).
 """
 
 from __future__ import annotations
