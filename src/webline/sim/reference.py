@@ -1,6 +1,8 @@
 """Reference path: the same plant and sampled controllers, the plant integrated by scipy's
 adaptive-step solvers between controller ticks. Slow (one solver restart per tick); it exists
-to measure the accuracy of the compiled fixed-step path."""
+to measure the accuracy of the compiled fixed-step path. A web break (docs/winder.md W5) is
+applied at the tick the kernel applies it, and the break monitor runs in the same
+controller tick."""
 
 from __future__ import annotations
 
@@ -50,8 +52,12 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
                    nodes, spans, drives, web, dy, work)
         return dy
 
+    n_s = spans.shape[0]
     for j in range(n_ticks + 1):
         t = j * plan.dt
+        for k in range(n_s if offsets[L.O_BREAK] else 0):  # as the kernel: a broken span
+            if t >= spans[k, L.S_BREAK] and drag[2 * nodes.shape[0] + k] == 0.0:
+                drag[2 * nodes.shape[0] + k], x[k] = 1.0, 0.0  # no tension, web lost
         control_tick(j, plan.dt, x, istate, ns, ds, offsets, nodes, drives, web, prof_t,
                      prof_v, prof_off, ripple, out, refs, span_ref, v_ref, a_ref)
         kernel.update_slip(x, slipping, ns, offsets, nodes, web)
@@ -68,4 +74,5 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
         sol = solve_ivp(derivative, (t, t + plan.dt), x, method=method, rtol=rtol, atol=atol)
         x = sol.y[:, -1].copy()
     return _result(plan, np.array(rows), None,
-                   {"duration": duration, "dt": plan.dt, "substeps": 0, "record_every": 1})
+                   {"duration": duration, "dt": plan.dt, "substeps": 0, "record_every": 1},
+                   (float(istate[0, L.I_DETECT]), int(istate[0, L.I_METHOD])))

@@ -50,7 +50,7 @@ class Result:
     failure: Failure | None = None  #: why the run stopped early (None: it ran to the end)
     settings: dict[str, float] = field(default_factory=dict)
     #: the web-break monitor at the end (docs/winder.md W5): time [s] it detected a break
-    #: (-1: none) and how (``layout.BREAK_TENSION``, ``BREAK_DANCER``)
+    #: (-1: none) and how (``layout.BREAK_TENSION``, ``BREAK_DANCER``, ``BREAK_DIAMETER``)
     break_monitor: tuple[float, int] = (-1.0, 0)
 
     # --- verdict -------------------------------------------------------------------------

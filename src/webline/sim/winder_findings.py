@@ -11,7 +11,8 @@ from webline.spec.winder import WebBreak
 from webline.verdict import Finding
 
 METHODS = {L.BREAK_TENSION: "tension below its threshold",
-           L.BREAK_DANCER: "dancer at its end stop"}
+           L.BREAK_DANCER: "dancer at its end stop",
+           L.BREAK_DIAMETER: "diameter calculated running the wrong way"}
 
 
 def break_findings(line: Line, time: np.ndarray, speed: np.ndarray,
