@@ -28,8 +28,9 @@ NS_COLS = 6
 NODE_STRUCTURE = (N_KIND, N_DRIVE, N_ECCSTATE, N_TRACTION, N_DRAG, N_DANCER)
 
 # span table columns
-S_LENGTH, S_INVLENGTH, S_BREAK = range(3)  # length [m], 1/length, time it breaks [s] (inf)
-S_COLS = 3
+# length [m], 1/length, time it breaks [s] (inf), Kelvin-Voigt retardation τ [s] (0: elastic)
+S_LENGTH, S_INVLENGTH, S_BREAK, S_TAU = range(4)
+S_COLS = 4
 KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
 
 # drive table columns: topology and cascaded PI ...
@@ -105,6 +106,7 @@ BREAK_TENSION, BREAK_DANCER, BREAK_DIAMETER = 1, 2, 3  # how the monitor detecte
 O_NOISE = 9  # 1 if measurements carry noise
 O_NEED_EQ = 10  # 1 if a controller needs the reference state every tick
 O_BREAK = 11  # 1 if the web breaks in this run (docs/winder.md W5): the break monitor is on
+O_KV = 12  # 1 if a span is Kelvin-Voigt: the rollers and loadcells feel s + τ ds/dt
 
 # kernel status codes; with each failure the kernel returns where it happened: the span
 # (strength, runaway stretch), node (runaway speed) or drive (runaway motor speed), else -1

@@ -53,13 +53,20 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
         return dy
 
     n_s = spans.shape[0]
+    saved = np.empty(n_s)
     for j in range(n_ticks + 1):
         t = j * plan.dt
         for k in range(n_s if offsets[L.O_BREAK] else 0):  # as the kernel: a broken span
             if t >= spans[k, L.S_BREAK] and drag[2 * nodes.shape[0] + k] == 0.0:
                 drag[2 * nodes.shape[0] + k], x[k] = 1.0, 0.0  # no tension, web lost
+        if offsets[L.O_KV]:  # as the kernel: controllers measure the felt tension
+            kernel.felt_tensions(kernel.wound_in(t, web, wound), x, cmd, drag, slipping, ns,
+                                 ds, offsets, nodes, spans, drives, web, np.empty_like(x),
+                                 work, saved)
         control_tick(j, plan.dt, x, istate, ns, ds, offsets, nodes, drives, web, prof_t,
                      prof_v, prof_off, ripple, out, refs, span_ref, v_ref, a_ref)
+        if offsets[L.O_KV]:
+            x[:n_s] = saved
         kernel.update_slip(x, slipping, ns, offsets, nodes, web)
         rows.append(np.concatenate(([t], x, out.ravel(), istate[:, L.I_FRICTION],
                                      istate[:, L.I_RADIUS], slipping)))

@@ -125,7 +125,12 @@ class Result:
 
     @cached_property
     def tension(self) -> np.ndarray:
-        """Span tensions [N], shape (time, span)."""
+        """Span tensions [N], shape (time, span): what the rollers feel (a Kelvin-Voigt
+        span's stretch plus its damper, ``sim.viscoelastic``)."""
+        if self.plan.offsets[L.O_KV]:
+            from webline.sim.viscoelastic import felt_tension
+
+            return felt_tension(self.plan, self.time, self.states, self.slipping)
         return np.maximum(self.stretch, 0.0)
 
     @cached_property
