@@ -54,7 +54,7 @@ def _overview(line: Line, d: Display) -> Table:
 
 def _thickness(thickness: float, d: Display) -> str:
     """Web thickness [m] in µm (SI) or mil (imperial, 1 mil = 25.4 µm)."""
-    if d.system == "imperial":
+    if d.system.startswith("imperial"):
         return f"{thickness / 25.4e-6:.4g} mil"
     return f"{thickness * 1e6:.4g} µm"
 
