@@ -169,3 +169,14 @@ def test_web_break_detected_by_the_diameter_running_the_wrong_way():
     finding = next(f for f in result.verdict.findings if f.kind == "web_break")
     assert finding.level == "warning" and finding.details["method"].startswith("diameter")
     assert f"after {1000 * (detected - 2.0):.3g} ms" in finding.message
+
+
+def test_a_monitor_that_trips_before_the_break_says_so():
+    """A threshold above 1 x the reference trips the tension monitor at the first tick, long
+    before the break: the finding calls it a false alarm, never a negative time to detect."""
+    data, brk = _broken_rockwell()
+    data["disturbances"] = [{**brk, "threshold": 1.0, "at": 0.5}]
+    result = webline.simulate(webline.load_line(data), 0.6)
+    assert result.break_monitor[0] < 0.5
+    finding = next(f for f in result.verdict.findings if f.kind == "web_break")
+    assert "false alarm" in finding.message and " -" not in finding.message
