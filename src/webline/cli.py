@@ -140,7 +140,8 @@ def run(
         from webline.report.tables import summary_tables
 
         console = _console()
-        print_tables(summary_tables(result, Display(units.value)), console)
+        print_tables(summary_tables(result, Display(units.value, result.line.spec.web.width)),
+                     console)
         console.print(f"Results (SI): {escape(str(results_file))}\n"
                       f"Figures:      {escape(str(folder.path / 'figures'))} "
                       f"({len(files.figures)} files, {'PNG and SVG' if svg else 'PNG'})\n"
@@ -196,8 +197,8 @@ def show(line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None
     from webline.report.describe import line_tables
     from webline.report.display import Display
 
-    print_tables(line_tables(_load(line, scenario, None, sets), Display(units.value)),
-                 _console())
+    loaded = _load(line, scenario, None, sets)
+    print_tables(line_tables(loaded, Display(units.value, loaded.spec.web.width)), _console())
 
 
 app.command("analyze")(handles_errors(analyze))

@@ -56,7 +56,7 @@ def analyze(
     t = analysis_time(loaded) if at is None else at
     if not t >= 0:
         raise BadInput(f"--time: must be >= 0 s, got {at}")
-    display = Display(units.value)
+    display = Display(units.value, loaded.spec.web.width)
     point = operating_point(loaded, t)
     modes = closed_loop_modes(loaded, t)
     cert = _certificate(loaded) if certificate else None

@@ -25,6 +25,8 @@ if TYPE_CHECKING:
 class Units(StrEnum):
     si = "si"
     imperial = "imperial"
+    si_per_width = "si-per-width"  # tensions (every force) in N/m of web width
+    imperial_per_width = "imperial-per-width"  # tensions in pli (lbf per inch of width)
 
 
 class ControllerFamily(StrEnum):
@@ -61,7 +63,9 @@ class BadInput(WeblineError):
 LineArg = Annotated[str, typer.Argument(
     metavar="LINE",
     help="A line file (.toml) or the name of a built-in line (see 'webline lines').")]
-UnitsOpt = Annotated[Units, typer.Option("--units", "-u", help="Units to show quantities in.")]
+UnitsOpt = Annotated[Units, typer.Option(
+    "--units", "-u", help="Units to show quantities in; the per-width systems show tensions "
+    "(every force) per width of web: N/m, or pli (lbf/in).")]
 ScenarioOpt = Annotated[str | None, typer.Option(
     "--scenario", "-s", help="A named scenario of the line file (see 'webline show').")]
 SetOpt = Annotated[list[str] | None, typer.Option(

@@ -77,6 +77,7 @@ DIMENSIONS: dict[str, str] = {
     "pressure": "[mass] / [length] / [time] ** 2",
     "angle": "",
     "dimensionless": "",
+    "force_per_width": "[mass] / [time] ** 2",
 }
 
 #: SI unit shown to users for each kind.
@@ -97,6 +98,7 @@ SI_UNITS: dict[str, str] = {
     "pressure": "Pa",
     "angle": "rad",
     "dimensionless": "",
+    "force_per_width": "N/m",
 }
 
 #: Imperial display unit for each kind (where engineers use one).
@@ -117,6 +119,7 @@ IMPERIAL_UNITS: dict[str, str] = {
     "pressure": "psi",
     "angle": "deg",
     "dimensionless": "",
+    "force_per_width": "pli",
 }
 
 
@@ -203,6 +206,24 @@ def to_si(value: object, kind: str) -> float:
     if not math.isfinite(number):
         raise ValueError(f"must be finite, got {short(value)}")
     return number
+
+
+def per_width_to_si(value: object) -> float | None:
+    """A force per width of web (``"175 N/m"``, ``"2 N/cm"``, ``"1 pli"``, a pint Quantity)
+    as an SI float [N/m], or None when ``value`` is not one (a plain number is a force, not a
+    force per width). Raises ``ValueError`` for a malformed quantity string."""
+    if isinstance(value, str):
+        quantity = _parse(value, "force")
+    elif isinstance(value, pint.Quantity):
+        try:
+            quantity = ureg.Quantity(float(value.magnitude), str(value.units))
+        except Exception:  # an array, or a unit this registry does not know
+            return None
+    else:
+        return None
+    if quantity.dimensionless or quantity.dimensionality != _dimensionality("force_per_width"):
+        return None
+    return float(quantity.to("N/m").magnitude)
 
 
 def _si_number(quantity: pint.Quantity, kind: str, value: object) -> float:

@@ -141,3 +141,42 @@ def test_undetected_web_break_fails_the_run():
     result = webline.simulate(webline.load_line(data), 3.0)
     assert result.break_monitor[0] < 0.0
     assert result.status == "failed"
+
+
+def test_web_break_detected_by_the_diameter_running_the_wrong_way():
+    """No loadcell watches the break (the monitor's tension threshold is 0 and the rewind is
+    open-loop: its torque T_ref R / n reads no loadcell) and no dancer is near it: the rewind
+    zone of rockwell breaks at 2 s. Without web the open-loop rewind's torque spins it up, so
+    its speed-ratio diameter v_line / ω shrinks; the monitor flags a shrink of 5 mm below the
+    largest diameter so far (the calculator's own error before the break is ~3e-5 m)."""
+    line = webline.load_line("rockwell")
+    line = line.replace({
+        "rollers.rewind.winder": {"mode": "open_loop", "inertia_compensation": True,
+                                  "viscous_friction": line.rewind.friction},
+        "rollers.rewind.diameter": {"method": "speed_ratio", "filter": "0.05 s"},
+        "disturbances": [{"type": "web_break", "span": "rewind_span_b", "at": 2.0,
+                          "threshold": 0.0, "diameter_threshold": "5 mm"}]})
+    result = webline.simulate(line, 3.0)
+    detected, how = result.break_monitor
+    assert how == L.BREAK_DIAMETER
+    assert 0.0 < detected - 2.0 < 0.05  # measured 25 ms
+    before = result.time < 2.0
+    true_d, calc_d = 2 * result.radius[:, -1], 2 * result.control_radius[:, -1]
+    assert np.abs(calc_d - true_d)[before].max() < 0.1 * 0.005  # no false alarm margin lost
+    # at detection the calculated diameter has shrunk by more than the threshold
+    at = np.searchsorted(result.time, detected)
+    assert calc_d[:at].max() - calc_d[at] > 0.005
+    finding = next(f for f in result.verdict.findings if f.kind == "web_break")
+    assert finding.level == "warning" and finding.details["method"].startswith("diameter")
+    assert f"after {1000 * (detected - 2.0):.3g} ms" in finding.message
+
+
+def test_a_monitor_that_trips_before_the_break_says_so():
+    """A threshold above 1 x the reference trips the tension monitor at the first tick, long
+    before the break: the finding calls it a false alarm, never a negative time to detect."""
+    data, brk = _broken_rockwell()
+    data["disturbances"] = [{**brk, "threshold": 1.0, "at": 0.5}]
+    result = webline.simulate(webline.load_line(data), 0.6)
+    assert result.break_monitor[0] < 0.5
+    finding = next(f for f in result.verdict.findings if f.kind == "web_break")
+    assert "false alarm" in finding.message and " -" not in finding.message

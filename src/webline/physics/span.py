@@ -1,4 +1,5 @@
-"""Web span tension from conservation of web mass (thesis 5.33, 6.8, 6.10, 6.12)."""
+"""Web span tension from conservation of web mass (thesis 5.33, 6.8, 6.10, 6.12), elastic or
+Kelvin-Voigt (docs/winder.md, Viscoelastic span)."""
 
 from __future__ import annotations
 
@@ -29,3 +30,17 @@ def stretch_rate(length: float, ea: float, v_in: float, v_out: float,
 def unstrained_length(length: float, ea: float, stretch: float) -> float:
     """Unstrained web stored in a span [m] (to first order in strain, as 6.8 assumes)."""
     return length * (1.0 - stretch / ea)
+
+
+def kelvin_voigt_tension(stretch: float, stretch_rate: float, retardation: float) -> float:
+    """Tension [N] the rollers feel from a Kelvin-Voigt span: T = EA (ε + τ dε/dt) with
+    ``stretch`` = EA ε [N], ``stretch_rate`` = EA dε/dt [N/s] (from ``stretch_rate``, the same
+    mass balance as an elastic span) and ``retardation`` τ = η/E [s].
+
+    A slack span (stretch <= 0) carries nothing, its damper included; a taut one cannot push
+    (T >= 0, the web buckles rather than carry compression). τ = 0 is ``tension(stretch)``.
+    """
+    if stretch <= 0.0:
+        return 0.0
+    felt = stretch + retardation * stretch_rate
+    return felt if felt > 0.0 else 0.0

@@ -54,7 +54,7 @@ def _overview(line: Line, d: Display) -> Table:
 
 def _thickness(thickness: float, d: Display) -> str:
     """Web thickness [m] in µm (SI) or mil (imperial, 1 mil = 25.4 µm)."""
-    if d.system == "imperial":
+    if d.system.startswith("imperial"):
         return f"{thickness / 25.4e-6:.4g} mil"
     return f"{thickness * 1e6:.4g} µm"
 
@@ -76,9 +76,11 @@ def _spans(line: Line, d: Display) -> Table:
     for k, span in enumerate(line.spec.spans):
         rows.append([line.span_name(k), f"{line.node_name(k)} → {line.node_name(k + 1)}",
                      d.text(span.length, "length"), str(line.zone_of_span(k) + 1),
-                     profile_text(span.tension, "force", d) or "(no loadcell)"])
+                     profile_text(span.tension, "force", d) or "(no loadcell)",
+                     "elastic" if span.model == "elastic" else
+                     f"Kelvin-Voigt, τ = {d.text(span.retardation, 'time')}"])
     return make_table("spans", "Spans", ["span", "from → to", "length", "zone",
-                                         "tension reference (loadcell)"], rows)
+                                         "tension reference (loadcell)", "web model"], rows)
 
 
 def _drives(line: Line, d: Display) -> Table:

@@ -1,4 +1,6 @@
-"""Showing SI numbers in the unit system a user chose ('si' or 'imperial')."""
+"""Showing SI numbers in the unit system a user chose ('si' or 'imperial'), forces optionally
+per width of web ('si-per-width': N/m, 'imperial-per-width': pli), as converting engineers
+quote tension."""
 
 from __future__ import annotations
 
@@ -10,8 +12,8 @@ import numpy as np
 
 from webline.units import display_factor
 
-System = Literal["si", "imperial"]
-SYSTEMS: tuple[System, ...] = ("si", "imperial")
+System = Literal["si", "imperial", "si-per-width", "imperial-per-width"]
+SYSTEMS: tuple[System, ...] = ("si", "imperial", "si-per-width", "imperial-per-width")
 
 #: How units are written for people (pint's '**' and '*' made readable).
 PRETTY = {"kg*m**2": "kg·m²", "N*m": "N·m", "N*m*s": "N·m·s", "lb*ft**2": "lb·ft²",
@@ -21,27 +23,44 @@ PRETTY = {"kg*m**2": "kg·m²", "N*m": "N·m", "N*m*s": "N·m·s", "lb*ft**2": "
 @dataclass(frozen=True)
 class Display:
     """Converts SI values of a kind ('force', 'speed', 'length', 'torque', 'inertia', ...) to
-    ``system`` and formats them with their unit."""
+    ``system`` and formats them with their unit. The per-width systems show every force
+    (tensions, EA, loads) divided by the web's ``width`` [m], which they need."""
 
     system: System = "si"
+    width: float | None = None
 
     def __post_init__(self) -> None:
         if self.system not in SYSTEMS:
-            raise ValueError(f"unit system must be 'si' or 'imperial', got {self.system!r}")
+            raise ValueError(f"unit system must be one of {', '.join(SYSTEMS)}, "
+                             f"got {self.system!r}")
+        if self.per_width and not (self.width is not None and self.width > 0):
+            raise ValueError(f"units {self.system!r} need the web's width, got {self.width!r}")
+
+    @property
+    def per_width(self) -> bool:
+        """True if forces are shown per width of web."""
+        return self.system.endswith("-per-width")
+
+    def _factor_unit(self, kind: str) -> tuple[float, str]:
+        base = "imperial" if self.system.startswith("imperial") else "si"
+        if self.per_width and kind == "force":
+            factor, unit = display_factor("force_per_width", base)
+            return factor / self.width, unit  # type: ignore[operator]
+        return display_factor(kind, base)
 
     def factor(self, kind: str) -> float:
         """Multiply an SI value of ``kind`` by this to express it in the chosen system."""
-        return display_factor(kind, self.system)[0]
+        return self._factor_unit(kind)[0]
 
     def unit(self, kind: str) -> str:
         """The chosen system's unit of ``kind``, as people write it (``lbf``, ``lb·ft²``)."""
-        unit = display_factor(kind, self.system)[1]
+        unit = self._factor_unit(kind)[1]
         return PRETTY.get(unit, unit)
 
     def plain_unit(self, kind: str) -> str:
         """The chosen system's unit of ``kind`` in ASCII pint notation (``lb*ft**2``), for
         machine-readable output."""
-        return display_factor(kind, self.system)[1]
+        return self._factor_unit(kind)[1]
 
     def value(self, si: float, kind: str) -> float:
         """``si`` expressed in the chosen system."""

@@ -97,12 +97,12 @@ def write_report(result: Result, out_dir: Path, *, units: System = "si",
                  folder: OutputFolder | None = None, svg: bool = False) -> ReportFiles:
     """Write ``report.html`` (self-contained), ``summary.json`` and ``figures/*.png`` (and
     ``figures/*.svg`` with ``svg``) for ``result`` into ``out_dir``, every quantity in
-    ``units`` ('si' or 'imperial'). Each file is
+    ``units`` ('si', 'imperial', or either per width of web). Each file is
     written atomically; with ``folder`` (the ``OutputFolder`` of ``out_dir``) each joins its
     manifest."""
     from webline import __version__
 
-    display = Display(units)
+    display = Display(units, result.line.spec.web.width)
     line = result.line
     analysis = analysis or analyse(line)
     images: dict[str, Image] = {}

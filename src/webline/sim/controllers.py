@@ -169,7 +169,7 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
                                               prof_off)
     stopping = 1.0  # the line-speed factor of a ramp to stop after a detected web break
     if offsets[L.O_BREAK]:
-        stopping = break_monitor(t, x, istate, ns, ds, nodes, web, refs)
+        stopping = break_monitor(t, x, istate, ns, ds, nodes, drives, web, refs)
         refs[0] *= stopping
     if offsets[L.O_NEED_EQ]:
         a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)

@@ -23,20 +23,21 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from webline.physics import backlash, roll, roller, slip, span
+from webline.physics import roll, roller, slip, span
 from webline.sim import layout as L
 from webline.sim.controllers import control_tick, node_radius
 from webline.sim.dancer_loop import dancer_rate, span_motion
 from webline.sim.signals import jit, loop_njit, njit, profile_at, sines
+from webline.sim.transmission_loop import compliant_torque
 
 if TYPE_CHECKING:
     from webline.sim.plan import Plan
 
 _tension: Any = jit(span.tension)
+_kv_tension: Any = jit(span.kelvin_voigt_tension)
 _roll_inertia: Any = jit(roll.roll_inertia)
 _radius_rate: Any = jit(roll.radius_rate)
 _friction: Any = jit(roller.friction_torque)
-_transmitted: Any = jit(backlash.transmitted_torque)
 _slip_velocity: Any = njit(slip.slip_velocity)  # called only while a web slips
 _slip_state: Any = jit(slip.slip_state)
 
@@ -115,6 +116,9 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
         else:
             dx[k] = flow * spans[k, L.S_INVLENGTH]
         t_in = t_out
+    t_last = work[te + n_spans - 1]  # the strain the rewind winds in, damper or not
+    for k in range(n_spans if offsets[L.O_KV] else 0):  # the rollers feel T = s + τ ds/dt
+        work[te + k] = _kv_tension(x[k], dx[k], spans[k, L.S_TAU])  # (docs/winder.md)
 
     width, density = web[L.W_WIDTH], web[L.W_DENSITY]
     for i in range(n_nodes):
@@ -156,7 +160,7 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
 
     inv_ea = 1.0 / ea
     dx[off_q] = v_unwind * (1.0 - t0 * inv_ea)
-    dx[off_q + 1] = v_rewind * (1.0 - work[te + n_spans - 1] * inv_ea)
+    dx[off_q + 1] = v_rewind * (1.0 - t_last * inv_ea)
 
 
 @jit
@@ -173,34 +177,24 @@ def update_slip(x: np.ndarray, slipping: np.ndarray, ns: np.ndarray, offsets: np
                                   web[L.W_RHOA] * surface * surface, slipping[i])
 
 
+@jit
+def felt_tensions(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray,
+                  slipping: np.ndarray, ns: np.ndarray, ds: np.ndarray, offsets: np.ndarray,
+                  nodes: np.ndarray, spans: np.ndarray, drives: np.ndarray, web: np.ndarray,
+                  dx: np.ndarray, work: np.ndarray, saved: np.ndarray) -> None:
+    """Put the tension each span's rollers feel (Kelvin-Voigt: s + τ ds/dt, ``rhs``) in
+    place of its stretch in ``x`` for a controller tick, the stretches kept in ``saved``
+    (scratch ``dx`` and ``work`` as ``rhs`` takes them)."""
+    rhs(t0, x, cmd, drag, slipping, ns, ds, offsets, nodes, spans, drives, web, dx, work)
+    for k in range(ns.shape[0] - 1):
+        saved[k], x[k] = x[k], work[2 * ns.shape[0] + k]
+
+
 def initial_slip(plan: Plan, x: np.ndarray) -> np.ndarray:
     """Stick/slip state of every node (0 stuck, 1 slipping) for the state ``x`` of ``plan``."""
     slip = np.zeros(plan.line.n_nodes, dtype=np.int64)
     update_slip(x, slip, plan.node_structure, plan.offsets, plan.nodes, plan.web)
     return slip
-
-
-@jit
-def compliant_torque(d: int, x: np.ndarray, ds: np.ndarray, offsets: np.ndarray,
-                     drives: np.ndarray, dx: np.ndarray) -> float:
-    """Torque [N·m] a compliant transmission passes to its roller shaft; writes the
-    derivatives of its motor speed and twist into ``dx``.
-
-    Belt (2.10), shaft and backlash (3.22-3.23), belt and backlash (3.31-3.32), in rotary
-    form seen from the load shaft: J_m dω_m/dt = τ - T_s/n - b_m ω_m, d(twist)/dt = ω_m/n - ω,
-    and the roller gets T_s.
-    """
-    i = ds[d, L.DS_NODE]
-    n = drives[d, L.D_RATIO]
-    state = ds[d, L.DS_TSTATE]
-    omega_m = x[state]
-    rate = omega_m / n - x[offsets[L.O_OMEGA] + i]
-    torque = _transmitted(x[state + 1], rate, drives[d, L.D_KTRANS], drives[d, L.D_CTRANS],
-                          drives[d, L.D_GAPNEG], drives[d, L.D_GAPPOS])
-    dx[state] = (x[offsets[L.O_TORQUE] + d] - torque / n - drives[d, L.D_BMOTOR] * omega_m) / (
-        drives[d, L.D_JMOTOR])
-    dx[state + 1] = rate
-    return torque
 
 
 def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick0: int,
@@ -308,8 +302,13 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
         for k in range(n_n - 1 if offsets[L.O_BREAK] else 0):  # a broken span: no tension
             if t >= spans[k, L.S_BREAK] and drag[2 * n_n + k] == 0.0:
                 drag[2 * n_n + k], x[k] = 1.0, 0.0
+        if offsets[L.O_KV]:  # the controllers measure what the rollers feel
+            felt_tensions(wound_in(t, web, wound_ripple), x, cmd, drag, slipping, ns, ds,
+                          offsets, nodes, spans, drives, web, stages[0], scratch, tmp)
         control_tick(tick, dt, x, istate, ns, ds, offsets, nodes, drives, web, prof_t, prof_v,
                      prof_off, speed_ripple, out, prof, span_ref, v_ref, a_ref)
+        for k in range(n_n - 1 if offsets[L.O_KV] else 0):
+            x[k] = tmp[k]  # the stretch states back
         update_slip(x, slipping, ns, offsets, nodes, web)
         if tick % record_every == 0 or j == n_ticks:
             rec[n_rec, 0] = t

@@ -28,8 +28,9 @@ NS_COLS = 6
 NODE_STRUCTURE = (N_KIND, N_DRIVE, N_ECCSTATE, N_TRACTION, N_DRAG, N_DANCER)
 
 # span table columns
-S_LENGTH, S_INVLENGTH, S_BREAK = range(3)  # length [m], 1/length, time it breaks [s] (inf)
-S_COLS = 3
+# length [m], 1/length, time it breaks [s] (inf), Kelvin-Voigt retardation τ [s] (0: elastic)
+S_LENGTH, S_INVLENGTH, S_BREAK, S_TAU = range(4)
+S_COLS = 4
 KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
 
 # drive table columns: topology and cascaded PI ...
@@ -80,10 +81,11 @@ FAMILY_OPEN_LOOP = 4  # indirect tension control of a centre winder (docs/winder
 # controller memory per drive: PI integrators, adaptive friction estimate [N·m·s], the MRAC's
 # adapted gains k̂_T [N·m/N], k̂_V [N·m·s/m] and bias [N·m] and its observer's estimates, the
 # radius the controller uses [m] (calculated, or the true one) and the break monitor's
-# detection time [s] (-1: none) and method (BREAK_*), in every row
+# detection time [s] (-1: none) and method (BREAK_*), in every row, and the smallest (unwind)
+# or largest (rewind) calculated radius so far [m] (0: none yet), for BREAK_DIAMETER
 (I_SPEED, I_TENSION, I_FRICTION, I_KT, I_KV, I_BIAS, I_THAT, I_WHAT, I_RADIUS, I_DETECT,
- I_METHOD) = range(11)
-I_COLS = 11
+ I_METHOD, I_REXTREME) = range(12)
+I_COLS = 12
 
 # line-wide scalars
 (W_EA, W_THICK, W_WIDTH, W_DENSITY, W_T0, W_NOISE_T, W_NOISE_V, W_SEED,
@@ -91,10 +93,11 @@ I_COLS = 11
  # the physical envelope checked every tick: web strength [N] (inf: none given), largest
  # |stretch| [N] and surface speed [m/s] a state may reach before the run is a runaway
  W_STRENGTH, W_STRETCH_MAX, W_SPEED_MAX,
- # the break monitor: tension threshold [fraction of the reference], ramp-to-stop time [s]
- W_BTHRESH, W_BSTOP) = range(14)
-W_COLS = 14
-BREAK_TENSION, BREAK_DANCER = 1, 2  # how the monitor detected a break
+ # the break monitor: tension threshold [fraction of the reference], ramp-to-stop time [s],
+ # diameter threshold [m] (0: off)
+ W_BTHRESH, W_BSTOP, W_BDIAM) = range(15)
+W_COLS = 15
+BREAK_TENSION, BREAK_DANCER, BREAK_DIAMETER = 1, 2, 3  # how the monitor detected a break
 
 # the integer ``offsets`` array: where state blocks start (spans at 0, node speeds, the two roll
 # radii, motor torques, eccentric angles, web-length integrals), the master's upstream
@@ -103,6 +106,7 @@ BREAK_TENSION, BREAK_DANCER = 1, 2  # how the monitor detected a break
 O_NOISE = 9  # 1 if measurements carry noise
 O_NEED_EQ = 10  # 1 if a controller needs the reference state every tick
 O_BREAK = 11  # 1 if the web breaks in this run (docs/winder.md W5): the break monitor is on
+O_KV = 12  # 1 if a span is Kelvin-Voigt: the rollers and loadcells feel s + τ ds/dt
 
 # kernel status codes; with each failure the kernel returns where it happened: the span
 # (strength, runaway stretch), node (runaway speed) or drive (runaway motor speed), else -1

@@ -19,7 +19,7 @@ from webline.physics.roll import web_inertia
 from webline.physics.roller import COULOMB_SMOOTHING
 from webline.sim import dancer_linear as dancers
 from webline.sim import layout as L
-from webline.sim import winder
+from webline.sim import viscoelastic, winder
 from webline.sim.fastest import spectral_radius_bound
 from webline.sim.plan import Plan, compile_plan
 
@@ -95,7 +95,7 @@ def _plant(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
     _drive_block(a, plan, op, wn, wt, wt + n_d)
     dancers.plant_rows(a, e, plan, t, wt + n_d + 2 * n_c)
     c = np.zeros((n_s + n_n, n))
-    c[:n_s, ws:ws + n_s] = np.eye(n_s)
+    c[:n_s] = viscoelastic.felt_rows(plan, a, e)  # T = s (+ τ ds/dt, Kelvin-Voigt)
     c[n_s:, wn:wn + n_n] = np.diag(r)
     return a, b, e, c
 
@@ -352,8 +352,9 @@ def _linear_model(plan: Plan, op: OperatingPoint, loop: Literal["open", "closed"
     used = [j for j in range(2 * len(line.drives))
             if pi[j // 2] and (j % 2 == 0 or tension[j // 2])]
     ki, gx, gi, gr = ki[:, used], gx[used], gi[np.ix_(used, used)], gr[used]
+    (kx, fk), (gx, fg) = (viscoelastic.measured(plan, g, c[:line.n_spans], e) for g in (kx, gx))
     a_cl = np.block([[a + b @ kx, b @ ki], [gx, gi]])
-    b_cl = np.block([[b @ kr, e], [gr, np.zeros((gr.shape[0], 1))]])
+    b_cl = np.block([[b @ kr, e + b @ fk], [gr, fg]])
     c_cl = np.hstack([c, np.zeros((c.shape[0], gi.shape[0]))])
     states += [f"{line.node_name(line.drives[j // 2])}_{('speed', 'tension')[j % 2]}_integral"
                for j in used]

@@ -277,10 +277,12 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         web[L.W_NOISE_T], web[L.W_NOISE_V], web[L.W_SEED] = noise.tension, noise.speed, noise.seed
         noisy = noise.tension > 0 or noise.speed > 0
     need_eq = bool(np.any(drives[:, L.D_FAMILY] != L.FAMILY_PI))
-    span_table = np.array([[s.length, 1.0 / s.length, 0.0] for s in spec.spans])
+    span_table = np.array([[s.length, 1.0 / s.length, 0.0, s.retardation or 0.0]
+                           for s in spec.spans])
     breaks = winder.break_columns(line, span_table, web)
+    viscoelastic = bool(np.any(span_table[:, L.S_TAU] > 0.0))
     offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
-                        off_tr, noisy, need_eq, breaks], dtype=np.int64)
+                        off_tr, noisy, need_eq, breaks, viscoelastic], dtype=np.int64)
     wound = np.array([[d.amplitude, d.frequency, d.phase] for d in spec.disturbances
                       if isinstance(d, WoundInRipple)]).reshape(-1, 3)
     ripple = np.array([[line.drives.index(_node(line, d.roller)), d.amplitude, d.frequency,

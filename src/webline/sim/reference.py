@@ -1,6 +1,8 @@
 """Reference path: the same plant and sampled controllers, the plant integrated by scipy's
 adaptive-step solvers between controller ticks. Slow (one solver restart per tick); it exists
-to measure the accuracy of the compiled fixed-step path."""
+to measure the accuracy of the compiled fixed-step path. A web break (docs/winder.md W5) is
+applied at the tick the kernel applies it, and the break monitor runs in the same
+controller tick."""
 
 from __future__ import annotations
 
@@ -50,10 +52,21 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
                    nodes, spans, drives, web, dy, work)
         return dy
 
+    n_s = spans.shape[0]
+    saved = np.empty(n_s)
     for j in range(n_ticks + 1):
         t = j * plan.dt
+        for k in range(n_s if offsets[L.O_BREAK] else 0):  # as the kernel: a broken span
+            if t >= spans[k, L.S_BREAK] and drag[2 * nodes.shape[0] + k] == 0.0:
+                drag[2 * nodes.shape[0] + k], x[k] = 1.0, 0.0  # no tension, web lost
+        if offsets[L.O_KV]:  # as the kernel: controllers measure the felt tension
+            kernel.felt_tensions(kernel.wound_in(t, web, wound), x, cmd, drag, slipping, ns,
+                                 ds, offsets, nodes, spans, drives, web, np.empty_like(x),
+                                 work, saved)
         control_tick(j, plan.dt, x, istate, ns, ds, offsets, nodes, drives, web, prof_t,
                      prof_v, prof_off, ripple, out, refs, span_ref, v_ref, a_ref)
+        if offsets[L.O_KV]:
+            x[:n_s] = saved
         kernel.update_slip(x, slipping, ns, offsets, nodes, web)
         rows.append(np.concatenate(([t], x, out.ravel(), istate[:, L.I_FRICTION],
                                      istate[:, L.I_RADIUS], slipping)))
@@ -68,4 +81,5 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
         sol = solve_ivp(derivative, (t, t + plan.dt), x, method=method, rtol=rtol, atol=atol)
         x = sol.y[:, -1].copy()
     return _result(plan, np.array(rows), None,
-                   {"duration": duration, "dt": plan.dt, "substeps": 0, "record_every": 1})
+                   {"duration": duration, "dt": plan.dt, "substeps": 0, "record_every": 1},
+                   (float(istate[0, L.I_DETECT]), int(istate[0, L.I_METHOD])))

@@ -53,7 +53,7 @@ class Result:
     failure: Failure | None = None  #: why the run stopped early (None: it ran to the end)
     settings: dict[str, float] = field(default_factory=dict)
     #: the web-break monitor at the end (docs/winder.md W5): time [s] it detected a break
-    #: (-1: none) and how (``layout.BREAK_TENSION``, ``BREAK_DANCER``)
+    #: (-1: none) and how (``layout.BREAK_TENSION``, ``BREAK_DANCER``, ``BREAK_DIAMETER``)
     break_monitor: tuple[float, int] = (-1.0, 0)
 
     # --- verdict -------------------------------------------------------------------------
@@ -128,7 +128,12 @@ class Result:
 
     @cached_property
     def tension(self) -> np.ndarray:
-        """Span tensions [N], shape (time, span)."""
+        """Span tensions [N], shape (time, span): what the rollers feel (a Kelvin-Voigt
+        span's stretch plus its damper, ``sim.viscoelastic``)."""
+        if self.plan.offsets[L.O_KV]:
+            from webline.sim.viscoelastic import felt_tension
+
+            return felt_tension(self.plan, self.time, self.states, self.slipping)
         return np.maximum(self.stretch, 0.0)
 
     @cached_property

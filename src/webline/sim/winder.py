@@ -107,4 +107,5 @@ def break_columns(line: Line, spans: np.ndarray, web: np.ndarray) -> bool:
         for k in zone.spans:
             spans[k, L.S_BREAK] = min(spans[k, L.S_BREAK], b.at)
         web[L.W_BTHRESH], web[L.W_BSTOP] = b.threshold, b.stop_time
+        web[L.W_BDIAM] = b.diameter_threshold
     return bool(breaks)

@@ -11,7 +11,8 @@ from webline.spec.winder import WebBreak
 from webline.verdict import Finding
 
 METHODS = {L.BREAK_TENSION: "tension below its threshold",
-           L.BREAK_DANCER: "dancer at its end stop"}
+           L.BREAK_DANCER: "dancer at its end stop",
+           L.BREAK_DIAMETER: "diameter calculated running the wrong way"}
 
 
 def break_findings(line: Line, time: np.ndarray, speed: np.ndarray,
@@ -41,8 +42,10 @@ def break_findings(line: Line, time: np.ndarray, speed: np.ndarray,
                     "largest_speed_after_stop_m_per_s": residual}
         stopped = (f"ramped to a stop by t = {stop:.4g} s, torque off" if after.any()
                    else f"ramping to a stop by t = {stop:.4g} s (after the run)")
+        found = (f"detected by {METHODS[method]} after {1000 * delay:.3g} ms" if delay >= 0.0
+                 else f"but the monitor had already tripped by {METHODS[method]} at "
+                 f"t = {detected:.4g} s, before it (a false alarm)")
         out.append(Finding("warning", "web_break", b.span,
-                           f"web break in {b.span} at t = {b.at:.4g} s detected by "
-                           f"{METHODS[method]} after {1000 * delay:.3g} ms; {stopped}",
+                           f"web break in {b.span} at t = {b.at:.4g} s {found}; {stopped}",
                            b.at, details))
     return out

@@ -39,13 +39,14 @@ def open_loop_command(d: int, direction: float, radius: float, tension_ref: floa
 
 @jit
 def break_monitor(t: float, x: np.ndarray, istate: np.ndarray, ns: np.ndarray,
-                  ds: np.ndarray, nodes: np.ndarray, web: np.ndarray,
+                  ds: np.ndarray, nodes: np.ndarray, drives: np.ndarray, web: np.ndarray,
                   refs: np.ndarray) -> float:
-    """Web-break monitor and reaction (W5), once per tick before the controllers: detect a
-    loadcell tension below the threshold x its reference, or a dancer at an end stop (the
-    first found is kept with its time in ``istate``; every zone's loadcell counts, also where
-    a dancer controls the zone); once detected, return the factor
-    [0, 1] of the line-speed ramp to a stop (1 before)."""
+    """Web-break monitor and reaction (W5), once per tick before the controllers and after
+    the diameter calculators: detect a loadcell tension below the threshold x its reference,
+    a dancer at an end stop, or a speed-ratio diameter running the wrong way (the first found
+    is kept with its time in ``istate``; every zone's loadcell counts, also where a dancer
+    controls the zone); once detected, return the factor [0, 1] of the line-speed ramp to a
+    stop (1 before)."""
     if istate[0, L.I_DETECT] < 0.0:
         method = 0
         for d in range(ds.shape[0]):
@@ -59,6 +60,11 @@ def break_monitor(t: float, x: np.ndarray, istate: np.ndarray, ns: np.ndarray,
             if state >= 0 and method == 0 and (x[state] <= 0.0
                                                or x[state] >= nodes[i, L.N_DTRAVEL]):
                 method = L.BREAK_DANCER
+        for d in range(ds.shape[0]):  # every calculator keeps its extreme, found or not
+            watched = drives[d, L.D_DCALC] == L.DCALC_SPEED_RATIO and web[L.W_BDIAM] > 0.0
+            unwind = ns[ds[d, L.DS_NODE], L.NS_KIND] == L.KIND_UNWIND
+            if watched and diameter_runs_off(d, unwind, web[L.W_BDIAM], istate) and method == 0:
+                method = L.BREAK_DIAMETER
         if method == 0:
             return 1.0
         for d in range(ds.shape[0]):
@@ -66,3 +72,19 @@ def break_monitor(t: float, x: np.ndarray, istate: np.ndarray, ns: np.ndarray,
             istate[d, L.I_METHOD] = method
     factor = 1.0 - (t - istate[0, L.I_DETECT]) / web[L.W_BSTOP]
     return factor if factor > 0.0 else 0.0
+
+
+@jit
+def diameter_runs_off(d: int, unwind: bool, threshold: float, istate: np.ndarray) -> bool:
+    """True when drive ``d``'s calculated diameter has moved the wrong way (an unwind's
+    grown, a rewind's shrunk) by more than ``threshold`` [m] from its extreme so far, as the
+    speed-ratio diameter runs off when the web is lost: an unwind's spindle slows under its
+    braking torque while the line runs on (R = v_line / ω grows), a rewind's spins up. Keeps
+    the extreme radius in ``istate``."""
+    radius = istate[d, L.I_RADIUS]
+    extreme = istate[d, L.I_REXTREME]
+    if extreme <= 0.0 or (radius < extreme if unwind else radius > extreme):
+        extreme = radius
+    istate[d, L.I_REXTREME] = extreme
+    grown = 2.0 * (radius - extreme) if unwind else 2.0 * (extreme - radius)
+    return grown > threshold

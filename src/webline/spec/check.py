@@ -112,6 +112,7 @@ def check_spec(spec: LineSpec, file: str) -> None:
     check_dancers(rollers, spec.spans, zones(spec), fail)
     check_taper(getattr(rollers[-1], "taper", None), f"rollers[{len(rollers) - 1}].taper", fail)
     for k, span in enumerate(spec.spans):
+        _check_span_model(spec, k, fail)
         if span.tension is not None:
             for value in profile_values(span.tension):
                 if value >= ea:
@@ -135,6 +136,23 @@ def check_spec(spec: LineSpec, file: str) -> None:
             if radius is not None and radius <= roll.core_radius:
                 fail(f"{key}.{attr}", f"must be above the core radius {roll.core_radius:g} m")
     _check_profiles(spec, fail)
+
+
+def _check_span_model(spec: LineSpec, k: int, fail: Fail) -> None:
+    """A Kelvin-Voigt span needs its retardation time; an elastic one has none; a roller
+    the web may slip over reads the tensions on both sides, which webline takes as elastic
+    (the slip model would otherwise need the tension rate it sets itself)."""
+    span = spec.spans[k]
+    if span.model == "kelvin-voigt" and span.retardation is None:
+        fail(f"spans[{k}].retardation", "a kelvin-voigt span needs its retardation time "
+             "(tau = viscosity / modulus, e.g. '5 ms')")
+    if span.model == "elastic" and span.retardation is not None:
+        fail(f"spans[{k}].retardation", "only a span with model = 'kelvin-voigt' has one")
+    for i in (k, k + 1):
+        contact = getattr(spec.rollers[i], "contact", None)
+        if span.model != "elastic" and contact is not None and contact.type == "traction":
+            fail(f"spans[{k}].model", f"a kelvin-voigt span next to a traction contact "
+                 f"(rollers[{i}]) is not modelled; use an elastic span there")
 
 
 def _check_profiles(spec: LineSpec, fail: Fail) -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import difflib
+import math
 import re
 import tomllib
 from importlib import resources
@@ -15,8 +16,9 @@ from pydantic import BaseModel, ValidationError
 from webline.errors import LineFileError, Problem
 from webline.spec.check import check_spec
 from webline.spec.locate import key_lines, locate
+from webline.spec.quantities import WEB_WIDTH
 from webline.spec.schema import LineSpec
-from webline.units import clip, short
+from webline.units import clip, short, to_si
 
 BUILTIN_PACKAGE = "webline.data.lines"
 
@@ -136,6 +138,17 @@ def _problems(exc: ValidationError, data: Any) -> list[Problem]:
     return out
 
 
+def _web_width(data: dict[str, Any]) -> float | None:
+    """The web's width [m] as the file gives it, or None where it is missing or wrong (the
+    schema reports that at web.width)."""
+    web = data.get("web")
+    try:
+        width = to_si(web.get("width") if isinstance(web, dict) else None, "length")
+    except ValueError:
+        return None
+    return width if 0.0 < width < math.inf else None
+
+
 def spec_from_dict(data: Any, file: str = "<dict>") -> LineSpec:
     """Validate a plain dict (as read from TOML) into a checked ``LineSpec``.
 
@@ -143,8 +156,8 @@ def spec_from_dict(data: Any, file: str = "<dict>") -> LineSpec:
     checks across keys, which need a valid schema)."""
     if not isinstance(data, dict):
         raise LineFileError(file, "(top level)", "a line file must be a table of keys")
-    try:
-        spec = LineSpec.model_validate(data)
+    try:  # forces per width (pli, N/m) need the web's width: read it first
+        spec = LineSpec.model_validate(data, context={WEB_WIDTH: _web_width(data)})
     except ValidationError as exc:
         raise LineFileError.of(file, _problems(exc, data)) from None
     except (TypeError, ValueError, ArithmeticError, RecursionError) as exc:  # defensive

@@ -20,7 +20,7 @@ from pydantic import (
 )
 
 from webline.spec.ranges import numbers_of, range_for
-from webline.units import to_si
+from webline.units import per_width_to_si, to_si
 
 
 class Strict(BaseModel):
@@ -41,19 +41,37 @@ class Strict(BaseModel):
         return value
 
 
+#: validation context key of the web's width [m] (``spec.load.spec_from_dict``), with which a
+#: force given per width of web (N/m, N/cm, pli) becomes a force [N]
+WEB_WIDTH = "web_width"
+
+
 def si(kind: str, bound: str | None = None) -> BeforeValidator:
     """Validator turning a number or a unit string into an SI float of dimension ``kind``;
-    ``bound`` is '>0' or '>=0'."""
+    ``bound`` is '>0' or '>=0'. A force may also be given per width of web (``"1 pli"``,
+    ``"175 N/m"``): it is multiplied by the web's width from the validation context."""
 
-    def parse(value: object) -> float:
-        number = to_si(value, kind)
+    def check(number: float, value: object) -> float:
         if bound == ">0" and not number > 0:
             raise ValueError(f"must be > 0, got {value!r}")
         if bound == ">=0" and not number >= 0:
             raise ValueError(f"must be >= 0, got {value!r}")
         return number
 
-    return BeforeValidator(parse)
+    def parse(value: object) -> float:
+        return check(to_si(value, kind), value)
+
+    def parse_force(value: object, info: ValidationInfo) -> float:
+        per_width = per_width_to_si(value)
+        if per_width is None:
+            return parse(value)
+        width = (info.context or {}).get(WEB_WIDTH)
+        if width is None:
+            raise ValueError(f"{value!r} is a force per width of web, and no web width is "
+                             "known here (give web.width, or the force in N)")
+        return check(per_width * width, value)
+
+    return BeforeValidator(parse_force if kind == "force" else parse)
 
 
 Length = Annotated[float, si("length", ">0")]

@@ -130,6 +130,8 @@ RANGES: dict[str, Range] = {
     "web_break.at": TIME_RANGE,
     "web_break.threshold": _r("dimensionless", (0.0, 1.0), (0.05, 0.8), "of the reference"),
     "web_break.stop_time": _r("time", (1e-3, 1e4), (0.1, 600.0), "an emergency ramp"),
+    "web_break.diameter_threshold": _r(LEN, (0.0, 10.0), (1e-4, 0.1),
+                                       "a few mm, above the calculator's noise"),
     # drives
     "drive.ratio": _r("dimensionless", (1e-3, 1e3), (0.02, 100.0), "gearboxes up to 100:1"),
     "drive.torque_limit": _r(TORQUE, (1e-4, 1e7), (0.01, 1e5), "servo motors to winder drives"),
@@ -187,6 +189,9 @@ RANGES: dict[str, Range] = {
     "span.length": _r(LEN, (1e-3, 1000.0), (0.05, 50.0),
                       "spans of a few cm to dryer sections; a span sets the stiffness EA/L"),
     "span.tension": TENSION_RANGE,
+    "span.retardation": _r("time", (0.0, 10.0), (0.0, 0.1),
+                           "creep of polymer films within a span's transit; a long one is "
+                           "a stiff damper that shortens the integration step"),
     "line.speed": SPEED_RANGE,
     "scenario.speed": SPEED_RANGE,
     "control.sample_rate": _r("frequency", (1.0, 1e6), (50.0, 20000.0),

@@ -331,11 +331,15 @@ RollerSpec = Annotated[
 
 
 class SpanSpec(Strict):
-    """Free web span between two consecutive rollers. ``tension`` marks its zone's loadcell."""
+    """Free web span between two consecutive rollers. ``tension`` marks its zone's loadcell.
+    ``model``: ``"elastic"`` (T = EA ε) or ``"kelvin-voigt"`` (T = EA (ε + τ dε/dt), τ the
+    ``retardation`` time η/E [s]; docs/winder.md, Viscoelastic span)."""
 
     name: Name | None = None
     length: Length
     tension: TensionProfile | None = None
+    model: Literal["elastic", "kelvin-voigt"] = "elastic"
+    retardation: TimeNonNeg | None = None
 
 
 class ControlSpec(Strict):

@@ -83,15 +83,18 @@ class WebBreak(Strict):
     """A web break (docs/winder.md, W5): at time ``at`` [s] span ``span`` breaks; every span
     of its tension zone then carries no tension (the free end runs through the idle rollers
     up to the driven ones that grip it). The line's break monitor is on in a run with a
-    break: it detects a loadcell tension below ``threshold`` x its reference, or a dancer at
-    an end stop, and reacts by ramping the line to a stop in ``stop_time`` [s], tension loops
-    frozen, then switching every torque off."""
+    break: it detects a loadcell tension below ``threshold`` x its reference, a dancer at
+    an end stop, or the speed-ratio diameter of a roll running the wrong way (an unwind's
+    growing, a rewind's shrinking) by more than ``diameter_threshold`` [m] (0: off) beyond
+    its extreme so far, and reacts by ramping the line to a stop in ``stop_time`` [s],
+    tension loops frozen, then switching every torque off."""
 
     type: Literal["web_break"]
     span: Annotated[str, Field(min_length=1, max_length=100)]
     at: Annotated[float, si("time", ">=0")]
     threshold: Fraction = 0.2
     stop_time: Annotated[float, si("time", ">0")] = 2.0
+    diameter_threshold: Annotated[float, si("length", ">=0")] = 0.005
 
 
 class BreakEvent(WebBreak):

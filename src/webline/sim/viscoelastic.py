@@ -1,0 +1,73 @@
+"""Kelvin-Voigt spans outside the compiled loop (docs/winder.md, Viscoelastic span): the
+tension the rollers feel in recorded results and in the linear model.
+
+A span's state stays its stretch s = EA ε, which mass conservation moves (thesis 6.8, the
+upstream span's strain transported); the rollers, loadcells and dancers feel
+T = s + τ ds/dt, τ the span's retardation time (``layout.S_TAU``, 0 for an elastic span).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from webline.sim import kernel
+from webline.sim import layout as L
+
+if TYPE_CHECKING:
+    from webline.sim.plan import Plan
+
+
+def felt_tension(plan: Plan, time: np.ndarray, states: np.ndarray,
+                 slipping: np.ndarray) -> np.ndarray:
+    """Tension [N] each span's rollers feel at each record (time [s], states, stick/slip
+    states), evaluated by the kernel's own right-hand side: s + τ ds/dt while taut, 0 slack
+    or broken."""
+    ns, ds, offsets = plan.structure()
+    n_n = plan.nodes.shape[0]
+    te = 2 * n_n
+    work, drag = np.zeros(3 * n_n), np.zeros(3 * n_n)
+    dx, cmd = np.empty(states.shape[1]), np.zeros(plan.drives.shape[0])
+    slip = np.ascontiguousarray(slipping, dtype=np.int64)
+    out = np.empty((len(time), n_n - 1))
+    for j, t in enumerate(time):
+        if offsets[L.O_BREAK]:  # the kernel's flag: set from the tick the span breaks
+            drag[te:te + n_n - 1] = t >= plan.spans[:, L.S_BREAK]
+        kernel.rhs(kernel.wound_in(t, plan.web, plan.wound_ripple),
+                   np.ascontiguousarray(states[j]), cmd, drag, slip[j], ns, ds, offsets,
+                   plan.nodes, plan.spans, plan.drives, plan.web, dx, work)
+        out[j] = work[te:te + n_n - 1]
+    return out
+
+
+def felt_rows(plan: Plan, a: np.ndarray, e: np.ndarray) -> np.ndarray:
+    """Rows M [N per state unit] of the felt tensions T = M x (+ τ E t0) of a linear plant
+    dx = A x + E t0 whose first n_s states are the span stretches and whose other rows were
+    written with the felt tensions in the stretch columns; substitutes T = s + τ (A_s x +
+    E_s t0) into those rows of ``a`` and ``e`` in place (span rows keep the stretch: mass
+    conservation transports strain). Elastic lines are left untouched (M = [I 0])."""
+    n_s = plan.spans.shape[0]
+    tau = plan.spans[:, L.S_TAU]
+    rows = np.eye(n_s, a.shape[1])
+    if not np.any(tau > 0.0):
+        return rows
+    extra, extra_e = tau[:, None] * a[:n_s], tau * e[:n_s, 0]
+    coef = a[n_s:, :n_s].copy()  # what the other rows take from the span tensions
+    a[n_s:] += coef @ extra
+    e[n_s:, 0] += coef @ extra_e
+    return rows + extra
+
+
+def measured(plan: Plan, gain: np.ndarray, felt: np.ndarray,
+             e: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A controller's gains ``gain`` (rows over the plant states, span tensions in the first
+    n_s columns) acting on the felt tensions ``felt`` = M (``felt_rows``) instead, and the
+    column they then take from the wound-in tension through τ E_s (plant ``e``)."""
+    n_s = plan.spans.shape[0]
+    tau = plan.spans[:, L.S_TAU]
+    if not np.any(tau > 0.0):
+        return gain, np.zeros((gain.shape[0], 1))
+    out = gain.copy()
+    out[:, :felt.shape[1]] += gain[:, :n_s] @ (felt - np.eye(n_s, felt.shape[1]))
+    return out, gain[:, :n_s] @ (tau * e[:n_s, 0])[:, None]
