@@ -69,7 +69,8 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
             x[:n_s] = saved
         kernel.update_slip(x, slipping, ns, offsets, nodes, web)
         rows.append(np.concatenate(([t], x, out.ravel(), istate[:, L.I_FRICTION],
-                                     istate[:, L.I_RADIUS], slipping)))
+                                     istate[:, L.I_RADIUS], slipping,
+                                     istate[:, [L.I_KT, L.I_KV, L.I_BIAS]].ravel())))
         if j == n_ticks:
             break
         for i in range(nodes.shape[0]):
