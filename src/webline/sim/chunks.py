@@ -38,7 +38,15 @@ def _plain_attrs(ds: Any) -> Any:
 def _chunk_task(run: Callable[..., Any], line: Line, cases: list[dict[str, object]],
                 offset: int, options: dict[str, Any]) -> Any:
     """Run one chunk with ``run`` (``sweep.run_cases``; in a worker or here), its cases
-    numbered from ``offset``."""
+    numbered from ``offset``. On a Dask worker the chunk uses the worker's threads, not every
+    core of the machine (its processes share the cores)."""
+    if "workers" not in options:
+        try:
+            from distributed import get_worker
+
+            options = {**options, "workers": get_worker().state.nthreads}
+        except (ImportError, ValueError, AttributeError):
+            pass  # not on a Dask worker
     ds = run(line, cases, **options)
     return _plain_attrs(ds.assign_coords(case=ds.case.values + offset))
 
