@@ -203,7 +203,8 @@ def main() -> None:
         print(f"    {cases} cases in chunks of {chunk}: {dask * 1e3:.2f} ms/case, local batch on "
               f"2 threads with the same chunks {local * 1e3:.2f} ms/case")
         print(f"    efficiency {efficiency:.2f}   (goal >= 0.8: "
-              f"{'met' if efficiency >= 0.8 else 'not met'})")
+              f"{'met' if efficiency >= 0.8 else 'not met'}); against (b)'s batch without "
+              f"chunk files {b_wall / dask:.2f}")
 
     # (d) memory of a large sweep, in a fresh process
     child = subprocess.run([sys.executable, __file__, "--memory-child", str(memory_cases)],
