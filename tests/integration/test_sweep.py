@@ -112,6 +112,7 @@ def test_blocks_overlapping_on_threads_give_the_one_thread_results(monkeypatch) 
                     progress=lambda d, n: done.append(d))
     one = run_cases("hswl", cases, duration=0.5, workers=1)
     assert done == [1, 3, 5, 7]
+    assert run_cases("hswl", [], duration=0.5, workers=2).sizes["case"] == 0  # no block at all
     for name in ("web.ea", "status", *METRICS):
         np.testing.assert_array_equal(two[name].values, one[name].values, err_msg=name)
 

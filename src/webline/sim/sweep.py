@@ -117,7 +117,7 @@ def run_cases(line: Line | str | Path, cases: Sequence[Mapping[str, object]], *,
         for block in blocks:
             built = build(block)
             collect(block, built, run(built))
-    else:
+    elif blocks:
         # the compiled batch of block b runs (GIL released) while this thread collects
         # block b - 1 and builds block b + 1
         with ThreadPoolExecutor(1) as runner:
