@@ -43,11 +43,12 @@ STATUS_INTERRUPTED = -1
 MAX_SUBSTEPS = 200
 
 
-def choose_substeps(plan: Plan) -> int:
+def choose_substeps(plan: Plan, rate: float | None = None) -> int:
     """RK4 sub-steps per controller period ``plan.dt`` [s]: enough for the plan's fastest mode
-    and for the spans round any slipping roller (``physics.slip.slip_rate``)."""
+    (``rate`` [1/s] if already known, else ``linearize.fastest_mode``) and for the spans round
+    any slipping roller (``physics.slip.slip_rate``)."""
     line, dt = plan.line, plan.dt
-    rate = fastest_mode(plan)
+    rate = fastest_mode(plan) if rate is None else rate
     for i, rate_i, key in slip_rates(line):
         if dt * rate_i / STEP_LIMIT > MAX_SUBSTEPS:
             raise LineFileError(line.source, key, (

@@ -14,7 +14,6 @@ import math
 import time
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -22,31 +21,21 @@ import numpy as np
 
 from webline.line import Line, load_line
 from webline.sim import batch as B
-from webline.sim import kernel
 from webline.sim.batch import BatchOutput, run_batch
+from webline.sim.cases import Built, build_cases, case_value
 from webline.sim.distributions import draw
 from webline.sim.failure import kernel_failure
 from webline.sim.metrics import METRICS
-from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
-from webline.sim.simulate import MAX_RECORDS, choose_substeps
+from webline.sim.plan import Plan, compile_plan
+from webline.sim.simulate import MAX_RECORDS
 from webline.sim.stability import stability_findings
-from webline.spec.paths import split_path
 from webline.spec.ranges import argument
 from webline.verdict import Finding, Level, Verdict
 
 
 def spec_value(line: Line, path: str) -> object:
     """The value at ``path`` in ``line``'s validated spec (SI numbers for quantities)."""
-    node: Any = line.spec.model_dump(exclude_none=True)
-    for part in split_path(path):
-        if isinstance(node, list):
-            if isinstance(part, str) and not part.lstrip("-").isdigit():
-                node = next(item for item in node if item.get("name") == part)
-            else:
-                node = node[int(part)]
-        else:
-            node = node[str(part)]
-    return node
+    return case_value(line, path)
 
 
 def _coordinate(values: list[object]) -> np.ndarray:
@@ -56,37 +45,21 @@ def _coordinate(values: list[object]) -> np.ndarray:
         return np.array([str(v) for v in values])
 
 
-#: Cases built and run together: plans are built for one block while the previous block
-#: runs (the compiled batch releases the GIL), and dropped after it, so memory stays bounded.
+#: Cases built and run together, at most: their plans are built while the block before runs
+#: in compiled code (which releases the GIL), and dropped after it, so memory stays bounded.
 BLOCK = 256
+#: The first block's size: nothing runs while it is built, so it is small; blocks then
+#: double up to ``BLOCK``.
+FIRST_BLOCK = 16
 
 
-@dataclass
-class _Built:
-    """Plans and initial states of a block of cases, ready for ``run_batch``."""
-
-    plans: list[Plan]
-    states: list[tuple[np.ndarray, np.ndarray, np.ndarray]]
-    n_ticks: list[int]
-    substeps: list[int]
-    every: list[int]
-    seconds: float
-
-
-def _build(base: Line, cases: Sequence[Mapping[str, object]], duration: float) -> _Built:
-    started = time.perf_counter()
-    built = _Built([], [], [], [], [], 0.0)
-    for changes in cases:
-        plan = compile_plan(base.replace(dict(changes)) if changes else base)
-        x, istate = equilibrium_plan_state(plan)
-        built.plans.append(plan)
-        built.states.append((x, istate, kernel.initial_slip(plan, x)))
-        ticks = max(1, round(duration / plan.dt))
-        built.n_ticks.append(ticks)
-        built.substeps.append(choose_substeps(plan))
-        built.every.append(max(1, math.ceil((ticks + 1) / MAX_RECORDS)))  # as simulate's
-    built.seconds = time.perf_counter() - started
-    return built
+def blocks_of(n: int) -> list[range]:
+    """Consecutive ranges covering ``n`` cases: ``FIRST_BLOCK``, then doubling to ``BLOCK``."""
+    out, lo, size = [], 0, FIRST_BLOCK
+    while lo < n:
+        out.append(range(lo, min(n, lo + size)))
+        lo, size = lo + size, min(BLOCK, 2 * size)
+    return out
 
 
 def run_cases(line: Line | str | Path, cases: Sequence[Mapping[str, object]], *,
@@ -97,7 +70,7 @@ def run_cases(line: Line | str | Path, cases: Sequence[Mapping[str, object]], *,
     (default: the scenario's, else 10 s); the Dataset of ``sweep``. ``record`` [s]: keep the
     span tensions at that interval (``tension`` over case, time, span). ``workers``: threads
     (default: every core). ``progress``, if given, is called with (cases done, cases) after
-    each block of ``BLOCK`` cases."""
+    each block of cases (``blocks_of``)."""
     base = load_line(line)
     if scenario is not None:
         base = base.with_scenario(scenario)
@@ -116,48 +89,68 @@ def run_cases(line: Line | str | Path, cases: Sequence[Mapping[str, object]], *,
         n_trace = ticks // trace_every + 1
     out = _Collector(base_plan.line, len(cases), list(dict.fromkeys(p for c in cases for p in c)),
                      n_trace)
-    blocks = [range(lo, min(len(cases), lo + BLOCK)) for lo in range(0, len(cases), BLOCK)]
     seconds = {"build": 0.0, "loop": 0.0, "collect": 0.0}
-    # one worker: build and run in turn (one core); more: build the next block meanwhile
-    with ThreadPoolExecutor(1) as builder:
-        future = builder.submit(_build, base, [cases[c] for c in blocks[0]], duration)
-        for b, block in enumerate(blocks):
-            built = future.result()
-            seconds["build"] += built.seconds
-            if b + 1 < len(blocks):
-                future = builder.submit(_build, base, [cases[c] for c in blocks[b + 1]],
-                                        duration)
-                if workers == 1:
-                    future.result()
-            _run_block(built, block, out, trace_every, n_trace, workers, seconds)
-            if progress is not None:
-                progress(block.stop, len(cases))
+
+    def build(block: range) -> Built:
+        built = build_cases(base, [cases[c] for c in block], duration)
+        seconds["build"] += built.seconds
+        return built
+
+    def run(built: Built) -> list[tuple[list[int], BatchOutput]]:
+        started = time.perf_counter()
+        outputs = _run_block(built, trace_every, n_trace, workers)
+        seconds["loop"] += time.perf_counter() - started
+        return outputs
+
+    def collect(block: range, built: Built, outputs: list[tuple[list[int], BatchOutput]],
+                ) -> None:
+        started = time.perf_counter()
+        for idx, result in outputs:
+            out.add([block[j] for j in idx], [built.plans[j] for j in idx],
+                    [built.substeps[j] for j in idx], result)
+        seconds["collect"] += time.perf_counter() - started
+        if progress is not None:
+            progress(block.stop, len(cases))
+
+    blocks = blocks_of(len(cases))
+    if workers == 1:  # one core: build, run and collect in turn
+        for block in blocks:
+            built = build(block)
+            collect(block, built, run(built))
+    elif blocks:
+        # the compiled batch of block b runs (GIL released) while this thread collects
+        # block b - 1 and builds block b + 1
+        with ThreadPoolExecutor(1) as runner:
+            built = build(blocks[0])
+            pending = (blocks[0], built, runner.submit(run, built))
+            for block in blocks[1:]:
+                built = build(block)
+                done_block, done_built, future = pending
+                outputs = future.result()
+                pending = (block, built, runner.submit(run, built))
+                collect(done_block, done_built, outputs)
+            collect(pending[0], pending[1], pending[2].result())
     ds = out.dataset(duration, trace_every * base_plan.dt)
-    # where the time went [s] (building overlaps the compiled batch of the block before)
+    # where the time went [s]; with more than one worker the three overlap
     ds.attrs.update({f"seconds_{k}": v for k, v in seconds.items()})
     return ds
 
 
-def _run_block(built: _Built, block: range, out: _Collector, trace_every: int, n_trace: int,
-               workers: int | None, seconds: dict[str, float]) -> None:
-    # cases of one structure and table shapes run in one batch
+def _run_block(built: Built, trace_every: int, n_trace: int, workers: int | None,
+               ) -> list[tuple[list[int], BatchOutput]]:
+    """Run a built block: cases of one structure and table shapes in one batch each; the
+    cases (indices into the block) and output of each batch."""
     groups: dict[tuple[object, ...], list[int]] = {}
     for j, plan in enumerate(built.plans):
         key = (*(a.tobytes() for a in plan.structure()), plan.wound_ripple.shape,
                plan.speed_ripple.shape, plan.prof_off.shape)
         groups.setdefault(key, []).append(j)
-    for idx in groups.values():
-        started = time.perf_counter()
-        result = run_batch([built.plans[j] for j in idx], [built.states[j] for j in idx],
-                           np.array([built.n_ticks[j] for j in idx]),
-                           np.array([built.substeps[j] for j in idx]),
-                           np.array([built.every[j] for j in idx]), trace_every, n_trace,
-                           workers)
-        ran = time.perf_counter()
-        out.add([block[j] for j in idx], [built.plans[j] for j in idx],
-                [built.substeps[j] for j in idx], result)
-        seconds["loop"] += ran - started
-        seconds["collect"] += time.perf_counter() - ran
+    return [(idx, run_batch([built.plans[j] for j in idx], [built.states[j] for j in idx],
+                            np.array([built.n_ticks[j] for j in idx]),
+                            np.array([built.substeps[j] for j in idx]),
+                            np.array([built.every[j] for j in idx]), trace_every, n_trace,
+                            workers))
+            for idx in groups.values()]
 
 
 def case_status(plan: Plan, out: BatchOutput, c: int) -> tuple[str, float]:
@@ -227,7 +220,7 @@ class _Collector:
         for j, (c, plan) in enumerate(zip(cases, plans, strict=True)):
             self.status[c], self.t_fail[c] = case_status(plan, out, j)
             for path in self.paths:
-                self.values[path][c] = spec_value(plan.line, path)
+                self.values[path][c] = case_value(plan.line, path)
         self.substeps[cases] = substeps
         if self.traces is not None:
             self.traces[cases] = out.traces
