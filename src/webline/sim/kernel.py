@@ -100,8 +100,8 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
             surface = work[sp + i]
             t_c = web[L.W_RHOA] * surface * surface
             work[sp + i] -= _slip_velocity(work[te + i - 1], work[te + i], nodes[i, L.N_WRAP],
-                                           nodes[i, L.N_MU], nodes[i, L.N_MUK],
-                                           nodes[i, L.N_SLIPB], t_c, slipping[i])
+                                           nodes[i, L.N_MU], nodes[i, L.N_MUK], nodes[i, L.N_SLIPB],
+                                           t_c, slipping[i], nodes[i, L.N_NIPK])  # nip: Coulomb
 
     t_in = t0
     for k in range(n_spans):
@@ -169,8 +169,8 @@ def update_slip(x: np.ndarray, slipping: np.ndarray, ns: np.ndarray, offsets: np
             continue
         surface = node_arm(i, x, ns, offsets, nodes) * x[offsets[L.O_OMEGA] + i]
         slipping[i] = _slip_state(_tension(x[i - 1]), _tension(x[i]), nodes[i, L.N_WRAP],
-                                  nodes[i, L.N_MU], nodes[i, L.N_MUK],
-                                  web[L.W_RHOA] * surface * surface, slipping[i])
+                                  nodes[i, L.N_MU], nodes[i, L.N_MUK], web[L.W_RHOA] * surface
+                                  * surface, slipping[i], nodes[i, L.N_NIPS], nodes[i, L.N_NIPK])
 
 
 def initial_slip(plan: Plan, x: np.ndarray) -> np.ndarray:
