@@ -63,3 +63,30 @@ def test_cli_refuses_a_bad_nip_in_one_line(tmp_path):
     assert result.exit_code == 2
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and "rollers[1].nip" in lines[0] and "Traceback" not in result.output
+
+
+def test_show_and_the_schematic_show_the_nip():
+    """The roller table gains a nip column only for a line with a nip, with its load, grip and
+    the inertia it adds (0.08 (100/60)² = 0.2222 kg·m²); the schematic draws one more circle."""
+    from matplotlib.patches import Circle
+
+    from webline.report.describe import line_tables
+    from webline.report.display import Display
+    from webline.report.schematic import schematic
+
+    def rollers(line):
+        return next(t for t in line_tables(line, Display()) if t.key == "rollers")
+
+    converter = webline.load_line("converter")
+    table = rollers(converter)
+    assert table.columns[-1] == "nip"
+    infeed = table.rows[3][-1]
+    assert infeed.startswith("gripped, 1300 N;") and "adds 0.2222 kg·m²" in infeed
+    assert [row[-1] for row in table.rows].count("") == 7
+    assert "nip" not in rollers(webline.load_line("hswl")).columns
+
+    def circles(line):
+        return sum(isinstance(p, Circle) for p in schematic(line).axes[0].patches)
+
+    bare = converter.replace({"rollers.infeed.nip": None})
+    assert circles(converter) == circles(bare) + 1
