@@ -74,8 +74,8 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
     structure, the other tables its parameters (``webline.sim.layout``).
 
     Where the web slips over a roller (Ch. 5, E-5.3) the spans on both sides see the web
-    speed r ω - s, s from ``physics.slip.slip_velocity``; the roller still feels
-    r (T_out - T_in), which the friction transmits whether the web sticks or slips.
+    speed r ω - s, s from ``physics.slip.slip_velocity`` (with a traction nip's force); the
+    roller feels r (T_out - T_in), transmitted whether the web sticks or slips (winder.md N2).
 
     Physics as in ``webline.physics`` (span 6.8 with slack, rollers 6.9/6.11, rolls 6.1-6.6
     with J dω/dt = torque, motor lag 4.1k), written out with precomputed reciprocals because
