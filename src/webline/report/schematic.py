@@ -51,8 +51,9 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
     x = [i * SPACING for i in range(line.n_nodes)]
     fig = Figure(figsize=(max(8.0, 1.9 * line.n_nodes), 4.4), layout="constrained")
     ax = fig.add_subplot()
-    top = max(s + (2 * drawn_radius(r.nip.radius, largest) if getattr(r, "nip", None) else 0.0)
-              for r, s in zip(rollers, size, strict=True)) + 1.6  # room for nips on top
+    nips = [getattr(r, "nip", None) for r in rollers]
+    top = max(s + (0.0 if nip is None else 2 * drawn_radius(nip.radius, largest))
+              for nip, s in zip(nips, size, strict=True)) + 1.6  # room for nips on top
 
     for z, zone in enumerate(line.zones):
         left, right = x[zone.first], x[zone.last]
@@ -103,9 +104,9 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
         ax.text(x[i], below, literal(f"{roller.name}\n{display.text(roller.radius, 'length', 3)}"),
                 ha="center", va="top", fontsize=8)
 
-    nips = any(getattr(r, "nip", None) is not None for r in rollers)
-    ax.legend(handles=_legend(nips), loc="lower center", bbox_to_anchor=(0.5, -0.02),
-              ncol=8 if nips else 7, fontsize=7, frameon=False)
+    any_nip = any(nip is not None for nip in nips)
+    ax.legend(handles=_legend(any_nip), loc="lower center", bbox_to_anchor=(0.5, -0.02),
+              ncol=8 if any_nip else 7, fontsize=7, frameon=False)
     ax.set_xlim(-1.4, x[-1] + 2.4)  # room for the rewind drive's drive-train label
     ax.set_ylim(-3.6, top)
     ax.set_aspect("equal")
