@@ -58,8 +58,9 @@ def shaft_response(line: webline.Line, node: int) -> tuple[float, float]:
 
 def test_a_gripped_nip_adds_its_reflected_inertia_and_bearing_friction(converter):
     """Infeed roller R = 0.1 m, pressure roller R_n = 60 mm: the torque step accelerates the
-    roller as if its inertia were larger by exactly J_n (R/R_n)² = 0.08 (5/3)² = 0.2222 kg·m²,
-    and its viscous friction by b_n (R/R_n)² (rounding: 1e-12 relative)."""
+    roller as if its inertia were larger by exactly J_n (R/R_n)² = 0.08 (5/3)² = 0.2222 kg·m²
+    (1e-9: a difference of two right-hand sides), and its viscous friction by b_n (R/R_n)²
+    (1e-6: through a 0.1 % speed step)."""
     i = 3
     bare = converter.replace({"rollers.infeed.nip": None})
     with_nip = converter.replace({"rollers.infeed.nip": NIP})
