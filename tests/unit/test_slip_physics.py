@@ -229,3 +229,35 @@ def test_numba_compiles_each_scalar_function_alone(func, args):
     """Plain scalar maths: numba compiles each function by itself, same numbers as Python."""
     compiled = numba.njit(cache=False)(func)
     assert compiled(*args) == pytest.approx(func(*args), rel=1e-14)
+
+
+# --- a traction nip (docs/winder.md, Nip) -----------------------------------------------------
+
+
+def test_a_nip_widens_the_stick_band_by_its_capacity_on_both_sides():
+    """Capstan band of 100 N over μα = 0.3: Fs⁺ = 100 (1 - e^-0.3), Fs⁻ = 100 (e^0.3 - 1);
+    a nip of 2 μ_n N = 12 N moves both edges out by exactly 12 N."""
+    from webline.physics.slip import slip_state
+
+    fs_fwd, fs_back = 100 * (1 - math.exp(-0.3)), 100 * (math.exp(0.3) - 1)
+    for nip in (0.0, 12.0):
+        for f, slipping in ((fs_fwd + nip - 1e-9, 0), (fs_fwd + nip + 1e-9, 1),
+                            (-fs_back - nip + 1e-9, 0), (-fs_back - nip - 1e-9, 1)):
+            assert slip_state(100.0, 100.0 - f, 1.0, 0.3, 0.2, 0.0, 0, nip, 0.0) == slipping
+
+
+def test_a_slipping_nip_adds_its_coulomb_force():
+    """While slipping, the nip's 2 μ_n' N adds to the Coulomb force: s = (F - Fc - 2μ_n'N)/b,
+    the slip state returns to stuck inside the widened Coulomb band, and F·s stays >= 0."""
+    from webline.physics.slip import friction_force, slip_state, slip_velocity
+
+    t_in, wrap, mu, mu_k, b = 100.0, 1.0, 0.3, 0.2, 500.0
+    fc = (mu_k / mu) * t_in * (1 - math.exp(-mu * wrap))
+    nip_k = 8.0
+    for f in (fc + nip_k + 5.0, fc + nip_k + 50.0):
+        s = slip_velocity(t_in, t_in - f, wrap, mu, mu_k, b, 0.0, 1, nip_k)
+        assert s == pytest.approx((f - fc - nip_k) / b, rel=1e-12)
+        assert friction_force(s, t_in, wrap, mu, mu_k, b, 0.0, nip_k) == pytest.approx(f)
+    assert slip_velocity(t_in, t_in - fc - nip_k + 1e-6, wrap, mu, mu_k, b, 0.0, 1, nip_k) == 0
+    assert slip_state(t_in, t_in - fc - nip_k + 1e-6, wrap, mu, mu_k, 0.0, 1, 20.0, nip_k) == 0
+    assert slip_state(t_in, t_in - fc - nip_k - 1e-6, wrap, mu, mu_k, 0.0, 1, 20.0, nip_k) == 1

@@ -21,6 +21,7 @@ import numpy as np
 
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint, operating_point
+from webline.spec.nip import shaft_terms
 
 
 @dataclass(frozen=True)
@@ -90,7 +91,7 @@ def section_models(line: Line, op: OperatingPoint | None = None) -> list[Section
                 full[row, z] += r**2 / inertia
             if zone.last == i:
                 full[row, z] -= r**2 / inertia
-        full[row, row] = -roller.friction / inertia
+        full[row, row] = -shaft_terms(roller)[1] / inertia  # a nip's bearing included
         b_full[row] = roller.drive.ratio * r / inertia  # type: ignore[union-attr]
 
     index = [[z, n_z + s] if z is not None else [n_z + s] for s, z in zone_of.items()]

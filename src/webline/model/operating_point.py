@@ -28,6 +28,7 @@ from webline.line import Line, Zone, load_line
 from webline.physics import roll, roller
 from webline.physics.taper import spec_factor
 from webline.profiles import breakpoints, pwl_slope, pwl_value
+from webline.spec.nip import shaft_terms
 from webline.spec.ranges import argument
 from webline.spec.schema import IdleSpec, RewindSpec, RollerDrag, UnwindSpec
 
@@ -73,11 +74,12 @@ def node_radii(line: Line, unwind_radius: float | None = None,
 
 
 def node_inertias(line: Line, radii: np.ndarray) -> np.ndarray:
-    """Inertia of every node at its shaft [kg·m²], rolls with their web (6.1, 6.2)."""
+    """Inertia of every node at its shaft [kg·m²], rolls with their web (6.1, 6.2), rollers
+    with a nip's pressure roller reflected (docs/winder.md, Nip)."""
     web = line.spec.web
     out = np.empty(line.n_nodes)
     for i, r in enumerate(line.spec.rollers):
-        constant = r.inertia
+        constant = shaft_terms(r)[0]
         if not isinstance(r, IdleSpec):
             constant += r.drive.ratio**2 * r.drive.motor_inertia
         if isinstance(r, UnwindSpec | RewindSpec):
@@ -143,7 +145,8 @@ def operating_point(line: Line | str, t: float | str = 0.0, *,
         assert not isinstance(r, IdleSpec)
         t_out = tension[i] if i < line.n_spans else 0.0
         t_in = tension[i - 1] if i > 0 else 0.0
-        friction = roller.friction_torque(omega[i], r.friction, r.coulomb_friction)
+        _, viscous, coulomb = shaft_terms(r)  # a nip's bearing friction included
+        friction = roller.friction_torque(omega[i], viscous, coulomb)
         friction += roller.friction_torque(omega[i], 0.0, drags[i])  # brake (4.12) or drag
         n = r.drive.ratio  # the motor's own friction acts at n ω
         torque[d] = (inertia[i] * accel[i] - radii[i] * (t_out - t_in) + friction) / n + (
@@ -174,8 +177,8 @@ def drag_torques(line: Line, t: float) -> np.ndarray:
 def _idle_drop(line: Line, i: int, inertia: np.ndarray, accel: np.ndarray, omega: np.ndarray,
                radii: np.ndarray, drag: float) -> float:
     """Tension rise [N] across idle roller ``i`` needed to turn it: (J dω/dt + friction)/r."""
-    r = line.spec.rollers[i]
-    friction = roller.friction_torque(omega[i], r.friction, r.coulomb_friction + drag)
+    _, viscous, coulomb = shaft_terms(line.spec.rollers[i])  # a nip's included
+    friction = roller.friction_torque(omega[i], viscous, coulomb + drag)
     return float((inertia[i] * accel[i] + friction) / radii[i])
 
 

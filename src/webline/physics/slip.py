@@ -29,9 +29,12 @@ normal force is N± = (t_in - t_c)(1 - e^{∓μα})/(±μ) (5.41) and
 
 μ (= μ0, the thesis's static coefficient) >= μ' (Coulomb) >= 0, b [N·s/m] > 0 the viscous
 slope. The stick band is exactly the capstan relation e^{-μα} <= (t_out - t_c)/(t_in - t_c)
-<= e^{μα} in both directions. Inverting the slip branch gives s as an explicit, continuous,
-monotone function of F (a dead zone of width Fc± divided by b): the general-sign form of
-(5.44)/(5.47),
+<= e^{μα} in both directions. A traction nip on the roller (docs/winder.md, Nip) presses the
+web with a load N_n between the roller and a pressure roller: its two faces add a static
+capacity 2μ_n N_n to both Fs± and a Coulomb force 2μ_n' N_n to both Fc± (``nip``, ``nip_k``
+below; 0 without a nip), independent of the tensions. Inverting the slip branch gives s as
+an explicit, continuous, monotone function of F (a dead zone of width Fc± divided by b):
+the general-sign form of (5.44)/(5.47),
 
     s = (t_in/b)[1 - p (1 - e^{-σμα}) - t_out/t_in] if it has the sign σ, else 0, p = μ'/μ,
 
@@ -111,23 +114,26 @@ def normal_force(t_in: float, wrap: float, mu: float, t_c: float, direction: flo
     return u * wrap * (1.0 - math.exp(-x)) / x
 
 
-def stiction_limit(t_in: float, wrap: float, mu: float, t_c: float, direction: float) -> float:
+def stiction_limit(t_in: float, wrap: float, mu: float, t_c: float, direction: float,
+                   nip: float = 0.0) -> float:
     """Largest friction force magnitude [N] the wrap holds without slipping, μ N (5.43's
     c = μ0 F_n): forward (``direction`` +1, t_in > t_out) (t_in - t_c)(1 - e^{-μα}), backward
-    (-1) (t_in - t_c)(e^{μα} - 1). |t_in - t_out| within it is the capstan relation. Arguments
-    as ``normal_force``; ``mu`` is the static coefficient μ0."""
+    (-1) (t_in - t_c)(e^{μα} - 1), plus a traction nip's static capacity ``nip`` 2μ_n N_n [N].
+    |t_in - t_out| within it is the capstan relation. Arguments as ``normal_force``; ``mu`` is
+    the static coefficient μ0."""
     u = t_in - t_c
     if u <= 0.0:
-        return 0.0
+        return nip
     if direction > 0.0:
-        return u * (1.0 - math.exp(-mu * wrap))
-    return u * (math.exp(mu * wrap) - 1.0)
+        return u * (1.0 - math.exp(-mu * wrap)) + nip
+    return u * (math.exp(mu * wrap) - 1.0) + nip
 
 
 def friction_force(slip: float, t_in: float, wrap: float, mu: float, mu_k: float,
-                   viscous: float, t_c: float) -> float:
+                   viscous: float, t_c: float, nip_k: float = 0.0) -> float:
     """Friction force F [N] on the web while it slips at ``slip`` s = v_r - v [m/s] (5.42,
-    slip branch): sign(s) Fc + b s, Fc = μ' N with N of ``normal_force`` in the direction of s.
+    slip branch): sign(s) Fc + b s, Fc = μ' N with N of ``normal_force`` in the direction of s,
+    plus a traction nip's Coulomb force ``nip_k`` 2μ_n' N_n [N].
 
     ``t_in`` [N] entry tension, ``wrap`` [rad], ``mu`` μ0 [-] (sets the tension distribution,
     5.40), ``mu_k`` Coulomb μ' [-], ``viscous`` b [N·s/m], ``t_c`` [N]. At s = 0 the force is
@@ -145,20 +151,22 @@ def friction_force(slip: float, t_in: float, wrap: float, mu: float, mu_k: float
             fc = (mu_k / mu) * u * (math.exp(mu * wrap) - 1.0)
     else:
         fc = mu_k * u * wrap
+    fc += nip_k
     if slip > 0.0:
         return fc + viscous * slip
     return -fc + viscous * slip
 
 
 def slip_velocity(t_in: float, t_out: float, wrap: float, mu: float, mu_k: float,
-                  viscous: float, t_c: float, slipping: int) -> float:
+                  viscous: float, t_c: float, slipping: int, nip_k: float = 0.0) -> float:
     """Slip velocity s = v_r - v [m/s] of the web over a roller: the web speed is v_r - s.
 
     General-sign replacement of (5.44)/(5.47) (E-5.3). ``t_in``, ``t_out`` [N] the tensions of
     the upstream and downstream spans, ``wrap`` α [rad], ``mu`` μ0 [-] static coefficient,
     ``mu_k`` μ' <= μ0 [-] Coulomb coefficient, ``viscous`` b > 0 [N·s/m], ``t_c`` [N]
     centrifugal tension (``centrifugal_tension`` at the roller's surface speed, or 0).
-    ``slipping`` is the held state of ``slip_state`` (0 stuck, 1 slipping).
+    ``slipping`` is the held state of ``slip_state`` (0 stuck, 1 slipping); ``nip_k`` [N] a
+    traction nip's Coulomb force 2μ_n' N_n, added to both Fc± (0: no nip).
 
     Stuck: 0.0 exactly, so a roller that never slips gives the no-slip model bit for bit.
     Slipping: with F = t_in - t_out and Fc± the Coulomb forces,
@@ -178,6 +186,8 @@ def slip_velocity(t_in: float, t_out: float, wrap: float, mu: float, mu_k: float
     else:
         fc_fwd = mu_k * u * wrap
         fc_back = fc_fwd
+    fc_fwd += nip_k
+    fc_back += nip_k
     if f > fc_fwd:
         return (f - fc_fwd) / viscous
     if f < -fc_back:
@@ -186,7 +196,7 @@ def slip_velocity(t_in: float, t_out: float, wrap: float, mu: float, mu_k: float
 
 
 def slip_state(t_in: float, t_out: float, wrap: float, mu: float, mu_k: float, t_c: float,
-               slipping: int) -> int:
+               slipping: int, nip: float = 0.0, nip_k: float = 0.0) -> int:
     """Stick/slip state (0 stuck, 1 slipping) for the next sample, from the current one.
 
     Evaluate once per sample (controller tick) on the sampled tensions and hold the result
@@ -194,7 +204,9 @@ def slip_state(t_in: float, t_out: float, wrap: float, mu: float, mu_k: float, t
     leaves the stiction band [-Fs⁻, Fs⁺] (the capstan limit with μ0 = ``mu``); a slipping web
     sticks again once F is back inside the Coulomb band [-Fc⁻, Fc⁺] (where its slip velocity
     has reached 0). With μ' < μ0 the two bands differ: that is the hysteresis of stiction.
-    Arguments as ``slip_velocity`` ([N], [rad], [-], [-], [N]).
+    A traction nip widens the stiction band by ``nip`` 2μ_n N_n [N] and the Coulomb band by
+    ``nip_k`` 2μ_n' N_n [N] on both sides. Other arguments as ``slip_velocity`` ([N], [rad],
+    [-], [-], [N]).
     """
     f = t_in - t_out
     u = t_in - t_c
@@ -204,15 +216,15 @@ def slip_state(t_in: float, t_out: float, wrap: float, mu: float, mu_k: float, t
     fs_fwd = u * (1.0 - 1.0 / e)
     fs_back = u * (e - 1.0)
     if slipping == 0:
-        if f > fs_fwd or f < -fs_back:
+        if f > fs_fwd + nip or f < -(fs_back + nip):
             return 1
         return 0
     if mu > 0.0:
         ratio = mu_k / mu
-        if -ratio * fs_back <= f <= ratio * fs_fwd:
+        if -(ratio * fs_back + nip_k) <= f <= ratio * fs_fwd + nip_k:
             return 0
         return 1
-    if f == 0.0:
+    if abs(f) <= nip_k:  # f == 0 without a nip
         return 0
     return 1
 

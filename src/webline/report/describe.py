@@ -65,10 +65,28 @@ def _rollers(line: Line, d: Display) -> Table:
         core = d.text(r.core_radius, "length") if isinstance(r, UnwindSpec | RewindSpec) else ""
         rows.append([str(i), r.name, node_kind(line, i), d.text(r.radius, "length"), core,
                      d.text(r.inertia, "inertia"), d.text(r.friction, "rot_damping"),
-                     "" if isinstance(r, IdleSpec) else "yes"])
-    return make_table("rollers", "Rollers (web order)",
-                      ["#", "name", "kind", "radius", "core radius", "inertia",
-                       "viscous friction", "driven"], rows)
+                     "" if isinstance(r, IdleSpec) else "yes",
+                     nip_text(getattr(r, "nip", None), r.radius, d)])
+    columns = ["#", "name", "kind", "radius", "core radius", "inertia", "viscous friction",
+               "driven", "nip"]
+    if not any(row[-1] for row in rows):  # a nip column only for a line with nips
+        columns, rows = columns[:-1], [row[:-1] for row in rows]
+    return make_table("rollers", "Rollers (web order)", columns, rows)
+
+
+def nip_text(nip: object, radius: float, d: Display) -> str:
+    """A roller's nip in words (docs/winder.md, Nip): ``'gripped, 1300 N; pressure roller
+    0.06 m, 0.08 kg·m² (adds 0.2222 kg·m²)'``, with μ_n for a traction nip; ``''`` without.
+    ``radius`` [m] is the roller's (for the reflected inertia)."""
+    if nip is None:
+        return ""
+    grip = nip.grip  # type: ignore[attr-defined]
+    if grip == "traction":
+        grip = f"traction μ {nip.friction:g}"  # type: ignore[attr-defined]
+    reflected = nip.reflected(radius)[0]  # type: ignore[attr-defined]
+    return (f"{grip}, {d.text(nip.load, 'force')}; pressure roller "  # type: ignore[attr-defined]
+            f"{d.text(nip.radius, 'length')}, {d.text(nip.inertia, 'inertia')} "  # type: ignore[attr-defined]
+            f"(adds {d.text(reflected, 'inertia')})")
 
 
 def _spans(line: Line, d: Display) -> Table:

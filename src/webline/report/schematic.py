@@ -5,7 +5,8 @@ size grows with the square root of its radius. Rolls show their core, driven rol
 filled (the master-speed roller in orange), idle rollers are open; each drive is a box under its
 roller, joined by a solid (direct), dashed (belt) or dotted (shaft) stem and labelled with its
 drive train (transmission, backlash, the side its speed is measured on, brake); each loadcell
-is a triangle on its span, each tension zone a shaded band.
+is a triangle on its span, each tension zone a shaded band; a nip is a second (grey) circle
+pressed on its roller from above, labelled with its load and grip.
 """
 
 from __future__ import annotations
@@ -28,7 +29,8 @@ from webline.spec.schema import DriveSpec, IdleSpec, RewindSpec, UnwindSpec
 
 SPACING = 3.0  #: distance between roller centres in the drawing
 COLORS = {"roll": "#d8c49a", "core": "#8c8c8c", "master": "#f28e2b", "tension": "#4e79a7",
-          "idle": "white", "drive": "#59595c", "loadcell": "#e15759", "web": "#222222"}
+          "idle": "white", "drive": "#59595c", "loadcell": "#e15759", "web": "#222222",
+          "nip": "#8f8f8f"}
 ZONE_SHADES = ("#eef3f8", "#f7f1e8")
 #: line style of the motor-to-roller stem per transmission (dashed: belt, dotted: shaft)
 STEM_STYLES = {"direct": "-", "belt": "--", "shaft": ":"}
@@ -49,7 +51,9 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
     x = [i * SPACING for i in range(line.n_nodes)]
     fig = Figure(figsize=(max(8.0, 1.9 * line.n_nodes), 4.4), layout="constrained")
     ax = fig.add_subplot()
-    top = max(size) + 1.6
+    nips = [getattr(r, "nip", None) for r in rollers]
+    top = max(s + (0.0 if nip is None else 2 * drawn_radius(nip.radius, largest))
+              for nip, s in zip(nips, size, strict=True)) + 1.6  # room for nips on top
 
     for z, zone in enumerate(line.zones):
         left, right = x[zone.first], x[zone.last]
@@ -78,6 +82,14 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
 
     for i, (roller, s) in enumerate(zip(rollers, size, strict=True)):
         _roller(ax, roller, x[i], s, i == line.master)
+        nip = getattr(roller, "nip", None)
+        if nip is not None:  # the pressure roller rides on the roller, the web between
+            s_n = drawn_radius(nip.radius, largest)
+            ax.add_patch(Circle((x[i], s + s_n), s_n, facecolor=COLORS["nip"],
+                                edgecolor="#333333", lw=1.2, zorder=3))
+            ax.text(x[i] - s_n - 0.1, s + s_n, literal(
+                f"nip {display.text(nip.load, 'force', 4)}\n{nip.grip}"), ha="right",
+                va="center", fontsize=6.5, color="#444444", zorder=4)
         if not isinstance(roller, IdleSpec):
             style = STEM_STYLES[getattr(roller.drive.transmission, "type", "direct")]
             ax.plot([x[i], x[i]], [-s, -s - 0.55], color=COLORS["drive"], lw=2, ls=style,
@@ -92,8 +104,9 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
         ax.text(x[i], below, literal(f"{roller.name}\n{display.text(roller.radius, 'length', 3)}"),
                 ha="center", va="top", fontsize=8)
 
-    ax.legend(handles=_legend(), loc="lower center", bbox_to_anchor=(0.5, -0.02), ncol=7,
-              fontsize=7, frameon=False)
+    any_nip = any(nip is not None for nip in nips)
+    ax.legend(handles=_legend(any_nip), loc="lower center", bbox_to_anchor=(0.5, -0.02),
+              ncol=8 if any_nip else 7, fontsize=7, frameon=False)
     ax.set_xlim(-1.4, x[-1] + 2.4)  # room for the rewind drive's drive-train label
     ax.set_ylim(-3.6, top)
     ax.set_aspect("equal")
@@ -137,13 +150,16 @@ def _roller(ax: object, roller: object, x: float, size: float, master: bool) -> 
                             zorder=3))
 
 
-def _legend() -> list[Line2D]:
+def _legend(nips: bool = False) -> list[Line2D]:
     def dot(color: str, label: str, marker: str = "o", edge: str = "#333333") -> Line2D:
         return Line2D([], [], ls="", marker=marker, ms=9, markerfacecolor=color,
                       markeredgecolor=edge, label=label)
 
-    return [dot(COLORS["roll"], "roll (core grey)"), dot(COLORS["master"], "master (speed)"),
-            dot(COLORS["tension"], "driven (tension)"), dot(COLORS["idle"], "idle roller"),
-            dot(COLORS["drive"], "drive (motor)", "s"),
-            dot(COLORS["loadcell"], "loadcell", "v", COLORS["loadcell"]),
-            Line2D([], [], color=COLORS["web"], marker=">", ms=6, label="web (direction)")]
+    handles = [dot(COLORS["roll"], "roll (core grey)"), dot(COLORS["master"], "master (speed)"),
+               dot(COLORS["tension"], "driven (tension)"), dot(COLORS["idle"], "idle roller"),
+               dot(COLORS["drive"], "drive (motor)", "s"),
+               dot(COLORS["loadcell"], "loadcell", "v", COLORS["loadcell"]),
+               Line2D([], [], color=COLORS["web"], marker=">", ms=6, label="web (direction)")]
+    if nips:
+        handles.insert(4, dot(COLORS["nip"], "nip (pressure roller)"))
+    return handles

@@ -11,6 +11,7 @@ from webline.errors import LineFileError
 from webline.line import Line, is_roll
 from webline.model.operating_point import OperatingPoint
 from webline.sim import layout as L
+from webline.spec.nip import shaft_terms
 from webline.spec.schema import (
     AdaptiveSpec,
     BeltSpec,
@@ -77,7 +78,7 @@ def drive_table(line: Line, op: OperatingPoint,
         row[L.D_ADAPTIVE] = 1.0 if is_roll(roller) and getattr(
             controller, "inertia_adaptive", True) else 0.0
         estimate = getattr(controller, "friction_estimate", None)
-        row[L.D_BMODEL] = roller.friction if estimate is None else estimate
+        row[L.D_BMODEL] = shaft_terms(roller)[1] if estimate is None else estimate  # nip too
     return rows, tuple(gains), tuple(designs)
 
 

@@ -75,8 +75,8 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
     structure, the other tables its parameters (``webline.sim.layout``).
 
     Where the web slips over a roller (Ch. 5, E-5.3) the spans on both sides see the web
-    speed r ω - s, s from ``physics.slip.slip_velocity``; the roller still feels
-    r (T_out - T_in), which the friction transmits whether the web sticks or slips.
+    speed r ω - s, s from ``physics.slip.slip_velocity`` (with a traction nip's force); the
+    roller feels r (T_out - T_in), transmitted whether the web sticks or slips (winder.md N2).
 
     Physics as in ``webline.physics`` (span 6.8 with slack, rollers 6.9/6.11, rolls 6.1-6.6
     with J dω/dt = torque, motor lag 4.1k), written out with precomputed reciprocals because
@@ -101,8 +101,8 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
             surface = work[sp + i]
             t_c = web[L.W_RHOA] * surface * surface
             work[sp + i] -= _slip_velocity(work[te + i - 1], work[te + i], nodes[i, L.N_WRAP],
-                                           nodes[i, L.N_MU], nodes[i, L.N_MUK],
-                                           nodes[i, L.N_SLIPB], t_c, slipping[i])
+                                           nodes[i, L.N_MU], nodes[i, L.N_MUK], nodes[i, L.N_SLIPB],
+                                           t_c, slipping[i], nodes[i, L.N_NIPK])  # nip: Coulomb
 
     t_in = t0
     for k in range(n_spans):
@@ -173,8 +173,8 @@ def update_slip(x: np.ndarray, slipping: np.ndarray, ns: np.ndarray, offsets: np
             continue
         surface = node_arm(i, x, ns, offsets, nodes) * x[offsets[L.O_OMEGA] + i]
         slipping[i] = _slip_state(_tension(x[i - 1]), _tension(x[i]), nodes[i, L.N_WRAP],
-                                  nodes[i, L.N_MU], nodes[i, L.N_MUK],
-                                  web[L.W_RHOA] * surface * surface, slipping[i])
+                                  nodes[i, L.N_MU], nodes[i, L.N_MUK], web[L.W_RHOA] * surface
+                                  * surface, slipping[i], nodes[i, L.N_NIPS], nodes[i, L.N_NIPK])
 
 
 @jit

@@ -19,8 +19,11 @@ kernel; a new structure compiles (and caches) another.
  # dancer (docs/winder.md): index of its position state (-1: none; velocity follows), 1/mass
  # [1/kg], spring [N/m], damper [N·s/m], set position, travel [m], end-stop spring [N/m] and
  # damper [N·s/m], load profile
- N_DANCER, N_DINVM, N_DK, N_DC, N_DSET, N_DTRAVEL, N_DSTOP, N_DSTOPC, N_DLOAD) = range(26)
-N_COLS = 26
+ N_DANCER, N_DINVM, N_DK, N_DC, N_DSET, N_DTRAVEL, N_DSTOP, N_DSTOPC, N_DLOAD,
+ # a traction nip's static and Coulomb friction on the web, 2 μ_n N and 2 μ_n' N [N] (its
+ # inertia and bearing friction are in N_JCONST, N_VISCOUS, N_COULOMB; docs/winder.md, Nip)
+ N_NIPS, N_NIPK) = range(28)
+N_COLS = 28
 
 # node structure (integer) columns, and the float columns they copy
 NS_KIND, NS_DRIVE, NS_ECCSTATE, NS_TRACTION, NS_DRAG, NS_DANCER = range(6)

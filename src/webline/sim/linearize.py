@@ -2,8 +2,9 @@
 
 The roll radii are frozen at the operating point (they change over minutes, the dynamics over
 seconds), as in thesis Sec. 4.1's set U of radii and Ch. 6's section models. Eccentricity is
-left out (it makes the model periodic). The Jacobian is analytic, from the same equations as
-the kernel; a finite-difference check of it is part of the tests.
+left out (it makes the model periodic), and the web sticks on traction rollers and nips. A
+nip's pressure roller is in its roller's J and b (docs/winder.md N1). The Jacobian is analytic,
+from the same equations as the kernel; a finite-difference check of it is part of the tests.
 """
 
 from __future__ import annotations

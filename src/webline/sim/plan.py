@@ -16,6 +16,7 @@ from webline.sim import dancer as dancers
 from webline.sim import layout as L
 from webline.sim import winder
 from webline.sim.drive_table import drive_table, transmission, transmission_columns
+from webline.spec.nip import shaft_terms
 from webline.spec.schema import (
     DancerSpec,
     DrivenSpec,
@@ -211,8 +212,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         row = nodes[i]
         row[L.N_KIND] = kinds[type(r)]
         row[L.N_RADIUS] = r.radius
-        row[L.N_VISCOUS] = r.friction
-        row[L.N_COULOMB] = r.coulomb_friction
+        _, row[L.N_VISCOUS], row[L.N_COULOMB] = shaft_terms(r)  # a nip's bearing included
         row[L.N_DRIVE] = line.drives.index(i) if i in line.drives else -1
         row[L.N_RATIO] = 1.0 if isinstance(r, IdleSpec) else r.drive.ratio
         motor = 0.0  # a compliant transmission keeps the motor's inertia on the motor side
@@ -230,6 +230,8 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
             row[L.N_MUK] = contact.friction if contact.kinetic_friction is None else (
                 contact.kinetic_friction)
             row[L.N_SLIPB] = contact.viscous
+            if r.nip is not None:  # type: ignore[union-attr]
+                row[L.N_NIPS], row[L.N_NIPK] = r.nip.capacity()  # type: ignore[union-attr]
         row[L.N_DRAG] = -1
         row[L.N_DANCER] = -1
         row[L.N_ECC] = eccentric.get(r.name, 0.0)

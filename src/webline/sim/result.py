@@ -194,7 +194,7 @@ class Result:
             out[:, i] = np.vectorize(slip_velocity)(
                 self.tension[:, i - 1], self.tension[:, i], nodes[i, L.N_WRAP],
                 nodes[i, L.N_MU], nodes[i, L.N_MUK], nodes[i, L.N_SLIPB],
-                rho_a * surface**2, self.slipping[:, i].astype(int))
+                rho_a * surface**2, self.slipping[:, i].astype(int), nodes[i, L.N_NIPK])
         return out
 
     @cached_property

@@ -8,6 +8,7 @@ from typing import NoReturn
 
 from webline.errors import LineFileError
 from webline.spec.dancer import check_dancers
+from webline.spec.nip import check_nips
 from webline.spec.schema import (
     DisturbanceSpec,
     DrivenSpec,
@@ -110,6 +111,7 @@ def check_spec(spec: LineSpec, file: str) -> None:
             fail(names, f"tension zone {z + 1} ({rollers[first].name} to {rollers[last].name}) "
                  f"needs exactly one span with a 'tension' reference, got {len(loadcells)}")
     check_dancers(rollers, spec.spans, zones(spec), fail)
+    check_nips(rollers, fail)
     check_taper(getattr(rollers[-1], "taper", None), f"rollers[{len(rollers) - 1}].taper", fail)
     for k, span in enumerate(spec.spans):
         _check_span_model(spec, k, fail)

@@ -20,6 +20,7 @@ from webline.spec.disturbances import (  # noqa: F401 - re-exported for users of
     SpeedRipple,
     WoundInRipple,
 )
+from webline.spec.nip import NipSpec
 from webline.spec.quantities import (  # noqa: F401 - re-exported for users of the schema
     Angle,
     AngularFrequency,
@@ -298,23 +299,26 @@ class RewindSpec(_RollerBase):
 
 class DrivenSpec(_RollerBase):
     """Driven roller: the master-speed roller or a tension-controlled one. ``wrap`` [rad] is
-    the web's wrap angle; ``contact`` chooses adhesion or slip (Ch. 5)."""
+    the web's wrap angle; ``contact`` chooses adhesion or slip (Ch. 5); ``nip`` a pressure
+    roller (``webline.spec.nip``)."""
 
     type: Literal["driven"]
     role: Literal["master", "tension"]
     wrap: Annotated[float, si("angle", ">0")] | None = None
     contact: ContactSpec = AdheredSpec()
+    nip: NipSpec | None = None
     drive: DriveSpec
     controller: ControllerSpec = CascadedPISpec()
 
 
 class IdleSpec(_RollerBase):
-    """Idle roller: turned by the web, with bearing friction. ``wrap`` [rad] and ``contact``
-    as for a driven roller."""
+    """Idle roller: turned by the web, with bearing friction. ``wrap`` [rad], ``contact`` and
+    ``nip`` as for a driven roller."""
 
     type: Literal["idle"]
     wrap: Annotated[float, si("angle", ">0")] | None = None
     contact: ContactSpec = AdheredSpec()
+    nip: NipSpec | None = None
 
 
 class DancerSpec(IdleSpec):

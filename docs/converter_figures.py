@@ -1,0 +1,41 @@
+"""Draw the figures of docs/winder.md that come from the built-in `converter` line.
+
+    .venv/bin/python docs/converter_figures.py      # writes docs/img/converter-*.png
+
+Uses the report's own figure functions, so the docs show what `webline run converter
+--scenario NAME` puts in its report.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import webline
+from webline.report.display import Display
+from webline.report.figures import tension_figure
+from webline.report.schematic import schematic
+from webline.report.winder_figures import diameter_figure, taper_figure
+
+IMG = Path(__file__).resolve().parent / "img"
+
+
+def main() -> None:
+    line = webline.load_line("converter")
+    display = Display()
+    figures = {"converter-schematic": schematic(line, display)}
+    roll = webline.simulate(line, scenario="roll-change")
+    rewind_zone = line.zones[line.controlled_zone(line.n_nodes - 1)].loadcell
+    figures["converter-roll-change-taper"] = taper_figure(roll, display, rewind_zone)
+    figures["converter-roll-change-diameter"] = diameter_figure(
+        roll, display, [len(line.drives) - 1])
+    figures["converter-web-break-tension"] = tension_figure(
+        webline.simulate(line, scenario="web-break", raise_on_failure=False), display)
+    IMG.mkdir(exist_ok=True)
+    for name, fig in figures.items():
+        path = IMG / f"{name}.png"
+        fig.savefig(path, dpi=90)
+        print(path)
+
+
+if __name__ == "__main__":
+    main()
