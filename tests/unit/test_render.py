@@ -26,8 +26,16 @@ def _job(key: str, n: int = 1):
 JOBS = [_job("a"), _job("bb", 2), _job("ccc", 0), _job("dddd"), _job("eeeee", 3)]
 
 
-def test_two_processes_give_the_files_of_one_in_job_order() -> None:
-    assert render._can_fork(), "this test needs fork, more than one core and one thread"
+@pytest.fixture
+def forkable(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The fork path, even where earlier tests left threads behind (the renderer forks only a
+    single-threaded process; the figures here need no lock another thread could hold)."""
+    monkeypatch.setattr(render.threading, "active_count", lambda: 1)
+    monkeypatch.setattr(render.os, "cpu_count", lambda: 2)
+    assert render._can_fork(), "this test needs the fork start method"
+
+
+def test_two_processes_give_the_files_of_one_in_job_order(forkable: None) -> None:
     serial = render.render_figures(JOBS, 50, parallel=False)
     parallel = render.render_figures(JOBS, 50)
     assert [r.key for r in serial] == ["a0", "bb0", "bb1", "dddd0", "eeeee0", "eeeee1",
@@ -37,10 +45,22 @@ def test_two_processes_give_the_files_of_one_in_job_order() -> None:
     assert all(r.png.startswith(b"\x89PNG") and r.svg is None for r in serial)
 
 
-def test_a_copy_that_dies_leaves_its_figures_here(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_a_copy_that_dies_leaves_its_figures_here(forkable: None,
+                                                 monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(render, "_child", lambda *args: os._exit(1))
+    forked = []
+    monkeypatch.setattr(render, "_render", _spy(render._render, forked))
     keys = [r.key for r in render.render_figures(JOBS, 50, svg=True)]
+    # here: its own share (jobs 0, 2, 4), then the dead copy's (jobs 1, 3)
+    assert [list(call[0]) for call in forked] == [JOBS[0::2], JOBS[1::2]]
     assert keys == ["a0", "bb0", "bb1", "dddd0", "eeeee0", "eeeee1", "eeeee2"]
+
+
+def _spy(function, calls: list):
+    def wrapped(*args):
+        calls.append(args)
+        return function(*args)
+    return wrapped
 
 
 def test_svg_on_request() -> None:
