@@ -165,3 +165,25 @@ def test_chromium_check_sees_console_errors(tmp_path):
     assert any("boom" in e for e in errors)
     assert any("undefinedFunction" in e for e in errors)
     assert any("missing.png" in e for e in errors)
+
+
+@pytest.mark.parametrize(("line", "controller", "extra"), [
+    ("rockwell", None, "dancer"),  # a winder figure (the unwind's dancer)
+    ("hswl", "mrac", "mrac"),  # the MRAC's adapted gains
+])
+def test_every_written_figure_is_in_the_report(tmp_path, line, controller, extra):
+    """Every figure the report writes is also shown in it, the line-specific ones included
+    (winder figures were written but left out of the page once)."""
+    from webline.control.select import with_controller
+    from webline.report import write_report
+
+    subject = webline.load_line(line)
+    if controller:
+        subject = with_controller(subject, controller)
+    files = write_report(webline.simulate(subject, 1.0), tmp_path)
+    html = files.report.read_text(encoding="utf-8")
+    written = sorted(p.stem for p in files.figures)
+    assert extra in written
+    for key in written:
+        assert f'id="fig-{key}"' in html, key
+    assert sorted(inline_pngs(html)) == sorted(p.read_bytes() for p in files.figures)

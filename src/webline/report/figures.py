@@ -191,6 +191,26 @@ def slip_figure(result: Result, display: Display, nodes: Sequence[int]) -> Figur
     return fig
 
 
+def mrac_figure(result: Result, display: Display) -> Figure:
+    """Per MRAC drive: the adapted gains k̂ on the tension deviation [m] and on the speed
+    deviation [N·s], and the bias ĉ (a motor torque), over time."""
+    fig = framed_figure(9.0, 6.5, rows=3)
+    axes = fig.subplots(3, 1, sharex=True)
+    gains = result.mrac_gains
+    labels = ("gain on tension [m]", "gain on speed [N·s]")
+    for d in np.flatnonzero(result.has_mrac):
+        name = legend_label(result.drive_names[d])
+        for q in range(2):
+            _plot(axes[q], result.time, gains[:, d, q], lw=1.0, color=f"C{d}", label=name)
+        _plot(axes[2], result.time, display.array(gains[:, d, 2], "torque"), lw=1.0,
+              color=f"C{d}", label=name)
+    for ax, label in zip(axes, (*labels, display.label("bias", "torque")), strict=True):
+        ax.set_ylabel(label)
+        ax.legend(fontsize=7, loc="upper right", ncol=2)
+    _finish(fig, list(axes), result)
+    return fig
+
+
 def poles_figure(modes: Sequence[Mode]) -> Figure:
     """Closed-loop poles in the complex plane [1/s] (each pair drawn with its conjugate)."""
     fig = framed_figure(7.0, 4.2)
@@ -243,6 +263,9 @@ def figure_jobs(result: Result, display: Display,
         jobs.append(one("slip", "Web slip over the rollers with a traction contact.",
                         lambda: slip_figure(result, display, slipping)))
     jobs.append(lambda: [ReportFigure(*parts) for parts in winder_figures(result, display)])
+    if result.has_mrac.any():
+        jobs.append(one("mrac", "The MRAC's adapted gains and bias (thesis 6.68, E-6.14).",
+                        lambda: mrac_figure(result, display)))
     if modes:
         jobs.append(one("poles", "Closed-loop poles at the operating point.",
                         lambda: poles_figure(modes)))

@@ -193,8 +193,9 @@ def _sections(result: Result, display: Display, images: dict[str, Image], analys
         Section("Line", [images["schematic"], described["line"], described["rollers"],
                          described["spans"], described["drives"]]),
         Section("Summary", [*summary_tables(result, display), *_verdict_parts(result)]),
-        Section("Time plots", [images[k] for k in ("tension", "speed", "torque", "rolls", "slip")
-                               if k in images]),
+        # every figure of the run in report order, but the line's and the modes' own
+        Section("Time plots", [image for key, image in images.items()
+                               if key not in ("schematic", "poles")]),
         Section("Operating point and modes", op_parts),
         Section("Run", [make_table("run", "Settings", ["key", "value"], run_rows)]),
         Section("Resolved line file", [Text(dump_spec(line.spec), pre=True,
