@@ -132,7 +132,9 @@ def operating_point(line: Line | str, t: float | str = 0.0, *,
             for i in range(zone.loadcell, zone.first, -1):  # and upstream of it
                 tension[i - 1] = tension[i] - _idle_drop(line, i, inertia, accel, omega, radii,
                                                          drags[i])
-        if np.allclose(tension, previous, rtol=1e-15, atol=0.0):
+        # np.allclose(tension, previous, rtol=1e-15, atol=0), written out: the same test at a
+        # fifth of the cost on these few-element arrays (it ran in every sweep case's plan)
+        if np.all(np.abs(tension - previous) <= 1e-15 * np.abs(previous)):
             break
     if np.any(tension <= 0.0):
         k = int(np.argmin(tension))
