@@ -32,6 +32,7 @@ from typing import Any, Literal, get_args
 import numpy as np
 from pydantic import TypeAdapter, ValidationError
 
+from webline.errors import LineFileError
 from webline.line import Line
 from webline.sim import kernel
 from webline.sim.fastest import DENSE_STATES
@@ -39,7 +40,7 @@ from webline.sim.linearize import fastest_mode, plan_linear_model
 from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
 from webline.sim.simulate import MAX_RECORDS, choose_substeps
 from webline.spec.check import check_spec
-from webline.spec.paths import plain_value, split_path
+from webline.spec.paths import set_parts, split_path
 from webline.spec.schema import LineSpec
 
 #: top-level tables a case may change one key of in place (everything else: Line.replace)
@@ -71,35 +72,6 @@ def _element(items: Sequence[Any], part: str | int) -> int:
     raise _Unplaced
 
 
-def _set(node: Any, parts: list[str | int], value: object) -> None:
-    """Set ``parts`` inside the dumped table ``node`` to ``value``, in place."""
-    for depth, part in enumerate(parts):
-        last = depth == len(parts) - 1
-        if isinstance(node, list):
-            if isinstance(part, str) and not part.lstrip("-").isdigit():
-                names = [item.get("name") if isinstance(item, dict) else None for item in node]
-                if part not in names:
-                    raise _Unplaced
-                part = names.index(part)
-            index = int(part)
-            if not -len(node) <= index < len(node):
-                raise _Unplaced
-            if last:
-                node[index] = plain_value(value)
-                return
-            node = node[index]
-        elif isinstance(node, dict):
-            key = str(part)
-            if last:
-                node[key] = plain_value(value)  # a new key is refused by the strict schema
-                return
-            if key not in node:
-                raise _Unplaced
-            node = node[key]
-        else:
-            raise _Unplaced
-
-
 def derive_line(base: Line, changes: Mapping[str, object]) -> Line:
     """``base.replace(changes)``, re-validating only the elements the changes touch (module
     docstring); the spec is equal to ``Line.replace``'s. Raises ``LineFileError`` naming the
@@ -125,7 +97,7 @@ def derive_line(base: Line, changes: Mapping[str, object]) -> Line:
                     touched[where] = items[where[1]].model_dump(exclude_none=True)
             else:
                 raise _Unplaced
-            _set(touched[where], rest, value)
+            set_parts(touched[where], rest, value)
         updates: dict[str, Any] = {}
         for (top, index), data in touched.items():
             element = _adapter(top).validate_python(data)
@@ -135,7 +107,7 @@ def derive_line(base: Line, changes: Mapping[str, object]) -> Line:
                 items = list(updates.get(top, getattr(spec, top)))
                 items[index] = element
                 updates[top] = items
-    except (_Unplaced, ValueError, ValidationError):
+    except (_Unplaced, LineFileError, ValueError, ValidationError):
         return base.replace(dict(changes))  # its own message for whatever is wrong
     new = spec.model_copy(update=updates)
     check_spec(new, base.source)

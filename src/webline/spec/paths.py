@@ -58,6 +58,12 @@ def set_path(data: dict[str, Any], path: str, value: object, file: str = "<pytho
         parts = split_path(path)
     except ValueError as exc:
         raise LineFileError(file, path, str(exc)) from None
+    set_parts(data, parts, value, file)
+
+
+def set_parts(data: dict[str, Any] | list[Any], parts: list[str | int], value: object,
+              file: str = "<python>") -> None:
+    """``set_path`` for a path already split into ``parts`` (``split_path``)."""
     node: Any = data
     for depth, part in enumerate(parts):
         last = depth == len(parts) - 1
@@ -78,7 +84,8 @@ def set_path(data: dict[str, Any], path: str, value: object, file: str = "<pytho
             node = node[key]
         else:
             raise LineFileError(file, _render(parts[:depth]),
-                                f"is a value, not a table: cannot set {path!r} inside it")
+                                f"is a value, not a table: cannot set {_render(parts)!r} "
+                                "inside it")
 
 
 def parse_assignment(text: str) -> tuple[str, object]:
