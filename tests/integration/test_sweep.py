@@ -74,6 +74,20 @@ def test_zip_needs_equal_lengths() -> None:
                       mode="zip")
 
 
+def test_samples_the_line_refuses_stop_the_study_before_any_case_runs() -> None:
+    """normal(9 kN, 60 %) draws negative moduli for some of 300 cases (z < -1.67, about 5 %):
+    the study is refused up front, naming the path and the distribution, and no case runs."""
+    calls: list[tuple[int, int]] = []
+    with pytest.raises(webline.ArgumentError,
+                       match=r"web\.ea: the samples of normal\(9 kN, 60 %\) include -.*must "
+                             r"be > 0.*no case was run"):
+        webline.monte_carlo("hswl", {"web.ea": "normal(9 kN, 60 %)"}, 300, seed=1,
+                            duration=0.1, progress=lambda done, n: calls.append((done, n)))
+    assert calls == []
+    with pytest.raises(webline.ArgumentError, match=r"web\.ea: the values include '-1 kN'"):
+        webline.sweep("hswl", {"web.ea": ["9 kN", "-1 kN"]}, duration=0.1)
+
+
 def test_distributions_parse_to_si() -> None:
     kind, mean, std = parse_distribution("normal(9 kN, 5 %)")
     assert (kind, mean) == ("normal", 9000.0) and std == pytest.approx(450.0, rel=1e-12)

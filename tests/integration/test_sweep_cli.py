@@ -43,6 +43,16 @@ def test_bad_distribution_is_one_line_exit_2(tmp_path) -> None:
     assert result.output.strip().count("\n") == 0 and "web.ea" in result.output
 
 
+def test_samples_out_of_range_are_one_line_exit_2_before_running(tmp_path) -> None:
+    result = CliRunner().invoke(app, [
+        "sweep", "hswl", "--set", "web.ea=normal(9 kN, 60 %)", "--samples", "50", "--seed", "1",
+        "-d", "0.3", "--out", str(tmp_path)])
+    assert result.exit_code == 2
+    assert result.output.strip().count("\n") == 0
+    assert "web.ea: the samples of normal(9 kN, 60 %)" in result.output
+    assert not (tmp_path / "sweep.nc").exists()
+
+
 def test_resume_reuses_the_stored_chunks(tmp_path) -> None:
     args = ["sweep", "hswl", "--set", "web.ea=1900 lbf,2100 lbf", "-d", "0.3", "--out",
             str(tmp_path), "-q"]

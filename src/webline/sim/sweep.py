@@ -19,10 +19,11 @@ from typing import Any
 
 import numpy as np
 
+from webline.errors import ArgumentError, LineFileError
 from webline.line import Line, load_line
 from webline.sim import batch as B
 from webline.sim.batch import BatchOutput, run_batch
-from webline.sim.cases import Built, build_cases, case_value
+from webline.sim.cases import Built, build_cases, case_value, derive_line
 from webline.sim.distributions import draw
 from webline.sim.failure import kernel_failure
 from webline.sim.metrics import METRICS
@@ -282,6 +283,7 @@ def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
     else:
         raise ValueError(f"mode must be 'grid' or 'zip', got {mode!r}")
     cases = [dict(zip(paths, combo, strict=True)) for combo in combos]
+    _check_values(line, cases, scenario, {p: "the values" for p in paths})
     attrs: dict[str, Any] = {"mode": mode}
     if mode == "grid":
         attrs["shape"] = [len(c) for c in columns]
@@ -302,9 +304,37 @@ def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: in
     samples = draw(distributions, n, seed)
     cases: list[dict[str, object]] = [{p: float(samples[p][c]) for p in samples}
                                       for c in range(n)]
+    _check_values(line, cases, scenario, {p: f"the samples of {distributions[p]}"
+                                          for p in distributions})
     return _study(line, cases, {"mode": "monte_carlo", "seed": seed}, duration=duration,
                   scenario=scenario, record=record, workers=workers, progress=progress,
                   scheduler=scheduler, store=store, resume=resume)
+
+
+#: a path with more distinct values than this is checked at its smallest and largest only
+CHECK_ALL_BELOW = 64
+
+
+def _check_values(line: Line | str | Path, cases: Sequence[Mapping[str, object]],
+                  scenario: str | None, what: Mapping[str, str]) -> None:
+    """Refuse a study before any case runs when a path's values leave what the line accepts
+    (ranges, cross-key checks): every value of a path with few of them, else its smallest and
+    largest (ranges are intervals). Raises ``ArgumentError`` naming the path, what produced the
+    values (``what[path]``: "the values", "the samples of normal(...)") and the line's
+    message; a value that only fails in combination still fails when its case is built."""
+    base = load_line(line)
+    if scenario is not None:
+        base = base.with_scenario(scenario)
+    for path, source in what.items():
+        values = [case[path] for case in cases if path in case]
+        if len(values) > CHECK_ALL_BELOW and all(isinstance(v, float | int) for v in values):
+            values = [min(values), max(values)]  # type: ignore[type-var]
+        for value in values[:CHECK_ALL_BELOW]:
+            try:
+                derive_line(base, {path: value})
+            except LineFileError as exc:
+                raise ArgumentError(f"{path}: {source} include {value!r}, which the line "
+                                    f"refuses ({exc}); no case was run") from None
 
 
 def _study(line: Line | str | Path, cases: list[dict[str, object]], attrs: dict[str, Any], *,
