@@ -82,3 +82,20 @@ def test_ripple_torque_amplitude_matches_the_simulation(setup):
     amp = 2 * np.hypot(np.mean((tau - tau.mean()) * np.cos(2 * np.pi * f * t)),
                        np.mean((tau - tau.mean()) * np.sin(2 * np.pi * f * t)))
     assert amp == pytest.approx(g_tau[0] * a, rel=0.03)
+
+
+def test_the_backlash_slowdown_scenario_opens_the_gap_and_a_slower_one_does_not():
+    """``webline run rockwell --scenario backlash-slowdown``: 300 -> 100 FPM in 3.93 s, i.e. at
+    1.25 d* (d* = 0.207 m/s², docs/drivetrain.md), opens the rewind's 1.5 mm gap, which the
+    verdict reports as a warning; the same ramp over 6.13 s (0.8 d*) keeps the teeth together
+    and the run is ok."""
+    line = webline.load_line("rockwell").with_scenario("backlash-slowdown")
+    fast = webline.simulate(line)
+    (event,) = [e for e in fast.events if e.kind == "backlash_open"]
+    assert event.where == "rewind" and event.total > 0.1
+    assert fast.verdict.status == "warning"
+    slow = webline.simulate(line.replace({"speed": {
+        "type": "ramp", "initial": "300 ft/min", "final": "100 ft/min", "start": "2 s",
+        "duration": "6.13 s"}}))
+    assert not [e for e in slow.events if e.kind == "backlash_open"]
+    assert slow.verdict.status == "ok"
