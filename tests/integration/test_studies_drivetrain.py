@@ -69,6 +69,10 @@ def test_unwind_ramp_oscillation_grows_as_the_belt_narrows(results):
     stds = [rows[c]["tension_std_after_ramp_N"] for c in ("rigid", "36mm", "24mm", "12mm")]
     assert stds == sorted(stds) and stds[-1] > 1.5 * stds[0]
     assert all(r["least_damped_mode_real_1_s"] < 0 for r in rows.values())
+    # the summary's verdicts on the thesis's two statements follow these numbers
+    grows, contrast = results["unwind-belt-ramp"].summary.splitlines()[-2:]
+    assert grows.endswith(": reproduced") and "6 -> 24 -> 12 mm" in grows
+    assert (": not reproduced" in contrast) == (stds[0] >= 0.5 * stds[1])
 
 
 def test_rockwell_brake_keeps_one_flank_and_adds_its_torque(results):
