@@ -25,3 +25,16 @@ def test_front_door_names_load_on_first_use() -> None:
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=True)
     assert done.stdout.split() == ["False", "True"]
+
+
+def test_the_cli_ends_as_system_exit_would_with_exit_handlers_and_buffers() -> None:
+    """``end_process`` (the end of ``webline.cli.main``) skips module teardown only: an exit
+    handler still runs, buffered output still arrives, and the status is SystemExit's."""
+    for code, status, stderr in (("None", 0, ""), ("3", 3, ""), ("'bad input'", 1, "bad input")):
+        script = ("import atexit, sys; from webline.cli import end_process; "
+                  "atexit.register(lambda: print('handler ran')); "
+                  f"sys.stdout.write('buffered'); end_process({code})")
+        done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+        assert done.returncode == status
+        assert done.stdout == "bufferedhandler ran\n"
+        assert done.stderr.strip() == stderr
