@@ -47,9 +47,10 @@ class Result:
     friction_estimate: np.ndarray  #: adaptive controllers' friction estimate [N·m·s] per drive
     control_radius: np.ndarray  #: radius each drive's controller uses [m] (calculated or true)
     slipping: np.ndarray  #: stick/slip state per node (0 stuck, 1 slipping), held per tick
-    #: per record and drive, the MRAC's adapted k̂ (tension [m], speed [N·s]) and bias ĉ [N·m]
-    #: (raw controller memory; ``mrac_gains`` masks the drives without an MRAC)
-    adapted_gains: np.ndarray = field(default_factory=lambda: np.zeros((0, 0, 3)))
+    #: per record and drive, the MRAC's adapted gains k̂ on the tension deviation [m] and on
+    #: the speed deviation [N·s] and its bias ĉ [N·m] (thesis 6.68, E-6.14); NaN for the drives
+    #: without an MRAC. Shape (records, drives, 3)
+    mrac_gains: np.ndarray
     failure: Failure | None = None  #: why the run stopped early (None: it ran to the end)
     settings: dict[str, float] = field(default_factory=dict)
     #: the web-break monitor at the end (docs/winder.md W5): time [s] it detected a break
@@ -222,15 +223,6 @@ class Result:
         for d, i in enumerate(self.line.drives):
             radius = self.radius[:, i] if i in (0, self.line.n_nodes - 1) else nodes[i, L.N_RADIUS]
             out[:, d] = radius * self.omega[:, i]
-        return out
-
-    @cached_property
-    def mrac_gains(self) -> np.ndarray:
-        """Per record and drive, the MRAC's adapted gains k̂ on the tension deviation [m] and
-        on the speed deviation [N·s], and its bias ĉ [N·m] (thesis 6.68, E-6.14); NaN for the
-        drives without an MRAC. Shape (records, drives, 3)."""
-        out = np.array(self.adapted_gains, dtype=float)
-        out[:, ~self.has_mrac, :] = np.nan
         return out
 
     @property

@@ -205,9 +205,11 @@ def _result(plan: Plan, rec: np.ndarray, failure: Failure | None,
     n_n = plan.nodes.shape[0]
     slipping = rec[:, 1 + n_x + 6 * n_d:1 + n_x + 6 * n_d + n_n]
     adapted = rec[:, 1 + n_x + 6 * n_d + n_n:].reshape(len(rec), n_d, 3)
+    mrac = (plan.drives[:, L.D_FAMILY] == L.FAMILY_MRAC)[None, :, None]
     return Result(
         plan=plan, time=rec[:, 0], states=rec[:, 1:1 + n_x], torque_cmd=block[0],
         speed_feedforward=block[1], trim=block[2], equilibrium_input=block[3],
         friction_estimate=block[4], control_radius=block[5], slipping=slipping,
-        adapted_gains=adapted, failure=failure, settings=settings, break_monitor=monitor,
+        mrac_gains=np.where(mrac, adapted, np.nan), failure=failure, settings=settings,
+        break_monitor=monitor,
     )
