@@ -17,7 +17,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from webline.control.sections import SectionModel
 
@@ -36,6 +35,8 @@ class SectionDesign:
 
 def lq_gain(a: np.ndarray, b: np.ndarray, rho: float) -> np.ndarray:
     """LQ state-feedback gain for Q = I, R = ``rho`` (u = -K x)."""
+    import scipy.linalg  # here: PI-only lines (the main job's) never import scipy
+
     p = scipy.linalg.solve_continuous_are(a, b, np.eye(a.shape[0]), rho * np.eye(1))
     return (b.T @ p).ravel() / rho
 
@@ -62,6 +63,8 @@ def design_section(model: SectionModel, tension_scale: float, speed_scale: float
         low = high
     k_scaled = lq_gain(a, b, 10.0**low)
     a_closed = a - b @ k_scaled[None, :]
+    import scipy.linalg  # (lq_gain's comment)
+
     lyap = scipy.linalg.solve_continuous_lyapunov(a_closed.T, -np.eye(len(scales)))
     pb = (lyap @ b).ravel()
     gain = torque_scale * k_scaled / scales

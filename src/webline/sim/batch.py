@@ -75,20 +75,62 @@ class Layout:
                 "backlash_open": (2 * s + d, d), "slip": (2 * s + 2 * d, n)}
 
 
+# conditions of an event element on one record column (``_intervals``)
+BELOW, ABOVE, BEYOND, WITHIN, NONZERO = range(5)
+
+
 @jit
-def _event(acc: np.ndarray, base: int, n_ev: int, e: int, cond: bool, t: float) -> None:
-    """Advance the interval bookkeeping of event element ``e`` by one record at ``t`` [s]:
-    an interval starts at the first record where ``cond`` holds and ends at the first where
-    it does not (``webline.sim.events.intervals``)."""
-    total, first, start = base + e, base + n_ev + e, base + 2 * n_ev + e
-    if cond:
-        if math.isnan(acc[start]):
-            acc[start] = t
-            if math.isnan(acc[first]):
-                acc[first] = t
-    elif not math.isnan(acc[start]):
-        acc[total] += t - acc[start]
-        acc[start] = math.nan
+def _intervals(acc: np.ndarray, base: int, n_ev: int, e: int, rec: np.ndarray, n_rec: int,
+               col: int, kind: int, lo: float, hi: float) -> None:
+    """Advance the interval bookkeeping of event element ``e`` over ``n_rec`` records: an
+    interval starts at the first record where the condition ``kind`` on column ``col`` holds
+    (``BELOW``: v < lo, ``ABOVE``: v > lo, ``BEYOND``: |v| >= lo, ``WITHIN``: lo <= v <= hi,
+    ``NONZERO``: v != 0) and ends at the first where it does not
+    (``webline.sim.events.intervals``). Column by column, so the running values stay in
+    registers (``kind`` is a constant at each call site: the branches fold away)."""
+    total, first, start = acc[base + e], acc[base + n_ev + e], acc[base + 2 * n_ev + e]
+    for r in range(n_rec):
+        v = rec[r, col]
+        if kind == BELOW:
+            cond = v < lo
+        elif kind == ABOVE:
+            cond = v > lo
+        elif kind == BEYOND:
+            cond = abs(v) >= lo
+        elif kind == WITHIN:
+            cond = lo <= v <= hi
+        else:
+            cond = v != 0.0
+        if cond:
+            if math.isnan(start):
+                start = rec[r, 0]
+                if math.isnan(first):
+                    first = start
+        elif not math.isnan(start):
+            total += rec[r, 0] - start
+            start = math.nan
+    acc[base + e], acc[base + n_ev + e], acc[base + 2 * n_ev + e] = total, first, start
+
+
+@jit
+def _tension_error(acc: np.ndarray, n_s: int, k: int, p: int, rec: np.ndarray, n_rec: int,
+                   prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray) -> None:
+    """Fold span ``k``'s error from its reference profile ``p`` over ``n_rec`` records into
+    its sum of squares, peak and settling columns."""
+    sumsq, peak = acc[A_SUMSQ * n_s + k], acc[A_PEAK * n_s + k]
+    settle, lastout = acc[A_SETTLE * n_s + k], acc[A_LASTOUT * n_s + k]
+    for r in range(n_rec):
+        t = rec[r, 0]
+        ref = profile_at(p, t, prof_t, prof_v, prof_off)
+        err = max(rec[r, 1 + k], 0.0) - ref
+        sumsq += err * err
+        peak = max(peak, abs(err))
+        if abs(err) > SETTLE_BAND * abs(ref):
+            settle, lastout = t, 1.0
+        else:
+            lastout = 0.0
+    acc[A_SUMSQ * n_s + k], acc[A_PEAK * n_s + k] = sumsq, peak
+    acc[A_SETTLE * n_s + k], acc[A_LASTOUT * n_s + k] = settle, lastout
 
 
 @jit
@@ -96,56 +138,43 @@ def _reduce(rec: np.ndarray, n_rec: int, acc: np.ndarray, trace: np.ndarray, tra
             dt: float, n_x: int, n_s: int, n_d: int, n_n: int, nodes: np.ndarray,
             drives: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray,
             span_prof: np.ndarray, tension_limit: float) -> None:
-    """Fold ``n_rec`` record rows (``kernel.run``'s layout) into the accumulators ``acc``."""
+    """Fold ``n_rec`` record rows (``kernel.run``'s layout) into the accumulators ``acc``,
+    one column at a time. Events that cannot occur (no tension limit, no backlash gap, no
+    traction) are skipped: their condition never holds, so their columns stay as they are."""
     base = SPAN_BLOCKS * n_s
     n_ev = 2 * n_s + 2 * n_d + n_n
-    col_n = base + EV_BLOCKS * n_ev
     col_cmd = 1 + n_x
     col_slip = 1 + n_x + 6 * n_d  # after commands, references, trims, u_eq, friction, radius
-    for r in range(n_rec):
-        t = rec[r, 0]
-        for k in range(n_s):
-            stretch = rec[r, 1 + k]
-            tension = max(stretch, 0.0)
-            if tension < acc[A_TMIN * n_s + k]:
-                acc[A_TMIN * n_s + k] = tension
-            if tension > acc[A_TMAX * n_s + k]:
-                acc[A_TMAX * n_s + k] = tension
-            p = span_prof[k]
-            if p >= 0:
-                ref = profile_at(p, t, prof_t, prof_v, prof_off)
-                err = tension - ref
-                acc[A_SUMSQ * n_s + k] += err * err
-                if abs(err) > acc[A_PEAK * n_s + k]:
-                    acc[A_PEAK * n_s + k] = abs(err)
-                if abs(err) > SETTLE_BAND * abs(ref):
-                    acc[A_SETTLE * n_s + k] = t
-                    acc[A_LASTOUT * n_s + k] = 1.0
-                else:
-                    acc[A_LASTOUT * n_s + k] = 0.0
-            _event(acc, base, n_ev, k, stretch < 0.0, t)
-            _event(acc, base, n_ev, n_s + k, tension > tension_limit, t)
-        for d in range(n_d):
-            limit = drives[d, L.D_LIMIT] * (1.0 - 1e-6)  # events.TORQUE_LIMIT_RTOL
-            _event(acc, base, n_ev, 2 * n_s + d, abs(rec[r, col_cmd + d]) >= limit, t)
-            state = int(drives[d, L.D_TSTATE])
-            gap_neg, gap_pos = drives[d, L.D_GAPNEG], drives[d, L.D_GAPPOS]
-            open_ = False
-            if state >= 0 and gap_neg + gap_pos > 0:
-                twist = rec[r, 1 + state + 1]
-                open_ = -gap_neg <= twist <= gap_pos
-            _event(acc, base, n_ev, 2 * n_s + n_d + d, open_, t)
-        for i in range(n_n):
-            slipping = rec[r, col_slip + i] != 0.0 and nodes[i, L.N_TRACTION] != 0.0
-            _event(acc, base, n_ev, 2 * n_s + 2 * n_d + i, slipping, t)
-        if trace.shape[0] > 0:
-            tick = round(t / dt)
-            if tick % trace_every == 0:
-                row = tick // trace_every
-                if row < trace.shape[0]:
-                    for k in range(n_s):
-                        trace[row, k] = max(rec[r, 1 + k], 0.0)
-        acc[col_n] += 1.0
+    for k in range(n_s):
+        tmin, tmax = acc[A_TMIN * n_s + k], acc[A_TMAX * n_s + k]
+        for r in range(n_rec):
+            tension = max(rec[r, 1 + k], 0.0)
+            tmin, tmax = min(tmin, tension), max(tmax, tension)
+        acc[A_TMIN * n_s + k], acc[A_TMAX * n_s + k] = tmin, tmax
+        if span_prof[k] >= 0:
+            _tension_error(acc, n_s, k, span_prof[k], rec, n_rec, prof_t, prof_v, prof_off)
+        _intervals(acc, base, n_ev, k, rec, n_rec, 1 + k, BELOW, 0.0, 0.0)
+        if tension_limit < math.inf:
+            _intervals(acc, base, n_ev, n_s + k, rec, n_rec, 1 + k, ABOVE, tension_limit, 0.0)
+    for d in range(n_d):
+        limit = drives[d, L.D_LIMIT] * (1.0 - 1e-6)  # events.TORQUE_LIMIT_RTOL
+        _intervals(acc, base, n_ev, 2 * n_s + d, rec, n_rec, col_cmd + d, BEYOND, limit, 0.0)
+        state = int(drives[d, L.D_TSTATE])
+        gap_neg, gap_pos = drives[d, L.D_GAPNEG], drives[d, L.D_GAPPOS]
+        if state >= 0 and gap_neg + gap_pos > 0:
+            _intervals(acc, base, n_ev, 2 * n_s + n_d + d, rec, n_rec, 1 + state + 1, WITHIN,
+                       -gap_neg, gap_pos)
+    for i in range(n_n):
+        if nodes[i, L.N_TRACTION] != 0.0:
+            _intervals(acc, base, n_ev, 2 * n_s + 2 * n_d + i, rec, n_rec, col_slip + i,
+                       NONZERO, 0.0, 0.0)
+    if trace.shape[0] > 0:
+        for r in range(n_rec):
+            tick = round(rec[r, 0] / dt)
+            if tick % trace_every == 0 and tick // trace_every < trace.shape[0]:
+                for k in range(n_s):
+                    trace[tick // trace_every, k] = max(rec[r, 1 + k], 0.0)
+    acc[base + EV_BLOCKS * n_ev] += n_rec
 
 
 @jit

@@ -9,8 +9,9 @@ times its 1 s simulation). The bound is built in two steps:
    graph): its eigenvalues are those of the diagonal blocks. In open loop every torque lag is
    a 1x1 block, so its eigenvalue -1/lag comes out exactly.
 2. A block of up to ``DENSE_STATES`` states gets its eigenvalues (exact; all of the built-in
-   lines' blocks are this small). A larger block B is bounded by Gelfand's formula with
-   Perron-Frobenius: ρ(B) = ρ(B^k)^{1/k} ≤ ρ(|B^k|)^{1/k}, and for any positive vector x,
+   lines' blocks are this small; so does a whole model that small, without step 1). A
+   larger block B is bounded by Gelfand's formula with Perron-Frobenius:
+   ρ(B) = ρ(B^k)^{1/k} ≤ ρ(|B^k|)^{1/k}, and for any positive vector x,
    ρ(|B^k|) ≤ max_i (|B^k| x)_i / x_i (Collatz-Wielandt); a few sparse power iterations make x
    close to |B^k|'s Perron vector. With k = ``POWER`` the signs that cancel in the oscillatory
    span-roller and controller couplings cancel in B^k too, so the bound is within about 10 %
@@ -19,12 +20,15 @@ times its 1 s simulation). The bound is built in two steps:
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
 from webline.line import Line
 from webline.profiles import breakpoints
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 #: Blocks up to this many states get their exact eigenvalues (a dense solve: < 1 ms).
 DENSE_STATES = 40
@@ -42,6 +46,11 @@ def spectral_radius_bound(a: np.ndarray) -> float:
     a = np.asarray(a, dtype=float)
     if a.shape[0] == 0:
         return 0.0
+    if a.shape[0] <= DENSE_STATES:  # one dense solve is cheaper than finding the blocks
+        return float(np.abs(np.linalg.eigvals(a)).max())
+    import scipy.sparse as sp  # here: long lines only (the main job does not import scipy)
+    from scipy.sparse.csgraph import connected_components
+
     graph = sp.csr_matrix(a)
     n_blocks, label = connected_components(graph, directed=True, connection="strong")
     bound = 0.0

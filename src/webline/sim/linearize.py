@@ -35,14 +35,17 @@ def state_names(line: Line) -> list[str]:
 
 
 def plan_state_names(plan: Plan) -> list[str]:
-    """``state_names`` of the line of ``plan``."""
-    line = plan.line
-    compliant = [i for d, i in enumerate(line.drives) if plan.drives[d, L.D_TSTATE] >= 0]
-    return ([f"{line.span_name(k)}_tension" for k in range(line.n_spans)]
+    """``state_names`` of the line of ``plan`` (built once per plan; a new list each call)."""
+    if "state_names" not in plan.memo:
+        line = plan.line
+        compliant = [i for d, i in enumerate(line.drives) if plan.drives[d, L.D_TSTATE] >= 0]
+        plan.memo["state_names"] = tuple(
+            [f"{line.span_name(k)}_tension" for k in range(line.n_spans)]
             + [f"{line.node_name(i)}_omega" for i in range(line.n_nodes)]
             + [f"{line.node_name(i)}_torque" for i in line.drives]
             + [f"{line.node_name(i)}_{part}" for i in compliant
                for part in ("motor_omega", "twist")] + dancers.linear_states(plan))
+    return list(plan.memo["state_names"])  # type: ignore[call-overload]
 
 
 def plant_matrices(line: Line, op: OperatingPoint) -> tuple[np.ndarray, ...]:
@@ -354,9 +357,21 @@ def _linear_model(plan: Plan, op: OperatingPoint, loop: Literal["open", "closed"
             if pi[j // 2] and (j % 2 == 0 or tension[j // 2])]
     ki, gx, gi, gr = ki[:, used], gx[used], gi[np.ix_(used, used)], gr[used]
     (kx, fk), (gx, fg) = (viscoelastic.measured(plan, g, c[:line.n_spans], e) for g in (kx, gx))
-    a_cl = np.block([[a + b @ kx, b @ ki], [gx, gi]])
-    b_cl = np.block([[b @ kr, e + b @ fk], [gr, fg]])
-    c_cl = np.hstack([c, np.zeros((c.shape[0], gi.shape[0]))])
+    # [[A + B Kx, B Ki], [Gx, Gi]] and [[B Kr, E + B Fk], [Gr, Fg]], filled in place
+    # (np.block's checks cost more than the products on these small matrices)
+    n, m, n_ref = a.shape[0], gi.shape[0], kr.shape[1]
+    a_cl = np.empty((n + m, n + m))
+    a_cl[:n, :n] = a + b @ kx
+    a_cl[:n, n:] = b @ ki
+    a_cl[n:, :n] = gx
+    a_cl[n:, n:] = gi
+    b_cl = np.empty((n + m, n_ref + 1))
+    b_cl[:n, :n_ref] = b @ kr
+    b_cl[:n, n_ref:] = e + b @ fk
+    b_cl[n:, :n_ref] = gr
+    b_cl[n:, n_ref:] = fg
+    c_cl = np.zeros((c.shape[0], n + m))
+    c_cl[:, :n] = c
     states += [f"{line.node_name(line.drives[j // 2])}_{('speed', 'tension')[j % 2]}_integral"
                for j in used]
     inputs = (["line_speed_ref"] + [f"zone{z + 1}_tension_ref" for z in range(len(line.zones))]

@@ -98,11 +98,12 @@ class Plan:
 
     def linear_motor_state(self, d: int) -> int | None:
         """Index of drive ``d``'s motor speed in the linear model's states, if compliant."""
-        compliant = [int(k) for k in np.flatnonzero(self.drives[:, L.D_TSTATE] >= 0)]
-        if d not in compliant:
-            return None
-        line = self.line
-        return line.n_spans + line.n_nodes + len(line.drives) + 2 * compliant.index(d)
+        if "motor_states" not in self.memo:  # once per plan: it is asked per drive and model
+            line = self.line
+            first = line.n_spans + line.n_nodes + len(line.drives)
+            compliant = np.flatnonzero(self.drives[:, L.D_TSTATE] >= 0).tolist()
+            self.memo["motor_states"] = {d: first + 2 * j for j, d in enumerate(compliant)}
+        return self.memo["motor_states"].get(d)  # type: ignore[attr-defined]
 
     def initial_state(self, op: OperatingPoint) -> tuple[np.ndarray, np.ndarray]:
         """Plant state and controller integrators at the equilibrium ``op``."""
