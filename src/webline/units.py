@@ -1,10 +1,17 @@
 """One pint registry with the units web-handling engineers use (fpm, pli, lbf, lb·ft²).
 
-Everything inside webline is SI; quantities are parsed here at the boundary.
+Everything inside webline is SI; quantities are parsed here at the boundary. A quantity
+string is a number times a unit, so its SI value is the number times the unit's factor: the
+factors of the unit strings met before are kept on disk (``_conversions``), and a command
+whose line file uses only those never imports pint (0.4-0.6 s of its start-up, more where
+dask is installed, which pint imports when it finds it).
 """
 
 from __future__ import annotations
 
+import functools
+import hashlib
+import json
 import math
 import numbers
 import os
@@ -14,20 +21,29 @@ import sys
 import tempfile
 from functools import lru_cache
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import pint
+if TYPE_CHECKING:
+    import pint
 
-#: set to any value to build pint's registry from its definition files every time
+    ureg: pint.UnitRegistry  # built on first use (``__getattr__``)
+
+#: set to any value to build pint's registry from its definition files every time, and to
+#: convert every quantity through pint (no factors read or written)
 NO_CACHE_VARIABLE = "WEBLINE_NO_UNIT_CACHE"
+#: units webline adds to pint's
+DEFINITIONS = ("fpm = foot / minute", "pli = pound_force / inch", "rpm_ = revolution / minute")
 
 
 def _cache_folder() -> Path:
     """Where pint's parsed definitions are kept: one folder per pint and Python version,
     since the cache is a pickle."""
+    from importlib.metadata import version
+
     import platformdirs
 
-    version = f"pint-{pint.__version__}-py{sys.version_info.major}.{sys.version_info.minor}"
-    return platformdirs.user_cache_path("webline") / version
+    tag = f"pint-{version('pint')}-py{sys.version_info.major}.{sys.version_info.minor}"
+    return platformdirs.user_cache_path("webline") / tag
 
 
 def _registry() -> pint.UnitRegistry:
@@ -36,6 +52,8 @@ def _registry() -> pint.UnitRegistry:
     writer (two commands, Dask workers) could see half a file: the cache is built in a private
     folder and renamed into place whole, and only a complete folder is ever read. Any problem
     with the cache falls back to parsing the definitions."""
+    import pint
+
     if os.environ.get(NO_CACHE_VARIABLE):
         return pint.UnitRegistry()
     try:
@@ -54,10 +72,72 @@ def _registry() -> pint.UnitRegistry:
         return pint.UnitRegistry()
 
 
-ureg: pint.UnitRegistry = _registry()
-ureg.define("fpm = foot / minute")
-ureg.define("pli = pound_force / inch")
-ureg.define("rpm_ = revolution / minute")
+@functools.cache
+def _ureg() -> pint.UnitRegistry:
+    """webline's registry (``ureg``), built on first use."""
+    registry = _registry()
+    for definition in DEFINITIONS:
+        registry.define(definition)
+    return registry
+
+
+def __getattr__(name: str) -> object:
+    if name == "ureg":  # ``from webline.units import ureg`` builds the registry
+        return _ureg()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def _conversions_path() -> Path:
+    """The file of known factors, beside pint's cache: named by pint's and Python's versions
+    and by this module's source (its tables and rules decide every factor)."""
+    folder = _cache_folder()
+    digest = hashlib.sha256(Path(__file__).read_bytes()).hexdigest()[:16]
+    return folder.with_name(f"{folder.name}-conversions-{digest}.json")
+
+
+@functools.cache
+def _conversions() -> dict[str, float | None]:
+    """Known factors: "kind|unit" -> SI value of one unit, "per_width|unit" -> N/m per unit
+    (None: not a force per width), "display|kind|system" -> display factor. Read once; a
+    missing or unreadable file is an empty memo."""
+    if os.environ.get(NO_CACHE_VARIABLE):
+        return {}
+    try:
+        data = json.loads(_conversions_path().read_text())
+    except Exception:  # the memo only saves time
+        return {}
+    if not isinstance(data, dict):
+        return {}
+    return {k: v for k, v in data.items() if isinstance(k, str)
+            and (v is None or (isinstance(v, float) and math.isfinite(v)))}
+
+
+def _remember(key: str, factor: float | None) -> None:
+    """Add a factor to the memo and rewrite its file whole (a reader never sees half)."""
+    memo = _conversions()
+    memo[key] = factor
+    if os.environ.get(NO_CACHE_VARIABLE):
+        return
+    try:
+        path = _conversions_path()
+        path.parent.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(prefix=".conversions-", dir=path.parent)
+        try:
+            with os.fdopen(handle, "w") as out:
+                json.dump(memo, out)
+            os.replace(temporary, path)
+        finally:
+            if os.path.exists(temporary):
+                os.unlink(temporary)
+    except Exception:  # the memo only saves time: never fail a command for it
+        pass
+
+
+def _is_pint_quantity(value: object) -> bool:
+    """Whether ``value`` is a pint Quantity (none can exist before pint is imported)."""
+    pint = sys.modules.get("pint")
+    return pint is not None and isinstance(value, pint.Quantity)
+
 
 #: The dimension each kind of parameter must have, as pint dimensionality strings.
 DIMENSIONS: dict[str, str] = {
@@ -153,11 +233,11 @@ def short(value: object, limit: int = 40) -> str:
 
 @lru_cache(maxsize=64)
 def _dimensionality(kind: str) -> pint.util.UnitsContainer:
-    return ureg.parse_expression(SI_UNITS[kind] or "1").dimensionality
+    return _ureg().parse_expression(SI_UNITS[kind] or "1").dimensionality
 
 
-def _parse(text: str, kind: str) -> pint.Quantity:
-    """The pint quantity of a strictly formed quantity string."""
+def _split(text: str, kind: str) -> tuple[float, str]:
+    """(number, unit) of a strictly formed quantity string."""
     if len(text) > MAX_QUANTITY_TEXT:
         raise ValueError(f"cannot read {short(text)} as a {kind}: longer than "
                          f"{MAX_QUANTITY_TEXT} characters")
@@ -168,10 +248,25 @@ def _parse(text: str, kind: str) -> pint.Quantity:
         raise ValueError(f"cannot read {short(text)} as a {kind}: write a number and a unit, "
                          "e.g. '1.5 m' (a decimal point, no commas or expressions)")
     number, unit = match.groups()
+    return float(number), unit.strip() if unit else ""
+
+
+def _quantity(unit: str, text: str, kind: str) -> pint.Quantity:
+    """One ``unit`` as a pint quantity (``text``: the string it came from, for errors)."""
     try:
-        return ureg.Quantity(float(number), unit.strip() if unit else "")
+        return _ureg().Quantity(1.0, unit)
     except Exception as exc:  # pint raises many types for unknown units
         raise ValueError(f"cannot read {short(text)} as a {kind}: {exc}") from None
+
+
+def _factor(unit: str, kind: str, text: str) -> float:
+    """SI value [SI unit of ``kind``] of one ``unit``, from the memo or through pint."""
+    key = f"{kind}|{unit}"
+    factor = _conversions().get(key)
+    if factor is None:
+        factor = _si_number(_quantity(unit, text, kind), kind, text)
+        _remember(key, factor)
+    return factor
 
 
 def to_si(value: object, kind: str) -> float:
@@ -190,15 +285,15 @@ def to_si(value: object, kind: str) -> float:
             number = float(value)
         except OverflowError:  # an int beyond float range
             raise ValueError(f"must be finite, got {short(value)}") from None
-    elif isinstance(value, str | pint.Quantity):
-        if isinstance(value, str):
-            quantity = _parse(value, kind)
-        else:
-            try:
-                quantity = ureg.Quantity(float(value.magnitude), str(value.units))
-            except Exception:  # an array, or a unit this registry does not know
-                raise ValueError(f"expected a {kind} as one number with a unit, "
-                                 f"got {short(value)}") from None
+    elif isinstance(value, str):
+        magnitude, unit = _split(value, kind)
+        number = magnitude * _factor(unit, kind, value)
+    elif _is_pint_quantity(value):
+        try:
+            quantity = _ureg().Quantity(float(value.magnitude), str(value.units))  # type: ignore[attr-defined]
+        except Exception:  # an array, or a unit this registry does not know
+            raise ValueError(f"expected a {kind} as one number with a unit, "
+                             f"got {short(value)}") from None
         number = _si_number(quantity, kind, value)
     else:
         raise ValueError(f"expected a {kind} (a number or a string with units), "
@@ -213,17 +308,28 @@ def per_width_to_si(value: object) -> float | None:
     as an SI float [N/m], or None when ``value`` is not one (a plain number is a force, not a
     force per width). Raises ``ValueError`` for a malformed quantity string."""
     if isinstance(value, str):
-        quantity = _parse(value, "force")
-    elif isinstance(value, pint.Quantity):
+        magnitude, unit = _split(value, "force")
+        key = f"per_width|{unit}"
+        memo = _conversions()
+        if key not in memo:
+            _remember(key, _per_width_factor(_quantity(unit, value, "force")))
+        factor = memo[key]
+        return None if factor is None else magnitude * factor
+    if _is_pint_quantity(value):
         try:
-            quantity = ureg.Quantity(float(value.magnitude), str(value.units))
+            quantity = _ureg().Quantity(float(value.magnitude), str(value.units))  # type: ignore[attr-defined]
         except Exception:  # an array, or a unit this registry does not know
             return None
-    else:
-        return None
+        factor = _per_width_factor(quantity)
+        return None if factor is None else float(quantity.magnitude) * factor
+    return None
+
+
+def _per_width_factor(quantity: pint.Quantity) -> float | None:
+    """N/m per unit of ``quantity``, or None if it is not a force per width."""
     if quantity.dimensionless or quantity.dimensionality != _dimensionality("force_per_width"):
         return None
-    return float(quantity.to("N/m").magnitude)
+    return float(_ureg().Quantity(1.0, quantity.units).to("N/m").magnitude)
 
 
 def _si_number(quantity: pint.Quantity, kind: str, value: object) -> float:
@@ -255,4 +361,9 @@ def display_factor(kind: str, system: str) -> tuple[float, str]:
     unit = (IMPERIAL_UNITS if system == "imperial" else SI_UNITS)[kind]
     if not unit or unit == SI_UNITS[kind]:
         return 1.0, unit
-    return float(ureg.Quantity(1.0, SI_UNITS[kind]).to(unit).magnitude), unit
+    key = f"display|{kind}|{system}"
+    factor = _conversions().get(key)
+    if factor is None:
+        factor = float(_ureg().Quantity(1.0, SI_UNITS[kind]).to(unit).magnitude)
+        _remember(key, factor)
+    return factor, unit
