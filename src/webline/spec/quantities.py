@@ -6,7 +6,7 @@ quantity (constant) or a table with ``type`` = "ramp", "steps" or "table".
 
 from __future__ import annotations
 
-from typing import Annotated, Generic, Literal, TypeVar
+from typing import TYPE_CHECKING, Annotated, Any, Generic, Literal, TypeVar
 
 from pydantic import (
     BaseModel,
@@ -28,6 +28,14 @@ class Strict(BaseModel):
     (``webline.spec.ranges``, which maps each model to its sections)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
+
+    if not TYPE_CHECKING:  # (for the type checker an unknown attribute stays an error)
+        def __getattr__(self, name: str) -> Any:
+            """A missing attribute, at once. pydantic's own fallback looks for private and
+            extra attributes first, which these models have none of: ``getattr(roller,
+            "nip", None)`` on a roller without that field (plans, checks and operating
+            points ask ~30 such questions per line) then costs a fifth."""
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     @field_validator("*", mode="after")
     @classmethod
