@@ -10,7 +10,9 @@ ranges, so a batch uses all cores.
 
 The reductions follow the definitions of a single run (``webline.sim.metrics``): the records
 are those ``simulate`` stores by default, events are intervals of records
-(``webline.sim.events``), and the tension reference is the loadcell profile at each record.
+(``webline.sim.events``), the tension reference is the loadcell profile at each record, and
+the tension of a Kelvin-Voigt span is what its rollers feel, s + τ ds/dt, from the kernel's
+right-hand side at each record (``webline.sim.viscoelastic``).
 """
 
 from __future__ import annotations
@@ -25,9 +27,8 @@ from typing import Any
 import numba as nb
 import numpy as np
 
-from webline.errors import ArgumentError
 from webline.sim import layout as L
-from webline.sim.kernel import advance, record_width
+from webline.sim.kernel import advance, record_width, rhs, wound_in
 from webline.sim.metrics import SETTLE_BAND
 from webline.sim.plan import Plan
 from webline.sim.signals import _NO_NRT, FAST, jit, profile_at
@@ -80,17 +81,18 @@ BELOW, ABOVE, BEYOND, WITHIN, NONZERO = range(5)
 
 
 @jit
-def _intervals(acc: np.ndarray, base: int, n_ev: int, e: int, rec: np.ndarray, n_rec: int,
-               col: int, kind: int, lo: float, hi: float) -> None:
-    """Advance the interval bookkeeping of event element ``e`` over ``n_rec`` records: an
-    interval starts at the first record where the condition ``kind`` on column ``col`` holds
+def _intervals(acc: np.ndarray, base: int, n_ev: int, e: int, rec: np.ndarray, src: np.ndarray,
+               n_rec: int, col: int, kind: int, lo: float, hi: float) -> None:
+    """Advance the interval bookkeeping of event element ``e`` over ``n_rec`` records (times
+    in ``rec``): an interval starts at the first record where the condition ``kind`` on
+    column ``col`` of ``src`` (the records, or the felt tensions) holds
     (``BELOW``: v < lo, ``ABOVE``: v > lo, ``BEYOND``: |v| >= lo, ``WITHIN``: lo <= v <= hi,
     ``NONZERO``: v != 0) and ends at the first where it does not
     (``webline.sim.events.intervals``). Column by column, so the running values stay in
     registers (``kind`` is a constant at each call site: the branches fold away)."""
     total, first, start = acc[base + e], acc[base + n_ev + e], acc[base + 2 * n_ev + e]
     for r in range(n_rec):
-        v = rec[r, col]
+        v = src[r, col]
         if kind == BELOW:
             cond = v < lo
         elif kind == ABOVE:
@@ -113,8 +115,16 @@ def _intervals(acc: np.ndarray, base: int, n_ev: int, e: int, rec: np.ndarray, n
 
 
 @jit
-def _tension_error(acc: np.ndarray, n_s: int, k: int, p: int, rec: np.ndarray, n_rec: int,
-                   prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray) -> None:
+def _tension(rec: np.ndarray, felt: np.ndarray, kv: bool, r: int, k: int) -> float:
+    """Tension [N] of span ``k`` at record ``r``: its stretch while taut, or for a line with
+    Kelvin-Voigt spans what the rollers feel (``felt``, ``_felt_tensions``)."""
+    return felt[r, k] if kv else max(rec[r, 1 + k], 0.0)
+
+
+@jit
+def _tension_error(acc: np.ndarray, n_s: int, k: int, p: int, rec: np.ndarray,
+                   felt: np.ndarray, kv: bool, n_rec: int, prof_t: np.ndarray,
+                   prof_v: np.ndarray, prof_off: np.ndarray) -> None:
     """Fold span ``k``'s error from its reference profile ``p`` over ``n_rec`` records into
     its sum of squares, peak and settling columns."""
     sumsq, peak = acc[A_SUMSQ * n_s + k], acc[A_PEAK * n_s + k]
@@ -122,7 +132,7 @@ def _tension_error(acc: np.ndarray, n_s: int, k: int, p: int, rec: np.ndarray, n
     for r in range(n_rec):
         t = rec[r, 0]
         ref = profile_at(p, t, prof_t, prof_v, prof_off)
-        err = max(rec[r, 1 + k], 0.0) - ref
+        err = _tension(rec, felt, kv, r, k) - ref
         sumsq += err * err
         peak = max(peak, abs(err))
         if abs(err) > SETTLE_BAND * abs(ref):
@@ -134,13 +144,44 @@ def _tension_error(acc: np.ndarray, n_s: int, k: int, p: int, rec: np.ndarray, n
 
 
 @jit
-def _reduce(rec: np.ndarray, n_rec: int, acc: np.ndarray, trace: np.ndarray, trace_every: int,
-            dt: float, n_x: int, n_s: int, n_d: int, n_n: int, nodes: np.ndarray,
-            drives: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray,
-            span_prof: np.ndarray, tension_limit: float) -> None:
+def _felt_tensions(rec: np.ndarray, n_rec: int, felt: np.ndarray, slip: np.ndarray,
+                   scratch: np.ndarray, n_x: int, ns: np.ndarray, ds: np.ndarray,
+                   offsets: np.ndarray, nodes: np.ndarray, spans: np.ndarray,
+                   drives: np.ndarray, web: np.ndarray, wound_ripple: np.ndarray) -> None:
+    """Tension [N] each span's rollers feel at each of ``n_rec`` records, into ``felt``: what
+    ``sim.viscoelastic.felt_tension`` gives a ``Result`` (the kernel's right-hand side on the
+    recorded state and stick/slip states, no commands or drags: the spans do not see them).
+    ``slip``: integer scratch per node; ``scratch``: 4 rows (commands, drags and flags,
+    derivative, the right-hand side's work) of at least max(states, 3 x nodes)."""
+    n_n = ns.shape[0]
+    n_d = ds.shape[0]
+    cmd, drag = scratch[0, :n_d], scratch[1, :3 * n_n]
+    dx, work = scratch[2, :n_x], scratch[3, :3 * n_n]
+    cmd[:] = 0.0
+    drag[:] = 0.0
+    col_slip = 1 + n_x + 6 * n_d
+    for r in range(n_rec):
+        t = rec[r, 0]
+        for k in range(n_n - 1 if offsets[L.O_BREAK] else 0):  # broken from its tick on
+            drag[2 * n_n + k] = 1.0 if t >= spans[k, L.S_BREAK] else 0.0
+        for i in range(n_n):
+            slip[i] = int(rec[r, col_slip + i])
+        rhs(wound_in(t, web, wound_ripple), rec[r, 1:1 + n_x], cmd, drag, slip, ns, ds,
+            offsets, nodes, spans, drives, web, dx, work)
+        for k in range(n_n - 1):
+            felt[r, k] = work[2 * n_n + k]
+
+
+@jit
+def _reduce(rec: np.ndarray, felt: np.ndarray, kv: bool, n_rec: int, acc: np.ndarray,
+            trace: np.ndarray, trace_every: int, dt: float, n_x: int, n_s: int, n_d: int,
+            n_n: int, nodes: np.ndarray, drives: np.ndarray, prof_t: np.ndarray,
+            prof_v: np.ndarray, prof_off: np.ndarray, span_prof: np.ndarray,
+            tension_limit: float) -> None:
     """Fold ``n_rec`` record rows (``kernel.run``'s layout) into the accumulators ``acc``,
-    one column at a time. Events that cannot occur (no tension limit, no backlash gap, no
-    traction) are skipped: their condition never holds, so their columns stay as they are."""
+    one column at a time; with ``kv`` the tensions are the felt ones in ``felt``. Events
+    that cannot occur (no tension limit, no backlash gap, no traction) are skipped: their
+    condition never holds, so their columns stay as they are."""
     base = SPAN_BLOCKS * n_s
     n_ev = 2 * n_s + 2 * n_d + n_n
     col_cmd = 1 + n_x
@@ -148,32 +189,39 @@ def _reduce(rec: np.ndarray, n_rec: int, acc: np.ndarray, trace: np.ndarray, tra
     for k in range(n_s):
         tmin, tmax = acc[A_TMIN * n_s + k], acc[A_TMAX * n_s + k]
         for r in range(n_rec):
-            tension = max(rec[r, 1 + k], 0.0)
+            tension = _tension(rec, felt, kv, r, k)
             tmin, tmax = min(tmin, tension), max(tmax, tension)
         acc[A_TMIN * n_s + k], acc[A_TMAX * n_s + k] = tmin, tmax
         if span_prof[k] >= 0:
-            _tension_error(acc, n_s, k, span_prof[k], rec, n_rec, prof_t, prof_v, prof_off)
-        _intervals(acc, base, n_ev, k, rec, n_rec, 1 + k, BELOW, 0.0, 0.0)
-        if tension_limit < math.inf:
-            _intervals(acc, base, n_ev, n_s + k, rec, n_rec, 1 + k, ABOVE, tension_limit, 0.0)
+            _tension_error(acc, n_s, k, span_prof[k], rec, felt, kv, n_rec, prof_t, prof_v,
+                           prof_off)
+        _intervals(acc, base, n_ev, k, rec, rec, n_rec, 1 + k, BELOW, 0.0, 0.0)  # stretch < 0
+        if tension_limit < math.inf:  # (a limit >= 0: the stretch above it is the tension)
+            if kv:
+                _intervals(acc, base, n_ev, n_s + k, rec, felt, n_rec, k, ABOVE, tension_limit,
+                           0.0)
+            else:
+                _intervals(acc, base, n_ev, n_s + k, rec, rec, n_rec, 1 + k, ABOVE,
+                           tension_limit, 0.0)
     for d in range(n_d):
         limit = drives[d, L.D_LIMIT] * (1.0 - 1e-6)  # events.TORQUE_LIMIT_RTOL
-        _intervals(acc, base, n_ev, 2 * n_s + d, rec, n_rec, col_cmd + d, BEYOND, limit, 0.0)
+        _intervals(acc, base, n_ev, 2 * n_s + d, rec, rec, n_rec, col_cmd + d, BEYOND, limit,
+                   0.0)
         state = int(drives[d, L.D_TSTATE])
         gap_neg, gap_pos = drives[d, L.D_GAPNEG], drives[d, L.D_GAPPOS]
         if state >= 0 and gap_neg + gap_pos > 0:
-            _intervals(acc, base, n_ev, 2 * n_s + n_d + d, rec, n_rec, 1 + state + 1, WITHIN,
-                       -gap_neg, gap_pos)
+            _intervals(acc, base, n_ev, 2 * n_s + n_d + d, rec, rec, n_rec, 1 + state + 1,
+                       WITHIN, -gap_neg, gap_pos)
     for i in range(n_n):
         if nodes[i, L.N_TRACTION] != 0.0:
-            _intervals(acc, base, n_ev, 2 * n_s + 2 * n_d + i, rec, n_rec, col_slip + i,
+            _intervals(acc, base, n_ev, 2 * n_s + 2 * n_d + i, rec, rec, n_rec, col_slip + i,
                        NONZERO, 0.0, 0.0)
     if trace.shape[0] > 0:
         for r in range(n_rec):
             tick = round(rec[r, 0] / dt)
             if tick % trace_every == 0 and tick // trace_every < trace.shape[0]:
                 for k in range(n_s):
-                    trace[tick // trace_every, k] = max(rec[r, 1 + k], 0.0)
+                    trace[tick // trace_every, k] = _tension(rec, felt, kv, r, k)
     acc[base + EV_BLOCKS * n_ev] += n_rec
 
 
@@ -211,9 +259,11 @@ def _compiled_batch(node_rows: tuple[tuple[int, ...], ...],
                   substeps: np.ndarray, n_ticks: np.ndarray, every: np.ndarray,
                   span_prof: np.ndarray, tension_limit: np.ndarray, trace_every: np.ndarray,
                   rec: np.ndarray, out: np.ndarray, stages: np.ndarray, refs: np.ndarray,
-                  work: np.ndarray, acc: np.ndarray, traces: np.ndarray, status: np.ndarray,
+                  work: np.ndarray, felt: np.ndarray, slip: np.ndarray, kv_scratch: np.ndarray,
+                  acc: np.ndarray, traces: np.ndarray, status: np.ndarray,
                   t_fail: np.ndarray, where: np.ndarray) -> None:
         n_x = offsets[L.O_WEB] + 2
+        kv = offsets[L.O_KV] != 0  # Kelvin-Voigt spans: metrics of the felt tensions
         n_n = ns.shape[0]
         n_d = ds.shape[0]
         n_s = n_n - 1
@@ -233,9 +283,12 @@ def _compiled_batch(node_rows: tuple[tuple[int, ...], ...],
                     dt[c], substeps[c], every[c], last, ns, ds, offsets, nodes[c], spans[c],
                     drives[c], web[c], wound_ripple[c], speed_ripple[c], prof_t[c], prof_v[c],
                     prof_off[c])
-                _reduce(rec, n_rec, acc[c], traces[c], trace_every[c], dt[c], n_x, n_s, n_d,
-                        n_n, nodes[c], drives[c], prof_t[c], prof_v[c], prof_off[c],
-                        span_prof, tension_limit[c])
+                if kv:
+                    _felt_tensions(rec, n_rec, felt, slip, kv_scratch, n_x, ns, ds, offsets,
+                                   nodes[c], spans[c], drives[c], web[c], wound_ripple[c])
+                _reduce(rec, felt, kv, n_rec, acc[c], traces[c], trace_every[c], dt[c], n_x,
+                        n_s, n_d, n_n, nodes[c], drives[c], prof_t[c], prof_v[c],
+                        prof_off[c], span_prof, tension_limit[c])
                 if n_rec > 0:
                     t_last = rec[n_rec - 1, 0]
                 done += count
@@ -282,9 +335,6 @@ def run_batch(plans: list[Plan], states: list[tuple[np.ndarray, np.ndarray, np.n
     first = plans[0]
     n_c = len(plans)
     line = first.line
-    if first.offsets[L.O_KV]:  # the compiled metrics read the stretch, not the damper's force
-        raise ArgumentError("a line with Kelvin-Voigt spans cannot be swept yet (its metrics "
-                            "would miss the damper); run webline.simulate per case")
     lay = Layout(line.n_spans, first.drives.shape[0], line.n_nodes)
     if any(p.wound_ripple.shape != first.wound_ripple.shape
            or p.speed_ripple.shape != first.speed_ripple.shape
@@ -300,8 +350,8 @@ def run_batch(plans: list[Plan], states: list[tuple[np.ndarray, np.ndarray, np.n
     span_prof = np.full(lay.n_spans, -1, dtype=np.int64)
     for z, zone in enumerate(line.zones):
         span_prof[zone.loadcell] = 1 + z  # plan profiles: speed, then each zone's loadcell
-    limit = line.spec.web.tension_limit
-    tension_limit = np.full(n_c, math.inf if limit is None else float(limit))
+    tension_limit = np.array([math.inf if p.line.spec.web.tension_limit is None
+                              else float(p.line.spec.web.tension_limit) for p in plans])
     acc = np.zeros((n_c, lay.width))
     acc[:, A_TMIN * lay.n_spans:(A_TMIN + 1) * lay.n_spans] = math.inf
     acc[:, A_TMAX * lay.n_spans:(A_TMAX + 1) * lay.n_spans] = -math.inf
@@ -322,9 +372,11 @@ def run_batch(plans: list[Plan], states: list[tuple[np.ndarray, np.ndarray, np.n
 
     def task(lo: int, hi: int) -> None:
         rows = CHUNK_TICKS // int(np.min(every[lo:hi])) + 2
+        kv = bool(first.offsets[L.O_KV])  # felt tensions of Kelvin-Voigt spans, per record
         scratch = (np.empty((rows, record_width(n_x, n_d, n_n))), np.zeros((4, n_d)),
                    np.empty((5, n_x)), np.empty((4, max(n_prof, n_n))),
-                   np.zeros((2, 3 * n_n)))
+                   np.zeros((2, 3 * n_n)), np.empty((rows if kv else 0, n_n - 1)),
+                   np.zeros(n_n, dtype=np.int64), np.zeros((4, max(n_x, 3 * n_n))))
         loop(lo, hi, *args, *scratch, acc, traces, status, t_fail, where)
 
     workers = workers or os.cpu_count() or 1
