@@ -102,58 +102,65 @@ def run(
     warning, 1 failed (what was computed is written), 2 bad input, 3 unstable or a runaway
     (diverged), 130 interrupted by Ctrl-C (what was computed is written, status interrupted).
     """
-    from webline.report.run_output import open_run_folder, write_run
-    from webline.report.verdict_text import verdict_lines
-    from webline.sim.simulate import simulate
+    from webline.report.early import Reporter
 
-    scenario_line = _load(line, scenario, controller, sets)
-    for warning in scenario_line.warnings:  # unusual values (webline.spec.ranges)
-        typer.echo(f"warning: {scenario_line.source}: {warning}", err=True)
-    seconds = _duration(duration)
-    if seconds is None and scenario:
-        seconds = scenario_line.spec.scenarios[scenario].duration
-    folder = open_run_folder(out, scenario_line.name, scenario, force)
-    prepare_out(folder.path)
-    err = Console(stderr=True, highlight=False)
-    started = time.perf_counter()
-    if not quiet:
-        err.print(f"Simulating {escape(scenario_line.name)} (Ctrl-C stops and writes what was "
-                  "computed)")
+    reporter = Reporter.start()  # first: it loads the report's libraries while we simulate
     try:
-        with progress_bar(not quiet, f"simulating {scenario_line.name}") as progress:
-            result = simulate(scenario_line, seconds, progress=progress,
-                              raise_on_failure=False)
-    except KeyboardInterrupt:
-        fail("interrupted before anything was computed; nothing written", 130)
-    if not quiet:
-        simulated = float(result.time[-1]) if len(result.time) else 0.0
-        err.print(f"Simulated {simulated:.4g} s of {escape(scenario_line.name)} in "
-                  f"{time.perf_counter() - started:.2f} s; writing results and report")
-    try:
-        files, results_file = write_run(result, folder, data_format.value, precision.value,
-                                        units.value, scenario, svg)
-    except KeyboardInterrupt:
-        fail(f"interrupted while writing {folder.path}: the files written are whole, the others "
-             "missing or from the previous run", 130)
-    if not quiet:
-        from webline.report.display import Display
-        from webline.report.tables import summary_tables
+        from webline.report.run_output import open_run_folder, write_run
+        from webline.report.verdict_text import verdict_lines
+        from webline.sim.simulate import simulate
 
-        console = _console()
-        print_tables(summary_tables(result, Display(units.value, result.line.spec.web.width)),
-                     console)
-        console.print(f"Results (SI): {escape(str(results_file))}\n"
-                      f"Figures:      {escape(str(folder.path / 'figures'))} "
-                      f"({len(files.figures)} files, {'PNG and SVG' if svg else 'PNG'})\n"
-                      f"Summary:      {escape(str(files.summary))}\n"
-                      "Report (open it in a browser):")
-    typer.echo(str(files.report.resolve()))
-    for text in verdict_lines(result.verdict, quiet):
-        typer.echo(text, err=True)
-    if result.failure is not None:
-        typer.echo(f"what was computed until then is in {folder.path}", err=True)
-    if result.verdict.exit_code:
-        raise typer.Exit(result.verdict.exit_code)
+        scenario_line = _load(line, scenario, controller, sets)
+        for warning in scenario_line.warnings:  # unusual values (webline.spec.ranges)
+            typer.echo(f"warning: {scenario_line.source}: {warning}", err=True)
+        seconds = _duration(duration)
+        if seconds is None and scenario:
+            seconds = scenario_line.spec.scenarios[scenario].duration
+        folder = open_run_folder(out, scenario_line.name, scenario, force)
+        prepare_out(folder.path)
+        err = Console(stderr=True, highlight=False)
+        started = time.perf_counter()
+        if not quiet:
+            err.print(f"Simulating {escape(scenario_line.name)} (Ctrl-C stops and writes what was "
+                      "computed)")
+        try:
+            with progress_bar(not quiet, f"simulating {scenario_line.name}") as progress:
+                result = simulate(scenario_line, seconds, progress=progress,
+                                  raise_on_failure=False)
+        except KeyboardInterrupt:
+            fail("interrupted before anything was computed; nothing written", 130)
+        if not quiet:
+            simulated = float(result.time[-1]) if len(result.time) else 0.0
+            err.print(f"Simulated {simulated:.4g} s of {escape(scenario_line.name)} in "
+                      f"{time.perf_counter() - started:.2f} s; writing results and report")
+        try:
+            files, results_file = write_run(result, folder, data_format.value, precision.value,
+                                            units.value, scenario, svg, reporter)
+        except KeyboardInterrupt:
+            fail(f"interrupted while writing {folder.path}: the files written are whole, the "
+                 "others missing or from the previous run", 130)
+        if not quiet:
+            from webline.report.display import Display
+            from webline.report.tables import summary_tables
+
+            console = _console()
+            print_tables(summary_tables(result, Display(units.value, result.line.spec.web.width)),
+                         console)
+            console.print(f"Results (SI): {escape(str(results_file))}\n"
+                          f"Figures:      {escape(str(folder.path / 'figures'))} "
+                          f"({len(files.figures)} files, {'PNG and SVG' if svg else 'PNG'})\n"
+                          f"Summary:      {escape(str(files.summary))}\n"
+                          "Report (open it in a browser):")
+        typer.echo(str(files.report.resolve()))
+        for text in verdict_lines(result.verdict, quiet):
+            typer.echo(text, err=True)
+        if result.failure is not None:
+            typer.echo(f"what was computed until then is in {folder.path}", err=True)
+        if result.verdict.exit_code:
+            raise typer.Exit(result.verdict.exit_code)
+    finally:  # the report's process ends with the command, whichever way it ends
+        if reporter is not None:
+            reporter.close()
 
 
 @app.command()

@@ -160,6 +160,13 @@ class Line:
         check_spec(spec, label)
         return Line(spec, self.source)
 
+    def __reduce__(self) -> tuple[object, ...]:
+        """Pickled as its plain data, validated again when unpickled (the spec's profile
+        models are generic pydantic classes, which pickle cannot find by name): a line goes
+        to another process (the report's, a Dask worker) whatever its profiles; its memo of
+        plans stays behind."""
+        return (_unpickle_line, (self.spec.model_dump(exclude_none=True), self.source))
+
     def replace(self, changes: Mapping[str, object] | None = None, /,
                 **top_level: object) -> Line:
         """A new, validated line with some values changed.
@@ -198,3 +205,8 @@ def load_line(source: Line | str | Path | LineSpec | dict[str, object]) -> Line:
 
 def is_roll(roller: object) -> bool:
     return isinstance(roller, UnwindSpec | RewindSpec)
+
+
+def _unpickle_line(data: dict[str, object], source: str) -> Line:
+    """The line pickled by ``Line.__reduce__``."""
+    return Line(spec_from_dict(data, source), source)

@@ -5,6 +5,7 @@ links and foreign folders refused, Ctrl-C (exit 130) with readable partial resul
 from __future__ import annotations
 
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -164,3 +165,58 @@ def test_sigint_during_a_long_run_writes_partial_results_and_exits_130(tmp_path)
         assert set(ds.data_vars) >= {"tension", "speed", "torque"}
         assert np.isfinite(ds.tension.values).all()
     assert not [p for p in out.rglob("*") if p.name.startswith(TEMP_PREFIX)]
+
+
+def _run_files(folder: Path) -> dict[str, bytes]:
+    """Every file of a run folder but the results (their HDF5 header holds its write time),
+    the report's footer time blanked."""
+    out = {}
+    for path in sorted(folder.rglob("*")):
+        if path.is_file() and path.name != "results.nc":
+            data = path.read_bytes()
+            if path.name == "report.html":
+                data = re.sub(rb"generated \d{4}-\d\d-\d\d \d\d:\d\d UTC", b"generated", data)
+            out[str(path.relative_to(folder))] = data
+    return out
+
+
+def test_the_report_process_writes_what_the_command_writes_itself(tmp_path, monkeypatch) -> None:
+    """``webline run`` hands its report to a copy forked when it starts (report.early); the
+    files, the manifest included, are byte for byte those it writes without the copy."""
+    from webline.report import early
+
+    if not early.can_fork():
+        pytest.skip("no fork, or one core: the command writes its report itself")
+    replies = []
+    collect = early.Reporter.collect
+
+    def spy(self, folder):
+        replies.append(collect(self, folder))
+        return replies[-1]
+
+    monkeypatch.setattr(early.Reporter, "collect", spy)
+    args = ("run", "hswl", "-s", "tension-step", "-d", "2.5", "-q", "--out")
+    assert invoke(*args, str(tmp_path / "copy")).exit_code == 0
+    assert len(replies) == 1 and replies[0] is not None, "the copy wrote the report"
+    monkeypatch.setattr(early, "can_fork", lambda: False)
+    assert invoke(*args, str(tmp_path / "here")).exit_code == 0
+    copy, here = _run_files(tmp_path / "copy"), _run_files(tmp_path / "here")
+    assert set(copy) == set(here) and len(copy) >= 9  # 6 figures, summary, report, manifest
+    assert copy == here
+
+
+def test_a_failing_report_process_leaves_the_report_to_the_command(tmp_path, monkeypatch) -> None:
+    """Whatever goes wrong in the copy (here it dies at once), the command writes the report
+    itself: nothing is lost, and no process is left behind, also when the run never starts."""
+    import multiprocessing
+
+    from webline.report import early
+
+    monkeypatch.setattr(early, "_serve", lambda conn, parent_end: os._exit(3))
+    assert invoke("run", "hswl", "-d", "1", "-q", "--out", str(tmp_path / "run")).exit_code == 0
+    names = set(_run_files(tmp_path / "run"))
+    assert {"report.html", "summary.json"} | {f"figures/{f}.png" for f in FIGURES} <= names
+    monkeypatch.undo()
+    bad = invoke("run", "hswl", "--set", "web.ea=-3 N", "--out", str(tmp_path / "bad"))
+    assert bad.exit_code == 2
+    assert not multiprocessing.active_children()

@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import re
 import unicodedata
+from dataclasses import dataclass
 from pathlib import Path
 
 from webline.files import OutputError, atomic_write_text, refuse_symlink
@@ -41,6 +42,15 @@ def default_folder(line_name: str, scenario: str | None = None,
     """``root/LINE[-SCENARIO]`` with both names made safe: always a direct child of ``root``."""
     name = safe_name(line_name) + (f"-{safe_name(scenario)}" if scenario else "")
     return root / safe_name(name)
+
+
+@dataclass(frozen=True)
+class ReportFiles:
+    """What ``writer.write_report`` wrote."""
+
+    report: Path  #: the HTML report
+    summary: Path  #: the summary, operating point and modes as JSON (chosen units)
+    figures: tuple[Path, ...]  #: every figure as PNG (and SVG on request)
 
 
 class OutputFolder:

@@ -1,10 +1,11 @@
 """Rendering a report's figures to PNG (and SVG on request), on two processes where it can.
 
 Drawing and compressing the figures is the largest part of a run's report. On a machine with
-more than one core, and where ``fork`` is available in a single-threaded process, half of the
-figure jobs run in a forked copy of this process (which already holds the result: nothing is
-pickled but the images coming back), the other half here. If the copy fails in any way, its
-jobs are rendered here: a figure is never dropped.
+more than one core, and where ``fork`` is available in a single-threaded process, a forked
+copy of this process (which already holds the result: nothing is pickled but the images
+coming back) and this process each take the next figure job not yet taken until none is left,
+so the work divides evenly whatever each figure costs. If the copy fails in any way, the jobs
+it had taken are rendered here: a figure is never dropped.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
+from multiprocessing.sharedctypes import Synchronized
 
 from webline.report.figures import FigureJob, ReportFigure
 
@@ -46,9 +48,24 @@ def _files(fig: ReportFigure, dpi: float, svg: bool) -> Rendered:
     return Rendered(fig.key, fig.caption, png.getvalue(), vector)
 
 
-def _child(jobs: Sequence[FigureJob], dpi: float, svg: bool, conn: Connection) -> None:
+def _take(jobs: Sequence[FigureJob], next_job: Synchronized, dpi: float,
+          svg: bool) -> dict[int, list[Rendered]]:
+    """Render the jobs not yet taken, one at a time (``next_job``: the index of the next one,
+    shared by both processes), until none is left; their figures by job index."""
+    out: dict[int, list[Rendered]] = {}
+    while True:
+        with next_job.get_lock():
+            index = next_job.value
+            next_job.value = index + 1
+        if index >= len(jobs):
+            return out
+        out[index] = [_files(fig, dpi, svg) for fig in jobs[index]()]
+
+
+def _child(jobs: Sequence[FigureJob], next_job: Synchronized, dpi: float, svg: bool,
+           conn: Connection) -> None:
     try:
-        conn.send(_render(jobs, dpi, svg))
+        conn.send(_take(jobs, next_job, dpi, svg))
     finally:
         conn.close()
 
@@ -63,20 +80,21 @@ def render_figures(jobs: Sequence[FigureJob], dpi: float, *, svg: bool = False,
     """Every figure of ``jobs`` rendered at ``dpi`` [dots per inch], in job order."""
     if not parallel or len(jobs) < 2 or not _can_fork():
         return [r for part in _render(jobs, dpi, svg) for r in part]
-    mine, theirs = list(jobs[0::2]), list(jobs[1::2])
     context = multiprocessing.get_context("fork")
+    next_job = context.Value("q", 0)  # both processes take the next job: the faster does more
     receive, send = context.Pipe(duplex=False)
-    child = context.Process(target=_child, args=(theirs, dpi, svg, send), daemon=True)
+    child = context.Process(target=_child, args=(jobs, next_job, dpi, svg, send), daemon=True)
     child.start()
     send.close()
-    here = _render(mine, dpi, svg)
+    done = _take(jobs, next_job, dpi, svg)
     try:
-        there = receive.recv()
-    except (EOFError, OSError):  # the copy died: render its share here
-        there = _render(theirs, dpi, svg)
+        done |= receive.recv()
+    except (EOFError, OSError):  # the copy died: what it had taken is rendered below
+        pass
     finally:
         receive.close()
         child.join()
-    parts: list[list[Rendered]] = [[] for _ in jobs]
-    parts[0::2], parts[1::2] = here, there
-    return [r for part in parts for r in part]
+    for index in range(len(jobs)):
+        if index not in done:
+            done[index] = _render([jobs[index]], dpi, svg)[0]
+    return [r for index in range(len(jobs)) for r in done[index]]

@@ -7,8 +7,9 @@ from pathlib import Path
 
 from webline.errors import WeblineError
 from webline.report.display import System
-from webline.report.outputs import OutputFolder, default_folder
-from webline.report.writer import Format, ReportFiles, write_report, write_results
+from webline.report.early import Reporter, ReportJob
+from webline.report.outputs import OutputFolder, ReportFiles, default_folder
+from webline.report.results_file import Format, results_name, write_results
 from webline.sim.result import Precision, Result
 
 
@@ -21,16 +22,28 @@ def open_run_folder(out: Path | None, line_name: str, scenario: str | None,
 
 def write_run(result: Result, folder: OutputFolder, fmt: Format = "netcdf",
               precision: Precision = "float64", units: System = "si",
-              scenario: str | None = None, svg: bool = False) -> tuple[ReportFiles, Path]:
+              scenario: str | None = None, svg: bool = False,
+              reporter: Reporter | None = None) -> tuple[ReportFiles, Path]:
     """Write results, figures (SVG too with ``svg``), summary and report into ``folder``
     (each file atomically and in its manifest), then finish the manifest: files of the
-    previous run not rewritten are removed. Returns the report's files and the results file."""
+    previous run not rewritten are removed. Returns the report's files and the results file.
+    A ``reporter`` (``report.early``) writes the report meanwhile; if it fails, it is written
+    here."""
     try:
-        results_file = write_results(result, folder.path, fmt, precision=precision,
-                                     folder=folder)
-        files = write_report(result, folder.path, units=units, scenario=scenario,
-                             results_file=results_file, folder=folder, svg=svg)
+        results_file = folder.claim(results_name(fmt))  # before the reporter copies the folder
+        handed = reporter is not None and reporter.submit(ReportJob(
+            result, folder, units, scenario, results_file, svg))
+        write_results(result, folder.path, fmt, precision=precision, folder=folder)
+        files = reporter.collect(folder) if handed and reporter is not None else None
+        if files is None:
+            from webline.report.writer import write_report
+
+            files = write_report(result, folder.path, units=units, scenario=scenario,
+                                 results_file=results_file, folder=folder, svg=svg)
         folder.finish()
     except OSError as exc:
         raise WeblineError(f"{folder.path}: cannot write the results: {exc}") from None
+    finally:
+        if reporter is not None:
+            reporter.close()
     return files, results_file

@@ -8,7 +8,6 @@ import math
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Literal
 
 from webline.analysis.modes import Mode, closed_loop_modes
 from webline.errors import WeblineError
@@ -19,7 +18,7 @@ from webline.report.describe import line_tables
 from webline.report.display import Display, System
 from webline.report.figures import figure_jobs
 from webline.report.html import Image, Section, Text, render
-from webline.report.outputs import OutputFolder
+from webline.report.outputs import OutputFolder, ReportFiles
 from webline.report.render import render_figures
 from webline.report.tables import (
     Table,
@@ -31,21 +30,11 @@ from webline.report.tables import (
     summary_values,
 )
 from webline.report.verdict_text import STATUS_CLASS, events_table
-from webline.sim.result import Precision, Result
+from webline.sim.result import Result
 from webline.spec.load import dump_spec
 
-Format = Literal["netcdf", "csv"]
 #: Resolution of the PNG figures [dots per inch].
 DPI = 110
-
-
-@dataclass(frozen=True)
-class ReportFiles:
-    """What ``write_report`` wrote."""
-
-    report: Path  #: the HTML report
-    summary: Path  #: the summary, operating point and modes as JSON (chosen units)
-    figures: tuple[Path, ...]  #: every figure as PNG (and SVG on request)
 
 
 @dataclass(frozen=True)
@@ -67,19 +56,6 @@ def analyse(line: Line) -> Analysis:
         return Analysis(t, operating_point(line, t), tuple(closed_loop_modes(line, t)))
     except (WeblineError, ValueError, ArithmeticError) as exc:
         return Analysis(t, None, (), str(exc))
-
-
-def write_results(result: Result, out_dir: Path, fmt: Format = "netcdf", *,
-                  precision: Precision = "float64", folder: OutputFolder | None = None) -> Path:
-    """Write the run's signals (SI, units as attributes/headers) as ``results.nc`` (NetCDF-4,
-    compressed, floats as ``precision``) or ``results.csv`` in ``out_dir``, atomically; with
-    ``folder`` (the ``OutputFolder`` of ``out_dir``) the file joins its manifest. Returns the
-    path."""
-    name = "results.csv" if fmt == "csv" else "results.nc"
-    path = folder.claim(name) if folder else out_dir / name
-    if fmt == "csv":
-        return result.to_csv(path)
-    return result.to_netcdf(path, precision=precision)
 
 
 def _target(out_dir: Path, folder: OutputFolder | None, relative: str) -> Path:

@@ -1,0 +1,138 @@
+"""The report's own process, started with ``webline run`` so that its libraries load while the
+line is simulated (issue 12: the main job's wall time).
+
+Drawing the report needs matplotlib: importing it and drawing the figures was over half of the
+main job, all of it after the simulation. Where ``fork`` is available, the process is still
+single-threaded and there is more than one core, ``Reporter.start`` forks a copy of the
+command before the line is loaded. The copy imports the report's modules while the line is
+simulated, then receives the job (the result, pickled through a pipe) and writes the figures
+(half of them on a further fork, ``report.render``), summary and report, while this process
+writes the results file. Should the copy fail in any way, ``collect`` says so and the caller
+writes the report itself, as it would without the copy: a report is never lost.
+
+The manifest (``report.outputs``) stays consistent: the results file is claimed before the
+job is handed over, the copy claims its own files in its copy of the output folder, and
+``collect`` adopts the copy's list of written files before the caller finishes the folder.
+"""
+
+from __future__ import annotations
+
+import atexit
+import contextlib
+import multiprocessing
+import os
+import threading
+from dataclasses import dataclass
+from multiprocessing.connection import Connection
+from multiprocessing.process import BaseProcess
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # at run time only the copy imports them (the command forks before)
+    from webline.report.display import System
+    from webline.report.outputs import OutputFolder, ReportFiles
+    from webline.sim.result import Result
+
+#: Longest wait [s] for the copy to end after its reply (it has nothing left to do).
+JOIN_SECONDS = 5.0
+
+
+@dataclass(frozen=True)
+class ReportJob:
+    """What the copy needs to write a run's report (``writer.write_report``'s arguments)."""
+
+    result: Result
+    folder: OutputFolder
+    units: System
+    scenario: str | None
+    results_file: Path
+    svg: bool
+
+
+def _serve(conn: Connection, parent_end: Connection) -> None:
+    """The copy: load the report's modules, then write the one job it is sent and reply with
+    (the files, the folder's written list), or with the error's text."""
+    parent_end.close()  # else the pipe stays open here and a dead command's copy waits forever
+    try:
+        from webline.report.writer import write_report  # the slow imports, done meanwhile
+
+        job: ReportJob = conn.recv()
+        files = write_report(job.result, job.folder.path, units=job.units,
+                             scenario=job.scenario, results_file=job.results_file,
+                             folder=job.folder, svg=job.svg)
+        conn.send((files, job.folder.written))
+    except EOFError:  # the command ended without a report to write (an error, Ctrl-C)
+        pass
+    except BaseException as exc:  # any failure: the command writes the report itself
+        with contextlib.suppress(OSError, ValueError):  # the command may be gone
+            conn.send(f"{type(exc).__name__}: {exc}")
+    finally:
+        conn.close()
+
+
+def can_fork() -> bool:
+    """Whether a copy of this process may be forked for its report (module docstring)."""
+    return ((os.cpu_count() or 1) > 1 and threading.active_count() == 1
+            and "fork" in multiprocessing.get_all_start_methods())
+
+
+class Reporter:
+    """A forked copy of the command that writes its report (module docstring)."""
+
+    def __init__(self, process: BaseProcess, conn: Connection) -> None:
+        self._process, self._conn = process, conn
+        self.failure = ""  #: why the copy wrote no report, once ``collect`` says so
+
+    @classmethod
+    def start(cls) -> Reporter | None:
+        """Fork the copy, or None where it cannot be (``can_fork``)."""
+        if not can_fork():
+            return None
+        context = multiprocessing.get_context("fork")
+        mine, theirs = context.Pipe()
+        # not a daemon: it forks in turn to draw half of the figures (report.render); it ends
+        # when the pipe closes, which ``close`` does on every way out of the command (atexit)
+        process = context.Process(target=_serve, args=(theirs, mine))
+        process.start()
+        theirs.close()
+        reporter = cls(process, mine)
+        atexit.register(reporter.close)
+        return reporter
+
+    def submit(self, job: ReportJob) -> bool:
+        """Hand ``job`` to the copy; False if it could not take it."""
+        try:
+            self._conn.send(job)  # pickled first: a failure to pickle sends nothing
+            return True
+        except Exception as exc:  # pickling or the pipe: the command writes the report
+            self.failure = f"could not hand the report over ({type(exc).__name__}: {exc})"
+            return False
+
+    def collect(self, folder: OutputFolder) -> ReportFiles | None:
+        """The files the copy wrote, its manifest entries adopted into ``folder``; None (and
+        ``failure`` set) if it wrote no report."""
+        reply: object = None
+        try:
+            reply = self._conn.recv()
+        except (EOFError, OSError) as exc:
+            self.failure = f"the report's process ended without a reply ({exc or 'EOF'})"
+        finally:
+            self.close()
+        if isinstance(reply, str):
+            self.failure = reply
+        if not isinstance(reply, tuple):
+            return None
+        files, written = reply
+        folder.written.extend(w for w in written if w not in folder.written)
+        return files
+
+    def close(self) -> None:
+        """Close the pipe (the copy then ends) and wait for the copy; again: nothing."""
+        if self._conn.closed:
+            return
+        self._conn.close()
+        self._process.join(JOIN_SECONDS)
+        if self._process.is_alive():
+            self._process.terminate()
+            self._process.join()
+        atexit.unregister(self.close)
