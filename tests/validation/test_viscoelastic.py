@@ -171,9 +171,3 @@ def test_bad_span_models_are_refused(change, key):
     with pytest.raises(LineFileError) as info:
         webline.load_line("rockwell").replace(change)
     assert key in str(info.value)
-
-
-def test_sweeping_a_viscoelastic_line_is_refused_not_misreported():
-    line = viscoelastic(webline.load_line("rockwell"), 5e-3)
-    with pytest.raises(webline.ArgumentError, match="Kelvin-Voigt"):
-        webline.sweep(line, {"spans.rewind_span_b.length": ["1 m", "2 m"]}, duration=0.1)
