@@ -270,9 +270,3 @@ def figure_jobs(result: Result, display: Display,
         jobs.append(one("poles", "Closed-loop poles at the operating point.",
                         lambda: poles_figure(modes)))
     return jobs
-
-
-def report_figures(result: Result, display: Display,
-                   modes: Sequence[Mode] = ()) -> list[ReportFigure]:
-    """Every figure of a run's report, in report order."""
-    return [fig for job in figure_jobs(result, display, modes) for fig in job()]
