@@ -15,7 +15,10 @@ machine's core count and load average (at the start and at the end):
     machine's load makes), and where a batch case's time goes (plans in Python, compiled
     batch, verdicts and Dataset);
 (b) all cores: the same batch with ``workers`` = the cores, best of ``--repeat`` runs, its
-    speed-up over (a)'s batch (goal >= 1.7 on 2 cores) and the CPU it kept busy;
+    speed-up over (a)'s batch (goal >= 1.7 on 2 cores) and the CPU it kept busy; beside it
+    the machine's ceiling at that moment: the speed-up of the compiled batch alone (cases
+    built beforehand, nothing shared), which a VM whose cores slow each other down keeps
+    below 2;
 (c) a 2-process, 1-thread-each ``LocalCluster``: its start-up and the workers' warm-up (import,
     loading the compiled loop) timed apart, then the same cases in chunks (256 cases, or a
     quarter of them if fewer than 1024) through ``webline.sim.chunks.run_chunked`` (chunk
@@ -102,6 +105,29 @@ def one_core(line: object, cases: int, loop_cases: int, repeat: int) -> dict[str
     return {**best, **split, "round_min": min(rounds), "round_max": max(rounds)}
 
 
+def compiled_scaling(line: object, cases: int, cores: int, repeat: int) -> float:
+    """Speed-up [1] of ``batch.run_batch`` alone on ``cores`` threads over one thread, on
+    ``cases`` cases built beforehand (no Python in the timed part), best of ``repeat``: what
+    the cores give compiled code that shares nothing, the ceiling of (b)."""
+    import numpy as np
+
+    from webline.sim.batch import run_batch
+    from webline.sim.cases import build_cases
+    from webline.sim.distributions import draw
+
+    samples = draw(DISTS, cases, seed=4)["web.ea"]
+    built = build_cases(line, [{"web.ea": float(v)} for v in samples], DURATION)  # type: ignore[arg-type]
+    best = {1: math.inf, cores: math.inf}
+    for _ in range(repeat):
+        for workers in best:
+            states = [(x.copy(), i.copy(), s.copy()) for x, i, s in built.states]
+            started = time.perf_counter()
+            run_batch(built.plans, states, np.array(built.n_ticks), np.array(built.substeps),
+                      np.array(built.every), workers=workers)
+            best[workers] = min(best[workers], time.perf_counter() - started)
+    return best[1] / best[cores]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true",
@@ -171,6 +197,9 @@ def main() -> None:
           f"{busy:.2f} cores busy on average (plans {ds.attrs['seconds_build'] / cases * 1e3:.2f},"
           f" compiled {ds.attrs['seconds_loop'] / cases * 1e3:.2f} ms/case, overlapping)")
     print(f"    speed-up over one core {speedup:.2f}   (goal >= 1.7 on 2 cores: {goal})")
+    ceiling = compiled_scaling(line, min(cases, 256), cores, repeat)
+    print(f"    (the machine's ceiling now: the compiled batch alone, on cases built beforehand, "
+          f"runs {ceiling:.2f}x as fast on {cores} threads as on 1)")
 
     # (c) Dask LocalCluster
     if not args.no_dask:
