@@ -152,3 +152,28 @@ def test_literal_names_render_verbatim(name):
     for text in (ax.title, *legend.get_texts()):
         assert not text._preprocess_math(text.get_text())[1]  # not read as math
     assert ax.title._preprocess_math(ax.title.get_text())[0] == name
+
+
+def test_a_study_figure_that_fails_half_written_leaves_the_previous_file(tmp_path):
+    """Studies write atomically too (``studies.output``): a figure whose drawing fails after
+    writing part of its file leaves the previous file whole and no temporary file behind;
+    the tables and summary go the same way."""
+    from webline.studies import output
+
+    path = tmp_path / "tension.png"
+    path.write_bytes(b"the previous run's figure")
+    fig = Figure()
+
+    def half_then_fail(target, **kwargs):
+        Path(target).write_bytes(b"\x89PNG half")
+        raise RuntimeError("drawing failed")
+
+    fig.savefig = half_then_fail  # type: ignore[method-assign]
+    with pytest.raises(RuntimeError):
+        output.write_figure(fig, path)
+    assert path.read_bytes() == b"the previous run's figure"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["tension.png"]
+    rows = [{"a": 1, "b": 2.5}, {"a": 2, "c": "x"}]
+    output.finish("demo", tmp_path, [path], rows, "two rows")
+    assert (tmp_path / "table.csv").read_text().splitlines() == ["a,b,c", "1,2.5,", "2,,x"]
+    assert (tmp_path / "summary.txt").read_text() == "two rows\n"

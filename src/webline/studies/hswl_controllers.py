@@ -33,7 +33,6 @@ table reports what this simulation gives.
 
 from __future__ import annotations
 
-import csv
 import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
@@ -46,9 +45,10 @@ from webline.control.gains import THESIS_GAINS, gains_from_closed
 from webline.control.lumped import without_idlers
 from webline.control.sections import section_models
 from webline.control.select import Family, with_controller
+from webline.files import atomic_write_text
 from webline.line import Line
 from webline.sim.result import Result
-from webline.studies.output import pyplot
+from webline.studies.output import pyplot, write_figure, write_table
 from webline.studies.result import StudyResult
 from webline.units import display_factor
 from webline.verdict import Verdict
@@ -184,8 +184,8 @@ def run(out_dir: Path, *, quick: bool = False) -> StudyResult:
     _add_reductions(rows)
     figures.append(_summary_figure(rows, out_dir / "summary.png"))
     summary = _summary_text(rows, duration, start)
-    _write_table(rows, out_dir / "table.csv")
-    (out_dir / "summary.txt").write_text(summary + "\n", encoding="utf-8")
+    write_table(rows, out_dir / "table.csv")
+    atomic_write_text(out_dir / "summary.txt", summary + "\n")
     return StudyResult("hswl-controllers", tuple(figures), rows, summary,
                        Verdict.of(findings))
 
@@ -239,13 +239,6 @@ def _estimates_text(adaptive: list[dict[str, object]]) -> str:
             f"({verb} the truth than its start, {start:.0%} off).")
 
 
-def _write_table(rows: list[dict[str, object]], path: Path) -> None:
-    with path.open("w", newline="", encoding="utf-8") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-
-
 def _case_figure(result: Result, case: Case, fpm: float, start: float, path: Path) -> Path:
     """Master speed error [ft/min] and each zone's tension error [lbf] over time."""
     plt = pyplot()
@@ -273,9 +266,7 @@ def _case_figure(result: Result, case: Case, fpm: float, start: float, path: Pat
         ax.grid(True, lw=0.3)
     axes[-1].set_xlabel("time [s] (shaded: metrics window)")
     fig.suptitle(f"{case.label}, {fpm:.0f} ft/min", fontsize=10)
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
-    return path
+    return write_figure(fig, path, dpi=90)
 
 
 def _summary_figure(rows: list[dict[str, object]], path: Path) -> Path:
@@ -301,6 +292,4 @@ def _summary_figure(rows: list[dict[str, object]], path: Path) -> Path:
     axes[0].set_ylabel(f"RMS tension error [{t_unit}]")
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=len(CASES), fontsize=8, frameon=False)
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
-    return path
+    return write_figure(fig, path, dpi=90)
