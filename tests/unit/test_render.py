@@ -90,3 +90,6 @@ def _spy(function, calls: list):
 def test_svg_on_request() -> None:
     (only,) = render.render_figures([_job("a")], 50, svg=True)
     assert only.svg is not None and b"<svg" in only.svg
+    # reproducible: no date, and the same element ids (matplotlib draws them at random)
+    (again,) = render.render_figures([_job("a")], 50, svg=True)
+    assert again.svg == only.svg

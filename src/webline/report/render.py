@@ -42,8 +42,12 @@ def _files(fig: ReportFigure, dpi: float, svg: bool) -> Rendered:
     fig.figure.savefig(png, format="png", dpi=dpi)
     vector = None
     if svg:  # vector copies on request: saving them doubles the time spent on figures
+        import matplotlib
+
         buffer = io.BytesIO()
-        fig.figure.savefig(buffer, format="svg", metadata={"Date": None})
+        # no date, and element ids from a fixed salt: the same figure gives the same file
+        with matplotlib.rc_context({"svg.hashsalt": "webline"}):
+            fig.figure.savefig(buffer, format="svg", metadata={"Date": None})
         vector = buffer.getvalue()
     return Rendered(fig.key, fig.caption, png.getvalue(), vector)
 
