@@ -11,7 +11,8 @@ import pytest
 import webline
 from webline.analysis.unwind_model import unwind_model
 from webline.sim import layout as L
-from webline.sim.linearize import controller_matrices, plant_matrices
+from webline.sim.linear_plant import plant_matrices
+from webline.sim.linearize import controller_matrices
 from webline.sim.plan import compile_plan
 from webline.studies.unwind_belt_ramp import case_line
 

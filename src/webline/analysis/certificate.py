@@ -322,7 +322,8 @@ def _plant_check(line: Line, models: list[SectionModel],
     import scipy.linalg
 
     from webline.control.gains import gains_from_closed, with_gains
-    from webline.sim.linearize import controller_matrices, linear_model, plant_matrices
+    from webline.sim.linear_plant import plant_matrices
+    from webline.sim.linearize import controller_matrices, linear_model
     from webline.sim.plan import compile_plan
 
     try:

@@ -27,7 +27,7 @@ import numpy as np
 
 import webline
 from webline.sim import layout as L
-from webline.sim.linearize import load_inertia
+from webline.sim.linear_plant import load_inertia
 from webline.sim.plan import compile_plan
 
 STATES = ("theta_m", "omega_m", "theta_L", "omega_L", "T1", "x1", "x2", "x3", "tau_m")

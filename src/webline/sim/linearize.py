@@ -5,6 +5,8 @@ seconds), as in thesis Sec. 4.1's set U of radii and Ch. 6's section models. Ecc
 left out (it makes the model periodic), and the web sticks on traction rollers and nips. A
 nip's pressure roller is in its roller's J and b (docs/winder.md N1). The Jacobian is analytic,
 from the same equations as the kernel; a finite-difference check of it is part of the tests.
+The plant's matrices come from ``sim.linear_plant``; this module adds the controllers (the
+closed loop), caches the models on the plan and bounds their fastest mode.
 """
 
 from __future__ import annotations
@@ -14,137 +16,17 @@ from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
-from webline.line import Line, is_roll, load_line
+from webline.line import Line, load_line
 from webline.model.operating_point import OperatingPoint, operating_point
-from webline.physics.roll import web_inertia
-from webline.physics.roller import COULOMB_SMOOTHING
 from webline.sim import dancer_linear as dancers
 from webline.sim import layout as L
 from webline.sim import viscoelastic, winder
 from webline.sim.fastest import spectral_radius_bound
+from webline.sim.linear_plant import plan_plant, plan_state_names
 from webline.sim.plan import Plan, compile_plan
 
 if TYPE_CHECKING:
     import control
-
-
-def state_names(line: Line) -> list[str]:
-    """Names of the linear model's states: span tensions, node speeds, motor torques, and the
-    motor speed and twist of each compliant transmission."""
-    return plan_state_names(compile_plan(line))
-
-
-def plan_state_names(plan: Plan) -> list[str]:
-    """``state_names`` of the line of ``plan`` (built once per plan; a new list each call)."""
-    if "state_names" not in plan.memo:
-        line = plan.line
-        compliant = [i for d, i in enumerate(line.drives) if plan.drives[d, L.D_TSTATE] >= 0]
-        plan.memo["state_names"] = tuple(
-            [f"{line.span_name(k)}_tension" for k in range(line.n_spans)]
-            + [f"{line.node_name(i)}_omega" for i in range(line.n_nodes)]
-            + [f"{line.node_name(i)}_torque" for i in line.drives]
-            + [f"{line.node_name(i)}_{part}" for i in compliant
-               for part in ("motor_omega", "twist")] + dancers.linear_states(plan))
-    return list(plan.memo["state_names"])  # type: ignore[call-overload]
-
-
-def plant_matrices(line: Line, op: OperatingPoint) -> tuple[np.ndarray, ...]:
-    """(A, B, E, C) of the plant at ``op``: dx = A x + B u + E t0, y = C x.
-
-    x = (span tensions [N], node speeds [rad/s], motor torques [N·m], then motor speed
-    [rad/s] and twist [rad] of each compliant transmission); u = motor torque commands [N·m];
-    t0 = wound-in tension [N]; y = (span tensions, web speeds [m/s]).
-    """
-    return _plant(compile_plan(line), op)
-
-
-def _plant(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
-    """``plant_matrices`` of the line of ``plan``."""
-    line = plan.line
-    n_s, n_n, n_d = line.n_spans, line.n_nodes, len(line.drives)
-    ws, wn = 0, n_s  # offsets of the blocks
-    wt = n_s + n_n
-    n_c = int(np.sum(plan.drives[:, L.D_TSTATE] >= 0))
-    n_dn = len(dancers.dancer_nodes(line))
-    n = wt + n_d + 2 * n_c + 2 * n_dn
-    ea = line.ea
-    r, v, t = op.radius, op.speed, op.tension
-    t_up = np.concatenate(([line.unwind.wound_in_tension], t))
-    a = np.zeros((n, n))
-    b = np.zeros((n, n_d))
-    e = np.zeros((n, 1))
-    for k in range(n_s):  # L dT_k/dt = EA (v_{k+1} - v_k) + T_{k-1} v_k - T_k v_{k+1}
-        length = plan.spans[k, L.S_LENGTH]
-        a[ws + k, ws + k] = -v[k + 1] / length
-        if k > 0:
-            a[ws + k, ws + k - 1] = v[k] / length
-        a[ws + k, wn + k + 1] = (ea - t[k]) * r[k + 1] / length
-        a[ws + k, wn + k] = -(ea - t_up[k]) * r[k] / length
-    e[ws, 0] = v[0] / plan.spans[0, L.S_LENGTH]
-    for i in range(n_n):  # J dω/dt = r (T_out - T_in) + shaft torque - b ω - c tanh(ω/ωc)
-        inertia = load_inertia(plan, op, i)
-        if i < n_s:
-            a[wn + i, ws + i] = r[i] / inertia
-        if i > 0:
-            a[wn + i, ws + i - 1] = -r[i] / inertia
-        viscous, coulomb = plan.nodes[i, L.N_VISCOUS], plan.nodes[i, L.N_COULOMB]
-        if plan.nodes[i, L.N_DRAG] >= 0:  # a brake or drag acts like Coulomb friction
-            coulomb += plan.profile_value(int(plan.nodes[i, L.N_DRAG]), op.time)
-        slope = coulomb / COULOMB_SMOOTHING * (1.0 - np.tanh(op.omega[i] / COULOMB_SMOOTHING) ** 2)
-        a[wn + i, wn + i] = -(viscous + slope) / inertia
-    for d in range(n_d):  # lag dτ/dt = (u - τ)/lag
-        lag = plan.drives[d, L.D_LAG]
-        a[wt + d, wt + d] = -1.0 / lag
-        b[wt + d, d] = 1.0 / lag
-    _drive_block(a, plan, op, wn, wt, wt + n_d)
-    dancers.plant_rows(a, e, plan, t, wt + n_d + 2 * n_c)
-    c = np.zeros((n_s + n_n, n))
-    c[:n_s] = viscoelastic.felt_rows(plan, a, e)  # T = s (+ τ ds/dt, Kelvin-Voigt)
-    c[n_s:, wn:wn + n_n] = np.diag(r)
-    return a, b, e, c
-
-
-def load_inertia(plan: Plan, op: OperatingPoint, i: int) -> float:
-    """Inertia [kg·m²] at the shaft of node ``i`` at ``op`` as the kernel sees it: with the
-    motor reflected for a rigid drive, without it across a compliant transmission."""
-    roller = plan.line.spec.rollers[i]
-    if not is_roll(roller):
-        return float(plan.nodes[i, L.N_JCONST])
-    web = plan.line.spec.web
-    return float(plan.nodes[i, L.N_JCONST]) + web_inertia(
-        op.radius[i], roller.core_radius, web.width, web.density)  # type: ignore[union-attr]
-
-
-def _drive_block(a: np.ndarray, plan: Plan, op: OperatingPoint, wn: int, wt: int,
-                 wc: int) -> None:
-    """Entries of every drive's shaft torque (see ``kernel.drive_torque``) in ``a``: the
-    node's speed row, and the motor-speed and twist rows of compliant transmissions, whose
-    states start at column ``wc``. The teeth of a backlash are taken in contact unless the
-    equilibrium torque through them is zero."""
-    c = 0
-    for d, i in enumerate(plan.line.drives):
-        row = plan.drives[d]
-        inertia = load_inertia(plan, op, i)
-        n = row[L.D_RATIO]
-        if row[L.D_TSTATE] < 0:
-            a[wn + i, wt + d] = n / inertia
-            a[wn + i, wn + i] -= n * n * row[L.D_BMOTOR] / inertia
-            continue
-        wm, tw = wc + 2 * c, wc + 2 * c + 1
-        c += 1
-        gap = row[L.D_GAPNEG] + row[L.D_GAPPOS]
-        contact = gap == 0.0 or op.torque[d] != 0.0
-        k, damping = (row[L.D_KTRANS], row[L.D_CTRANS]) if contact else (0.0, 0.0)
-        jm = row[L.D_JMOTOR]
-        a[wn + i, tw] = k / inertia
-        a[wn + i, wm] = damping / (n * inertia)
-        a[wn + i, wn + i] -= damping / inertia
-        a[wm, wt + d] = 1.0 / jm
-        a[wm, tw] = -k / (n * jm)
-        a[wm, wm] = -(damping / n**2 + row[L.D_BMOTOR]) / jm
-        a[wm, wn + i] = damping / (n * jm)
-        a[tw, wm] = 1.0 / n
-        a[tw, wn + i] = -1.0
 
 
 def _speed_state(plan: Plan, d: int, i: int) -> int:
@@ -342,7 +224,7 @@ def _linear_model(plan: Plan, op: OperatingPoint, loop: Literal["open", "closed"
     """``linear_model`` of the line of ``plan`` at ``op``, its controllers as in ``plan``;
     ``plant``: its (A, B, E, C) if already built."""
     line = plan.line
-    a, b, e, c = plant if plant is not None else _plant(plan, op)
+    a, b, e, c = plant if plant is not None else plan_plant(plan, op)
     states = plan_state_names(plan)
     outputs = ([f"{line.span_name(k)}_tension" for k in range(line.n_spans)]
                + [f"{line.node_name(i)}_speed" for i in range(line.n_nodes)])

@@ -36,7 +36,8 @@ from webline.analysis.drivetrain.backlash_bounds import BacklashLoop, l1_bound, 
 from webline.line import Line
 from webline.physics.backlash import transmitted_torque
 from webline.sim import layout as L
-from webline.sim.linearize import LinearModel, linear_model, load_inertia, plan_linear_model
+from webline.sim.linear_plant import load_inertia
+from webline.sim.linearize import LinearModel, linear_model, plan_linear_model
 from webline.sim.plan import compile_plan
 
 
