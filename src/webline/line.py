@@ -23,6 +23,7 @@ from webline.spec.schema import (
     RewindSpec,
     UnwindSpec,
 )
+from webline.spec.winder import WebBreak
 
 
 @dataclass(frozen=True)
@@ -144,7 +145,9 @@ class Line:
         if scenario.break_ is not None:  # docs/winder.md: a web_break disturbance
             before = (scenario.disturbances if scenario.disturbances is not None
                       else self.spec.disturbances)
-            changes["disturbances"] = [*before, scenario.break_]
+            # as a plain web_break, the type a line file's disturbance has (its subclass
+            # BreakEvent only lets a scenario leave ``type`` out)
+            changes["disturbances"] = [*before, WebBreak(**scenario.break_.model_dump())]
         spec = self.spec.model_copy(update=changes)
         label = f"{self.source} [scenario {name}]"
         if scenario.set:  # values set by path: validate the changed line as a whole
