@@ -19,9 +19,10 @@ import re
 import shutil
 import sys
 import tempfile
-from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING
+
+from webline.files import atomic_write_text
 
 if TYPE_CHECKING:
     import pint
@@ -121,14 +122,7 @@ def _remember(key: str, factor: float | None) -> None:
     try:
         path = _conversions_path()
         path.parent.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(prefix=".conversions-", dir=path.parent)
-        try:
-            with os.fdopen(handle, "w") as out:
-                json.dump(memo, out)
-            os.replace(temporary, path)
-        finally:
-            if os.path.exists(temporary):
-                os.unlink(temporary)
+        atomic_write_text(path, json.dumps(memo))
     except Exception:  # the memo only saves time: never fail a command for it
         pass
 
@@ -231,7 +225,7 @@ def short(value: object, limit: int = 40) -> str:
     return clip(repr(value), limit)
 
 
-@lru_cache(maxsize=64)
+@functools.lru_cache(maxsize=64)
 def _dimensionality(kind: str) -> pint.util.UnitsContainer:
     return _ureg().parse_expression(SI_UNITS[kind] or "1").dimensionality
 
