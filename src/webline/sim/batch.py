@@ -28,10 +28,11 @@ import numba as nb
 import numpy as np
 
 from webline.sim import layout as L
-from webline.sim.kernel import advance, record_width, rhs, wound_in
+from webline.sim.kernel import advance, compiled_slip_column, record_width
 from webline.sim.metrics import SETTLE_BAND
 from webline.sim.plan import Plan
 from webline.sim.signals import _NO_NRT, FAST, jit, profile_at
+from webline.sim.viscoelastic import felt_records
 
 #: Ticks per chunk of a case: the record buffer holds this many rows (x ~30 columns), small
 #: enough to stay in cache, large enough that a chunk's call overhead (ns) is negligible.
@@ -117,7 +118,7 @@ def _intervals(acc: np.ndarray, base: int, n_ev: int, e: int, rec: np.ndarray, s
 @jit
 def _tension(rec: np.ndarray, felt: np.ndarray, kv: bool, r: int, k: int) -> float:
     """Tension [N] of span ``k`` at record ``r``: its stretch while taut, or for a line with
-    Kelvin-Voigt spans what the rollers feel (``felt``, ``_felt_tensions``)."""
+    Kelvin-Voigt spans what the rollers feel (``felt``, ``viscoelastic.felt_records``)."""
     return felt[r, k] if kv else max(rec[r, 1 + k], 0.0)
 
 
@@ -144,35 +145,6 @@ def _tension_error(acc: np.ndarray, n_s: int, k: int, p: int, rec: np.ndarray,
 
 
 @jit
-def _felt_tensions(rec: np.ndarray, n_rec: int, felt: np.ndarray, slip: np.ndarray,
-                   scratch: np.ndarray, n_x: int, ns: np.ndarray, ds: np.ndarray,
-                   offsets: np.ndarray, nodes: np.ndarray, spans: np.ndarray,
-                   drives: np.ndarray, web: np.ndarray, wound_ripple: np.ndarray) -> None:
-    """Tension [N] each span's rollers feel at each of ``n_rec`` records, into ``felt``: what
-    ``sim.viscoelastic.felt_tension`` gives a ``Result`` (the kernel's right-hand side on the
-    recorded state and stick/slip states, no commands or drags: the spans do not see them).
-    ``slip``: integer scratch per node; ``scratch``: 4 rows (commands, drags and flags,
-    derivative, the right-hand side's work) of at least max(states, 3 x nodes)."""
-    n_n = ns.shape[0]
-    n_d = ds.shape[0]
-    cmd, drag = scratch[0, :n_d], scratch[1, :3 * n_n]
-    dx, work = scratch[2, :n_x], scratch[3, :3 * n_n]
-    cmd[:] = 0.0
-    drag[:] = 0.0
-    col_slip = 1 + n_x + 6 * n_d
-    for r in range(n_rec):
-        t = rec[r, 0]
-        for k in range(n_n - 1 if offsets[L.O_BREAK] else 0):  # broken from its tick on
-            drag[2 * n_n + k] = 1.0 if t >= spans[k, L.S_BREAK] else 0.0
-        for i in range(n_n):
-            slip[i] = int(rec[r, col_slip + i])
-        rhs(wound_in(t, web, wound_ripple), rec[r, 1:1 + n_x], cmd, drag, slip, ns, ds,
-            offsets, nodes, spans, drives, web, dx, work)
-        for k in range(n_n - 1):
-            felt[r, k] = work[2 * n_n + k]
-
-
-@jit
 def _reduce(rec: np.ndarray, felt: np.ndarray, kv: bool, n_rec: int, acc: np.ndarray,
             trace: np.ndarray, trace_every: int, dt: float, n_x: int, n_s: int, n_d: int,
             n_n: int, nodes: np.ndarray, drives: np.ndarray, prof_t: np.ndarray,
@@ -185,7 +157,7 @@ def _reduce(rec: np.ndarray, felt: np.ndarray, kv: bool, n_rec: int, acc: np.nda
     base = SPAN_BLOCKS * n_s
     n_ev = 2 * n_s + 2 * n_d + n_n
     col_cmd = 1 + n_x
-    col_slip = 1 + n_x + 6 * n_d  # after commands, references, trims, u_eq, friction, radius
+    col_slip = compiled_slip_column(n_x, n_d)
     for k in range(n_s):
         tmin, tmax = acc[A_TMIN * n_s + k], acc[A_TMAX * n_s + k]
         for r in range(n_rec):
@@ -266,6 +238,7 @@ def _compiled_batch(node_rows: tuple[tuple[int, ...], ...],
         kv = offsets[L.O_KV] != 0  # Kelvin-Voigt spans: metrics of the felt tensions
         n_n = ns.shape[0]
         n_d = ds.shape[0]
+        col_slip = compiled_slip_column(n_x, n_d)
         n_s = n_n - 1
         for c in range(lo, hi):
             done = 0
@@ -284,8 +257,10 @@ def _compiled_batch(node_rows: tuple[tuple[int, ...], ...],
                     drives[c], web[c], wound_ripple[c], speed_ripple[c], prof_t[c], prof_v[c],
                     prof_off[c])
                 if kv:
-                    _felt_tensions(rec, n_rec, felt, slip, kv_scratch, n_x, ns, ds, offsets,
-                                   nodes[c], spans[c], drives[c], web[c], wound_ripple[c])
+                    felt_records(rec[:n_rec, 0], rec[:n_rec, 1:1 + n_x],
+                                 rec[:n_rec, col_slip:col_slip + n_n], felt, slip, kv_scratch,
+                                 ns, ds, offsets, nodes[c], spans[c], drives[c], web[c],
+                                 wound_ripple[c])
                 _reduce(rec, felt, kv, n_rec, acc[c], traces[c], trace_every[c], dt[c], n_x,
                         n_s, n_d, n_n, nodes[c], drives[c], prof_t[c], prof_v[c],
                         prof_off[c], span_prof, tension_limit[c])

@@ -223,7 +223,18 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
 
 def record_width(n_x: int, n_d: int, n_n: int) -> int:
     """Columns of a record row (``run``) for ``n_x`` states, ``n_d`` drives, ``n_n`` nodes."""
-    return 1 + n_x + 6 * n_d + n_n + 3 * n_d
+    return slip_column(n_x, n_d) + n_n + 3 * n_d
+
+
+def slip_column(n_x: int, n_d: int) -> int:
+    """First stick/slip column of a record row (``run``): after the time, the ``n_x``
+    states and six columns per drive (commands, references, trims, u_eq, friction
+    estimates, controller radii)."""
+    return 1 + n_x + 6 * n_d
+
+
+#: ``slip_column`` for compiled callers (``sim.batch``)
+compiled_slip_column: Any = jit(slip_column)
 
 
 def compiled_loop(plan: Plan) -> Any:

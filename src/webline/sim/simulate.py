@@ -203,8 +203,9 @@ def _result(plan: Plan, rec: np.ndarray, failure: Failure | None,
     n_x, n_d = plan.n_x, plan.drives.shape[0]
     block = [rec[:, 1 + n_x + q * n_d:1 + n_x + (q + 1) * n_d] for q in range(6)]
     n_n = plan.nodes.shape[0]
-    slipping = rec[:, 1 + n_x + 6 * n_d:1 + n_x + 6 * n_d + n_n]
-    adapted = rec[:, 1 + n_x + 6 * n_d + n_n:].reshape(len(rec), n_d, 3)
+    col = kernel.slip_column(n_x, n_d)
+    slipping = rec[:, col:col + n_n]
+    adapted = rec[:, col + n_n:].reshape(len(rec), n_d, 3)
     mrac = (plan.drives[:, L.D_FAMILY] == L.FAMILY_MRAC)[None, :, None]
     return Result(
         plan=plan, time=rec[:, 0], states=rec[:, 1:1 + n_x], torque_cmd=block[0],

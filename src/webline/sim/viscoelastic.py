@@ -14,6 +14,7 @@ import numpy as np
 
 from webline.sim import kernel
 from webline.sim import layout as L
+from webline.sim.signals import jit
 
 if TYPE_CHECKING:
     from webline.sim.plan import Plan
@@ -23,22 +24,44 @@ def felt_tension(plan: Plan, time: np.ndarray, states: np.ndarray,
                  slipping: np.ndarray) -> np.ndarray:
     """Tension [N] each span's rollers feel at each record (time [s], states, stick/slip
     states), evaluated by the kernel's own right-hand side: s + τ ds/dt while taut, 0 slack
-    or broken."""
+    or broken (``felt_records``)."""
     ns, ds, offsets = plan.structure()
     n_n = plan.nodes.shape[0]
-    te = 2 * n_n
-    work, drag = np.zeros(3 * n_n), np.zeros(3 * n_n)
-    dx, cmd = np.empty(states.shape[1]), np.zeros(plan.drives.shape[0])
-    slip = np.ascontiguousarray(slipping, dtype=np.int64)
     out = np.empty((len(time), n_n - 1))
-    for j, t in enumerate(time):
-        if offsets[L.O_BREAK]:  # the kernel's flag: set from the tick the span breaks
-            drag[te:te + n_n - 1] = t >= plan.spans[:, L.S_BREAK]
-        kernel.rhs(kernel.wound_in(t, plan.web, plan.wound_ripple),
-                   np.ascontiguousarray(states[j]), cmd, drag, slip[j], ns, ds, offsets,
-                   plan.nodes, plan.spans, plan.drives, plan.web, dx, work)
-        out[j] = work[te:te + n_n - 1]
+    scratch = np.zeros((4, max(states.shape[1], 3 * n_n)))
+    felt_records(np.asarray(time, dtype=float), np.asarray(states, dtype=float),
+                 np.asarray(slipping, dtype=float), out, np.zeros(n_n, dtype=np.int64),
+                 scratch, ns, ds, offsets, plan.nodes, plan.spans, plan.drives, plan.web,
+                 plan.wound_ripple)
     return out
+
+
+@jit
+def felt_records(time: np.ndarray, states: np.ndarray, slipping: np.ndarray, out: np.ndarray,
+                 slip: np.ndarray, scratch: np.ndarray, ns: np.ndarray, ds: np.ndarray,
+                 offsets: np.ndarray, nodes: np.ndarray, spans: np.ndarray,
+                 drives: np.ndarray, web: np.ndarray, wound_ripple: np.ndarray) -> None:
+    """The felt tensions of ``felt_tension`` into ``out`` (records x spans), compiled: used
+    by a ``Result`` and, inlined, by the batched kernel (``sim.batch``). No commands or drags
+    act (the spans do not see them); a span is broken from its break time on. ``slip``:
+    integer scratch per node; ``scratch``: 4 rows (commands, drags and flags, derivative,
+    the right-hand side's work) of at least max(states, 3 x nodes)."""
+    n_n = ns.shape[0]
+    n_x = states.shape[1]
+    cmd, drag = scratch[0, :ds.shape[0]], scratch[1, :3 * n_n]
+    dx, work = scratch[2, :n_x], scratch[3, :3 * n_n]
+    cmd[:] = 0.0
+    drag[:] = 0.0
+    for r in range(time.shape[0]):
+        t = time[r]
+        for k in range(n_n - 1 if offsets[L.O_BREAK] else 0):  # the kernel's flag
+            drag[2 * n_n + k] = 1.0 if t >= spans[k, L.S_BREAK] else 0.0
+        for i in range(n_n):
+            slip[i] = int(slipping[r, i])
+        kernel.rhs(kernel.wound_in(t, web, wound_ripple), states[r], cmd, drag, slip, ns, ds,
+                   offsets, nodes, spans, drives, web, dx, work)
+        for k in range(n_n - 1):
+            out[r, k] = work[2 * n_n + k]
 
 
 def felt_rows(plan: Plan, a: np.ndarray, e: np.ndarray) -> np.ndarray:
