@@ -4,6 +4,7 @@ process; a copy that dies leaves its figures to this process (webline.report.ren
 from __future__ import annotations
 
 import os
+import threading
 
 import pytest
 from matplotlib.figure import Figure
@@ -30,9 +31,9 @@ JOBS = [_job("a"), _job("bb", 2), _job("ccc", 0), _job("dddd"), _job("eeeee", 3)
 def forkable(monkeypatch: pytest.MonkeyPatch) -> None:
     """The fork path, even where earlier tests left threads behind (the renderer forks only a
     single-threaded process; the figures here need no lock another thread could hold)."""
-    monkeypatch.setattr(render.threading, "active_count", lambda: 1)
-    monkeypatch.setattr(render.os, "cpu_count", lambda: 2)
-    assert render._can_fork(), "this test needs the fork start method"
+    monkeypatch.setattr(threading, "active_count", lambda: 1)
+    monkeypatch.setattr(os, "cpu_count", lambda: 2)
+    assert render.can_fork(), "this test needs the fork start method"
 
 
 def test_two_processes_give_the_files_of_one_in_job_order(forkable: None) -> None:

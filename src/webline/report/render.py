@@ -12,13 +12,12 @@ from __future__ import annotations
 
 import io
 import multiprocessing
-import os
-import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
 from multiprocessing.sharedctypes import Synchronized
 
+from webline.report.early import can_fork
 from webline.report.figures import FigureJob, ReportFigure
 
 
@@ -74,15 +73,10 @@ def _child(jobs: Sequence[FigureJob], next_job: Synchronized, dpi: float, svg: b
         conn.close()
 
 
-def _can_fork() -> bool:
-    return ((os.cpu_count() or 1) > 1 and threading.active_count() == 1
-            and "fork" in multiprocessing.get_all_start_methods())
-
-
 def render_figures(jobs: Sequence[FigureJob], dpi: float, *, svg: bool = False,
                    parallel: bool = True) -> list[Rendered]:
     """Every figure of ``jobs`` rendered at ``dpi`` [dots per inch], in job order."""
-    if not parallel or len(jobs) < 2 or not _can_fork():
+    if not parallel or len(jobs) < 2 or not can_fork():
         return [r for part in _render(jobs, dpi, svg) for r in part]
     context = multiprocessing.get_context("fork")
     next_job = context.Value("q", 0)  # both processes take the next job: the faster does more
