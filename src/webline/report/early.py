@@ -81,7 +81,6 @@ class Reporter:
 
     def __init__(self, process: BaseProcess, conn: Connection) -> None:
         self._process, self._conn = process, conn
-        self.failure = ""  #: why the copy wrote no report, once ``collect`` says so
 
     @classmethod
     def start(cls) -> Reporter | None:
@@ -90,7 +89,7 @@ class Reporter:
             return None
         context = multiprocessing.get_context("fork")
         mine, theirs = context.Pipe()
-        # not a daemon: it forks in turn to draw half of the figures (report.render); it ends
+        # not a daemon: it forks in turn to share the figures (report.render); it ends
         # when the pipe closes, which ``close`` does on every way out of the command (atexit)
         process = context.Process(target=_serve, args=(theirs, mine))
         process.start()
@@ -104,22 +103,19 @@ class Reporter:
         try:
             self._conn.send(job)  # pickled first: a failure to pickle sends nothing
             return True
-        except Exception as exc:  # pickling or the pipe: the command writes the report
-            self.failure = f"could not hand the report over ({type(exc).__name__}: {exc})"
+        except Exception:  # pickling or the pipe: the command writes the report
             return False
 
     def collect(self, folder: OutputFolder) -> ReportFiles | None:
-        """The files the copy wrote, its manifest entries adopted into ``folder``; None (and
-        ``failure`` set) if it wrote no report."""
+        """The files the copy wrote, its manifest entries adopted into ``folder``; None if it
+        wrote no report (it died, or replied with its error's text)."""
         reply: object = None
         try:
             reply = self._conn.recv()
-        except (EOFError, OSError) as exc:
-            self.failure = f"the report's process ended without a reply ({exc or 'EOF'})"
+        except (EOFError, OSError):
+            pass
         finally:
             self.close()
-        if isinstance(reply, str):
-            self.failure = reply
         if not isinstance(reply, tuple):
             return None
         files, written = reply
