@@ -34,11 +34,6 @@ from webline.spec.ranges import argument
 from webline.verdict import Finding, Level, Verdict
 
 
-def spec_value(line: Line, path: str) -> object:
-    """The value at ``path`` in ``line``'s validated spec (SI numbers for quantities)."""
-    return case_value(line, path)
-
-
 def _coordinate(values: list[object]) -> np.ndarray:
     try:
         return np.array([float(v) for v in values])  # type: ignore[arg-type]
