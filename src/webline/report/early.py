@@ -17,7 +17,6 @@ job is handed over, the copy claims its own files in its copy of the output fold
 
 from __future__ import annotations
 
-import atexit
 import contextlib
 import multiprocessing
 import os
@@ -89,14 +88,13 @@ class Reporter:
             return None
         context = multiprocessing.get_context("fork")
         mine, theirs = context.Pipe()
-        # not a daemon: it forks in turn to share the figures (report.render); it ends
-        # when the pipe closes, which ``close`` does on every way out of the command (atexit)
+        # not a daemon: it forks in turn to share the figures (report.render); it ends when
+        # the pipe closes: ``close``, which the command calls on every way out, or the
+        # command's death (the kernel closes its end)
         process = context.Process(target=_serve, args=(theirs, mine))
         process.start()
         theirs.close()
-        reporter = cls(process, mine)
-        atexit.register(reporter.close)
-        return reporter
+        return cls(process, mine)
 
     def submit(self, job: ReportJob) -> bool:
         """Hand ``job`` to the copy; False if it could not take it."""
@@ -131,4 +129,3 @@ class Reporter:
         if self._process.is_alive():
             self._process.terminate()
             self._process.join()
-        atexit.unregister(self.close)

@@ -27,8 +27,8 @@ def write_run(result: Result, folder: OutputFolder, fmt: Format = "netcdf",
     """Write results, figures (SVG too with ``svg``), summary and report into ``folder``
     (each file atomically and in its manifest), then finish the manifest: files of the
     previous run not rewritten are removed. Returns the report's files and the results file.
-    A ``reporter`` (``report.early``) writes the report meanwhile; if it fails, it is written
-    here."""
+    A ``reporter`` (``report.early``, its caller closes it) writes the report meanwhile; if
+    it fails, it is written here."""
     try:
         results_file = folder.claim(results_name(fmt))  # before the reporter copies the folder
         handed = reporter is not None and reporter.submit(ReportJob(
@@ -43,7 +43,4 @@ def write_run(result: Result, folder: OutputFolder, fmt: Format = "netcdf",
         folder.finish()
     except OSError as exc:
         raise WeblineError(f"{folder.path}: cannot write the results: {exc}") from None
-    finally:
-        if reporter is not None:
-            reporter.close()
     return files, results_file
