@@ -19,13 +19,13 @@ from __future__ import annotations
 
 import contextlib
 import multiprocessing
-import os
-import threading
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
 from multiprocessing.process import BaseProcess
 from pathlib import Path
 from typing import TYPE_CHECKING
+
+from webline.report.forking import can_fork
 
 if TYPE_CHECKING:  # at run time only the copy imports them (the command forks before)
     from webline.report.display import System
@@ -67,12 +67,6 @@ def _serve(conn: Connection, parent_end: Connection) -> None:
             conn.send(f"{type(exc).__name__}: {exc}")
     finally:
         conn.close()
-
-
-def can_fork() -> bool:
-    """Whether a copy of this process may be forked for its report (module docstring)."""
-    return ((os.cpu_count() or 1) > 1 and threading.active_count() == 1
-            and "fork" in multiprocessing.get_all_start_methods())
 
 
 class Reporter:
