@@ -24,10 +24,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from scipy.linalg import expm
 
 from webline.analysis.drivetrain import belt, equivalent
 from webline.analysis.drivetrain.params import hswl_unwind_belt_drive, load_parameter_set
+from webline.analysis.drivetrain.sampled import zoh
 from webline.studies import belt_step_thesis as thesis
 from webline.studies.output import finish, pyplot, save
 from webline.studies.result import StudyResult
@@ -43,10 +43,8 @@ def step_response(belt_name: str, *, duration: float, dt: float,
     drive = hswl_unwind_belt_drive(belt_name)
     gains = equivalent.pi_motor_side(drive, spec["bandwidth"], spec["damping"])
     a, b = belt.closed_loop_matrices(drive, gains, "motor")
-    aug = np.zeros((6, 6))
-    aug[:5, :5], aug[:5, 5] = a, b
-    phi = expm(aug * dt)
-    ad, bd = phi[:5, :5], phi[:5, 5] * step
+    ad, bd = zoh(a, b, dt)
+    bd = bd * step
     n = round(duration / dt) + 1
     states = np.empty((n, 5))
     x = np.zeros(5)

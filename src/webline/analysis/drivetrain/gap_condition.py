@@ -30,9 +30,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import expm
 
 from webline.analysis.drivetrain.backlash_bounds import BacklashLoop, l1_bound, printed_bound_peak
+from webline.analysis.drivetrain.sampled import zoh
 from webline.line import Line
 from webline.physics.backlash import transmitted_torque
 from webline.sim import layout as L
@@ -81,8 +81,7 @@ def _lsim(a: np.ndarray, b: np.ndarray, u: np.ndarray, dt: float,
           x0: np.ndarray | None = None) -> np.ndarray:
     """States [n_t, n] of dx/dt = A x + b u(t), u held over each step ``dt`` [s] (ZOH)."""
     n = a.shape[0]
-    m = expm(np.block([[a, b[:, None]], [np.zeros((1, n + 1))]]) * dt)
-    ad, bd = m[:n, :n], m[:n, n]
+    ad, bd = zoh(a, b, dt)
     x = np.zeros((len(u), n))
     x[0] = 0.0 if x0 is None else x0
     for k in range(len(u) - 1):
