@@ -75,3 +75,18 @@ def test_unwind_model_commutes_with_webline_linearisation(case, t):
     small = np.abs(eig_t) < 1e-6 * np.abs(eig_t).max()
     assert small.sum() == 2
     np.testing.assert_allclose(np.sort_complex(eig_t[~small]), eig_w, rtol=1e-6)
+
+
+def test_the_rigid_contrast_sentence_says_less_or_more_as_its_numbers_do() -> None:
+    """``unwind-belt-ramp``'s verdict on Fig. 4.5 against 4.6 quotes the rigid drive's std
+    against the 36 mm belt's, and says "less" or "more" from them (never a negative "less")."""
+    from webline.studies.unwind_belt_ramp import claims
+
+    def row(std: float) -> dict:
+        return {"tension_std_after_ramp_N": std, "least_damped_mode_real_1_s": -0.24,
+                "least_damped_mode_imag_rad_s": 0.58}
+
+    belts = {"36mm": row(6.86), "24mm": row(7.75), "12mm": row(11.19)}
+    assert "19% less" in claims({**belts, "rigid": row(5.58)})  # 1 - 5.58/6.86
+    assert "9% more" in claims({**belts, "rigid": row(7.50)})  # 7.50/6.86 - 1
+    assert claims({**belts, "rigid": row(3.0)}).endswith(": reproduced")  # under half
