@@ -36,14 +36,31 @@ NO_CACHE_VARIABLE = "WEBLINE_NO_UNIT_CACHE"
 DEFINITIONS = ("fpm = foot / minute", "pli = pound_force / inch", "rpm_ = revolution / minute")
 
 
+@functools.cache
+def _pint_version() -> str:
+    """pint's installed version, without importing pint: the name of its
+    ``pint-X.Y.Z.dist-info`` folder beside the package (importlib.metadata costs 70 ms of a
+    command's start-up), else importlib.metadata."""
+    import importlib.util
+
+    spec = importlib.util.find_spec("pint")
+    if spec is not None and spec.origin:
+        site = os.path.dirname(os.path.dirname(spec.origin))
+        found = [e for e in os.listdir(site) if e.startswith("pint-")
+                 and e.endswith(".dist-info")]
+        if len(found) == 1:
+            return found[0][len("pint-"):-len(".dist-info")]
+    from importlib.metadata import version
+
+    return version("pint")
+
+
 def _cache_folder() -> Path:
     """Where pint's parsed definitions are kept: one folder per pint and Python version,
     since the cache is a pickle."""
-    from importlib.metadata import version
-
     import platformdirs
 
-    tag = f"pint-{version('pint')}-py{sys.version_info.major}.{sys.version_info.minor}"
+    tag = f"pint-{_pint_version()}-py{sys.version_info.major}.{sys.version_info.minor}"
     return platformdirs.user_cache_path("webline") / tag
 
 

@@ -132,3 +132,12 @@ def test_a_run_whose_units_are_known_does_not_import_pint(tmp_path: Path) -> Non
     runs = [subprocess.run([sys.executable, "-c", script], env=env, capture_output=True,
                            text=True, check=True).stdout.split()[-1] for _ in range(2)]
     assert runs == ["True", "False"]  # the first run meets the units, the second knows them
+
+
+def test_the_cache_is_keyed_by_the_installed_pint_read_without_importlib_metadata() -> None:
+    """The fast reading of pint's version (its dist-info folder) agrees with the metadata."""
+    from importlib.metadata import version
+
+    units._pint_version.cache_clear()
+    assert units._pint_version() == version("pint")
+    assert units._cache_folder().name.startswith(f"pint-{version('pint')}-py")
