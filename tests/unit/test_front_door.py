@@ -247,3 +247,18 @@ def test_a_wrong_argument_raises_argument_error_naming_it(call: Any, name: str) 
     with pytest.raises(ArgumentError, match=rf"^{name}: "):
         call()
     assert ArgumentError.exit_code == 2
+
+
+def test_a_result_pickles_with_its_line_and_numbers() -> None:
+    """README: a ``Result`` travels to another process whole (the report's process receives
+    one): the same records, line and verdict come back."""
+    import pickle
+
+    import numpy as np
+
+    import webline
+
+    result = webline.simulate(webline.load_line("hswl").with_scenario("tension-step"), 0.2)
+    back = pickle.loads(pickle.dumps(result))
+    assert np.array_equal(back.states, result.states) and np.array_equal(back.time, result.time)
+    assert back.line.spec == result.line.spec and back.status == result.status
