@@ -99,66 +99,85 @@ def operating_point(line: Line | str, t: float | str = 0.0, *,
     unwind_radius, rewind_radius = (None if r is None else argument(r, "length", name)
                                     for r, name in ((unwind_radius, "unwind_radius"),
                                                     (rewind_radius, "rewind_radius")))
-    ea = line.ea
     rollers = line.spec.rollers
     speed_t, speed_v = breakpoints(line.spec.speed)
     v_line = pwl_value(speed_t, speed_v, t)
     a_line = pwl_slope(speed_t, speed_v, t)
     radii = node_radii(line, unwind_radius, rewind_radius)
     inertia = node_inertias(line, radii)
-    thickness = line.spec.web.thickness
-    t0 = line.unwind.wound_in_tension
-
     drags = drag_torques(line, t)
     tension = np.empty(line.n_spans)
     for zone in line.zones:
         ref = line.spec.spans[zone.loadcell].tension
         tension[list(zone.spans)] = pwl_value(*breakpoints(ref), t) * _taper(line, zone, radii)
-
-    for _ in range(50):
-        upstream = np.concatenate(([t0], tension))
-        ratio = (ea - upstream[line.master]) / (ea - upstream)
-        speed, accel_lin = v_line * ratio, a_line * ratio
-        omega = speed / radii
-        accel = accel_lin / radii
-        for i, direction in ((0, -1.0), (line.n_nodes - 1, 1.0)):
-            r_dot = roll.radius_rate(speed[i], radii[i], thickness, direction)
-            accel[i] -= speed[i] * r_dot / radii[i] ** 2
-        previous = tension.copy()
-        for zone in line.zones:
-            for i in range(zone.loadcell + 1, zone.last):  # idle rollers downstream of loadcell
-                tension[i] = tension[i - 1] + _idle_drop(line, i, inertia, accel, omega, radii,
-                                                         drags[i])
-            for i in range(zone.loadcell, zone.first, -1):  # and upstream of it
-                tension[i - 1] = tension[i] - _idle_drop(line, i, inertia, accel, omega, radii,
-                                                         drags[i])
-        # np.allclose(tension, previous, rtol=1e-15, atol=0), written out: the same test at a
-        # fifth of the cost on these few-element arrays (it ran in every sweep case's plan)
-        if np.all(np.abs(tension - previous) <= 1e-15 * np.abs(previous)):
-            break
+    tension_l, speed_l, omega_l, accel_l = _equilibrium_motion(line, tension.tolist(), v_line,
+                                                               a_line, radii, inertia, drags)
+    tension, speed = np.array(tension_l), np.array(speed_l)
+    omega, accel = np.array(omega_l), np.array(accel_l)
     if np.any(tension <= 0.0):
         k = int(np.argmin(tension))
         raise SimulationError(f"no equilibrium: idle-roller friction leaves span "
                               f"{line.span_name(k)} with tension {tension[k]:.3g} N <= 0")
 
     torque = np.empty(len(line.drives))
+    j, r_node, drag = inertia.tolist(), radii.tolist(), drags.tolist()  # floats: see above
     for d, i in enumerate(line.drives):
         r = rollers[i]
         assert not isinstance(r, IdleSpec)
-        t_out = tension[i] if i < line.n_spans else 0.0
-        t_in = tension[i - 1] if i > 0 else 0.0
+        t_out = tension_l[i] if i < line.n_spans else 0.0
+        t_in = tension_l[i - 1] if i > 0 else 0.0
         _, viscous, coulomb = shaft_terms(r)  # a nip's bearing friction included
-        friction = roller.friction_torque(omega[i], viscous, coulomb)
-        friction += roller.friction_torque(omega[i], 0.0, drags[i])  # brake (4.12) or drag
+        friction = roller.friction_torque(omega_l[i], viscous, coulomb)
+        friction += roller.friction_torque(omega_l[i], 0.0, drag[i])  # brake (4.12) or drag
         n = r.drive.ratio  # the motor's own friction acts at n ω
-        torque[d] = (inertia[i] * accel[i] - radii[i] * (t_out - t_in) + friction) / n + (
-            r.drive.motor_friction * n * omega[i])
+        torque[d] = (j[i] * accel_l[i] - r_node[i] * (t_out - t_in) + friction) / n + (
+            r.drive.motor_friction * n * omega_l[i])
     return OperatingPoint(
         time=t, line_speed=v_line, tension=tension, speed=speed, omega=omega, radius=radii,
         inertia=inertia, accel=accel, torque=torque, drives=line.drives,
         span_names=tuple(line.span_name(k) for k in range(line.n_spans)),
         node_names=tuple(line.node_name(i) for i in range(line.n_nodes)),
     )
+
+
+def _equilibrium_motion(line: Line, tension: list[float], v_line: float, a_line: float,
+                        radii: np.ndarray, inertia: np.ndarray, drags: np.ndarray,
+                        ) -> tuple[list[float], list[float], list[float], list[float]]:
+    """(tension [N] per span, web speed [m/s], ω [rad/s] and dω/dt [rad/s²] per node) at
+    equilibrium, from the zones' reference ``tension`` (loadcell spans right, the others a
+    first guess): speeds from mass flow (6.22), the idle rollers' tension drops from those
+    speeds, repeated until the tensions stop changing. Plain floats: every sweep case's plan
+    runs this on a handful of nodes, where numpy's per-call overhead was most of the cost."""
+    ea, t0, master = line.ea, line.unwind.wound_in_tension, line.master
+    v_line, a_line = float(v_line), float(a_line)
+    thickness = line.spec.web.thickness
+    r, j, drag = radii.tolist(), inertia.tolist(), drags.tolist()
+    friction = [shaft_terms(roller)[1:] for roller in line.spec.rollers]  # a nip's included
+    last = line.n_nodes - 1
+
+    def idle_drop(i: int) -> float:  # tension rise across idle roller i: (J dω/dt + f)/r
+        viscous, coulomb = friction[i]
+        torque = roller.friction_torque(omega[i], viscous, coulomb + drag[i])
+        return (j[i] * accel[i] + torque) / r[i]
+
+    for _ in range(50):
+        upstream = [t0, *tension]
+        ratio = [(ea - upstream[master]) / (ea - up) for up in upstream]
+        speed = [v_line * q for q in ratio]
+        omega = [v / r_i for v, r_i in zip(speed, r, strict=True)]
+        accel = [a_line * q / r_i for q, r_i in zip(ratio, r, strict=True)]
+        for i, direction in ((0, -1.0), (last, 1.0)):
+            r_dot = roll.radius_rate(speed[i], r[i], thickness, direction)
+            accel[i] -= speed[i] * r_dot / r[i] ** 2
+        previous = list(tension)
+        for zone in line.zones:
+            for i in range(zone.loadcell + 1, zone.last):  # idle rollers downstream of loadcell
+                tension[i] = tension[i - 1] + idle_drop(i)
+            for i in range(zone.loadcell, zone.first, -1):  # and upstream of it
+                tension[i - 1] = tension[i] - idle_drop(i)
+        if all(abs(a - b) <= 1e-15 * abs(b) for a, b in zip(tension, previous, strict=True)):
+            break
+    return tension, speed, omega, accel
 
 
 def drag_torques(line: Line, t: float) -> np.ndarray:
@@ -174,14 +193,6 @@ def drag_torques(line: Line, t: float) -> np.ndarray:
             i = next(k for k, r in enumerate(line.spec.rollers) if r.name == d.roller)
             out[i] = pwl_value(*breakpoints(d.torque), t)
     return out
-
-
-def _idle_drop(line: Line, i: int, inertia: np.ndarray, accel: np.ndarray, omega: np.ndarray,
-               radii: np.ndarray, drag: float) -> float:
-    """Tension rise [N] across idle roller ``i`` needed to turn it: (J dω/dt + friction)/r."""
-    _, viscous, coulomb = shaft_terms(line.spec.rollers[i])  # a nip's included
-    friction = roller.friction_torque(omega[i], viscous, coulomb + drag)
-    return float((inertia[i] * accel[i] + friction) / radii[i])
 
 
 def analysis_time(line: Line) -> float:
