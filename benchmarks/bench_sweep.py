@@ -13,7 +13,8 @@ machine's core count and load average (at the start and at the end):
     with ``workers=1``, as wall time and as CPU time of the thread, best of ``--repeat``
     interleaved rounds; their ratio (goal <= 0.5), its range round by round (the spread the
     machine's load makes), and where a batch case's time goes (plans in Python, compiled
-    batch, verdicts and Dataset);
+    batch, verdicts and Dataset); the floor of the ratio (the compiled batch alone over a
+    loop case) and the time per case the goal leaves for the plans;
 (b) all cores: the same batch with ``workers`` = the cores, best of ``--repeat`` runs, its
     speed-up over (a)'s batch (goal >= 1.7 on 2 cores) and the CPU it kept busy; beside it
     the machine's ceiling at that moment: the speed-up of the compiled batch alone (cases
@@ -178,6 +179,11 @@ def main() -> None:
     print(f"    batch / loop      {wall_ratio:7.2f} wall, {cpu_ratio:.2f} CPU   "
           f"(goal <= 0.5: {met}; wall, round by round: {a['round_min']:.2f} to "
           f"{a['round_max']:.2f})")
+    floor = a["loop"] / a["loop_wall"]
+    room = 0.5 * a["loop_wall"] - a["loop"] - a["collect"]
+    print(f"    floor: the compiled batch alone (simulate's own RK4 steps, which the 1e-12 "
+          f"equality requires) is {floor:.2f} of a loop case; the goal leaves "
+          f"{room * 1e3:.2f} ms/case for the plans, which take {a['build'] * 1e3:.2f}")
     print(f"    (for scale: a loop that also computes the batch's metrics and verdict, "
           f"{a['metrics_loop_cpu'] * 1e3:.2f} ms CPU/case, one round: batch / that "
           f"{a['batch_cpu'] / a['metrics_loop_cpu']:.2f})")
