@@ -221,9 +221,15 @@ def study(
     quick: Annotated[bool, typer.Option(
         "--quick", help="A shortened run (seconds), as the tests use.")] = False,
     list_: Annotated[bool, typer.Option("--list", help="List the studies and exit.")] = False,
+    force: Annotated[bool, typer.Option(
+        "--force", help="Write into a non-empty output folder that webline did not write.")]
+    = False,
 ) -> None:
-    """Run a named study (thesis reproductions): figures, table.csv and summary.txt."""
+    """Run a named study (thesis reproductions): figures, table.csv and summary.txt, listed in
+    the folder's manifest like a run's files (a rerun removes what it no longer writes)."""
+    from webline.report.outputs import OutputFolder
     from webline.studies import STUDIES
+    from webline.studies.output import recording
 
     if list_:
         for key, func in STUDIES.items():
@@ -235,12 +241,14 @@ def study(
         raise BadInput("give a study NAME or --list")
     if name not in STUDIES:
         raise BadInput(f"no study named {name!r}; known: {', '.join(sorted(STUDIES))}")
-    folder = prepare_out(out or Path("out") / f"study-{name}")
-    result = STUDIES[name](folder, quick=quick)
+    folder = OutputFolder.open(out or Path("out") / f"study-{name}", force=force)
+    prepare_out(folder.path)
+    with recording(folder):
+        result = STUDIES[name](folder.path, quick=quick)
     typer.echo(result.summary)
     if result.verdict is not None:
         typer.echo(f"verdict of its runs: {result.verdict.headline}")
-    typer.echo(str(folder.resolve()))
+    typer.echo(str(folder.path.resolve()))
 
 
 app.command("sweep")(handles_errors(sweep_command))

@@ -24,7 +24,12 @@ from rich.progress import (
 )
 from rich.table import Table as RichTable
 
+from webline.cli_common import prepare_out
 from webline.errors import ArgumentError
+from webline.report.outputs import OutputFolder
+
+#: the chunk store's folder in a sweep's output folder (``webline.sim.chunks``)
+CHUNKS = "chunks"
 
 # webline.units (pint) and the simulation layers load inside the functions that use them, so
 # that `webline --version` and `--help` stay fast.
@@ -93,16 +98,19 @@ def _jsonable_attrs(ds: Any) -> Any:
     return ds
 
 
-def write_outputs(ds: Any, folder: Path) -> tuple[Path, Path]:
-    """Write ``sweep.nc`` and ``report.html`` into ``folder`` atomically."""
+def write_outputs(ds: Any, folder: OutputFolder) -> tuple[Path, Path]:
+    """Write ``sweep.nc`` and ``report.html`` into ``folder`` atomically, list them and the
+    chunk store's files in its manifest and finish it (``report.outputs``)."""
     from webline.files import atomic_write, atomic_write_text
     from webline.report.sweep_report import sweep_html
 
-    folder.mkdir(parents=True, exist_ok=True)
     plain = _jsonable_attrs(ds)
-    results = atomic_write(folder / "sweep.nc",
+    results = atomic_write(folder.claim("sweep.nc"),
                            lambda tmp: plain.to_netcdf(tmp, engine="h5netcdf"))
-    report = atomic_write_text(folder / "report.html", sweep_html(ds))
+    report = atomic_write_text(folder.claim("report.html"), sweep_html(ds))
+    for chunk in sorted((folder.path / CHUNKS).glob("chunk-*.nc")):  # kept for --resume
+        folder.claim(f"{CHUNKS}/{chunk.name}")
+    folder.finish()
     return results, report
 
 
@@ -131,13 +139,18 @@ def sweep_command(
     out: Annotated[Path | None, typer.Option(
         "--out", "-o", help="Output folder; default out/LINE-sweep.")] = None,
     quiet: Annotated[bool, typer.Option("--quiet", "-q")] = False,
+    force: Annotated[bool, typer.Option(
+        "--force", help="Write into a non-empty output folder that webline did not write.")]
+    = False,
 ) -> None:
     """Run a parameter sweep (grid or --zip) or, with --samples, a Monte Carlo study; write
     sweep.nc (one row per case, metrics and verdict) and an HTML report."""
     import webline
 
     spec = parse_sets(set_, samples)
-    folder = out or Path("out") / f"{Path(line).stem}-sweep"
+    folder = OutputFolder.open(out or Path("out") / f"{Path(line).stem}-sweep", force=force)
+    prepare_out(folder.path)
+    folder.claim(f"{CHUNKS}/study.json")  # the folder is webline's from here on
     seconds: float | str | None = duration
     if duration is not None and duration.replace(".", "", 1).isdigit():
         seconds = float(duration)  # a plain number is seconds
@@ -155,7 +168,7 @@ def sweep_command(
         common: dict[str, Any] = {
             "duration": seconds, "scenario": scenario, "workers": workers,
             "progress": progress, "scheduler": scheduler, "resume": resume,
-            "store": folder / "chunks"}  # chunk by chunk, so a killed run can resume
+            "store": folder.path / CHUNKS}  # chunk by chunk, so a killed run can resume
         if samples is not None:
             ds = webline.monte_carlo(line, spec, samples, seed=seed, **common)
         else:

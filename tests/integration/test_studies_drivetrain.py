@@ -4,6 +4,8 @@ App. B (Figs 3.17-3.19), Sec. 4.2 (Figs 4.5-4.8), Sec. 4.3 (Figs 4.14-4.30)."""
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 from typer.testing import CliRunner
@@ -142,3 +144,31 @@ def test_cli_runs_a_quick_study(tmp_path):
     assert result.exit_code == 0, result.output
     assert result.output.strip().splitlines()[-1] == str((tmp_path / "sm").resolve())
     assert (tmp_path / "sm" / "fig3_5_construction.png").exists()
+
+
+def test_cli_study_folder_has_a_manifest_and_refuses_a_foreign_folder(tmp_path):
+    """A study's folder is managed as a run's (report.outputs): its files are listed in the
+    manifest, a rerun removes what the previous run listed and no longer writes, and a
+    non-empty folder webline did not write is refused (exit 2) unless --force."""
+    folder = tmp_path / "sm"
+    args = ["study", "solid-motion", "--quick", "--out", str(folder)]
+    assert CliRunner().invoke(app, args).exit_code == 0
+    listed = json.loads((folder / ".webline-manifest.json").read_text())["files"]
+    assert {"summary.txt", "table.csv", "fig3_5_construction.png"} <= set(listed)
+    (folder / "old_figure.png").write_bytes(b"")  # as if an earlier version had written it
+    (folder / ".webline-manifest.json").write_text(json.dumps({"files": [*listed,
+                                                                         "old_figure.png"]}))
+    assert CliRunner().invoke(app, args).exit_code == 0
+    assert not (folder / "old_figure.png").exists() and (folder / "table.csv").exists()
+
+    foreign = tmp_path / "mine"
+    foreign.mkdir()
+    (foreign / "notes.txt").write_text("keep me")
+    refused = CliRunner().invoke(app, ["study", "solid-motion", "--quick", "--out", str(foreign)])
+    assert refused.exit_code == 2 and "webline did not write it" in refused.output
+    assert sorted(p.name for p in foreign.iterdir()) == ["notes.txt"]
+    forced = CliRunner().invoke(app, ["study", "solid-motion", "--quick", "--out", str(foreign),
+                                      "--force"])
+    assert forced.exit_code == 0, forced.output
+    assert (foreign / "notes.txt").read_text() == "keep me"
+    assert "notes.txt" not in (foreign / ".webline-manifest.json").read_text()

@@ -3,6 +3,8 @@ results file with one row per case and an HTML report; bad input is one line, ex
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import xarray as xr
 from typer.testing import CliRunner
@@ -67,3 +69,23 @@ def test_resume_reuses_the_stored_chunks(tmp_path) -> None:
     second = xr.load_dataset(tmp_path / "sweep.nc", engine="h5netcdf")
     np.testing.assert_array_equal(first.tension_rms_error.values,
                                   second.tension_rms_error.values)
+
+
+def test_output_folder_is_listed_and_a_foreign_folder_refused(tmp_path) -> None:
+    """The sweep's folder is managed as a run's (report.outputs): results, report and the
+    chunk store in its manifest; a non-empty folder webline did not write is refused (exit 2,
+    nothing written) unless --force, which leaves the user's files alone."""
+    args = ["sweep", "hswl", "--set", "web.ea=1900 lbf,2100 lbf", "-d", "0.2", "-q"]
+    assert CliRunner().invoke(app, [*args, "--out", str(tmp_path / "a")]).exit_code == 0
+    listed = json.loads((tmp_path / "a" / ".webline-manifest.json").read_text())["files"]
+    assert listed == ["chunks/chunk-000000.nc", "chunks/study.json", "report.html", "sweep.nc"]
+
+    foreign = tmp_path / "mine"
+    foreign.mkdir()
+    (foreign / "notes.txt").write_text("keep me")
+    refused = CliRunner().invoke(app, [*args, "--out", str(foreign)])
+    assert refused.exit_code == 2 and "webline did not write it" in refused.output
+    assert sorted(p.name for p in foreign.iterdir()) == ["notes.txt"]
+    assert CliRunner().invoke(app, [*args, "--out", str(foreign), "--force"]).exit_code == 0
+    assert (foreign / "notes.txt").read_text() == "keep me"
+    assert (foreign / "sweep.nc").exists()

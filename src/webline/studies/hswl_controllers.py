@@ -45,10 +45,9 @@ from webline.control.gains import THESIS_GAINS, gains_from_closed
 from webline.control.lumped import without_idlers
 from webline.control.sections import section_models
 from webline.control.select import Family, with_controller
-from webline.files import atomic_write_text
 from webline.line import Line
 from webline.sim.result import Result
-from webline.studies.output import pyplot, write_figure, write_table
+from webline.studies.output import pyplot, write_figure, write_table, write_text
 from webline.studies.result import StudyResult
 from webline.units import display_factor
 from webline.verdict import Verdict
@@ -185,7 +184,7 @@ def run(out_dir: Path, *, quick: bool = False) -> StudyResult:
     figures.append(_summary_figure(rows, out_dir / "summary.png"))
     summary = _summary_text(rows, duration, start)
     write_table(rows, out_dir / "table.csv")
-    atomic_write_text(out_dir / "summary.txt", summary + "\n")
+    write_text(out_dir / "summary.txt", summary + "\n")
     return StudyResult("hswl-controllers", tuple(figures), rows, summary,
                        Verdict.of(findings))
 

@@ -27,9 +27,8 @@ from typing import Any, Literal
 
 import numpy as np
 
-from webline.files import atomic_write_text
 from webline.physics import slip as sl
-from webline.studies.output import pyplot, save
+from webline.studies.output import pyplot, save, write_text
 from webline.studies.result import StudyResult
 from webline.studies.slip_chain import (
     Chain,
@@ -65,8 +64,8 @@ class Analysis:
         """The registry's ``StudyResult``: table ``main``, the text; every table is also
         written to ``<name>.json`` in ``out_dir``."""
         path = Path(out_dir) / f"{self.name.replace('-', '_')}.json"
-        atomic_write_text(path, json.dumps({"summary": self.text, "tables": self.tables},
-                                           indent=1, default=float))
+        write_text(path, json.dumps({"summary": self.text, "tables": self.tables}, indent=1,
+                                    default=float))
         return StudyResult(self.name, tuple(self.figures), self.tables[main], self.text)
 
 
