@@ -24,7 +24,7 @@ from rich.progress import (
 )
 from rich.table import Table as RichTable
 
-from webline.cli_common import prepare_out
+from webline.cli_common import _duration, prepare_out
 from webline.errors import ArgumentError
 from webline.report.outputs import OutputFolder
 
@@ -120,13 +120,13 @@ def sweep_command(
         "--set", help="PATH=v1,v2,... or PATH=start:stop:n (a sweep), or with --samples "
         "PATH=normal(9 kN, 5 %) / uniform(a, b) / lognormal(m, s).")],
     samples: Annotated[int | None, typer.Option(
-        "--samples", help="Monte Carlo: number of cases drawn.")] = None,
+        "--samples", min=1, help="Monte Carlo: number of cases drawn.")] = None,
     seed: Annotated[int, typer.Option("--seed", help="Monte Carlo seed.")] = 0,
     duration: Annotated[str | None, typer.Option(
         "--duration", "-d", help="Simulated time per case [s] or with a unit.")] = None,
     scenario: Annotated[str | None, typer.Option("--scenario", "-s")] = None,
     workers: Annotated[int | None, typer.Option(
-        "--workers", help="Threads (default: every core); with --scheduler local, the "
+        "--workers", min=1, help="Threads (default: every core); with --scheduler local, the "
         "processes of a Dask LocalCluster.")] = None,
     scheduler: Annotated[str | None, typer.Option(
         "--scheduler", help="A Dask scheduler address, or 'local' for a LocalCluster.")]
@@ -148,12 +148,10 @@ def sweep_command(
     import webline
 
     spec = parse_sets(set_, samples)
+    seconds = _duration(duration)  # as run's: a plain number is seconds
     folder = OutputFolder.open(out or Path("out") / f"{Path(line).stem}-sweep", force=force)
     prepare_out(folder.path)
     folder.claim(f"{CHUNKS}/study.json")  # the folder is webline's from here on
-    seconds: float | str | None = duration
-    if duration is not None and duration.replace(".", "", 1).isdigit():
-        seconds = float(duration)  # a plain number is seconds
     err = Console(stderr=True, highlight=False)
     columns = (TextColumn("cases"), BarColumn(), MofNCompleteColumn(), TaskProgressColumn(),
                TextColumn("{task.fields[rate]}"), TimeRemainingColumn())

@@ -88,6 +88,24 @@ def test_samples_the_line_refuses_stop_the_study_before_any_case_runs() -> None:
         webline.sweep("hswl", {"web.ea": ["9 kN", "-1 kN"]}, duration=0.1)
 
 
+@pytest.mark.parametrize("call, message", [
+    (lambda: webline.monte_carlo("hswl", {"web.ea": "uniform(8 kN, 9 kN)"}, 0, seed=1),
+     r"n: a Monte Carlo study needs a whole number of samples >= 1, got 0"),
+    (lambda: webline.monte_carlo("hswl", {"web.ea": "uniform(8 kN, 9 kN)"}, 2.5, seed=1),
+     r"got 2\.5"),
+    (lambda: webline.sweep("hswl", {"web.ea": []}), r"web\.ea: no values to sweep"),
+    (lambda: webline.sweep("hswl", {"web.ea": ["8 kN"]}, workers=0),
+     r"workers: expected a whole number >= 1"),
+    (lambda: run_cases("hswl", [{}], workers=-1), r"workers: .*got -1"),
+])
+def test_empty_or_impossible_studies_are_refused_naming_the_argument(call, message) -> None:
+    """A study of no case or on no thread is a mistake, refused before anything runs (an
+    empty Monte Carlo once came back as an empty Dataset, and the CLI's merge of no chunk
+    as a traceback)."""
+    with pytest.raises(webline.ArgumentError, match=message):
+        call()
+
+
 def test_distributions_parse_to_si() -> None:
     kind, mean, std = parse_distribution("normal(9 kN, 5 %)")
     assert (kind, mean) == ("normal", 9000.0) and std == pytest.approx(450.0, rel=1e-12)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 import xarray as xr
 from typer.testing import CliRunner
 
@@ -89,3 +90,23 @@ def test_output_folder_is_listed_and_a_foreign_folder_refused(tmp_path) -> None:
     assert CliRunner().invoke(app, [*args, "--out", str(foreign), "--force"]).exit_code == 0
     assert (foreign / "notes.txt").read_text() == "keep me"
     assert (foreign / "sweep.nc").exists()
+
+
+@pytest.mark.parametrize("extra, message", [
+    (["--samples", "0"], "--samples"), (["--workers", "0"], "--workers"),
+    (["-d", "-1"], "--duration: must be > 0 s"), (["-d", "0"], "--duration: must be > 0 s")])
+def test_no_case_no_thread_or_no_time_is_exit_2_before_anything_is_written(
+        tmp_path, extra, message) -> None:
+    result = CliRunner().invoke(app, ["sweep", "hswl", "--set", "web.ea=uniform(8 kN, 9 kN)",
+                                      "--samples", "2", "--out", str(tmp_path / "o"), *extra])
+    assert result.exit_code == 2 and message in result.output
+    assert not (tmp_path / "o").exists()
+
+
+def test_duration_reads_as_runs_does(tmp_path) -> None:
+    """A plain number is seconds, scientific notation included (it was once refused as 'not
+    a time')."""
+    result = CliRunner().invoke(app, ["sweep", "hswl", "--set", "web.ea=8 kN", "-d", "2e-1",
+                                      "-q", "--out", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    assert xr.load_dataset(tmp_path / "sweep.nc", engine="h5netcdf").attrs["duration"] == 0.2

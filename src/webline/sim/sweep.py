@@ -67,6 +67,7 @@ def run_cases(line: Line | str | Path, cases: Sequence[Mapping[str, object]], *,
     span tensions at that interval (``tension`` over case, time, span). ``workers``: threads
     (default: every core). ``progress``, if given, is called with (cases done, cases) after
     each block of cases (``blocks_of``)."""
+    check_workers(workers)
     base = load_line(line)
     if scenario is not None:
         base = base.with_scenario(scenario)
@@ -268,6 +269,9 @@ def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
     Returns the Dataset of ``run_cases``; its attribute ``mode`` and, for a grid, ``shape``."""
     paths = list(values)
     columns = [list(values[p]) for p in paths]
+    for path, column in zip(paths, columns, strict=True):
+        if not column:
+            raise ArgumentError(f"{path}: no values to sweep")
     if mode == "grid":
         combos = list(itertools.product(*columns))
     elif mode == "zip":
@@ -296,6 +300,9 @@ def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: in
     kN, 5 %)"``, ``"uniform(0.1, 0.3)"``, ``"lognormal(9 kN, 5 %)"`` or a scipy.stats frozen
     distribution in SI}), all drawn up front from ``numpy.random.default_rng(seed)`` so the
     result does not depend on ``workers``. Returns the Dataset of ``run_cases``."""
+    if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
+        raise ArgumentError(f"n: a Monte Carlo study needs a whole number of samples >= 1, "
+                            f"got {n!r}")
     samples = draw(distributions, n, seed)
     cases: list[dict[str, object]] = [{p: float(samples[p][c]) for p in samples}
                                       for c in range(n)]
@@ -332,11 +339,20 @@ def _check_values(line: Line | str | Path, cases: Sequence[Mapping[str, object]]
                                     f"refuses ({exc}); no case was run") from None
 
 
+def check_workers(workers: object) -> None:
+    """Refuse a ``workers`` that is neither None (every core) nor a whole number >= 1."""
+    if workers is not None and (isinstance(workers, bool) or not isinstance(
+            workers, int | np.integer) or workers < 1):
+        raise ArgumentError(f"workers: expected a whole number >= 1 (or None for every "
+                            f"core), got {workers!r}")
+
+
 def _study(line: Line | str | Path, cases: list[dict[str, object]], attrs: dict[str, Any], *,
            scheduler: Any, store: str | Path | None, resume: bool, workers: int | None,
            progress: Callable[[int, int], None] | None, **options: Any) -> Any:
     """Run the cases here at once, or chunk by chunk into ``store`` and/or on Dask
     (``webline.sim.chunks``)."""
+    check_workers(workers)
     if scheduler is None and store is None:
         ds = run_cases(line, cases, workers=workers, progress=progress, **options)
         ds.attrs.update(attrs)
