@@ -43,6 +43,25 @@ def test_batch_equals_simulate_per_case(batch) -> None:
     assert batch.torque_limit_time.values[2].max() > 0.0
 
 
+def test_a_sweep_across_controller_families_runs_each_structure_as_simulate_does() -> None:
+    """Cases of different structures (a whole controller table swapped: other states, another
+    compiled loop) in one study: each case's metrics are its own simulate run's (1e-12), and
+    the coordinate labels each table as a line file writes it."""
+    pi = {"type": "cascaded_pi", "speed_bandwidth": 40.0, "tension_bandwidth": 8.0}
+    tables = [pi, {"type": "state_feedback"}]
+    ds = webline.sweep("hswl", {"rollers.process.controller": tables}, duration=0.5)
+    line = webline.load_line("hswl")
+    for c, table in enumerate(tables):
+        expected = result_metrics(webline.simulate(
+            line.replace({"rollers.process.controller": table}), 0.5))
+        np.testing.assert_allclose(ds.tension_rms_error.values[c], expected["tension_rms_error"],
+                                   rtol=1e-12, atol=0, equal_nan=True)
+    labels = ds["rollers.process.controller"].values
+    assert labels[0].startswith('{type = "cascaded_pi", speed_bandwidth = 40.0')
+    assert "inertia_adaptive = true" in labels[0]
+    assert 'type = "state_feedback"' in labels[1]
+
+
 def test_threads_do_not_change_results(batch) -> None:
     one = run_cases("hswl", CASES, duration=2.0, scenario="tension-step",
                                       workers=1)

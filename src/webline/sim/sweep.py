@@ -10,6 +10,7 @@ in the batched kernel (``webline.sim.batch``) on every core. The result is an
 from __future__ import annotations
 
 import itertools
+import json
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -35,10 +36,28 @@ from webline.verdict import Finding, Level, Verdict
 
 
 def _coordinate(values: list[object]) -> np.ndarray:
+    """A path's values as a coordinate: numbers [SI], else their labels (``_label``)."""
     try:
         return np.array([float(v) for v in values])  # type: ignore[arg-type]
     except (TypeError, ValueError):
-        return np.array([str(v) for v in values])
+        return np.array([_label(v) for v in values])
+
+
+def _label(value: object, nested: bool = False) -> str:
+    """``value`` as a line file writes it: a table (a validated element of the spec, or a
+    dict) inline with the keys it sets, ``{type = "state_feedback"}``, its quantities in SI."""
+    dump = getattr(value, "model_dump", None)
+    if dump is not None:
+        value = dump(exclude_none=True, mode="json")
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k} = {_label(v, True)}" for k, v in value.items()) + "}"
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(_label(v, True) for v in value) + "]"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str) and nested:
+        return json.dumps(value, ensure_ascii=False)
+    return str(value)
 
 
 #: Cases built and run together, at most: their plans are built while the block before runs
