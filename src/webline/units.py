@@ -280,6 +280,12 @@ def _factor(unit: str, kind: str, text: str) -> float:
     return factor
 
 
+def _a(kind: str) -> str:
+    """``kind`` in words with its article: "a force", "an angular frequency"."""
+    words = kind.replace("_", " ")
+    return ("an " if words[0] in "aeiou" else "a ") + words
+
+
 def to_si(value: object, kind: str) -> float:
     """Convert ``value`` to an SI float of dimension ``kind``.
 
@@ -290,7 +296,7 @@ def to_si(value: object, kind: str) -> float:
     [Hz] "40 rad/s" is 40/(2π) Hz. Raises ``ValueError`` with a user-readable message.
     """
     if isinstance(value, bool):
-        raise ValueError(f"expected a {kind} (a number or a string with units), got {value!r}")
+        raise ValueError(f"expected {_a(kind)} (a number or a string with units), got {value!r}")
     if isinstance(value, numbers.Real):
         try:
             number = float(value)
@@ -303,11 +309,11 @@ def to_si(value: object, kind: str) -> float:
         try:
             quantity = _ureg().Quantity(float(value.magnitude), str(value.units))  # type: ignore[attr-defined]
         except Exception:  # an array, or a unit this registry does not know
-            raise ValueError(f"expected a {kind} as one number with a unit, "
+            raise ValueError(f"expected {_a(kind)} as one number with a unit, "
                              f"got {short(value)}") from None
         number = _si_number(quantity, kind, value)
     else:
-        raise ValueError(f"expected a {kind} (a number or a string with units), "
+        raise ValueError(f"expected {_a(kind)} (a number or a string with units), "
                          f"got {short(value)}")
     if not math.isfinite(number):
         raise ValueError(f"must be finite, got {short(value)}")
@@ -353,7 +359,7 @@ def _si_number(quantity: pint.Quantity, kind: str, value: object) -> float:
     if kind == "angle" and units & (_RATIO_UNITS - {"dimensionless"}):
         wrong = True
     if wrong:
-        raise ValueError(f"expected a {kind} (e.g. {SI_UNITS[kind] or 'a plain number'}), "
+        raise ValueError(f"expected {_a(kind)} (e.g. {SI_UNITS[kind] or 'a plain number'}), "
                          f"got {short(value)}")
     if not units:
         return float(quantity.magnitude)  # a plain number is SI

@@ -125,6 +125,30 @@ def test_empty_or_impossible_studies_are_refused_naming_the_argument(call, messa
         call()
 
 
+def test_monte_carlo_reads_units_as_the_line_does() -> None:
+    """A distribution's values mean what they mean in the line file: a bandwidth in Hz is 2π
+    rad/s (it was drawn as 1 rad/s per Hz), a tension per width of web is times the web's
+    width (N/m was drawn as N), and a unit of another kind is refused, naming the path."""
+    line = webline.load_line("hswl")
+    bandwidth, tension = "rollers.process.controller.tension_bandwidth", "spans.1.tension"
+    ds = webline.monte_carlo(line, {bandwidth: "uniform(1 Hz, 2 Hz)",
+                                    tension: "normal(100 N/m, 1 %)"}, 3, seed=2,
+                             duration=0.05)
+    plain = draw({bandwidth: "uniform(1, 2)", tension: "normal(100, 1 %)"}, 3, seed=2)
+    np.testing.assert_allclose(ds[bandwidth].values, 2 * np.pi * plain[bandwidth],
+                               rtol=1e-15)
+    np.testing.assert_allclose(ds[tension].values, line.spec.web.width * plain[tension],
+                               rtol=1e-15)
+    with pytest.raises(webline.ArgumentError,
+                       match=r"^web\.ea: uniform\(8 m, 9 m\): the line refuses .*expected a "
+                             r"force"):
+        webline.monte_carlo(line, {"web.ea": "uniform(8 m, 9 m)"}, 2, seed=1)
+    with pytest.raises(webline.ArgumentError, match=r"8 kN and 9 m are not of one kind"):
+        webline.monte_carlo(line, {"web.ea": "uniform(8 kN, 9 m)"}, 2, seed=1)
+    with pytest.raises(webline.ArgumentError, match=r"^seed: expected a whole number >= 0"):
+        webline.monte_carlo(line, {"web.ea": "uniform(8 kN, 9 kN)"}, 2, seed=-1)
+
+
 def test_distributions_parse_to_si() -> None:
     kind, mean, std = parse_distribution("normal(9 kN, 5 %)")
     assert (kind, mean) == ("normal", 9000.0) and std == pytest.approx(450.0, rel=1e-12)

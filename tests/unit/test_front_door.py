@@ -242,11 +242,22 @@ def test_operating_point_and_linearize_take_units() -> None:
     (lambda: webline.linearize("hswl", "soon"), "t"),
     (lambda: webline.linearize("hswl", loop="half"), "loop"),  # type: ignore[arg-type]
     (lambda: webline.operating_point("hswl", "-1 s"), "t"),
+    # no RK4 step, or a fraction of one, once ran a frozen line to an "ok" verdict
+    (lambda: webline.simulate("hswl", 0.1, substeps=0), "substeps"),
+    (lambda: webline.simulate("hswl", 0.1, substeps=-2), "substeps"),
+    (lambda: webline.simulate("hswl", 0.1, substeps=1.5), "substeps"),
 ])
 def test_a_wrong_argument_raises_argument_error_naming_it(call: Any, name: str) -> None:
     with pytest.raises(ArgumentError, match=rf"^{name}: "):
         call()
     assert ArgumentError.exit_code == 2
+
+
+def test_a_bound_and_a_kind_read_as_english() -> None:
+    with pytest.raises(ArgumentError, match=r"^t: must be >= 0, got '-1 s'$"):
+        webline.operating_point("hswl", "-1 s")
+    with pytest.raises(LineFileError, match=r"expected an angular frequency \(e\.g\. rad/s\)"):
+        load_line("hswl").replace({"rollers.process.controller.tension_bandwidth": "5 m"})
 
 
 def test_a_result_pickles_with_its_line_and_numbers() -> None:

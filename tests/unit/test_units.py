@@ -119,7 +119,8 @@ def test_every_kind_has_si_and_imperial_units() -> None:
     ],
 )
 def test_wrong_dimension_names_the_expected_kind(text: str, kind: str) -> None:
-    with pytest.raises(ValueError, match=rf"expected a {kind}\b") as info:
+    article = "an" if kind[0] in "aeiou" else "a"
+    with pytest.raises(ValueError, match=rf"expected {article} {kind}\b") as info:
         to_si(text, kind)
     assert repr(text) in str(info.value)
 

@@ -22,14 +22,34 @@ _CALL = re.compile(r"^\s*(normal|uniform|lognormal)\s*\((.*)\)\s*$", re.IGNORECA
 
 
 def _quantity(text: str) -> tuple[float, str | None]:
-    """(magnitude in SI base units, None) of ``"9 kN"``, or (fraction, "%") of ``"5 %"``."""
+    """(magnitude in SI base units, its dimensions as pint writes them, "" for a plain
+    number, SI) of ``"9 kN"``, or (fraction, "%") of ``"5 %"``."""
     text = text.strip()
     if text.endswith("%"):
         return float(text[:-1]) / 100.0, "%"
     quantity: Any = ureg.Quantity(text)
     if hasattr(quantity, "to_base_units"):
-        return float(quantity.to_base_units().magnitude), None
-    return float(quantity), None
+        base = quantity.to_base_units()
+        return float(base.magnitude), str(base.dimensionality) if base.dimensionality else ""
+    return float(quantity), ""
+
+
+def values_written(text: str) -> list[tuple[str | float, float]]:
+    """The arguments of a valid written distribution that are values of the parameter, as
+    written (a plain number as a number, SI) and in SI base units: ``[("9 kN", 9000.0)]`` of
+    ``"normal(9 kN, 5 %)"``, both bounds of ``"uniform(1 Hz, 2 Hz)"``. The line may read a unit otherwise than pint's base
+    units do (Hz as 2π rad/s for an angular frequency, N/m as a force per width of web):
+    ``sweep.monte_carlo`` scales the samples by the line's own reading of these."""
+    match = _CALL.match(text)
+    if not match:
+        return []
+    kind = match[1].lower()
+    out: list[tuple[str | float, float]] = []
+    for k, arg in enumerate(match[2].split(",")):
+        number, unit = _quantity(arg)
+        if unit != "%" and (k == 0 or kind != "lognormal"):
+            out.append((arg.strip() if unit else number, number))
+    return out
 
 
 def parse_distribution(text: str) -> tuple[str, float, float]:
@@ -49,6 +69,12 @@ def parse_distribution(text: str) -> tuple[str, float, float]:
         raise ValueError(f"{text!r}: {exc}") from None
     if unit_a == "%":
         raise ValueError(f"{text!r}: the first argument is a value, not a percentage")
+    if kind == "lognormal" and unit_b not in ("%", ""):
+        raise ValueError(f"{text!r}: sigma, the standard deviation of the logarithm, is a "
+                         "plain number or a percentage")
+    if kind != "lognormal" and unit_a and unit_b and unit_b not in ("%", unit_a):
+        raise ValueError(f"{text!r}: {args[0].strip()} and {args[1].strip()} are not of one "
+                         "kind (a plain number is in SI units)")
     if kind == "normal":
         std = abs(a) * b if unit_b == "%" else b
         if std < 0:

@@ -12,7 +12,12 @@ from pathlib import Path
 
 import numpy as np
 
-from webline.errors import LineFileError, SimulationError, SimulationInterrupted
+from webline.errors import (
+    ArgumentError,
+    LineFileError,
+    SimulationError,
+    SimulationInterrupted,
+)
 from webline.line import Line, load_line
 from webline.sim import budget, kernel
 from webline.sim import layout as L
@@ -141,6 +146,9 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
     n_ticks = max(1, round(duration / plan.dt))
     if substeps is None:
         substeps = choose_substeps(plan)
+    elif isinstance(substeps, bool) or not isinstance(substeps, int | np.integer) or substeps < 1:
+        raise ArgumentError(f"substeps: expected a whole number of RK4 steps per controller "
+                            f"period >= 1, got {substeps!r}")
     if record_interval is None:
         every = max(1, math.ceil((n_ticks + 1) / MAX_RECORDS))
     else:

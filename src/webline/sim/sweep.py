@@ -25,7 +25,7 @@ from webline.line import Line, load_line
 from webline.sim import batch as B
 from webline.sim.batch import BatchOutput, run_batch
 from webline.sim.cases import Built, build_cases, case_value, derive_line
-from webline.sim.distributions import draw
+from webline.sim.distributions import draw, values_written
 from webline.sim.failure import kernel_failure
 from webline.sim.metrics import METRICS
 from webline.sim.plan import Plan, compile_plan
@@ -322,7 +322,16 @@ def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: in
     if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
         raise ArgumentError(f"n: a Monte Carlo study needs a whole number of samples >= 1, "
                             f"got {n!r}")
-    samples = draw(distributions, n, seed)
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        raise ArgumentError(f"seed: expected a whole number >= 0, got {seed!r}")
+    try:
+        samples = draw(distributions, n, seed)
+    except ValueError as exc:
+        raise ArgumentError(str(exc)) from None
+    base = _base(line, scenario)
+    for path, dist in distributions.items():
+        if isinstance(dist, str):
+            samples[path] = samples[path] * _line_scale(base, path, dist)
     cases: list[dict[str, object]] = [{p: float(samples[p][c]) for p in samples}
                                       for c in range(n)]
     _check_values(line, cases, scenario, {p: f"the samples of {distributions[p]}"
@@ -330,6 +339,33 @@ def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: in
     return _study(line, cases, {"mode": "monte_carlo", "seed": seed}, duration=duration,
                   scenario=scenario, record=record, workers=workers, progress=progress,
                   scheduler=scheduler, store=store, resume=resume)
+
+
+def _base(line: Line | str | Path, scenario: str | None) -> Line:
+    base = load_line(line)
+    return base if scenario is None else base.with_scenario(scenario)
+
+
+def _line_scale(base: Line, path: str, dist: str) -> float:
+    """Factor from a written distribution's SI numbers to what the line reads for the same
+    text at ``path`` (``distributions.values_written``): 2π for a frequency in Hz of an
+    angular frequency, the web's width for a force per width, else 1. Raises
+    ``ArgumentError`` with the line's message when it refuses every value as written (a
+    length for a force)."""
+    refusal = ""
+    for text, number in values_written(dist):
+        try:
+            read = case_value(derive_line(base, {path: text}), path)
+        except LineFileError as exc:
+            refusal = refusal or str(exc)
+            continue
+        if isinstance(read, float | int) and number != 0:
+            scale = float(read) / number
+            return 1.0 if abs(scale - 1.0) < 1e-12 else scale  # the same unit, rounded apart
+    if refusal:
+        raise ArgumentError(f"{path}: {dist}: the line refuses its values as written "
+                            f"({refusal}); no case was run")
+    return 1.0
 
 
 #: a path with more distinct values than this is checked at its smallest and largest only
@@ -343,9 +379,7 @@ def _check_values(line: Line | str | Path, cases: Sequence[Mapping[str, object]]
     largest (ranges are intervals). Raises ``ArgumentError`` naming the path, what produced the
     values (``what[path]``: "the values", "the samples of normal(...)") and the line's
     message; a value that only fails in combination still fails when its case is built."""
-    base = load_line(line)
-    if scenario is not None:
-        base = base.with_scenario(scenario)
+    base = _base(line, scenario)
     for path, source in what.items():
         values = [case[path] for case in cases if path in case]
         if len(values) > CHECK_ALL_BELOW and all(isinstance(v, float | int) for v in values):

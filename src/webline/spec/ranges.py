@@ -367,7 +367,7 @@ def argument(value: object, kind: str, name: str, bound: str = ">0",
     except ValueError as exc:
         raise ArgumentError(f"{name}: {exc}") from None
     if not (number > 0 if bound == ">0" else number >= 0):
-        raise ArgumentError(f"{name}: must be {bound[0]} {bound[1:]}, got {short(value)}")
+        raise ArgumentError(f"{name}: must be {bound[:-1]} {bound[-1]}, got {short(value)}")
     problem = RANGES[within].hard_problem(number) if within else None
     if problem:
         raise ArgumentError(f"{name}: {problem}")
