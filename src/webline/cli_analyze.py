@@ -19,6 +19,7 @@ from webline.cli_common import (
     _console,
     _load,
     print_tables,
+    time_option,
 )
 
 if TYPE_CHECKING:
@@ -28,9 +29,9 @@ if TYPE_CHECKING:
 
 def analyze(
     line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None,
-    at: Annotated[float | None, typer.Option(
-        "--time", "-t", help="Analyse the references at this time [s]; default 0, or the end "
-        "of the speed ramp for a start from rest.")] = None,
+    at: Annotated[str | None, typer.Option(
+        "--time", "-t", help="Analyse the references at this time, e.g. 2 or '2 s' [s]; "
+        "default 0, or the end of the speed ramp for a start from rest.")] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON instead of tables.")]
     = False,
     certificate: Annotated[bool, typer.Option(
@@ -53,9 +54,7 @@ def analyze(
     from webline.verdict import Verdict
 
     loaded = _load(line, scenario, controller, sets)
-    t = analysis_time(loaded) if at is None else at
-    if not t >= 0:
-        raise BadInput(f"--time: must be >= 0 s, got {at}")
+    t = analysis_time(loaded) if at is None else time_option(at, "--time", zero=True)
     display = Display(units.value, loaded.spec.web.width)
     point = operating_point(loaded, t)
     modes = closed_loop_modes(loaded, t)
@@ -84,10 +83,16 @@ def analyze(
 
 
 def _certificate(line: Line) -> Certificate:
-    """The decentralized certificate of ``line`` with webline's default design."""
+    """The decentralized certificate of ``line`` with webline's default design; a line that
+    cannot run state feedback on every drive (what the theorem is about) is bad input."""
     from webline.analysis.certificate import certificate
+    from webline.errors import LineFileError
 
-    return certificate(line)
+    try:
+        return certificate(line)
+    except LineFileError as exc:
+        raise BadInput(f"--certificate: thesis Thm 6.2.1 is about decentralized state feedback "
+                       f"on every drive, which this line cannot run: {exc}") from None
 
 
 def _print_certificate(cert: Certificate) -> None:

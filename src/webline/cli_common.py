@@ -142,7 +142,9 @@ def _load(source: str, scenario: str | None, controller: ControllerFamily | None
     return line.replace(changes) if changes else line
 
 
-def _duration(text: str | None) -> float | None:
+def time_option(text: str | None, option: str, *, zero: bool = False) -> float | None:
+    """The value [s] of a time ``option`` as typed: a plain number is seconds, else a number
+    with a unit (``"2 min"``); it must be > 0 (>= 0 with ``zero``). None stays None."""
     if text is None:
         return None
     try:
@@ -154,10 +156,14 @@ def _duration(text: str | None) -> float | None:
 
         value = to_si(text, "time") if value is None else value
     except ValueError as exc:
-        raise BadInput(f"--duration: {exc}") from None
-    if not value > 0:
-        raise BadInput(f"--duration: must be > 0 s, got {text!r}")
+        raise BadInput(f"{option}: {exc}") from None
+    if not (value >= 0 if zero else value > 0):
+        raise BadInput(f"{option}: must be {'>=' if zero else '>'} 0 s, got {text!r}")
     return value
+
+
+def _duration(text: str | None) -> float | None:
+    return time_option(text, "--duration")
 
 
 def prepare_out(out: Path) -> Path:

@@ -46,3 +46,21 @@ def test_analyze_certificate_json():
     if cert["holds"]:
         assert cert["max_real"] < 0
     assert cert["worst_ratio"] == min(s["ratio"] for s in cert["sections"])
+
+
+def test_certificate_of_a_line_that_cannot_run_state_feedback_says_why():
+    """The converter's dancer trims a PI's speed (position control): Thm 6.2.1's state
+    feedback cannot run there. One line naming the option and the reason, exit 2."""
+    result = invoke("analyze", "converter", "--certificate")
+    assert result.exit_code == 2
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: --certificate: thesis Thm 6.2.1")
+    assert "dancer.use" in lines[0]
+
+
+def test_analysis_time_takes_units_as_run_takes_its_duration():
+    as_number = json.loads(invoke("analyze", "hswl", "-t", "2", "--json").output)
+    with_unit = json.loads(invoke("analyze", "hswl", "-t", "2000 ms", "--json").output)
+    assert as_number["operating_point"] == with_unit["operating_point"]
+    negative = invoke("analyze", "hswl", "-t", "-1")
+    assert negative.exit_code == 2 and "--time: must be >= 0 s" in negative.output

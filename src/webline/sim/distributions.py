@@ -37,9 +37,10 @@ def _quantity(text: str) -> tuple[float, str | None]:
 def values_written(text: str) -> list[tuple[str | float, float]]:
     """The arguments of a valid written distribution that are values of the parameter, as
     written (a plain number as a number, SI) and in SI base units: ``[("9 kN", 9000.0)]`` of
-    ``"normal(9 kN, 5 %)"``, both bounds of ``"uniform(1 Hz, 2 Hz)"``. The line may read a unit otherwise than pint's base
-    units do (Hz as 2π rad/s for an angular frequency, N/m as a force per width of web):
-    ``sweep.monte_carlo`` scales the samples by the line's own reading of these."""
+    ``"normal(9 kN, 5 %)"``, both bounds of ``"uniform(1 Hz, 2 Hz)"``. The line may read a
+    unit otherwise than pint's base units do (Hz as 2π rad/s for an angular frequency, N/m
+    as a force per width of web): ``sweep.monte_carlo`` scales the samples by the line's own
+    reading of these."""
     match = _CALL.match(text)
     if not match:
         return []
