@@ -110,3 +110,20 @@ def test_duration_reads_as_runs_does(tmp_path) -> None:
                                       "-q", "--out", str(tmp_path)])
     assert result.exit_code == 0, result.output
     assert xr.load_dataset(tmp_path / "sweep.nc", engine="h5netcdf").attrs["duration"] == 0.2
+
+
+def test_a_grid_with_a_choice_plots_a_line_per_choice_in_the_parameters_units(tmp_path) -> None:
+    """One numeric parameter and a choice: the metric against the number, one line per
+    choice (not the choices' cases joined into one zig-zag line, nor a histogram); the axis
+    and the results file carry the parameter's unit from the line file's range table."""
+    result = CliRunner().invoke(app, [
+        "sweep", "hswl", "--set", "rollers.process.controller.tension_bandwidth=4,8",
+        "--set", "rollers.unwind.drive.feedback=load,motor", "-d", "0.2", "-q",
+        "--out", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    html = (tmp_path / "report.html").read_text()
+    assert 'id="fig-sweep-metric"' in html and 'id="fig-sweep-hist"' not in html
+    assert "a line per value of rollers.unwind.drive.feedback" in html
+    ds = xr.load_dataset(tmp_path / "sweep.nc", engine="h5netcdf")
+    assert ds["rollers.process.controller.tension_bandwidth"].attrs["units"] == "rad/s"
+    assert "units" not in ds["rollers.unwind.drive.feedback"].attrs

@@ -61,48 +61,99 @@ def metric_table(ds: Any) -> Table:
                       ("metric", "min", "median", "max", "unit"), rows)
 
 
+#: most lines of one metric-versus-parameter plot (one per value of the other parameters)
+MAX_GROUPS = 8
+
+
+def axis_label(ds: Any, path: str) -> str:
+    """``path [unit]`` of a parameter coordinate (its ``units`` attribute), or the path."""
+    unit = ds[path].attrs.get("units")
+    return f"{path} [{unit}]" if unit else path
+
+
 def figures(ds: Any) -> list[Image]:
-    """Metric versus parameter (1 parameter), heat map (2-D grid), histograms (Monte Carlo)."""
+    """Heat map (grid of two numeric parameters), metric versus the first numeric parameter
+    (a grid or zip: a line per loadcell span, or with other parameters a line per value of
+    theirs), and histograms per loadcell span (Monte Carlo, or nothing numeric to plot
+    against)."""
     spans = loadcell_spans(ds)
+    if not spans:
+        return []
+    metric = ds[MAIN_METRIC].sel(span=spans)
     params = list(ds.attrs.get("parameters", []))
     numeric = [p for p in params if np.issubdtype(ds[p].dtype, np.number)]
-    out: list[Image] = []
-    metric = ds[MAIN_METRIC].sel(span=spans) if spans else None
-    if metric is None:
-        return out
     mode = ds.attrs.get("mode")
-    if mode == "monte_carlo" or len(numeric) != len(params) or len(params) > 2:
-        fig, ax = plt.subplots(figsize=(7, 3.5))
-        for span in spans:
-            values = metric.sel(span=span).values
-            ax.hist(values[np.isfinite(values)], bins=30, alpha=0.6, label=span)
-        ax.set_xlabel("RMS tension error [N]")
-        ax.set_ylabel("cases")
-        ax.legend()
-        out.append(Image("sweep-hist", "Distribution of the RMS tension error per loadcell span",
-                         _png(fig)))
+    out: list[Image] = []
     if mode == "grid" and len(numeric) == 2 and len(params) == 2:
-        shape = tuple(ds.attrs["shape"])
-        worst = metric.max("span").values.reshape(shape)
-        x = ds[params[1]].values.reshape(shape)[0]
-        y = ds[params[0]].values.reshape(shape)[:, 0]
-        fig, ax = plt.subplots(figsize=(6, 4.5))
-        mesh = ax.pcolormesh(x, y, worst, shading="nearest")
-        fig.colorbar(mesh, ax=ax, label="largest RMS tension error over spans [N]")
-        ax.set_xlabel(params[1])
-        ax.set_ylabel(params[0])
-        out.append(Image("sweep-heatmap", "Largest RMS tension error over the grid", _png(fig)))
+        out.append(_heat_map(ds, metric, params))
     elif mode in ("grid", "zip") and numeric:
-        fig, ax = plt.subplots(figsize=(7, 3.5))
-        x = ds[numeric[0]].values
+        out.append(_against(ds, metric, spans, numeric[0],
+                            [p for p in params if p != numeric[0]]))
+    if mode == "monte_carlo" or not out:
+        out.append(_histograms(metric, spans))
+    return out
+
+
+def _heat_map(ds: Any, metric: Any, params: list[str]) -> Image:
+    shape = tuple(ds.attrs["shape"])
+    worst = metric.max("span").values.reshape(shape)
+    x = ds[params[1]].values.reshape(shape)[0]
+    y = ds[params[0]].values.reshape(shape)[:, 0]
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    mesh = ax.pcolormesh(x, y, worst, shading="nearest")
+    fig.colorbar(mesh, ax=ax, label="largest RMS tension error over spans [N]")
+    ax.set_xlabel(axis_label(ds, params[1]))
+    ax.set_ylabel(axis_label(ds, params[0]))
+    return Image("sweep-heatmap", "Largest RMS tension error over the grid", _png(fig))
+
+
+def _against(ds: Any, metric: Any, spans: list[str], x_path: str, others: list[str]) -> Image:
+    """The metric against ``x_path``: per span, or with ``others`` the largest over the
+    spans, one line per combination of the others' values (at most ``MAX_GROUPS``)."""
+    x = ds[x_path].values
+    fig, ax = plt.subplots(figsize=(7, 3.5))
+    if not others:
         order = np.argsort(x, kind="stable")
         for span in spans:
             ax.plot(x[order], metric.sel(span=span).values[order], "o-", label=span)
-        ax.set_xlabel(f"{numeric[0]} [SI]")
-        ax.set_ylabel("RMS tension error [N]")
-        ax.legend()
-        out.append(Image("sweep-metric", f"RMS tension error against {numeric[0]}", _png(fig)))
-    return out
+        ylabel, caption = "RMS tension error [N]", f"RMS tension error against {x_path}"
+    else:
+        worst = metric.max("span").values
+        keys = list(zip(*(ds[p].values.tolist() for p in others), strict=True))
+        groups = list(dict.fromkeys(keys))
+        for key in groups[:MAX_GROUPS]:
+            mask = np.array([k == key for k in keys])
+            order = np.argsort(x[mask], kind="stable")
+            label = ", ".join(f"{p} = {_short(v)}" for p, v in zip(others, key, strict=True))
+            ax.plot(x[mask][order], worst[mask][order], "o-", label=label)
+        ylabel = "largest RMS tension error over spans [N]"
+        shown = "" if len(groups) <= MAX_GROUPS else f" (the first {MAX_GROUPS} of {len(groups)})"
+        caption = (f"Largest RMS tension error over the loadcell spans against {x_path}, a line "
+                   f"per value of {', '.join(others)}{shown}")
+    ax.set_xlabel(axis_label(ds, x_path))
+    ax.set_ylabel(ylabel)
+    ax.legend(fontsize="small")
+    return Image("sweep-metric", caption, _png(fig))
+
+
+def _short(value: object, limit: int = 40) -> str:
+    text = f"{value:.4g}" if isinstance(value, float) else str(value)
+    return text if len(text) <= limit else text[:limit - 1] + "…"
+
+
+def _histograms(metric: Any, spans: list[str]) -> Image:
+    """One histogram per loadcell span, each on its own axis (their errors may differ by
+    orders of magnitude)."""
+    fig, axes = plt.subplots(len(spans), 1, figsize=(7, 1.9 * len(spans) + 0.6), squeeze=False)
+    for ax, span in zip(axes[:, 0], spans, strict=True):
+        values = metric.sel(span=span).values
+        ax.hist(values[np.isfinite(values)], bins=30)
+        ax.set_ylabel("cases")
+        ax.set_title(span, fontsize="medium", loc="left")
+    axes[-1, 0].set_xlabel("RMS tension error [N]")
+    fig.tight_layout()
+    return Image("sweep-hist", "Distribution of the RMS tension error per loadcell span",
+                 _png(fig))
 
 
 def sweep_html(ds: Any) -> str:

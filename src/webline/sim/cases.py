@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from typing import Any, Literal, get_args
 
 import numpy as np
-from pydantic import TypeAdapter, ValidationError
+from pydantic import BaseModel, TypeAdapter, ValidationError
 
 from webline.errors import LineFileError
 from webline.line import Line
@@ -41,6 +41,7 @@ from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
 from webline.sim.simulate import MAX_RECORDS, choose_substeps
 from webline.spec.check import check_spec
 from webline.spec.paths import set_parts, split_path
+from webline.spec.ranges import range_for
 from webline.spec.schema import LineSpec
 
 #: top-level tables a case may change one key of in place (everything else: Line.replace)
@@ -118,13 +119,31 @@ def case_value(line: Line, path: str) -> object:
     """The value at ``path`` in ``line``'s validated spec [SI for quantities]."""
     node: Any = line.spec
     for part in split_path(path):
-        if isinstance(node, list | tuple):
-            node = node[_element(node, part)]
-        elif isinstance(node, Mapping):
-            node = node[str(part)]
-        else:
-            node = getattr(node, str(part))
+        node = _child(node, part)
     return node
+
+
+def path_unit(line: Line, path: str) -> str | None:
+    """The SI unit of the quantity at ``path`` in ``line`` (``"rad/s"``, ``"N"``, ``"1"`` for
+    a ratio, as CF conventions write it), from the range table of its field
+    (``spec.ranges``); None where the field has none (a table, a name, a choice)."""
+    parts = split_path(path)
+    holder: Any = line.spec
+    try:
+        for part in parts[:-1]:
+            holder = _child(holder, part)
+    except (AttributeError, KeyError, IndexError, _Unplaced):
+        return None
+    found = range_for(type(holder), str(parts[-1])) if isinstance(holder, BaseModel) else None
+    return None if found is None else (found.unit or "1")
+
+
+def _child(node: Any, part: str | int) -> Any:
+    if isinstance(node, list | tuple):
+        return node[_element(node, part)]
+    if isinstance(node, Mapping):
+        return node[str(part)]
+    return getattr(node, str(part))
 
 
 def batch_rates(plans: Sequence[Plan]) -> list[float]:

@@ -24,7 +24,7 @@ from webline.errors import ArgumentError, LineFileError
 from webline.line import Line, load_line
 from webline.sim import batch as B
 from webline.sim.batch import BatchOutput, run_batch
-from webline.sim.cases import Built, build_cases, case_value, derive_line
+from webline.sim.cases import Built, build_cases, case_value, derive_line, path_unit
 from webline.sim.distributions import draw, values_written
 from webline.sim.failure import kernel_failure
 from webline.sim.metrics import METRICS
@@ -264,8 +264,10 @@ class _Collector:
             "long_name": "RK4 sub-steps per controller period"})
         coords: dict[str, Any] = {"case": np.arange(len(self.status)), **names}
         for path in self.paths:
+            unit = path_unit(line, path)
             coords[path] = ("case", _coordinate(self.values[path]),
-                            {"units": "SI", "long_name": f"line parameter {path}"})
+                            {"long_name": f"line parameter {path}"}
+                            | ({} if unit is None else {"units": unit}))
         if self.traces is not None:
             coords["time"] = ("time", np.arange(self.traces.shape[1]) * trace_interval,
                               {"units": "s"})
