@@ -142,11 +142,9 @@ def _load(source: str, scenario: str | None, controller: ControllerFamily | None
     return line.replace(changes) if changes else line
 
 
-def time_option(text: str | None, option: str, *, zero: bool = False) -> float | None:
+def time_option(text: str, option: str, *, zero: bool = False) -> float:
     """The value [s] of a time ``option`` as typed: a plain number is seconds, else a number
-    with a unit (``"2 min"``); it must be > 0 (>= 0 with ``zero``). None stays None."""
-    if text is None:
-        return None
+    with a unit (``"2 min"``); it must be > 0 (>= 0 with ``zero``)."""
     try:
         value = float(text)  # a plain number is seconds
     except ValueError:
@@ -163,7 +161,7 @@ def time_option(text: str | None, option: str, *, zero: bool = False) -> float |
 
 
 def _duration(text: str | None) -> float | None:
-    return time_option(text, "--duration")
+    return None if text is None else time_option(text, "--duration")
 
 
 def prepare_out(out: Path) -> Path:
