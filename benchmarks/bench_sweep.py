@@ -75,7 +75,6 @@ def one_core(line: object, cases: int, loop_cases: int, repeat: int) -> dict[str
     ``repeat`` interleaved rounds, and the batch's split (wall, from the Dataset)."""
     import webline
     from webline.sim.distributions import draw
-    from webline.sim.metrics import result_metrics
 
     samples = draw(DISTS, loop_cases, seed=2)["web.ea"]
     best = {"loop_wall": float("inf"), "loop_cpu": float("inf"),
@@ -84,8 +83,8 @@ def one_core(line: object, cases: int, loop_cases: int, repeat: int) -> dict[str
     # for scale: a loop that also computes what the batch gives per case (metrics, verdict)
     cpu = time.thread_time()
     for value in samples:
-        result_metrics(webline.simulate(line.replace({"web.ea": float(value)}),  # type: ignore[attr-defined]
-                                        DURATION))
+        webline.simulate(line.replace({"web.ea": float(value)}),  # type: ignore[attr-defined]
+                         DURATION).metric_arrays()
     split["metrics_loop_cpu"] = (time.thread_time() - cpu) / loop_cases
     rounds = []
     for _ in range(repeat):

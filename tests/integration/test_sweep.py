@@ -8,7 +8,7 @@ import pytest
 
 import webline
 from webline.sim.distributions import draw, parse_distribution
-from webline.sim.metrics import METRICS, result_metrics
+from webline.sim.metrics import METRICS
 from webline.sim.sweep import run_cases
 
 LBF = 4.4482216152605  # [N]
@@ -31,7 +31,7 @@ def test_batch_equals_simulate_per_case(batch) -> None:
     for c, changes in enumerate(CASES):
         result = webline.simulate(line.replace(changes) if changes else line, 2.0,
                                   raise_on_failure=False)
-        expected = result_metrics(result)
+        expected = result.metric_arrays()
         for name in METRICS:
             np.testing.assert_allclose(batch[name].values[c], expected[name], rtol=1e-12,
                                        atol=0, equal_nan=True, err_msg=f"case {c} {name}")
@@ -52,8 +52,8 @@ def test_a_sweep_across_controller_families_runs_each_structure_as_simulate_does
     ds = webline.sweep("hswl", {"rollers.process.controller": tables}, duration=0.5)
     line = webline.load_line("hswl")
     for c, table in enumerate(tables):
-        expected = result_metrics(webline.simulate(
-            line.replace({"rollers.process.controller": table}), 0.5))
+        run = webline.simulate(line.replace({"rollers.process.controller": table}), 0.5)
+        expected = run.metric_arrays()
         np.testing.assert_allclose(ds.tension_rms_error.values[c], expected["tension_rms_error"],
                                    rtol=1e-12, atol=0, equal_nan=True)
     labels = ds["rollers.process.controller"].values
@@ -239,7 +239,7 @@ def test_kelvin_voigt_spans_sweep_with_their_felt_tensions() -> None:
         # the damper matters here: during the 14.35 -> 18 lbf step span 2 feels up to 7-10 N
         # more than its stretch, so metrics of the stretch would fail this comparison
         assert np.abs(result.tension[:, 1] - np.maximum(result.stretch[:, 1], 0.0)).max() > 5.0
-        expected = result_metrics(result)
+        expected = result.metric_arrays()
         for name in METRICS:
             np.testing.assert_allclose(ds[name].values[c], expected[name], rtol=1e-12,
                                        atol=0, equal_nan=True, err_msg=f"case {c} {name}")
@@ -249,3 +249,17 @@ def test_kelvin_voigt_spans_sweep_with_their_felt_tensions() -> None:
         statuses.append(str(ds.status.values[c]))
     assert statuses == ["ok", "warning"]  # the second case's own limit, crossed by the damper
     assert ds.tension_max.values[1, 1] > 81.1 > np.maximum(result.stretch[:, 1], 0.0).max()
+
+
+def test_one_run_names_the_metrics_a_sweep_gives_its_case() -> None:
+    """``Result.metrics()``: the sweep's metrics of one run, by element name. The tension step
+    of span2 lands on the last record (t = 2 s): its error is the step, 18 - 14.35 lbf, and
+    the settling time is inf (still outside the band at the end)."""
+    result = webline.simulate("hswl", 2.0, scenario="tension-step")
+    metrics = result.metrics()
+    assert set(metrics) == {*METRICS, "status"} and metrics["status"] == "ok"
+    step = (18.0 - 14.35) * LBF
+    assert metrics["tension_peak_error"]["span2"] == pytest.approx(step, rel=1e-6)
+    assert metrics["settling_time"]["span2"] == float("inf")
+    assert np.isnan(metrics["tension_rms_error"]["span3a"])  # no loadcell on span3a
+    assert metrics["torque_limit_time"] == {name: 0.0 for name in result.drive_names}
