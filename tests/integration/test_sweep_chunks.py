@@ -99,3 +99,12 @@ def test_killed_worker_chunks_are_recomputed(reference, monkeypatch) -> None:
                                  progress=kill_one)
     assert killed
     assert_same(ds, reference)
+
+
+def test_a_scheduler_that_is_no_address_is_an_argument_error(tmp_path) -> None:
+    """Not a traceback from distributed's address parser: one message naming the argument
+    (the CLI prints it and exits 2)."""
+    with pytest.raises(ArgumentError, match=r"^scheduler: cannot reach a Dask scheduler at "
+                                            r"'bogus' \(missing port number"):
+        webline.sweep("hswl", {"web.ea": ["8 kN"]}, duration=0.1, scheduler="bogus",
+                      store=tmp_path)

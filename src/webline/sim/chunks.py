@@ -82,7 +82,12 @@ def _client(scheduler: Any, workers: int | None) -> tuple[Any, Any]:
         cluster = LocalCluster(n_workers=workers or 2, threads_per_worker=1, processes=True,
                                dashboard_address=None)
         return Client(cluster), cluster
-    return Client(str(scheduler)), None
+    try:
+        return Client(str(scheduler)), None
+    except (OSError, ValueError, TypeError) as exc:  # unreachable, or not an address
+        raise ArgumentError(f"scheduler: cannot reach a Dask scheduler at {scheduler!r} "
+                            f"({exc}); give an address such as tcp://host:8786, 'local' or a "
+                            f"Client") from None
 
 
 def run_chunked(run: Callable[..., Any], line: Line | str | Path,
