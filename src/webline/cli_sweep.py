@@ -27,6 +27,7 @@ from rich.table import Table as RichTable
 from webline.cli_common import _duration, prepare_out
 from webline.errors import ArgumentError
 from webline.report.outputs import OutputFolder
+from webline.spec.paths import split_values, toml_value
 
 #: the chunk store's folder in a sweep's output folder (``webline.sim.chunks``)
 CHUNKS = "chunks"
@@ -36,8 +37,10 @@ CHUNKS = "chunks"
 
 
 def parse_values(path: str, text: str) -> list[object]:
-    """``v1,v2,...`` or ``start:stop:n`` (n values, both ends included, in start's unit) as
-    the values of ``path``; raises ``ArgumentError`` naming the option."""
+    """``v1,v2,...`` (each a number, a quantity such as ``9 kN``, or a TOML value: a string,
+    a boolean, an inline table ``{type = "state_feedback"}``; commas inside braces, brackets
+    and quotes do not split) or ``start:stop:n`` (n values, both ends included, in start's
+    unit) as the values of ``path``; raises ``ArgumentError`` naming the option."""
     from webline.units import ureg
 
     if text.count(":") == 2 and "," not in text:
@@ -61,12 +64,10 @@ def parse_values(path: str, text: str) -> list[object]:
         written = start.lstrip("+-0123456789.eE ")  # the unit as the user wrote it
         return [f"{float(m)!r} {written}" for m in mags]
     values: list[object] = []
-    for piece in text.split(","):
-        piece = piece.strip()
-        try:
-            values.append(float(piece))
-        except ValueError:
-            values.append(piece)
+    for piece in split_values(text):
+        value = toml_value(piece)
+        values.append(float(value) if isinstance(value, int) and not isinstance(value, bool)
+                      else value)
     return values
 
 

@@ -127,3 +127,21 @@ def test_a_grid_with_a_choice_plots_a_line_per_choice_in_the_parameters_units(tm
     ds = xr.load_dataset(tmp_path / "sweep.nc", engine="h5netcdf")
     assert ds["rollers.process.controller.tension_bandwidth"].attrs["units"] == "rad/s"
     assert "units" not in ds["rollers.unwind.drive.feedback"].attrs
+
+
+def test_values_are_toml_where_they_can_be(tmp_path) -> None:
+    """--set PATH=v1,v2 reads each value as run's --set does: inline tables (their commas do
+    not split), booleans, quoted strings; numbers and quantities as before."""
+    from webline.cli_sweep import parse_values
+
+    assert parse_values("x", '{type = "adaptive", leakage = 0.1},{type = "state_feedback"}') == [
+        {"type": "adaptive", "leakage": 0.1}, {"type": "state_feedback"}]
+    assert parse_values("x", '8000, 9 kN,true,"a,b"') == [8000.0, "9 kN", True, "a,b"]
+    result = CliRunner().invoke(app, [
+        "sweep", "hswl", "--set",
+        'rollers.process.controller={type="state_feedback"},{type="adaptive"}', "-d", "0.2",
+        "-q", "--out", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    ds = xr.load_dataset(tmp_path / "sweep.nc", engine="h5netcdf")
+    labels = ds["rollers.process.controller"].values
+    assert 'type = "state_feedback"' in labels[0] and 'type = "adaptive"' in labels[1]

@@ -95,11 +95,36 @@ def parse_assignment(text: str) -> tuple[str, object]:
     path, raw = path.strip(), raw.strip()
     if not sep or not path:
         raise ValueError(f"expected PATH=VALUE, got {text!r}")
+    return path, toml_value(raw)
+
+
+def toml_value(raw: str) -> object:
+    """``raw`` read as a TOML value (``2.5``, ``true``, ``{type = "ramp", ...}``,
+    ``"quoted"``), or as the string itself (``9 kN``)."""
     try:
-        value = tomllib.loads(f"v = {raw}")["v"]
+        return tomllib.loads(f"v = {raw}")["v"]
     except tomllib.TOMLDecodeError:
-        value = raw
-    return path, value
+        return raw.strip()
+
+
+def split_values(text: str) -> list[str]:
+    """``text`` cut at the commas outside braces, brackets and quotes:
+    ``'{type = "a", x = 1},{type = "b"}'`` is two values."""
+    pieces, depth, quote, start = [], 0, "", 0
+    for i, char in enumerate(text):
+        if quote:
+            quote = "" if char == quote else quote
+        elif char in "\"'":
+            quote = char
+        elif char in "{[":
+            depth += 1
+        elif char in "}]":
+            depth -= 1
+        elif char == "," and depth == 0:
+            pieces.append(text[start:i])
+            start = i + 1
+    pieces.append(text[start:])
+    return [piece.strip() for piece in pieces]
 
 
 def _list_index(items: list[Any], part: str | int, file: str, where: str) -> int:
