@@ -38,6 +38,16 @@ def uncertainty(line: webline.Line) -> dict[str, str]:
     return dists
 
 
+def probability_interval(k: int, n: int) -> tuple[float, float]:
+    """The exact (Clopper-Pearson) 95 % interval of a probability seen ``k`` times in ``n``
+    draws. Unlike a standard error it does not shrink to nothing at k = 0: no failure in 8
+    lines still allows 37 %."""
+    from scipy.stats import binomtest
+
+    interval = binomtest(k, n).proportion_ci(confidence_level=0.95, method="exact")
+    return float(interval.low), float(interval.high)
+
+
 def run(out_dir: Path, *, quick: bool = False) -> StudyResult:
     """Monte Carlo per controller family; ``table.csv``, a histogram and ``summary.txt``."""
     out_dir = Path(out_dir)
@@ -56,13 +66,13 @@ def run(out_dir: Path, *, quick: bool = False) -> StudyResult:
         loadcell = np.isfinite(ds.tension_rms_error.values).any(axis=0)
         worst = ds.tension_rms_error.values[:, loadcell].max(axis=1)
         bad = np.isin(ds.status.values.astype(str), ("unstable", "failed"))
-        p = float(bad.mean())
+        k = int(bad.sum())
+        low, high = probability_interval(k, n)
         finite = worst[np.isfinite(worst) & ~bad]
         errors[family] = finite
         rows.append({
-            "controller": family, "cases": n,
-            "p_unstable_or_failed": p,
-            "p_standard_error": math.sqrt(p * (1 - p) / n),
+            "controller": family, "cases": n, "unstable_or_failed": k,
+            "p_unstable_or_failed": k / n, "p_95_low": low, "p_95_high": high,
             "rms_error_median_N": float(np.median(finite)) if finite.size else math.nan,
             "rms_error_p90_N": float(np.quantile(finite, 0.9)) if finite.size else math.nan,
             "rms_error_max_N": float(finite.max()) if finite.size else math.nan,
@@ -80,7 +90,8 @@ def run(out_dir: Path, *, quick: bool = False) -> StudyResult:
                f"inertias ±20 %, loadcell noise {NOISE} (seed {SEED}), {duration:g} s of the "
                "speed-change scenario\n" + "\n".join(
                    f"{r['controller']}: P(unstable or failed) = {r['p_unstable_or_failed']:.1%} "
-                   f"(± {r['p_standard_error']:.1%}), RMS tension error median "
+                   f"({r['unstable_or_failed']} of {r['cases']}; 95 % interval "
+                   f"{r['p_95_low']:.1%} to {r['p_95_high']:.1%}), RMS tension error median "
                    f"{r['rms_error_median_N']:.3g} N, 90 % below {r['rms_error_p90_N']:.3g} N"
                    for r in rows))
     return finish("robustness", out_dir, figures, rows, summary)
