@@ -145,3 +145,17 @@ def test_values_are_toml_where_they_can_be(tmp_path) -> None:
     ds = xr.load_dataset(tmp_path / "sweep.nc", engine="h5netcdf")
     labels = ds["rollers.process.controller"].values
     assert 'type = "state_feedback"' in labels[0] and 'type = "adaptive"' in labels[1]
+
+
+def test_monte_carlo_verdict_shares_carry_their_exact_interval() -> None:
+    """0 failures in 10 draws is not a probability of 0: the table gives 0.0 % to 30.8 %
+    (1 - 0.025^(1/10)); a grid sweep, which samples nothing, gives shares only."""
+    from webline.report.sweep_report import status_table
+
+    ds = xr.Dataset({"status": ("case", np.array(["ok"] * 9 + ["warning"]))},
+                    attrs={"mode": "monte_carlo"})
+    rows = {row[0]: row for row in status_table(ds).rows}
+    assert rows["unstable or failed"] == ("unstable or failed", "0", "0.0%", "0.0% to 30.8%")
+    assert rows["warning"][1:3] == ("1", "10.0%")
+    grid = status_table(ds.assign_attrs(mode="grid"))
+    assert len(grid.columns) == 3 and "unstable or failed" not in {r[0] for r in grid.rows}

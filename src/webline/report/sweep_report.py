@@ -15,6 +15,7 @@ import numpy as np
 
 from webline.report.html import Image, Section, Text, render
 from webline.report.tables import Table, make_table
+from webline.sim.distributions import proportion_interval
 from webline.sim.metrics import METRICS
 from webline.verdict import RANK
 
@@ -36,13 +37,24 @@ def loadcell_spans(ds: Any) -> list[str]:
 
 
 def status_table(ds: Any) -> Table:
-    """Cases and share of cases per verdict status, worst first."""
+    """Cases and share of cases per verdict status, worst first; for Monte Carlo the exact
+    95 % interval of each share as a probability (``distributions.proportion_interval``)."""
     status = ds.status.values.astype(str)
     n = len(status)
-    rows = [(s, str(int(np.sum(status == s))), f"{np.mean(status == s):.1%}")
-            for s in sorted(set(status), key=lambda s: -RANK[s])]
-    return make_table("sweep-status", f"Verdicts of {n} cases", ("status", "cases", "share"),
-                      rows)
+    sampled = ds.attrs.get("mode") == "monte_carlo"
+    rows = []
+    groups = [(name, status == name) for name in sorted(set(status), key=lambda s: -RANK[s])]
+    if sampled:  # what a robustness question asks, also when no case failed
+        groups.append(("unstable or failed", np.isin(status, ("unstable", "failed"))))
+    for name, members in groups:
+        k = int(np.sum(members))
+        row = [name, str(k), f"{k / n:.1%}"]
+        if sampled:
+            low, high = proportion_interval(k, n)
+            row.append(f"{low:.1%} to {high:.1%}")
+        rows.append(tuple(row))
+    columns = ("status", "cases", "share", *(("probability, 95 % interval",) if sampled else ()))
+    return make_table("sweep-status", f"Verdicts of {n} cases", columns, rows)
 
 
 def metric_table(ds: Any) -> Table:

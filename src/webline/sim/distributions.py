@@ -112,3 +112,13 @@ def draw(distributions: Mapping[str, Any], n: int, seed: int) -> dict[str, np.nd
         else:
             out[path] = np.full(n, float(dist))  # a fixed value
     return out
+
+
+def proportion_interval(k: int, n: int, confidence: float = 0.95) -> tuple[float, float]:
+    """The exact (Clopper-Pearson) interval of a probability seen ``k`` times in ``n`` draws
+    (a share of a study's cases). Unlike a standard error it does not shrink to nothing at
+    k = 0: no failure in 8 draws still allows 37 % at 95 %."""
+    from scipy.stats import binomtest
+
+    interval = binomtest(k, n).proportion_ci(confidence_level=confidence, method="exact")
+    return float(interval.low), float(interval.high)

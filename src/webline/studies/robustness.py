@@ -16,6 +16,7 @@ import numpy as np
 
 import webline
 from webline.control.select import FAMILIES, with_controller
+from webline.sim.distributions import proportion_interval
 from webline.studies.output import finish, pyplot, save
 from webline.studies.result import StudyResult
 
@@ -38,16 +39,6 @@ def uncertainty(line: webline.Line) -> dict[str, str]:
     return dists
 
 
-def probability_interval(k: int, n: int) -> tuple[float, float]:
-    """The exact (Clopper-Pearson) 95 % interval of a probability seen ``k`` times in ``n``
-    draws. Unlike a standard error it does not shrink to nothing at k = 0: no failure in 8
-    lines still allows 37 %."""
-    from scipy.stats import binomtest
-
-    interval = binomtest(k, n).proportion_ci(confidence_level=0.95, method="exact")
-    return float(interval.low), float(interval.high)
-
-
 def run(out_dir: Path, *, quick: bool = False) -> StudyResult:
     """Monte Carlo per controller family; ``table.csv``, a histogram and ``summary.txt``."""
     out_dir = Path(out_dir)
@@ -67,7 +58,7 @@ def run(out_dir: Path, *, quick: bool = False) -> StudyResult:
         worst = ds.tension_rms_error.values[:, loadcell].max(axis=1)
         bad = np.isin(ds.status.values.astype(str), ("unstable", "failed"))
         k = int(bad.sum())
-        low, high = probability_interval(k, n)
+        low, high = proportion_interval(k, n)
         finite = worst[np.isfinite(worst) & ~bad]
         errors[family] = finite
         rows.append({
