@@ -14,7 +14,9 @@ machine's core count and load average (at the start and at the end):
     interleaved rounds; their ratio (goal <= 0.5), its range round by round (the spread the
     machine's load makes), and where a batch case's time goes (plans in Python, compiled
     batch, verdicts and Dataset); the floor of the ratio (the compiled batch alone over a
-    loop case) and the time per case the goal leaves for the plans;
+    loop case) and the time per case the goal leaves for the plans; for scale, the same
+    batch against a loop that also computes the metrics, and against the loop the issue
+    called today's (reading the line file every case);
 (b) all cores: the same batch with ``workers`` = the cores, best of ``--repeat`` runs, its
     speed-up over (a)'s batch (goal >= 1.7 on 2 cores) and the CPU it kept busy; beside it
     the machine's ceiling at that moment: the speed-up of the compiled batch alone (cases
@@ -42,6 +44,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from importlib import resources
 
 DISTS = {"web.ea": "uniform(1800 lbf, 2200 lbf)"}
 DURATION = 10.0
@@ -86,6 +89,12 @@ def one_core(line: object, cases: int, loop_cases: int, repeat: int) -> dict[str
         webline.simulate(line.replace({"web.ea": float(value)}),  # type: ignore[attr-defined]
                          DURATION).metric_arrays()
     split["metrics_loop_cpu"] = (time.thread_time() - cpu) / loop_cases
+    # for scale: the loop the issue measured as today's, which read the line file every case
+    path = str(resources.files("webline.data.lines").joinpath("hswl.toml"))
+    cpu = time.thread_time()
+    for value in samples:
+        webline.simulate(webline.load_line(path).replace({"web.ea": float(value)}), DURATION)
+    split["file_loop_cpu"] = (time.thread_time() - cpu) / loop_cases
     rounds = []
     for _ in range(repeat):
         wall, cpu = time.perf_counter(), time.thread_time()
@@ -186,6 +195,9 @@ def main() -> None:
     print(f"    (for scale: a loop that also computes the batch's metrics and verdict, "
           f"{a['metrics_loop_cpu'] * 1e3:.2f} ms CPU/case, one round: batch / that "
           f"{a['batch_cpu'] / a['metrics_loop_cpu']:.2f})")
+    print(f"    (for scale: the loop the issue called today's, reading the line file every case, "
+          f"{a['file_loop_cpu'] * 1e3:.2f} ms CPU/case, one round: batch / that "
+          f"{a['batch_cpu'] / a['file_loop_cpu']:.2f})")
 
     # (b) all cores, best of ``repeat`` runs
     b_wall = math.inf
