@@ -12,12 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from webline.errors import (
-    ArgumentError,
-    LineFileError,
-    SimulationError,
-    SimulationInterrupted,
-)
+from webline.errors import LineFileError, SimulationError, SimulationInterrupted
 from webline.line import Line, load_line
 from webline.sim import budget, kernel
 from webline.sim import layout as L
@@ -26,7 +21,7 @@ from webline.sim.fastest import slip_rates
 from webline.sim.linearize import fastest_mode
 from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
 from webline.sim.result import Result
-from webline.spec.ranges import argument
+from webline.spec.ranges import argument, whole_argument
 
 #: RK4 sub-steps are chosen so that h·|λ|max stays below this (RK4 is accurate to ~1e-4 per
 #: step there and stable up to 2.78).
@@ -146,9 +141,9 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
     n_ticks = max(1, round(duration / plan.dt))
     if substeps is None:
         substeps = choose_substeps(plan)
-    elif isinstance(substeps, bool) or not isinstance(substeps, int | np.integer) or substeps < 1:
-        raise ArgumentError(f"substeps: expected a whole number of RK4 steps per controller "
-                            f"period >= 1, got {substeps!r}")
+    else:
+        substeps = whole_argument(substeps, "substeps", 1,
+                                  "expected a whole number of RK4 steps per controller period")
     if record_interval is None:
         every = max(1, math.ceil((n_ticks + 1) / MAX_RECORDS))
     else:

@@ -31,7 +31,7 @@ from webline.sim.metrics import METRICS
 from webline.sim.plan import Plan, compile_plan
 from webline.sim.simulate import MAX_RECORDS
 from webline.sim.stability import stability_findings
-from webline.spec.ranges import argument
+from webline.spec.ranges import argument, whole_argument
 from webline.verdict import Finding, Level, Verdict
 
 
@@ -321,11 +321,8 @@ def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: in
     kN, 5 %)"``, ``"uniform(0.1, 0.3)"``, ``"lognormal(9 kN, 5 %)"`` or a scipy.stats frozen
     distribution in SI}), all drawn up front from ``numpy.random.default_rng(seed)`` so the
     result does not depend on ``workers``. Returns the Dataset of ``run_cases``."""
-    if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
-        raise ArgumentError(f"n: a Monte Carlo study needs a whole number of samples >= 1, "
-                            f"got {n!r}")
-    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
-        raise ArgumentError(f"seed: expected a whole number >= 0, got {seed!r}")
+    whole_argument(n, "n", 1, "a Monte Carlo study needs a whole number of samples")
+    whole_argument(seed, "seed", 0)
     try:
         samples = draw(distributions, n, seed)
     except ValueError as exc:
@@ -396,10 +393,8 @@ def _check_values(line: Line | str | Path, cases: Sequence[Mapping[str, object]]
 
 def check_workers(workers: object) -> None:
     """Refuse a ``workers`` that is neither None (every core) nor a whole number >= 1."""
-    if workers is not None and (isinstance(workers, bool) or not isinstance(
-            workers, int | np.integer) or workers < 1):
-        raise ArgumentError(f"workers: expected a whole number >= 1 (or None for every "
-                            f"core), got {workers!r}")
+    if workers is not None:
+        whole_argument(workers, "workers", 1, note=" (or None for every core)")
 
 
 def _study(line: Line | str | Path, cases: list[dict[str, object]], attrs: dict[str, Any], *,

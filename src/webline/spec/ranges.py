@@ -356,6 +356,18 @@ if __name__ == "__main__":  # python -m webline.spec.ranges > table (paste into 
     print(markdown(), end="")
 
 
+def whole_argument(value: object, name: str, minimum: int,
+                   expected: str = "expected a whole number", note: str = "") -> int:
+    """A whole-number argument of a Python front-door function (``substeps``, ``seed``, ...)
+    of at least ``minimum``; else ``ArgumentError``: "NAME: EXPECTED >= MINIMUM[NOTE], got
+    VALUE". A bool is not a number here."""
+    import numpy as np
+
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
+        raise ArgumentError(f"{name}: {expected} >= {minimum}{note}, got {value!r}")
+    return int(value)
+
+
 def argument(value: object, kind: str, name: str, bound: str = ">0",
              within: str | None = None) -> float:
     """An argument of a Python front-door function (``simulate(line, "2 min")``) as an SI
