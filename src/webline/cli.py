@@ -32,7 +32,7 @@ from webline.cli_common import (
     _load,
     fail,
     handles_errors,
-    prepare_out,
+    open_output,
     print_tables,
     progress_bar,
 )
@@ -106,7 +106,8 @@ def run(
 
     reporter = Reporter.start()  # first: it loads the report's libraries while we simulate
     try:
-        from webline.report.run_output import open_run_folder, write_run
+        from webline.report.outputs import default_folder
+        from webline.report.run_output import write_run
         from webline.report.verdict_text import verdict_lines
         from webline.sim.simulate import simulate
 
@@ -116,8 +117,7 @@ def run(
         seconds = _duration(duration)
         if seconds is None and scenario:
             seconds = scenario_line.spec.scenarios[scenario].duration
-        folder = open_run_folder(out, scenario_line.name, scenario, force)
-        prepare_out(folder.path)
+        folder = open_output(out or default_folder(scenario_line.name, scenario), force)
         err = Console(stderr=True, highlight=False)
         started = time.perf_counter()
         if not quiet:
@@ -227,7 +227,6 @@ def study(
 ) -> None:
     """Run a named study (thesis reproductions): figures, table.csv and summary.txt, listed in
     the folder's manifest like a run's files (a rerun removes what it no longer writes)."""
-    from webline.report.outputs import OutputFolder
     from webline.studies import STUDIES
     from webline.studies.output import recording
 
@@ -241,8 +240,7 @@ def study(
         raise BadInput("give a study NAME or --list")
     if name not in STUDIES:
         raise BadInput(f"no study named {name!r}; known: {', '.join(sorted(STUDIES))}")
-    folder = OutputFolder.open(out or Path("out") / f"study-{name}", force=force)
-    prepare_out(folder.path)
+    folder = open_output(out or Path("out") / f"study-{name}", force)
     with recording(folder):
         result = STUDIES[name](folder.path, quick=quick)
     typer.echo(result.summary)

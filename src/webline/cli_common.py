@@ -21,6 +21,7 @@ from webline.errors import WeblineError
 
 if TYPE_CHECKING:
     from webline.line import Line
+    from webline.report.outputs import OutputFolder
 
 class Units(StrEnum):
     si = "si"
@@ -164,17 +165,21 @@ def _duration(text: str | None) -> float | None:
     return None if text is None else time_option(text, "--duration")
 
 
-def prepare_out(out: Path) -> Path:
-    """Create the output folder ``out`` and check that files can be written in it."""
+def open_output(out: Path, force: bool) -> OutputFolder:
+    """The output folder ``out`` of a command, opened (``report.outputs.OutputFolder.open``:
+    links, non-folders and non-empty folders webline did not write refused unless ``force``)
+    and checked to take files."""
+    from webline.report.outputs import OutputFolder
+
+    folder = OutputFolder.open(out, force=force)
     try:
-        out.mkdir(parents=True, exist_ok=True)
         probe = out / ".webline-write-test"
         probe.write_bytes(b"")
         probe.unlink()
     except OSError as exc:
         reason = exc.strerror or str(exc)
         raise BadInput(f"{out}: cannot write to the output folder ({reason})") from None
-    return out
+    return folder
 
 
 @contextmanager

@@ -8,7 +8,7 @@ from __future__ import annotations
 import json
 import time
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import numpy as np
 import typer
@@ -24,10 +24,12 @@ from rich.progress import (
 )
 from rich.table import Table as RichTable
 
-from webline.cli_common import _duration, prepare_out
+from webline.cli_common import _duration, open_output
 from webline.errors import ArgumentError
-from webline.report.outputs import OutputFolder
 from webline.spec.paths import split_values, toml_value
+
+if TYPE_CHECKING:
+    from webline.report.outputs import OutputFolder
 
 #: the chunk store's folder in a sweep's output folder (``webline.sim.chunks``)
 CHUNKS = "chunks"
@@ -109,8 +111,10 @@ def write_outputs(ds: Any, folder: OutputFolder) -> tuple[Path, Path]:
     results = atomic_write(folder.claim("sweep.nc"),
                            lambda tmp: plain.to_netcdf(tmp, engine="h5netcdf"))
     report = atomic_write_text(folder.claim("report.html"), sweep_html(ds))
-    for chunk in sorted((folder.path / CHUNKS).glob("chunk-*.nc")):  # kept for --resume
-        folder.claim(f"{CHUNKS}/{chunk.name}")
+    from webline.sim.chunks import store_files
+
+    for kept in store_files(folder.path / CHUNKS):  # kept for --resume
+        folder.claim(f"{CHUNKS}/{kept.name}")
     folder.finish()
     return results, report
 
@@ -150,9 +154,10 @@ def sweep_command(
 
     spec = parse_sets(set_, samples)
     seconds = _duration(duration)  # as run's: a plain number is seconds
-    folder = OutputFolder.open(out or Path("out") / f"{Path(line).stem}-sweep", force=force)
-    prepare_out(folder.path)
-    folder.claim(f"{CHUNKS}/study.json")  # the folder is webline's from here on
+    from webline.sim.chunks import STUDY_FILE
+
+    folder = open_output(out or Path("out") / f"{Path(line).stem}-sweep", force)
+    folder.claim(f"{CHUNKS}/{STUDY_FILE}")  # the folder is webline's from here on
     err = Console(stderr=True, highlight=False)
     columns = (TextColumn("cases"), BarColumn(), MofNCompleteColumn(), TaskProgressColumn(),
                TextColumn("{task.fields[rate]}"), TimeRemainingColumn())

@@ -1,5 +1,5 @@
-"""The files of one ``webline run``: its output folder opened, everything written into it, the
-manifest finished (see ``webline.report.outputs``)."""
+"""The files of one ``webline run``: everything written into its output folder, the manifest
+finished (see ``webline.report.outputs``)."""
 
 from __future__ import annotations
 
@@ -8,16 +8,9 @@ from pathlib import Path
 from webline.errors import WeblineError
 from webline.report.display import System
 from webline.report.early import Reporter, ReportJob
-from webline.report.outputs import OutputFolder, ReportFiles, default_folder
+from webline.report.outputs import OutputFolder, ReportFiles
 from webline.report.results_file import Format, results_name, write_results
 from webline.sim.result import Precision, Result
-
-
-def open_run_folder(out: Path | None, line_name: str, scenario: str | None,
-                    force: bool = False) -> OutputFolder:
-    """``out``, or ``out/LINE[-SCENARIO]`` from the sanitised names, opened for a run
-    (``OutputFolder.open``: links, non-folders and foreign non-empty folders refused)."""
-    return OutputFolder.open(out or default_folder(line_name, scenario), force=force)
 
 
 def write_run(result: Result, folder: OutputFolder, fmt: Format = "netcdf",

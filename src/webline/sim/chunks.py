@@ -25,6 +25,8 @@ from webline.line import Line, load_line
 
 #: cases per chunk (task): large enough that a task's overhead (ms) is negligible
 CHUNK = 256
+#: the store's record of its study (cases and settings), checked by ``resume``
+STUDY_FILE = "study.json"
 #: how often Dask retries a chunk whose worker died
 RETRIES = 3
 #: the chunk files' format: NetCDF-3 through scipy writes and reads a chunk of 256 cases in
@@ -54,6 +56,16 @@ def _plain_attrs(ds: Any) -> Any:
     ds.attrs = {k: (json.dumps(v) if isinstance(v, list | dict) else v)
                 for k, v in ds.attrs.items()}
     return ds
+
+
+def chunk_path(store: Path, k: int) -> Path:
+    """The file of chunk ``k`` in ``store``."""
+    return store / f"chunk-{k:06d}.nc"
+
+
+def store_files(store: Path) -> list[Path]:
+    """Every file a study wrote into ``store``: its ``STUDY_FILE`` and its chunks."""
+    return sorted([*store.glob(STUDY_FILE), *store.glob("chunk-*.nc")])
 
 
 def _chunk_task(run: Callable[..., Any], line: Line, cases: list[dict[str, object]],
@@ -107,7 +119,7 @@ def run_chunked(run: Callable[..., Any], line: Line | str | Path,
     store.mkdir(parents=True, exist_ok=True)
     manifest = json.dumps({"line": line.name, "cases": [dict(c) for c in cases],
                            "chunk": chunk, "options": options}, sort_keys=True, default=str)
-    manifest_path = store / "study.json"
+    manifest_path = store / STUDY_FILE
     if manifest_path.exists():
         if not resume:
             raise ArgumentError(f"{store}: holds a study already; resume it (--resume) or "
@@ -120,7 +132,7 @@ def run_chunked(run: Callable[..., Any], line: Line | str | Path,
     starts = list(range(0, len(cases), chunk))
 
     def path(k: int) -> Path:
-        return store / f"chunk-{k:06d}.nc"
+        return chunk_path(store, k)
 
     todo = [k for k, _ in enumerate(starts) if not path(k).exists()]
     done = len(cases) - sum(min(chunk, len(cases) - starts[k]) for k in todo)
