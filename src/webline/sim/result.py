@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
@@ -12,7 +11,7 @@ import numpy as np
 
 from webline.sim import layout as L
 from webline.sim.failure import Failure
-from webline.sim.metrics import METRICS, SETTLE_BAND
+from webline.sim.metrics import by_element, run_metrics
 from webline.sim.plan import Plan
 from webline.sim.result_files import Precision
 
@@ -328,43 +327,21 @@ class Result:
     # --- summaries and export ------------------------------------------------------------
 
     def metric_arrays(self) -> dict[str, np.ndarray]:
-        """The metrics a sweep gives each of its cases (``webline.sim.metrics.METRICS``; the
-        batch's equal these to 1e-12), each an array over spans, drives or nodes [N or s],
-        NaN where it does not apply (an error without a loadcell), and ``status``."""
-        tension, ref, time = self.tension, self.tension_ref, self.time
-        error = tension - ref
-        loadcell = np.all(np.isfinite(ref), axis=0)
-        n_s = tension.shape[1]
-        rms, peak, settle = (np.full(n_s, math.nan) for _ in range(3))
-        for k in np.flatnonzero(loadcell):
-            rms[k] = np.sqrt(np.mean(error[:, k] ** 2))
-            peak[k] = np.abs(error[:, k]).max()
-            outside = np.flatnonzero(np.abs(error[:, k]) > SETTLE_BAND * np.abs(ref[:, k]))
-            settle[k] = (0.0 if outside.size == 0 else
-                         math.inf if outside[-1] == len(time) - 1 else float(time[outside[-1]]))
+        """The metrics a sweep gives each of its cases (``webline.sim.metrics.run_metrics``;
+        the batch's equal these to 1e-12), each an array over spans, drives or nodes [N or
+        s], NaN where it does not apply (an error without a loadcell), and ``status``."""
         totals = {(e.kind, e.where): e.total for e in self.events}
-
-        def event_time(kind: str, names: list[str]) -> np.ndarray:
-            return np.array([totals.get((kind, name), 0.0) for name in names])
-
-        return {"tension_rms_error": rms, "tension_peak_error": peak,
-                "tension_min": tension.min(axis=0), "tension_max": tension.max(axis=0),
-                "settling_time": settle,
-                "slack_time": event_time("slack", self.span_names),
-                "torque_limit_time": event_time("torque_limit", self.drive_names),
-                "slip_time": event_time("slip", self.node_names),
-                "status": np.array(self.status)}
+        return run_metrics(self.time, self.tension, self.tension_ref, totals,
+                           self._element_names()) | {"status": np.array(self.status)}
 
     def metrics(self) -> dict[str, object]:
         """``metric_arrays`` by name: each metric as {span, drive or node name: value} [N or
         s], and ``status``."""
         values = self.metric_arrays()
-        names = {"span": self.span_names, "drive": self.drive_names, "node": self.node_names}
-        out: dict[str, object] = {
-            name: dict(zip(names[dim], map(float, values[name]), strict=True))
-            for name, (dim, _, _) in METRICS.items()}
-        out["status"] = self.status
-        return out
+        return {**by_element(values, self._element_names()), "status": self.status}
+
+    def _element_names(self) -> dict[str, list[str]]:
+        return {"span": self.span_names, "drive": self.drive_names, "node": self.node_names}
 
     def summary(self) -> dict[str, dict[str, dict[str, float]]]:
         """Per span: tension mean, standard deviation and largest error [N]; per drive: speed
