@@ -21,7 +21,13 @@ from webline.units import ureg
 _CALL = re.compile(r"^\s*(normal|uniform|lognormal)\s*\((.*)\)\s*$", re.IGNORECASE)
 
 
-def _quantity(text: str) -> tuple[float, str | None]:
+def _call(text: str) -> tuple[str, list[str]] | None:
+    """(kind, argument texts) of ``"normal(9 kN, 5 %)"``, or None if it is no call."""
+    match = _CALL.match(text)
+    return None if match is None else (match[1].lower(), match[2].split(","))
+
+
+def _quantity(text: str) -> tuple[float, str]:
     """(magnitude in SI base units, its dimensions as pint writes them, "" for a plain
     number, SI) of ``"9 kN"``, or (fraction, "%") of ``"5 %"``."""
     text = text.strip()
@@ -41,12 +47,12 @@ def values_written(text: str) -> list[tuple[str | float, float]]:
     unit otherwise than pint's base units do (Hz as 2π rad/s for an angular frequency, N/m
     as a force per width of web): ``sweep.monte_carlo`` scales the samples by the line's own
     reading of these."""
-    match = _CALL.match(text)
-    if not match:
+    call = _call(text)
+    if call is None:
         return []
-    kind = match[1].lower()
+    kind, args = call
     out: list[tuple[str | float, float]] = []
-    for k, arg in enumerate(match[2].split(",")):
+    for k, arg in enumerate(args):
         number, unit = _quantity(arg)
         if unit != "%" and (k == 0 or kind != "lognormal"):
             out.append((arg.strip() if unit else number, number))
@@ -56,12 +62,11 @@ def values_written(text: str) -> list[tuple[str | float, float]]:
 def parse_distribution(text: str) -> tuple[str, float, float]:
     """(kind, a, b) of a written distribution in SI: normal (mean, std), uniform (low,
     high), lognormal (median, sigma of the log). Raises ``ValueError`` naming the problem."""
-    match = _CALL.match(text)
-    if not match:
+    call = _call(text)
+    if call is None:
         raise ValueError(f"cannot read {text!r} as a distribution: write normal(mean, std), "
                          "uniform(low, high) or lognormal(median, sigma)")
-    kind = match[1].lower()
-    args = [a for a in match[2].split(",")]
+    kind, args = call
     if len(args) != 2:
         raise ValueError(f"{text!r}: {kind} takes two arguments, got {len(args)}")
     try:
