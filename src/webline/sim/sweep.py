@@ -163,7 +163,7 @@ def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
     else:
         raise ValueError(f"mode must be 'grid' or 'zip', got {mode!r}")
     cases = [dict(zip(paths, combo, strict=True)) for combo in combos]
-    _check_values(line, cases, scenario, {p: "the values" for p in paths})
+    _check_values(_base(line, scenario), cases, {p: "the values" for p in paths})
     attrs: dict[str, Any] = {"mode": mode}
     if mode == "grid":
         attrs["shape"] = [len(c) for c in columns]
@@ -193,8 +193,7 @@ def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: in
             samples[path] = samples[path] * _line_scale(base, path, dist)
     cases: list[dict[str, object]] = [{p: float(samples[p][c]) for p in samples}
                                       for c in range(n)]
-    _check_values(line, cases, scenario, {p: f"the samples of {distributions[p]}"
-                                          for p in distributions})
+    _check_values(base, cases, {p: f"the samples of {distributions[p]}" for p in distributions})
     return _study(line, cases, {"mode": "monte_carlo", "seed": seed}, duration=duration,
                   scenario=scenario, record=record, workers=workers, progress=progress,
                   scheduler=scheduler, store=store, resume=resume)
@@ -231,14 +230,14 @@ def _line_scale(base: Line, path: str, dist: str) -> float:
 CHECK_ALL_BELOW = 64
 
 
-def _check_values(line: Line | str | Path, cases: Sequence[Mapping[str, object]],
-                  scenario: str | None, what: Mapping[str, str]) -> None:
+def _check_values(base: Line, cases: Sequence[Mapping[str, object]],
+                  what: Mapping[str, str]) -> None:
     """Refuse a study before any case runs when a path's values leave what the line accepts
     (ranges, cross-key checks): every value of a path with few of them, else its smallest and
     largest (ranges are intervals). Raises ``ArgumentError`` naming the path, what produced the
     values (``what[path]``: "the values", "the samples of normal(...)") and the line's
-    message; a value that only fails in combination still fails when its case is built."""
-    base = _base(line, scenario)
+    message; a value that only fails in combination still fails when its case is built.
+    ``base``: the line with its scenario applied (``_base``)."""
     for path, source in what.items():
         values = [case[path] for case in cases if path in case]
         if len(values) > CHECK_ALL_BELOW and all(isinstance(v, float | int) for v in values):
