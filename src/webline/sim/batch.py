@@ -43,9 +43,10 @@ batch_njit = nb.njit(cache=True, fastmath=FAST, error_model="numpy", nogil=True,
 # accumulator layout per case: blocks of per-element columns (``Accumulators``)
 (A_SUMSQ, A_PEAK, A_TMIN, A_TMAX, A_SETTLE, A_LASTOUT) = range(6)  # per span
 SPAN_BLOCKS = 6
-# events: each element has total time, first time and the start of an open interval
-EV_TOTAL, EV_FIRST, EV_OPEN = range(3)
-EV_BLOCKS = 3
+# events: each element has total time, first time, the start of an open interval, the count
+# of intervals and the longest (what a verdict's finding states: ``events.EventSummary``)
+EV_TOTAL, EV_FIRST, EV_OPEN, EV_COUNT, EV_LONGEST = range(5)
+EV_BLOCKS = 5
 
 
 @dataclass(frozen=True)
@@ -67,8 +68,13 @@ class Layout:
         return SPAN_BLOCKS * self.n_spans
 
     @property
+    def end_column(self) -> int:
+        """The time of the last record [s] (then the number of records, the last column)."""
+        return self.event_base + EV_BLOCKS * self.n_events
+
+    @property
     def width(self) -> int:
-        return self.event_base + EV_BLOCKS * self.n_events + 1  # + number of records
+        return self.end_column + 2  # + time of the last record, number of records
 
     def event_slices(self) -> dict[str, tuple[int, int]]:
         """(first element, count) of each kind of event among the event elements."""
@@ -92,6 +98,7 @@ def _intervals(acc: np.ndarray, base: int, n_ev: int, e: int, rec: np.ndarray, s
     (``webline.sim.events.intervals``). Column by column, so the running values stay in
     registers (``kind`` is a constant at each call site: the branches fold away)."""
     total, first, start = acc[base + e], acc[base + n_ev + e], acc[base + 2 * n_ev + e]
+    count, longest = acc[base + 3 * n_ev + e], acc[base + 4 * n_ev + e]
     for r in range(n_rec):
         v = src[r, col]
         if kind == BELOW:
@@ -107,12 +114,16 @@ def _intervals(acc: np.ndarray, base: int, n_ev: int, e: int, rec: np.ndarray, s
         if cond:
             if math.isnan(start):
                 start = rec[r, 0]
+                count += 1.0
                 if math.isnan(first):
                     first = start
         elif not math.isnan(start):
-            total += rec[r, 0] - start
+            length = rec[r, 0] - start
+            total += length
+            longest = max(longest, length)
             start = math.nan
     acc[base + e], acc[base + n_ev + e], acc[base + 2 * n_ev + e] = total, first, start
+    acc[base + 3 * n_ev + e], acc[base + 4 * n_ev + e] = count, longest
 
 
 @jit
@@ -194,19 +205,22 @@ def _reduce(rec: np.ndarray, felt: np.ndarray, kv: bool, n_rec: int, acc: np.nda
             if tick % trace_every == 0 and tick // trace_every < trace.shape[0]:
                 for k in range(n_s):
                     trace[tick // trace_every, k] = _tension(rec, felt, kv, r, k)
-    acc[base + EV_BLOCKS * n_ev] += n_rec
+    acc[base + EV_BLOCKS * n_ev + 1] += n_rec
 
 
 @jit
 def _finish(acc: np.ndarray, n_s: int, n_d: int, n_n: int, t_last: float) -> None:
-    """Close intervals still open at the last record (they end there)."""
+    """Close intervals still open at the last record (they end there) and keep its time."""
     base = SPAN_BLOCKS * n_s
     n_ev = 2 * n_s + 2 * n_d + n_n
     for e in range(n_ev):
         start = base + 2 * n_ev + e
         if not math.isnan(acc[start]):
-            acc[base + e] += t_last - acc[start]
+            length = t_last - acc[start]
+            acc[base + e] += length
+            acc[base + 4 * n_ev + e] = max(acc[base + 4 * n_ev + e], length)
             acc[start] = math.nan
+    acc[base + EV_BLOCKS * n_ev] = t_last
 
 
 def batch_loop(plan: Plan) -> Any:
@@ -276,7 +290,8 @@ def _compiled_batch(node_rows: tuple[tuple[int, ...], ...],
 @dataclass
 class BatchOutput:
     """What ``run_batch`` computed per case: accumulators (``Layout``), kernel status, time
-    [s] and place of a failure, final state, and tension traces [N] (case, time, span)."""
+    [s] and place of a failure, final state, tension traces [N] (case, time, span) and the
+    web-break monitor at the end (its detection time [s], -1 for none, and method)."""
 
     layout: Layout
     acc: np.ndarray
@@ -285,6 +300,7 @@ class BatchOutput:
     where: np.ndarray
     x: np.ndarray
     traces: np.ndarray
+    monitor: np.ndarray
 
 
 def _stack(arrays: list[np.ndarray]) -> np.ndarray:
@@ -363,4 +379,6 @@ def run_batch(plans: list[Plan], states: list[tuple[np.ndarray, np.ndarray, np.n
     else:
         with ThreadPoolExecutor(workers) as pool:
             list(pool.map(lambda b: task(*b), bounds))
-    return BatchOutput(lay, acc, status, t_fail, where, x, traces)
+    monitor = (istate[:, 0, [L.I_DETECT, L.I_METHOD]] if istate.shape[1]
+               else np.tile([-1.0, 0.0], (n_c, 1)))  # as ``simulate`` reads it
+    return BatchOutput(lay, acc, status, t_fail, where, x, traces, monitor)

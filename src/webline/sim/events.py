@@ -28,6 +28,40 @@ KIND_TEXT = {
 
 
 @dataclass(frozen=True)
+class EventSummary:
+    """The numbers of one kind of event on one element that a verdict's finding states:
+    ``count`` intervals, the ``first`` start, ``total`` and ``longest`` time in the condition
+    [s] over a run of ``duration`` [s]. A run's (``EventStats.summary``) and a study case's
+    (its batch accumulators) give the same sentence for the same numbers."""
+
+    kind: str
+    where: str
+    count: int
+    first: float  #: [s]
+    total: float  #: [s]
+    longest: float  #: [s]
+    duration: float  #: [s] of the run
+
+    @property
+    def fraction(self) -> float:
+        """Share of the run spent in the condition (0..1)."""
+        return self.total / self.duration if self.duration > 0 else 1.0
+
+    def sentence(self) -> str:
+        """One sentence, computed from the statistics."""
+        times = "once" if self.count == 1 else f"{self.count} times"
+        return (f"{self.where} {KIND_TEXT[self.kind]} {times}, first at t = {self.first:.4g} s, "
+                f"{self.total:.3g} s in all ({self.fraction:.1%} of the run), longest "
+                f"{self.longest:.3g} s")
+
+    def as_dict(self) -> dict[str, object]:
+        """Statistics [s] for JSON (the intervals themselves are left to the results file)."""
+        return {"kind": self.kind, "where": self.where, "count": self.count,
+                "first_s": self.first, "total_s": self.total, "longest_s": self.longest,
+                "fraction": self.fraction}
+
+
+@dataclass(frozen=True)
 class EventStats:
     """Every interval of one kind of event on one element (span, drive or roller).
 
@@ -62,20 +96,20 @@ class EventStats:
     @property
     def fraction(self) -> float:
         """Share of the run spent in the condition (0..1)."""
-        return self.total / self.duration if self.duration > 0 else 1.0
+        return self.summary().fraction
+
+    def summary(self) -> EventSummary:
+        """The numbers a verdict states (``EventSummary``)."""
+        return EventSummary(self.kind, self.where, self.count, self.first, self.total,
+                            self.longest, self.duration)
 
     def sentence(self) -> str:
-        """One sentence, computed from the statistics."""
-        times = "once" if self.count == 1 else f"{self.count} times"
-        return (f"{self.where} {KIND_TEXT[self.kind]} {times}, first at t = {self.first:.4g} s, "
-                f"{self.total:.3g} s in all ({self.fraction:.1%} of the run), longest "
-                f"{self.longest:.3g} s")
+        """One sentence, computed from the statistics (``EventSummary.sentence``)."""
+        return self.summary().sentence()
 
     def as_dict(self) -> dict[str, object]:
-        """Statistics [s] for JSON (the intervals themselves are left to the results file)."""
-        return {"kind": self.kind, "where": self.where, "count": self.count,
-                "first_s": self.first, "total_s": self.total, "longest_s": self.longest,
-                "fraction": self.fraction}
+        """Statistics [s] for JSON (``EventSummary.as_dict``)."""
+        return self.summary().as_dict()
 
 
 def intervals(time: np.ndarray, mask: np.ndarray) -> np.ndarray:

@@ -1,22 +1,30 @@
-"""The verdict of a run: its failure, its events and the linear stability of its line."""
+"""The verdict of a run: its failure, its events, its web breaks and the linear stability of
+its line. One function (``run_verdict``) for a single run (``Result.verdict``) and for each
+case of a study (``sweep_dataset.case_verdict``), so a case is never judged otherwise than
+its run."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
-from webline.line import Line
-from webline.sim.events import EventStats
+from webline.sim.events import EventSummary
 from webline.sim.failure import Failure
 from webline.sim.plan import Plan
 from webline.sim.stability import stability_findings
+from webline.sim.winder_findings import break_findings
 from webline.verdict import Finding, Level, Verdict
 
 
-def run_verdict(failure: Failure | None, events: Sequence[EventStats], line: Line,
-                plan: Plan, extra: Sequence[Finding] = ()) -> Verdict:
-    """``failed`` (or ``interrupted``) for a run that stopped early, ``unstable`` for a line
-    with a growing closed-loop mode at ``analysis_time``, ``warning`` for each kind of event
-    on each element (``webline.sim.events``), else ``ok``."""
+def run_verdict(plan: Plan, failure: Failure | None, events: Sequence[EventSummary],
+                end: float, monitor: tuple[float, int],
+                largest_speed_after: Callable[[float], float] | None = None) -> Verdict:
+    """The verdict of a run of ``plan`` whose last record is at ``end`` [s]: ``failed`` (or
+    ``interrupted``) for a run that stopped early and for a web break nothing detected,
+    ``unstable`` for a line with a growing closed-loop mode at ``analysis_time``,
+    ``warning`` for each kind of event on each element (``webline.sim.events``) and each
+    detected web break, else ``ok``. ``monitor``: the break monitor's detection time [s]
+    (-1: none) and method; ``largest_speed_after(t)``: the largest web speed [m/s] recorded
+    from ``t`` on, for a break's details (None where the speeds were not kept: a study)."""
     findings = []
     if failure is not None:
         level: Level = "interrupted" if failure.kind == "interrupted" else "failed"
@@ -24,6 +32,6 @@ def run_verdict(failure: Failure | None, events: Sequence[EventStats], line: Lin
                                 failure.time, dict(failure.details)))
     findings += [Finding("warning", e.kind, e.where, e.sentence(), e.first, e.as_dict())
                  for e in events]
-    findings += stability_findings(line, plan=plan)
-    findings += extra  # e.g. a web break and its detection (``sim.winder_findings``)
+    findings += stability_findings(plan.line, plan=plan)
+    findings += break_findings(plan.line, end, monitor, largest_speed_after)
     return Verdict.of(findings)

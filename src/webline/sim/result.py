@@ -84,10 +84,11 @@ class Result:
         """The run's verdict: its failure, its events and the linear stability of the line
         at ``analysis_time`` (``webline.sim.findings``)."""
         from webline.sim.findings import run_verdict
-        from webline.sim.winder_findings import break_findings
 
-        return run_verdict(self.failure, self.events, self.line, self.plan,
-                           break_findings(self.line, self.time, self.speed, self.break_monitor))
+        end = float(self.time[-1]) if len(self.time) else 0.0
+        return run_verdict(self.plan, self.failure, [e.summary() for e in self.events], end,
+                           self.break_monitor,
+                           lambda t: float(np.abs(self.speed[self.time >= t]).max()))
 
     @property
     def status(self) -> str:

@@ -1,7 +1,7 @@
 """The Dataset of a study (``webline.sim.sweep``): per case, the metrics of
-``webline.sim.metrics`` from the batch's accumulators, the verdict status built from the
-findings ``Result.verdict`` uses, the parameter values as coordinates (with their units) and,
-on request, the span tensions over time."""
+``webline.sim.metrics`` from the batch's accumulators, the verdict (status and headline) built
+by the function ``Result.verdict`` uses (``findings.run_verdict``), the parameter values as
+coordinates (with their units) and, on request, the span tensions over time."""
 
 from __future__ import annotations
 
@@ -15,33 +15,45 @@ from webline.line import Line
 from webline.sim import batch as B
 from webline.sim.batch import BatchOutput
 from webline.sim.cases import case_value, path_unit
+from webline.sim.events import EventSummary
 from webline.sim.failure import kernel_failure
+from webline.sim.findings import run_verdict
 from webline.sim.metrics import METRICS
 from webline.sim.plan import Plan
-from webline.sim.stability import stability_findings
-from webline.verdict import Finding, Level, Verdict
+from webline.verdict import Verdict
+
+#: the kinds of event in the order ``Result.events`` lists them, with their elements
+_EVENT_ELEMENTS = (("slack", "span"), ("tension_limit", "span"), ("torque_limit", "drive"),
+                   ("slip", "node"), ("backlash_open", "drive"))
 
 
-def case_status(plan: Plan, out: BatchOutput, c: int) -> tuple[str, float]:
-    """(verdict status, failure time [s] or NaN) of case ``c`` of a batch, built from the
-    same findings as ``Result.verdict``: failure, events (by their first time), stability."""
-    line = plan.line
-    findings: list[Finding] = []
+def case_verdict(plan: Plan, out: BatchOutput, c: int) -> Verdict:
+    """The verdict of case ``c`` of a batch, by ``findings.run_verdict`` as ``Result.verdict``
+    gives it for the same run: its failure, its events (``EventSummary`` from the batch's
+    accumulators), its web breaks (the monitor's state at the end) and its stability. Only a
+    detected break's residual speed after the stop is NaN (a study keeps no speeds)."""
+    line, lay = plan.line, out.layout
     failure = kernel_failure(plan, int(out.status[c]), float(out.t_fail[c]), int(out.where[c]),
                              out.x[c])
-    if failure is not None:
-        level: Level = "interrupted" if failure.kind == "interrupted" else "failed"
-        findings.append(Finding(level, failure.kind, failure.where, failure.message,
-                                failure.time))
-    lay = out.layout
-    firsts = out.acc[c, lay.event_base + lay.n_events:lay.event_base + 2 * lay.n_events]
-    for kind, (start, count) in lay.event_slices().items():
+    n_ev, base = lay.n_events, lay.event_base
+    row = out.acc[c]
+    end = float(row[lay.end_column])
+    names = {"span": line.span_name, "node": line.node_name,
+             "drive": lambda d: line.node_name(line.drives[d])}
+    slices = lay.event_slices()
+    events = []
+    for kind, element in _EVENT_ELEMENTS:
+        start, count = slices[kind]
         for j in range(count):
-            first = firsts[start + j]
-            if math.isfinite(first):
-                findings.append(Finding("warning", kind, str(j), kind, float(first)))
-    findings += stability_findings(line, plan=plan)
-    return Verdict.of(findings).status, float(out.t_fail[c])
+            e = start + j
+            if row[base + B.EV_COUNT * n_ev + e] > 0:
+                events.append(EventSummary(
+                    kind, names[element](j), int(row[base + B.EV_COUNT * n_ev + e]),
+                    float(row[base + B.EV_FIRST * n_ev + e]),
+                    float(row[base + B.EV_TOTAL * n_ev + e]),
+                    float(row[base + B.EV_LONGEST * n_ev + e]), end))
+    monitor = (float(out.monitor[c, 0]), int(out.monitor[c, 1]))
+    return run_verdict(plan, failure, events, end, monitor)
 
 
 def batch_metrics(out: BatchOutput) -> dict[str, np.ndarray]:
@@ -76,6 +88,7 @@ class Collector:
         self.data = {name: np.full((n_c, dims[dim]), math.nan)
                      for name, (dim, _, _) in METRICS.items()}
         self.status = np.empty(n_c, dtype=object)
+        self.headline = np.empty(n_c, dtype=object)
         self.t_fail = np.full(n_c, math.nan)
         self.substeps = np.zeros(n_c, dtype=np.int64)
         self.values: dict[str, list[object]] = {p: [None] * n_c for p in paths}
@@ -87,7 +100,9 @@ class Collector:
         for name in METRICS:
             self.data[name][cases] = arrays[name]
         for j, (c, plan) in enumerate(zip(cases, plans, strict=True)):
-            self.status[c], self.t_fail[c] = case_status(plan, out, j)
+            verdict = case_verdict(plan, out, j)
+            self.status[c], self.headline[c] = verdict.status, verdict.headline
+            self.t_fail[c] = float(out.t_fail[j])
             for path in self.paths:
                 self.values[path][c] = case_value(plan.line, path)
         self.substeps[cases] = substeps
@@ -111,6 +126,8 @@ class Collector:
                      for name, (dim, units, text) in METRICS.items()}
         variables["status"] = xr.Variable(("case",), self.status.astype(str),
                                           attrs={"long_name": "verdict status of the run"})
+        variables["headline"] = xr.Variable(("case",), self.headline.astype(str), attrs={
+            "long_name": "verdict of the run: its status and first findings, in words"})
         variables["failure_time"] = xr.Variable(("case",), self.t_fail, attrs={
             "units": "s", "long_name": "time the run stopped early (NaN: it ran to the end)"})
         variables["substeps"] = xr.Variable(("case",), self.substeps, attrs={

@@ -3,7 +3,8 @@ the monitor detected it, and the stop."""
 
 from __future__ import annotations
 
-import numpy as np
+import math
+from collections.abc import Callable
 
 from webline.line import Line
 from webline.sim import layout as L
@@ -15,13 +16,15 @@ METHODS = {L.BREAK_TENSION: "tension below its threshold",
            L.BREAK_DIAMETER: "diameter calculated running the wrong way"}
 
 
-def break_findings(line: Line, time: np.ndarray, speed: np.ndarray,
-                   monitor: tuple[float, int]) -> list[Finding]:
-    """One finding per web break that happened within a run of ``line`` (record times [s],
-    web speeds [m/s], the monitor's detection time [s] and method): ``warning`` when the
-    monitor detected it (method, time to detect, the stop), ``failed`` when it did not."""
+def break_findings(line: Line, end: float, monitor: tuple[float, int],
+                   largest_speed_after: Callable[[float], float] | None = None,
+                   ) -> list[Finding]:
+    """One finding per web break that happened within a run of ``line`` whose last record is
+    at ``end`` [s] (the monitor's detection time [s] and method in ``monitor``): ``warning``
+    when the monitor detected it (method, time to detect, the stop), ``failed`` when it did
+    not. ``largest_speed_after(t)``: the largest web speed [m/s] recorded from ``t`` on (the
+    details' residual speed after the stop; NaN without it)."""
     out = []
-    end = float(time[-1]) if len(time) else 0.0
     detected, method = monitor
     for b in line.spec.disturbances:
         if not isinstance(b, WebBreak) or b.at > end:
@@ -35,12 +38,13 @@ def break_findings(line: Line, time: np.ndarray, speed: np.ndarray,
             continue
         delay = detected - b.at
         stop = detected + b.stop_time
-        after = time >= stop
-        residual = float(np.abs(speed[after]).max()) if after.any() else float("nan")
+        stopped_in_run = end >= stop
+        residual = (largest_speed_after(stop) if stopped_in_run and largest_speed_after
+                    else math.nan)
         details |= {"detected_s": detected, "time_to_detect_s": delay,
                     "method": METHODS[method], "stop_s": stop,
                     "largest_speed_after_stop_m_per_s": residual}
-        stopped = (f"ramped to a stop by t = {stop:.4g} s, torque off" if after.any()
+        stopped = (f"ramped to a stop by t = {stop:.4g} s, torque off" if stopped_in_run
                    else f"ramping to a stop by t = {stop:.4g} s (after the run)")
         found = (f"detected by {METHODS[method]} after {1000 * delay:.3g} ms" if delay >= 0.0
                  else f"but the monitor had already tripped by {METHODS[method]} at "
