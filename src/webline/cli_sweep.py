@@ -137,8 +137,11 @@ def sweep_command(
         "--scheduler", help="A Dask scheduler address, or 'local' for a LocalCluster.")]
     = None,
     resume: Annotated[bool, typer.Option(
-        "--resume", help="Go on with the study stored in --out (only missing chunks run).")]
-    = False,
+        "--resume", help="Go on with the study stored in --out (only missing chunks run); "
+        "refused if its line, cases, settings or webline changed.")] = False,
+    restart: Annotated[bool, typer.Option(
+        "--restart", help="Start the study stored in --out again: remove its chunks and run "
+        "every case (e.g. after editing the line).")] = False,
     zip_: Annotated[bool, typer.Option(
         "--zip", help="Pair the i-th values of every --set instead of a grid.")] = False,
     out: Annotated[Path | None, typer.Option(
@@ -152,12 +155,18 @@ def sweep_command(
     sweep.nc (one row per case, metrics and verdict) and an HTML report."""
     import webline
 
+    if resume and restart:
+        raise ArgumentError("--resume and --restart: choose one (go on with the study, or "
+                            "start it again)")
     spec = parse_sets(set_, samples)
     seconds = _duration(duration)  # as run's: a plain number is seconds
-    from webline.sim.chunks import STUDY_FILE
+    from webline.sim.chunks import STUDY_FILE, store_files
 
     folder = open_output(out or Path("out") / f"{Path(line).stem}-sweep", force)
     folder.claim(f"{CHUNKS}/{STUDY_FILE}")  # the folder is webline's from here on
+    if restart:  # the study's own files only: its record and chunks
+        for stale in store_files(folder.path / CHUNKS):
+            stale.unlink()
     err = Console(stderr=True, highlight=False)
     columns = (TextColumn("cases"), BarColumn(), MofNCompleteColumn(), TaskProgressColumn(),
                TextColumn("{task.fields[rate]}"), TimeRemainingColumn())

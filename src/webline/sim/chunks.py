@@ -3,8 +3,9 @@
 The cases are cut into chunks; each chunk is one task (``run_cases`` on its cases) and its
 Dataset is written to ``STORE/chunk-NNNNNN.nc`` atomically as soon as it is done, by the
 process that asked for the study (never by a worker), so a file is either whole or absent. A
-study started again with ``resume=True`` runs only the chunks without a file; a manifest
-(``study.json``: the cases and settings) refuses to resume a different study. The chunks are
+study started again with ``resume=True`` runs only the chunks without a file; its record
+(``study.json``: the resolved line's values and hash, webline's version, the cases and
+settings; ``study_record``) refuses to resume a different study or a changed line. The chunks are
 merged in case order at the end: every case once, none lost.
 
 On Dask (``dask.distributed``) a chunk is a task submitted with retries, so a chunk whose
@@ -22,6 +23,7 @@ from typing import Any
 from webline.errors import ArgumentError
 from webline.files import atomic_write, atomic_write_text
 from webline.line import Line, load_line
+from webline.sim.study_record import check_resume, study_record, write_text
 
 #: cases per chunk (task): large enough that a task's overhead (ms) is negligible
 CHUNK = 256
@@ -117,18 +119,12 @@ def run_chunked(run: Callable[..., Any], line: Line | str | Path,
     chunk = chunk or CHUNK
     store = Path(store)
     store.mkdir(parents=True, exist_ok=True)
-    manifest = json.dumps({"line": line.name, "cases": [dict(c) for c in cases],
-                           "chunk": chunk, "options": options}, sort_keys=True, default=str)
+    record = study_record(line, cases, chunk, options)
     manifest_path = store / STUDY_FILE
     if manifest_path.exists():
-        if not resume:
-            raise ArgumentError(f"{store}: holds a study already; resume it (--resume) or "
-                                "choose another folder")
-        if manifest_path.read_text() != manifest:
-            raise ArgumentError(f"{store}: holds a different study (other cases or settings); "
-                                "cannot resume it")
+        check_resume(manifest_path, record, resume)  # the same line, webline and cases
     else:
-        atomic_write_text(manifest_path, manifest)
+        atomic_write_text(manifest_path, write_text(record))
     starts = list(range(0, len(cases), chunk))
 
     def path(k: int) -> Path:
