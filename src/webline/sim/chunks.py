@@ -46,7 +46,10 @@ def _read_chunk(path: Path) -> Any:
         ds = part.load()
     typed = {name: ds[name].values.astype(str if ds[name].dtype == object else np.int64)
              for name in ds.variables if ds[name].dtype in (object, np.int32)}
-    coords = {name: value for name, value in typed.items() if name in ds.coords}
+    # along their own dimensions: a bare array would make a label (a table, a choice) a
+    # dimension of its own, detached from ``case``
+    coords = {name: (ds[name].dims, value, ds[name].attrs) for name, value in typed.items()
+              if name in ds.coords}
     ds = ds.assign_coords(coords)
     for name, value in typed.items():
         if name not in coords:

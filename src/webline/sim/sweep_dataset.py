@@ -149,11 +149,11 @@ class Collector:
 
 
 def _coordinate(values: list[object]) -> np.ndarray:
-    """A path's values as a coordinate: numbers [SI], else their labels (``_label``)."""
-    try:
+    """A path's values as a coordinate: numbers [SI], else their labels (``_label``: a table,
+    a choice, a switch as a line file writes it, ``true``/``false`` for a boolean)."""
+    if all(isinstance(v, int | float) and not isinstance(v, bool) for v in values):
         return np.array([float(v) for v in values])  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        return np.array([_label(v) for v in values])
+    return np.array([_label(v) for v in values])
 
 
 def _label(value: object, nested: bool = False) -> str:
