@@ -91,7 +91,9 @@ def run(
         "--precision", help="Floating-point precision of the signals in results.nc.")]
     = Precision.float64,
     force: Annotated[bool, typer.Option(
-        "--force", help="Write into a non-empty output folder that webline did not write.")]
+        "--force", help="Write into a non-empty folder webline did not write, or over "
+        "another command's output there (the files its manifest lists); never over a file "
+        "webline did not write.")]
     = False,
     svg: Annotated[bool, typer.Option(
         "--svg", help="Also write every figure as SVG (vector) beside its PNG.")] = False,
@@ -117,7 +119,10 @@ def run(
         seconds = _duration(duration)
         if seconds is None and scenario:
             seconds = scenario_line.spec.scenarios[scenario].duration
-        folder = open_output(out or default_folder(scenario_line.name, scenario), force)
+        from webline.report.results_file import results_name
+
+        folder = open_output(out or default_folder(scenario_line.name, scenario), force, "run",
+                             (results_name(data_format.value), "report.html", "summary.json"))
         err = Console(stderr=True, highlight=False)
         started = time.perf_counter()
         if not quiet:
@@ -222,7 +227,9 @@ def study(
         "--quick", help="A shortened run (seconds), as the tests use.")] = False,
     list_: Annotated[bool, typer.Option("--list", help="List the studies and exit.")] = False,
     force: Annotated[bool, typer.Option(
-        "--force", help="Write into a non-empty output folder that webline did not write.")]
+        "--force", help="Write into a non-empty folder webline did not write, or over "
+        "another command's output there (the files its manifest lists); never over a file "
+        "webline did not write.")]
     = False,
 ) -> None:
     """Run a named study (thesis reproductions): figures, table.csv and summary.txt, listed in
@@ -240,7 +247,8 @@ def study(
         raise BadInput("give a study NAME or --list")
     if name not in STUDIES:
         raise BadInput(f"no study named {name!r}; known: {', '.join(sorted(STUDIES))}")
-    folder = open_output(out or Path("out") / f"study-{name}", force)
+    folder = open_output(out or Path("out") / f"study-{name}", force, f"study {name}",
+                         ("table.csv", "summary.txt"))
     with recording(folder):
         result = STUDIES[name](folder.path, quick=quick)
     typer.echo(result.summary)

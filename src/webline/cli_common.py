@@ -165,13 +165,16 @@ def _duration(text: str | None) -> float | None:
     return None if text is None else time_option(text, "--duration")
 
 
-def open_output(out: Path, force: bool) -> OutputFolder:
-    """The output folder ``out`` of a command, opened (``report.outputs.OutputFolder.open``:
-    links, non-folders and non-empty folders webline did not write refused unless ``force``)
-    and checked to take files."""
+def open_output(out: Path, force: bool, kind: str,
+                writes: tuple[str, ...] = ()) -> OutputFolder:
+    """The output folder ``out`` of the command ``kind`` (``run``, ``sweep``, ``study NAME``),
+    opened (``report.outputs.OutputFolder.open``: links and non-folders refused; non-empty
+    folders webline did not write and folders of another kind refused unless ``force``; any of
+    ``writes`` that a file webline did not write is in the way of refused, even with
+    ``force``) and checked to take files."""
     from webline.report.outputs import OutputFolder
 
-    folder = OutputFolder.open(out, force=force)
+    folder = OutputFolder.open(out, kind=kind, force=force, writes=writes)
     try:
         probe = out / ".webline-write-test"
         probe.write_bytes(b"")

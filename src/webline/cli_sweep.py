@@ -113,8 +113,8 @@ def write_outputs(ds: Any, folder: OutputFolder) -> tuple[Path, Path]:
     report = atomic_write_text(folder.claim("report.html"), sweep_html(ds))
     from webline.sim.chunks import store_files
 
-    for kept in store_files(folder.path / CHUNKS):  # kept for --resume
-        folder.claim(f"{CHUNKS}/{kept.name}")
+    for kept in store_files(folder.path / CHUNKS):  # kept for --resume; its chunk store's
+        folder.adopt(f"{CHUNKS}/{kept.name}")  # (written since, beside its claimed record)
     folder.finish()
     return results, report
 
@@ -148,7 +148,9 @@ def sweep_command(
         "--out", "-o", help="Output folder; default out/LINE-sweep.")] = None,
     quiet: Annotated[bool, typer.Option("--quiet", "-q")] = False,
     force: Annotated[bool, typer.Option(
-        "--force", help="Write into a non-empty output folder that webline did not write.")]
+        "--force", help="Write into a non-empty folder webline did not write, or over "
+        "another command's output there (the files its manifest lists); never over a file "
+        "webline did not write.")]
     = False,
 ) -> None:
     """Run a parameter sweep (grid or --zip) or, with --samples, a Monte Carlo study; write
@@ -162,7 +164,8 @@ def sweep_command(
     seconds = _duration(duration)  # as run's: a plain number is seconds
     from webline.sim.chunks import STUDY_FILE, store_files
 
-    folder = open_output(out or Path("out") / f"{Path(line).stem}-sweep", force)
+    folder = open_output(out or Path("out") / f"{Path(line).stem}-sweep", force, "sweep",
+                         ("sweep.nc", "report.html", f"{CHUNKS}/{STUDY_FILE}"))
     folder.claim(f"{CHUNKS}/{STUDY_FILE}")  # the folder is webline's from here on
     if restart:  # the study's own files only: its record and chunks
         for stale in store_files(folder.path / CHUNKS):

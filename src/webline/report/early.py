@@ -109,6 +109,7 @@ class Reporter:
         finally:
             self.close()
         if not isinstance(reply, tuple):
+            folder.recover_claims()  # what it wrote before it failed is this run's
             return None
         files, written = reply
         folder.written.extend(w for w in written if w not in folder.written)

@@ -127,6 +127,9 @@ def run_chunked(run: Callable[..., Any], line: Line | str | Path,
     if manifest_path.exists():
         check_resume(manifest_path, record, resume)  # the same line, webline and cases
     else:
+        if any(store.glob("chunk-*.nc")):  # not this study's: never merged into it
+            raise ArgumentError(f"{store}: holds chunk files but no study record "
+                                f"({STUDY_FILE}); remove them or choose another folder")
         atomic_write_text(manifest_path, write_text(record))
     starts = list(range(0, len(cases), chunk))
 
