@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import webline
-from webline.report.sweep_report import status_table
+from webline.report.sweep_report import status_table, worst_cases_table
 
 #: simulated time of a case [s]: long enough for each fault below to show (the runaway leaves
 #: the envelope in ~0.1 s, the almost empty roll empties at ~1.9 s, the slack comes 0.5 s in)
@@ -121,3 +121,9 @@ def test_a_monte_carlo_of_break_detection_counts_the_undetected_breaks() -> None
     assert rows["unstable or failed"][1] == str(failed)
     assert np.all(["did not detect" in h for h, s in zip(ds.headline.values, statuses,
                                                          strict=True) if s == "failed"])
+    # the report names the failed cases first, with what their runs say
+    worst = worst_cases_table(ds)
+    assert worst is not None and len(worst.rows) == n  # every case had a break finding
+    assert [row[1] for row in worst.rows] == ["failed"] * failed + ["warning"] * (n - failed)
+    first = int(worst.rows[0][0])
+    assert worst.rows[0][2] == str(ds.headline.values[first]) and statuses[first] == "failed"

@@ -57,6 +57,28 @@ def status_table(ds: Any) -> Table:
     return make_table("sweep-status", f"Verdicts of {n} cases", columns, rows)
 
 
+#: cases named in the table of cases that were not ok, at most
+WORST_SHOWN = 10
+
+
+def worst_cases_table(ds: Any) -> Table | None:
+    """The cases that were not ok, worst status first (then in case order), at most
+    ``WORST_SHOWN``: each case's number, status and verdict headline (what its run says);
+    None when every case was ok or the study has no headlines."""
+    if "headline" not in ds:
+        return None
+    status = ds.status.values.astype(str)
+    bad = sorted((c for c in range(len(status)) if status[c] != "ok"),
+                 key=lambda c: (-RANK[status[c]], c))
+    if not bad:
+        return None
+    shown = bad[:WORST_SHOWN]
+    rows = [(str(int(ds.case.values[c])), status[c], str(ds.headline.values[c])) for c in shown]
+    title = (f"Cases that were not ok ({len(bad)})" if len(shown) == len(bad) else
+             f"The {len(shown)} worst of {len(bad)} cases that were not ok")
+    return make_table("sweep-worst", title, ("case", "status", "verdict"), rows)
+
+
 def metric_table(ds: Any) -> Table:
     """Min, median and max over the cases of each metric of each element where it is not
     NaN in every case."""
@@ -176,7 +198,9 @@ def sweep_html(ds: Any) -> str:
     headline = (f"{len(status)} cases of line {ds.attrs.get('line')}: "
                 f"{failed:.1%} unstable or failed, worst verdict {worst}")
     params = ", ".join(ds.attrs.get("parameters", [])) or "none"
-    sections = [Section("Verdicts", (status_table(ds),)),
+    worst_cases = worst_cases_table(ds)
+    verdicts = (status_table(ds),) + ((worst_cases,) if worst_cases is not None else ())
+    sections = [Section("Verdicts", verdicts),
                 Section("Metrics", (metric_table(ds),)),
                 Section("Figures", tuple(figures(ds)) or (Text("No loadcell span to plot."),))]
     css = {"ok": "ok", "warning": "warning"}.get(worst, "failed")
