@@ -25,7 +25,7 @@ from rich.progress import (
 )
 from rich.table import Table as RichTable
 
-from webline.cli_common import _duration, open_output
+from webline.cli_common import _duration, fail, open_output
 from webline.errors import ArgumentError
 from webline.spec.paths import split_values, toml_value
 
@@ -91,7 +91,10 @@ def parse_values(path: str, text: str) -> list[object]:
         return parse_range(path, text)
     values: list[object] = []
     for piece in split_values(text):
-        value = toml_value(piece)
+        try:
+            value = toml_value(piece)
+        except ValueError as exc:
+            raise ArgumentError(f"--set {path}: {exc}") from None
         values.append(float(value) if isinstance(value, int) and not isinstance(value, bool)
                       else value)
     return values
@@ -128,12 +131,13 @@ def _jsonable_attrs(ds: Any) -> Any:
 def write_outputs(ds: Any, folder: OutputFolder) -> tuple[Path, Path]:
     """Write ``sweep.nc`` and ``report.html`` into ``folder`` atomically, list them and the
     chunk store's files in its manifest and finish it (``report.outputs``)."""
-    from webline.files import atomic_write, atomic_write_text
+    from webline.files import atomic_write_bytes, atomic_write_text
     from webline.report.sweep_report import sweep_html
 
-    plain = _jsonable_attrs(ds)
-    results = atomic_write(folder.claim("sweep.nc"),
-                           lambda tmp: plain.to_netcdf(tmp, engine="h5netcdf"))
+    # built in memory and written in one plain write, as a run's results
+    # (``sim.result_files.write_netcdf``): HDF5 crashes closing a file on a full disk
+    image = _jsonable_attrs(ds).to_netcdf(engine="h5netcdf")
+    results = atomic_write_bytes(folder.claim("sweep.nc"), image)
     report = atomic_write_text(folder.claim("report.html"), sweep_html(ds))
     from webline.sim.chunks import store_files
 
@@ -207,13 +211,23 @@ def sweep_command(
             "progress": progress, "scheduler": scheduler, "resume": resume,
             "store": folder.path / CHUNKS,  # chunk by chunk, so a killed run can resume
             "work_limit": work_limit}
-        if n_samples is not None:
-            ds = webline.monte_carlo(line, spec, n_samples, seed=seed, **common)
-        else:
-            ds = webline.sweep(line, spec, mode="zip" if zip_ else "grid", **common)
+        try:
+            if n_samples is not None:
+                ds = webline.monte_carlo(line, spec, n_samples, seed=seed, **common)
+            else:
+                ds = webline.sweep(line, spec, mode="zip" if zip_ else "grid", **common)
+        except KeyboardInterrupt as exc:  # StudyInterrupted says what --resume continues from
+            fail(str(exc) or "interrupted before the study started; nothing saved", 130)
     from webline.report.sweep_report import metric_table, status_table
 
-    results, report = write_outputs(ds, folder)
+    try:
+        results, report = write_outputs(ds, folder)
+    except OSError as exc:  # every chunk is saved: a resume only merges them
+        from webline.errors import StudyError
+        from webline.files import write_failure
+
+        raise StudyError(write_failure(exc, "free some space: --resume will merge the saved "
+                                       "chunks without running a case again")) from None
     if not quiet:
         console = Console(highlight=False, width=None if err.is_terminal else 120)
         for table in (status_table(ds), metric_table(ds)):
