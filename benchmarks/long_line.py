@@ -2,6 +2,7 @@
 call spends its time once its loop structure is compiled.
 
 Run:  python benchmarks/long_line.py [--pairs 31] [--repeat 3]
+      python benchmarks/long_line.py --run-spans 20 50 100 500   # the whole `webline run -d 1`
 
 The line is built from the pieces of the built-in ``hswl``: its unwind and master roller, then
 ``pairs`` times (its idle roller, its process roller) — each process roller a tension-controlled
@@ -105,11 +106,52 @@ def _patches(originals: tuple[Callable[..., Any], ...]) -> list[tuple[Any, str, 
             (kernel, "run", "loop", run)]
 
 
+def whole_run(spans: int, seconds: float = 1.0, limit: float = 600.0) -> dict[str, float]:
+    """``webline run LINE -d seconds`` of a long line of about ``spans`` spans, in its own
+    process as a user runs it (simulation, results file, figures and report): its wall time
+    [s], exit status (-9: stopped after ``limit`` s), and the CPU time [s] and largest
+    resident memory [MB] of the runs so far (``RUSAGE_CHILDREN``: call it smallest line
+    first)."""
+    import resource
+    import subprocess
+    import sys
+    import tempfile
+    from pathlib import Path
+
+    from webline.spec.load import dump_spec
+
+    with tempfile.TemporaryDirectory(prefix="webline-long-") as folder:
+        path = Path(folder) / "line.toml"
+        path.write_text(dump_spec(long_line(max(1, (spans - 2) // 2)).spec))
+        command = [sys.executable, "-c", "from webline.cli import main; main()", "run",
+                   str(path), "-d", str(seconds), "-q", "-o", str(Path(folder) / "out")]
+        started = time.perf_counter()
+        proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        try:
+            proc.wait(limit)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+        wall = time.perf_counter() - started
+        children = resource.getrusage(resource.RUSAGE_CHILDREN)  # largest child so far
+        return {"wall [s]": wall, "exit": float(proc.returncode if proc.returncode is not None
+                                                else -9),
+                "peak memory [MB]": children.ru_maxrss / 1024,
+                "cpu of all runs so far [s]": children.ru_utime + children.ru_stime}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--pairs", type=int, default=31)
     parser.add_argument("--repeat", type=int, default=7)
+    parser.add_argument("--run-spans", type=int, nargs="*", default=None, help=(
+        "time `webline run -d 1` (report included) of lines of these many spans instead"))
     args = parser.parse_args()
+    if args.run_spans is not None:
+        for spans in args.run_spans:
+            print(f"{spans} spans: " + ", ".join(f"{k} {v:.1f}" for k, v in
+                                                 whole_run(spans).items()), flush=True)
+        return
     line = long_line(args.pairs)
     print(f"{line.name}: {line.n_spans} spans, {line.n_nodes} nodes, {len(line.drives)} drives")
     for name, value in profile(args.pairs, args.repeat).items():

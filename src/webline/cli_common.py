@@ -78,7 +78,8 @@ F = TypeVar("F", bound=Callable[..., None])
 
 
 def handles_errors(command: F) -> F:
-    """Turn webline's errors into one line on stderr and their exit status, no traceback."""
+    """Turn webline's errors into one line on stderr and their exit status, and an
+    ``OSError`` (a full disk) into one line and exit status 1; no traceback."""
 
     @functools.wraps(command)
     def wrapper(*args: object, **kwargs: object) -> None:
@@ -86,6 +87,10 @@ def handles_errors(command: F) -> F:
             command(*args, **kwargs)
         except WeblineError as exc:
             fail(str(exc), exc.exit_code)
+        except OSError as exc:  # a full disk, a folder gone: the command failed, say why
+            from webline.files import write_failure
+
+            fail(write_failure(exc), 1)
 
     return wrapper  # type: ignore[return-value]
 

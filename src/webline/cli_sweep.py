@@ -6,6 +6,7 @@ Registered on the app by ``webline.cli``; it imports nothing from there (no cycl
 from __future__ import annotations
 
 import json
+import math
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
@@ -24,7 +25,7 @@ from rich.progress import (
 )
 from rich.table import Table as RichTable
 
-from webline.cli_common import _duration, open_output
+from webline.cli_common import _duration, fail, open_output
 from webline.errors import ArgumentError
 from webline.spec.paths import split_values, toml_value
 
@@ -38,36 +39,62 @@ CHUNKS = "chunks"
 # that `webline --version` and `--help` stay fast.
 
 
+def whole_count(text: str, option: str) -> int:
+    """A count as typed (``1000``, ``1e9``, ``1_000``): a whole number >= 1, else
+    ``ArgumentError`` naming ``option``."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value >= 1 and value == math.floor(value)):
+        raise ArgumentError(f"{option}: expected a whole number >= 1, got {text.strip()!r}")
+    return int(value)
+
+
+def parse_range(path: str, text: str) -> list[object]:
+    """``start:stop:n``: n values, both ends included, in start's unit. The count is bounded
+    (``limits.check_case_count``) before anything is allocated, and start and stop are read
+    as strictly as a line file's values (``units.quantity_parts``)."""
+    from webline.limits import check_case_count
+    from webline.units import quantity_parts, unit_reading
+
+    start, stop, count = (part.strip() for part in text.split(":"))
+    n = whole_count(count, f"--set {path}: n of start:stop:n")
+    check_case_count(n, f"--set {path}")
+    try:
+        (a, unit), (b, unit_b) = quantity_parts(start), quantity_parts(stop)
+        if unit_b != unit:
+            if not unit or not unit_b:
+                raise ValueError(f"{start!r} and {stop!r}: write both with a unit or neither")
+            factor, dims, _ = unit_reading(unit, start)
+            factor_b, dims_b, _ = unit_reading(unit_b, stop)
+            if dims != dims_b:
+                raise ValueError(f"{start!r} and {stop!r} are not of one kind")
+            b = b * factor_b / factor
+    except ValueError as exc:
+        raise ArgumentError(f"--set {path}: cannot read {text!r} as start:stop:n "
+                            f"({exc})") from None
+    if not (math.isfinite(a) and math.isfinite(b)):
+        raise ArgumentError(f"--set {path}: start and stop of {text!r} must be finite")
+    mags = np.linspace(a, b, n)
+    if not unit:
+        return [float(m) for m in mags]
+    return [f"{float(m)!r} {unit}" for m in mags]
+
+
 def parse_values(path: str, text: str) -> list[object]:
     """``v1,v2,...`` (each a number, a quantity such as ``9 kN``, or a TOML value: a string,
     a boolean, an inline table ``{type = "state_feedback"}``; commas inside braces, brackets
-    and quotes do not split) or ``start:stop:n`` (n values, both ends included, in start's
-    unit) as the values of ``path``; raises ``ArgumentError`` naming the option."""
-    from webline.units import ureg
-
+    and quotes do not split) or ``start:stop:n`` (``parse_range``) as the values of ``path``;
+    raises ``ArgumentError`` naming the option."""
     if text.count(":") == 2 and "," not in text:
-        start, stop, count = (part.strip() for part in text.split(":"))
-        try:
-            n = int(count)
-            a: Any = ureg.Quantity(start)
-            b: Any = ureg.Quantity(stop)
-            unit = a.units if hasattr(a, "units") else None
-            if unit is not None and hasattr(b, "to"):
-                b = b.to(unit)
-            mags = np.linspace(float(getattr(a, "magnitude", a)),
-                               float(getattr(b, "magnitude", b)), n)
-        except Exception as exc:  # pint raises many types
-            raise ArgumentError(f"--set {path}: cannot read {text!r} as start:stop:n "
-                                f"({exc})") from None
-        if n < 1:
-            raise ArgumentError(f"--set {path}: n must be at least 1, got {n}")
-        if unit is None or str(unit) == "dimensionless":
-            return [float(m) for m in mags]
-        written = start.lstrip("+-0123456789.eE ")  # the unit as the user wrote it
-        return [f"{float(m)!r} {written}" for m in mags]
+        return parse_range(path, text)
     values: list[object] = []
     for piece in split_values(text):
-        value = toml_value(piece)
+        try:
+            value = toml_value(piece)
+        except ValueError as exc:
+            raise ArgumentError(f"--set {path}: {exc}") from None
         values.append(float(value) if isinstance(value, int) and not isinstance(value, bool)
                       else value)
     return values
@@ -75,8 +102,6 @@ def parse_values(path: str, text: str) -> list[object]:
 
 def parse_sets(sets: list[str], samples: int | None) -> dict[str, Any]:
     """{path: values} (a sweep) or {path: distribution} (with ``--samples``)."""
-    from webline.sim.distributions import parse_distribution
-
     out: dict[str, Any] = {}
     for item in sets:
         path, sep, text = item.partition("=")
@@ -84,6 +109,8 @@ def parse_sets(sets: list[str], samples: int | None) -> dict[str, Any]:
         if not sep or not path or not text:
             raise ArgumentError(f"--set: expected PATH=VALUES, got {item!r}")
         if samples is not None:
+            from webline.sim.distributions import parse_distribution
+
             try:
                 parse_distribution(text)
             except ValueError as exc:
@@ -104,12 +131,13 @@ def _jsonable_attrs(ds: Any) -> Any:
 def write_outputs(ds: Any, folder: OutputFolder) -> tuple[Path, Path]:
     """Write ``sweep.nc`` and ``report.html`` into ``folder`` atomically, list them and the
     chunk store's files in its manifest and finish it (``report.outputs``)."""
-    from webline.files import atomic_write, atomic_write_text
+    from webline.files import atomic_write_bytes, atomic_write_text
     from webline.report.sweep_report import sweep_html
 
-    plain = _jsonable_attrs(ds)
-    results = atomic_write(folder.claim("sweep.nc"),
-                           lambda tmp: plain.to_netcdf(tmp, engine="h5netcdf"))
+    # built in memory and written in one plain write, as a run's results
+    # (``sim.result_files.write_netcdf``): HDF5 crashes closing a file on a full disk
+    image = _jsonable_attrs(ds).to_netcdf(engine="h5netcdf")
+    results = atomic_write_bytes(folder.claim("sweep.nc"), image)
     report = atomic_write_text(folder.claim("report.html"), sweep_html(ds))
     from webline.sim.chunks import store_files
 
@@ -124,8 +152,8 @@ def sweep_command(
     set_: Annotated[list[str], typer.Option(
         "--set", help="PATH=v1,v2,... or PATH=start:stop:n (a sweep), or with --samples "
         "PATH=normal(9 kN, 5 %) / uniform(a, b) / lognormal(m, s).")],
-    samples: Annotated[int | None, typer.Option(
-        "--samples", min=1, help="Monte Carlo: number of cases drawn.")] = None,
+    samples: Annotated[str | None, typer.Option(
+        "--samples", help="Monte Carlo: number of cases drawn (1000, 1e4).")] = None,
     seed: Annotated[int, typer.Option("--seed", help="Monte Carlo seed.")] = 0,
     duration: Annotated[str | None, typer.Option(
         "--duration", "-d", help="Simulated time per case [s] or with a unit.")] = None,
@@ -152,15 +180,24 @@ def sweep_command(
         "another command's output there (the files its manifest lists); never over a file "
         "webline did not write.")]
     = False,
+    work_limit: Annotated[bool, typer.Option(
+        "--work-limit/--no-work-limit", help="Refuse a study of more than 1e12 RK4 steps "
+        "(about a day of one core) before it runs; --no-work-limit lifts it.")] = True,
 ) -> None:
     """Run a parameter sweep (grid or --zip) or, with --samples, a Monte Carlo study; write
     sweep.nc (one row per case, metrics and verdict) and an HTML report."""
+    n_samples = None
+    if samples is not None:  # bounded before anything is read or allocated
+        from webline.limits import check_case_count
+
+        n_samples = whole_count(samples, "--samples")
+        check_case_count(n_samples, "--samples")
+    spec = parse_sets(set_, n_samples)
     import webline
 
     if resume and restart:
         raise ArgumentError("--resume and --restart: choose one (go on with the study, or "
                             "start it again)")
-    spec = parse_sets(set_, samples)
     seconds = _duration(duration)  # as run's: a plain number is seconds
     from webline.sim.chunks import STUDY_FILE, store_files
 
@@ -184,14 +221,25 @@ def sweep_command(
         common: dict[str, Any] = {
             "duration": seconds, "scenario": scenario, "workers": workers,
             "progress": progress, "scheduler": scheduler, "resume": resume,
-            "store": folder.path / CHUNKS}  # chunk by chunk, so a killed run can resume
-        if samples is not None:
-            ds = webline.monte_carlo(line, spec, samples, seed=seed, **common)
-        else:
-            ds = webline.sweep(line, spec, mode="zip" if zip_ else "grid", **common)
+            "store": folder.path / CHUNKS,  # chunk by chunk, so a killed run can resume
+            "work_limit": work_limit}
+        try:
+            if n_samples is not None:
+                ds = webline.monte_carlo(line, spec, n_samples, seed=seed, **common)
+            else:
+                ds = webline.sweep(line, spec, mode="zip" if zip_ else "grid", **common)
+        except KeyboardInterrupt as exc:  # StudyInterrupted says what --resume continues from
+            fail(str(exc) or "interrupted before the study started; nothing saved", 130)
     from webline.report.sweep_report import metric_table, status_table
 
-    results, report = write_outputs(ds, folder)
+    try:
+        results, report = write_outputs(ds, folder)
+    except OSError as exc:  # every chunk is saved: a resume only merges them
+        from webline.errors import StudyError
+        from webline.files import write_failure
+
+        raise StudyError(write_failure(exc, "free some space: --resume will merge the saved "
+                                       "chunks without running a case again")) from None
     if not quiet:
         console = Console(highlight=False, width=None if err.is_terminal else 120)
         for table in (status_table(ds), metric_table(ds)):

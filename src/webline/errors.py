@@ -74,6 +74,18 @@ class SimulationError(WeblineError):
         super().__init__(message)
 
 
+class StudyError(WeblineError):
+    """A study stopped before its end (a full disk, its workers lost, a damaged chunk); the
+    message says what ``--resume`` will continue from (exit status 1)."""
+
+    exit_code = 1
+
+
+class StudyInterrupted(KeyboardInterrupt):
+    """Ctrl-C stopped a study; the message says what ``--resume`` will continue from. A
+    ``KeyboardInterrupt``, so that it still stops a script."""
+
+
 class SimulationInterrupted(KeyboardInterrupt):
     """Ctrl-C stopped a simulation; ``partial`` holds the ``Result`` computed until then.
 

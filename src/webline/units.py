@@ -262,6 +262,23 @@ def _split(text: str, kind: str) -> tuple[float, str]:
     return float(number), unit.strip() if unit else ""
 
 
+def quantity_parts(text: str) -> tuple[float, str]:
+    """(number, unit as written, "" for none) of a quantity string, read as strictly as a line
+    file's values (at most ``MAX_QUANTITY_TEXT`` characters, a number and a unit, no
+    expressions such as ``9**9**9``, which pint would evaluate); ``ValueError`` otherwise."""
+    return _split(text, "quantity")
+
+
+def unit_reading(unit: str, text: str) -> tuple[float, str, bool]:
+    """(SI value of one ``unit``, its dimensionality as pint writes it ("" for none), whether
+    it is a plain ratio such as ppm or percent) through pint; ``text``: the string it came
+    from, for errors (``ValueError`` naming it for a unit pint does not know)."""
+    quantity = _quantity(unit, text, "quantity").to_base_units()
+    names = {str(name) for name, _ in _ureg().Quantity(1.0, unit).unit_items()}
+    dims = str(quantity.dimensionality) if quantity.dimensionality else ""
+    return float(quantity.magnitude), dims, bool(names) and names <= _RATIO_UNITS
+
+
 def _quantity(unit: str, text: str, kind: str) -> pint.Quantity:
     """One ``unit`` as a pint quantity (``text``: the string it came from, for errors)."""
     try:

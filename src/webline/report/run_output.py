@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from webline.errors import WeblineError
+from webline.files import write_failure
 from webline.report.display import System
 from webline.report.early import Reporter, ReportJob
 from webline.report.outputs import OutputFolder, ReportFiles
@@ -34,6 +35,6 @@ def write_run(result: Result, folder: OutputFolder, fmt: Format = "netcdf",
             files = write_report(result, folder.path, units=units, scenario=scenario,
                                  results_file=results_file, folder=folder, svg=svg)
         folder.finish()
-    except OSError as exc:
-        raise WeblineError(f"{folder.path}: cannot write the results: {exc}") from None
+    except OSError as exc:  # a full disk: one line naming the file, the files written whole
+        raise WeblineError(f"cannot write the run's files: {write_failure(exc)}") from None
     return files, results_file

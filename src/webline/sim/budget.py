@@ -8,6 +8,11 @@ records is what a laptop can hold twice (the records and the result built from t
 either, the run is refused with a ``LineFileError`` naming the key that drives the cost: the
 sample rate, or the key behind the fastest mode (a span's length, a drive's torque lag, a
 transmission's stiffness, ...), found from the participation of the states in that mode.
+
+A study (sweep, Monte Carlo) is checked before anything runs: its case count first, before
+anything is allocated (``webline.limits.check_case_count``), then each probed case as a run
+(``sim.study_work``), then the whole (``check_study``: ``MAX_STUDY_RK4_STEPS``, which
+``work_limit=False`` lifts, and ``limits.MAX_STUDY_BYTES``).
 """
 
 from __future__ import annotations
@@ -16,7 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from webline.errors import LineFileError
+from webline.errors import ArgumentError, LineFileError
+from webline.limits import MAX_STUDY_BYTES
 from webline.line import Line
 
 #: Most RK4 steps (ticks x sub-steps) a run may take.
@@ -114,3 +120,50 @@ def fastest_mode_key(line: Line) -> tuple[str, str]:
         if rate > best[0]:
             best = (rate, f"web slip over {line.node_name(i)}", key)
     return best[2], f"{best[0]:.3g} 1/s, which lives in {best[1]} ({best[2]})"
+
+
+# --- studies ----------------------------------------------------------------------------------
+
+#: Most RK4 steps a whole study (all its cases) may take unless its limit is lifted
+#: (``work_limit=False``, ``--no-work-limit``): about 28 hours of one core at ~1e7 steps/s,
+#: a night on a few cores. Beyond it a study is more likely a slip (a duration in ms read as
+#: s, a range of 10^6 values) than a plan.
+MAX_STUDY_RK4_STEPS = 1_000_000_000_000
+#: RK4 steps a second of one core, for the estimate of a study's time in its refusal
+STEPS_PER_SECOND = 1e7
+
+
+@dataclass(frozen=True)
+class StudyWork:
+    """The estimated work of a study: ``cases`` runs of at most ``case`` each, holding
+    ``case_bytes`` each in memory."""
+
+    cases: int
+    case: Work
+    case_bytes: int
+
+    @property
+    def rk4_steps(self) -> int:
+        return self.cases * self.case.rk4_steps
+
+    @property
+    def memory(self) -> int:
+        return self.cases * self.case_bytes
+
+
+def check_study(work: StudyWork, *, limit: bool = True) -> None:
+    """Refuse a study whose memory exceeds ``MAX_STUDY_BYTES`` or (with ``limit``) whose RK4
+    steps exceed ``MAX_STUDY_RK4_STEPS``: ``ArgumentError`` saying what it would take and
+    how to go on. Each case is checked with ``check_work`` as a run (before this)."""
+    if work.memory > MAX_STUDY_BYTES:
+        raise ArgumentError(
+            f"the study: {work.cases:,} cases of {work.case_bytes:,} bytes each (values, "
+            f"metrics, traces) need {work.memory / 1e9:.3g} GB, more than "
+            f"{MAX_STUDY_BYTES / 1e9:.3g} GB; run fewer cases or record traces less often")
+    if limit and work.rk4_steps > MAX_STUDY_RK4_STEPS:
+        hours = work.rk4_steps / STEPS_PER_SECOND / 3600
+        raise ArgumentError(
+            f"the study: {work.cases:,} cases of up to {work.case.rk4_steps:.3g} RK4 steps "
+            f"need {work.rk4_steps:.3g} steps (about {hours:.2g} core-hours), more than the "
+            f"study limit of {MAX_STUDY_RK4_STEPS:.0e}; run fewer or shorter cases, or lift "
+            "the limit (--no-work-limit, work_limit=False)")

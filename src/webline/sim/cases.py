@@ -34,7 +34,7 @@ from pydantic import BaseModel, TypeAdapter, ValidationError
 
 from webline.errors import LineFileError
 from webline.line import Line
-from webline.sim import kernel
+from webline.sim import budget, kernel
 from webline.sim.fastest import DENSE_STATES
 from webline.sim.linearize import fastest_mode, plan_linear_model
 from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
@@ -203,6 +203,9 @@ def build_cases(base: Line, cases: Sequence[Mapping[str, object]], duration: flo
         built.n_ticks.append(ticks)
         built.substeps.append(choose_substeps(plan, rate))
         built.every.append(max(1, math.ceil((ticks + 1) / MAX_RECORDS)))  # as simulate's
+        columns = kernel.record_width(plan.n_x, plan.drives.shape[0], plan.line.n_nodes)
+        budget.check_work(plan.line, budget.estimate(ticks, built.substeps[-1], built.every[-1],
+                                                     columns), plan.dt)  # as run refuses
     built.seconds = time.perf_counter() - started
     return built
 

@@ -11,6 +11,10 @@ merged in case order at the end: every case once, none lost.
 On Dask (``dask.distributed``) a chunk is a task submitted with retries, so a chunk whose
 worker dies is recomputed on another; ``scheduler`` is a ``Client``, an address, or
 ``"local"`` for a ``LocalCluster`` of ``workers`` single-threaded processes.
+
+A study that stops early (a full disk, its workers lost, Ctrl-C) says how many chunks are
+saved and that ``--resume`` continues from them (``StudyError``, ``StudyInterrupted``); a
+saved chunk that cannot be read is named before any case runs.
 """
 
 from __future__ import annotations
@@ -20,9 +24,10 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from webline.errors import ArgumentError
-from webline.files import atomic_write, atomic_write_text
+from webline.errors import ArgumentError, StudyError, StudyInterrupted
+from webline.files import atomic_write, atomic_write_text, write_failure
 from webline.line import Line, load_line
+from webline.sim.simulate import deferred_interrupt
 from webline.sim.study_record import check_resume, study_record, write_text
 
 #: cases per chunk (task): large enough that a task's overhead (ms) is negligible
@@ -55,6 +60,26 @@ def _read_chunk(path: Path) -> Any:
         if name not in coords:
             ds[name] = (ds[name].dims, value, ds[name].attrs)
     return ds
+
+
+def _read_saved(path: Path, n_cases: int) -> Any:
+    """``_read_chunk``, or ``StudyError`` naming a damaged file (cut short, overwritten, not a
+    chunk of ``n_cases`` cases) and what to do."""
+    try:
+        ds = _read_chunk(path)
+        if ds.sizes.get("case") != n_cases:
+            raise ValueError(f"{ds.sizes.get('case')} cases where {n_cases} were saved")
+    except Exception as exc:  # xarray, scipy and numpy raise many types for a damaged file
+        raise StudyError(f"{path}: a saved chunk is damaged ({type(exc).__name__}: "
+                         f"{str(exc)[:120]}); delete it and --resume will compute its "
+                         f"{n_cases} cases again") from None
+    return ds
+
+
+def resume_hint(store: Path, saved: int, total: int) -> str:
+    """What ``--resume`` will continue from: "--resume will continue from 5 saved chunks of
+    12 in STORE"."""
+    return f"--resume will continue from {saved} saved chunks of {total} in {store}"
 
 
 def _plain_attrs(ds: Any) -> Any:
@@ -91,20 +116,17 @@ def _chunk_task(run: Callable[..., Any], line: Line, cases: list[dict[str, objec
 
 def _client(scheduler: Any, workers: int | None) -> tuple[Any, Any]:
     """(client, cluster to close or None) for ``scheduler``."""
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     if isinstance(scheduler, Client):
         return scheduler, None
     if scheduler == "local":
-        cluster = LocalCluster(n_workers=workers or 2, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
-        return Client(cluster), cluster
-    try:
-        return Client(str(scheduler)), None
-    except (OSError, ValueError, TypeError) as exc:  # unreachable, or not an address
-        raise ArgumentError(f"scheduler: cannot reach a Dask scheduler at {scheduler!r} "
-                            f"({exc}); give an address such as tcp://host:8786, 'local' or a "
-                            f"Client") from None
+        from webline.sim.dask_run import start_local
+
+        return start_local(workers)
+    from webline.sim.scheduler import connect
+
+    return connect(str(scheduler)), None  # probed first: a silent port or a web server refused
 
 
 def run_chunked(run: Callable[..., Any], line: Line | str | Path,
@@ -138,10 +160,23 @@ def run_chunked(run: Callable[..., Any], line: Line | str | Path,
 
     todo = [k for k, _ in enumerate(starts) if not path(k).exists()]
     done = len(cases) - sum(min(chunk, len(cases) - starts[k]) for k in todo)
+    for k in sorted(set(range(len(starts))) - set(todo)):  # damaged: say so before running
+        _read_saved(path(k), min(chunk, len(cases) - starts[k]))
+    saved = len(starts) - len(todo)
 
     def save(k: int, ds: Any) -> None:
-        nonlocal done
-        atomic_write(path(k), lambda tmp: ds.to_netcdf(tmp, engine=ENGINE))
+        nonlocal done, saved
+        # Ctrl-C waits for the write (ms): raised inside it, it left xarray's file lock held
+        # and the file's close waited on it for ever (one try in three)
+        with deferred_interrupt() as interrupted:
+            try:
+                atomic_write(path(k), lambda tmp: ds.to_netcdf(tmp, engine=ENGINE))
+            except OSError as exc:  # a full disk: the chunks saved so far stay whole
+                hint = resume_hint(store, saved, len(starts))
+                raise StudyError(write_failure(exc, f"free some space: {hint}")) from None
+        saved += 1
+        if interrupted():
+            raise KeyboardInterrupt
         done += ds.sizes["case"]
         if progress is not None:
             progress(done, len(cases))
@@ -150,23 +185,19 @@ def run_chunked(run: Callable[..., Any], line: Line | str | Path,
         lo = starts[k]
         return run, line, [dict(c) for c in cases[lo:lo + chunk]], lo, options
 
-    if scheduler is None:
-        for k in todo:
-            save(k, _chunk_task(*task_args(k)[:4], {**options, "workers": workers}))
-    elif todo:
-        from distributed import as_completed
+    try:
+        if scheduler is None:
+            for k in todo:
+                save(k, _chunk_task(*task_args(k)[:4], {**options, "workers": workers}))
+        elif todo:
+            from webline.sim.dask_run import run_on_dask
 
-        client, cluster = _client(scheduler, workers)
-        try:
-            futures = {client.submit(_chunk_task, *task_args(k), key=f"webline-chunk-{k}",
-                                     retries=RETRIES, pure=False): k for k in todo}
-            for future in as_completed(futures):
-                save(futures[future], future.result())
-        finally:
-            if cluster is not None:
-                client.close()
-                cluster.close()
-    parts = [_read_chunk(path(k)) for k in range(len(starts))]
+            run_on_dask(_client(scheduler, workers), _chunk_task, {k: task_args(k) for k in todo},
+                        save, RETRIES, lambda: resume_hint(store, saved, len(starts)))
+    except KeyboardInterrupt:
+        raise StudyInterrupted(f"interrupted: {resume_hint(store, saved, len(starts))}") from None
+    parts = [_read_saved(path(k), min(chunk, len(cases) - starts[k]))
+             for k in range(len(starts))]
     ds = xr.concat(parts, dim="case", data_vars="all", coords="different",
                    compat="equals", combine_attrs="override")
     ds.attrs = {k: (json.loads(v) if k in ("parameters", "shape") else v)

@@ -1,6 +1,7 @@
 """Parameter distributions of a Monte Carlo study, written as in line files and the CLI.
 
-``"normal(9 kN, 5 %)"``: mean and standard deviation (a percentage is relative to the mean);
+``"normal(9 kN, 5 %)"``: mean and standard deviation (a percentage, written ``%``,
+``percent`` or ``pct``, is relative to the mean);
 ``"uniform(0.1, 0.3)"`` or ``"uniform(9 kN, 10 %)"``: bounds, or centre and relative half
 width; ``"lognormal(9 kN, 5 %)"``: median and the standard deviation of its logarithm (a
 percentage is that fraction). A scipy.stats frozen distribution is taken as is, in SI units.
@@ -10,13 +11,12 @@ parameter, so a study is the same whatever the number of workers.
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
-
-from webline.units import ureg
 
 _CALL = re.compile(r"^\s*(normal|uniform|lognormal)\s*\((.*)\)\s*$", re.IGNORECASE)
 
@@ -27,17 +27,31 @@ def _call(text: str) -> tuple[str, list[str]] | None:
     return None if match is None else (match[1].lower(), match[2].split(","))
 
 
+#: the words of a relative spread, all one meaning: ``5 %``, ``5 percent``, ``5 pct`` (pint
+#: alone reads "percent" as the plain number 0.05 and "pct" as a picocarat)
+PERCENT_WORDS = ("%", "percent", "pct")
+
+
 def _quantity(text: str) -> tuple[float, str]:
     """(magnitude in SI base units, its dimensions as pint writes them, "" for a plain
-    number, SI) of ``"9 kN"``, or (fraction, "%") of ``"5 %"``."""
-    text = text.strip()
-    if text.endswith("%"):
-        return float(text[:-1]) / 100.0, "%"
-    quantity: Any = ureg.Quantity(text)
-    if hasattr(quantity, "to_base_units"):
-        base = quantity.to_base_units()
-        return float(base.magnitude), str(base.dimensionality) if base.dimensionality else ""
-    return float(quantity), ""
+    number, SI) of ``"9 kN"``, or (fraction, "%") of ``"5 %"`` / ``"5 percent"`` /
+    ``"5 pct"``. Read as strictly as a line file's values (``units.quantity_parts``: no
+    expressions); another ratio word (ppm, permille) is refused, as a spread it would be
+    ambiguous. Raises ``ValueError``."""
+    from webline.units import quantity_parts, unit_reading
+
+    number, unit = quantity_parts(text)
+    if not math.isfinite(number):
+        raise ValueError(f"{text.strip()!r} is not a finite number")
+    if unit.lower() in PERCENT_WORDS:
+        return number / 100.0, "%"
+    if not unit:
+        return number, ""
+    factor, dims, ratio = unit_reading(unit, text)
+    if ratio:
+        raise ValueError(f"{text.strip()!r}: write a relative spread in % (or 'percent', "
+                         "'pct'), an absolute one with the parameter's unit")
+    return number * factor, dims
 
 
 def values_written(text: str) -> list[tuple[str | float, float]]:

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 
 from webline.errors import ArgumentError
-from webline.files import atomic_write
+from webline.files import atomic_write, atomic_write_bytes
 from webline.sim.signal_attrs import SIGNAL_UNITS
 
 if TYPE_CHECKING:
@@ -32,32 +32,36 @@ def write_netcdf(variables: ResultVariables, path: str | Path,
     if precision not in ("float64", "float32"):
         raise ArgumentError(f"precision: must be 'float64' or 'float32', got {precision!r}")
 
-    def write(tmp: Path) -> None:
-        import h5netcdf
-        import h5py
+    import io
 
-        with h5netcdf.File(tmp, "w") as f:
-            for dim, (_, values, _) in variables.coords.items():
-                f.dimensions[dim] = len(values)
-            for name, (dims, values, attrs) in variables.coords.items():
-                if values.dtype == object:
-                    var = f.create_variable(name, dims, dtype=h5py.string_dtype(),
-                                            data=values.astype(str).astype(object))
-                else:
-                    var = f.create_variable(name, dims, data=values)
-                var.attrs.update(attrs)
-            n_time = len(variables.coords["time"][1])
-            for name, (dims, values, attrs) in variables.data.items():
-                dtype = np.float32 if precision == "float32" and values.dtype.kind == "f" \
-                    else values.dtype
-                chunks = (min(n_time, TIME_CHUNK), *values.shape[1:]) if n_time else None
-                var = f.create_variable(name, dims, dtype=dtype, data=values.astype(dtype),
-                                        chunks=chunks, compression="gzip",
-                                        compression_opts=COMPLEVEL, shuffle=True)
-                var.attrs.update(attrs)
-            f.attrs.update(variables.attrs)
+    import h5netcdf
+    import h5py
 
-    return atomic_write(Path(path), write)
+    # built in memory and written in one plain write: HDF5 crashes (a segfault) closing a file
+    # whose write failed on a full disk, where a plain write raises OSError and
+    # ``atomic_write`` leaves nothing behind
+    buffer = io.BytesIO()
+    with h5netcdf.File(buffer, "w") as f:
+        for dim, (_, values, _) in variables.coords.items():
+            f.dimensions[dim] = len(values)
+        for name, (dims, values, attrs) in variables.coords.items():
+            if values.dtype == object:
+                var = f.create_variable(name, dims, dtype=h5py.string_dtype(),
+                                        data=values.astype(str).astype(object))
+            else:
+                var = f.create_variable(name, dims, data=values)
+            var.attrs.update(attrs)
+        n_time = len(variables.coords["time"][1])
+        for name, (dims, values, attrs) in variables.data.items():
+            dtype = np.float32 if precision == "float32" and values.dtype.kind == "f" \
+                else values.dtype
+            chunks = (min(n_time, TIME_CHUNK), *values.shape[1:]) if n_time else None
+            var = f.create_variable(name, dims, dtype=dtype, data=values.astype(dtype),
+                                    chunks=chunks, compression="gzip",
+                                    compression_opts=COMPLEVEL, shuffle=True)
+            var.attrs.update(attrs)
+        f.attrs.update(variables.attrs)
+    return atomic_write_bytes(Path(path), buffer.getbuffer())
 
 
 def write_csv(variables: ResultVariables, path: str | Path) -> Path:

@@ -20,12 +20,14 @@ from typing import Any
 import numpy as np
 
 from webline.errors import ArgumentError, LineFileError
+from webline.limits import check_case_count
 from webline.line import Line, load_line
 from webline.sim.batch import BatchOutput, run_batch
 from webline.sim.cases import Built, build_cases, case_value, derive_line
 from webline.sim.distributions import draw, values_written
 from webline.sim.plan import compile_plan
 from webline.sim.simulate import MAX_RECORDS
+from webline.sim.study_work import check_study_work
 from webline.sim.sweep_dataset import Collector
 from webline.spec.ranges import argument, whole_argument
 
@@ -143,30 +145,36 @@ def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
           record: float | str | None = None, mode: str = "grid",
           workers: int | None = None, progress: Callable[[int, int], None] | None = None,
           scheduler: Any = None, store: str | Path | None = None,
-          resume: bool = False) -> Any:
+          resume: bool = False, work_limit: bool = True) -> Any:
     """Simulate ``line`` over parameter values: ``{path: [v1, v2, ...]}`` (paths as in
     ``Line.replace``, values with units as a line file takes them). ``mode`` "grid" runs every
     combination (the last path varies fastest), "zip" the i-th value of every path together.
-    Returns the Dataset of ``run_cases``; its attribute ``mode`` and, for a grid, ``shape``."""
+    Returns the Dataset of ``run_cases``; its attribute ``mode`` and, for a grid, ``shape``.
+    The study's work is bounded before it runs (``sim.study_work``; ``work_limit=False``
+    lifts ``budget.MAX_STUDY_RK4_STEPS``)."""
     paths = list(values)
     columns = [list(values[p]) for p in paths]
     for path, column in zip(paths, columns, strict=True):
         if not column:
             raise ArgumentError(f"{path}: no values to sweep")
     if mode == "grid":
+        check_case_count(math.prod(len(c) for c in columns), "the grid")
         combos = list(itertools.product(*columns))
     elif mode == "zip":
         if len({len(c) for c in columns}) > 1:
             counts = ", ".join(f"{p}: {len(c)}" for p, c in zip(paths, columns, strict=True))
-            raise ValueError(f"mode='zip' needs as many values for every path, got {counts}")
+            raise ArgumentError(f"mode='zip' (--zip) needs as many values for every path, got "
+                                f"{counts}")
         combos = list(zip(*columns, strict=True))
     else:
-        raise ValueError(f"mode must be 'grid' or 'zip', got {mode!r}")
+        raise ArgumentError(f"mode must be 'grid' or 'zip', got {mode!r}")
     cases = [dict(zip(paths, combo, strict=True)) for combo in combos]
-    _check_values(_base(line, scenario), cases, {p: "the values" for p in paths})
+    base = _base(line, scenario)
+    probes = _check_values(base, cases, {p: "the values" for p in paths})
     attrs: dict[str, Any] = {"mode": mode}
     if mode == "grid":
         attrs["shape"] = [len(c) for c in columns]
+    _check_work(base, probes, len(cases), len(paths), duration, scenario, record, work_limit)
     return _study(line, cases, attrs, duration=duration, scenario=scenario, record=record,
                   workers=workers, progress=progress, scheduler=scheduler, store=store,
                   resume=resume)
@@ -176,12 +184,16 @@ def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: in
                 seed: int, duration: float | str | None = None, scenario: str | None = None,
                 record: float | str | None = None, workers: int | None = None,
                 progress: Callable[[int, int], None] | None = None, scheduler: Any = None,
-                store: str | Path | None = None, resume: bool = False) -> Any:
+                store: str | Path | None = None, resume: bool = False,
+                work_limit: bool = True) -> Any:
     """``n`` runs of ``line`` with parameters drawn from ``distributions`` ({path: ``"normal(9
     kN, 5 %)"``, ``"uniform(0.1, 0.3)"``, ``"lognormal(9 kN, 5 %)"`` or a scipy.stats frozen
     distribution in SI}), all drawn up front from ``numpy.random.default_rng(seed)`` so the
-    result does not depend on ``workers``. Returns the Dataset of ``run_cases``."""
+    result does not depend on ``workers``. Returns the Dataset of ``run_cases``. ``n`` and the
+    study's work are bounded before anything is drawn (``sim.budget``; ``work_limit=False``
+    lifts ``budget.MAX_STUDY_RK4_STEPS``)."""
     whole_argument(n, "n", 1, "a Monte Carlo study needs a whole number of samples")
+    check_case_count(n, "n (--samples)")
     whole_argument(seed, "seed", 0)
     try:
         samples = draw(distributions, n, seed)
@@ -193,7 +205,9 @@ def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: in
             samples[path] = samples[path] * _line_scale(base, path, dist)
     cases: list[dict[str, object]] = [{p: float(samples[p][c]) for p in samples}
                                       for c in range(n)]
-    _check_values(base, cases, {p: f"the samples of {distributions[p]}" for p in distributions})
+    probes = _check_values(base, cases,
+                           {p: f"the samples of {distributions[p]}" for p in distributions})
+    _check_work(base, probes, n, len(distributions), duration, scenario, record, work_limit)
     return _study(line, cases, {"mode": "monte_carlo", "seed": seed}, duration=duration,
                   scenario=scenario, record=record, workers=workers, progress=progress,
                   scheduler=scheduler, store=store, resume=resume)
@@ -231,23 +245,43 @@ CHECK_ALL_BELOW = 64
 
 
 def _check_values(base: Line, cases: Sequence[Mapping[str, object]],
-                  what: Mapping[str, str]) -> None:
+                  what: Mapping[str, str]) -> list[Line]:
     """Refuse a study before any case runs when a path's values leave what the line accepts
     (ranges, cross-key checks): every value of a path with few of them, else its smallest and
     largest (ranges are intervals). Raises ``ArgumentError`` naming the path, what produced the
     values (``what[path]``: "the values", "the samples of normal(...)") and the line's
     message; a value that only fails in combination still fails when its case is built.
-    ``base``: the line with its scenario applied (``_base``)."""
+    ``base``: the line with its scenario applied (``_base``). Returns the lines checked (the
+    probes of ``sim.study_work``)."""
+    probes: list[Line] = []
     for path, source in what.items():
         values = [case[path] for case in cases if path in case]
         if len(values) > CHECK_ALL_BELOW and all(isinstance(v, float | int) for v in values):
             values = [min(values), max(values)]  # type: ignore[type-var]
         for value in values[:CHECK_ALL_BELOW]:
             try:
-                derive_line(base, {path: value})
+                probes.append(derive_line(base, {path: value}))
             except LineFileError as exc:
                 raise ArgumentError(f"{path}: {source} include {value!r}, which the line "
                                     f"refuses ({exc}); no case was run") from None
+    return probes
+
+
+def _check_work(base: Line, probes: Sequence[Line], n_cases: int, n_paths: int,
+                duration: float | str | None, scenario: str | None,
+                record: float | str | None, limit: bool) -> None:
+    """Refuse a study beyond a run's budget in any probed case, or beyond the study's
+    (``sim.study_work.check_study_work``), before any case runs."""
+    if scenario is not None and duration is None:
+        duration = base.spec.scenarios[scenario].duration
+    seconds = 10.0 if duration is None else argument(duration, "time", "duration",
+                                                     within="scenario.duration")
+    n_trace = 0
+    if record is not None:
+        interval = argument(record, "time", "record", within=None)
+        n_trace = int(seconds / interval) + 1
+    check_study_work(base, probes, n_cases, seconds, n_paths=n_paths, n_trace=n_trace,
+                     limit=limit)
 
 
 def check_workers(workers: object) -> None:

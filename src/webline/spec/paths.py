@@ -98,9 +98,35 @@ def parse_assignment(text: str) -> tuple[str, object]:
     return path, toml_value(raw)
 
 
+#: Deepest nesting of arrays and inline tables a command-line value may have (a line file's
+#: deepest is 3: a scenario's profile of points); tomllib recurses per level and would
+#: overflow Python's stack near a few hundred.
+MAX_NESTING = 32
+
+
+def nesting(text: str) -> int:
+    """How deep braces and brackets nest in ``text``, outside quotes."""
+    deepest, depth, quote = 0, 0, ""
+    for char in text:
+        if quote:
+            quote = "" if char == quote else quote
+        elif char in "\"'":
+            quote = char
+        elif char in "{[":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif char in "}]":
+            depth -= 1
+    return deepest
+
+
 def toml_value(raw: str) -> object:
     """``raw`` read as a TOML value (``2.5``, ``true``, ``{type = "ramp", ...}``,
-    ``"quoted"``), or as the string itself (``9 kN``)."""
+    ``"quoted"``), or as the string itself (``9 kN``). Raises ``ValueError`` for arrays or
+    tables nested more than ``MAX_NESTING`` deep."""
+    if nesting(raw) > MAX_NESTING:
+        raise ValueError(f"{raw[:20]}...: arrays or tables nested more than {MAX_NESTING} "
+                         "deep")
     try:
         return tomllib.loads(f"v = {raw}")["v"]
     except tomllib.TOMLDecodeError:
