@@ -78,7 +78,8 @@ F = TypeVar("F", bound=Callable[..., None])
 
 
 def handles_errors(command: F) -> F:
-    """Turn webline's errors into one line on stderr and their exit status, no traceback."""
+    """Turn webline's errors into one line on stderr and their exit status, no traceback; so
+    too an optional package that is missing (``webline.extras``: the extra to install)."""
 
     @functools.wraps(command)
     def wrapper(*args: object, **kwargs: object) -> None:
@@ -86,6 +87,13 @@ def handles_errors(command: F) -> F:
             command(*args, **kwargs)
         except WeblineError as exc:
             fail(str(exc), exc.exit_code)
+        except ModuleNotFoundError as exc:
+            from webline.extras import missing_extra
+
+            missing = missing_extra(exc)
+            if missing is None:
+                raise
+            fail(str(missing), missing.exit_code)
 
     return wrapper  # type: ignore[return-value]
 

@@ -83,3 +83,11 @@ class SimulationInterrupted(KeyboardInterrupt):
     def __init__(self, message: str, partial: object | None = None) -> None:
         self.partial = partial
         super().__init__(message)
+
+
+class MissingExtra(WeblineError, ImportError):
+    """An optional part of webline is used without its packages installed; the message names
+    the extra that installs them (``pip install 'webline[dask]'``). Also an ``ImportError``,
+    so code that falls back when an import fails keeps working."""
+
+    exit_code = 2
