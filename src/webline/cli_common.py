@@ -5,6 +5,7 @@ tables and progress bar, and loading a line as a command runs it (``--controller
 from __future__ import annotations
 
 import functools
+import signal
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from enum import StrEnum
@@ -17,7 +18,10 @@ from rich.markup import escape
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table as RichTable
 
-from webline.errors import WeblineError
+from webline.errors import WeblineError, terminate_as_interrupt
+
+#: exit status of a command stopped by Ctrl-C (128 + SIGINT) and by SIGTERM (128 + SIGTERM)
+INTERRUPTED, TERMINATED = 130, 143
 
 if TYPE_CHECKING:
     from webline.line import Line
@@ -96,6 +100,24 @@ def handles_errors(command: F) -> F:
             fail(str(missing), missing.exit_code)
 
     return wrapper  # type: ignore[return-value]
+
+
+@contextmanager
+def sigterm_as_interrupt() -> Iterator[Callable[[], bool]]:
+    """Within the block SIGTERM stops the command as Ctrl-C does
+    (``webline.errors.terminate_as_interrupt``: a run writes what it computed, status
+    interrupted); the yielded function says whether a SIGTERM came. Main thread only."""
+    received: list[int] = []
+
+    def handler(signum: int, frame: object) -> None:
+        received.append(signum)
+        terminate_as_interrupt(signum, frame)
+
+    previous = signal.signal(signal.SIGTERM, handler)
+    try:
+        yield lambda: bool(received)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 def fail(message: str, code: int) -> None:

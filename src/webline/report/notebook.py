@@ -11,7 +11,7 @@ import io
 
 from webline.line import Line
 from webline.report.describe import line_tables
-from webline.report.display import Display
+from webline.report.display import Display, System
 from webline.report.html import table_html
 
 #: the tables a notebook shows (``describe.line_tables``' keys); ``webline show`` has them all
@@ -32,7 +32,7 @@ def schematic_svg(line: Line, display: Display | None = None) -> str:
     return text[text.index("<svg"):]
 
 
-def line_html(line: Line, units: str = "si") -> str:
+def line_html(line: Line, units: System = "si") -> str:
     """``line`` for a notebook: its schematic (SVG) and its key tables (``KEY_TABLES``) in
     ``units`` ("si", "imperial", "si-per-width", "imperial-per-width")."""
     display = Display(units, line.spec.web.width)
