@@ -40,3 +40,14 @@ def test_line_and_result_reprs_are_a_few_lines() -> None:
     text = repr(result)
     assert len(text) < 400 and len(text.splitlines()) <= 4
     assert "'converter'" in text and "0.1 s simulated" in text and "status: ok" in text
+
+
+def test_linear_model_repr_is_one_line() -> None:
+    """``repr`` of the numpy linear model behind ``linearize``: its size and first names, one
+    line (its matrices are in ``.a``, ``.b``, ``.c``)."""
+    from webline.sim.linearize import linear_model
+
+    model = linear_model(webline.load_line("hswl"))
+    text = repr(model)
+    assert len(text.splitlines()) == 1 and len(text) < 300
+    assert f"{len(model.states)} states" in text and model.inputs[0] in text

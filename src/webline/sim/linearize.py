@@ -155,6 +155,14 @@ class LinearModel:
     inputs: list[str]
     outputs: list[str]
 
+    def __repr__(self) -> str:
+        """Its size and a few names (the dataclass's repr printed every matrix)."""
+        def few(names: list[str]) -> str:
+            return ", ".join(names[:4]) + (", ..." if len(names) > 4 else "")
+
+        return (f"<webline LinearModel: {len(self.states)} states, {len(self.inputs)} inputs "
+                f"({few(self.inputs)}), {len(self.outputs)} outputs ({few(self.outputs)})>")
+
 
 def linear_model(line: Line, t: float = 0.0, *, loop: Literal["open", "closed"] = "closed",
                  unwind_radius: float | None = None,
