@@ -51,3 +51,19 @@ def test_linear_model_repr_is_one_line() -> None:
     text = repr(model)
     assert len(text.splitlines()) == 1 and len(text) < 300
     assert f"{len(model.states)} states" in text and model.inputs[0] in text
+
+
+def test_linearize_returns_a_statespace_with_a_short_repr() -> None:
+    """``linearize``'s system is a python-control ``StateSpace`` (slicing, feedback work) whose
+    ``repr`` is one line (python-control's printed every matrix, 13 kB for the HSWL)."""
+    import control
+
+    system = webline.linearize("hswl")
+    assert isinstance(system, control.StateSpace)
+    text = repr(system)
+    assert len(text.splitlines()) == 1 and len(text) < 300
+    assert f"{system.nstates} states" in text and "zone1_tension_ref" in text
+    path = system[system.output_labels.index("span2_tension"),
+                  system.input_labels.index("zone2_tension_ref")]
+    assert control.feedback(path, 0.0).nstates == system.nstates  # python-control as usual
+    assert "Inputs (5)" in str(system)  # print() still lists the signals

@@ -287,10 +287,9 @@ def linearize(line: Line | str, t: float | str = 0.0, *,
     inputs are the line speed reference [m/s], each zone's tension reference [N] and the
     wound-in tension [N]. Outputs (both): span tensions [N] and web speeds [m/s]. Signals are
     named (``span1_tension``, ``master_speed``, ``unwind_torque_cmd``, ...; python-control
-    reserves '.').
+    reserves '.'). A ``LinearSystem`` (``webline.sim.linear_system``): a ``StateSpace`` whose
+    ``repr`` is a few lines.
     """
-    import control
-
     from webline.errors import ArgumentError
     from webline.spec.ranges import argument
 
@@ -301,5 +300,9 @@ def linearize(line: Line | str, t: float | str = 0.0, *,
                          rewind_radius=rewind_radius)
     # python-control reserves '.' in system names (subsystem.signal); a line name is free text
     name = load_line(line).name.replace(".", "_") + ("-plant" if loop == "open" else "-closed-loop")
-    return control.ss(model.a, model.b, model.c, 0.0, states=model.states,
-                      inputs=model.inputs, outputs=model.outputs, name=name)
+    from webline.sim.linear_system import LinearSystem
+
+    return LinearSystem(model.a, model.b, model.c, np.zeros((len(model.outputs),
+                                                             len(model.inputs))),
+                        states=model.states, inputs=model.inputs, outputs=model.outputs,
+                        name=name)
