@@ -91,6 +91,11 @@ def handles_errors(command: F) -> F:
             command(*args, **kwargs)
         except WeblineError as exc:
             fail(str(exc), exc.exit_code)
+        except KeyboardInterrupt as exc:  # a command without its own handling (sweep, study)
+            why = ("stopped by SIGTERM" if getattr(exc, "signum", None) == signal.SIGTERM
+                   else "interrupted (Ctrl-C)")
+            fail(f"{why}: every file already written is whole (webline sweep goes on from "
+                 "its chunks with --resume)", INTERRUPTED)
         except ModuleNotFoundError as exc:
             from webline.extras import missing_extra
 

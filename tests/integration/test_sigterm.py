@@ -56,3 +56,45 @@ def test_sigterm_during_a_run_writes_partial_results_and_exits_143(tmp_path) -> 
         assert 0.0 < float(ds.time[-1]) < 3 * 3600.0
         assert np.isfinite(ds.tension.values).all()
     assert not [p for p in out.rglob("*") if p.name.startswith(TEMP_PREFIX)]
+
+
+def _webline(*args: str, **popen: object) -> subprocess.Popen[str]:
+    return subprocess.Popen(
+        [sys.executable, "-c", "import sys; from webline.cli import main; "
+         "sys.argv[0] = 'webline'; main()", *args],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        env={**os.environ, "PYTHONPATH": str(ROOT / "src")}, **popen)
+
+
+def test_sigterm_during_a_sweep_keeps_its_chunks_and_it_resumes(tmp_path) -> None:
+    """``kill -TERM`` once a sweep's first chunk (256 cases) is stored: one line, exit 143,
+    the chunk kept whole; ``--resume`` runs only the other two chunks and writes all 768
+    cases."""
+    from webline.sim.chunks import chunk_path
+
+    out = tmp_path / "sweep"
+    args = ("sweep", "hswl", "--set", "web.ea=8 kN:10 kN:768", "-d", "1", "--workers", "1",
+            "--out", str(out), "-q")
+    webline.sweep("hswl", {"web.ea": ["9 kN"]}, duration=0.01)  # the batch is compiled
+    proc = _webline(*args)
+    first = chunk_path(out / "chunks", 0)
+    deadline = time.monotonic() + 240
+    while not first.exists() and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert first.exists() and proc.poll() is None, "the first chunk did not appear in time"
+    proc.send_signal(signal.SIGTERM)
+    _, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 143, stderr
+    assert stderr.strip().splitlines() == [
+        "error: stopped by SIGTERM: every file already written is whole (webline sweep goes "
+        "on from its chunks with --resume)"]
+    assert not chunk_path(out / "chunks", 2).exists()  # stopped before the end
+    with xr.open_dataset(first) as chunk:
+        assert chunk.sizes["case"] == 256
+    stamp = first.stat().st_mtime_ns
+    resumed = _webline(*args, "--resume")
+    _, stderr = resumed.communicate(timeout=300)
+    assert resumed.returncode == 0, stderr
+    assert first.stat().st_mtime_ns == stamp  # the stored chunk was not run again
+    with xr.open_dataset(out / "sweep.nc") as ds:
+        assert ds.sizes["case"] == 768 and set(ds.status.values.astype(str)) == {"ok"}
