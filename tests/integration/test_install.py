@@ -55,12 +55,12 @@ print(result.verdict.status, 'distributed' in sys.modules)
     assert done.stdout.split() == ["ok", "False"]
 
 
-def test_a_cluster_sweep_without_dask_names_the_extra() -> None:
+def test_a_cluster_sweep_without_dask_names_the_extra(tmp_path: Path) -> None:
     """``webline sweep --scheduler local`` without Dask: one line on stderr naming
     ``webline[dask]``, exit 2, no traceback; the Python API raises ``MissingExtra``."""
     done = _python(WITHOUT_DASK + "from webline.cli import main; sys.argv[0] = 'webline'; main()",
                    "sweep", "hswl", "--set", "web.ea=8 kN,9 kN", "--duration", "0.05",
-                   "--scheduler", "local", "--out", str(ROOT / "out" / "test-no-dask"),
+                   "--scheduler", "local", "--out", str(tmp_path / "sweep"),
                    "--force", "--quiet")
     assert done.returncode == 2, done.stderr
     lines = done.stderr.strip().splitlines()
