@@ -254,7 +254,8 @@ def study(
     typer.echo(str(folder.path.resolve()))
 
 
-app.command("sweep")(handles_errors(sweep_command))
+app.command("sweep")(handles_errors(
+    sweep_command, resume="the same command with --resume goes on from the chunks stored"))
 
 
 def main() -> None:

@@ -81,9 +81,11 @@ SetOpt = Annotated[list[str] | None, typer.Option(
 F = TypeVar("F", bound=Callable[..., None])
 
 
-def handles_errors(command: F) -> F:
+def handles_errors(command: F, *, resume: str = "") -> F:
     """Turn webline's errors into one line on stderr and their exit status, no traceback; so
-    too an optional package that is missing (``webline.extras``: the extra to install)."""
+    too an optional package that is missing (``webline.extras``: the extra to install), and
+    Ctrl-C or SIGTERM where the command has no handling of its own (exit 130 or 143, with
+    ``resume``: how to go on, if the command can)."""
 
     @functools.wraps(command)
     def wrapper(*args: object, **kwargs: object) -> None:
@@ -94,8 +96,8 @@ def handles_errors(command: F) -> F:
         except KeyboardInterrupt as exc:  # a command without its own handling (sweep, study)
             why = ("stopped by SIGTERM" if getattr(exc, "signum", None) == signal.SIGTERM
                    else "interrupted (Ctrl-C)")
-            fail(f"{why}: every file already written is whole (webline sweep goes on from "
-                 "its chunks with --resume)", INTERRUPTED)
+            fail(f"{why}: every file already written is whole" + (f"; {resume}" if resume
+                                                                 else ""), INTERRUPTED)
         except ModuleNotFoundError as exc:
             from webline.extras import missing_extra
 

@@ -86,8 +86,8 @@ def test_sigterm_during_a_sweep_keeps_its_chunks_and_it_resumes(tmp_path) -> Non
     _, stderr = proc.communicate(timeout=120)
     assert proc.returncode == 143, stderr
     assert stderr.strip().splitlines() == [
-        "error: stopped by SIGTERM: every file already written is whole (webline sweep goes "
-        "on from its chunks with --resume)"]
+        "error: stopped by SIGTERM: every file already written is whole; the same command "
+        "with --resume goes on from the chunks stored"]
     assert not chunk_path(out / "chunks", 2).exists()  # stopped before the end
     with xr.open_dataset(first) as chunk:
         assert chunk.sizes["case"] == 256
