@@ -1,11 +1,12 @@
 # webline: the two set-up commands are `make run` (main job on the built-in line) and
-# `make test` (the test suite). Both create .venv and install webline first.
+# `make test` (the test suite). Both create .venv and install webline first (with every extra:
+# `.[dev]`). `make docs` builds the documentation site into site/ (warnings are errors).
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: run test lint bench clean
+.PHONY: run test lint bench docs clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -24,8 +25,11 @@ lint: $(STAMP)
 	$(BIN)/mypy
 	$(BIN)/python tests/unit/test_layers.py
 
+docs: $(STAMP)
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --site-dir site
+
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_hswl.py
 
 clean:
-	rm -rf $(VENV) out
+	rm -rf $(VENV) out site

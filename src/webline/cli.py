@@ -2,7 +2,8 @@
 
 Exit status: 0 ok or warning (warnings printed), 1 a run that failed (what was computed until
 then is still written, and the failure described), 2 bad input (one line naming the file, key
-and problem), 3 unstable (``analyze``; ``run`` also for a runaway), 130 interrupted.
+and problem), 3 unstable (``analyze``; ``run`` also for a runaway), 130 interrupted (Ctrl-C),
+143 stopped by SIGTERM (handled as Ctrl-C).
 """
 
 from __future__ import annotations
@@ -18,6 +19,8 @@ from rich.markup import escape
 
 from webline.cli_analyze import analyze
 from webline.cli_common import (
+    INTERRUPTED,
+    TERMINATED,
     BadInput,
     ControllerOpt,
     DataFormat,
@@ -35,6 +38,7 @@ from webline.cli_common import (
     open_output,
     print_tables,
     progress_bar,
+    sigterm_as_interrupt,
 )
 from webline.cli_sweep import sweep_command
 from webline.version import __version__
@@ -47,7 +51,7 @@ app = typer.Typer(
     pretty_exceptions_enable=False,
     help="Simulate and analyse roll-to-roll (web handling) lines described in line files. "
     "Exit status: 0 ok or warning, 1 failed run, 2 bad input, 3 unstable (analyze; run: also "
-    "a runaway), 130 interrupted.",
+    "a runaway), 130 interrupted (Ctrl-C), 143 stopped by SIGTERM (as Ctrl-C).",
 )
 
 
@@ -102,7 +106,8 @@ def run(
 
     Prints the verdict (ok, warning, unstable, failed) and its findings. Exit status: 0 ok or
     warning, 1 failed (what was computed is written), 2 bad input, 3 unstable or a runaway
-    (diverged), 130 interrupted by Ctrl-C (what was computed is written, status interrupted).
+    (diverged), 130 interrupted by Ctrl-C, 143 by SIGTERM (what was computed is written, status
+    interrupted).
     """
     from webline.report.early import Reporter
 
@@ -133,7 +138,7 @@ def run(
                 result = simulate(scenario_line, seconds, progress=progress,
                                   raise_on_failure=False)
         except KeyboardInterrupt:
-            fail("interrupted before anything was computed; nothing written", 130)
+            fail("interrupted before anything was computed; nothing written", INTERRUPTED)
         if not quiet:
             simulated = float(result.time[-1]) if len(result.time) else 0.0
             err.print(f"Simulated {simulated:.4g} s of {escape(scenario_line.name)} in "
@@ -143,7 +148,7 @@ def run(
                                             units.value, scenario, svg, reporter)
         except KeyboardInterrupt:
             fail(f"interrupted while writing {folder.path}: the files written are whole, the "
-                 "others missing or from the previous run", 130)
+                 "others missing or from the previous run", INTERRUPTED)
         if not quiet:
             from webline.report.display import Display
             from webline.report.tables import summary_tables
@@ -257,18 +262,24 @@ def study(
     typer.echo(str(folder.path.resolve()))
 
 
-app.command("sweep")(handles_errors(sweep_command))
+app.command("sweep")(handles_errors(
+    sweep_command, resume="the same command with --resume goes on from the chunks stored"))
 
 
 def main() -> None:
-    """Console-script entry point. Once a command has finished (every file written and
+    """Console-script entry point. SIGTERM (a batch scheduler's stop) is handled as Ctrl-C
+    (``cli_common.sigterm_as_interrupt``), exit status 143 instead of 130. Once a command has
+    finished (every file written and
     closed), the process ends without Python's module teardown, which takes 0.6-1 s after
     numba, scipy and matplotlib are loaded; exit handlers and output buffers still run."""
-    try:
-        app(prog_name="webline")
-        code: object = 0
-    except SystemExit as done:
-        code = done.code
+    with sigterm_as_interrupt() as terminated:
+        try:
+            app(prog_name="webline")
+            code: object = 0
+        except SystemExit as done:
+            code = done.code
+    if terminated() and code == INTERRUPTED:  # stopped by SIGTERM rather than Ctrl-C
+        code = TERMINATED
     end_process(code)
 
 

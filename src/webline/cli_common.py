@@ -5,6 +5,7 @@ tables and progress bar, and loading a line as a command runs it (``--controller
 from __future__ import annotations
 
 import functools
+import signal
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from enum import StrEnum
@@ -17,7 +18,10 @@ from rich.markup import escape
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table as RichTable
 
-from webline.errors import WeblineError
+from webline.errors import WeblineError, terminate_as_interrupt
+
+#: exit status of a command stopped by Ctrl-C (128 + SIGINT) and by SIGTERM (128 + SIGTERM)
+INTERRUPTED, TERMINATED = 130, 143
 
 if TYPE_CHECKING:
     from webline.line import Line
@@ -77,9 +81,11 @@ SetOpt = Annotated[list[str] | None, typer.Option(
 F = TypeVar("F", bound=Callable[..., None])
 
 
-def handles_errors(command: F) -> F:
-    """Turn webline's errors into one line on stderr and their exit status, and an
-    ``OSError`` (a full disk) into one line and exit status 1; no traceback."""
+def handles_errors(command: F, *, resume: str = "") -> F:
+    """Turn webline's errors into one line on stderr and their exit status, no traceback; so
+    too an optional package that is missing (``webline.extras``: the extra to install), and
+    Ctrl-C or SIGTERM where the command has no handling of its own (exit 130 or 143, with
+    ``resume``: how to go on, if the command can)."""
 
     @functools.wraps(command)
     def wrapper(*args: object, **kwargs: object) -> None:
@@ -91,8 +97,38 @@ def handles_errors(command: F) -> F:
             from webline.files import write_failure
 
             fail(write_failure(exc), 1)
+        except KeyboardInterrupt as exc:  # a command without its own handling (sweep, study)
+            why = ("stopped by SIGTERM" if getattr(exc, "signum", None) == signal.SIGTERM
+                   else "interrupted (Ctrl-C)")
+            fail(f"{why}: every file already written is whole" + (f"; {resume}" if resume
+                                                                 else ""), INTERRUPTED)
+        except ModuleNotFoundError as exc:
+            from webline.extras import missing_extra
+
+            missing = missing_extra(exc)
+            if missing is None:
+                raise
+            fail(str(missing), missing.exit_code)
 
     return wrapper  # type: ignore[return-value]
+
+
+@contextmanager
+def sigterm_as_interrupt() -> Iterator[Callable[[], bool]]:
+    """Within the block SIGTERM stops the command as Ctrl-C does
+    (``webline.errors.terminate_as_interrupt``: a run writes what it computed, status
+    interrupted); the yielded function says whether a SIGTERM came. Main thread only."""
+    received: list[int] = []
+
+    def handler(signum: int, frame: object) -> None:
+        received.append(signum)
+        terminate_as_interrupt(signum, frame)
+
+    previous = signal.signal(signal.SIGTERM, handler)
+    try:
+        yield lambda: bool(received)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 def fail(message: str, code: int) -> None:

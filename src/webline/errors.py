@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import signal
 from dataclasses import dataclass
 
 #: Most problems a ``LineFileError`` message lists (the rest are counted).
@@ -95,3 +96,33 @@ class SimulationInterrupted(KeyboardInterrupt):
     def __init__(self, message: str, partial: object | None = None) -> None:
         self.partial = partial
         super().__init__(message)
+
+
+class Terminated(KeyboardInterrupt):
+    """A stop by signal ``signum`` (SIGTERM) raised as Ctrl-C's KeyboardInterrupt is, so that
+    whatever keeps its work on Ctrl-C keeps it here too and can say which signal came."""
+
+    def __init__(self, signum: int) -> None:
+        self.signum = signum
+        super().__init__(f"stopped by signal {signum}")
+
+
+def terminate_as_interrupt(signum: int, frame: object) -> None:
+    """A SIGTERM handler (``signal.signal(signal.SIGTERM, terminate_as_interrupt)``) that
+    stops as Ctrl-C does: where a deferring SIGINT handler is in place (``simulate``'s), it is
+    called with SIGTERM's number, so the run keeps what it computed (status interrupted);
+    elsewhere (Python's default handler, or SIGINT ignored, as in a job started in the
+    background) ``Terminated``, a KeyboardInterrupt, is raised. The command line installs it
+    (a batch scheduler stops a job with SIGTERM); a script may too."""
+    handler = signal.getsignal(signal.SIGINT)
+    if not callable(handler) or handler is signal.default_int_handler:
+        raise Terminated(signum)
+    handler(signum, frame)  # type: ignore[arg-type]
+
+
+class MissingExtra(WeblineError, ImportError):
+    """An optional part of webline is used without its packages installed; the message names
+    the extra that installs them (``pip install 'webline[dask]'``). Also an ``ImportError``,
+    so code that falls back when an import fails keeps working."""
+
+    exit_code = 2

@@ -25,6 +25,11 @@ from webline.spec.schema import (
 )
 from webline.spec.winder import WebBreak
 
+#: The notebook view of a line, "module:function" taking the ``Line`` and returning HTML: a
+#: display hook named, not imported (the report sits layers above; resolved on first display,
+#: as pandas names its plotting backend). Set it to another view to replace the report's.
+HTML_VIEW = "webline.report.notebook:line_html"
+
 
 @dataclass(frozen=True)
 class Zone:
@@ -162,6 +167,22 @@ class Line:
                     for p in err.problems]) from None
         check_spec(spec, label)
         return Line(spec, self.source)
+
+    def __repr__(self) -> str:
+        """A few lines: name, size, source and scenarios (the dataclass's own repr printed
+        the whole spec, some 6 kB)."""
+        scenarios = ", ".join(self.spec.scenarios) or "none"
+        return (f"<webline Line {self.name!r}: {self.n_nodes} rollers, {self.n_spans} spans, "
+                f"{len(self.drives)} drives, {len(self.zones)} tension zones>\n"
+                f"  from {self.source}; scenarios: {scenarios}")
+
+    def _repr_html_(self) -> str:
+        """A notebook's view: the schematic (SVG) and key tables, drawn by ``HTML_VIEW``."""
+        import importlib
+
+        module, _, function = HTML_VIEW.partition(":")
+        view = getattr(importlib.import_module(module), function)
+        return str(view(self))
 
     def __reduce__(self) -> tuple[object, ...]:
         """Pickled as its plain data, validated again when unpickled (the spec's profile

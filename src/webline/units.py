@@ -250,14 +250,21 @@ def _dimensionality(kind: str) -> pint.util.UnitsContainer:
 def _split(text: str, kind: str) -> tuple[float, str]:
     """(number, unit) of a strictly formed quantity string."""
     if len(text) > MAX_QUANTITY_TEXT:
-        raise ValueError(f"cannot read {short(text)} as a {kind}: longer than "
+        raise ValueError(f"cannot read {short(text)} as {_a(kind)}: longer than "
                          f"{MAX_QUANTITY_TEXT} characters")
     if any(ord(c) < 32 or ord(c) == 127 for c in text):
-        raise ValueError(f"cannot read {short(text)} as a {kind}: it contains control characters")
+        raise ValueError(f"cannot read {short(text)} as {_a(kind)}: it contains control "
+                         "characters")
     match = _QUANTITY.fullmatch(text)
     if match is None:
-        raise ValueError(f"cannot read {short(text)} as a {kind}: write a number and a unit, "
-                         "e.g. '1.5 m' (a decimal point, no commas or expressions)")
+        if text.count(":") == 1:  # a sweep's range without its count
+            raise ValueError(f"cannot read {short(text)} as {_a(kind)}: a range of values is "
+                             f"written start:stop:n (n values, both ends included), e.g. "
+                             f"{clip(text.strip(), 60) + ':5'!r}")
+        unit = SI_UNITS.get(kind, "m")
+        hint = f"a number and a unit, e.g. '1.5 {unit}'" if unit else "a number, e.g. '0.5'"
+        raise ValueError(f"cannot read {short(text)} as {_a(kind)}: write {hint} (a decimal "
+                         "point, no commas or expressions)")
     number, unit = match.groups()
     return float(number), unit.strip() if unit else ""
 
@@ -284,7 +291,7 @@ def _quantity(unit: str, text: str, kind: str) -> pint.Quantity:
     try:
         return _ureg().Quantity(1.0, unit)
     except Exception as exc:  # pint raises many types for unknown units
-        raise ValueError(f"cannot read {short(text)} as a {kind}: {exc}") from None
+        raise ValueError(f"cannot read {short(text)} as {_a(kind)}: {exc}") from None
 
 
 def _factor(unit: str, kind: str, text: str) -> float:

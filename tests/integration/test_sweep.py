@@ -252,11 +252,11 @@ def test_kelvin_voigt_spans_sweep_with_their_felt_tensions() -> None:
 
 
 def test_one_run_names_the_metrics_a_sweep_gives_its_case() -> None:
-    """``Result.metrics()``: the sweep's metrics of one run, by element name. The tension step
-    of span2 lands on the last record (t = 2 s): its error is the step, 18 - 14.35 lbf, and
-    the settling time is inf (still outside the band at the end)."""
+    """``Result.metrics_by_element()``: the sweep's metrics of one run, by element name. The
+    tension step of span2 lands on the last record (t = 2 s): its error is the step,
+    18 - 14.35 lbf, and the settling time is inf (still outside the band at the end)."""
     result = webline.simulate("hswl", 2.0, scenario="tension-step")
-    metrics = result.metrics()
+    metrics = result.metrics_by_element()
     assert set(metrics) == {*METRICS, "status"} and metrics["status"] == "ok"
     step = (18.0 - 14.35) * LBF
     assert metrics["tension_peak_error"]["span2"] == pytest.approx(step, rel=1e-6)

@@ -19,7 +19,7 @@ SRC = Path(__file__).resolve().parents[2] / "src"
 #: points, so it sits just above sim; the layers above may use it.
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline.units", "webline.errors", "webline.version", "webline.data", "webline.files",
-     "webline.verdict", "webline.limits"),
+     "webline.verdict", "webline.limits", "webline.extras"),
     ("webline.spec",),
     ("webline.line", "webline.physics", "webline.profiles"),
     ("webline.model",),

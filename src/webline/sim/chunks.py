@@ -116,6 +116,9 @@ def _chunk_task(run: Callable[..., Any], line: Line, cases: list[dict[str, objec
 
 def _client(scheduler: Any, workers: int | None) -> tuple[Any, Any]:
     """(client, cluster to close or None) for ``scheduler``."""
+    from webline.extras import require
+
+    require("distributed")  # without Dask: MissingExtra, one line naming webline[dask]
     from distributed import Client
 
     if isinstance(scheduler, Client):

@@ -92,6 +92,9 @@ def parse_distribution(text: str) -> tuple[str, float, float]:
     if kind == "lognormal" and unit_b not in ("%", ""):
         raise ValueError(f"{text!r}: sigma, the standard deviation of the logarithm, is a "
                          "plain number or a percentage")
+    if kind != "lognormal" and unit_a and not unit_b and b != 0:  # read as SI, silently
+        raise ValueError(f"{text!r}: {args[1].strip()} has no unit beside {args[0].strip()}; "
+                         f"write it with a unit or as a percentage ('{args[1].strip()} %')")
     if kind != "lognormal" and unit_a and unit_b and unit_b not in ("%", unit_a):
         raise ValueError(f"{text!r}: {args[0].strip()} and {args[1].strip()} are not of one "
                          "kind (a plain number is in SI units)")

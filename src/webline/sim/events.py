@@ -138,3 +138,30 @@ def event_stats(time: np.ndarray,
         for j in np.flatnonzero(masks.any(axis=0)):
             out.append(EventStats(kind, names[j], intervals(time, masks[:, j]), duration))
     return out
+
+
+@dataclass(frozen=True)
+class SlackEvent:
+    """A span went slack (no tension) from ``start`` to ``end`` [s] (``end`` None: still slack)."""
+
+    span: str
+    start: float
+    end: float | None
+
+
+def slack_intervals(time: np.ndarray, slack: np.ndarray, spans: list[str]) -> list[SlackEvent]:
+    """Every interval in which a span carried no tension: ``slack`` (records x spans) true
+    where it was slack, ``time`` [s] of the records, ``spans`` their names."""
+    events = []
+    for k, name in enumerate(spans):
+        column = slack[:, k]
+        edges = np.flatnonzero(np.diff(column.astype(np.int8)))
+        starts = list(time[edges[column[edges + 1]] + 1])
+        ends = list(time[edges[~column[edges + 1]] + 1])
+        if column[0]:
+            starts.insert(0, time[0])
+        for j, start in enumerate(starts):
+            events.append(SlackEvent(name, float(start),
+                                     float(ends[j]) if j < len(ends) else None))
+    return events
+

@@ -155,6 +155,14 @@ class LinearModel:
     inputs: list[str]
     outputs: list[str]
 
+    def __repr__(self) -> str:
+        """Its size and a few names (the dataclass's repr printed every matrix)."""
+        def few(names: list[str]) -> str:
+            return ", ".join(names[:4]) + (", ..." if len(names) > 4 else "")
+
+        return (f"<webline LinearModel: {len(self.states)} states, {len(self.inputs)} inputs "
+                f"({few(self.inputs)}), {len(self.outputs)} outputs ({few(self.outputs)})>")
+
 
 def linear_model(line: Line, t: float = 0.0, *, loop: Literal["open", "closed"] = "closed",
                  unwind_radius: float | None = None,
@@ -279,10 +287,9 @@ def linearize(line: Line | str, t: float | str = 0.0, *,
     inputs are the line speed reference [m/s], each zone's tension reference [N] and the
     wound-in tension [N]. Outputs (both): span tensions [N] and web speeds [m/s]. Signals are
     named (``span1_tension``, ``master_speed``, ``unwind_torque_cmd``, ...; python-control
-    reserves '.').
+    reserves '.'). A ``LinearSystem`` (``webline.sim.linear_system``): a ``StateSpace`` whose
+    ``repr`` is a few lines.
     """
-    import control
-
     from webline.errors import ArgumentError
     from webline.spec.ranges import argument
 
@@ -293,5 +300,9 @@ def linearize(line: Line | str, t: float | str = 0.0, *,
                          rewind_radius=rewind_radius)
     # python-control reserves '.' in system names (subsystem.signal); a line name is free text
     name = load_line(line).name.replace(".", "_") + ("-plant" if loop == "open" else "-closed-loop")
-    return control.ss(model.a, model.b, model.c, 0.0, states=model.states,
-                      inputs=model.inputs, outputs=model.outputs, name=name)
+    from webline.sim.linear_system import LinearSystem
+
+    return LinearSystem(model.a, model.b, model.c, np.zeros((len(model.outputs),
+                                                             len(model.inputs))),
+                        states=model.states, inputs=model.inputs, outputs=model.outputs,
+                        name=name)

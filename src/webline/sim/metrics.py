@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
@@ -66,3 +67,44 @@ def by_element(values: Mapping[str, np.ndarray],
     ``run_metrics``."""
     return {name: dict(zip(names[dim], map(float, values[name]), strict=True))
             for name, (dim, _, _) in METRICS.items()}
+
+
+def metrics_table(values: Mapping[str, np.ndarray], names: Mapping[str, list[str]],
+                  status: str):
+    """The metrics of ``values`` (``run_metrics``) as a tidy ``pandas.DataFrame``: one row per
+    element and metric, columns ``element``, ``metric``, ``value``, ``unit`` (``METRICS``'s);
+    the verdict ``status`` in ``attrs``."""
+    import pandas as pd
+
+    rows = [(element, name, float(value), unit)
+            for name, (dim, unit, _) in METRICS.items()
+            for element, value in zip(names[dim], values[name], strict=True)]
+    table = pd.DataFrame(rows, columns=["element", "metric", "value", "unit"])
+    table.attrs["status"] = status
+    return table
+
+
+def run_summary(result: Any) -> dict[str, dict[str, dict[str, float]]]:
+    """``Result.summary()`` of ``result`` (which imports this module): per span its tension
+    mean, standard deviation and, with a loadcell, mean, largest and RMS error [N]; per drive
+    its speed error's mean, standard deviation and largest value [m/s] against its reference
+    and its largest torque [N·m]."""
+    spans = {}
+    for k, name in enumerate(result.span_names):
+        tension = result.tension[:, k]
+        ref = result.tension_ref[:, k]
+        entry = {"mean": float(tension.mean()), "std": float(tension.std())}
+        if np.all(np.isfinite(ref)):
+            error = tension - ref
+            entry |= {"mean_error": float(error.mean()),
+                      "max_abs_error": float(np.abs(error).max()),
+                      "rms_error": float(np.sqrt(np.mean(error**2)))}
+        spans[name] = entry
+    drives = {}
+    for d, name in enumerate(result.drive_names):
+        error = result.drive_speed[:, d] - result.speed_ref[:, d]
+        drives[name] = {"mean_error": float(error.mean()), "std_error": float(error.std()),
+                        "max_abs_error": float(np.abs(error).max()),
+                        "max_abs_torque": float(np.abs(result.torque[:, d]).max())}
+    return {"spans": spans, "drives": drives}
+

@@ -96,3 +96,15 @@ def result_html(result: Run) -> str:
             f"simulated, <b style='color:{colour}'>{html.escape(result.status)}</b>{message}"
             "<table><tr><th>span</th><th>mean tension [N]</th><th>std [N]</th>"
             f"<th>RMS error [N]</th></tr>{''.join(rows)}</table></div>")
+
+
+def result_text(result: Run) -> str:
+    """A few lines for ``repr``: the line, how much was simulated in how many records, the
+    verdict and why (a dataclass's own repr printed every array)."""
+    duration = float(result.time[-1]) if len(result.time) else 0.0
+    lines = [f"<webline Result: line {result.line.name!r}, {duration:.4g} s simulated, "
+             f"{len(result.time)} records>", f"  status: {result.status}"]
+    if result.message:
+        lines.append(f"  {result.message}")
+    lines.append("  signals: result.signals (xarray), .to_dataframe(), .metrics(), .plot()")
+    return "\n".join(lines)

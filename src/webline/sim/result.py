@@ -10,10 +10,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from webline.sim import layout as L
+from webline.sim.events import SlackEvent
 from webline.sim.failure import Failure
-from webline.sim.metrics import by_element, run_metrics
+from webline.sim.metrics import by_element, metrics_table, run_metrics, run_summary
 from webline.sim.plan import Plan
-from webline.sim.result_files import Precision
+from webline.sim.result_dataset import result_variables, to_xarray
+from webline.sim.result_files import Precision, signal_frame, write_csv, write_netcdf
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -22,15 +24,6 @@ if TYPE_CHECKING:
     from webline.sim.events import EventStats
     from webline.verdict import Verdict
 
-
-
-@dataclass(frozen=True)
-class SlackEvent:
-    """A span went slack (no tension) from ``start`` to ``end`` [s] (``end`` None: still slack)."""
-
-    span: str
-    start: float
-    end: float | None
 
 
 @dataclass(frozen=True)
@@ -312,18 +305,9 @@ class Result:
     @cached_property
     def slack_events(self) -> list[SlackEvent]:
         """Every interval in which a span carried no tension."""
-        events = []
-        for k, name in enumerate(self.span_names):
-            slack = self.stretch[:, k] < 0.0
-            edges = np.flatnonzero(np.diff(slack.astype(np.int8)))
-            starts = list(self.time[edges[slack[edges + 1]] + 1])
-            ends = list(self.time[edges[~slack[edges + 1]] + 1])
-            if slack[0]:
-                starts.insert(0, self.time[0])
-            for j, start in enumerate(starts):
-                events.append(SlackEvent(name, float(start),
-                                         float(ends[j]) if j < len(ends) else None))
-        return events
+        from webline.sim.events import slack_intervals
+
+        return slack_intervals(self.time, self.stretch < 0.0, self.span_names)
 
     # --- summaries and export ------------------------------------------------------------
 
@@ -335,7 +319,13 @@ class Result:
         return run_metrics(self.time, self.tension, self.tension_ref, totals,
                            self._element_names()) | {"status": np.array(self.status)}
 
-    def metrics(self) -> dict[str, object]:
+    def metrics(self):
+        """The metrics a sweep gives each case (``metric_arrays``) as a tidy
+        ``pandas.DataFrame``: columns ``element``, ``metric``, ``value`` [``unit``], ``unit``;
+        the verdict's status in ``.attrs["status"]``."""
+        return metrics_table(self.metric_arrays(), self._element_names(), self.status)
+
+    def metrics_by_element(self) -> dict[str, object]:
         """``metric_arrays`` by name: each metric as {span, drive or node name: value} [N or
         s], and ``status``."""
         values = self.metric_arrays()
@@ -346,52 +336,39 @@ class Result:
 
     def summary(self) -> dict[str, dict[str, dict[str, float]]]:
         """Per span: tension mean, standard deviation and largest error [N]; per drive: speed
-        error mean, standard deviation and largest error [m/s] against its reference."""
-        spans = {}
-        for k, name in enumerate(self.span_names):
-            tension = self.tension[:, k]
-            ref = self.tension_ref[:, k]
-            entry = {"mean": float(tension.mean()), "std": float(tension.std())}
-            if np.all(np.isfinite(ref)):
-                error = tension - ref
-                entry |= {"mean_error": float(error.mean()),
-                          "max_abs_error": float(np.abs(error).max()),
-                          "rms_error": float(np.sqrt(np.mean(error**2)))}
-            spans[name] = entry
-        drives = {}
-        for d, name in enumerate(self.drive_names):
-            error = self.drive_speed[:, d] - self.speed_ref[:, d]
-            drives[name] = {"mean_error": float(error.mean()), "std_error": float(error.std()),
-                            "max_abs_error": float(np.abs(error).max()),
-                            "max_abs_torque": float(np.abs(self.torque[:, d]).max())}
-        return {"spans": spans, "drives": drives}
+        error mean, standard deviation and largest error [m/s] against its reference
+        (``webline.sim.metrics.run_summary``)."""
+        return run_summary(self)
 
     def to_xarray(self) -> xr.Dataset:
         """Dataset over time with span, node and drive coordinates; units as attributes; the
-        resolved line (TOML) and the webline version embedded (``webline.sim.result_dataset``)."""
-        from webline.sim.result_dataset import to_xarray
-
+        resolved line (TOML) and the webline version embedded (``webline.sim.result_dataset``).
+        A new Dataset each call; ``signals`` keeps one."""
         return to_xarray(self)
+
+    @cached_property
+    def signals(self) -> xr.Dataset:
+        """Every signal labelled: ``result.signals.tension`` is an xarray DataArray over
+        (time, span) with names as coordinates and units as attributes, so
+        ``result.signals.tension.sel(span="span2").plot()`` draws one span (``to_xarray()``,
+        built once)."""
+        return self.to_xarray()
 
     def to_netcdf(self, path: str | Path, precision: Precision = "float64") -> Path:
         """Write the dataset to NetCDF-4 (HDF5 via h5netcdf), zlib-compressed and chunked along
         time, atomically (a temporary file renamed into place). ``precision`` "float32" halves
         the float signals (time stays float64). Returns the path."""
-        from webline.sim.result_dataset import result_variables
-        from webline.sim.result_files import write_netcdf
-
         return write_netcdf(result_variables(self), path, precision)
 
     def to_dataframe(self):
-        """Wide table: one row per time, one column per ``signal[element]``."""
-        return self.to_xarray().drop_vars(["tension_ref"]).to_dataframe()
+        """The CSV's table as a ``pandas.DataFrame``: one row per record, indexed by ``time``
+        [s]; one column per signal and element (``tension[span1]``, ``web_stored``), SI, the
+        unit of each column in ``.attrs["units"]`` (``result_files.signal_frame``)."""
+        return signal_frame(result_variables(self))
 
     def to_csv(self, path: str | Path) -> Path:
         """Write one column per named signal (``tension[span1]`` ...) with a units header,
         atomically (a temporary file renamed into place). Returns the path."""
-        from webline.sim.result_dataset import result_variables
-        from webline.sim.result_files import write_csv
-
         return write_csv(result_variables(self), path)
 
     def plot(self, signals: tuple[str, ...] = ("tension", "speed")) -> Figure:
@@ -401,6 +378,12 @@ class Result:
         from webline.sim.quicklook import plot_result
 
         return plot_result(self, signals)
+
+    def __repr__(self) -> str:
+        """A few lines: line, time span, records, verdict (``webline.sim.quicklook``)."""
+        from webline.sim.quicklook import result_text
+
+        return result_text(self)
 
     def _repr_html_(self) -> str:
         """Jupyter's display: line, duration, verdict and tension statistics per span."""

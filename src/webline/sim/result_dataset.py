@@ -16,6 +16,10 @@ if TYPE_CHECKING:
     import xarray as xr
 
 
+#: CF ``long_name`` of each element coordinate (names, so no units)
+COORD_NAMES = {"span": "span name (web order)", "node": "roller name (web order)",
+               "drive": "driven roller name (web order)", "roll": "roll name (unwind, rewind)"}
+
 #: one exported variable: dimensions, values and CF attributes
 Variable = tuple[tuple[str, ...], np.ndarray, dict[str, object]]
 
@@ -73,7 +77,8 @@ def result_variables(result: Any) -> ResultVariables:
     coords: dict[str, Variable] = {
         "time": (("time",), result.time, {"units": "s", "long_name": "simulated time",
                                           "standard_name": "time", "axis": "T"}),
-        **{dim: ((dim,), np.array(values, dtype=object), {}) for dim, values in names.items()},
+        **{dim: ((dim,), np.array(values, dtype=object), {"long_name": COORD_NAMES[dim]})
+           for dim, values in names.items()},
     }
     attrs = {
         "Conventions": "CF-1.8",

@@ -64,18 +64,37 @@ def write_netcdf(variables: ResultVariables, path: str | Path,
     return atomic_write_bytes(Path(path), buffer.getbuffer())
 
 
+def signal_columns(variables: ResultVariables) -> list[tuple[str, str, np.ndarray]]:
+    """Each signal of ``variables`` as columns over time: (``name`` or ``name[element]``, its
+    unit, its values), in the order of the variables and their elements; the table of the CSV
+    and of ``Result.to_dataframe``."""
+    columns = []
+    for name, (dims, values, _) in variables.data.items():
+        if dims == ("time",):
+            columns.append((name, SIGNAL_UNITS[name], values))
+            continue
+        for j, element in enumerate(variables.coords[dims[1]][1]):
+            columns.append((f"{name}[{element}]", SIGNAL_UNITS[name], values[:, j]))
+    return columns
+
+
+def signal_frame(variables: ResultVariables):
+    """``signal_columns(variables)`` as a ``pandas.DataFrame`` indexed by ``time`` [s], the
+    unit of each column in ``.attrs["units"]``."""
+    import pandas as pd
+
+    columns = signal_columns(variables)
+    frame = pd.DataFrame({name: values for name, _, values in columns},
+                         index=pd.Index(variables.coords["time"][1], name="time"))
+    frame.attrs["units"] = {name: unit for name, unit, _ in columns}
+    return frame
+
+
 def write_csv(variables: ResultVariables, path: str | Path) -> Path:
     """One column per named signal (``tension[span1] [N]`` ...) of ``variables``, time
     first."""
-    columns, headers = [variables.coords["time"][1]], ["time [s]"]
-    for name, (dims, values, _) in variables.data.items():
-        if dims == ("time",):
-            columns.append(values)
-            headers.append(f"{name} [{SIGNAL_UNITS[name]}]")
-            continue
-        for j, element in enumerate(variables.coords[dims[1]][1]):
-            columns.append(values[:, j])
-            headers.append(f"{name}[{element}] [{SIGNAL_UNITS[name]}]")
-    table = np.column_stack(columns)
+    columns = signal_columns(variables)
+    headers = ["time [s]", *(f"{name} [{unit}]" for name, unit, _ in columns)]
+    table = np.column_stack([variables.coords["time"][1], *(c for _, _, c in columns)])
     return atomic_write(Path(path), lambda tmp: np.savetxt(
         tmp, table, delimiter=",", header=",".join(headers), comments="", fmt="%.9g"))

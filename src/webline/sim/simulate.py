@@ -71,29 +71,37 @@ def next_chunk(count: int, seconds: float, n_ticks: int, progress: bool) -> int:
 
 
 @contextmanager
-def deferred_interrupt() -> Iterator[Callable[[], bool]]:
-    """Within the block, a first Ctrl-C (SIGINT) only sets a flag (the yielded function reads
-    it), so the chunk loop stops cleanly after the chunk under way, keeping its records; a
-    second Ctrl-C raises KeyboardInterrupt at once (e.g. while the loop still compiles). Only
-    where Python's default SIGINT handler is in place in the main thread; elsewhere the flag
-    stays False and Ctrl-C raises as usual."""
-    pressed: list[bool] = []
+def deferred_interrupt() -> Iterator[Callable[[], int]]:
+    """Within the block, a first Ctrl-C (SIGINT) only records the signal (the yielded function
+    returns its number, 0 before any), so the chunk loop stops cleanly after the chunk under
+    way, keeping its records; a second Ctrl-C raises KeyboardInterrupt at once (e.g. while the
+    loop still compiles). Only where Python's default SIGINT handler is in place in the main
+    thread; elsewhere the function returns 0 and Ctrl-C raises as usual. A SIGTERM handled by
+    ``webline.errors.terminate_as_interrupt`` arrives here as Ctrl-C does, with its own number."""
+    pressed: list[int] = []
     default = signal.default_int_handler
     if (threading.current_thread() is not threading.main_thread()
             or signal.getsignal(signal.SIGINT) is not default):
-        yield lambda: False
+        yield lambda: 0
         return
 
     def handler(signum: int, frame: object) -> None:
         if pressed:
             default(signum, frame)  # type: ignore[arg-type]
-        pressed.append(True)
+        pressed.append(signum)
 
     signal.signal(signal.SIGINT, handler)
     try:
-        yield lambda: bool(pressed)
+        yield lambda: pressed[0] if pressed else 0
     finally:
         signal.signal(signal.SIGINT, default)
+
+
+def interrupt_text(signum: int, end: float) -> str:
+    """Why a run stopped at ``end`` [s] on signal ``signum`` (SIGINT: Ctrl-C, or SIGTERM)."""
+    if signum == signal.SIGTERM:
+        return f"stopped by SIGTERM (a scheduler's or kill's stop) at t = {end:.4g} s"
+    return f"interrupted by the user (Ctrl-C) at t = {end:.4g} s"
 
 
 def simulate(line: Line | str | Path, duration: float | str | None = None, *,
@@ -160,6 +168,7 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
     chunk = FIRST_CHUNK
     if progress is not None:
         chunk = min(chunk, max(1000, math.ceil(n_ticks / 100)))
+    signum = 0  # the signal that stopped the run, if one did
     with deferred_interrupt() as interrupted:
         try:
             while done < n_ticks and status == L.STATUS_OK and not interrupted():
@@ -175,18 +184,20 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
                                    progress is not None)
                 if progress is not None:
                     progress(done / n_ticks)
-        except KeyboardInterrupt:  # raised where no deferring handler could be installed
+        except KeyboardInterrupt as stop:  # where no deferring handler could be installed
             if not stored:
                 raise  # nothing computed yet: a plain Ctrl-C
             status = STATUS_INTERRUPTED
+            signum = getattr(stop, "signum", 0) or interrupted() or signal.SIGINT
         if interrupted() and status == L.STATUS_OK and done < n_ticks:
             status = STATUS_INTERRUPTED
+        signum = signum or interrupted()
     # a run that stopped early keeps only its records, not the whole buffer
     records = buffer[:stored] if stored >= len(buffer) - 2 else buffer[:stored].copy()
     if status == STATUS_INTERRUPTED:
         end = float(records[-1, 0]) if len(records) else 0.0
         failure: Failure | None = Failure(
-            "interrupted", line.name, end, f"interrupted by the user (Ctrl-C) at t = {end:.4g} s")
+            "interrupted", line.name, end, interrupt_text(signum, end))
     else:
         failure = kernel_failure(plan, status, t_fail, where, x)
     result = _result(plan, records, failure,
