@@ -22,8 +22,12 @@ kernel; a new structure compiles (and caches) another.
  N_DANCER, N_DINVM, N_DK, N_DC, N_DSET, N_DTRAVEL, N_DSTOP, N_DSTOPC, N_DLOAD,
  # a traction nip's static and Coulomb friction on the web, 2 μ_n N and 2 μ_n' N [N] (its
  # inertia and bearing friction are in N_JCONST, N_VISCOUS, N_COULOMB; docs/winder.md, Nip)
- N_NIPS, N_NIPK) = range(28)
-N_COLS = 28
+ N_NIPS, N_NIPK,
+ # a flying splice on a roll (docs/winder.md S1; ``sim.splice``): the tick it happens at (-1:
+ # none), the new roll's radius [m], its surface speed over the web's [-] and the slack [m]
+ # it puts into the span next to the roll
+ N_SPLICE_TICK, N_SPLICE_R, N_SPLICE_GAIN, N_SPLICE_SLACK) = range(32)
+N_COLS = 32
 
 # node structure (integer) columns, and the float columns they copy
 NS_KIND, NS_DRIVE, NS_ECCSTATE, NS_TRACTION, NS_DRAG, NS_DANCER = range(6)
@@ -110,6 +114,7 @@ O_NOISE = 9  # 1 if measurements carry noise
 O_NEED_EQ = 10  # 1 if a controller needs the reference state every tick
 O_BREAK = 11  # 1 if the web breaks in this run (docs/winder.md W5): the break monitor is on
 O_KV = 12  # 1 if a span is Kelvin-Voigt: the rollers and loadcells feel s + τ ds/dt
+O_SPLICE = 13  # 1 if a roll is spliced in this run (docs/winder.md S1, ``sim.splice``)
 
 # kernel status codes; with each failure the kernel returns where it happened: the span
 # (strength, runaway stretch), node (runaway speed) or drive (runaway motor speed), else -1

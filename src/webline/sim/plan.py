@@ -14,7 +14,7 @@ from webline.model.operating_point import OperatingPoint, operating_point
 from webline.profiles import breakpoints, pwl_slope, pwl_value
 from webline.sim import dancer as dancers
 from webline.sim import layout as L
-from webline.sim import winder
+from webline.sim import splice, winder
 from webline.sim.drive_table import drive_table, transmission, transmission_columns
 from webline.spec.nip import shaft_terms
 from webline.spec.schema import (
@@ -283,9 +283,11 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     span_table = np.array([[s.length, 1.0 / s.length, 0.0, s.retardation or 0.0]
                            for s in spec.spans])
     breaks = winder.break_columns(line, span_table, web)
+    spliced = splice.splice_columns(nodes, line, 1.0 / rate)
     viscoelastic = bool(np.any(span_table[:, L.S_TAU] > 0.0))
     offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
-                        off_tr, noisy, need_eq, breaks, viscoelastic], dtype=np.int64)
+                        off_tr, noisy, need_eq, breaks, viscoelastic, spliced],
+                       dtype=np.int64)
     wound = np.array([[d.amplitude, d.frequency, d.phase] for d in spec.disturbances
                       if isinstance(d, WoundInRipple)]).reshape(-1, 3)
     ripple = np.array([[line.drives.index(_node(line, d.roller)), d.amplitude, d.frequency,

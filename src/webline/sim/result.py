@@ -84,10 +84,12 @@ class Result:
         """The run's verdict: its failure, its events and the linear stability of the line
         at ``analysis_time`` (``webline.sim.findings``)."""
         from webline.sim.findings import run_verdict
+        from webline.sim.splice_findings import splice_findings
         from webline.sim.winder_findings import break_findings
 
         return run_verdict(self.failure, self.events, self.line, self.plan,
-                           break_findings(self.line, self.time, self.speed, self.break_monitor))
+                           break_findings(self.line, self.time, self.speed, self.break_monitor)
+                           + splice_findings(self.line, self.plan.dt, self.time, self.tension))
 
     @property
     def status(self) -> str:
