@@ -63,3 +63,16 @@ def test_schematic_shows_who_sets_each_zone_and_the_winder_functions():
     assert any(t.startswith("dancer: position") and "stroke 0.3 m" in t for t in texts)
     assert any("taper linear 30 %" in t and "D calc: speed ratio" in t for t in texts)
     assert "breaks at 5 s" in texts
+
+
+def test_show_lists_each_flying_splice_with_the_time_its_new_roll_needs():
+    """The new rewind core: J = 1.5 + 2.5² 0.05 kg·m² + web from 89 to 95 mm = 1.866 kg·m²,
+    at 5 m/s / 0.095 m = 52.63 rad/s; at 2.5 x 150 N·m it takes J ω / 375 N·m = 0.262 s."""
+    line = webline.load_line("converter").with_scenario("flying-splice")
+    rows = {(row[0], row[1]): row[2] for row in _tables(line)["winder"].rows}
+    text = rows[("rewind", "flying splice")]
+    assert text.startswith("at 12 s onto a 0.19 m roll, surface speed +1 %, no slack")
+    assert "(1.866 kg·m²) reaches 52.63 rad/s in 0.262 s" in text
+    assert ("unwind", "flying splice") in rows
+    labels = [t.get_text() for t in schematic(line, Display()).axes[0].texts]
+    assert any("splice at 12 s" in t for t in labels)

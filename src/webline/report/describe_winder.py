@@ -1,14 +1,17 @@
 """The winder functions of a line in words (docs/winder.md): who sets each zone's tension,
-dancers, taper, diameter calculation, compensation, open-loop mode and break monitoring, as
-``webline show``, the report's tables and the schematic show them."""
+dancers, taper, diameter calculation, compensation, open-loop mode, break monitoring and
+flying splices, as ``webline show``, the report's tables and the schematic show them."""
 
 from __future__ import annotations
 
 from webline.line import Line, Zone
+from webline.physics.roll import roll_inertia
+from webline.profiles import breakpoints, pwl_value
 from webline.report.display import Display, profile_text
 from webline.report.tables import Table, make_table
 from webline.spec.dancer import DancerCarriage
 from webline.spec.schema import DancerSpec, RewindSpec, UnwindSpec
+from webline.spec.splice import FlyingSplice
 from webline.spec.winder import WebBreak
 
 #: what the dancer's ``use`` makes of it, in words
@@ -154,6 +157,25 @@ def break_text(item: WebBreak, d: Display) -> str:
             f"reaction: ramp to a stop in {d.text(item.stop_time, 'time')}")
 
 
+def splice_text(line: Line, item: FlyingSplice, d: Display) -> str:
+    """A flying splice in words, with the time the new roll's drive needs at least to bring
+    it to line speed at its torque limit: J(R_new) ω / (n τ_limit), ω = v_line(at) / R_new."""
+    roll = line.spec.rollers[0 if item.roll == line.node_name(0) else -1]
+    radius = item.new_diameter / 2.0
+    drive = roll.drive  # type: ignore[union-attr]
+    inertia = roll_inertia(roll.inertia + drive.ratio**2 * drive.motor_inertia, radius,
+                           roll.core_radius, line.spec.web.width,  # type: ignore[union-attr]
+                           line.spec.web.density)
+    t, v = breakpoints(line.spec.speed)
+    omega = abs(float(pwl_value(t, v, item.at))) / radius
+    slack = f"slack {d.text(item.slack, 'length')}" if item.slack else "no slack"
+    return (f"at {d.text(item.at, 'time')} onto a {d.text(item.new_diameter, 'length')} roll, "
+            f"surface speed {100 * item.speed_mismatch:+.3g} %, {slack}; the new roll "
+            f"({d.text(inertia, 'inertia')}) reaches {omega:.4g} rad/s in "
+            f"{inertia * omega / (drive.ratio * drive.torque_limit):.3g} s at the least "
+            "(its drive's torque limit)")
+
+
 def winder_rows(line: Line, d: Display) -> list[list[str]]:
     """[element, function, setting] of every winder function the line has."""
     rows: list[list[str]] = []
@@ -176,6 +198,8 @@ def winder_rows(line: Line, d: Display) -> list[list[str]]:
     for item in line.spec.disturbances:
         if isinstance(item, WebBreak):
             rows.append([item.span, "web break and break monitoring", break_text(item, d)])
+        if isinstance(item, FlyingSplice):
+            rows.append([item.roll, "flying splice", splice_text(line, item, d)])
     return rows
 
 
@@ -203,6 +227,8 @@ def roll_labels(line: Line, i: int) -> list[str]:
         labels.append("inertia comp.")
     if winder is not None and (winder.static_friction or winder.viscous_friction):
         labels.append("friction comp.")
+    labels += [f"splice at {s.at:g} s" for s in line.spec.disturbances
+               if isinstance(s, FlyingSplice) and s.roll == roller.name]
     return labels
 
 

@@ -17,21 +17,23 @@ BEFORE, AFTER = 0.5, 3.0  #: the time shown around a splice [s]
 
 def disturbance(result: Result, window: SpliceWindow) -> tuple[float, str, float, float]:
     """(largest tension change [N] from just before the splice, its span, its time after
-    the splice [s], the change of the span's set tension [N]) in the zone's spans between
-    the splice and the end of its window."""
+    the splice [s], the change of the zone's set tension [N] across the splice, as a taper
+    sets it from the new diameter) in the zone's spans between the splice and the end of
+    its window."""
     time = result.time
     before = max(int(np.searchsorted(time, window.time)) - 1, 0)
     after = (time >= window.time) & (time <= window.until)
-    best = (0.0, result.span_names[window.spans[0]], 0.0, 0.0)
+    best = (0.0, result.span_names[window.spans[0]], 0.0)
     for k in window.spans:
         change = result.tension[after, k] - result.tension[before, k]
         j = int(np.argmax(np.abs(change)))
         if abs(change[j]) > abs(best[0]):
-            ref = result.tension_ref[:, k]
-            step = float(ref[after][-1] - ref[before]) if np.isfinite(ref[before]) else 0.0
-            best = (float(change[j]), result.span_names[k],
-                    float(time[after][j] - window.time), step)
-    return best
+            best = (float(change[j]), result.span_names[k], float(time[after][j] - window.time))
+    loadcell = result.line.zones[result.line.zone_of_span(window.spans[0])].loadcell
+    ref = result.tension_ref[:, loadcell]
+    first = int(np.argmax(after))
+    step = float(ref[first] - ref[before]) if np.isfinite(ref[before]) else 0.0
+    return (*best, step)
 
 
 def splice_caption(result: Result, display: Display) -> str:
@@ -43,12 +45,16 @@ def splice_caption(result: Result, display: Display) -> str:
         change, span, lag, step = disturbance(result, window)
         text = (f"{s.roll} spliced onto a {display.text(s.new_diameter, 'length')} roll at "
                 f"t = {window.time:.4g} s (surface speed {100 * s.speed_mismatch:+.3g} %, "
-                f"slack {display.text(s.slack, 'length')}): largest tension change "
+                f"{_slack(s.slack, display)}): largest tension change "
                 f"{display.text(change, 'force')} in {span}, {1000 * lag:.3g} ms after")
-        if step:
-            text += f" (its set tension changed by {display.text(step, 'force')})"
+        if abs(step) > 1e-9 * max(abs(change), 1.0):
+            text += f"; the zone's set tension changed by {display.text(step, 'force')}"
         parts.append(text + ".")
     return "Flying splices: " + " ".join(parts)
+
+
+def _slack(slack: float, display: Display) -> str:
+    return f"slack {display.text(slack, 'length')}" if slack else "no slack"
 
 
 def splice_figure(result: Result, display: Display) -> Figure:
