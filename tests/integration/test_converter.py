@@ -72,3 +72,6 @@ def test_flying_splice_is_ok_and_its_report_shows_both_splices(tmp_path):
     assert "Flying splices: unwind spliced onto a 0.8 m roll at t = 4 s" in report
     assert "rewind spliced onto a 0.19 m roll at t = 12 s" in report
     assert (tmp_path / "figures" / "splice.png").exists()
+    # the line section shows the zones with what sets their tension, and the winder functions
+    assert "Tension zones" in report and "Winder functions" in report
+    assert "dancer dancer (its load / 2; drive unwind holds the dancer&#x27;s position)" in report

@@ -153,3 +153,20 @@ def test_one_splice_per_roll_and_a_direct_drive():
         webline.load_line("converter").replace(disturbances=[item, item | {"at": "2 s"}])
     with pytest.raises(LineFileError, match="needs a direct drive"):  # rockwell's belt rewind
         webline.load_line("rockwell").replace(disturbances=[item | {"new_diameter": "0.2 m"}])
+
+
+def test_cli_refuses_a_bad_splice_in_one_line(tmp_path):
+    import tomli_w
+    from typer.testing import CliRunner
+
+    from webline.cli import app
+
+    data = webline.load_line("converter").spec.model_dump(exclude_none=True)
+    data["disturbances"] = [{"type": "flying_splice", "roll": "drum", "at": 1.0,
+                             "new_diameter": 0.19}]
+    path = tmp_path / "bad.toml"
+    path.write_text(tomli_w.dumps(data), encoding="utf-8")
+    result = CliRunner().invoke(app, ["validate", str(path)])
+    assert result.exit_code == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and "disturbances[0].roll" in lines[0], result.output
