@@ -112,6 +112,39 @@ def test_speed_mismatch_disturbance_against_first_principles(base, matched):
     assert np.array_equal(base.tension[before, k], matched.tension[before, k])
 
 
+def test_a_matched_splice_leaves_only_the_torque_lag(scenario):
+    """S1: speed-matched, no slack, the drive preset with the new roll's tension and friction
+    torque, a splice leaves the web only the 2 ms lag in which the new roll's motor builds
+    its tension torque T R_new / n. On the rewind's new core (J = 1.866 kg·m²) the web's pull
+    T R_new = 14.25 N·m for τ_lag = 2 ms slows it by Δv = R_new T R_new τ_lag / J =
+    1.45 mm/s, which the speed loop returns as e0 (1 - ω_s t) e^{-ω_s t} (S3): the zone loses
+    at most Δv / (e ω_s) of web, ΔT = EA Δv / (e ω_s L_z) = 0.91 N. Tolerance 25 %: the lag is
+    a first-order rise, not an impulse, and the guide roller between the two spans rings
+    (their changes differ by 20 %). Without the preset the rewind zone moves by 68 N. On the
+    0.8 m unwind roll (74 kg·m², behind the dancer) the change is below 0.5 N (1.3 N without
+    the preset). The rewind's taper is off and its diameter integrated from the thickness,
+    so that neither a set-tension step nor the speed-ratio calculator's strain bias (4e-4,
+    whose preset to the true diameter steps the measured speed by 2 mm/s) adds its own."""
+    line = scenario.replace({"disturbances[0].speed_mismatch": 0.0,
+                             "disturbances[1].speed_mismatch": 0.0,
+                             "rollers.rewind.taper.taper": 0.0,
+                             "rollers.rewind.diameter.method": "thickness"})
+    result = webline.simulate(line, DURATION)
+    tension, ea, omega_s = 150.0, line.ea, 20.0
+    radius, inertia, lag, zone_length = 0.095, 1.866, 0.002, 3.5
+    dv = radius * tension * radius * lag / inertia
+    estimate = ea * dv / (math.e * omega_s * zone_length)
+
+    def change(t0: float, spans: tuple[int, ...]) -> float:
+        j = record(result, t0) - 1
+        after = (result.time >= t0) & (result.time < t0 + 2.0)
+        return max(float(np.abs(result.tension[after, k] - result.tension[j, k]).max())
+                   for k in spans)
+
+    assert change(REWIND_SPLICE, (5, 6)) == pytest.approx(estimate, rel=0.25)
+    assert change(4.0, (0, 1, 2)) < 0.5
+
+
 def test_a_splice_that_slackens_the_web_is_a_warning(base, slackened):
     """2 mm of slack in the rewind's 2 m span drops its 106 N by EA·δ/L = 120 N: slack. The
     verdict warns with the roll, the span, when and how long; without slack it is ok."""

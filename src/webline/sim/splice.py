@@ -59,8 +59,9 @@ def apply_splices(tick: int, x: np.ndarray, istate: np.ndarray, ns: np.ndarray,
         radius_state = offsets[L.O_RADIUS] + end
         omega_state = offsets[L.O_OMEGA] + i
         r_old, r_new = x[radius_state], nodes[i, L.N_SPLICE_R]
+        omega_old = x[omega_state]
         # the new roll runs at the web's speed at the old roll, times (1 + mismatch)
-        x[omega_state] = nodes[i, L.N_SPLICE_GAIN] * r_old * x[omega_state] / r_new
+        x[omega_state] = nodes[i, L.N_SPLICE_GAIN] * r_old * omega_old / r_new
         x[radius_state] = r_new
         k = 0 if end == 0 else n_n - 2  # the span next to the roll
         carried = x[k] if x[k] > 0.0 else 0.0  # the tension the old roll carried
@@ -69,8 +70,15 @@ def apply_splices(tick: int, x: np.ndarray, istate: np.ndarray, ns: np.ndarray,
         x[k] -= web[L.W_EA] * slack / length  # u = L (1 - s/EA) grows by the slack
         x[offsets[L.O_WEB] + end] += slack if end == 0 else -slack
         d = ns[i, L.NS_DRIVE]
+        n = drives[d, L.D_RATIO]
         direction = -1.0 if end == 0 else 1.0  # the web pulls a rewind back, an unwind on
-        istate[d, L.I_SPEED] += direction * carried * (r_new - r_old) / drives[d, L.D_RATIO]
+        omega = x[omega_state]
+        viscous = nodes[i, L.N_VISCOUS] / n + n * drives[d, L.D_BMOTOR]  # [N·m·s] at the motor
+        istate[d, L.I_SPEED] += (direction * carried * (r_new - r_old) / n
+                                 + viscous * (omega - omega_old))  # tension and friction
+        # the new roll's motor carried only its friction until now (S1): (rigid drives only)
+        coulomb = nodes[i, L.N_COULOMB] * (1.0 if omega > 0.0 else -1.0 if omega < 0.0 else 0.0)
+        x[offsets[L.O_TORQUE] + d] = viscous * omega + coulomb / n
         istate[d, L.I_RADIUS] = r_new  # diameter preset: the drive knows the new roll
         istate[d, L.I_REXTREME] = 0.0  # the break monitor's extreme starts again
         istate[d, L.I_WHAT] = x[omega_state]  # a section observer's speed estimate
