@@ -171,6 +171,10 @@ def disturbance_text(item: object, d: Display) -> str:
     if kind == "eccentric_roller":
         return (f"eccentric roller {item.roller}: "  # type: ignore[attr-defined]
                 f"{d.text(item.eccentricity, 'length')}")  # type: ignore[attr-defined]
+    if kind == "flying_splice":
+        return (f"flying splice of {item.roll} at {d.text(item.at, 'time')} onto a "  # type: ignore[attr-defined]
+                f"{d.text(item.new_diameter, 'length')} roll, surface speed "  # type: ignore[attr-defined]
+                f"{100 * item.speed_mismatch:+.3g} %, slack {d.text(item.slack, 'length')}")  # type: ignore[attr-defined]
     if kind == "speed_ripple":
         return (f"speed ripple on {item.roller}: {d.text(item.amplitude, 'speed')} at "  # type: ignore[attr-defined]
                 f"{item.frequency:g} Hz")  # type: ignore[attr-defined]
