@@ -166,6 +166,10 @@ def test_the_report_shows_each_splice_and_its_disturbance(base):
     assert "unwind spliced onto a 0.8 m roll at t = 4 s (surface speed -1 %" in caption
     assert "rewind spliced onto a 0.19 m roll at t = 12 s (surface speed +1 %" in caption
     assert "largest tension change" in caption
+    # the rewind's set tension steps back to the taper's at the core: 150 N (1 - 0.3 (0.7811 -
+    # 0.178)/(0.8 - 0.178)) = 106.4 N before, 150 N (1 - 0.3 (0.19 - 0.178)/0.622) = 149.1 after
+    assert "the zone's set tension changed by 42.7" in caption
+    assert "the old 0.7811 m roll" in caption and "stops in 2.31 s at the least" in caption
 
 
 @pytest.mark.parametrize(("splice", "key", "problem"), [

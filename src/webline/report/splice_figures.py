@@ -49,8 +49,23 @@ def splice_caption(result: Result, display: Display) -> str:
                 f"{display.text(change, 'force')} in {span}, {1000 * lag:.3g} ms after")
         if abs(step) > 1e-9 * max(abs(change), 1.0):
             text += f"; the zone's set tension changed by {display.text(step, 'force')}"
+        text += "; " + old_roll_text(result, window, display)
         parts.append(text + ".")
     return "Flying splices: " + " ".join(parts)
+
+
+def old_roll_text(result: Result, window: SpliceWindow, display: Display) -> str:
+    """The old roll as it left the web (the last record before the splice) and the least
+    time its drive needs to stop it at its torque limit, J ω / (n τ_max)."""
+    node = 0 if window.splice.roll == result.node_names[0] else result.line.n_nodes - 1
+    before = max(int(np.searchsorted(result.time, window.time)) - 1, 0)
+    inertia = result.inertia[before, 0 if node == 0 else 1]
+    omega = abs(result.omega[before, node])
+    drive = result.line.spec.rollers[node].drive
+    stop = inertia * omega / (drive.ratio * drive.torque_limit)
+    return (f"the old {display.text(2.0 * result.radius[before, node], 'length')} roll "
+            f"({display.text(inertia, 'inertia')}, {omega:.4g} rad/s) stops in {stop:.3g} s "
+            "at the least (its drive's torque limit)")
 
 
 def _slack(slack: float, display: Display) -> str:
