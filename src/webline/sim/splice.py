@@ -71,7 +71,7 @@ def apply_splices(tick: int, x: np.ndarray, istate: np.ndarray, ns: np.ndarray,
         x[offsets[L.O_WEB] + end] += slack if end == 0 else -slack
         d = ns[i, L.NS_DRIVE]
         n = drives[d, L.D_RATIO]
-        direction = -1.0 if end == 0 else 1.0  # the web pulls a rewind back, an unwind on
+        direction = -1.0 if end == 0 else 1.0  # the motor brakes an unwind, pulls a rewind
         omega = x[omega_state]
         viscous = nodes[i, L.N_VISCOUS] / n + n * drives[d, L.D_BMOTOR]  # [N·m·s] at the motor
         istate[d, L.I_SPEED] += (direction * carried * (r_new - r_old) / n
