@@ -76,3 +76,13 @@ def test_show_lists_each_flying_splice_with_the_time_its_new_roll_needs():
     assert ("unwind", "flying splice") in rows
     labels = [t.get_text() for t in schematic(line, Display()).axes[0].texts]
     assert any("splice at 12 s" in t for t in labels)
+
+
+def test_a_dancer_as_tension_sensor_is_what_its_drive_reads():
+    line = webline.load_line("converter").replace({"rollers.dancer.dancer.use": "tension",
+                                                   "rollers.dancer.dancer.stiffness": "2 kN/m"})
+    zones = _tables(line)["zones"]
+    first = zones.rows[0]
+    assert first[zones.columns.index("tension set by")] == (
+        "drive unwind, reading dancer dancer as its sensor")
+    assert first[zones.columns.index("loadcell on")] == "unwind_span (monitors only)"

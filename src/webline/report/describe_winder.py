@@ -70,7 +70,7 @@ def zones_table(line: Line) -> Table:
         dancer = zone_dancer(line, zone)
         use = None if dancer is None else line.spec.rollers[dancer].dancer.use  # type: ignore[union-attr]
         loadcell = line.span_name(zone.loadcell)
-        if use == "position" or _open_loop(line, zone.controller):
+        if use in ("position", "tension") or _open_loop(line, zone.controller):
             loadcell += " (monitors only)"
         rows.append([str(z + 1), f"{line.node_name(zone.first)} → {line.node_name(zone.last)}",
                      loadcell, tension_setter(line, z), line.node_name(zone.controller)])
