@@ -95,7 +95,7 @@ def dancer_text(line: Line, i: int, d: Display) -> str:
     parts = [DANCER_USES[c.use], f"load {dancer_load_text(line, i, d)}",
              f"stroke {d.text(c.travel, 'length')}",
              f"position set point {d.text(c.position, 'length')}",
-             f"moving mass {c.moving_mass:.4g} kg"]
+             f"moving mass {d.text(c.moving_mass, 'mass')}"]
     if c.stiffness:
         parts.append(f"spring {d.text(c.stiffness, 'stiffness')}")
     if c.damping:

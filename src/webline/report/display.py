@@ -17,7 +17,8 @@ SYSTEMS: tuple[System, ...] = ("si", "imperial", "si-per-width", "imperial-per-w
 
 #: How units are written for people (pint's '**' and '*' made readable).
 PRETTY = {"kg*m**2": "kg·m²", "N*m": "N·m", "N*m*s": "N·m·s", "lb*ft**2": "lb·ft²",
-          "lbf*ft": "lbf·ft", "lbf*ft*s": "lbf·ft·s", "kg/m**3": "kg/m³", "lb/ft**3": "lb/ft³"}
+          "lbf*ft": "lbf·ft", "lbf*ft*s": "lbf·ft·s", "kg/m**3": "kg/m³", "lb/ft**3": "lb/ft³",
+          "N*s/m": "N·s/m", "lbf*s/in": "lbf·s/in"}
 
 
 @dataclass(frozen=True)
