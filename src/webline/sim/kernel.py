@@ -305,7 +305,8 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
             if t >= spans[k, L.S_BREAK] and drag[2 * n_n + k] == 0.0:
                 drag[2 * n_n + k], x[k] = 1.0, 0.0
         if offsets[L.O_SPLICE]:  # a new roll takes over the web (docs/winder.md S1)
-            apply_splices(tick, x, istate, ns, offsets, nodes, spans, drives, web)
+            apply_splices(tick, dt, x, istate, ns, offsets, nodes, spans, drives, web, prof_t,
+                          prof_v, prof_off)
         if offsets[L.O_KV]:  # the controllers measure what the rollers feel
             felt_tensions(wound_in(t, web, wound_ripple), x, cmd, drag, slipping, ns, ds,
                           offsets, nodes, spans, drives, web, stages[0], scratch, tmp)

@@ -23,11 +23,12 @@ kernel; a new structure compiles (and caches) another.
  # a traction nip's static and Coulomb friction on the web, 2 μ_n N and 2 μ_n' N [N] (its
  # inertia and bearing friction are in N_JCONST, N_VISCOUS, N_COULOMB; docs/winder.md, Nip)
  N_NIPS, N_NIPK,
- # a flying splice on a roll (docs/winder.md S1; ``sim.splice``): the tick it happens at (-1:
- # none), the new roll's radius [m], its surface speed over the web's [-] and the slack [m]
- # it puts into the span next to the roll
- N_SPLICE_TICK, N_SPLICE_R, N_SPLICE_GAIN, N_SPLICE_SLACK) = range(32)
-N_COLS = 32
+ # the flying splices of a roll (docs/winder.md S1; ``sim.splice``): index p of the profile
+ # whose breakpoints are the splices' times [s] and new radii [m] (-1: none); profiles p + 1
+ # and p + 2 hold, at the same times, the new roll's surface speed over the web's [-] and the
+ # slack [m] each splice puts into the span next to the roll
+ N_SPLICE) = range(29)
+N_COLS = 29
 
 # node structure (integer) columns, and the float columns they copy
 NS_KIND, NS_DRIVE, NS_ECCSTATE, NS_TRACTION, NS_DRAG, NS_DANCER = range(6)

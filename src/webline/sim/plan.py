@@ -252,6 +252,8 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         profiles.append(dancers.load_profile(line, i))
     taper_profile = len(profiles)
     profiles += winder.taper_profiles(line)
+    spliced = splice.splice_columns(nodes, line, len(profiles))
+    profiles += splice.splice_profiles(line)
     prof_off = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
 
     rate = sample_rate if sample_rate is not None else spec.control.sample_rate
@@ -283,7 +285,6 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     span_table = np.array([[s.length, 1.0 / s.length, 0.0, s.retardation or 0.0]
                            for s in spec.spans])
     breaks = winder.break_columns(line, span_table, web)
-    spliced = splice.splice_columns(nodes, line, 1.0 / rate)
     viscoelastic = bool(np.any(span_table[:, L.S_TAU] > 0.0))
     offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
                         off_tr, noisy, need_eq, breaks, viscoelastic, spliced],

@@ -137,10 +137,11 @@ def check_spec(spec: LineSpec, file: str) -> None:
                       else spec.disturbances)
             check_splices([scenario.splice], spec.rollers, f"{key}.splice", fail,
                           indexed=False)
-            if any(getattr(d, "roll", None) == scenario.splice.roll for d in before
-                   if getattr(d, "type", "") == "flying_splice"):
-                fail(f"{key}.splice.roll", f"{scenario.splice.roll!r} is already spliced in "
-                     "the disturbances (one splice per roll and run)")
+            if any(getattr(d, "type", "") == "flying_splice"
+                   and (d.roll, d.at) == (scenario.splice.roll, scenario.splice.at)  # type: ignore[union-attr]
+                   for d in before):
+                fail(f"{key}.splice.at", f"{scenario.splice.roll!r} is already spliced at "
+                     f"{scenario.splice.at:g} s in the disturbances")
         for attr, index in (("unwind_radius", 0), ("rewind_radius", len(rollers) - 1)):
             radius = getattr(scenario, attr)
             roll = rollers[index]

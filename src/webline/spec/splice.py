@@ -43,12 +43,12 @@ class SpliceEvent(FlyingSplice):
 
 def check_splices(items: Sequence[Any], rollers: Sequence[Any], key: str,
                   fail: Callable[[str, str], Any], *, indexed: bool = True) -> None:
-    """Fail on a splice of a roller that is not a roll, a second splice of one roll, a new
-    diameter at or below the roll's core, or a roll whose drive has a compliant
+    """Fail on a splice of a roller that is not a roll, two splices of one roll at the same
+    time, a new diameter at or below the roll's core, or a roll whose drive has a compliant
     transmission (its motor speed and twist would have to jump with the roll). Keys are
     ``key[j]`` (``key`` itself where not ``indexed``: a scenario's one ``splice``)."""
     ends = {rollers[0].name: rollers[0], rollers[-1].name: rollers[-1]}
-    spliced: set[str] = set()
+    spliced: set[tuple[str, float]] = set()
     for j, item in enumerate(items):
         if not isinstance(item, FlyingSplice):
             continue
@@ -58,10 +58,9 @@ def check_splices(items: Sequence[Any], rollers: Sequence[Any], key: str,
             fail(f"{here}.roll", f"must name the unwind or the rewind roll "
                  f"({' or '.join(repr(n) for n in ends)}), got {item.roll!r}")
             continue
-        if item.roll in spliced:
-            fail(f"{here}.roll", f"{item.roll!r} is spliced twice in one run (one splice per "
-                 "roll and run)")
-        spliced.add(item.roll)
+        if (item.roll, item.at) in spliced:
+            fail(f"{here}.at", f"{item.roll!r} is already spliced at {item.at:g} s")
+        spliced.add((item.roll, item.at))
         if item.new_diameter <= 2.0 * roll.core_radius:
             fail(f"{here}.new_diameter", f"must exceed the core's diameter "
                  f"{2.0 * roll.core_radius:g} m, got {item.new_diameter:g} m")
