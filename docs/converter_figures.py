@@ -14,6 +14,7 @@ import webline
 from webline.report.display import Display
 from webline.report.figures import tension_figure
 from webline.report.schematic import schematic
+from webline.report.splice_figures import splice_figure
 from webline.report.winder_figures import diameter_figure, taper_figure
 
 IMG = Path(__file__).resolve().parent / "img"
@@ -30,6 +31,8 @@ def main() -> None:
         roll, display, [len(line.drives) - 1])
     figures["converter-web-break-tension"] = tension_figure(
         webline.simulate(line, scenario="web-break", raise_on_failure=False), display)
+    figures["converter-flying-splice"] = splice_figure(
+        webline.simulate(line, scenario="flying-splice"), display)
     IMG.mkdir(exist_ok=True)
     for name, fig in figures.items():
         path = IMG / f"{name}.png"

@@ -23,6 +23,7 @@ from webline.spec.schema import (
     RewindSpec,
     UnwindSpec,
 )
+from webline.spec.splice import FlyingSplice
 from webline.spec.winder import WebBreak
 
 #: The notebook view of a line, "module:function" taking the ``Line`` and returning HTML: a
@@ -127,7 +128,7 @@ class Line:
 
     def with_scenario(self, name: str) -> Line:
         """The line as the named scenario runs it (speed, disturbances, roll radii replaced, a
-        web break added)."""
+        web break or a flying splice added)."""
         from webline.errors import LineFileError, Problem
 
         scenario = self.spec.scenarios.get(name)
@@ -153,6 +154,11 @@ class Line:
             # as a plain web_break, the type a line file's disturbance has (its subclass
             # BreakEvent only lets a scenario leave ``type`` out)
             changes["disturbances"] = [*before, WebBreak(**scenario.break_.model_dump())]
+        if scenario.splice is not None:  # docs/winder.md: a flying_splice disturbance
+            listed = changes.get("disturbances", scenario.disturbances if
+                                 scenario.disturbances is not None else self.spec.disturbances)
+            changes["disturbances"] = [*listed,  # type: ignore[misc]
+                                       FlyingSplice(**scenario.splice.model_dump())]
         spec = self.spec.model_copy(update=changes)
         label = f"{self.source} [scenario {name}]"
         if scenario.set:  # values set by path: validate the changed line as a whole

@@ -61,3 +61,17 @@ def test_web_break_is_a_warning_detected_by_tension_within_50_ms(tmp_path):
     assert 0.0 <= details["time_to_detect_s"] < 0.05
     assert "detected by tension below its threshold" in found[0]["message"]
     assert all(f["level"] == "warning" for f in verdict["findings"])
+
+
+def test_flying_splice_is_ok_and_its_report_shows_both_splices(tmp_path):
+    """Both rolls spliced on the run (docs/winder.md, Flying splice): ok, and the report's
+    splice figure says, from the run, what each splice did to the tension."""
+    verdict = run("flying-splice", tmp_path)["verdict"]
+    assert verdict["status"] == "ok", verdict
+    report = (tmp_path / "report.html").read_text(encoding="utf-8")
+    assert "Flying splices: unwind spliced onto a 0.8 m roll at t = 4 s" in report
+    assert "rewind spliced onto a 0.19 m roll at t = 12 s" in report
+    assert (tmp_path / "figures" / "splice.png").exists()
+    # the line section shows the zones with what sets their tension, and the winder functions
+    assert "Tension zones" in report and "Winder functions" in report
+    assert "dancer dancer (its load / 2; drive unwind holds the dancer&#x27;s position)" in report

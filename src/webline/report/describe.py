@@ -4,38 +4,21 @@ chosen units: what ``webline show`` prints and the report's line section shows."
 from __future__ import annotations
 
 from webline.line import Line
-from webline.report.display import Display, number_text
+from webline.report.describe_winder import winder_table, zones_table
+from webline.report.display import Display, profile_text
 from webline.report.tables import Table, make_table, node_kind
 from webline.spec.schema import IdleSpec, RewindSpec, UnwindSpec
 
 
-def profile_text(profile: object, kind: str, display: Display) -> str:
-    """A reference profile in words: ``'14.35 lbf'``, ``'ramp 200 → 1000 ft/min, 2 s to 7 s'``."""
-    if profile is None:
-        return ""
-    if isinstance(profile, float | int):
-        return display.text(profile, kind)
-    unit = display.unit(kind)
-    kind_name = getattr(profile, "type", "")
-    if kind_name == "ramp":
-        start, end = profile.start, profile.start + profile.duration  # type: ignore[attr-defined]
-        return (f"ramp {number_text(display.value(profile.initial, kind))} → "  # type: ignore[attr-defined]
-                f"{display.text(profile.final, kind)}, {start:g} s to {end:g} s")  # type: ignore[attr-defined]
-    if kind_name == "steps":
-        steps = ", ".join(f"{number_text(display.value(s.value, kind))} at {s.time:g} s"
-                          for s in profile.steps)  # type: ignore[attr-defined]
-        return f"steps from {display.text(profile.initial, kind)}: {steps} [{unit}]"  # type: ignore[attr-defined]
-    values = [display.value(v, kind) for v in profile.value]  # type: ignore[attr-defined]
-    return (f"table of {len(values)} points, {number_text(min(values))} to "
-            f"{number_text(max(values))} {unit}")
-
-
 def line_tables(line: Line, display: Display) -> list[Table]:
     """Tables describing ``line``: overview, rollers, spans, drives and controllers, zones,
-    disturbances and scenarios, every quantity in the chosen units."""
-    return [_overview(line, display), _rollers(line, display), _spans(line, display),
-            _drives(line, display), _zones(line), _disturbances(line, display),
-            _scenarios(line)]
+    winder functions (dancers, taper, diameter calculation, compensation, open loop, break
+    monitoring), disturbances and scenarios, every quantity in the chosen units."""
+    tables = [_overview(line, display), _rollers(line, display), _spans(line, display),
+              _drives(line, display), zones_table(line)]
+    winder = winder_table(line, display)
+    return tables + ([winder] if winder.rows else []) + [_disturbances(line, display),
+                                                          _scenarios(line)]
 
 
 def _overview(line: Line, d: Display) -> Table:
@@ -115,11 +98,20 @@ def _drives(line: Line, d: Display) -> Table:
                      drive.feedback, profile_text(drive.brake, "torque", d) or "none",
                      d.text(drive.torque_limit, "torque"),
                      f"{drive.torque_lag * 1e3:g} ms", d.text(drive.motor_inertia, "inertia"),
-                     controller_text(r.controller, zone is not None), task])
+                     _controller(r, zone is not None), task])
     return make_table("drives", "Drives and controllers",
                       ["drive", "ratio (motor/roller)", "transmission", "backlash",
                        "speed measured on", "brake", "torque limit", "torque lag",
                        "motor inertia", "controller", "controls"], rows)
+
+
+def _controller(roller: object, tension_loop: bool) -> str:
+    """The drive's controller in words; an open-loop winder's torque law in place of its
+    (unused) controller."""
+    winder = getattr(roller, "winder", None)
+    if tension_loop and winder is not None and winder.mode == "open_loop":
+        return "open loop (indirect tension): torque = ±T_ref·R/n, no speed loop"
+    return controller_text(roller.controller, tension_loop)  # type: ignore[attr-defined]
 
 
 def transmission_text(transmission: object, d: Display) -> str:
@@ -170,14 +162,6 @@ def _settings(item: object) -> str:
     return ": " + ", ".join(parts) if parts else ""
 
 
-def _zones(line: Line) -> Table:
-    rows = [[str(z + 1), f"{line.node_name(zone.first)} → {line.node_name(zone.last)}",
-             line.span_name(zone.loadcell), line.node_name(zone.controller)]
-            for z, zone in enumerate(line.zones)]
-    return make_table("zones", "Tension zones",
-                      ["zone", "between", "loadcell on", "tension set by drive"], rows)
-
-
 def disturbance_text(item: object, d: Display) -> str:
     """One disturbance in words, in the chosen units."""
     kind = getattr(item, "type", "")
@@ -187,6 +171,10 @@ def disturbance_text(item: object, d: Display) -> str:
     if kind == "eccentric_roller":
         return (f"eccentric roller {item.roller}: "  # type: ignore[attr-defined]
                 f"{d.text(item.eccentricity, 'length')}")  # type: ignore[attr-defined]
+    if kind == "flying_splice":
+        return (f"flying splice of {item.roll} at {d.text(item.at, 'time')} onto a "  # type: ignore[attr-defined]
+                f"{d.text(item.new_diameter, 'length')} roll, surface speed "  # type: ignore[attr-defined]
+                f"{100 * item.speed_mismatch:+.3g} %, slack {d.text(item.slack, 'length')}")  # type: ignore[attr-defined]
     if kind == "speed_ripple":
         return (f"speed ripple on {item.roller}: {d.text(item.amplitude, 'speed')} at "  # type: ignore[attr-defined]
                 f"{item.frequency:g} Hz")  # type: ignore[attr-defined]

@@ -17,7 +17,8 @@ SYSTEMS: tuple[System, ...] = ("si", "imperial", "si-per-width", "imperial-per-w
 
 #: How units are written for people (pint's '**' and '*' made readable).
 PRETTY = {"kg*m**2": "kg·m²", "N*m": "N·m", "N*m*s": "N·m·s", "lb*ft**2": "lb·ft²",
-          "lbf*ft": "lbf·ft", "lbf*ft*s": "lbf·ft·s", "kg/m**3": "kg/m³", "lb/ft**3": "lb/ft³"}
+          "lbf*ft": "lbf·ft", "lbf*ft*s": "lbf·ft·s", "kg/m**3": "kg/m³", "lb/ft**3": "lb/ft³",
+          "N*s/m": "N·s/m", "lbf*s/in": "lbf·s/in"}
 
 
 @dataclass(frozen=True)
@@ -88,3 +89,24 @@ def number_text(value: float | None, digits: int = 4) -> str:
         return "–"
     text = f"{value:.{digits}g}"
     return "0" if text in ("-0", "0") else text
+
+
+def profile_text(profile: object, kind: str, display: Display) -> str:
+    """A reference profile in words: ``'14.35 lbf'``, ``'ramp 200 → 1000 ft/min, 2 s to 7 s'``."""
+    if profile is None:
+        return ""
+    if isinstance(profile, float | int):
+        return display.text(profile, kind)
+    unit = display.unit(kind)
+    kind_name = getattr(profile, "type", "")
+    if kind_name == "ramp":
+        start, end = profile.start, profile.start + profile.duration  # type: ignore[attr-defined]
+        return (f"ramp {number_text(display.value(profile.initial, kind))} → "  # type: ignore[attr-defined]
+                f"{display.text(profile.final, kind)}, {start:g} s to {end:g} s")  # type: ignore[attr-defined]
+    if kind_name == "steps":
+        steps = ", ".join(f"{number_text(display.value(s.value, kind))} at {s.time:g} s"
+                          for s in profile.steps)  # type: ignore[attr-defined]
+        return f"steps from {display.text(profile.initial, kind)}: {steps} [{unit}]"  # type: ignore[attr-defined]
+    values = [display.value(v, kind) for v in profile.value]  # type: ignore[attr-defined]
+    return (f"table of {len(values)} points, {number_text(min(values))} to "
+            f"{number_text(max(values))} {unit}")

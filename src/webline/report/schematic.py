@@ -6,7 +6,11 @@ filled (the master-speed roller in orange), idle rollers are open; each drive is
 roller, joined by a solid (direct), dashed (belt) or dotted (shaft) stem and labelled with its
 drive train (transmission, backlash, the side its speed is measured on, brake); each loadcell
 is a triangle on its span, each tension zone a shaded band; a nip is a second (grey) circle
-pressed on its roller from above, labelled with its load and grip.
+pressed on its roller from above, labelled with its load and grip. Each zone's label names
+the element that sets its tension (a dancer in position control, else the drive); a dancer
+carries a double arrow along its travel with its use, load, stroke and set position; a roll
+lists its winder functions (open loop, taper, diameter calculation, compensation) above it;
+a span that breaks in the run is marked with a red cross and its time.
 """
 
 from __future__ import annotations
@@ -23,14 +27,16 @@ from matplotlib.patches import Circle, FancyArrowPatch, Rectangle
 
 from webline.line import Line
 from webline.report.describe import backlash_text
+from webline.report.describe_winder import dancer_label, roll_labels, tension_setter_short
 from webline.report.display import Display
 from webline.report.mpl_text import literal
-from webline.spec.schema import DriveSpec, IdleSpec, RewindSpec, UnwindSpec
+from webline.spec.schema import DancerSpec, DriveSpec, IdleSpec, RewindSpec, UnwindSpec
+from webline.spec.winder import WebBreak
 
 SPACING = 3.0  #: distance between roller centres in the drawing
 COLORS = {"roll": "#d8c49a", "core": "#8c8c8c", "master": "#f28e2b", "tension": "#4e79a7",
           "idle": "white", "drive": "#59595c", "loadcell": "#e15759", "web": "#222222",
-          "nip": "#8f8f8f"}
+          "nip": "#8f8f8f", "dancer": "#76b7b2", "winder": "#7a5195", "break": "#d62728"}
 ZONE_SHADES = ("#eef3f8", "#f7f1e8")
 #: line style of the motor-to-roller stem per transmission (dashed: belt, dotted: shaft)
 STEM_STYLES = {"direct": "-", "belt": "--", "shaft": ":"}
@@ -60,7 +66,7 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
         ax.add_patch(Rectangle((left, -3.0), right - left, top + 2.8,
                                color=ZONE_SHADES[z % 2], zorder=0))
         ax.text((left + right) / 2, top - 0.35,
-                literal(f"zone {z + 1}: tension set by {line.node_name(zone.controller)}"),
+                literal(f"zone {z + 1}: tension set by {tension_setter_short(line, z)}"),
                 ha="center", va="center", fontsize=8, color="#555555")
 
     loadcells = {zone.loadcell for zone in line.zones}
@@ -80,6 +86,7 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
             ax.text(xm, ym + 0.3, text, ha="center", va="bottom", fontsize=7,
                     color=COLORS["loadcell"])
 
+    _winder_marks(ax, line, x, size, display)
     for i, (roller, s) in enumerate(zip(rollers, size, strict=True)):
         _roller(ax, roller, x[i], s, i == line.master)
         nip = getattr(roller, "nip", None)
@@ -114,6 +121,31 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
     ax.set_title(literal(f"{line.name}: {line.n_nodes} rollers, {line.n_spans} spans, "
                          f"{len(line.drives)} drives"), fontsize=10)
     return fig
+
+
+def _winder_marks(ax: object, line: Line, x: list[float], size: list[float],
+                  display: Display) -> None:
+    """Dancers' travel and settings, rolls' winder functions, spans that break."""
+    for i, roller in enumerate(line.spec.rollers):
+        s = size[i]
+        if isinstance(roller, DancerSpec):
+            ax.add_patch(FancyArrowPatch((x[i], s + 0.05), (x[i], s + 0.75),  # type: ignore[attr-defined]
+                                         arrowstyle="<|-|>", mutation_scale=9,
+                                         color=COLORS["dancer"], lw=1.2, zorder=3))
+            ax.text(x[i] + 0.15, s + 0.45, literal(dancer_label(line, i, display)),  # type: ignore[attr-defined]
+                    ha="left", va="center", fontsize=6.5, color=COLORS["dancer"], zorder=4)
+        labels = roll_labels(line, i) if isinstance(roller, UnwindSpec | RewindSpec) else []
+        if labels:
+            ax.text(x[i], s + 0.15, literal("\n".join(labels)), ha="center", va="bottom",  # type: ignore[attr-defined]
+                    fontsize=6.5, color=COLORS["winder"], zorder=4)
+    names = [line.span_name(k) for k in range(line.n_spans)]
+    for item in line.spec.disturbances:
+        if isinstance(item, WebBreak) and item.span in names:
+            k = names.index(item.span)
+            xm, ym = (x[k] + x[k + 1]) / 2, (size[k] + size[k + 1]) / 2
+            ax.plot([xm], [ym], marker="X", ms=10, color=COLORS["break"], zorder=5)  # type: ignore[attr-defined]
+            ax.text(xm, ym - 0.9, literal(f"breaks at {display.text(item.at, 'time', 3)}"),  # type: ignore[attr-defined]
+                    ha="center", va="top", fontsize=7, color=COLORS["break"], zorder=5)
 
 
 def drive_train_label(drive: DriveSpec, display: Display) -> str:

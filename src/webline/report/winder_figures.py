@@ -1,5 +1,6 @@
 """Report figures of the winder functions (docs/winder.md): the rewind's set tension against
-its diameter (taper), the dancers' positions and the diameter calculators' errors."""
+its diameter (taper), the dancers' positions, the diameter calculators' errors and the
+flying splices."""
 
 from __future__ import annotations
 
@@ -9,8 +10,10 @@ from matplotlib.figure import Figure
 from webline.report.display import Display
 from webline.report.frame import framed_figure
 from webline.report.mpl_text import legend_label
+from webline.report.splice_figures import splice_caption, splice_figure
 from webline.sim import layout as L
 from webline.sim.result import Result
+from webline.sim.splice_findings import splice_windows
 
 
 def winder_figures(result: Result, display: Display) -> list[tuple[str, str, Figure]]:
@@ -32,6 +35,8 @@ def winder_figures(result: Result, display: Display) -> list[tuple[str, str, Fig
     if calculated:
         out.append(("diameter", "Calculated roll diameter less the true one.",
                     diameter_figure(result, display, calculated)))
+    if splice_windows(line, result.plan.dt, float(result.time[-1])):
+        out.append(("splice", splice_caption(result, display), splice_figure(result, display)))
     return out
 
 

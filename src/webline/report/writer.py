@@ -167,7 +167,8 @@ def _sections(result: Result, display: Display, images: dict[str, Image], analys
                 ("results file (SI)", str(results_file.name) if results_file else "(none)")]
     return [
         Section("Line", [images["schematic"], described["line"], described["rollers"],
-                         described["spans"], described["drives"]]),
+                         described["spans"], described["drives"], described["zones"],
+                         *([described["winder"]] if "winder" in described else [])]),
         Section("Summary", [*summary_tables(result, display), *_verdict_parts(result)]),
         # every figure of the run in report order, but the line's and the modes' own
         Section("Time plots", [image for key, image in images.items()

@@ -17,14 +17,16 @@ from webline.verdict import Finding, Level, Verdict
 
 def run_verdict(plan: Plan, failure: Failure | None, events: Sequence[EventSummary],
                 end: float, monitor: tuple[float, int],
-                largest_speed_after: Callable[[float], float] | None = None) -> Verdict:
+                largest_speed_after: Callable[[float], float] | None = None,
+                extra: Sequence[Finding] = ()) -> Verdict:
     """The verdict of a run of ``plan`` whose last record is at ``end`` [s]: ``failed`` (or
     ``interrupted``) for a run that stopped early and for a web break nothing detected,
     ``unstable`` for a line with a growing closed-loop mode at ``analysis_time``,
     ``warning`` for each kind of event on each element (``webline.sim.events``) and each
     detected web break, else ``ok``. ``monitor``: the break monitor's detection time [s]
     (-1: none) and method; ``largest_speed_after(t)``: the largest web speed [m/s] recorded
-    from ``t`` on, for a break's details (None where the speeds were not kept: a study)."""
+    from ``t`` on, for a break's details (None where the speeds were not kept: a study);
+    ``extra``: findings that need the run's records (a splice that slackens the web)."""
     findings = []
     if failure is not None:
         level: Level = "interrupted" if failure.kind == "interrupted" else "failed"
@@ -34,4 +36,5 @@ def run_verdict(plan: Plan, failure: Failure | None, events: Sequence[EventSumma
                  for e in events]
     findings += stability_findings(plan.line, plan=plan)
     findings += break_findings(plan.line, end, monitor, largest_speed_after)
+    findings += extra
     return Verdict.of(findings)

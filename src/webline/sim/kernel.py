@@ -29,6 +29,7 @@ from webline.sim.controllers import control_tick
 from webline.sim.dancer_loop import dancer_rate, span_motion
 from webline.sim.envelope import envelope, node_arm
 from webline.sim.signals import jit, loop_njit, njit, profile_at, sines
+from webline.sim.splice import apply_splices
 from webline.sim.transmission_loop import compliant_torque
 
 if TYPE_CHECKING:
@@ -303,6 +304,9 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
         for k in range(n_n - 1 if offsets[L.O_BREAK] else 0):  # a broken span: no tension
             if t >= spans[k, L.S_BREAK] and drag[2 * n_n + k] == 0.0:
                 drag[2 * n_n + k], x[k] = 1.0, 0.0
+        if offsets[L.O_SPLICE]:  # a new roll takes over the web (docs/winder.md S1)
+            apply_splices(tick, dt, x, istate, ns, offsets, nodes, spans, drives, web, prof_t,
+                          prof_v, prof_off)
         if offsets[L.O_KV]:  # the controllers measure what the rollers feel
             felt_tensions(wound_in(t, web, wound_ripple), x, cmd, drag, slipping, ns, ds,
                           offsets, nodes, spans, drives, web, stages[0], scratch, tmp)

@@ -22,8 +22,13 @@ kernel; a new structure compiles (and caches) another.
  N_DANCER, N_DINVM, N_DK, N_DC, N_DSET, N_DTRAVEL, N_DSTOP, N_DSTOPC, N_DLOAD,
  # a traction nip's static and Coulomb friction on the web, 2 μ_n N and 2 μ_n' N [N] (its
  # inertia and bearing friction are in N_JCONST, N_VISCOUS, N_COULOMB; docs/winder.md, Nip)
- N_NIPS, N_NIPK) = range(28)
-N_COLS = 28
+ N_NIPS, N_NIPK,
+ # the flying splices of a roll (docs/winder.md S1; ``sim.splice``): index p of the profile
+ # whose breakpoints are the splices' times [s] and new radii [m] (-1: none); profiles p + 1
+ # and p + 2 hold, at the same times, the new roll's surface speed over the web's [-] and the
+ # slack [m] each splice puts into the span next to the roll
+ N_SPLICE) = range(29)
+N_COLS = 29
 
 # node structure (integer) columns, and the float columns they copy
 NS_KIND, NS_DRIVE, NS_ECCSTATE, NS_TRACTION, NS_DRAG, NS_DANCER = range(6)
@@ -110,6 +115,7 @@ O_NOISE = 9  # 1 if measurements carry noise
 O_NEED_EQ = 10  # 1 if a controller needs the reference state every tick
 O_BREAK = 11  # 1 if the web breaks in this run (docs/winder.md W5): the break monitor is on
 O_KV = 12  # 1 if a span is Kelvin-Voigt: the rollers and loadcells feel s + τ ds/dt
+O_SPLICE = 13  # 1 if a roll is spliced in this run (docs/winder.md S1, ``sim.splice``)
 
 # kernel status codes; with each failure the kernel returns where it happened: the span
 # (strength, runaway stretch), node (runaway speed) or drive (runaway motor speed), else -1

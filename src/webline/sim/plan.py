@@ -14,7 +14,7 @@ from webline.model.operating_point import OperatingPoint, operating_point
 from webline.profiles import breakpoints, pwl_slope, pwl_value
 from webline.sim import dancer as dancers
 from webline.sim import layout as L
-from webline.sim import winder
+from webline.sim import splice, winder
 from webline.sim.drive_table import drive_table, transmission, transmission_columns
 from webline.spec.nip import shaft_terms
 from webline.spec.schema import (
@@ -252,6 +252,8 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         profiles.append(dancers.load_profile(line, i))
     taper_profile = len(profiles)
     profiles += winder.taper_profiles(line)
+    spliced = splice.splice_columns(nodes, line, len(profiles))
+    profiles += splice.splice_profiles(line)
     prof_off = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
 
     rate = sample_rate if sample_rate is not None else spec.control.sample_rate
@@ -285,7 +287,8 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     breaks = winder.break_columns(line, span_table, web)
     viscoelastic = bool(np.any(span_table[:, L.S_TAU] > 0.0))
     offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
-                        off_tr, noisy, need_eq, breaks, viscoelastic], dtype=np.int64)
+                        off_tr, noisy, need_eq, breaks, viscoelastic, spliced],
+                       dtype=np.int64)
     wound = np.array([[d.amplitude, d.frequency, d.phase] for d in spec.disturbances
                       if isinstance(d, WoundInRipple)]).reshape(-1, 3)
     ripple = np.array([[line.drives.index(_node(line, d.roller)), d.amplitude, d.frequency,

@@ -19,6 +19,7 @@ from webline.sim.plan import compile_plan, equilibrium_plan_state
 from webline.sim.result import Result
 from webline.sim.signals import profile_at
 from webline.sim.simulate import _result
+from webline.sim.splice import apply_splices
 
 
 def simulate_reference(line: Line | str | Path, duration: float, *, scenario: str | None = None,
@@ -59,6 +60,9 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
         for k in range(n_s if offsets[L.O_BREAK] else 0):  # as the kernel: a broken span
             if t >= spans[k, L.S_BREAK] and drag[2 * nodes.shape[0] + k] == 0.0:
                 drag[2 * nodes.shape[0] + k], x[k] = 1.0, 0.0  # no tension, web lost
+        if offsets[L.O_SPLICE]:  # as the kernel: a new roll takes over the web
+            apply_splices(j, plan.dt, x, istate, ns, offsets, nodes, spans, drives, web, prof_t,
+                          prof_v, prof_off)
         if offsets[L.O_KV]:  # as the kernel: controllers measure the felt tension
             kernel.felt_tensions(kernel.wound_in(t, web, wound), x, cmd, drag, slipping, ns,
                                  ds, offsets, nodes, spans, drives, web, np.empty_like(x),

@@ -77,11 +77,13 @@ class Result:
         """The run's verdict: its failure, its events and the linear stability of the line
         at ``analysis_time`` (``webline.sim.findings``)."""
         from webline.sim.findings import run_verdict
+        from webline.sim.splice_findings import splice_findings
 
         end = float(self.time[-1]) if len(self.time) else 0.0
         return run_verdict(self.plan, self.failure, [e.summary() for e in self.events], end,
                            self.break_monitor,
-                           lambda t: float(np.abs(self.speed[self.time >= t]).max()))
+                           lambda t: float(np.abs(self.speed[self.time >= t]).max()),
+                           splice_findings(self.line, self.plan.dt, self.time, self.tension))
 
     @property
     def status(self) -> str:

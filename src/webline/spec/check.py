@@ -26,6 +26,7 @@ from webline.spec.schema import (
     WebSpec,
     WoundInRipple,
 )
+from webline.spec.splice import check_splices
 from webline.spec.winder import WebBreak, check_taper
 
 Fail = Callable[[str, str], NoReturn]
@@ -131,6 +132,16 @@ def check_spec(spec: LineSpec, file: str) -> None:
         span_names = {s.name or f"span{k + 1}" for k, s in enumerate(spec.spans)}
         if scenario.break_ is not None and scenario.break_.span not in span_names:
             fail(f"{key}.break.span", f"no span named {scenario.break_.span!r}")
+        if scenario.splice is not None:  # the splice key, with any splice in its disturbances
+            before = (scenario.disturbances if scenario.disturbances is not None
+                      else spec.disturbances)
+            check_splices([scenario.splice], spec.rollers, f"{key}.splice", fail,
+                          indexed=False)
+            if any(getattr(d, "type", "") == "flying_splice"
+                   and (d.roll, d.at) == (scenario.splice.roll, scenario.splice.at)  # type: ignore[union-attr]
+                   for d in before):
+                fail(f"{key}.splice.at", f"{scenario.splice.roll!r} is already spliced at "
+                     f"{scenario.splice.at:g} s in the disturbances")
         for attr, index in (("unwind_radius", 0), ("rewind_radius", len(rollers) - 1)):
             radius = getattr(scenario, attr)
             roll = rollers[index]
@@ -177,6 +188,7 @@ def _check_profiles(spec: LineSpec, fail: Fail) -> None:
 def _check_disturbances(items: list[DisturbanceSpec], spec: LineSpec, key: str,
                         fail: Fail) -> None:
     by_name = {r.name: r for r in spec.rollers}
+    check_splices(items, spec.rollers, key, fail)
     for j, item in enumerate(items):
         here = f"{key}[{j}]"
         if isinstance(item, WebBreak) and item.span not in {

@@ -1,5 +1,6 @@
 """Disturbances a line file can put on a line: wound-in ripple, eccentric and dragging
-rollers, speed ripple, measurement noise and a web break (SI floats, as in the schema)."""
+rollers, speed ripple, measurement noise, a web break and a flying splice (SI floats, as in
+the schema)."""
 
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ from webline.spec.quantities import (
     TorqueProfile,
     si,
 )
+from webline.spec.splice import FlyingSplice
 from webline.spec.winder import WebBreak
 
 #: names (of lines, rollers, spans), bounded: a name becomes a folder name
@@ -69,7 +71,8 @@ class MeasurementNoise(Strict):
 
 
 DisturbanceSpec = Annotated[
-    WoundInRipple | EccentricRoller | SpeedRipple | RollerDrag | MeasurementNoise | WebBreak,
+    WoundInRipple | EccentricRoller | SpeedRipple | RollerDrag | MeasurementNoise | WebBreak
+    | FlyingSplice,
     Field(discriminator="type"),
 ]
 

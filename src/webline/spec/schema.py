@@ -50,6 +50,7 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
     TorqueProfile,
     si,
 )
+from webline.spec.splice import FlyingSplice, SpliceEvent  # noqa: F401
 from webline.spec.winder import BreakEvent, DiameterSpec, TaperSpec, WebBreak, WinderSpec  # noqa: F401
 
 #: free text, bounded
@@ -354,9 +355,10 @@ class ControlSpec(Strict):
 
 class ScenarioSpec(Strict):
     """A named run of the line: it may replace the speed reference, the disturbances and the
-    initial roll radii, add a web ``break``, and sets a default duration. ``set`` changes any
-    other value by its nested path (``"spans.span2.tension"`` = a steps profile, a
-    controller's bandwidth...; see ``webline.spec.paths``), applied after the keys above."""
+    initial roll radii, add a web ``break`` or a flying ``splice``, and sets a default
+    duration. ``set`` changes any other value by its nested path (``"spans.span2.tension"``
+    = a steps profile, a controller's bandwidth...; see ``webline.spec.paths``), applied
+    after the keys above."""
 
     description: Text = ""
     duration: Time
@@ -367,6 +369,7 @@ class ScenarioSpec(Strict):
     rewind_radius: Length | None = None
     # ``break`` in the file (a Python keyword); a dump writes break_, which reads back too
     break_: BreakEvent | None = Field(None, alias="break")
+    splice: SpliceEvent | None = None  # docs/winder.md, Flying splice
     model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
 
 
