@@ -46,10 +46,12 @@ def analyze(
     Exit status: 0 ok (no closed-loop mode grows), 2 bad input, 3 unstable (one grows).
     """
     from webline.analysis.modes import closed_loop_modes
+    from webline.analysis.zone_loops import speed_leaks, zone_loops
     from webline.model.operating_point import analysis_time, operating_point
     from webline.report.display import Display
     from webline.report.tables import modes_table, operating_point_tables, operating_point_values
     from webline.report.verdict_text import verdict_lines
+    from webline.report.zone_tables import leak_lines, zone_loops_table
     from webline.sim.stability import stability_findings
     from webline.verdict import Verdict
 
@@ -58,13 +60,16 @@ def analyze(
     display = Display(units.value, loaded.spec.web.width)
     point = operating_point(loaded, t)
     modes = closed_loop_modes(loaded, t)
+    loops, leaks = zone_loops(loaded, t), speed_leaks(loaded)
     cert = _certificate(loaded) if certificate else None
     verdict = Verdict.of(stability_findings(loaded, t))
     if as_json:
         payload: dict[str, object] = {
             "line": loaded.name, "scenario": scenario, "units": units.value,
             "operating_point": operating_point_values(point, display),
-            "closed_loop_modes": [m.as_dict() for m in modes], "verdict": verdict.as_dict()}
+            "closed_loop_modes": [m.as_dict() for m in modes],
+            "zone_loops": [loop.as_dict() for loop in loops],
+            "speed_loop_leaks": [leak.message() for leak in leaks], "verdict": verdict.as_dict()}
         if cert is not None:
             payload["certificate"] = {"holds": cert.holds, "worst_ratio": cert.worst_ratio,
                                       "max_real": cert.max_real,
@@ -74,7 +79,11 @@ def analyze(
         typer.echo(json.dumps(payload, indent=2, default=float))
     else:
         tables = [*operating_point_tables(loaded, point, display), modes_table(modes)]
+        if loops:
+            tables.append(zone_loops_table(loops))
         print_tables(tables, _console())
+        for warning in leak_lines(leaks):
+            typer.echo(warning, err=True)
         typer.echo("\n".join(verdict_lines(verdict)))
         if cert is not None:
             _print_certificate(cert)

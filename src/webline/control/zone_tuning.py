@@ -157,7 +157,8 @@ class SpeedLoopLeak:
 
 def speed_loop_leaks(line: Line, speed_ki: dict[int, float]) -> list[SpeedLoopLeak]:
     """Driven rollers (not the rolls) whose speed loop, of integral gain ``speed_ki[i]``
-    [N·m/m] on node i, leaks more than ``LEAK_WARNING`` of a tension step (Z3)."""
+    [N·m/m] on node i, leaks more than ``LEAK_WARNING`` of a tension step into the stiffer
+    (shorter) of the two spans beside it (Z3), one per roller."""
     out = []
     for i, ki in speed_ki.items():
         roller = line.spec.rollers[i]
@@ -165,10 +166,10 @@ def speed_loop_leaks(line: Line, speed_ki: dict[int, float]) -> list[SpeedLoopLe
                                                                 CascadedPISpec):
             continue
         stiffness = roller.drive.ratio * ki / roller.radius
-        for k in (i - 1, i):
-            span_k = line.ea / line.spec.spans[k].length
-            found = SpeedLoopLeak(roller.name, stiffness, line.span_name(k), span_k)
-            if found.leak > LEAK_WARNING:
-                out.append(found)
+        k = min((i - 1, i), key=lambda k: line.spec.spans[k].length)  # the stiffer span
+        found = SpeedLoopLeak(roller.name, stiffness, line.span_name(k),
+                              line.ea / line.spec.spans[k].length)
+        if found.leak > LEAK_WARNING:
+            out.append(found)
     return out
 

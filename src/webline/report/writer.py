@@ -10,6 +10,8 @@ from datetime import UTC, datetime
 from pathlib import Path
 
 from webline.analysis.modes import Mode, closed_loop_modes
+from webline.analysis.zone_loops import ZoneLoop, speed_leaks, zone_loops
+from webline.control.zone_tuning import SpeedLoopLeak
 from webline.errors import WeblineError
 from webline.files import atomic_write_bytes, atomic_write_text
 from webline.line import Line
@@ -30,6 +32,7 @@ from webline.report.tables import (
     summary_values,
 )
 from webline.report.verdict_text import STATUS_CLASS, events_table
+from webline.report.zone_tables import leak_lines, zone_loops_table
 from webline.sim.result import Result
 from webline.spec.load import dump_spec
 
@@ -46,6 +49,8 @@ class Analysis:
     point: OperatingPoint | None
     modes: tuple[Mode, ...]
     problem: str = ""
+    zone_loops: tuple[ZoneLoop, ...] = ()
+    leaks: tuple[SpeedLoopLeak, ...] = ()
 
 
 def analyse(line: Line) -> Analysis:
@@ -53,7 +58,8 @@ def analyse(line: Line) -> Analysis:
     equilibrium gives an ``Analysis`` that says why instead of raising."""
     t = analysis_time(line)
     try:
-        return Analysis(t, operating_point(line, t), tuple(closed_loop_modes(line, t)))
+        return Analysis(t, operating_point(line, t), tuple(closed_loop_modes(line, t)),
+                        zone_loops=tuple(zone_loops(line, t)), leaks=tuple(speed_leaks(line)))
     except (WeblineError, ValueError, ArithmeticError) as exc:
         return Analysis(t, None, (), str(exc))
 
@@ -97,6 +103,8 @@ def write_report(result: Result, out_dir: Path, *, units: System = "si",
         "operating_point": (operating_point_values(analysis.point, display)
                             if analysis.point else None),
         "closed_loop_modes": [m.as_dict() for m in analysis.modes],
+        "zone_loops": [loop.as_dict() for loop in analysis.zone_loops],
+        "speed_loop_leaks": [leak.message() for leak in analysis.leaks],
         "verdict": result.verdict.as_dict(),
     }), indent=2, allow_nan=False))
 
@@ -149,6 +157,9 @@ def _sections(result: Result, display: Display, images: dict[str, Image], analys
     if analysis.point is not None:
         op_parts: list = [*operating_point_tables(line, analysis.point, display),
                           modes_table(analysis.modes)]
+        if analysis.zone_loops:
+            op_parts.append(zone_loops_table(analysis.zone_loops))
+        op_parts += [Text(line) for line in leak_lines(analysis.leaks)]
         if "poles" in images:
             op_parts.append(images["poles"])
         op_parts.insert(0, Text(f"Equilibrium of the line at its references at t = "

@@ -19,6 +19,7 @@ from webline.control.zone_tuning import (
     zone_dancers,
 )
 from webline.line import Line
+from webline.physics.taper import spec_factor
 from webline.profiles import breakpoints
 from webline.sim import layout as L
 from webline.spec.dancer import DancerCarriage
@@ -114,6 +115,18 @@ def _point_at_dancer(drives: np.ndarray, line: Line, z: int, d: int) -> int | No
         drives[d, L.D_DUSE] = L.DANCER_POSITION
         return i
     return None
+
+
+def load_taper(line: Line, drives: np.ndarray, i: int, radius: float) -> float:
+    """Factor [-] on the load of the dancer on node ``i`` at the controller's roll radius
+    ``radius`` [m] (``sim.dancer_taper.load_factor``, in Python): the rewind's taper where
+    its drive runs this dancer in position control, else 1."""
+    d = line.drives.index(line.n_nodes - 1)
+    rewind = line.rewind
+    if (drives[d, L.D_DANCER] != i or drives[d, L.D_DUSE] != L.DANCER_POSITION
+            or drives[d, L.D_TAPER] <= 0.0 or rewind.taper is None):
+        return 1.0
+    return spec_factor(rewind.taper, rewind.core_radius, radius)
 
 
 def equilibrium_position(line: Line, i: int, tension_in: float, tension_out: float,

@@ -120,6 +120,8 @@ class Plan:
         for i in dancers.dancer_nodes(self.line):
             state = int(self.nodes[i, L.N_DANCER])
             load = self.profile_value(int(self.nodes[i, L.N_DLOAD]), op.time)
+            load *= dancers.load_taper(self.line, self.drives, i, winder.initial_radius(
+                self.drives, self.line.drives.index(self.line.n_nodes - 1), op.radius[-1]))
             x[state] = dancers.equilibrium_position(self.line, i, op.tension[i - 1],
                                                     op.tension[i], load)
         istate = np.zeros((len(op.torque), L.I_COLS))
