@@ -280,7 +280,8 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     noisy = False
     for noise in (d for d in spec.disturbances if isinstance(d, MeasurementNoise)):
         web[L.W_NOISE_T], web[L.W_NOISE_V], web[L.W_SEED] = noise.tension, noise.speed, noise.seed
-        noisy = noise.tension > 0 or noise.speed > 0
+        web[L.W_RES_V] = noise.speed_resolution
+        noisy = noise.tension > 0 or noise.speed > 0 or noise.speed_resolution > 0
     need_eq = bool(np.any(drives[:, L.D_FAMILY] != L.FAMILY_PI))
     span_table = np.array([[s.length, 1.0 / s.length, 0.0, s.retardation or 0.0]
                            for s in spec.spans])
