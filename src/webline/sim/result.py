@@ -20,6 +20,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from webline.sim.events import EventStats
+    from webline.sim.roll_modes import RollModes
     from webline.verdict import Verdict
 
 
@@ -86,8 +87,19 @@ class Result:
         from webline.sim.findings import run_verdict
         from webline.sim.winder_findings import break_findings
 
-        return run_verdict(self.failure, self.events, self.line, self.plan,
-                           break_findings(self.line, self.time, self.speed, self.break_monitor))
+        extra = break_findings(self.line, self.time, self.speed, self.break_monitor)
+        if self.roll_modes is not None:  # a run across a roll: its modes along the way
+            extra += self.roll_modes.findings()
+        return run_verdict(self.failure, self.events, self.line, self.plan, extra)
+
+    @cached_property
+    def roll_modes(self) -> RollModes | None:
+        """The closed-loop modes along the run's recorded roll radii, for a run across a roll
+        (``webline.sim.roll_modes.run_roll_modes``), else None."""
+        from webline.sim.roll_modes import run_roll_modes
+
+        rolls = self._block(2, 2)
+        return run_roll_modes(self.line, self.time, rolls[:, 0], rolls[:, 1])
 
     @property
     def status(self) -> str:
