@@ -26,9 +26,11 @@ plant from trim to tension is -(K_e + c_e s)/s. With the PI, the closed loop is
 
     kp = (ω / K_e) (2ζ - ρ) / (1 - 2ζρ + ρ²),    ki = ω² (1 + c_e kp) / K_e         (Z4)
 
-(ρ = 0: the plain design). Where no positive kp exists, or it exceeds ``GAIN_CAP`` times
-the plain design (a damper whose corner K_e/c_e sits at the asked bandwidth with ζ -> 1), the
-damping asked is lowered to ``FALLBACK_DAMPING``; failing that, the plain design stays. A
+(ρ = 0: the plain design; 2ζ < ρ: kp = 0, and ζ = ρ/2 > the asked). Above the dancer's own
+mode the carriage stands still and the loadcell sees the spans' full stiffness EA/L: the loop
+gain there is kp EA/L times the speed loop's response, so kp is kept within ``KP_SPANS`` times
+the spans' own design 2 ζ ω_t L/EA (which the speed loop and the sampling tolerate), ki then
+keeping ω_t (the damping is what results). A
 dancer as tension sensor reads its spring's force only (c_e = 0).
 
 A driven roller's speed PI (u = kp e + ki ∫e on its surface speed, ratio n, radius r) holds
@@ -50,10 +52,8 @@ from dataclasses import dataclass
 from webline.line import Line
 from webline.spec.schema import CascadedPISpec, DancerSpec, DrivenSpec
 
-#: largest kp of (Z4) over the undamped design before the damping asked is lowered
-GAIN_CAP = 5.0
-#: the damping (Z4) falls back to where the asked one cannot be placed
-FALLBACK_DAMPING = 0.7
+#: largest kp of a loadcell loop beside a dancer over the spans' own design (Z4)
+KP_SPANS = 6.0
 #: a speed loop leaking more than this share of a tension step into the span beside it (Z3)
 #: is reported: k_r < 3 K_span, i.e. the roller yields more than a quarter of the step
 LEAK_WARNING = 0.25
@@ -112,21 +112,17 @@ def zone_damper(line: Line, z: int) -> float:
     return stiffness**2 * total
 
 
-def tension_gains(stiffness: float, damper: float, bandwidth: float,
-                  damping: float) -> tuple[float, float]:
+def tension_gains(stiffness: float, damper: float, bandwidth: float, damping: float,
+                  kp_max: float = math.inf) -> tuple[float, float]:
     """(kp [(m/s)/N], ki [(m/s)/(N·s)]) of a tension PI on the plant -(K + c s)/s, K =
     ``stiffness`` [N/m], c = ``damper`` [N·s/m], placing its pair at ``bandwidth`` [rad/s]
-    with ``damping`` (Z4, with its fallbacks)."""
-    plain = 2.0 * damping * bandwidth / stiffness
-    for zeta in (damping, min(damping, FALLBACK_DAMPING)):
-        rho = damper * bandwidth / stiffness
-        denominator = 1.0 - 2.0 * zeta * rho + rho * rho
-        if denominator <= 0.0:
-            continue
-        kp = bandwidth / stiffness * (2.0 * zeta - rho) / denominator
-        if 0.0 < kp <= GAIN_CAP * plain:
-            return kp, bandwidth**2 * (1.0 + damper * kp) / stiffness
-    return plain, bandwidth**2 / stiffness
+    with ``damping`` (Z4); kp kept within [0, ``kp_max``], ki then keeping the bandwidth."""
+    rho = damper * bandwidth / stiffness
+    denominator = 1.0 - 2.0 * damping * rho + rho * rho
+    kp = (bandwidth / stiffness * (2.0 * damping - rho) / denominator if denominator > 0.0
+          else math.inf)
+    kp = min(max(kp, 0.0), kp_max)
+    return kp, bandwidth**2 * (1.0 + damper * kp) / stiffness
 
 
 def nominal_plant_gain(line: Line, z: int) -> float:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from webline.control.zone_tuning import (
+    KP_SPANS,
     loop_plant_gain,
     nominal_plant_gain,
     tension_gains,
@@ -93,8 +94,13 @@ def drive_columns(drives: np.ndarray, line: Line) -> None:
             continue
         if plant == 0.0:
             continue  # an air-loaded dancer sets the tension: nothing to design (validate)
-        damper = zone_damper(line, z) if drives[d, L.D_DANCER] < 0 else 0.0  # loadcell
-        kp, ki = tension_gains(plant, damper, controller.tension_bandwidth, controller.damping)
+        bandwidth, damping = controller.tension_bandwidth, controller.damping
+        if drives[d, L.D_DANCER] < 0:  # a loadcell: it feels the damper and, fast, the spans
+            kp, ki = tension_gains(plant, zone_damper(line, z), bandwidth, damping,
+                                   KP_SPANS * 2.0 * damping * bandwidth
+                                   / nominal_plant_gain(line, z))
+        else:  # the dancer as tension sensor: its spring's force
+            kp, ki = tension_gains(plant, 0.0, bandwidth, damping)
         if controller.tension_kp is None:
             drives[d, L.D_KPT] = kp
         if controller.tension_ki is None:
