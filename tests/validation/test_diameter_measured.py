@@ -23,9 +23,12 @@ GUIDE_OUT = 6  # the idle roller before the rewind (node)
 
 
 def noisy_converter(source: str) -> webline.Line:
-    return webline.load_line("converter").replace({
-        "rollers.rewind.diameter.filter": TAU, "rollers.rewind.diameter.line_speed": source,
-        "disturbances": [{"type": "measurement_noise", "speed": SIGMA, "seed": SEED}]})
+    changes: dict[str, object] = {
+        "rollers.rewind.diameter.filter": TAU,
+        "disturbances": [{"type": "measurement_noise", "speed": SIGMA, "seed": SEED}]}
+    if source != "master":  # the default
+        changes["rollers.rewind.diameter.line_speed"] = source
+    return webline.load_line("converter").replace(changes)
 
 
 def run(source: str):
