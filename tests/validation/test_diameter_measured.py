@@ -102,3 +102,30 @@ def test_a_source_that_is_no_roller_is_refused():
     with pytest.raises(LineFileError) as info:
         noisy_converter("drumm")
     assert info.value.key == "rollers[7].diameter.line_speed"
+
+
+def test_speed_resolution_reaches_the_calculator_as_the_controllers():
+    # no noise, an encoder resolution of 1 mm/s: every measured surface speed is a multiple
+    # of it, the spindle's with the radius its drive knows; the recorded diameter replays
+    # from the rounded speeds exactly
+    q = 1e-3
+    line = webline.load_line("converter").replace({
+        "rollers.rewind.diameter.filter": TAU,
+        "disturbances": [{"type": "measurement_noise", "speed_resolution": q}]})
+    result = webline.simulate(line, 1.0)
+    plan = result.plan
+    calc = result.control_radius[:, line.drives.index(line.n_nodes - 1)]
+    omega = result.states[:, plan.state_names.index("rewind.omega")]
+    v_line = 0.2 * result.states[:, plan.state_names.index("drum.omega")]
+
+    def rounded(v: np.ndarray) -> np.ndarray:
+        return q * np.floor(v / q + 0.5)
+
+    previous = np.r_[calc[0], calc[:-1]]
+    raw = rounded(v_line) / (rounded(previous * omega) / previous)
+    replay = previous + DT / TAU * (raw - previous)
+    np.testing.assert_allclose(calc[1:], replay[1:], rtol=0.0, atol=1e-12)
+    # the rounding is felt: the diameter differs from the one of exact speeds by up to
+    # R q / v ~ 2e-5 m per sample before the filter
+    exact = filtered(v_line / omega, calc[0])
+    assert 1e-7 < np.abs(calc - exact).max() < 1e-4
