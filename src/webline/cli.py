@@ -176,7 +176,11 @@ def validate(line: LineArg) -> None:
         loaded.with_scenario(name)
     from webline.analysis.zone_loops import speed_leaks
 
-    warnings = [*loaded.warnings, *(leak.message() for leak in speed_leaks(loaded))]
+    try:  # the tuning's warnings need the plan (an operating point): none without one
+        leaks = [leak.message() for leak in speed_leaks(loaded)]
+    except (ValueError, ArithmeticError):
+        leaks = []
+    warnings = [*loaded.warnings, *leaks]
     for warning in warnings:
         typer.echo(f"warning: {loaded.source}: {warning}", err=True)
     scenarios = ", ".join(loaded.spec.scenarios) or "none"
