@@ -177,19 +177,27 @@ def run(
 @handles_errors
 def validate(line: LineArg) -> None:
     """Check a line file (and each of its scenarios): list every problem (up to 20) with its
-    TOML line and exit 2, or print 'ok' and any warnings (unusual values) and exit 0."""
+    TOML line and exit 2, or print 'ok' and any warnings (unusual values, winder settings that
+    cannot act, speed loops soft against the web) and exit 0."""
     from webline.line import load_line
 
     loaded = load_line(line)  # a LineFileError lists every problem, one a line (fail())
     for name in loaded.spec.scenarios:
         loaded.with_scenario(name)
-    for warning in loaded.warnings:
+    from webline.analysis.zone_loops import speed_leaks
+
+    try:  # the tuning's warnings need the plan (an operating point): none without one
+        leaks = [leak.message() for leak in speed_leaks(loaded)]
+    except (ValueError, ArithmeticError):
+        leaks = []
+    warnings = [*loaded.warnings, *leaks]
+    for warning in warnings:
         typer.echo(f"warning: {loaded.source}: {warning}", err=True)
     scenarios = ", ".join(loaded.spec.scenarios) or "none"
     typer.echo(f"ok: {loaded.source}: line {loaded.name!r} with {loaded.n_nodes} rollers, "
                f"{loaded.n_spans} spans, {len(loaded.drives)} drives, {len(loaded.zones)} "
                f"tension zones; scenarios: {scenarios}"
-               + (f"; {len(loaded.warnings)} warnings" if loaded.warnings else ""))
+               + (f"; {len(warnings)} warnings" if warnings else ""))
 
 
 @app.command()

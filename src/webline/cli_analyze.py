@@ -25,6 +25,8 @@ from webline.cli_common import (
 if TYPE_CHECKING:
     from webline.analysis.certificate import Certificate
     from webline.line import Line
+    from webline.report.display import Display
+    from webline.sim.roll_modes import RollModes
 
 
 def analyze(
@@ -40,16 +42,34 @@ def analyze(
     = False,
     controller: ControllerOpt = None,
     sets: SetOpt = None,
+    across_roll: Annotated[bool, typer.Option(
+        "--across-roll", help="Also the closed-loop modes from the rolls as loaded until the "
+        "unwind is empty (with --scenario: along the scenario's course), and a warning where "
+        "a loop mode's damping falls below --damping.")] = False,
+    points: Annotated[int, typer.Option(
+        "--points", min=2, max=200, help="Points along the roll for --across-roll.")] = 20,
+    damping: Annotated[float, typer.Option(
+        "--damping", min=0.0, help="Damping threshold for --across-roll.")] = 0.1,
+    figure: Annotated[str | None, typer.Option(
+        "--figure", help="With --across-roll: write the map of the modes to this PNG file.")]
+    = None,
 ) -> None:
     """Operating point, equilibrium inputs and closed-loop modes of a line, and its verdict.
 
     Exit status: 0 ok (no closed-loop mode grows), 2 bad input, 3 unstable (one grows).
     """
     from webline.analysis.modes import closed_loop_modes
+    from webline.analysis.zone_loops import speed_leaks, zone_loops
     from webline.model.operating_point import analysis_time, operating_point
     from webline.report.display import Display
     from webline.report.tables import modes_table, operating_point_tables, operating_point_values
     from webline.report.verdict_text import verdict_lines
+    from webline.report.zone_tables import (
+        leak_lines,
+        roll_modes_table,
+        roll_modes_values,
+        zone_loops_table,
+    )
     from webline.sim.stability import stability_findings
     from webline.verdict import Verdict
 
@@ -58,13 +78,21 @@ def analyze(
     display = Display(units.value, loaded.spec.web.width)
     point = operating_point(loaded, t)
     modes = closed_loop_modes(loaded, t)
+    loops, leaks = zone_loops(loaded, t), speed_leaks(loaded)
     cert = _certificate(loaded) if certificate else None
-    verdict = Verdict.of(stability_findings(loaded, t))
+    course = _across_roll(loaded, scenario, points, damping, figure, display) if across_roll \
+        else None
+    verdict = Verdict.of(stability_findings(loaded, t)
+                         + (course.findings() if course is not None else []))
     if as_json:
         payload: dict[str, object] = {
             "line": loaded.name, "scenario": scenario, "units": units.value,
             "operating_point": operating_point_values(point, display),
-            "closed_loop_modes": [m.as_dict() for m in modes], "verdict": verdict.as_dict()}
+            "closed_loop_modes": [m.as_dict() for m in modes],
+            "zone_loops": [loop.as_dict() for loop in loops],
+            "speed_loop_leaks": [leak.message() for leak in leaks], "verdict": verdict.as_dict()}
+        if course is not None:
+            payload["modes_across_roll"] = roll_modes_values(course)
         if cert is not None:
             payload["certificate"] = {"holds": cert.holds, "worst_ratio": cert.worst_ratio,
                                       "max_real": cert.max_real,
@@ -74,12 +102,43 @@ def analyze(
         typer.echo(json.dumps(payload, indent=2, default=float))
     else:
         tables = [*operating_point_tables(loaded, point, display), modes_table(modes)]
+        if loops:
+            tables.append(zone_loops_table(loops))
+        if course is not None:
+            tables.append(roll_modes_table(course, display))
         print_tables(tables, _console())
+        for warning in leak_lines(leaks):
+            typer.echo(warning, err=True)
         typer.echo("\n".join(verdict_lines(verdict)))
         if cert is not None:
             _print_certificate(cert)
     if verdict.exit_code:
         raise typer.Exit(verdict.exit_code)
+
+
+def _across_roll(line: Line, scenario: str | None, points: int, damping: float,
+                 figure: str | None, display: Display) -> RollModes:
+    """The modes across the roll (``analysis.across_roll``): along the scenario's course
+    where one is given, else from the rolls as loaded to an empty unwind; the map's figure
+    written to ``figure`` if given."""
+    from pathlib import Path
+
+    from webline.analysis.across_roll import modes_across_roll
+
+    duration = line.spec.scenarios[scenario].duration if scenario else None
+    course = modes_across_roll(line, points, duration=duration, threshold=damping)
+    if figure is not None:
+        from webline.files import atomic_write_bytes
+        from webline.report.roll_figures import roll_modes_figure
+
+        fig = roll_modes_figure(course, display)
+        import io
+
+        buffer = io.BytesIO()
+        fig.savefig(buffer, format="png", dpi=110)
+        atomic_write_bytes(Path(figure), buffer.getvalue())
+        typer.echo(f"wrote {figure}", err=True)
+    return course
 
 
 def _certificate(line: Line) -> Certificate:

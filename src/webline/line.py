@@ -96,10 +96,12 @@ class Line:
     @cached_property
     def warnings(self) -> tuple[str, ...]:
         """'key: problem' for every value of the line file outside its usual physical range
-        (``webline.spec.ranges``): possible, but rare enough to be a slip of the unit."""
+        (``webline.spec.ranges``): possible, but rare enough to be a slip of the unit; and
+        every winder setting that cannot act (``webline.spec.winder_checks``)."""
         from webline.spec.ranges import warnings
+        from webline.spec.winder_checks import winder_warnings
 
-        return tuple(warnings(self.spec))
+        return tuple(warnings(self.spec)) + tuple(winder_warnings(self.spec))
 
     def zone_of_span(self, span: int) -> int:
         return next(z for z, zone in enumerate(self.zones) if span in zone.spans)

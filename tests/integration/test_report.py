@@ -125,7 +125,9 @@ def test_report_of_roll_change_shows_the_roll_emptying(tmp_path):
     result = webline.simulate("hswl", 120.0, scenario="roll-change", raise_on_failure=False)
     files = write_report(result, tmp_path, units="imperial", scenario="roll-change")
     html = files.report.read_text(encoding="utf-8")
-    assert len(inline_pngs(html)) == len(FIGURES)
+    # ... and, a run across a roll, the map of its modes along the roll (issue 21)
+    assert len(inline_pngs(html)) == len(FIGURES) + 1
+    assert "Modes across the roll" in html
     radius, core = result.radius[:, 0], result.line.unwind.core_radius
     assert radius[-1] - core < 0.5 * (radius[0] - core)  # most of the unwind's web is gone
     assert result.inertia[-1, 1] > result.inertia[0, 1]  # the rewind grows

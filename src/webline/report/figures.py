@@ -25,6 +25,7 @@ from webline.profiles import breakpoints
 from webline.report.display import Display
 from webline.report.frame import framed_figure, make_room_for_title
 from webline.report.mpl_text import legend_label, literal
+from webline.report.roll_figures import roll_modes_caption, roll_modes_figure
 from webline.report.schematic import schematic
 from webline.report.winder_figures import winder_figures
 from webline.sim.decimate import envelope
@@ -266,6 +267,9 @@ def figure_jobs(result: Result, display: Display,
     if result.has_mrac.any():
         jobs.append(one("mrac", "The MRAC's adapted gains and bias (thesis 6.68, E-6.14).",
                         lambda: mrac_figure(result, display)))
+    if result.roll_modes is not None:  # a run across a roll: its modes along the way
+        jobs.append(one("across_roll", roll_modes_caption(result.roll_modes, display),
+                        lambda: roll_modes_figure(result.roll_modes, display)))  # type: ignore[arg-type]
     if modes:
         jobs.append(one("poles", "Closed-loop poles at the operating point.",
                         lambda: poles_figure(modes)))

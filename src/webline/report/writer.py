@@ -10,6 +10,8 @@ from datetime import UTC, datetime
 from pathlib import Path
 
 from webline.analysis.modes import Mode, closed_loop_modes
+from webline.analysis.zone_loops import ZoneLoop, speed_leaks, zone_loops
+from webline.control.zone_tuning import SpeedLoopLeak
 from webline.errors import WeblineError
 from webline.files import atomic_write_bytes, atomic_write_text
 from webline.line import Line
@@ -30,6 +32,12 @@ from webline.report.tables import (
     summary_values,
 )
 from webline.report.verdict_text import STATUS_CLASS, events_table
+from webline.report.zone_tables import (
+    leak_lines,
+    roll_modes_table,
+    roll_modes_values,
+    zone_loops_table,
+)
 from webline.sim.result import Result
 from webline.spec.load import dump_spec
 
@@ -46,6 +54,8 @@ class Analysis:
     point: OperatingPoint | None
     modes: tuple[Mode, ...]
     problem: str = ""
+    zone_loops: tuple[ZoneLoop, ...] = ()
+    leaks: tuple[SpeedLoopLeak, ...] = ()
 
 
 def analyse(line: Line) -> Analysis:
@@ -53,7 +63,8 @@ def analyse(line: Line) -> Analysis:
     equilibrium gives an ``Analysis`` that says why instead of raising."""
     t = analysis_time(line)
     try:
-        return Analysis(t, operating_point(line, t), tuple(closed_loop_modes(line, t)))
+        return Analysis(t, operating_point(line, t), tuple(closed_loop_modes(line, t)),
+                        zone_loops=tuple(zone_loops(line, t)), leaks=tuple(speed_leaks(line)))
     except (WeblineError, ValueError, ArithmeticError) as exc:
         return Analysis(t, None, (), str(exc))
 
@@ -97,6 +108,10 @@ def write_report(result: Result, out_dir: Path, *, units: System = "si",
         "operating_point": (operating_point_values(analysis.point, display)
                             if analysis.point else None),
         "closed_loop_modes": [m.as_dict() for m in analysis.modes],
+        "zone_loops": [loop.as_dict() for loop in analysis.zone_loops],
+        "speed_loop_leaks": [leak.message() for leak in analysis.leaks],
+        "modes_across_roll": (roll_modes_values(result.roll_modes)
+                              if result.roll_modes is not None else None),
         "verdict": result.verdict.as_dict(),
     }), indent=2, allow_nan=False))
 
@@ -149,6 +164,13 @@ def _sections(result: Result, display: Display, images: dict[str, Image], analys
     if analysis.point is not None:
         op_parts: list = [*operating_point_tables(line, analysis.point, display),
                           modes_table(analysis.modes)]
+        if analysis.zone_loops:
+            op_parts.append(zone_loops_table(analysis.zone_loops))
+        op_parts += [Text(line) for line in leak_lines(analysis.leaks)]
+        if result.roll_modes is not None:  # a run across a roll: its modes along the way
+            op_parts.append(roll_modes_table(result.roll_modes, display))
+            if "across_roll" in images:
+                op_parts.append(images["across_roll"])
         if "poles" in images:
             op_parts.append(images["poles"])
         op_parts.insert(0, Text(f"Equilibrium of the line at its references at t = "
@@ -172,7 +194,7 @@ def _sections(result: Result, display: Display, images: dict[str, Image], analys
         Section("Summary", [*summary_tables(result, display), *_verdict_parts(result)]),
         # every figure of the run in report order, but the line's and the modes' own
         Section("Time plots", [image for key, image in images.items()
-                               if key not in ("schematic", "poles")]),
+                               if key not in ("schematic", "poles", "across_roll")]),
         Section("Operating point and modes", op_parts),
         Section("Run", [make_table("run", "Settings", ["key", "value"], run_rows)]),
         Section("Resolved line file", [Text(dump_spec(line.spec), pre=True,

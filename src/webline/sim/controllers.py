@@ -25,6 +25,7 @@ import numpy as np
 from webline.physics import motor, roll, roller, span, taper
 from webline.sim import layout as L
 from webline.sim.diameter import update_radius
+from webline.sim.measure import measured_speed
 from webline.sim.mrac import mrac_adapt, mrac_feedback
 from webline.sim.observer import observe
 from webline.sim.signals import gaussian, jit, profile_at, profile_slope_at
@@ -162,8 +163,8 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
         refs[p] = profile_at(p, t, prof_t, prof_v, prof_off)
     for d in range(ds.shape[0]):  # the radius each controller uses (calculated or true)
         i = ds[d, L.DS_NODE]
-        update_radius(d, i, dt, node_radius(i, x, ns, offsets, nodes), x, istate, ns, offsets,
-                      nodes, drives, web)
+        update_radius(d, i, tick, dt, node_radius(i, x, ns, offsets, nodes), x, istate, ns,
+                      ds, offsets, nodes, drives, web, refs)
         if drives[d, L.D_TAPER] > 0.0:
             refs[ds[d, L.DS_REF]] *= taper_at(d, istate[d, L.I_RADIUS], drives, prof_t, prof_v,
                                               prof_off)
@@ -178,13 +179,9 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
     for d in range(ds.shape[0]):
         i = ds[d, L.DS_NODE]
         radius = istate[d, L.I_RADIUS]
-        v_meas = radius * x[offsets[L.O_OMEGA] + i]
         # the motor's encoder, across a compliant transmission (a rigid drive has no motor
         # state: its motor speed is ratio x roller speed, the same measurement as the load's)
-        if ds[d, L.DS_FEEDBACK] > 0 and ds[d, L.DS_TSTATE] >= 0:
-            v_meas = radius * x[ds[d, L.DS_TSTATE]] / drives[d, L.D_RATIO]
-        if offsets[L.O_NOISE] and web[L.W_NOISE_V] > 0.0:
-            v_meas += web[L.W_NOISE_V] * gaussian(seed, tick, 2 * d)
+        v_meas = measured_speed(d, i, tick, radius, x, ds, offsets, drives, web)
         loadcell = ds[d, L.DS_LOADCELL]
         t_meas = 0.0
         if loadcell >= 0:

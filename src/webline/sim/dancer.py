@@ -11,11 +11,20 @@ from __future__ import annotations
 
 import numpy as np
 
+from webline.control.zone_tuning import (
+    KP_SPANS,
+    loop_plant_gain,
+    nominal_plant_gain,
+    tension_gains,
+    zone_damper,
+    zone_dancers,
+)
 from webline.line import Line
+from webline.physics.taper import spec_factor
 from webline.profiles import breakpoints
 from webline.sim import layout as L
 from webline.spec.dancer import DancerCarriage
-from webline.spec.schema import DancerSpec
+from webline.spec.schema import CascadedPISpec, DancerSpec
 
 #: damping ratio of an end stop while the carriage presses on it: a rubber buffer, which
 #: stops the carriage without bouncing it back at full speed
@@ -58,27 +67,72 @@ def node_columns(row: np.ndarray, line: Line, i: int, state: int, profile: int) 
 
 
 def drive_columns(drives: np.ndarray, line: Line) -> None:
-    """Point each zone drive whose zone has a dancer in use at it; a position loop gets the
-    zone's tension gains scaled by 2 EA / (zone length), the ratio between the rates of the
-    two errors (d(T_ref - T)/dt = EA/L_zone (v_in - v_out), d(y - y_set)/dt = (v_in - v_out)/2),
-    so that both loops close at the same bandwidth, unless the file gives the gains."""
+    """Point each zone drive whose zone has a dancer in use at it, and design its tension loop
+    for the zone's real stiffness (docs/winder.md Z1-Z4, ``control.zone_tuning``): a
+    position loop's gains are the tension loop's scaled by EA / L_zone over G (Z2; the file's
+    tension gains so scaled too, unless it gives the position gains); a tension loop (dancer
+    as sensor, or a loadcell beside a sprung dancer) is placed on K_e = 1/C and, for the
+    loadcell, the dancer's damper (Z4), where the file leaves its gains out."""
     drives[:, L.D_DANCER] = -1
-    for i in dancer_nodes(line):
+    for z, zone in enumerate(line.zones):
+        if not zone_dancers(line, z):
+            continue
+        d = line.drives.index(zone.controller)
+        controller = getattr(line.spec.rollers[zone.controller], "controller", None)
+        if not isinstance(controller, CascadedPISpec):
+            _point_at_dancer(drives, line, z, d)
+            continue
+        _, plant = loop_plant_gain(line, z)
+        position = _point_at_dancer(drives, line, z, d)
+        if position is not None:
+            scale = nominal_plant_gain(line, z) / plant
+            c = _carriage(line, position)
+            drives[d, L.D_KPT] = scale * drives[d, L.D_KPT] if c.position_kp is None else (
+                c.position_kp)
+            drives[d, L.D_KIT] = scale * drives[d, L.D_KIT] if c.position_ki is None else (
+                c.position_ki)
+            continue
+        if plant == 0.0:
+            continue  # an air-loaded dancer sets the tension: nothing to design (validate)
+        bandwidth, damping = controller.tension_bandwidth, controller.damping
+        if drives[d, L.D_DANCER] < 0:  # a loadcell: it feels the damper and, fast, the spans
+            kp, ki = tension_gains(plant, zone_damper(line, z), bandwidth, damping,
+                                   KP_SPANS * 2.0 * damping * bandwidth
+                                   / nominal_plant_gain(line, z))
+        else:  # the dancer as tension sensor: its spring's force
+            kp, ki = tension_gains(plant, 0.0, bandwidth, damping)
+        if controller.tension_kp is None:
+            drives[d, L.D_KPT] = kp
+        if controller.tension_ki is None:
+            drives[d, L.D_KIT] = ki
+
+
+def _point_at_dancer(drives: np.ndarray, line: Line, z: int, d: int) -> int | None:
+    """Point drive ``d`` at the dancer of zone ``z`` its loop reads (position control or
+    tension sensor); the node of a position-controlled one, else None."""
+    for i in zone_dancers(line, z):
         c = _carriage(line, i)
         if c.use == "none":
             continue
-        zone = line.zones[dancer_zone(line, i)]
-        d = line.drives.index(zone.controller)
         drives[d, L.D_DANCER] = i
         if c.use == "tension":
             drives[d, L.D_DUSE] = L.DANCER_TENSION
-            continue
+            return None
         drives[d, L.D_DUSE] = L.DANCER_POSITION
-        scale = 2.0 * line.ea / sum(line.spec.spans[k].length for k in zone.spans)
-        drives[d, L.D_KPT] = scale * drives[d, L.D_KPT] if c.position_kp is None else (
-            c.position_kp)
-        drives[d, L.D_KIT] = scale * drives[d, L.D_KIT] if c.position_ki is None else (
-            c.position_ki)
+        return i
+    return None
+
+
+def load_taper(line: Line, drives: np.ndarray, i: int, radius: float) -> float:
+    """Factor [-] on the load of the dancer on node ``i`` at the controller's roll radius
+    ``radius`` [m] (``sim.dancer_taper.load_factor``, in Python): the rewind's taper where
+    its drive runs this dancer in position control, else 1."""
+    d = line.drives.index(line.n_nodes - 1)
+    rewind = line.rewind
+    if (drives[d, L.D_DANCER] != i or drives[d, L.D_DUSE] != L.DANCER_POSITION
+            or drives[d, L.D_TAPER] <= 0.0 or rewind.taper is None):
+        return 1.0
+    return spec_factor(rewind.taper, rewind.core_radius, radius)
 
 
 def equilibrium_position(line: Line, i: int, tension_in: float, tension_out: float,

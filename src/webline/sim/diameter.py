@@ -8,34 +8,38 @@ import math
 import numpy as np
 
 from webline.sim import layout as L
+from webline.sim.measure import measured_omega, roller_speed
 from webline.sim.signals import jit
 
 
 @jit
-def update_radius(d: int, i: int, dt: float, true_radius: float, x: np.ndarray,
-                  istate: np.ndarray, ns: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
-                  drives: np.ndarray, web: np.ndarray) -> float:
+def update_radius(d: int, i: int, tick: int, dt: float, true_radius: float, x: np.ndarray,
+                  istate: np.ndarray, ns: np.ndarray, ds: np.ndarray, offsets: np.ndarray,
+                  nodes: np.ndarray, drives: np.ndarray, web: np.ndarray,
+                  refs: np.ndarray) -> float:
     """Advance drive ``d``'s calculated radius [m] by one tick ``dt`` [s] and return it; a
     drive without a calculator uses ``true_radius``.
 
-    Speed ratio: R_raw = v_line / ω, v_line = r_m ω_m of the master roller; R follows R_raw
-    through a first-order filter (time constant τ: R += (R_raw - R) min(dt/τ, 1)) whose step
-    is limited to rate_limit dt / 2, and holds while |v_line| is below hold_below (the ratio
-    of two small, noisy speeds means nothing). Thickness: R += ±δ ω dt / 2π (one thickness per
+    Both speeds are measured as the controllers measure them (``sim.measure``: noise,
+    resolution, the spindle's encoder): ω of the spindle with the radius known so far, and
+    v_line from the master roller, a measuring roller or the line-speed reference
+    ``refs[0]`` (``D_DSOURCE``). Speed ratio: R_raw = v_line / ω; R follows R_raw through a
+    first-order filter (time constant τ: R += (R_raw - R) min(dt/τ, 1)) whose step is
+    limited to rate_limit dt / 2, and holds while |v_line| is below hold_below (the ratio of
+    two small, noisy speeds means nothing). Thickness: R += ±δ ω dt / 2π (one thickness per
     revolution on the radius), - on the unwind.
     """
     method = drives[d, L.D_DCALC]
     if method == L.DCALC_NONE:
         istate[d, L.I_RADIUS] = true_radius
         return true_radius
-    omega = x[offsets[L.O_OMEGA] + i]
     radius = istate[d, L.I_RADIUS]
+    omega = measured_omega(d, i, tick, radius, x, ds, offsets, drives, web)
     if method == L.DCALC_THICKNESS:
         sign = -1.0 if ns[i, L.NS_KIND] == L.KIND_UNWIND else 1.0
         radius += sign * web[L.W_THICK] * abs(omega) * dt / (2.0 * math.pi)
     else:
-        master = offsets[L.O_MASTER]
-        v_line = nodes[master, L.N_RADIUS] * x[offsets[L.O_OMEGA] + master]
+        v_line = line_speed(d, tick, x, ns, ds, offsets, nodes, drives, web, refs)
         if abs(v_line) >= drives[d, L.D_DHOLD] and abs(omega) > 1e-9:
             step = (abs(v_line / omega) - radius) * min(dt / drives[d, L.D_DFILTER], 1.0)
             limit = 0.5 * drives[d, L.D_DRATE] * dt
@@ -43,3 +47,16 @@ def update_radius(d: int, i: int, dt: float, true_radius: float, x: np.ndarray,
     radius = max(radius, nodes[i, L.N_CORE])  # no calculator reports less than the core
     istate[d, L.I_RADIUS] = radius
     return radius
+
+
+@jit
+def line_speed(d: int, tick: int, x: np.ndarray, ns: np.ndarray, ds: np.ndarray,
+               offsets: np.ndarray, nodes: np.ndarray, drives: np.ndarray, web: np.ndarray,
+               refs: np.ndarray) -> float:
+    """The line speed [m/s] drive ``d``'s speed-ratio calculator divides: the reference, or
+    the measured surface speed of the master or of a measuring roller."""
+    source = int(drives[d, L.D_DSOURCE])
+    if source == L.DSOURCE_REFERENCE:
+        return refs[0]
+    node = offsets[L.O_MASTER] if source == L.DSOURCE_MASTER else source
+    return roller_speed(node, tick, x, ns, ds, offsets, nodes, drives, web)

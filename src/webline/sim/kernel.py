@@ -27,6 +27,7 @@ from webline.physics import roll, roller, slip, span
 from webline.sim import layout as L
 from webline.sim.controllers import control_tick
 from webline.sim.dancer_loop import dancer_rate, span_motion
+from webline.sim.dancer_taper import load_factor
 from webline.sim.envelope import envelope, node_arm
 from webline.sim.signals import jit, loop_njit, njit, profile_at, sines
 from webline.sim.splice import apply_splices
@@ -344,7 +345,8 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
                 drag[i] = profile_at(p, t, prof_t, prof_v, prof_off)
             if ns[i, L.NS_DANCER] >= 0:
                 drag[n_n + i] = profile_at(int(nodes[i, L.N_DLOAD]), t, prof_t, prof_v,
-                                           prof_off)
+                                           prof_off) * load_factor(i, istate, ds, drives,
+                                                                   prof_t, prof_v, prof_off)
         t0_start = wound_in(t, web, wound_ripple)
         for s in range(substeps):
             ts = t + s * h

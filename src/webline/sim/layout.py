@@ -71,8 +71,12 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  D_DCALC, D_DFILTER, D_DRATE, D_DHOLD, D_DINIT,
  # ... and the centre winder's compensation (W3): inertia (1 on), static [N·m] and viscous
  # [N·m·s] friction at the roll shaft
- D_COMPJ, D_COMPCS, D_COMPB) = range(63)
-D_COLS = 63
+ D_COMPJ, D_COMPCS, D_COMPB,
+ # ... and where the diameter calculator's line speed comes from (DSOURCE_* or the node of
+ # a measuring roller)
+ D_DSOURCE) = range(64)
+D_COLS = 64
+DSOURCE_MASTER, DSOURCE_REFERENCE = -1, -2
 DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = 0, 1, 2
 DANCER_NONE, DANCER_POSITION, DANCER_TENSION = 0, 1, 2
 ROLE_MASTER, ROLE_TENSION = 0, 1
@@ -103,15 +107,17 @@ I_COLS = 12
  W_STRENGTH, W_STRETCH_MAX, W_SPEED_MAX,
  # the break monitor: tension threshold [fraction of the reference], ramp-to-stop time [s],
  # diameter threshold [m] (0: off)
- W_BTHRESH, W_BSTOP, W_BDIAM) = range(15)
-W_COLS = 15
+ W_BTHRESH, W_BSTOP, W_BDIAM,
+ # the resolution of measured surface speeds [m/s] (0: exact)
+ W_RES_V) = range(16)
+W_COLS = 16
 BREAK_TENSION, BREAK_DANCER, BREAK_DIAMETER = 1, 2, 3  # how the monitor detected a break
 
 # the integer ``offsets`` array: where state blocks start (spans at 0, node speeds, the two roll
 # radii, motor torques, eccentric angles, web-length integrals), the master's upstream
 # reference profile, the master node, where transmission states start, then two flags
 (O_OMEGA, O_RADIUS, O_TORQUE, O_ANGLE, O_WEB, O_MASTER_UP, O_MASTER, O_TRANSMISSION) = range(1, 9)
-O_NOISE = 9  # 1 if measurements carry noise
+O_NOISE = 9  # 1 if measurements carry noise or a resolution
 O_NEED_EQ = 10  # 1 if a controller needs the reference state every tick
 O_BREAK = 11  # 1 if the web breaks in this run (docs/winder.md W5): the break monitor is on
 O_KV = 12  # 1 if a span is Kelvin-Voigt: the rollers and loadcells feel s + τ ds/dt

@@ -120,6 +120,8 @@ class Plan:
         for i in dancers.dancer_nodes(self.line):
             state = int(self.nodes[i, L.N_DANCER])
             load = self.profile_value(int(self.nodes[i, L.N_DLOAD]), op.time)
+            load *= dancers.load_taper(self.line, self.drives, i, winder.initial_radius(
+                self.drives, self.line.drives.index(self.line.n_nodes - 1), op.radius[-1]))
             x[state] = dancers.equilibrium_position(self.line, i, op.tension[i - 1],
                                                     op.tension[i], load)
         istate = np.zeros((len(op.torque), L.I_COLS))
@@ -280,7 +282,8 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     noisy = False
     for noise in (d for d in spec.disturbances if isinstance(d, MeasurementNoise)):
         web[L.W_NOISE_T], web[L.W_NOISE_V], web[L.W_SEED] = noise.tension, noise.speed, noise.seed
-        noisy = noise.tension > 0 or noise.speed > 0
+        web[L.W_RES_V] = noise.speed_resolution
+        noisy = noise.tension > 0 or noise.speed > 0 or noise.speed_resolution > 0
     need_eq = bool(np.any(drives[:, L.D_FAMILY] != L.FAMILY_PI))
     span_table = np.array([[s.length, 1.0 / s.length, 0.0, s.retardation or 0.0]
                            for s in spec.spans])

@@ -15,6 +15,7 @@ from webline.line import Line, load_line
 from webline.sim import kernel
 from webline.sim import layout as L
 from webline.sim.controllers import control_tick
+from webline.sim.dancer_taper import load_factor
 from webline.sim.plan import compile_plan, equilibrium_plan_state
 from webline.sim.result import Result
 from webline.sim.signals import profile_at
@@ -82,7 +83,8 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
             drag[i] = profile_at(p, t, prof_t, prof_v, prof_off) if p >= 0 else 0.0
             if ns[i, L.NS_DANCER] >= 0:  # the dancer's load, held like the drag
                 drag[nodes.shape[0] + i] = profile_at(int(nodes[i, L.N_DLOAD]), t, prof_t,
-                                                      prof_v, prof_off)
+                                                      prof_v, prof_off) * load_factor(
+                    i, istate, ds, drives, prof_t, prof_v, prof_off)  # a taper through it
         sol = solve_ivp(derivative, (t, t + plan.dt), x, method=method, rtol=rtol, atol=atol)
         x = sol.y[:, -1].copy()
     return _result(plan, np.array(rows), None,

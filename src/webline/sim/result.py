@@ -22,6 +22,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from webline.sim.events import EventStats
+    from webline.sim.roll_modes import RollModes
     from webline.verdict import Verdict
 
 
@@ -79,11 +80,22 @@ class Result:
         from webline.sim.findings import run_verdict
         from webline.sim.splice_findings import splice_findings
 
+        extra = splice_findings(self.line, self.plan.dt, self.time, self.tension)
+        if self.roll_modes is not None:  # a run across a roll: its modes along the way
+            extra += self.roll_modes.findings()
         end = float(self.time[-1]) if len(self.time) else 0.0
         return run_verdict(self.plan, self.failure, [e.summary() for e in self.events], end,
                            self.break_monitor,
-                           lambda t: float(np.abs(self.speed[self.time >= t]).max()),
-                           splice_findings(self.line, self.plan.dt, self.time, self.tension))
+                           lambda t: float(np.abs(self.speed[self.time >= t]).max()), extra)
+
+    @cached_property
+    def roll_modes(self) -> RollModes | None:
+        """The closed-loop modes along the run's recorded roll radii, for a run across a roll
+        (``webline.sim.roll_modes.run_roll_modes``), else None."""
+        from webline.sim.roll_modes import run_roll_modes
+
+        rolls = self._block(2, 2)
+        return run_roll_modes(self.line, self.time, rolls[:, 0], rolls[:, 1])
 
     @property
     def status(self) -> str:

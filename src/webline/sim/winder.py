@@ -50,6 +50,9 @@ def diameter_columns(drives: np.ndarray, line: Line) -> None:
         row[L.D_DRATE] = math.inf if spec.rate_limit is None else spec.rate_limit
         row[L.D_DHOLD] = spec.hold_below
         row[L.D_DINIT] = 0.0 if spec.initial == "measured" else float(spec.initial)
+        sources = {"master": L.DSOURCE_MASTER, "reference": L.DSOURCE_REFERENCE}
+        row[L.D_DSOURCE] = sources.get(spec.line_speed, next(
+            (j for j, r in enumerate(line.spec.rollers) if r.name == spec.line_speed), -1))
 
 
 def initial_radius(drives: np.ndarray, d: int, true_radius: float) -> float:

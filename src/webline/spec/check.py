@@ -27,7 +27,7 @@ from webline.spec.schema import (
     WoundInRipple,
 )
 from webline.spec.splice import check_splices
-from webline.spec.winder import WebBreak, check_taper
+from webline.spec.winder import WebBreak, check_diameters, check_taper
 
 Fail = Callable[[str, str], NoReturn]
 
@@ -113,6 +113,7 @@ def check_spec(spec: LineSpec, file: str) -> None:
                  f"needs exactly one span with a 'tension' reference, got {len(loadcells)}")
     check_dancers(rollers, spec.spans, zones(spec), fail)
     check_nips(rollers, fail)
+    check_diameters(list(rollers), fail)
     check_taper(getattr(rollers[-1], "taper", None), f"rollers[{len(rollers) - 1}].taper", fail)
     for k, span in enumerate(spec.spans):
         _check_span_model(spec, k, fail)

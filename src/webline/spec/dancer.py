@@ -75,6 +75,9 @@ def check_dancers(rollers: Sequence[Any], spans: Sequence[Any],
                      f"position {c.position:g} m (the span is that much shorter at y = 0)")
         if (c.arm_length is None) != (c.arm_inertia is None):
             fail(f"{key}.arm_inertia", "a pivoting arm needs both arm_length and arm_inertia")
+        if c.use == "tension" and c.stiffness == 0.0:
+            fail(f"{key}.stiffness", "a dancer as tension sensor needs a spring (stiffness > "
+                 "0): without one it reads load / 2 whatever the tension")
         if c.use == "position":
             first, last = next(z for z in zone_nodes if z[0] < i < z[1])
             master = next(j for j, r in enumerate(rollers) if getattr(r, "role", "") == "master")

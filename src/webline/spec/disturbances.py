@@ -62,11 +62,14 @@ class RollerDrag(Strict):
 
 class MeasurementNoise(Strict):
     """White Gaussian noise on every controller's tension and speed measurements (standard
-    deviations ``tension`` [N], ``speed`` [m/s]), reproducible from ``seed``."""
+    deviations ``tension`` [N], ``speed`` [m/s]), reproducible from ``seed``; measured
+    surface speeds are rounded to ``speed_resolution`` [m/s] (0: exact), as an encoder's
+    counts per sample are. The diameter calculators measure as the controllers do."""
 
     type: Literal["measurement_noise"]
     tension: Annotated[float, si("force", ">=0")] = 0.0
     speed: Speed = 0.0
+    speed_resolution: Speed = 0.0
     seed: int = 0
 
 

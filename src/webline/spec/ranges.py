@@ -234,6 +234,8 @@ RANGES: dict[str, Range] = {
     "roller_drag.torque": BRAKE_RANGE,
     "measurement_noise.tension": _r(FORCE, (0.0, 1e6), (0.0, 1e3), "loadcell noise"),
     "measurement_noise.speed": _r("speed", (0.0, 100.0), (0.0, 1.0), "tachometer noise"),
+    "measurement_noise.speed_resolution": _r("speed", (0.0, 10.0), (0.0, 0.1),
+                                             "an encoder's count per sample"),
     "measurement_noise.seed": _r("integer", (0.0, 2.0**53), (0.0, 2.0**53),
                                  "the plan stores it as a float (exact to 2^53)"),
 }

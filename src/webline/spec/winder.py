@@ -46,18 +46,36 @@ class DiameterSpec(Strict):
     """A roll drive's diameter calculator (docs/winder.md, W2): its controllers use the
     calculated radius, not the true one.
 
-    ``"speed_ratio"``: D = 2 v_line / ω_spindle, v_line the master roller's surface speed,
-    low-pass filtered with ``filter`` [s], its rate limited to ``rate_limit`` [m/s] of
-    diameter, held while |v_line| < ``hold_below`` [m/s]. ``"thickness"``: each revolution
-    adds (rewind) or removes (unwind) two web thicknesses. ``initial``: ``"measured"`` (the
-    true diameter at the start) or a guessed diameter [m].
+    ``"speed_ratio"``: D = 2 v_line / ω_spindle, low-pass filtered with ``filter`` [s], its
+    rate limited to ``rate_limit`` [m/s] of diameter, held while |v_line| < ``hold_below``
+    [m/s]. ``line_speed`` is where v_line comes from: ``"master"`` (the master roller's
+    measured surface speed), ``"reference"`` (the line-speed reference) or the name of a
+    measuring roller (its measured surface speed). Both speeds are measured as the
+    controllers measure them (``measurement_noise``: noise and resolution; the spindle's
+    encoder, on the motor across a transmission with motor feedback). ``"thickness"``: each
+    revolution adds (rewind) or removes (unwind) two web thicknesses. ``initial``:
+    ``"measured"`` (the true diameter at the start) or a guessed diameter [m].
     """
 
     method: Literal["speed_ratio", "thickness"]
+    line_speed: Annotated[str, Field(min_length=1, max_length=100)] = "master"
     initial: Literal["measured"] | Length = "measured"
     filter: Annotated[float, si("time", ">0")] = 0.2
     rate_limit: Annotated[float, si("speed", ">0")] | None = None
     hold_below: Annotated[float, si("speed", ">=0")] = 0.05
+
+
+def check_diameters(rollers: list[Any], fail: Callable[[str, str], Any]) -> None:
+    """Fail on a diameter calculator whose line-speed source names no roller (or its own
+    roll)."""
+    names = [r.name for r in rollers]
+    for i in (0, len(rollers) - 1):
+        spec = getattr(rollers[i], "diameter", None)
+        if spec is None or spec.line_speed in ("master", "reference"):
+            continue
+        if spec.line_speed not in names or names.index(spec.line_speed) == i:
+            fail(f"rollers[{i}].diameter.line_speed", f"must be 'master', 'reference' or "
+                 f"the name of another roller, got {spec.line_speed!r}")
 
 
 class WinderSpec(Strict):
