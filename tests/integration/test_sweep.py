@@ -88,7 +88,7 @@ def test_grid_coordinates_are_si_and_traces_match_simulate() -> None:
 
 
 def test_zip_needs_equal_lengths() -> None:
-    with pytest.raises(ValueError, match=r"web\.ea: 2"):
+    with pytest.raises(webline.ArgumentError, match=r"web\.ea: 2"):
         webline.sweep("hswl", {"web.ea": ["1 kN", "2 kN"], "speed": ["1 m/s"]}, duration=0.1,
                       mode="zip")
 
