@@ -12,7 +12,7 @@ from __future__ import annotations
 import difflib
 import re
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from typing import Any
 
 from webline.errors import LineFileError
@@ -104,20 +104,23 @@ def parse_assignment(text: str) -> tuple[str, object]:
 MAX_NESTING = 32
 
 
-def nesting(text: str) -> int:
-    """How deep braces and brackets nest in ``text``, outside quotes."""
-    deepest, depth, quote = 0, 0, ""
-    for char in text:
+def _depths(text: str) -> Iterator[tuple[int, str, int]]:
+    """(index, character, depth of braces and brackets after it) of each character of
+    ``text`` outside quotes."""
+    depth, quote = 0, ""
+    for i, char in enumerate(text):
         if quote:
             quote = "" if char == quote else quote
         elif char in "\"'":
             quote = char
-        elif char in "{[":
-            depth += 1
-            deepest = max(deepest, depth)
-        elif char in "}]":
-            depth -= 1
-    return deepest
+        else:
+            depth += (char in "{[") - (char in "}]")
+            yield i, char, depth
+
+
+def nesting(text: str) -> int:
+    """How deep braces and brackets nest in ``text``, outside quotes."""
+    return max([0, *(depth for _, _, depth in _depths(text))])
 
 
 def toml_value(raw: str) -> object:
@@ -136,17 +139,9 @@ def toml_value(raw: str) -> object:
 def split_values(text: str) -> list[str]:
     """``text`` cut at the commas outside braces, brackets and quotes:
     ``'{type = "a", x = 1},{type = "b"}'`` is two values."""
-    pieces, depth, quote, start = [], 0, "", 0
-    for i, char in enumerate(text):
-        if quote:
-            quote = "" if char == quote else quote
-        elif char in "\"'":
-            quote = char
-        elif char in "{[":
-            depth += 1
-        elif char in "}]":
-            depth -= 1
-        elif char == "," and depth == 0:
+    pieces, start = [], 0
+    for i, char, depth in _depths(text):
+        if char == "," and depth == 0:
             pieces.append(text[start:i])
             start = i + 1
     pieces.append(text[start:])
