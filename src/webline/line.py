@@ -13,7 +13,10 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
+import numpy as np
+
 from webline.spec.check import check_spec, web_ea, zones
+from webline.spec.web_law import law_array, stretch_at
 from webline.spec.load import read_spec, spec_from_dict
 from webline.spec.paths import set_path
 from webline.spec.schema import (
@@ -64,6 +67,23 @@ class Line:
     def ea(self) -> float:
         """Axial stiffness of the web E·A [N]."""
         return web_ea(self.spec.web)
+
+    @cached_property
+    def law(self) -> np.ndarray:
+        """The web's stress-strain law in stretch s = EA·ε [N] (``physics.web_law``; a
+        one-element array for the linear law), read-only."""
+        law = law_array(self.spec.web, self.ea)
+        law.setflags(write=False)
+        return law
+
+    @property
+    def nonlinear(self) -> bool:
+        """Whether the web's law is other than T = EA ε."""
+        return self.law.size > 1
+
+    def stretch_of(self, tension: float) -> float:
+        """Stretch EA·ε [N] at which the web carries ``tension`` [N] (itself, linear)."""
+        return stretch_at(self.law, tension) if self.nonlinear else tension
 
     @property
     def n_nodes(self) -> int:
