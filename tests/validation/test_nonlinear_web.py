@@ -189,3 +189,35 @@ def test_stiffening_web_raises_the_span_frequency_as_its_tangent_modulus_says():
     # (80/20)^((n-1)/(2n)) = 4^0.1875 = 1.297 (to the same ~ε/2 as above)
     ratio = freqs[80.0] / freqs[20.0]
     np.testing.assert_allclose(ratio, 4.0 ** (0.6 / 3.2), rtol=5e-3)
+
+
+def test_strain_beyond_yield_is_a_finding_of_the_verdict():
+    """A bilinear web (yield at ε = 0.4 %, 34.7 N; half the modulus beyond) whose first zone
+    steps from 30 N to 45 N at 0.5 s: span1 yields after the step and stays beyond (at 45 N
+    the law's strain is 0.4 % + (45 - 34.7) N / (0.5 EA) = 0.637 %); span2 (30 N) never
+    yields. The same run on a web yielding at 1 % has no such finding."""
+    law = {"law": "bilinear", "yield_strain": 0.004, "hardening": 0.5}
+    step = {"type": "steps", "initial": "30 N", "steps": [{"time": 0.5, "value": "45 N"}]}
+    line = three_roller("30 N", law).replace({"spans.span1.tension": step})
+    run = webline.simulate(line, 2.0)
+    found = [f for f in run.verdict.findings if f.kind == "yield"]
+    assert [f.where for f in found] == ["span1"]
+    assert run.verdict.status == "warning"
+    yielded = found[0].details
+    strain = run.stretch[:, 0] / line.ea
+    first = run.time[np.argmax(strain > 0.004)]
+    # the 4 rad/s tension loop covers the 31 % of the step up to the yield in ~0.4 s
+    assert 0.5 < yielded["first_s"] == first < 1.2
+    dt = run.time[1] - run.time[0]
+    assert yielded["duration_s"] == pytest.approx(run.time[-1] - first + dt, abs=1.01 * dt)
+    assert yielded["peak_strain"] == strain.max()
+    # past yield the strain is the law's for the felt tension: ε = ε_y + (T - EA ε_y)/(h EA)
+    # (to rounding); the zone approaches 45 N (44 N by 2 s on its 4 rad/s loop)
+    tension = run.tension[-1, 0]
+    hand = 0.004 + (tension - 0.004 * line.ea) / (0.5 * line.ea)
+    assert strain[-1] == pytest.approx(hand, rel=1e-12)
+    assert 43.0 < tension < 45.5
+    assert yielded["peak_strain"] >= strain[-1]
+    stiff = three_roller("30 N", law | {"yield_strain": 0.01}).replace(
+        {"spans.span1.tension": step})
+    assert not [f for f in webline.simulate(stiff, 2.0).verdict.findings if f.kind == "yield"]
