@@ -16,7 +16,6 @@ from pathlib import Path
 import numpy as np
 
 from webline.spec.check import check_spec, web_ea, zones
-from webline.spec.web_law import law_array, stretch_at
 from webline.spec.load import read_spec, spec_from_dict
 from webline.spec.paths import set_path
 from webline.spec.schema import (
@@ -27,6 +26,8 @@ from webline.spec.schema import (
     UnwindSpec,
 )
 from webline.spec.splice import FlyingSplice
+from webline.spec.web_law import stretch_at
+from webline.spec.web_law_checks import law_array
 from webline.spec.winder import WebBreak
 
 #: The notebook view of a line, "module:function" taking the ``Line`` and returning HTML: a

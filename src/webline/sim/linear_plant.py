@@ -13,8 +13,8 @@ import numpy as np
 from webline.line import Line, is_roll
 from webline.model.operating_point import OperatingPoint
 from webline.physics.roll import web_inertia
-from webline.physics.web_law import law_slope
 from webline.physics.roller import COULOMB_SMOOTHING
+from webline.physics.web_law import law_slope
 from webline.sim import dancer_linear as dancers
 from webline.sim import layout as L
 from webline.sim import viscoelastic

@@ -27,7 +27,8 @@ from webline.spec.schema import (
     WoundInRipple,
 )
 from webline.spec.splice import check_splices
-from webline.spec.web_law import check_web_law, law_array, stretch_at, table_modulus
+from webline.spec.web_law import stretch_at
+from webline.spec.web_law_checks import check_web_law, law_array, table_modulus
 from webline.spec.winder import WebBreak, check_diameters, check_taper
 
 Fail = Callable[[str, str], NoReturn]
