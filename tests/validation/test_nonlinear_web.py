@@ -221,3 +221,17 @@ def test_strain_beyond_yield_is_a_finding_of_the_verdict():
     stiff = three_roller("30 N", law | {"yield_strain": 0.01}).replace(
         {"spans.span1.tension": step})
     assert not [f for f in webline.simulate(stiff, 2.0).verdict.findings if f.kind == "yield"]
+
+
+def test_rockwell_linearization_with_a_law_matches_finite_differences(rockwell):
+    """rockwell (a dancer, a belt, an idle roller) with a softening paper (n = 0.7): the
+    open-loop A against central differences of the kernel, as for the three-roller line."""
+    line = rockwell.replace({"web.stress_strain": {"law": "power", "exponent": 0.7,
+                                                   "reference_strain": 0.005}})
+    op = webline.operating_point(line)
+    f, z0, _ = plant_derivative(line, op)
+    sys = linear_model(line, loop="open")
+    scale = np.maximum(np.abs(z0), 1.0)
+    fd = jacobian(f, z0, op.torque, scale)
+    # central differences of a smooth rhs at 1e-6 relative steps: ~1e-9 relative error
+    np.testing.assert_allclose(sys.a, fd, rtol=1e-6, atol=1e-6 * np.abs(sys.a).max())

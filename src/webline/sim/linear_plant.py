@@ -97,7 +97,7 @@ def plan_plant(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
         a[wt + d, wt + d] = -1.0 / lag
         b[wt + d, d] = 1.0 / lag
     _drive_block(a, plan, op, wn, wt, wt + n_d)
-    dancers.plant_rows(a, e, plan, t, wt + n_d + 2 * n_c)
+    dancers.plant_rows(a, e, plan, s, wt + n_d + 2 * n_c)
     c = np.zeros((n_s + n_n, n))
     slopes = np.array([law_slope(x, line.law) for x in s]) if line.nonlinear else None
     c[:n_s] = viscoelastic.felt_rows(plan, a, e, slopes)  # T = F(s) (+ τ ds/dt, Kelvin-Voigt)
