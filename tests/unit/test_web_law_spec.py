@@ -65,3 +65,10 @@ def test_good_laws_validate(tmp_path):
                          ('law = "bilinear"\nyield_strain = 0.01\nhardening = 0.2', False)):
         result = CliRunner().invoke(app, ["validate", line_file(tmp_path, law, drop_ea)])
         assert result.exit_code == 0, result.output
+
+
+def test_show_states_the_law(tmp_path):
+    law = 'law = "power"\nexponent = 1.4\nreference_strain = 0.005\nyield_strain = 0.02'
+    result = CliRunner().invoke(app, ["show", line_file(tmp_path, law, False)])
+    assert result.exit_code == 0, result.output
+    assert "power: σ = E ε_r (ε/ε_r)^1.4, ε_r = 0.005, yield at ε = 2 %" in result.output
