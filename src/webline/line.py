@@ -118,11 +118,14 @@ class Line:
     def warnings(self) -> tuple[str, ...]:
         """'key: problem' for every value of the line file outside its usual physical range
         (``webline.spec.ranges``): possible, but rare enough to be a slip of the unit; and
-        every winder setting that cannot act (``webline.spec.winder_checks``)."""
+        every winder setting that cannot act (``webline.spec.winder_checks``); a web whose
+        momentum flux ρA v² is a share of its tension (``spec.web_mass``)."""
         from webline.spec.ranges import warnings
+        from webline.spec.web_mass import web_mass_warnings
         from webline.spec.winder_checks import winder_warnings
 
-        return tuple(warnings(self.spec)) + tuple(winder_warnings(self.spec))
+        return (tuple(warnings(self.spec)) + tuple(winder_warnings(self.spec))
+                + tuple(web_mass_warnings(self.spec)))
 
     def zone_of_span(self, span: int) -> int:
         return next(z for z, zone in enumerate(self.zones) if span in zone.spans)

@@ -110,3 +110,4 @@ def law_array(web: WebSpec, ea: float) -> np.ndarray:
         if np.all(np.abs(tension - stretch) <= LINEAR_TABLE_RTOL * np.abs(stretch)):
             return np.array([float(LINEAR)])
     return np.concatenate(([float(TABLE), float(len(stretch))], stretch, tension))
+
