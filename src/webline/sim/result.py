@@ -87,7 +87,9 @@ class Result:
         from webline.sim.winder_findings import break_findings
 
         return run_verdict(self.failure, self.events, self.line, self.plan,
-                           break_findings(self.line, self.time, self.speed, self.break_monitor))
+                           break_findings(self.line, self.time,
+                                          self.surface_speed[:, list(self.line.drives)],
+                                          self.drive_names, self.break_monitor))
 
     @property
     def status(self) -> str:
@@ -141,7 +143,8 @@ class Result:
     @cached_property
     def tension_ref(self) -> np.ndarray:
         """Tension reference of each loadcell span [N] (NaN on spans without a loadcell), the
-        rewind's taper applied (docs/winder.md W1)."""
+        rewind's taper applied to the diameter its controller uses (the calculated one where
+        the roll has a calculator, ``control_radius``; docs/winder.md W1), as it sets it."""
         from webline.profiles import breakpoints
 
         out = np.full_like(self.tension, np.nan)
@@ -154,8 +157,9 @@ class Result:
             from webline.physics.taper import spec_factor
 
             k = self.line.zones[zone].loadcell
+            d = self.line.drives.index(self.line.n_nodes - 1)
             out[:, k] *= [spec_factor(rewind.taper, rewind.core_radius, r)
-                          for r in self._block(2, 2)[:, 1]]  # as the controller sets it
+                          for r in self.control_radius[:, d]]
         return out
 
     @cached_property

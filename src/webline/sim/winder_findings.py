@@ -1,5 +1,5 @@
-"""Verdict findings of the winder functions (docs/winder.md W5): a web break, how and when
-the monitor detected it, and the stop."""
+"""Verdict findings of the winder functions (docs/winder.md W5-W8): a web break, how and
+when the monitor detected it, the stop and whether the driven rollers came to rest."""
 
 from __future__ import annotations
 
@@ -12,14 +12,23 @@ from webline.verdict import Finding
 
 METHODS = {L.BREAK_TENSION: "tension below its threshold",
            L.BREAK_DANCER: "dancer at its end stop",
-           L.BREAK_DIAMETER: "diameter calculated running the wrong way"}
+           L.BREAK_DIAMETER: "diameter calculated running the wrong way",
+           L.BREAK_OVERSPEED: "overspeed of an open-loop roll at its speed limit"}
+
+#: after the stop a driven roller is at rest below this fraction of the line speed at the
+#: break (issue 21: 2 %; a roller held by a speed loop or a brake creeps at well under it)
+REST_FRACTION = 0.02
+
+HOLD_TEXT = {"zero_speed": "the drives holding zero speed", "brakes": "brakes set",
+             "off": "torque off"}
 
 
-def break_findings(line: Line, time: np.ndarray, speed: np.ndarray,
-                   monitor: tuple[float, int]) -> list[Finding]:
+def break_findings(line: Line, time: np.ndarray, driven_speed: np.ndarray,
+                   driven: list[str], monitor: tuple[float, int]) -> list[Finding]:
     """One finding per web break that happened within a run of ``line`` (record times [s],
-    web speeds [m/s], the monitor's detection time [s] and method): ``warning`` when the
-    monitor detected it (method, time to detect, the stop), ``failed`` when it did not."""
+    the driven rollers' surface speeds [m/s] and names, the monitor's detection time [s]
+    and method): ``warning`` when the monitor detected it (method, time to detect, the stop
+    and whether the driven rollers came to rest after it), ``failed`` when it did not."""
     out = []
     end = float(time[-1]) if len(time) else 0.0
     detected, method = monitor
@@ -35,17 +44,54 @@ def break_findings(line: Line, time: np.ndarray, speed: np.ndarray,
             continue
         delay = detected - b.at
         stop = detected + b.stop_time
-        after = time >= stop
-        residual = float(np.abs(speed[after]).max()) if after.any() else float("nan")
         details |= {"detected_s": detected, "time_to_detect_s": delay,
-                    "method": METHODS[method], "stop_s": stop,
-                    "largest_speed_after_stop_m_per_s": residual}
-        stopped = (f"ramped to a stop by t = {stop:.4g} s, torque off" if after.any()
-                   else f"ramping to a stop by t = {stop:.4g} s (after the run)")
+                    "method": METHODS[method], "stop_s": stop, "hold": b.hold}
+        after = time >= stop
+        if after.any():
+            rest, text = _rest(time[after], driven_speed[after], driven,
+                               _line_speed(line, b.at), b.hold, stop)
+            details |= rest
+        else:
+            text = f"ramping to a stop by t = {stop:.4g} s (after the run)"
         found = (f"detected by {METHODS[method]} after {1000 * delay:.3g} ms" if delay >= 0.0
                  else f"but the monitor had already tripped by {METHODS[method]} at "
                  f"t = {detected:.4g} s, before it (a false alarm)")
         out.append(Finding("warning", "web_break", b.span,
-                           f"web break in {b.span} at t = {b.at:.4g} s {found}; {stopped}",
+                           f"web break in {b.span} at t = {b.at:.4g} s {found}; {text}",
                            b.at, details))
     return out
+
+
+def _line_speed(line: Line, at: float) -> float:
+    """The line-speed reference [m/s] at the break (the top speed if the line stood)."""
+    from webline.profiles import breakpoints
+
+    times, values = breakpoints(line.spec.speed)
+    speed = abs(float(np.interp(at, times, values)))
+    return speed if speed > 0.0 else float(np.abs(values).max())
+
+
+def _rest(time: np.ndarray, speed: np.ndarray, driven: list[str], line_speed: float,
+          hold: str, stop: float) -> tuple[dict[str, object], str]:
+    """Details and words on the driven rollers after the stop (records from it on)."""
+    peak = np.abs(speed).max(axis=0)
+    worst = int(np.argmax(peak))
+    limit = REST_FRACTION * line_speed
+    moving = np.abs(speed).max(axis=1) >= limit
+    settled = None if moving[-1] else float(time[np.flatnonzero(moving)[-1] + 1]
+                                            if moving.any() else time[0])
+    details: dict[str, object] = {
+        "largest_driven_speed_after_stop_m_per_s": float(peak[worst]),
+        "fastest_after_stop": driven[worst], "rest_fraction": REST_FRACTION,
+        "line_speed_m_per_s": line_speed, "at_rest_from_s": settled}
+    share = peak[worst] / line_speed if line_speed > 0 else float("inf")
+    if peak[worst] < limit:
+        return details, (f"stopped by t = {stop:.4g} s, {HOLD_TEXT[hold]}: every driven "
+                         f"roller stayed below {REST_FRACTION:.0%} of line speed after it "
+                         f"(largest {driven[worst]}, {peak[worst]:.3g} m/s, {share:.2%})")
+    since = ("still above it at the end" if settled is None
+             else f"all below it from t = {settled:.4g} s on")
+    return details, (f"ramped down by t = {stop:.4g} s, {HOLD_TEXT[hold]}, but did not come "
+                     f"to rest: after it {driven[worst]} turned at up to {peak[worst]:.3g} m/s "
+                     f"({share:.1%} of line speed; rest is below {REST_FRACTION:.0%}), "
+                     f"{since}")
