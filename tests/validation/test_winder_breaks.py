@@ -125,3 +125,18 @@ def test_overspeed_of_a_freed_roll_detects_the_break():
     before = result.time < 2.0
     limit = line.spec.speed * (1.0 + 0.05)
     np.testing.assert_allclose(result.speed_feedforward[before, -1], limit, rtol=1e-9)
+
+
+def test_drives_table_shows_the_open_loop_drives_limiter_reference():
+    """The report's drives table (and summary.json) give an open-loop drive's speed
+    reference as the limiter's, line speed + 5 % of it, and its error against it."""
+    from webline.report.display import Display
+    from webline.report.tables import summary_values
+
+    line = _open_loop_rockwell()
+    result = webline.simulate(line.replace(disturbances=[]), 1.0)
+    values = summary_values(result, Display())
+    rewind = values["drives"]["rewind"]  # type: ignore[index]
+    assert rewind["mean_reference"] == pytest.approx(1.05 * line.spec.speed, rel=1e-9)
+    # the web holds the roll at line speed: 5 % below the limit
+    assert rewind["mean_error"] == pytest.approx(-0.05 * line.spec.speed, rel=0.01)

@@ -85,11 +85,13 @@ class Result:
         at ``analysis_time`` (``webline.sim.findings``)."""
         from webline.sim.findings import run_verdict
         from webline.sim.winder_findings import break_findings
+        from webline.sim.winder_states import winder_state_findings
 
+        breaks = break_findings(self.line, self.time,
+                                self.surface_speed[:, list(self.line.drives)],
+                                self.drive_names, self.break_monitor)
         return run_verdict(self.failure, self.events, self.line, self.plan,
-                           break_findings(self.line, self.time,
-                                          self.surface_speed[:, list(self.line.drives)],
-                                          self.drive_names, self.break_monitor))
+                           breaks + winder_state_findings(self))
 
     @property
     def status(self) -> str:
@@ -348,8 +350,9 @@ class Result:
         return {"span": self.span_names, "drive": self.drive_names, "node": self.node_names}
 
     def summary(self) -> dict[str, dict[str, dict[str, float]]]:
-        """Per span: tension mean, standard deviation and largest error [N]; per drive: speed
-        error mean, standard deviation and largest error [m/s] against its reference."""
+        """Per span: tension mean, standard deviation and largest error [N]; per drive: the
+        mean of its speed reference (an open-loop drive's: its limiter's, docs/winder.md W7)
+        and speed error mean, standard deviation and largest error [m/s] against it."""
         spans = {}
         for k, name in enumerate(self.span_names):
             tension = self.tension[:, k]
@@ -364,7 +367,8 @@ class Result:
         drives = {}
         for d, name in enumerate(self.drive_names):
             error = self.drive_speed[:, d] - self.speed_ref[:, d]
-            drives[name] = {"mean_error": float(error.mean()), "std_error": float(error.std()),
+            drives[name] = {"mean_reference": float(self.speed_ref[:, d].mean()),
+                            "mean_error": float(error.mean()), "std_error": float(error.std()),
                             "max_abs_error": float(np.abs(error).max()),
                             "max_abs_torque": float(np.abs(self.torque[:, d]).max())}
         return {"spans": spans, "drives": drives}

@@ -116,3 +116,16 @@ class BreakEvent(WebBreak):
     added to the scenario's disturbances (``type`` may be left out)."""
 
     type: Literal["web_break"] = "web_break"
+
+
+class StateChecksSpec(Strict):
+    """Thresholds of the verdict's winder-state findings (docs/winder.md, "Winder states in
+    the verdict"): a zone whose tension stays more than ``tension_tolerance`` x its set
+    tension off it, or a calculated diameter more than ``diameter_tolerance`` x the true one
+    off it, for at least ``min_duration`` [s] in one go; a dancer on an end stop for at
+    least ``end_stop_time`` [s] (0: any touch)."""
+
+    tension_tolerance: Annotated[float, Field(gt=0.0)] = 0.2
+    diameter_tolerance: Annotated[float, Field(gt=0.0)] = 0.02
+    min_duration: Annotated[float, si("time", ">=0")] = 1.0
+    end_stop_time: Annotated[float, si("time", ">=0")] = 0.0
