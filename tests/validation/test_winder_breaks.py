@@ -140,3 +140,20 @@ def test_drives_table_shows_the_open_loop_drives_limiter_reference():
     assert rewind["mean_reference"] == pytest.approx(1.05 * line.spec.speed, rel=1e-9)
     # the web holds the roll at line speed: 5 % below the limit
     assert rewind["mean_error"] == pytest.approx(-0.05 * line.spec.speed, rel=0.01)
+
+
+def test_frozen_trims_fall_with_the_line_speed_during_the_stop():
+    """During the stop ramp each frozen tension trim is its value at the detection times the
+    ramp's factor s(t) = 1 - (t - t_d)/T (so none is left at the stop to move a roller):
+    trim / s is constant to rounding."""
+    result = webline.simulate(webline.load_line("converter"), scenario="web-break")
+    detected, _ = result.break_monitor
+    ramp = (result.time > detected + 0.01) & (result.time < detected + 4.9)
+    factor = 1.0 - (result.time[ramp] - detected) / 5.0
+    trims = result.trim[ramp] / factor[:, None]
+    moving = np.abs(trims[0]) > 1e-6  # the tension drives' trims (the drum has none)
+    assert moving.sum() >= 2  # infeed and rewind (the others trim by < 1 µm/s)
+    first = np.broadcast_to(trims[0, moving], trims[:, moving].shape)
+    np.testing.assert_allclose(trims[:, moving], first, rtol=1e-9)
+    after = result.time >= detected + 5.0
+    assert np.all(result.trim[after] == 0.0)
