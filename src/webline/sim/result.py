@@ -147,22 +147,9 @@ class Result:
         """Tension reference of each loadcell span [N] (NaN on spans without a loadcell), the
         rewind's taper applied to the diameter its controller uses (the calculated one where
         the roll has a calculator, ``control_radius``; docs/winder.md W1), as it sets it."""
-        from webline.profiles import breakpoints
+        from webline.sim.winder import tension_references
 
-        out = np.full_like(self.tension, np.nan)
-        for zone in self.line.zones:
-            times, values = breakpoints(self.line.spec.spans[zone.loadcell].tension)
-            out[:, zone.loadcell] = np.interp(self.time, times, values)
-        rewind = self.line.rewind
-        zone = self.line.controlled_zone(self.line.n_nodes - 1)
-        if rewind.taper is not None and zone is not None:
-            from webline.physics.taper import spec_factor
-
-            k = self.line.zones[zone].loadcell
-            d = self.line.drives.index(self.line.n_nodes - 1)
-            out[:, k] *= [spec_factor(rewind.taper, rewind.core_radius, r)
-                          for r in self.control_radius[:, d]]
-        return out
+        return tension_references(self.line, self.time, self.control_radius)
 
     @cached_property
     def omega(self) -> np.ndarray:

@@ -122,3 +122,24 @@ def break_columns(line: Line, spans: np.ndarray, web: np.ndarray) -> bool:
         web[L.W_BHOLD] = HOLDS[b.hold]
         web[L.W_BSTALL], web[L.W_BBRAKE] = b.standstill_tension, b.brake_torque_fraction
     return bool(breaks)
+
+
+def tension_references(line: Line, time: np.ndarray, control_radius: np.ndarray) -> np.ndarray:
+    """Set tension of each loadcell span [N] at ``time`` [s] (NaN on spans without one): its
+    zone's profile, the rewind's taper applied at the radius its controller uses
+    (``control_radius`` [m], records x drives: calculated or true), as the controller sets
+    it (``Result.tension_ref``)."""
+    from webline.physics.taper import spec_factor
+    from webline.profiles import breakpoints
+
+    out = np.full((len(time), line.n_spans), np.nan)
+    for zone in line.zones:
+        times, values = breakpoints(line.spec.spans[zone.loadcell].tension)
+        out[:, zone.loadcell] = np.interp(time, times, values)
+    rewind = line.rewind
+    z = line.controlled_zone(line.n_nodes - 1)
+    if rewind.taper is not None and z is not None:
+        d = line.drives.index(line.n_nodes - 1)
+        out[:, line.zones[z].loadcell] *= [spec_factor(rewind.taper, rewind.core_radius, r)
+                                           for r in control_radius[:, d]]
+    return out
