@@ -24,7 +24,9 @@ from webline.verdict import Finding, Level, Verdict
 
 def case_status(plan: Plan, out: BatchOutput, c: int) -> tuple[str, float]:
     """(verdict status, failure time [s] or NaN) of case ``c`` of a batch, built from the
-    same findings as ``Result.verdict``: failure, events (by their first time), stability."""
+    same findings as ``Result.verdict``: failure, events (by their first time), stability;
+    not the web-break and winder-state findings (``sim.winder_findings``,
+    ``sim.winder_states``), which need the records a batch does not keep."""
     line = plan.line
     findings: list[Finding] = []
     failure = kernel_failure(plan, int(out.status[c]), float(out.t_fail[c]), int(out.where[c]),
