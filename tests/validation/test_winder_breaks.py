@@ -159,3 +159,21 @@ def test_frozen_trims_fall_with_the_line_speed_during_the_stop():
     np.testing.assert_allclose(trims[:, moving], first, rtol=1e-9)
     after = result.time >= detected + 5.0
     assert np.all(result.trim[after] == 0.0)
+
+
+def test_an_intact_open_loop_zone_holds_at_most_its_standstill_tension():
+    """rockwell's unwind zone breaks; its open-loop rewind zone stays intact. Held at zero
+    speed with its torque limited to the standstill torque 0.5 T_ref R / n, the rewind pays
+    out web while the zone pulls harder, and the zone ends taut at no more than 0.5 T_ref
+    (measured 19.8 N of 22.2 N: the speed PI holds wherever the motion stops), at rest."""
+    line = _open_loop_rockwell()
+    line = line.replace({"disturbances": [{"type": "web_break", "span": "dancer_span",
+                                           "at": 2.0, "stop_time": 2.0}]})
+    result = webline.simulate(line, 12.0)
+    k = line.zones[-1].loadcell
+    stall = 0.5 * result.tension_ref[0, k]
+    end = result.time > 11.0
+    # 1 %: the rewind's bearing friction (0.01 lbf ft s at rest: none) and the idler's
+    assert np.all(result.tension[end, k] < 1.01 * stall)
+    assert np.all(result.tension[end, k] > 0.5 * stall)  # taut, not slack
+    assert np.abs(result.surface_speed[end][:, list(line.drives)]).max() < 0.01 * line.spec.speed
