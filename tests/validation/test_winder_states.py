@@ -127,3 +127,20 @@ def test_web_break_cli_summary_reports_the_rest(tmp_path):
         assert found["details"]["fastest_after_stop"] in found["message"]
         assert "did not come to rest" in found["message"]
         assert found["details"]["at_rest_from_s"] < 12.0  # at rest before the end
+
+
+def test_an_open_loop_rewind_with_its_diameter_guessed_twice_the_true_one_is_not_ok():
+    """Today `ok`. The calculator (thickness integration, never corrected) reads 2 x the
+    true diameter: the set torque doubles, and the speed limiter, reading R_calc w = 2 x the
+    surface speed, brakes the roll to near half line speed; the web piles up. The verdict
+    fails the run and says why: the diameter, the tension off its set value, the slack."""
+    line = webline.load_line("rockwell")
+    line = line.replace({
+        "rollers.rewind.winder": {"mode": "open_loop", "inertia_compensation": True,
+                                  "viscous_friction": line.rewind.friction},
+        "rollers.rewind.diameter": {"method": "thickness",
+                                    "initial": 2 * 2 * line.rewind.radius}})
+    result = webline.simulate(line, 5.0, raise_on_failure=False)
+    assert result.verdict.status == "failed"
+    kinds = {f.kind for f in result.verdict.findings}
+    assert {"diameter_error", "tension_off_set", "slack"} <= kinds
