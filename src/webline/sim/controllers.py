@@ -24,6 +24,7 @@ import numpy as np
 
 from webline.physics import motor, roll, roller, span, taper
 from webline.sim import layout as L
+from webline.sim.break_hold import fade_trim, held_command, stop_acceleration
 from webline.sim.diameter import update_radius
 from webline.sim.measure import measured_speed
 from webline.sim.mrac import mrac_adapt, mrac_feedback
@@ -169,11 +170,14 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
             refs[ds[d, L.DS_REF]] *= taper_at(d, istate[d, L.I_RADIUS], drives, prof_t, prof_v,
                                               prof_off)
     stopping = 1.0  # the line-speed factor of a ramp to stop after a detected web break
+    a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)  # line acceleration [m/s²]
     if offsets[L.O_BREAK]:
-        stopping = break_monitor(t, x, istate, ns, ds, nodes, drives, web, refs)
+        stopping = break_monitor(t, x, istate, ns, ds, nodes, drives, web, refs,
+                                 offsets[L.O_OMEGA])
+        if stopping < 1.0:
+            a_line = stop_acceleration(a_line, refs[0], stopping, web)
         refs[0] *= stopping
     if offsets[L.O_NEED_EQ]:
-        a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)
         reference_state(a_line, refs, ds, offsets, nodes, web, span_ref, v_ref, a_ref)
     seed = int(web[L.W_SEED])
     for d in range(ds.shape[0]):
@@ -196,31 +200,31 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
             t_meas = dancer_measurement(d, x, ns, ds, nodes, refs)
         if stopping < 1.0 and ds[d, L.DS_ROLE] == L.ROLE_TENSION:  # tension loops frozen
             t_meas = refs[ds[d, L.DS_REF]]
+            fade_trim(d, dt, stopping, istate, web)
         gain = 1.0
         if ds[d, L.DS_ADAPTIVE] > 0:
             inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
             gain = inertia / (nodes[i, L.N_RATIO] * radius) / drives[d, L.D_GAINNORM]
+        if offsets[L.O_BREAK] and stopping == 0.0 and held_command(  # stopped: hold (W8)
+                d, dt, roll_direction(i, ns), radius, v_meas, gain, refs[ds[d, L.DS_REF]],
+                istate, ds, drives, web, out):
+            continue
         comp = 0.0  # a centre winder's compensations (docs/winder.md W3)
         if drives[d, L.D_COMPJ] + drives[d, L.D_COMPCS] + drives[d, L.D_COMPB] > 0.0:
             comp = compensation(d, drive_inertia(d, i, radius, ns, ds, nodes, drives, web),
-                                radius, v_meas / radius,
-                                profile_slope_at(0, t, prof_t, prof_v, prof_off), drives)
+                                radius, v_meas / radius, a_line, drives)
         if ds[d, L.DS_FAMILY] == L.FAMILY_PI:
             pi_command(d, t, dt, v_meas, t_meas, gain, istate, ds, offsets, drives, web, refs,
                        speed_ripple, out)
         elif ds[d, L.DS_FAMILY] == L.FAMILY_OPEN_LOOP:
-            open_loop_command(d, roll_direction(i, ns), radius, refs[ds[d, L.DS_REF]], comp,
-                              drives, out)
-            if offsets[L.O_BREAK] and stopping == 0.0:
-                out[0, d] = 0.0
+            open_loop_command(d, dt, roll_direction(i, ns), radius, refs[ds[d, L.DS_REF]],
+                              comp, v_meas, refs[0], gain, istate, drives, out)
             continue
         else:
             decentralized_command(d, i, dt, radius, v_meas, t_meas, gain, istate, ns, ds,
                                   nodes, drives, web, span_ref, v_ref, a_ref, out)
         if comp != 0.0:
             out[0, d] = _saturate(out[0, d] + comp, drives[d, L.D_LIMIT])
-        if offsets[L.O_BREAK] and stopping == 0.0:  # stopped after a break: torque off
-            out[0, d] = 0.0
 
 
 @jit

@@ -25,6 +25,7 @@ import numpy as np
 
 from webline.physics import roll, roller, slip, span
 from webline.sim import layout as L
+from webline.sim.break_hold import brake_drag, brake_torque
 from webline.sim.controllers import control_tick
 from webline.sim.dancer_loop import dancer_rate, span_motion
 from webline.sim.dancer_taper import load_factor
@@ -60,7 +61,8 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
         work: np.ndarray) -> None:
     """Plant derivative dx/dt into ``dx`` with held torque commands ``cmd`` [N·m], held drag
     torques ``drag`` [N·m] (brakes, failing bearings: per node), held stick/slip states
-    ``slipping`` (per node; ``drag[nodes + i]``: the load [N] on a dancer on node i,
+    ``slipping`` (per node; ``drag[nodes + i]``: the load [N] on a dancer on node i, or the
+    holding brake [N·m] set on driven node i after a web break (``sim.break_hold``),
     ``drag[2 nodes + k]`` 1 while span k is broken) and the
     unwind's wound-in tension ``t0`` [N] at that instant (see
     ``wound_in``); nothing else depends on time. ``ns``, ``ds``, ``offsets`` are the line's
@@ -131,9 +133,14 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
             else:
                 torque += compliant_torque(d, x, ds, offsets, drives, dx)
         if i == 0 or i == last:
-            inertia = _roll_inertia(nodes[i, L.N_JCONST], work[i], nodes[i, L.N_CORE], width,
-                                    density)
-            dx[off_w + i] = torque / inertia
+            inv_inertia = 1.0 / _roll_inertia(nodes[i, L.N_JCONST], work[i], nodes[i, L.N_CORE],
+                                              width, density)
+        else:
+            inv_inertia = nodes[i, L.N_INVJ]
+        if offsets[L.O_BREAK] and d >= 0 and drag[n_nodes + i] != 0.0:  # a set brake (W8)
+            torque -= brake_torque(drag[n_nodes + i], omega, inv_inertia)
+        if i == 0 or i == last:
+            dx[off_w + i] = torque * inv_inertia
         else:
             dx[off_w + i] = torque * nodes[i, L.N_INVJ]
             ecc_state = ns[i, L.NS_ECCSTATE]
@@ -347,6 +354,8 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
                 drag[n_n + i] = profile_at(int(nodes[i, L.N_DLOAD]), t, prof_t, prof_v,
                                            prof_off) * load_factor(i, istate, ds, drives,
                                                                    prof_t, prof_v, prof_off)
+            if offsets[L.O_BREAK] and ns[i, L.NS_DRIVE] >= 0:  # a driven node is no dancer
+                drag[n_n + i] = brake_drag(i, t, istate, ns, drives, web)
         t0_start = wound_in(t, web, wound_ripple)
         for s in range(substeps):
             ts = t + s * h

@@ -72,10 +72,12 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  # ... and the centre winder's compensation (W3): inertia (1 on), static [N·m] and viscous
  # [N·m·s] friction at the roll shaft
  D_COMPJ, D_COMPCS, D_COMPB,
- # ... and where the diameter calculator's line speed comes from (DSOURCE_* or the node of
+ # ... where the diameter calculator's line speed comes from (DSOURCE_* or the node of
  # a measuring roller)
- D_DSOURCE) = range(64)
-D_COLS = 64
+ D_DSOURCE,
+ # ... and an open-loop drive's speed limiter (W7): offset over the line reference [m/s]
+ D_SPEEDLIM) = range(65)
+D_COLS = 65
 DSOURCE_MASTER, DSOURCE_REFERENCE = -1, -2
 DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = 0, 1, 2
 DANCER_NONE, DANCER_POSITION, DANCER_TENSION = 0, 1, 2
@@ -108,10 +110,15 @@ I_COLS = 12
  # the break monitor: tension threshold [fraction of the reference], ramp-to-stop time [s],
  # diameter threshold [m] (0: off)
  W_BTHRESH, W_BSTOP, W_BDIAM,
+ # ... its overspeed detection (1 on), the hold after the stop (HOLD_*), the standstill
+ # tension [fraction of the set tension] and the brakes' torque [fraction of the limit] (W8)
+ W_BOVER, W_BHOLD, W_BSTALL, W_BBRAKE,
  # the resolution of measured surface speeds [m/s] (0: exact)
- W_RES_V) = range(16)
-W_COLS = 16
+ W_RES_V) = range(20)
+W_COLS = 20
 BREAK_TENSION, BREAK_DANCER, BREAK_DIAMETER = 1, 2, 3  # how the monitor detected a break
+BREAK_OVERSPEED = 4  # an open-loop roll at its speed limit (W7)
+HOLD_OFF, HOLD_ZERO_SPEED, HOLD_BRAKES = 0, 1, 2  # what the drives do after the stop (W8)
 
 # the integer ``offsets`` array: where state blocks start (spans at 0, node speeds, the two roll
 # radii, motor torques, eccentric angles, web-length integrals), the master's upstream

@@ -12,6 +12,8 @@ from webline.physics.taper import KINDS
 from webline.sim import layout as L
 from webline.spec.winder import WebBreak
 
+HOLDS = {"off": L.HOLD_OFF, "zero_speed": L.HOLD_ZERO_SPEED, "brakes": L.HOLD_BRAKES}
+
 
 def taper_profiles(line: Line) -> list[tuple[np.ndarray, np.ndarray]]:
     """The rewind's taper table as a profile over diameter [m] (none for other tapers)."""
@@ -74,6 +76,14 @@ def compensation_columns(drives: np.ndarray, line: Line) -> None:
         row[L.D_COMPCS], row[L.D_COMPB] = spec.static_friction, spec.viscous_friction
         if spec.mode == "open_loop" and line.controlled_zone(i) is not None:
             row[L.D_FAMILY] = L.FAMILY_OPEN_LOOP
+            row[L.D_SPEEDLIM] = spec.speed_limit_offset * top_speed(line)
+
+
+def top_speed(line: Line) -> float:
+    """The line's top speed [m/s]: the largest magnitude of its speed reference's values."""
+    from webline.profiles import breakpoints
+
+    return float(np.abs(breakpoints(line.spec.speed)[1]).max())
 
 
 def compensation_torque(row: np.ndarray, inertia: float, radius: float, omega: float,
@@ -111,4 +121,28 @@ def break_columns(line: Line, spans: np.ndarray, web: np.ndarray) -> bool:
             spans[k, L.S_BREAK] = min(spans[k, L.S_BREAK], b.at)
         web[L.W_BTHRESH], web[L.W_BSTOP] = b.threshold, b.stop_time
         web[L.W_BDIAM] = b.diameter_threshold
+        web[L.W_BOVER] = 1.0 if b.overspeed else 0.0
+        web[L.W_BHOLD] = HOLDS[b.hold]
+        web[L.W_BSTALL], web[L.W_BBRAKE] = b.standstill_tension, b.brake_torque_fraction
     return bool(breaks)
+
+
+def tension_references(line: Line, time: np.ndarray, control_radius: np.ndarray) -> np.ndarray:
+    """Set tension of each loadcell span [N] at ``time`` [s] (NaN on spans without one): its
+    zone's profile, the rewind's taper applied at the radius its controller uses
+    (``control_radius`` [m], records x drives: calculated or true), as the controller sets
+    it (``Result.tension_ref``)."""
+    from webline.physics.taper import spec_factor
+    from webline.profiles import breakpoints
+
+    out = np.full((len(time), line.n_spans), np.nan)
+    for zone in line.zones:
+        times, values = breakpoints(line.spec.spans[zone.loadcell].tension)
+        out[:, zone.loadcell] = np.interp(time, times, values)
+    rewind = line.rewind
+    z = line.controlled_zone(line.n_nodes - 1)
+    if rewind.taper is not None and z is not None:
+        d = line.drives.index(line.n_nodes - 1)
+        out[:, line.zones[z].loadcell] *= [spec_factor(rewind.taper, rewind.core_radius, r)
+                                           for r in control_radius[:, d]]
+    return out

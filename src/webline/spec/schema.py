@@ -51,7 +51,14 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
     si,
 )
 from webline.spec.splice import FlyingSplice, SpliceEvent  # noqa: F401
-from webline.spec.winder import BreakEvent, DiameterSpec, TaperSpec, WebBreak, WinderSpec  # noqa: F401
+from webline.spec.winder import (  # noqa: F401
+    BreakEvent,
+    DiameterSpec,
+    StateChecksSpec,
+    TaperSpec,
+    WebBreak,
+    WinderSpec,
+)
 
 #: free text, bounded
 Text = Annotated[str, Field(max_length=10_000)]
@@ -384,5 +391,6 @@ class LineSpec(Strict):
     spans: list[SpanSpec] = Field(min_length=1)
     speed: SpeedProfile
     control: ControlSpec = ControlSpec()
+    checks: StateChecksSpec = StateChecksSpec()
     disturbances: list[DisturbanceSpec] = Field(default_factory=list)
     scenarios: dict[str, ScenarioSpec] = Field(default_factory=dict)

@@ -88,10 +88,15 @@ class WinderSpec(Strict):
     diameter, width and density) and a_line the line-speed reference's acceleration;
     ``static_friction`` [N·m] and ``viscous_friction`` [N·m·s] at the roll shaft add
     (static sign(ω) + viscous ω) / ratio. The radius is the calculated one where the roll has
-    a ``diameter`` calculator.
+    a ``diameter`` calculator. ``speed_limit_offset``: an open-loop drive's speed limiter,
+    as a fraction of the line's top speed (the largest value of its speed reference) over
+    the line-speed reference (a rewind's upper, an unwind's lower limit): its speed
+    controller, saturated at the tension torque while the web holds the roll, takes over
+    when a freed roll reaches the limit (docs/winder.md W7).
     """
 
     mode: Literal["closed_loop", "open_loop"] = "closed_loop"
+    speed_limit_offset: Annotated[float, Field(gt=0.0, le=1.0)] = 0.05
     inertia_compensation: bool = False
     static_friction: Annotated[float, si("torque", ">=0")] = 0.0
     viscous_friction: Annotated[float, si("rot_damping", ">=0")] = 0.0
@@ -104,8 +109,13 @@ class WebBreak(Strict):
     break: it detects a loadcell tension below ``threshold`` x its reference, a dancer at
     an end stop, or the speed-ratio diameter of a roll running the wrong way (an unwind's
     growing, a rewind's shrinking) by more than ``diameter_threshold`` [m] (0: off) beyond
-    its extreme so far, and reacts by ramping the line to a stop in ``stop_time`` [s],
-    tension loops frozen, then switching every torque off."""
+    its extreme so far, or (``overspeed``) an open-loop roll at its speed limit, and reacts
+    by ramping the line to a stop in ``stop_time`` [s], tension loops frozen. Then the
+    drives ``hold`` (docs/winder.md W8): ``"zero_speed"``: every speed loop holds zero speed,
+    an open-loop roll's torque limited to its ``standstill_tension`` (a fraction of its
+    zone's set tension) on the tension side; ``"brakes"``: torque off and a holding brake of
+    ``brake_torque_fraction`` x each drive's torque limit set on every driven roller;
+    ``"off"``: torque off, nothing holds."""
 
     type: Literal["web_break"]
     span: Annotated[str, Field(min_length=1, max_length=100)]
@@ -113,6 +123,10 @@ class WebBreak(Strict):
     threshold: Fraction = 0.2
     stop_time: Annotated[float, si("time", ">0")] = 2.0
     diameter_threshold: Annotated[float, si("length", ">=0")] = 0.005
+    overspeed: bool = True
+    hold: Literal["zero_speed", "brakes", "off"] = "zero_speed"
+    standstill_tension: Fraction = 0.5
+    brake_torque_fraction: Annotated[float, Field(gt=0.0, le=10.0)] = 1.0
 
 
 class BreakEvent(WebBreak):
@@ -120,3 +134,16 @@ class BreakEvent(WebBreak):
     added to the scenario's disturbances (``type`` may be left out)."""
 
     type: Literal["web_break"] = "web_break"
+
+
+class StateChecksSpec(Strict):
+    """Thresholds of the verdict's winder-state findings (docs/winder.md, "Winder states in
+    the verdict"): a zone whose tension stays more than ``tension_tolerance`` x its set
+    tension off it, or a calculated diameter more than ``diameter_tolerance`` x the true one
+    off it, for at least ``min_duration`` [s] in one go; a dancer on an end stop for at
+    least ``end_stop_time`` [s] (0: any touch)."""
+
+    tension_tolerance: Annotated[float, Field(gt=0.0)] = 0.2
+    diameter_tolerance: Annotated[float, Field(gt=0.0)] = 0.02
+    min_duration: Annotated[float, si("time", ">=0")] = 1.0
+    end_stop_time: Annotated[float, si("time", ">=0")] = 0.0
