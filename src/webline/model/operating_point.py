@@ -30,6 +30,7 @@ from webline.physics.taper import spec_factor
 from webline.profiles import breakpoints, pwl_slope, pwl_value
 from webline.spec.nip import shaft_terms
 from webline.spec.ranges import argument
+from webline.spec.roll_inertia import roll_constants
 from webline.spec.schema import IdleSpec, RewindSpec, RollerDrag, UnwindSpec
 
 
@@ -79,11 +80,14 @@ def node_inertias(line: Line, radii: np.ndarray) -> np.ndarray:
     web = line.spec.web
     out = np.empty(line.n_nodes)
     for i, r in enumerate(line.spec.rollers):
+        if isinstance(r, UnwindSpec | RewindSpec):  # totals: spec.roll_inertia (J1)
+            core, density = roll_constants(r, web)
+            constant = core + r.drive.ratio**2 * r.drive.motor_inertia
+            out[i] = roll.roll_inertia(constant, radii[i], r.core_radius, web.width, density)
+            continue
         constant = shaft_terms(r)[0]
         if not isinstance(r, IdleSpec):
             constant += r.drive.ratio**2 * r.drive.motor_inertia
-        if isinstance(r, UnwindSpec | RewindSpec):
-            constant = roll.roll_inertia(constant, radii[i], r.core_radius, web.width, web.density)
         out[i] = constant
     return out
 

@@ -58,7 +58,7 @@ def node_inertia(i: int, radius: float, ns: np.ndarray, nodes: np.ndarray,
     kind = ns[i, L.NS_KIND]
     if kind == L.KIND_UNWIND or kind == L.KIND_REWIND:
         return _roll_inertia(nodes[i, L.N_JCONST], radius, nodes[i, L.N_CORE], web[L.W_WIDTH],
-                             web[L.W_DENSITY])
+                             nodes[i, L.N_RHO])
     return nodes[i, L.N_JCONST]
 
 

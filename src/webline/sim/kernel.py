@@ -110,7 +110,7 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
     for k in range(n_spans if offsets[L.O_KV] else 0):  # the rollers feel T = s + τ ds/dt
         work[te + k] = _kv_tension(x[k], dx[k], spans[k, L.S_TAU])  # (docs/winder.md)
 
-    width, density = web[L.W_WIDTH], web[L.W_DENSITY]
+    width = web[L.W_WIDTH]
     for i in range(n_nodes):
         omega = x[off_w + i]
         t_out = work[te + i] if i < n_spans else 0.0
@@ -130,7 +130,7 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
                 torque += compliant_torque(d, x, ds, offsets, drives, dx)
         if i == 0 or i == last:
             inertia = _roll_inertia(nodes[i, L.N_JCONST], work[i], nodes[i, L.N_CORE], width,
-                                    density)
+                                    nodes[i, L.N_RHO])
             dx[off_w + i] = torque / inertia
         else:
             dx[off_w + i] = torque * nodes[i, L.N_INVJ]

@@ -22,8 +22,10 @@ kernel; a new structure compiles (and caches) another.
  N_DANCER, N_DINVM, N_DK, N_DC, N_DSET, N_DTRAVEL, N_DSTOP, N_DSTOPC, N_DLOAD,
  # a traction nip's static and Coulomb friction on the web, 2 μ_n N and 2 μ_n' N [N] (its
  # inertia and bearing friction are in N_JCONST, N_VISCOUS, N_COULOMB; docs/winder.md, Nip)
- N_NIPS, N_NIPK) = range(28)
-N_COLS = 28
+ N_NIPS, N_NIPK,
+ # a roll's wound density [kg/m³]: the web's, or derived from its totals (spec.roll_inertia)
+ N_RHO) = range(29)
+N_COLS = 29
 
 # node structure (integer) columns, and the float columns they copy
 NS_KIND, NS_DRIVE, NS_ECCSTATE, NS_TRACTION, NS_DRAG, NS_DANCER = range(6)

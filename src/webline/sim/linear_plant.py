@@ -104,7 +104,8 @@ def load_inertia(plan: Plan, op: OperatingPoint, i: int) -> float:
         return float(plan.nodes[i, L.N_JCONST])
     web = plan.line.spec.web
     return float(plan.nodes[i, L.N_JCONST]) + web_inertia(
-        op.radius[i], roller.core_radius, web.width, web.density)  # type: ignore[union-attr]
+        op.radius[i], roller.core_radius, web.width,  # type: ignore[union-attr]
+        float(plan.nodes[i, L.N_RHO]))
 
 
 def _drive_block(a: np.ndarray, plan: Plan, op: OperatingPoint, wn: int, wt: int,

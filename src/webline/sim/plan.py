@@ -17,6 +17,7 @@ from webline.sim import layout as L
 from webline.sim import winder
 from webline.sim.drive_table import drive_table, transmission, transmission_columns
 from webline.spec.nip import shaft_terms
+from webline.spec.roll_inertia import roll_constants
 from webline.spec.schema import (
     DancerSpec,
     DrivenSpec,
@@ -223,7 +224,8 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         row[L.N_INVJ] = 1.0 / row[L.N_JCONST]
         if isinstance(r, UnwindSpec | RewindSpec):
             row[L.N_CORE] = r.core_radius
-            row[L.N_JCONST] = r.inertia + r.drive.ratio**2 * r.drive.motor_inertia - motor
+            core, row[L.N_RHO] = roll_constants(r, spec.web)  # the web's density, or totals'
+            row[L.N_JCONST] = core + r.drive.ratio**2 * r.drive.motor_inertia - motor
         contact = getattr(r, "contact", None)
         if contact is not None and contact.type == "traction":
             row[L.N_TRACTION], row[L.N_WRAP] = 1.0, r.wrap  # type: ignore[union-attr]

@@ -278,7 +278,8 @@ class Result:
         out = np.empty((len(self.time), 2))
         for col, i in enumerate((0, self.line.n_nodes - 1)):
             out[:, col] = roll_inertia(self.plan.nodes[i, L.N_JCONST], self.radius[:, i],
-                                       self.plan.nodes[i, L.N_CORE], web.width, web.density)
+                                       self.plan.nodes[i, L.N_CORE], web.width,
+                                       self.plan.nodes[i, L.N_RHO])
         return out
 
     @cached_property

@@ -105,6 +105,13 @@ RANGES: dict[str, Range] = {
     "roller.coulomb_friction": _r(TORQUE, (0.0, 1e6), (0.0, 1000.0), "dry bearing friction"),
     "roller.wrap": _r("angle", (1e-4, 4 * math.pi), (0.05, TAU), "a web wraps at most once"),
     "unwind.wound_in_tension": TENSION_RANGE,
+    # a roll's inertia as totals (docs/winder.md, J1)
+    "roll_totals.empty": _r(INERTIA, (1e-9, 1e7), (1e-6, 1e5), "an empty core to a jumbo reel"),
+    "roll_totals.full": _r(INERTIA, (1e-9, 1e7), (1e-6, 1e5), "an empty core to a jumbo reel"),
+    "roll_totals.empty_diameter": _r(LEN, (2e-3, 10.0), (0.02, 4.0), "cores to reels"),
+    "roll_totals.full_diameter": _r(LEN, (2e-3, 10.0), (0.02, 4.0), "cores to reels"),
+    "roll_total.total": _r(INERTIA, (1e-9, 1e7), (1e-6, 1e5), "an empty core to a jumbo reel"),
+    "roll_total.diameter": _r(LEN, (2e-3, 10.0), (0.02, 4.0), "cores to reels"),
     # dancers (docs/winder.md)
     "dancer.mass": _r("mass", (1e-3, 1e5), (0.1, 2000.0), "a light slide to a heavy arm"),
     "dancer.travel": _r(LEN, (1e-3, 20.0), (0.01, 3.0), "strokes of mm to metres"),
@@ -250,6 +257,8 @@ SECTIONS: dict[str, tuple[str, ...]] = {
     "IdleSpec": ("roller",),
     "DancerSpec": ("roller",),
     "DancerCarriage": ("dancer",),
+    "RollTotals": ("roll_totals",),
+    "RollTotal": ("roll_total",),
     "TaperSpec": ("taper",),
     "DiameterSpec": ("diameter",),
     "WinderSpec": ("winder",),

@@ -50,6 +50,7 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
     TorqueProfile,
     si,
 )
+from webline.spec.roll_inertia import RollInertiaSpec
 from webline.spec.winder import BreakEvent, DiameterSpec, TaperSpec, WebBreak, WinderSpec  # noqa: F401
 
 #: free text, bounded
@@ -273,9 +274,12 @@ class _RollerBase(Strict):
 
 
 class UnwindSpec(_RollerBase):
-    """Unwind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web."""
+    """Unwind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web, or
+    is given as totals at stated diameters (``webline.spec.roll_inertia``)."""
 
     type: Literal["unwind"]
+    #: rotating parts without the web [kg·m²], or totals at stated diameters (spec.roll_inertia)
+    inertia: Inertia | RollInertiaSpec  # type: ignore[assignment]
     core_radius: Length
     wound_in_tension: Force
     drive: DriveSpec
@@ -285,10 +289,12 @@ class UnwindSpec(_RollerBase):
 
 
 class RewindSpec(_RollerBase):
-    """Rewind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web;
+    """Rewind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web (or
+    totals, ``webline.spec.roll_inertia``);
     ``taper`` makes its zone's tension reference a function of its diameter."""
 
     type: Literal["rewind"]
+    inertia: Inertia | RollInertiaSpec  # type: ignore[assignment]
     core_radius: Length
     drive: DriveSpec
     controller: ControllerSpec = CascadedPISpec()
