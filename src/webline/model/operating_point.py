@@ -133,6 +133,8 @@ def operating_point(line: Line | str, t: float | str = 0.0, *,
         _, viscous, coulomb = shaft_terms(r)  # a nip's bearing friction included
         friction = roller.friction_torque(omega_l[i], viscous, coulomb)
         friction += roller.friction_torque(omega_l[i], 0.0, drag[i])  # brake (4.12) or drag
+        if r.friction_table is not None:  # measured against speed (docs/winder.md F1)
+            friction += roller.table_friction(omega_l[i], *r.friction_table.arrays())[0]
         n = r.drive.ratio  # the motor's own friction acts at n ω
         torque[d] = (j[i] * accel_l[i] - r_node[i] * (t_out - t_in) + friction) / n + (
             r.drive.motor_friction * n * omega_l[i])
@@ -157,11 +159,16 @@ def _equilibrium_motion(line: Line, tension: list[float], v_line: float, a_line:
     thickness = line.spec.web.thickness
     r, j, drag = radii.tolist(), inertia.tolist(), drags.tolist()
     friction = [shaft_terms(roller)[1:] for roller in line.spec.rollers]  # a nip's included
+    tables = [None if r_.friction_table is None else r_.friction_table.arrays()
+              for r_ in line.spec.rollers]
     last = line.n_nodes - 1
 
     def idle_drop(i: int) -> float:  # tension rise across idle roller i: (J dω/dt + f)/r
         viscous, coulomb = friction[i]
         torque = roller.friction_torque(omega[i], viscous, coulomb + drag[i])
+        table = tables[i]
+        if table is not None:  # measured against speed (docs/winder.md F1)
+            torque += roller.table_friction(omega[i], *table)[0]
         return (j[i] * accel[i] + torque) / r[i]
 
     for _ in range(50):

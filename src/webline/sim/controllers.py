@@ -25,6 +25,7 @@ import numpy as np
 from webline.physics import motor, roll, roller, span, taper
 from webline.sim import layout as L
 from webline.sim.diameter import update_radius
+from webline.sim.friction_loop import table_torque
 from webline.sim.mrac import mrac_adapt, mrac_feedback
 from webline.sim.observer import observe
 from webline.sim.signals import gaussian, jit, profile_at, profile_slope_at
@@ -123,6 +124,8 @@ def _idle_drop(i: int, v_ref: np.ndarray, a_ref: np.ndarray, nodes: np.ndarray) 
     omega = v_ref[i] / r
     torque = nodes[i, L.N_JCONST] * a_ref[i] / r
     torque += _friction(omega, nodes[i, L.N_VISCOUS], nodes[i, L.N_COULOMB])
+    if nodes[i, L.N_FRICN] > 0.0:
+        torque += table_torque(i, omega, nodes)
     return torque / r
 
 
@@ -139,6 +142,8 @@ def equilibrium_input(i: int, radius: float, inertia: float, friction: float,
     t_in = span_ref[i - 1] if i > 0 else 0.0
     torque = inertia * accel - radius * (t_out - t_in)
     torque += _friction(omega, friction, nodes[i, L.N_COULOMB])
+    if nodes[i, L.N_FRICN] > 0.0:
+        torque += table_torque(i, omega, nodes)
     return torque / nodes[i, L.N_RATIO]
 
 
@@ -204,7 +209,8 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
             inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
             gain = inertia / (nodes[i, L.N_RATIO] * radius) / drives[d, L.D_GAINNORM]
         comp = 0.0  # a centre winder's compensations (docs/winder.md W3)
-        if drives[d, L.D_COMPJ] + drives[d, L.D_COMPCS] + drives[d, L.D_COMPB] > 0.0:
+        if (drives[d, L.D_COMPJ] + drives[d, L.D_COMPCS] + drives[d, L.D_COMPB]
+                + drives[d, L.D_COMPFN] > 0.0):
             comp = compensation(d, drive_inertia(d, i, radius, ns, ds, nodes, drives, web),
                                 radius, v_meas / radius,
                                 profile_slope_at(0, t, prof_t, prof_v, prof_off), drives)

@@ -28,6 +28,7 @@ from webline.sim import layout as L
 from webline.sim.controllers import control_tick
 from webline.sim.dancer_loop import dancer_rate, span_motion
 from webline.sim.envelope import envelope, node_arm
+from webline.sim.friction_loop import STICK_SPEED, breakaway, table_torque
 from webline.sim.signals import jit, loop_njit, njit, profile_at, sines
 from webline.sim.transmission_loop import compliant_torque
 
@@ -119,8 +120,14 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
         coulomb = nodes[i, L.N_COULOMB]
         if ns[i, L.NS_DRAG] >= 0:  # a brake (4.12) or drag acts like Coulomb friction
             coulomb += drag[i]
+        dry = 0.0  # dry friction: Coulomb, brake, drag and a friction table (F1)
         if coulomb != 0.0:
-            torque -= _friction(omega, 0.0, coulomb)
+            dry = _friction(omega, 0.0, coulomb)
+            torque -= dry
+        if offsets[L.O_FRICTION] and nodes[i, L.N_FRICN] > 0.0:
+            table = table_torque(i, omega, nodes)
+            dry += table
+            torque -= table
         d = ns[i, L.NS_DRIVE]
         if d >= 0:
             n = drives[d, L.D_RATIO]
@@ -128,6 +135,15 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
                 torque += n * (x[off_tq + d] - n * drives[d, L.D_BMOTOR] * omega)
             else:
                 torque += compliant_torque(d, x, ds, offsets, drives, dx)
+        if (offsets[L.O_FRICTION] and nodes[i, L.N_BREAKAWAY] > 0.0
+                and abs(omega) < STICK_SPEED):  # at rest: static friction (F2)
+            stuck, torque = breakaway(i, omega, torque + dry, nodes)
+            if stuck:  # held at rest: ω decays to 0 in a control period
+                dx[off_w + i] = -omega / nodes[i, L.N_STICKTAU]
+                ecc_state = ns[i, L.NS_ECCSTATE]
+                if ecc_state >= 0:
+                    dx[ecc_state] = omega
+                continue
         if i == 0 or i == last:
             inertia = _roll_inertia(nodes[i, L.N_JCONST], work[i], nodes[i, L.N_CORE], width,
                                     nodes[i, L.N_RHO])

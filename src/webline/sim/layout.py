@@ -25,7 +25,12 @@ kernel; a new structure compiles (and caches) another.
  N_NIPS, N_NIPK,
  # a roll's wound density [kg/m³]: the web's, or derived from its totals (spec.roll_inertia)
  N_RHO) = range(29)
-N_COLS = 29
+# friction as drives measure it (docs/winder.md F1-F2): points of the friction table (0:
+# none), its speeds [rad/s] and torques [N·m] (5 slots each), the break-away torque [N·m]
+# (0: none) and the time constant [s] that holds a stuck roller at rest
+N_FRICN, N_FRICW, N_FRICT, N_BREAKAWAY, N_STICKTAU = 29, 30, 35, 40, 41
+N_COLS = 42
+FRICTION_POINTS = 5  # slots of a friction table (spec.friction.MAX_POINTS)
 
 # node structure (integer) columns, and the float columns they copy
 NS_KIND, NS_DRIVE, NS_ECCSTATE, NS_TRACTION, NS_DRAG, NS_DANCER = range(6)
@@ -69,7 +74,9 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  # ... and the centre winder's compensation (W3): inertia (1 on), static [N·m] and viscous
  # [N·m·s] friction at the roll shaft
  D_COMPJ, D_COMPCS, D_COMPB) = range(63)
-D_COLS = 63
+# ... and its friction table (F1): points (0: none), speeds [rad/s], torques [N·m], 5 slots
+D_COMPFN, D_COMPFW, D_COMPFT = 63, 64, 69
+D_COLS = 74
 DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = 0, 1, 2
 DANCER_NONE, DANCER_POSITION, DANCER_TENSION = 0, 1, 2
 ROLE_MASTER, ROLE_TENSION = 0, 1
@@ -112,6 +119,7 @@ O_NOISE = 9  # 1 if measurements carry noise
 O_NEED_EQ = 10  # 1 if a controller needs the reference state every tick
 O_BREAK = 11  # 1 if the web breaks in this run (docs/winder.md W5): the break monitor is on
 O_KV = 12  # 1 if a span is Kelvin-Voigt: the rollers and loadcells feel s + τ ds/dt
+O_FRICTION = 13  # 1 if a roller has a friction table or a break-away torque (F1-F2)
 
 # kernel status codes; with each failure the kernel returns where it happened: the span
 # (strength, runaway stretch), node (runaway speed) or drive (runaway motor speed), else -1

@@ -16,6 +16,7 @@ from webline.sim import dancer as dancers
 from webline.sim import layout as L
 from webline.sim import winder
 from webline.sim.drive_table import drive_table, transmission, transmission_columns
+from webline.sim.friction_loop import friction_columns
 from webline.spec.nip import shaft_terms
 from webline.spec.roll_inertia import roll_constants
 from webline.spec.schema import (
@@ -265,6 +266,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     winder.taper_columns(drives, line, taper_profile)
     winder.diameter_columns(drives, line)
     winder.compensation_columns(drives, line)
+    friction = friction_columns(nodes, drives, line, 1.0 / rate)
     master_up = 1 + line.zone_of_span(line.master - 1)
     web = np.zeros(L.W_COLS)
     web[L.W_EA] = line.ea
@@ -287,7 +289,8 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     breaks = winder.break_columns(line, span_table, web)
     viscoelastic = bool(np.any(span_table[:, L.S_TAU] > 0.0))
     offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
-                        off_tr, noisy, need_eq, breaks, viscoelastic], dtype=np.int64)
+                        off_tr, noisy, need_eq, breaks, viscoelastic, friction],
+                       dtype=np.int64)
     wound = np.array([[d.amplitude, d.frequency, d.phase] for d in spec.disturbances
                       if isinstance(d, WoundInRipple)]).reshape(-1, 3)
     ripple = np.array([[line.drives.index(_node(line, d.roller)), d.amplitude, d.frequency,

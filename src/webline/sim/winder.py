@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from webline.line import Line
+from webline.physics.roller import table_magnitude
 from webline.physics.taper import KINDS
 from webline.sim import layout as L
 from webline.spec.winder import WebBreak
@@ -80,6 +81,10 @@ def compensation_torque(row: np.ndarray, inertia: float, radius: float, omega: f
     acceleration [m/s²]."""
     torque = row[L.D_COMPJ] * inertia * a_line / radius
     torque += row[L.D_COMPCS] * float(np.sign(omega)) + row[L.D_COMPB] * omega
+    n = int(row[L.D_COMPFN])
+    if n > 0 and omega != 0.0:  # the measured friction table (F1)
+        torque += float(np.sign(omega)) * table_magnitude(
+            abs(omega), row[L.D_COMPFW:L.D_COMPFW + n], row[L.D_COMPFT:L.D_COMPFT + n])
     return float(torque / row[L.D_RATIO])
 
 

@@ -8,6 +8,7 @@ from typing import NoReturn
 
 from webline.errors import LineFileError
 from webline.spec.dancer import check_dancers
+from webline.spec.friction import check_friction
 from webline.spec.nip import check_nips
 from webline.spec.roll_inertia import check_roll_inertia
 from webline.spec.schema import (
@@ -92,6 +93,7 @@ def check_spec(spec: LineSpec, file: str) -> None:
                  f"must be below the roll radius {roller.radius:g} m, got {roller.core_radius:g} m")
         if isinstance(roller, UnwindSpec | RewindSpec):
             check_roll_inertia(roller, web, f"rollers[{i}].inertia", fail)
+        check_friction(roller, f"rollers[{i}]", fail)
         contact = getattr(roller, "contact", None)
         if contact is not None and contact.type == "traction":
             if roller.wrap is None:  # type: ignore[union-attr]

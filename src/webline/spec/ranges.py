@@ -103,6 +103,10 @@ RANGES: dict[str, Range] = {
                          "a small idler to a jumbo reel spool with shaft"),
     "roller.friction": FRICTION_RANGE,
     "roller.coulomb_friction": _r(TORQUE, (0.0, 1e6), (0.0, 1000.0), "dry bearing friction"),
+    "roller.breakaway_torque": _r(TORQUE, (0.0, 1e6), (0.0, 1000.0), "dry bearing friction"),
+    "friction_table.speed": _r("angular_frequency", (0.0, 1e5), (0.0, 1000.0),
+                               "shaft speeds up to 10 000 rpm"),
+    "friction_table.torque": _r(TORQUE, (0.0, 1e6), (0.0, 1000.0), "dry bearing friction"),
     "roller.wrap": _r("angle", (1e-4, 4 * math.pi), (0.05, TAU), "a web wraps at most once"),
     "unwind.wound_in_tension": TENSION_RANGE,
     # a roll's inertia as totals (docs/winder.md, J1)
@@ -258,6 +262,7 @@ SECTIONS: dict[str, tuple[str, ...]] = {
     "DancerSpec": ("roller",),
     "DancerCarriage": ("dancer",),
     "RollTotals": ("roll_totals",),
+    "MeasuredFriction": ("friction_table",),
     "RollTotal": ("roll_total",),
     "TaperSpec": ("taper",),
     "DiameterSpec": ("diameter",),

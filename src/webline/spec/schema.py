@@ -20,6 +20,7 @@ from webline.spec.disturbances import (  # noqa: F401 - re-exported for users of
     SpeedRipple,
     WoundInRipple,
 )
+from webline.spec.friction import MeasuredFriction
 from webline.spec.nip import NipSpec
 from webline.spec.quantities import (  # noqa: F401 - re-exported for users of the schema
     Angle,
@@ -271,6 +272,10 @@ class _RollerBase(Strict):
     inertia: Inertia
     friction: Damping = 0.0
     coulomb_friction: TorqueNonNeg = 0.0
+    #: friction torque measured against shaft speed, added to the two above (spec.friction)
+    friction_table: MeasuredFriction | None = None
+    #: static friction [N·m] a roller at rest must overcome; 0: none (docs/winder.md, F2)
+    breakaway_torque: TorqueNonNeg = 0.0
 
 
 class UnwindSpec(_RollerBase):

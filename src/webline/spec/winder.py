@@ -8,6 +8,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field
 
+from webline.spec.friction import MeasuredFriction
 from webline.spec.quantities import Length, Strict, si
 
 Fraction = Annotated[float, Field(ge=0.0, le=1.0)]
@@ -69,14 +70,16 @@ class WinderSpec(Strict):
     J(D) a_line / (R ratio), J the roll's inertia (core, shaft and motor, and the web from the
     diameter, width and density) and a_line the line-speed reference's acceleration;
     ``static_friction`` [N·m] and ``viscous_friction`` [N·m·s] at the roll shaft add
-    (static sign(ω) + viscous ω) / ratio. The radius is the calculated one where the roll has
-    a ``diameter`` calculator.
+    (static sign(ω) + viscous ω) / ratio, a ``friction_table`` (``spec.friction``) its
+    measured torque at |ω| times sign(ω) / ratio. The radius is the calculated one where the
+    roll has a ``diameter`` calculator.
     """
 
     mode: Literal["closed_loop", "open_loop"] = "closed_loop"
     inertia_compensation: bool = False
     static_friction: Annotated[float, si("torque", ">=0")] = 0.0
     viscous_friction: Annotated[float, si("rot_damping", ">=0")] = 0.0
+    friction_table: MeasuredFriction | None = None
 
 
 class WebBreak(Strict):
