@@ -25,6 +25,7 @@ import numpy as np
 
 from webline.errors import SimulationError
 from webline.line import Line, Zone, load_line
+from webline.model.tension_ramp import ramp_factor
 from webline.physics import roll, roller
 from webline.physics.taper import spec_factor
 from webline.profiles import breakpoints, pwl_slope, pwl_value
@@ -114,6 +115,8 @@ def operating_point(line: Line | str, t: float | str = 0.0, *,
     for zone in line.zones:
         ref = line.spec.spans[zone.loadcell].tension
         tension[list(zone.spans)] = pwl_value(*breakpoints(ref), t) * _taper(line, zone, radii)
+    if line.spec.control.tension_ramp is not None:  # the ramp at start and stop (R1)
+        tension *= ramp_factor(line, t)
     tension_l, speed_l, omega_l, accel_l = _equilibrium_motion(line, tension.tolist(), v_line,
                                                                a_line, radii, inertia, drags)
     tension, speed = np.array(tension_l), np.array(speed_l)

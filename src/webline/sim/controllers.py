@@ -172,6 +172,11 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
         if drives[d, L.D_TAPER] > 0.0:
             refs[ds[d, L.DS_REF]] *= taper_at(d, istate[d, L.I_RADIUS], drives, prof_t, prof_v,
                                               prof_off)
+    if web[L.W_TRAMP] > 0.0:  # the tension ramp at start and stop (docs/winder.md R1)
+        ramp = refs[int(web[L.W_TRAMP])]
+        for d in range(ds.shape[0]):
+            if ds[d, L.DS_ROLE] == L.ROLE_TENSION:
+                refs[ds[d, L.DS_REF]] *= ramp
     stopping = 1.0  # the line-speed factor of a ramp to stop after a detected web break
     if offsets[L.O_BREAK]:
         stopping = break_monitor(t, x, istate, ns, ds, nodes, drives, web, refs)

@@ -108,7 +108,8 @@ I_COLS = 12
  # the break monitor: tension threshold [fraction of the reference], ramp-to-stop time [s],
  # diameter threshold [m] (0: off)
  W_BTHRESH, W_BSTOP, W_BDIAM) = range(15)
-W_COLS = 15
+W_TRAMP = 15  # the profile of the tension ramp's factor (docs/winder.md R1; 0: none)
+W_COLS = 16
 BREAK_TENSION, BREAK_DANCER, BREAK_DIAMETER = 1, 2, 3  # how the monitor detected a break
 
 # the integer ``offsets`` array: where state blocks start (spans at 0, node speeds, the two roll

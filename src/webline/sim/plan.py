@@ -11,6 +11,7 @@ from webline.control.decentralized import SectionDesign
 from webline.control.pi import PIGains
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint, operating_point
+from webline.model.tension_ramp import ramp_profile
 from webline.profiles import breakpoints, pwl_slope, pwl_value
 from webline.sim import dancer as dancers
 from webline.sim import layout as L
@@ -141,10 +142,12 @@ class Plan:
         for d, i in enumerate(op.drives):
             istate[d, L.I_RADIUS] = winder.initial_radius(self.drives, d, op.radius[i])
         ea = self.line.ea
-        t_master = self.profile_value(int(off[6]), op.time)
+        ramp = 1.0 if self.web[L.W_TRAMP] == 0 else self.profile_value(
+            int(self.web[L.W_TRAMP]), op.time)  # the tension ramp, as the kernel applies it
+        t_master = self.profile_value(int(off[6]), op.time) * ramp
         for d, i in enumerate(op.drives):
             up = int(self.drives[d, L.D_UPREF])
-            t_up = self.web[L.W_T0] if up < 0 else self.profile_value(up, op.time)
+            t_up = self.web[L.W_T0] if up < 0 else self.profile_value(up, op.time) * ramp
             feedforward = op.line_speed * (ea - t_master) / (ea - t_up)
             istate[d, L.I_TENSION] = self.drives[d, L.D_SIGMA] * (op.speed[i] - feedforward)
         return x, istate
@@ -255,6 +258,10 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         profiles.append(dancers.load_profile(line, i))
     taper_profile = len(profiles)
     profiles += winder.taper_profiles(line)
+    ramp_profile_index = 0  # the tension ramp's factor (docs/winder.md R1), 0: none
+    if spec.control.tension_ramp is not None:
+        ramp_profile_index = len(profiles)
+        profiles.append(ramp_profile(spec.speed, spec.control.tension_ramp))
     prof_off = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
 
     rate = sample_rate if sample_rate is not None else spec.control.sample_rate
@@ -275,6 +282,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     web[L.W_DENSITY] = spec.web.density
     web[L.W_T0] = line.unwind.wound_in_tension
     web[L.W_RHOA] = spec.web.density * spec.web.width * spec.web.thickness
+    web[L.W_TRAMP] = ramp_profile_index
     web[L.W_STRENGTH] = math.inf if spec.web.strength is None else spec.web.strength
     web[L.W_STRETCH_MAX] = RUNAWAY_STRAIN * line.ea
     top_speed = float(np.max(np.abs(breakpoints(spec.speed)[1])))

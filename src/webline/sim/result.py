@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from webline.model.tension_ramp import ramp_factor
 from webline.sim import layout as L
 from webline.sim.failure import Failure
 from webline.sim.metrics import by_element, run_metrics
@@ -148,6 +149,8 @@ class Result:
         for zone in self.line.zones:
             times, values = breakpoints(self.line.spec.spans[zone.loadcell].tension)
             out[:, zone.loadcell] = np.interp(self.time, times, values)
+        if self.line.spec.control.tension_ramp is not None:  # the tension ramp (R1)
+            out *= np.asarray(ramp_factor(self.line, self.time))[:, None]
         rewind = self.line.rewind
         zone = self.line.controlled_zone(self.line.n_nodes - 1)
         if rewind.taper is not None and zone is not None:

@@ -52,7 +52,14 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
     si,
 )
 from webline.spec.roll_inertia import RollInertiaSpec
-from webline.spec.winder import BreakEvent, DiameterSpec, TaperSpec, WebBreak, WinderSpec  # noqa: F401
+from webline.spec.winder import (  # noqa: F401
+    BreakEvent,
+    DiameterSpec,
+    StartStopTension,
+    TaperSpec,
+    WebBreak,
+    WinderSpec,
+)
 
 #: free text, bounded
 Text = Annotated[str, Field(max_length=10_000)]
@@ -358,9 +365,11 @@ class SpanSpec(Strict):
 
 
 class ControlSpec(Strict):
-    """Sampling of the built-in controllers."""
+    """Sampling of the built-in controllers, and the tension ramp at start and stop of
+    every zone's set tension (``spec.winder.StartStopTension``)."""
 
     sample_rate: Frequency = 1000.0
+    tension_ramp: StartStopTension | None = None
 
 
 class ScenarioSpec(Strict):

@@ -82,6 +82,17 @@ class WinderSpec(Strict):
     friction_table: MeasuredFriction | None = None
 
 
+class StartStopTension(Strict):
+    """``control.tension_ramp`` (docs/winder.md, R1): every zone's set tension is
+    ``standstill`` x its reference while the line stands (speed reference |v| <= ``below``
+    [m/s]) and ramps to the full reference in ``time`` [s] when the line starts, and back
+    when it stops (``model.tension_ramp``)."""
+
+    standstill: Fraction
+    time: Annotated[float, si("time", ">0")]
+    below: Annotated[float, si("speed", ">=0")] = 0.05
+
+
 class WebBreak(Strict):
     """A web break (docs/winder.md, W5): at time ``at`` [s] span ``span`` breaks; every span
     of its tension zone then carries no tension (the free end runs through the idle rollers
