@@ -24,7 +24,7 @@ import numpy as np
 
 from webline.physics import motor, roll, roller, span, taper
 from webline.sim import layout as L
-from webline.sim.diameter import update_radius
+from webline.sim.diameter import preset_radius, update_radius
 from webline.sim.friction_loop import table_torque
 from webline.sim.mrac import mrac_adapt, mrac_feedback
 from webline.sim.observer import observe
@@ -167,6 +167,8 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
         refs[p] = profile_at(p, t, prof_t, prof_v, prof_off)
     for d in range(ds.shape[0]):  # the radius each controller uses (calculated or true)
         i = ds[d, L.DS_NODE]
+        if drives[d, L.D_PRESETN] > 0.0:  # set while running (docs/winder.md W2a)
+            preset_radius(d, t, dt, node_radius(i, x, ns, offsets, nodes), istate, drives)
         update_radius(d, i, dt, node_radius(i, x, ns, offsets, nodes), x, istate, ns, offsets,
                       nodes, drives, web)
         if drives[d, L.D_TAPER] > 0.0:

@@ -76,7 +76,10 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  D_COMPJ, D_COMPCS, D_COMPB) = range(63)
 # ... and its friction table (F1): points (0: none), speeds [rad/s], torques [N·m], 5 slots
 D_COMPFN, D_COMPFW, D_COMPFT = 63, 64, 69
-D_COLS = 74
+# ... and the diameter calculator's presets while running (W2a): how many, their times [s]
+# and diameters [m] (0: the true one), 4 slots
+D_PRESETN, D_PRESETT, D_PRESETD = 74, 75, 79
+D_COLS = 83
 DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = 0, 1, 2
 DANCER_NONE, DANCER_POSITION, DANCER_TENSION = 0, 1, 2
 ROLE_MASTER, ROLE_TENSION = 0, 1

@@ -51,6 +51,10 @@ def diameter_columns(drives: np.ndarray, line: Line) -> None:
         row[L.D_DRATE] = math.inf if spec.rate_limit is None else spec.rate_limit
         row[L.D_DHOLD] = spec.hold_below
         row[L.D_DINIT] = 0.0 if spec.initial == "measured" else float(spec.initial)
+        row[L.D_PRESETN] = len(spec.preset)
+        for k, preset in enumerate(spec.preset):
+            row[L.D_PRESETT + k] = preset.at
+            row[L.D_PRESETD + k] = 0.0 if preset.diameter == "measured" else preset.diameter
 
 
 def initial_radius(drives: np.ndarray, d: int, true_radius: float) -> float:

@@ -43,6 +43,19 @@ def check_taper(taper: TaperSpec | None, key: str, fail: Callable[[str, str], An
             fail(f"{key}.diameter", "diameters must increase")
 
 
+class DiameterPreset(Strict):
+    """One preset of a diameter calculator while running (docs/winder.md, W2a): at time
+    ``at`` [s] the calculated diameter is set to ``diameter`` [m], or to the true one
+    (``"measured"``: an operator's measurement)."""
+
+    at: Annotated[float, si("time", ">=0")]
+    diameter: Literal["measured"] | Length = "measured"
+
+
+#: presets a calculator takes (drive-table slots)
+MAX_PRESETS = 4
+
+
 class DiameterSpec(Strict):
     """A roll drive's diameter calculator (docs/winder.md, W2): its controllers use the
     calculated radius, not the true one.
@@ -51,7 +64,8 @@ class DiameterSpec(Strict):
     low-pass filtered with ``filter`` [s], its rate limited to ``rate_limit`` [m/s] of
     diameter, held while |v_line| < ``hold_below`` [m/s]. ``"thickness"``: each revolution
     adds (rewind) or removes (unwind) two web thicknesses. ``initial``: ``"measured"`` (the
-    true diameter at the start) or a guessed diameter [m].
+    true diameter at the start) or a guessed diameter [m]. ``preset``: diameters set while
+    running (after a splice, or measured by the operator), up to four.
     """
 
     method: Literal["speed_ratio", "thickness"]
@@ -59,6 +73,7 @@ class DiameterSpec(Strict):
     filter: Annotated[float, si("time", ">0")] = 0.2
     rate_limit: Annotated[float, si("speed", ">0")] | None = None
     hold_below: Annotated[float, si("speed", ">=0")] = 0.05
+    preset: list[DiameterPreset] = Field(default_factory=list, max_length=MAX_PRESETS)
 
 
 class WinderSpec(Strict):
