@@ -261,7 +261,8 @@ def dancer_measurement(d: int, x: np.ndarray, ns: np.ndarray, ds: np.ndarray,
     i = ds[d, L.DS_DANCER]
     y = x[ns[i, L.NS_DANCER]] - nodes[i, L.N_DSET]
     if ds[d, L.DS_DUSE] == L.DANCER_TENSION:
-        return 0.5 * (refs[int(nodes[i, L.N_DLOAD])] - nodes[i, L.N_DK] * y)
+        return ((refs[int(nodes[i, L.N_DLOAD])] - nodes[i, L.N_DK] * y)
+                / (nodes[i, L.N_DGIN] + nodes[i, L.N_DGOUT]))  # (D2 at rest)
     return refs[ds[d, L.DS_REF]] - y
 
 

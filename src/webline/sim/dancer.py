@@ -40,7 +40,8 @@ def load_profile(line: Line, i: int) -> tuple[np.ndarray, np.ndarray]:
         return breakpoints(carriage.load)
     zone = line.zones[dancer_zone(line, i)]
     t, v = breakpoints(line.spec.spans[zone.loadcell].tension)
-    return t, 2.0 * v
+    g_in, g_out = carriage.gains
+    return t, (g_in + g_out) * v
 
 
 def node_columns(row: np.ndarray, line: Line, i: int, state: int, profile: int) -> None:
@@ -55,6 +56,7 @@ def node_columns(row: np.ndarray, line: Line, i: int, state: int, profile: int) 
     row[L.N_DSTOP] = c.stop_stiffness
     row[L.N_DSTOPC] = 2.0 * STOP_DAMPING_RATIO * np.sqrt(c.stop_stiffness * mass)
     row[L.N_DLOAD] = profile
+    row[L.N_DGIN], row[L.N_DGOUT] = c.gains
 
 
 def drive_columns(drives: np.ndarray, line: Line) -> None:
@@ -74,7 +76,8 @@ def drive_columns(drives: np.ndarray, line: Line) -> None:
             drives[d, L.D_DUSE] = L.DANCER_TENSION
             continue
         drives[d, L.D_DUSE] = L.DANCER_POSITION
-        scale = 2.0 * line.ea / sum(line.spec.spans[k].length for k in zone.spans)
+        g_in, g_out = c.gains  # y moves by (v_in - v_out) / (g_in + g_out)
+        scale = (g_in + g_out) * line.ea / sum(line.spec.spans[k].length for k in zone.spans)
         drives[d, L.D_KPT] = scale * drives[d, L.D_KPT] if c.position_kp is None else (
             c.position_kp)
         drives[d, L.D_KIT] = scale * drives[d, L.D_KIT] if c.position_ki is None else (
@@ -88,7 +91,8 @@ def equilibrium_position(line: Line, i: int, tension_in: float, tension_out: flo
     c = _carriage(line, i)
     if c.stiffness == 0.0:
         return c.position
-    return c.position + (load - tension_in - tension_out) / c.stiffness
+    g_in, g_out = c.gains
+    return c.position + (load - g_in * tension_in - g_out * tension_out) / c.stiffness
 
 
 def _carriage(line: Line, i: int) -> DancerCarriage:

@@ -162,7 +162,8 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
         dx[off_tq + d] = (cmd[d] - x[off_tq + d]) * drives[d, L.D_INVLAG]
     for i in range(1, last):
         if ns[i, L.NS_DANCER] >= 0:
-            dancer_rate(i, x, ns, nodes, work[te + i - 1] + work[te + i], drag[n_nodes + i], dx)
+            pull = nodes[i, L.N_DGIN] * work[te + i - 1] + nodes[i, L.N_DGOUT] * work[te + i]
+            dancer_rate(i, x, ns, nodes, pull, drag[n_nodes + i], dx)  # (D2)
 
     inv_ea = 1.0 / ea
     dx[off_q] = v_unwind * (1.0 - t0 * inv_ea)

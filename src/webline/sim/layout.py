@@ -29,7 +29,10 @@ kernel; a new structure compiles (and caches) another.
 # none), its speeds [rad/s] and torques [N·m] (5 slots each), the break-away torque [N·m]
 # (0: none) and the time constant [s] that holds a stuck roller at rest
 N_FRICN, N_FRICW, N_FRICT, N_BREAKAWAY, N_STICKTAU = 29, 30, 35, 40, 41
-N_COLS = 42
+# a dancer's geometry (docs/winder.md D0): how much its upstream and downstream span lengthen
+# per metre of carriage travel, g = (strands / 2) cos(angle) (1 for two parallel strands)
+N_DGIN, N_DGOUT = 42, 43
+N_COLS = 44
 FRICTION_POINTS = 5  # slots of a friction table (spec.friction.MAX_POINTS)
 
 # node structure (integer) columns, and the float columns they copy

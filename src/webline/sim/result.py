@@ -309,7 +309,7 @@ class Result:
         for i in np.flatnonzero(nodes[:, L.N_DANCER] >= 0):
             index = self.plan.state_names.index(f"{self.line.node_name(int(i))}.position")
             excursion = self.states[:, index] - nodes[i, L.N_DSET]
-            lengths[:, [i - 1, i]] += excursion[:, None]
+            lengths[:, [i - 1, i]] += excursion[:, None] * nodes[i, [L.N_DGIN, L.N_DGOUT]]
         return lengths
 
     @cached_property
