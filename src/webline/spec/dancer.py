@@ -27,12 +27,13 @@ class DancerCarriage(Strict):
     ``angle_out`` [rad] the spans' angles to the travel (default 0: the web wrapped 180°,
     spans parallel to the travel, g = 1); a festoon of n strands stores n dy of web, its
     spans' tensions pulling the carriage back with g_in T_in + g_out T_out (D0-D2). A span's
-    ``length`` in the file is its length with the carriage at ``position`` (the set position). ``mass`` [kg] is everything
-    that moves with the roller; a pivoting arm of ``arm_inertia`` J [kg·m²] about its pivot
-    with the roller at ``arm_length`` a [m] moves like a mass J/a² at the roller (small
-    swings, y = a·angle), added to ``mass``. ``load`` [N] pushes the carriage towards longer
-    spans (weight or air cylinder, constant or a profile; default: twice the zone's tension
-    reference, so the set position is an equilibrium); ``stiffness`` [N/m] pulls it back to
+    ``length`` in the file is its length with the carriage at ``position`` (the set
+    position). ``mass`` [kg] is everything that moves with the roller; a pivoting arm of
+    ``arm_inertia`` J [kg·m²] about its pivot with the roller at ``arm_length`` a [m] moves
+    like a mass J/a² at the roller (small swings, y = a·angle), added to ``mass``. ``load``
+    [N] pushes the carriage towards longer spans (weight or air cylinder, constant or a
+    profile; default: (g_in + g_out) x the zone's tension reference, so the set position is
+    an equilibrium); ``stiffness`` [N/m] pulls it back to
     ``position``; ``damping`` [N·s/m].
 
     ``use``: ``"position"`` - the zone's drive trims its speed by a PI on the position error
