@@ -57,6 +57,7 @@ def node_columns(row: np.ndarray, line: Line, i: int, state: int, profile: int) 
     row[L.N_DSTOPC] = 2.0 * STOP_DAMPING_RATIO * np.sqrt(c.stop_stiffness * mass)
     row[L.N_DLOAD] = profile
     row[L.N_DGIN], row[L.N_DGOUT] = c.gains
+    row[L.N_DGEOM] = 0.0 if c.gains == (1.0, 1.0) else 1.0
 
 
 def drive_columns(drives: np.ndarray, line: Line) -> None:

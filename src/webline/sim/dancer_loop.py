@@ -19,9 +19,13 @@ def span_motion(k: int, x: np.ndarray, ns: np.ndarray, nodes: np.ndarray,
     for i in (k, k + 1):
         state = ns[i, L.NS_DANCER]
         if state >= 0:
-            gain = nodes[i, L.N_DGOUT] if i == k else nodes[i, L.N_DGIN]
-            length += gain * (x[state] - nodes[i, L.N_DSET])
-            rate += gain * x[state + 1]
+            if ns[i, L.NS_DGEOM]:  # strands or angles (D0)
+                gain = nodes[i, L.N_DGOUT] if i == k else nodes[i, L.N_DGIN]
+                length += gain * (x[state] - nodes[i, L.N_DSET])
+                rate += gain * x[state + 1]
+            else:  # a plain dancer, g = 1
+                length += x[state] - nodes[i, L.N_DSET]
+                rate += x[state + 1]
     return length, rate
 
 

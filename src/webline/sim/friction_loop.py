@@ -76,4 +76,5 @@ def friction_columns(nodes: np.ndarray, drives: np.ndarray, line: Any, dt: float
             row[L.D_COMPFN] = len(speeds)
             row[L.D_COMPFW:L.D_COMPFW + len(speeds)] = speeds
             row[L.D_COMPFT:L.D_COMPFT + len(speeds)] = torques
+            used = True
     return used

@@ -144,17 +144,20 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
                 if ecc_state >= 0:
                     dx[ecc_state] = omega
                 continue
-        if i == 0 or i == last:
-            inertia = _roll_inertia(nodes[i, L.N_JCONST], work[i], nodes[i, L.N_CORE], width,
-                                    nodes[i, L.N_RHO])
+        if i == 0 or i == last:  # J(R) of the mean radius, also for an out-of-round roll
+            radius = work[i]
+            if ns[i, L.NS_ECCSTATE] >= 0:  # out of round: the mean radius (E1)
+                radius = x[off_r] if i == 0 else x[off_r + 1]
+            inertia = _roll_inertia(nodes[i, L.N_JCONST], radius, nodes[i, L.N_CORE], width,
+                                    nodes[i, L.N_RHO])  # the web's or the totals' (J1)
             dx[off_w + i] = torque / inertia
         else:
             dx[off_w + i] = torque * nodes[i, L.N_INVJ]
-            ecc_state = ns[i, L.NS_ECCSTATE]
-            if ecc_state >= 0:
-                dx[ecc_state] = omega
+        ecc_state = ns[i, L.NS_ECCSTATE]
+        if ecc_state >= 0:
+            dx[ecc_state] = omega
 
-    v_unwind, v_rewind = work[sp], work[sp + last]
+    v_unwind, v_rewind = work[sp], work[sp + last]  # surface speeds (E1: eccentric too)
     dx[off_r] = _radius_rate(v_unwind, x[off_r], web[L.W_THICK], -1.0)
     dx[off_r + 1] = _radius_rate(v_rewind, x[off_r + 1], web[L.W_THICK], 1.0)
 
@@ -162,8 +165,11 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
         dx[off_tq + d] = (cmd[d] - x[off_tq + d]) * drives[d, L.D_INVLAG]
     for i in range(1, last):
         if ns[i, L.NS_DANCER] >= 0:
-            pull = nodes[i, L.N_DGIN] * work[te + i - 1] + nodes[i, L.N_DGOUT] * work[te + i]
-            dancer_rate(i, x, ns, nodes, pull, drag[n_nodes + i], dx)  # (D2)
+            if ns[i, L.NS_DGEOM]:  # strands or angles: g_in T_in + g_out T_out (D0-D2)
+                pull = nodes[i, L.N_DGIN] * work[te + i - 1] + nodes[i, L.N_DGOUT] * work[te + i]
+            else:
+                pull = work[te + i - 1] + work[te + i]
+            dancer_rate(i, x, ns, nodes, pull, drag[n_nodes + i], dx)
 
     inv_ea = 1.0 / ea
     dx[off_q] = v_unwind * (1.0 - t0 * inv_ea)

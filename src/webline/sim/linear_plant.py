@@ -110,7 +110,7 @@ def load_inertia(plan: Plan, op: OperatingPoint, i: int) -> float:
     web = plan.line.spec.web
     return float(plan.nodes[i, L.N_JCONST]) + web_inertia(
         op.radius[i], roller.core_radius, web.width,  # type: ignore[union-attr]
-        float(plan.nodes[i, L.N_RHO]))
+        plan.roll_density(i))
 
 
 def _drive_block(a: np.ndarray, plan: Plan, op: OperatingPoint, wn: int, wt: int,

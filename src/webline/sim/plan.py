@@ -99,6 +99,11 @@ class Plan:
         a, b = self.prof_off[p], self.prof_off[p + 1]
         return float(pwl_slope(self.prof_t[a:b], self.prof_v[a:b], t))
 
+    def roll_density(self, i: int) -> float:
+        """Density [kg/m³] of the web wound on roll node ``i``: derived from its totals
+        (``spec.roll_inertia``), else the web's."""
+        return float(self.nodes[i, L.N_RHO])
+
     def linear_motor_state(self, d: int) -> int | None:
         """Index of drive ``d``'s motor speed in the linear model's states, if compliant."""
         if "motor_states" not in self.memo:  # once per plan: it is asked per drive and model
@@ -228,7 +233,9 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         row[L.N_INVJ] = 1.0 / row[L.N_JCONST]
         if isinstance(r, UnwindSpec | RewindSpec):
             row[L.N_CORE] = r.core_radius
-            core, row[L.N_RHO] = roll_constants(r, spec.web)  # the web's density, or totals'
+            core, density = roll_constants(r, spec.web)  # the web's density, or totals'
+            row[L.N_RHO] = density  # the web's, or derived from the totals (J1)
+            row[L.N_OWNRHO] = 0.0 if density == spec.web.density else 1.0
             row[L.N_JCONST] = core + r.drive.ratio**2 * r.drive.motor_inertia - motor
         contact = getattr(r, "contact", None)
         if contact is not None and contact.type == "traction":
@@ -297,7 +304,9 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     breaks = winder.break_columns(line, span_table, web)
     viscoelastic = bool(np.any(span_table[:, L.S_TAU] > 0.0))
     offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
-                        off_tr, noisy, need_eq, breaks, viscoelastic, friction],
+                        off_tr, noisy, need_eq, breaks, viscoelastic, friction,
+                        ramp_profile_index > 0, bool(np.any(drives[:, L.D_PRESETN] > 0)),
+                        bool(np.any(nodes[:, L.N_OWNRHO] > 0))],
                        dtype=np.int64)
     wound = np.array([[d.amplitude, d.frequency, d.phase] for d in spec.disturbances
                       if isinstance(d, WoundInRipple)]).reshape(-1, 3)

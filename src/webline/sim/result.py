@@ -282,7 +282,7 @@ class Result:
         for col, i in enumerate((0, self.line.n_nodes - 1)):
             out[:, col] = roll_inertia(self.plan.nodes[i, L.N_JCONST], self.radius[:, i],
                                        self.plan.nodes[i, L.N_CORE], web.width,
-                                       self.plan.nodes[i, L.N_RHO])
+                                       self.plan.roll_density(i))
         return out
 
     @cached_property

@@ -200,8 +200,10 @@ def _check_disturbances(items: list[DisturbanceSpec], spec: LineSpec, key: str,
             if roller is None:
                 fail(f"{here}.roller", f"no roller named {item.roller!r}")
             elif isinstance(item, EccentricRoller):
-                if isinstance(roller, UnwindSpec | RewindSpec):
-                    fail(f"{here}.roller", "eccentricity applies to rollers, not rolls")
+                if isinstance(roller, UnwindSpec | RewindSpec):  # an out-of-round roll
+                    if item.eccentricity >= roller.core_radius:
+                        fail(f"{here}.eccentricity", f"must be below the roll's core radius "
+                             f"{roller.core_radius:g} m (the roll is never smaller)")
                 elif item.eccentricity >= roller.radius:
                     fail(f"{here}.eccentricity", "must be below the roller radius")
             elif isinstance(roller, IdleSpec):
