@@ -23,7 +23,7 @@ kernel; a new structure compiles (and caches) another.
  # a traction nip's static and Coulomb friction on the web, 2 μ_n N and 2 μ_n' N [N] (its
  # inertia and bearing friction are in N_JCONST, N_VISCOUS, N_COULOMB; docs/winder.md, Nip)
  N_NIPS, N_NIPK,
- # a roll's wound density [kg/m³] derived from its totals (spec.roll_inertia); 0: the web's
+ # a roll's wound density [kg/m³]: the web's, or derived from its totals (spec.roll_inertia)
  N_RHO) = range(29)
 # friction as drives measure it (docs/winder.md F1-F2): points of the friction table (0:
 # none), its speeds [rad/s] and torques [N·m] (5 slots each), the break-away torque [N·m]
@@ -32,21 +32,18 @@ N_FRICN, N_FRICW, N_FRICT, N_BREAKAWAY, N_STICKTAU = 29, 30, 35, 40, 41
 # a dancer's geometry (docs/winder.md D0): how much its upstream and downstream span lengthen
 # per metre of carriage travel, g = (strands / 2) cos(angle) (1 for two parallel strands)
 N_DGIN, N_DGOUT = 42, 43
-# structure flags of the new winder functions (1.0 where used), copied into the node
-# structure so that the compiled loop of a line without them is the one it was before (numba's
-# fastmath reassociates sums across code it can see): a roll's own wound density (N_RHO), a
-# dancer's geometry other than g = 1 (N_DGIN, N_DGOUT)
-N_OWNRHO, N_DGEOM = 44, 45
-N_COLS = 46
+# 1.0 for a dancer whose geometry is not g = 1 (N_DGIN, N_DGOUT), copied into the node
+# structure so that a plain dancer's loop compiles as it did before D0 (numba's fastmath
+# reassociates sums across the code it sees: a product by g = 1 changed the last bits)
+N_DGEOM = 44
+N_COLS = 45
 FRICTION_POINTS = 5  # slots of a friction table (spec.friction.MAX_POINTS)
 
 # node structure (integer) columns, and the float columns they copy
 NS_KIND, NS_DRIVE, NS_ECCSTATE, NS_TRACTION, NS_DRAG, NS_DANCER = range(6)
-# friction-table points (F1), own wound density (J1), dancer geometry (D0)
-NS_FRICN, NS_OWNRHO, NS_DGEOM = 6, 7, 8
-NS_COLS = 9
-NODE_STRUCTURE = (N_KIND, N_DRIVE, N_ECCSTATE, N_TRACTION, N_DRAG, N_DANCER, N_FRICN, N_OWNRHO,
-                  N_DGEOM)
+NS_DGEOM = 6  # a dancer's geometry other than g = 1 (D0)
+NS_COLS = 7
+NODE_STRUCTURE = (N_KIND, N_DRIVE, N_ECCSTATE, N_TRACTION, N_DRAG, N_DANCER, N_DGEOM)
 
 # span table columns
 # length [m], 1/length, time it breaks [s] (inf), Kelvin-Voigt retardation τ [s] (0: elastic)
@@ -135,9 +132,7 @@ O_NEED_EQ = 10  # 1 if a controller needs the reference state every tick
 O_BREAK = 11  # 1 if the web breaks in this run (docs/winder.md W5): the break monitor is on
 O_KV = 12  # 1 if a span is Kelvin-Voigt: the rollers and loadcells feel s + τ ds/dt
 O_FRICTION = 13  # 1 if a roller or a compensation has a friction table or a break-away (F1-F2)
-O_TRAMP = 14  # 1 if the zones' set tensions ramp at start and stop (R1; profile in W_TRAMP)
-O_PRESET = 15  # 1 if a diameter calculator has presets (W2a)
-O_OWNRHO = 16  # 1 if a roll has its own wound density, from its totals (J1)
+O_OWNRHO = 14  # 1 if a roll has its own wound density, from its totals (J1)
 
 # kernel status codes; with each failure the kernel returns where it happened: the span
 # (strength, runaway stretch), node (runaway speed) or drive (runaway motor speed), else -1

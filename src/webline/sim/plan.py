@@ -219,6 +219,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     nodes = np.zeros((n_nodes, L.N_COLS))
     kinds = {UnwindSpec: L.KIND_UNWIND, DrivenSpec: L.KIND_DRIVEN, IdleSpec: L.KIND_IDLE,
              DancerSpec: L.KIND_IDLE, RewindSpec: L.KIND_REWIND}
+    own_density = False  # a roll whose wound density comes from its totals (J1)
     for i, r in enumerate(rollers):
         row = nodes[i]
         row[L.N_KIND] = kinds[type(r)]
@@ -235,7 +236,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
             row[L.N_CORE] = r.core_radius
             core, density = roll_constants(r, spec.web)  # the web's density, or totals'
             row[L.N_RHO] = density  # the web's, or derived from the totals (J1)
-            row[L.N_OWNRHO] = 0.0 if density == spec.web.density else 1.0
+            own_density = own_density or density != spec.web.density
             row[L.N_JCONST] = core + r.drive.ratio**2 * r.drive.motor_inertia - motor
         contact = getattr(r, "contact", None)
         if contact is not None and contact.type == "traction":
@@ -304,9 +305,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     breaks = winder.break_columns(line, span_table, web)
     viscoelastic = bool(np.any(span_table[:, L.S_TAU] > 0.0))
     offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
-                        off_tr, noisy, need_eq, breaks, viscoelastic, friction,
-                        ramp_profile_index > 0, bool(np.any(drives[:, L.D_PRESETN] > 0)),
-                        bool(np.any(nodes[:, L.N_OWNRHO] > 0))],
+                        off_tr, noisy, need_eq, breaks, viscoelastic, friction, own_density],
                        dtype=np.int64)
     wound = np.array([[d.amplitude, d.frequency, d.phase] for d in spec.disturbances
                       if isinstance(d, WoundInRipple)]).reshape(-1, 3)
