@@ -105,3 +105,20 @@ def test_friction_that_describes_no_drive_is_refused(hswl, changes, key):
     with pytest.raises(LineFileError) as error:
         hswl.replace(changes)
     assert key in str(error.value)
+
+
+def test_linear_rows_with_a_friction_table_match_finite_differences(hswl):
+    """The idler's speed row gains -dτ_f/dω = -(f'(|ω|) |tanh| + f (1 - tanh²)/ω_s)/J (F1):
+    the open-loop linear model equals central differences of the compiled right-hand side
+    (1e-6, as the other linear rows are checked)."""
+    from fd_helpers import jacobian, plant_derivative
+
+    line = hswl.replace({"rollers.idler.friction_table": TABLE})
+    op = webline.operating_point(line)
+    f, z0, _ = plant_derivative(line, op)
+    sys = webline.linearize(line, loop="open")
+    fd = jacobian(f, z0, op.torque, np.maximum(np.abs(z0), 1.0))
+    np.testing.assert_allclose(sys.A, fd, rtol=1e-6, atol=1e-6 * np.abs(sys.A).max())
+    slope = (0.12 - 0.08) / 20.0  # the 75-100 % segment, where the idler runs
+    row = line.n_spans + IDLER
+    assert sys.A[row, row] == pytest.approx(-(1e-4 + slope) / 0.001, rel=1e-6)
