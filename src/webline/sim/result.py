@@ -280,7 +280,8 @@ class Result:
         out = np.empty((len(self.time), 2))
         for col, i in enumerate((0, self.line.n_nodes - 1)):
             out[:, col] = roll_inertia(self.plan.nodes[i, L.N_JCONST], self.radius[:, i],
-                                       self.plan.nodes[i, L.N_CORE], web.width, web.density)
+                                       self.plan.nodes[i, L.N_CORE], web.width,
+                                       self.plan.roll_density(i))
         return out
 
     @cached_property
@@ -307,7 +308,7 @@ class Result:
         for i in np.flatnonzero(nodes[:, L.N_DANCER] >= 0):
             index = self.plan.state_names.index(f"{self.line.node_name(int(i))}.position")
             excursion = self.states[:, index] - nodes[i, L.N_DSET]
-            lengths[:, [i - 1, i]] += excursion[:, None]
+            lengths[:, [i - 1, i]] += excursion[:, None] * nodes[i, [L.N_DGIN, L.N_DGOUT]]
         return lengths
 
     @cached_property

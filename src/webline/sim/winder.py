@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from webline.line import Line
+from webline.physics.roller import table_magnitude
 from webline.physics.taper import KINDS
 from webline.sim import layout as L
 from webline.spec.winder import WebBreak
@@ -55,6 +56,10 @@ def diameter_columns(drives: np.ndarray, line: Line) -> None:
         sources = {"master": L.DSOURCE_MASTER, "reference": L.DSOURCE_REFERENCE}
         row[L.D_DSOURCE] = sources.get(spec.line_speed, next(
             (j for j, r in enumerate(line.spec.rollers) if r.name == spec.line_speed), -1))
+        row[L.D_PRESETN] = len(spec.preset)
+        for k, preset in enumerate(spec.preset):
+            row[L.D_PRESETT + k] = preset.at
+            row[L.D_PRESETD + k] = 0.0 if preset.diameter == "measured" else preset.diameter
 
 
 def initial_radius(drives: np.ndarray, d: int, true_radius: float) -> float:
@@ -93,6 +98,10 @@ def compensation_torque(row: np.ndarray, inertia: float, radius: float, omega: f
     acceleration [m/s²]."""
     torque = row[L.D_COMPJ] * inertia * a_line / radius
     torque += row[L.D_COMPCS] * float(np.sign(omega)) + row[L.D_COMPB] * omega
+    n = int(row[L.D_COMPFN])
+    if n > 0 and omega != 0.0:  # the measured friction table (F1)
+        torque += float(np.sign(omega)) * table_magnitude(
+            abs(omega), row[L.D_COMPFW:L.D_COMPFW + n], row[L.D_COMPFT:L.D_COMPFT + n])
     return float(torque / row[L.D_RATIO])
 
 
@@ -129,9 +138,10 @@ def break_columns(line: Line, spans: np.ndarray, web: np.ndarray) -> bool:
 
 def tension_references(line: Line, time: np.ndarray, control_radius: np.ndarray) -> np.ndarray:
     """Set tension of each loadcell span [N] at ``time`` [s] (NaN on spans without one): its
-    zone's profile, the rewind's taper applied at the radius its controller uses
-    (``control_radius`` [m], records x drives: calculated or true), as the controller sets
-    it (``Result.tension_ref``)."""
+    zone's profile times the tension ramp at start and stop (docs/winder.md R1), the rewind's
+    taper applied at the radius its controller uses (``control_radius`` [m], records x
+    drives: calculated or true), as the controller sets it (``Result.tension_ref``)."""
+    from webline.model.tension_ramp import ramp_factor
     from webline.physics.taper import spec_factor
     from webline.profiles import breakpoints
 
@@ -139,6 +149,8 @@ def tension_references(line: Line, time: np.ndarray, control_radius: np.ndarray)
     for zone in line.zones:
         times, values = breakpoints(line.spec.spans[zone.loadcell].tension)
         out[:, zone.loadcell] = np.interp(time, times, values)
+    if line.spec.control.tension_ramp is not None:
+        out *= np.asarray(ramp_factor(line, time))[:, None]
     rewind = line.rewind
     z = line.controlled_zone(line.n_nodes - 1)
     if rewind.taper is not None and z is not None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from webline.sim import layout as L
+from webline.sim.friction_loop import compensation_table
 from webline.sim.signals import jit
 
 
@@ -21,6 +22,8 @@ def compensation(d: int, inertia: float, radius: float, omega: float, a_line: fl
     elif omega < 0.0:
         torque -= drives[d, L.D_COMPCS]
     torque += drives[d, L.D_COMPB] * omega
+    if drives[d, L.D_COMPFN] > 0.0:  # the measured friction table (F1)
+        torque += compensation_table(d, omega, drives)
     return torque / drives[d, L.D_RATIO]
 
 

@@ -8,6 +8,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field
 
+from webline.spec.friction import MeasuredFriction
 from webline.spec.quantities import Length, Strict, si
 
 Fraction = Annotated[float, Field(ge=0.0, le=1.0)]
@@ -42,6 +43,19 @@ def check_taper(taper: TaperSpec | None, key: str, fail: Callable[[str, str], An
             fail(f"{key}.diameter", "diameters must increase")
 
 
+class DiameterPreset(Strict):
+    """One preset of a diameter calculator while running (docs/winder.md, W2a): at time
+    ``at`` [s] the calculated diameter is set to ``diameter`` [m], or to the true one
+    (``"measured"``: an operator's measurement)."""
+
+    at: Annotated[float, si("time", ">=0")]
+    diameter: Literal["measured"] | Length = "measured"
+
+
+#: presets a calculator takes (drive-table slots)
+MAX_PRESETS = 4
+
+
 class DiameterSpec(Strict):
     """A roll drive's diameter calculator (docs/winder.md, W2): its controllers use the
     calculated radius, not the true one.
@@ -54,7 +68,8 @@ class DiameterSpec(Strict):
     controllers measure them (``measurement_noise``: noise and resolution; the spindle's
     encoder, on the motor across a transmission with motor feedback). ``"thickness"``: each
     revolution adds (rewind) or removes (unwind) two web thicknesses. ``initial``:
-    ``"measured"`` (the true diameter at the start) or a guessed diameter [m].
+    ``"measured"`` (the true diameter at the start) or a guessed diameter [m]. ``preset``:
+    diameters set while running (after a splice, or measured by the operator), up to four.
     """
 
     method: Literal["speed_ratio", "thickness"]
@@ -63,6 +78,7 @@ class DiameterSpec(Strict):
     filter: Annotated[float, si("time", ">0")] = 0.2
     rate_limit: Annotated[float, si("speed", ">0")] | None = None
     hold_below: Annotated[float, si("speed", ">=0")] = 0.05
+    preset: list[DiameterPreset] = Field(default_factory=list, max_length=MAX_PRESETS)
 
 
 def check_diameters(rollers: list[Any], fail: Callable[[str, str], Any]) -> None:
@@ -87,8 +103,9 @@ class WinderSpec(Strict):
     J(D) a_line / (R ratio), J the roll's inertia (core, shaft and motor, and the web from the
     diameter, width and density) and a_line the line-speed reference's acceleration;
     ``static_friction`` [N·m] and ``viscous_friction`` [N·m·s] at the roll shaft add
-    (static sign(ω) + viscous ω) / ratio. The radius is the calculated one where the roll has
-    a ``diameter`` calculator. ``speed_limit_offset``: an open-loop drive's speed limiter,
+    (static sign(ω) + viscous ω) / ratio, a ``friction_table`` (``spec.friction``) its
+    measured torque at |ω| times sign(ω) / ratio. The radius is the calculated one where the
+    roll has a ``diameter`` calculator. ``speed_limit_offset``: an open-loop drive's speed limiter,
     as a fraction of the line's top speed (the largest value of its speed reference) over
     the line-speed reference (a rewind's upper, an unwind's lower limit): its speed
     controller, saturated at the tension torque while the web holds the roll, takes over
@@ -100,6 +117,18 @@ class WinderSpec(Strict):
     inertia_compensation: bool = False
     static_friction: Annotated[float, si("torque", ">=0")] = 0.0
     viscous_friction: Annotated[float, si("rot_damping", ">=0")] = 0.0
+    friction_table: MeasuredFriction | None = None
+
+
+class StartStopTension(Strict):
+    """``control.tension_ramp`` (docs/winder.md, R1): every zone's set tension is
+    ``standstill`` x its reference while the line stands (speed reference |v| <= ``below``
+    [m/s]) and ramps to the full reference in ``time`` [s] when the line starts, and back
+    when it stops (``model.tension_ramp``)."""
+
+    standstill: Fraction
+    time: Annotated[float, si("time", ">0")]
+    below: Annotated[float, si("speed", ">=0")] = 0.05
 
 
 class WebBreak(Strict):
