@@ -251,3 +251,21 @@ def test_fast_path_matches_the_adaptive_reference_with_a_law():
     assert np.ptp(ref.tension[:, 0]) > 0.3  # the ripple and ramp move the tension (0.64 N)
     assert error < 1e-5  # measured 5.9e-9: RK4 at the 1 ms tick (as test_reference_path)
     np.testing.assert_allclose(fast.speed, ref.speed, rtol=1e-6)
+
+
+def test_a_study_case_that_yields_is_judged_as_its_run():
+    """The yielding line of the test above as a sweep over its hardening: each case's status
+    and headline say what its run's verdict says (warning: span1 beyond yield), and the
+    case's peak strain is its run's, F⁻¹(T_max)/EA from the largest felt tension."""
+    from webline.sim.sweep import sweep
+
+    law = {"law": "bilinear", "yield_strain": 0.004, "hardening": 0.5}
+    step = {"type": "steps", "initial": "30 N", "steps": [{"time": 0.5, "value": "45 N"}]}
+    line = three_roller("30 N", law).replace({"spans.span1.tension": step})
+    cases = sweep(line, {"web.stress_strain.hardening": [0.5, 0.8]}, duration=2.0)
+    for c, hardening in enumerate((0.5, 0.8)):
+        run = webline.simulate(line.replace({"web.stress_strain.hardening": hardening}), 2.0)
+        assert str(cases.status.values[c]) == run.verdict.status == "warning"
+        assert "span1 strained beyond the web's yield (0.4 %)" in str(cases.headline.values[c])
+        peak = (run.stretch[:, 0] / line.ea).max()
+        assert f"peak {100 * peak:.3g} %" in str(cases.headline.values[c])
