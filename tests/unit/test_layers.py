@@ -30,7 +30,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline.report",),
     ("webline.twin",),
     ("webline.studies",),
-    ("webline.cli", "webline.cli_analyze", "webline.cli_common", "webline.cli_sweep"),
+    ("webline.cli", "webline.cli_analyze", "webline.cli_common", "webline.cli_sweep",
+     "webline.cli_twin"),
 )
 
 

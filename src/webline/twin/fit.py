@@ -54,19 +54,25 @@ def blocks(r: np.ndarray, window: int) -> np.ndarray:
 class FitResult:
     """A fit's outcome; values and intervals in SI (``FreeParameter.unit``).
 
-    ``value``, ``stderr`` (from s²·(JᵀJ)⁻¹ at the solution, s² the residual variance
-    Σr²/(m - n)), ``ci95`` (value ± t₀.₉₇₅,m-n · stderr; the bounds for a parameter the data
-    do not identify) per parameter; ``correlation`` (n × n); ``identifiability`` (which
-    parameters the data cannot separate, and why); ``simulations`` run; ``cost``
-    (½Σr², r in noise levels); ``converged`` (scipy's convergence test was met);
+    ``value`` (a parameter the data do not identify keeps the line's: ``raw_value`` holds
+    the optimiser's number for it), ``stderr`` (from s²·(JᵀJ)⁻¹ at the solution, s² the
+    residual variance Σr²/(m - n)), ``ci95`` (value ± t₀.₉₇₅,m-n · stderr; the bounds for a
+    parameter the data do not identify) per parameter; ``correlation`` (n × n);
+    ``identifiability`` (which parameters the data cannot separate, and why);
+    ``simulations`` run; ``cost`` (½Σr², r in noise levels); ``converged`` (scipy's
+    convergence test was met);
+    ``residual_scale`` √(Σr²/(m - n)): about 1 where the residuals are the signals' noise, more
+    where the model misses something (the intervals then assume it does not);
     ``noise`` the noise level [SI] each signal was weighted by; ``before`` / ``after`` the
-    compared signals with the line's and the fitted values."""
+    compared signals with the line's and the fitted values; ``fitted_line`` the line as
+    loaded (no scenario) with the identified values."""
 
     line: Line
     fitted_line: Line
     data: Measurements
     parameters: tuple[FreeParameter, ...]
     value: np.ndarray
+    raw_value: np.ndarray
     stderr: np.ndarray
     ci95: np.ndarray
     correlation: np.ndarray
@@ -75,6 +81,7 @@ class FitResult:
     cost: float
     converged: bool
     message: str
+    residual_scale: float
     seconds: float
     noise: dict[str, float]
     signals: tuple[str, ...]
@@ -96,7 +103,7 @@ class FitResult:
         return {n: self.after.values[n] - self.data.signals[n][::self.data.stride]
                 for n in self.signals}
 
-    def table(self) -> object:
+    def table(self) -> Any:
         """One row per parameter: path, unit, line value, fitted value, stderr, ci95 low and
         high, identifiable, why not (SI), as a ``pandas.DataFrame``."""
         import pandas as pd
@@ -118,7 +125,8 @@ class FitResult:
                 rows.append(f"  {p.path}: not identifiable from this data "
                             f"({self.identifiability.reasons[i]})")
         return (f"<webline Fit of {Path(self.data.source).name}: {len(self.parameters)} "
-                f"parameters, {self.simulations} simulations, cost {self.cost:.4g}, "
+                f"parameters, {self.simulations} simulations, cost {self.cost:.4g}, residuals "
+                f"{self.residual_scale:.3g} x the noise, "
                 f"{'converged' if self.converged else 'not converged'}>\n" + "\n".join(rows))
 
 
@@ -141,7 +149,7 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
     simulations. ``signals`` limits the compared signals (default: every measured one).
     """
     started = time.perf_counter()
-    line = load_line(line)
+    line = original = load_line(line)
     if scenario is not None:
         line = line.with_scenario(scenario)
     data = as_measurements(data, line)
@@ -229,22 +237,31 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
     ident = identifiability(jac, ci95, np.array([p.low for p in params]),
                             np.array([p.high for p in params]), correlation,
                             [p.path for p in params])
+    raw = value.copy()
     for i, p in enumerate(params):
         if not ident.identifiable[i]:
-            ci95[i] = (p.low, p.high)  # the data say no more than the bounds
-    fitted = driven_fitted(line, params, value, ident.identifiable)
+            # no confident value: the line's (within the bounds), the bounds as the interval
+            # and at most the standard deviation of a value spread evenly over them
+            value[i] = min(max(p.start, p.low), p.high)
+            ci95[i] = (p.low, p.high)
+            even = (p.high - p.low) / math.sqrt(12.0)
+            stderr[i] = min(stderr[i], even) if math.isfinite(stderr[i]) else even
+    fitted = driven_fitted(original, params, value, ident.identifiable)
     return FitResult(
         line=line, fitted_line=fitted, data=data, parameters=tuple(params), value=value,
+        raw_value=raw,
         stderr=stderr, ci95=ci95, correlation=correlation, identifiability=ident,
         simulations=count[0], cost=0.5 * float(r @ r), converged=bool(solution.status > 0),
-        message=str(solution.message), seconds=time.perf_counter() - started, noise=noise,
+        message=str(solution.message), residual_scale=math.sqrt(variance),
+        seconds=time.perf_counter() - started, noise=noise,
         signals=tuple(names), before=before, after=after)
 
 
 def driven_fitted(line: Line, params: Sequence[FreeParameter], value: np.ndarray,
                   identifiable: np.ndarray) -> Line:
-    """``line`` with each identifiable parameter set to its fitted value (the others keep
-    the line's: the data gave them no confident value)."""
+    """``line`` (as loaded, without the scenario the fit ran) with each identifiable parameter
+    set to its fitted value (the others keep the line's: the data gave them no confident
+    value)."""
     changes = {p.path: float(v) for p, v, ok in zip(params, value, identifiable, strict=True)
                if ok and math.isfinite(v)}
     return line.replace(changes) if changes else line

@@ -34,13 +34,13 @@ def identifiability(jac: np.ndarray, ci95: np.ndarray, low: np.ndarray, high: np
     why: list[list[str]] = [[] for _ in range(n)]
     norms = np.linalg.norm(jac, axis=0)
     dead = norms <= 1e-12 * max(float(norms.max()), 1e-300)
-    for i in np.flatnonzero(dead):
+    for i in np.flatnonzero(dead).tolist():
         why[i].append("the data do not depend on it")
     alive = np.flatnonzero(~dead)
     if len(alive):
         _, sv, vt = np.linalg.svd(jac[:, alive] / norms[alive], full_matrices=False)
-        for k in np.flatnonzero(sv < SINGULAR_RATIO * sv[0]):
-            for j in np.flatnonzero(np.abs(vt[k]) > PARTICIPATION):
+        for k in np.flatnonzero(sv < SINGULAR_RATIO * sv[0]).tolist():
+            for j in np.flatnonzero(np.abs(vt[k]) > PARTICIPATION).tolist():
                 why[alive[j]].append(f"a near-zero singular direction "
                                      f"({sv[k] / sv[0]:.1e} of the largest)")
     for i in range(n):

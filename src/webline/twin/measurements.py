@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -67,7 +68,7 @@ class Measurements:
                 f"{1 / self.dt:.4g} Hz ticks of line {self.line.name!r}")
         return "\n".join([head, *(f"- {n}" for n in self.notes)])
 
-    def to_dataframe(self) -> object:
+    def to_dataframe(self) -> Any:
         """The signals as a ``pandas.DataFrame`` indexed by tick time [s], SI."""
         import pandas as pd
 

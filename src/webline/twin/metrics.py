@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 #: the columns of ``signal_metrics``'s table
@@ -26,7 +28,7 @@ def one_signal(simulated: np.ndarray, measured: np.ndarray) -> dict[str, float]:
 
 
 def signal_metrics(simulated: dict[str, np.ndarray], measured: dict[str, np.ndarray],
-                   units: dict[str, str]) -> object:
+                   units: dict[str, str]) -> Any:
     """A tidy ``pandas.DataFrame`` (``COLUMNS``), one row per signal in both, SI units."""
     import pandas as pd
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -29,7 +29,7 @@ class Replay:
     line: Line
     run: Run
     time: np.ndarray
-    metrics: object
+    metrics: Any
     notes: tuple[str, ...]
 
     @property
@@ -47,11 +47,11 @@ class Replay:
     def __repr__(self) -> str:
         worst = ""
         frame = self.metrics
-        if len(frame):  # type: ignore[arg-type]
-            row = frame.loc[frame["nrmse"].idxmax()]  # type: ignore[attr-defined]
+        if len(frame):
+            row = frame.loc[frame["nrmse"].idxmax()]
             worst = f"; largest NRMSE {row['nrmse']:.3g} on {row['signal']}"
         return (f"<webline Replay of {Path(self.data.source).name} on {self.line.name!r}: "
-                f"{len(frame)} signals compared{worst}>")  # type: ignore[arg-type]
+                f"{len(frame)} signals compared{worst}>")
 
 
 def as_measurements(data: Measurements | str | Path, line: Line) -> Measurements:
