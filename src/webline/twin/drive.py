@@ -29,7 +29,8 @@ class Driven:
 def reference_table(time: np.ndarray, values: np.ndarray) -> dict[str, object]:
     """A ``table`` profile (SI) following a logged reference: its corners where it is
     piecewise linear (a ramp logged exactly), else bin means of at most ``MAX_TABLE`` points
-    (a noisy or curved log)."""
+    (a noisy or curved log); one point past the end continues the last slope (a ramp cut by
+    the end of the record still has its rate there, as the inertia compensation needs)."""
     ok = np.isfinite(values)
     t, v = time[ok], values[ok]
     scale = max(float(np.max(np.abs(v))), 1e-12)
@@ -43,6 +44,12 @@ def reference_table(time: np.ndarray, values: np.ndarray) -> dict[str, object]:
         tt = np.array([t[a:b].mean() for a, b in itertools.pairwise(edges)])
         vv = np.array([v[a:b].mean() for a, b in itertools.pairwise(edges)])
         tt[0], tt[-1] = t[0], t[-1]
+    if len(tt) >= 2:  # one more point on the last slope: the last tick sees the same rate
+        slope = (vv[-1] - vv[-2]) / (tt[-1] - tt[-2])
+        step = max(tt[-1] - tt[-2], 1e-3)
+        last = vv[-1] + slope * step
+        last = max(last, 0.0) if vv.min() >= 0.0 else last  # a speed stays >= 0
+        tt, vv = np.append(tt, tt[-1] + step), np.append(vv, last)
     return {"type": "table", "time": [float(x) for x in tt], "value": [float(x) for x in vv]}
 
 
