@@ -4,6 +4,7 @@ which parameters the data can identify."""
 
 from __future__ import annotations
 
+import itertools
 import math
 import time
 from collections.abc import Mapping, Sequence
@@ -34,6 +35,29 @@ FAILED_RESIDUAL = 1e3
 SMOOTH_SECONDS = 0.1
 
 
+def signal_rows(r: np.ndarray) -> list[np.ndarray]:
+    """Per signal, the rows (in ``blocks(r, 1)``'s order) of its measured points."""
+    counts = np.isfinite(r).sum(axis=1)
+    edges = np.concatenate([[0], np.cumsum(counts)])
+    return [np.arange(a, b) for a, b in itertools.pairwise(edges)]
+
+
+def covariance(jac: np.ndarray, rows: list[np.ndarray], dof: int,
+               r: np.ndarray) -> np.ndarray:
+    """Covariance of the scaled parameters: the sandwich A⁻¹ (Σₛ vₛ JₛᵀJₛ) A⁻¹ with
+    A = JᵀJ and vₛ the residual variance of signal s (its noise level as estimated from the
+    data is only an estimate: a signal whose residuals are larger than its weight assumed
+    counts with its own scatter), scaled by m / dof for the parameters fitted."""
+    inverse = np.linalg.pinv(jac.T @ jac)
+    middle = np.zeros_like(inverse)
+    m = sum(len(idx) for idx in rows)
+    for idx in rows:
+        if len(idx):
+            part = jac[idx]
+            middle += float(np.mean(r[idx] ** 2)) * (part.T @ part)
+    return inverse @ middle @ inverse * (m / max(1, dof))
+
+
 def blocks(r: np.ndarray, window: int) -> np.ndarray:
     """Residuals (signals x points, NaN: not measured) as means over ``window`` points, times
     √(points averaged), so each stays of unit variance under white noise; flattened, NaN
@@ -55,9 +79,10 @@ class FitResult:
     """A fit's outcome; values and intervals in SI (``FreeParameter.unit``).
 
     ``value`` (a parameter the data do not identify keeps the line's: ``raw_value`` holds
-    the optimiser's number for it), ``stderr`` (from s²·(JᵀJ)⁻¹ at the solution, s² the
-    residual variance Σr²/(m - n)), ``ci95`` (value ± t₀.₉₇₅,m-n · stderr; the bounds for a
-    parameter the data do not identify) per parameter; ``correlation`` (n × n);
+    the optimiser's number for it), ``stderr`` (from ``covariance``: (JᵀJ)⁻¹ at the
+    solution, each signal's part scaled by its own residual variance), ``ci95`` (value ±
+    t₀.₉₇₅,m-n · stderr; the bounds for a parameter the data do not identify) per
+    parameter; ``correlation`` (n × n);
     ``identifiability`` (which parameters the data cannot separate, and why);
     ``simulations`` run; ``cost`` (½Σr², r in noise levels); ``converged`` (scipy's
     convergence test was met);
@@ -225,7 +250,7 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
     m, n = len(r), len(params)
     spans = np.array([p.high - p.low for p in params])
     variance = float(r @ r) / max(1, m - n)
-    cov_x = variance * np.linalg.pinv(jac.T @ jac)
+    cov_x = covariance(jac, signal_rows(cases([x])[0][0]), m - n, r)
     stderr = np.sqrt(np.clip(np.diag(cov_x), 0.0, None)) * spans
     value = np.array([p.unscaled(float(v)) for p, v in zip(params, x, strict=True)])
     from scipy.stats import t as student
