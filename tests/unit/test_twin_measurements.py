@@ -123,7 +123,7 @@ def test_time_that_does_not_increase_is_refused(tmp_path, converter):
                      np.column_stack([t, t]))
     with pytest.raises(MeasurementError) as exc:
         load_measurements(path, converter)
-    one_line(exc, "bad.csv", "time [s]", "does not increase at row 101")
+    one_line(exc, "bad.csv", "time [s]", "does not increase at data row 101")
 
 
 def test_a_record_too_short_names_what_it_cannot_identify(tmp_path, converter):

@@ -135,7 +135,7 @@ def load_measurements(path: str | Path, line: Line | str | Path,
     step = np.diff(t_ok)
     if np.any(step <= 0):
         i = int(np.argmax(step <= 0))
-        raise MeasurementError(label, time_column.header, f"time does not increase at row "
+        raise MeasurementError(label, time_column.header, f"time does not increase at data row "
                                f"{int(np.flatnonzero(keep)[i + 1]) + 1} ({t_ok[i]:.6g} s then "
                                f"{t_ok[i + 1]:.6g} s)")
     if len(t_ok) < 2:
@@ -159,7 +159,9 @@ def load_measurements(path: str | Path, line: Line | str | Path,
         values = column.values[keep] * _si_factor(column, signal, label)
         valid = np.isfinite(values)
         if valid.sum() < MIN_SAMPLES:
-            notes.append(f"{signal.name}: only {int(valid.sum())} valid samples: skipped")
+            notes.append(f"{signal.name}: " + (f"only {int(valid.sum())} valid samples"
+                                                 if valid.any() else "no data (all NaN)")
+                         + ": skipped")
             continue
         if (~valid).any():
             notes.append(f"{signal.name}: {int((~valid).sum())} NaN samples dropped")
