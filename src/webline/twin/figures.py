@@ -16,6 +16,17 @@ if TYPE_CHECKING:
 MAX_PANELS = 12
 
 
+#: the order of signals in figures: what a fit learns most from first
+ORDER = ("tension", "torque", "speed", "omega", "motor_speed", "surface_speed", "radius")
+
+
+def shown(names: Sequence[str]) -> list[str]:
+    """The signals a figure draws: at most ``MAX_PANELS``, tensions and torques first."""
+    rank = {kind: i for i, kind in enumerate(ORDER)}
+    ordered = sorted(names, key=lambda n: rank.get(n.partition("[")[0], len(ORDER)))
+    return ordered[:MAX_PANELS]
+
+
 def _panels(n: int) -> tuple[Figure, list[object]]:
     from matplotlib.figure import Figure
 
@@ -28,9 +39,9 @@ def _panels(n: int) -> tuple[Figure, list[object]]:
 def overlay_figure(time: np.ndarray, measured: dict[str, np.ndarray],
                    simulated: dict[str, np.ndarray], names: Sequence[str], title: str,
                    before: dict[str, np.ndarray] | None = None) -> Figure:
-    """One panel per signal (at most ``MAX_PANELS``): measured (grey), simulated (blue) and,
-    if given, the simulation ``before`` a fit (dashed) against time [s]."""
-    names = list(names)[:MAX_PANELS]
+    """One panel per signal (``shown``: at most ``MAX_PANELS``): measured (grey), simulated
+    (blue) and, if given, the simulation ``before`` a fit (dashed) against time [s]."""
+    names = shown(names)
     fig, axes = _panels(len(names))
     for ax, name in zip(axes, names, strict=False):
         ax.plot(time, measured[name], color="0.6", lw=0.8, label="measured")  # type: ignore[attr-defined]
@@ -50,7 +61,7 @@ def residual_figure(time: np.ndarray, residuals: dict[str, np.ndarray],
                     noise: dict[str, float], title: str) -> Figure:
     """One panel per signal: simulated - measured [SI] with the ±2σ band of the noise level
     the fit weighted it by."""
-    names = list(residuals)[:MAX_PANELS]
+    names = shown(list(residuals))
     fig, axes = _panels(len(names))
     for ax, name in zip(axes, names, strict=False):
         ax.plot(time, residuals[name], color="tab:red", lw=0.6)  # type: ignore[attr-defined]

@@ -29,6 +29,16 @@ MISFIT = 1.5
 POOR_NRMSE = 0.1
 
 
+def _which(names: list[str]) -> str:
+    """What a figure shows of ``names``: all, or how many (the tables list every signal)."""
+    from webline.twin.figures import MAX_PANELS
+
+    if len(names) <= MAX_PANELS:
+        return ""
+    return (f" ({MAX_PANELS} of the {len(names)} signals, tensions and torques first; the "
+            "tables list them all)")
+
+
 def _png(fig: Figure) -> bytes:
     buffer = io.BytesIO()
     fig.savefig(buffer, format="png", dpi=90)
@@ -79,7 +89,8 @@ def write_replay_report(replay: Replay, out: Path) -> Path:
         Section("Replay", [Text("Driven by: " + "; ".join(replay.notes)),
                            metrics_table(replay.metrics, "metrics",
                                          "Simulated against measured (SI)"),
-                           Image("replay", "measured (grey) and simulated (blue)", figure)]),
+                           Image("replay", "measured (grey) and simulated (blue)"
+                                 + _which(replay.data.names), figure)]),
     ]
     html = render(f"webline replay: {replay.line.name}", str(replay.data.source), status, css,
                   sections, f"webline {__version__}", headline="replay")
@@ -140,11 +151,12 @@ def write_fit_report(result: FitResult, out: Path) -> Path:
         _data_section(result.data),
         Section("Fit", [values, correlation, weights]),
         Section("Traces", [Image("fit", "measured (grey), the line's values (dashed), fitted "
-                                 "(blue)", overlay),
+                                 "(blue)" + _which(names), overlay),
                            metrics_table(before, "before", "Before the fit"),
                            metrics_table(after, "after", "After the fit")]),
         Section("Residuals", [Image("residuals", "simulated - measured after the fit, with "
-                                    "the ±2σ band of each signal's noise level", residuals)]),
+                                    "the ±2σ band of each signal's noise level"
+                                    + _which(names), residuals)]),
     ]
     html = render(f"webline fit: {result.line.name}", str(result.data.source), status, css,
                   sections, f"webline {__version__}", headline="fit")
