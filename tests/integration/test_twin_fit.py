@@ -95,3 +95,29 @@ def test_replay_of_a_runs_own_results_reproduces_it(tmp_path):
     assert frame.loc["tension[process_span]", "max_abs"] < 1e-6  # N
     assert frame.loc["torque[unwind]", "max_abs"] < 1e-6  # N m
     assert frame["r2"].dropna().min() > 1 - 1e-9
+
+
+def test_replay_without_a_logged_speed_reference_follows_the_measured_master(tmp_path):
+    """A log without ``speed_ref`` (skipped here with an empty mapping): the master roller's
+    measured speed, averaged over 50 ms, drives the line; its noise (0.5 N, 2 mm/s) must not
+    reach the references (noisy speed references, differentiated by the inertia
+    compensation, would swamp the torques)."""
+    from webline.twin import load_measurements
+    from webline.twin.replay import replay
+
+    line = webline_line_startup()
+    path = synthetic_csv(tmp_path / "log.csv", "converter", changes={}, duration=6.0,
+                         scenario="startup", seed=3)
+    data = load_measurements(path, line, mapping={"speed_ref[drum]": ""})
+    result = replay(line, data)
+    assert "speed[drum]" in result.notes[0]
+    frame = result.metrics.set_index("signal")
+    # the simulation is the truth up to the smoothed reference: residuals at the noise level
+    assert frame.loc["speed[rewind]", "rms"] < 1.5 * 2e-3
+    assert frame.loc["tension[process_span]", "rms"] < 1.5 * 0.5
+
+
+def webline_line_startup():
+    import webline
+
+    return webline.load_line("converter").with_scenario("startup")

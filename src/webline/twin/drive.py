@@ -57,8 +57,8 @@ def reference_table(time: np.ndarray, values: np.ndarray,
         slope = (vv[-1] - vv[-2]) / (tt[-1] - tt[-2])
         step = max(tt[-1] - tt[-2], 1e-3)
         last = vv[-1] + slope * step
-        last = max(last, 0.0) if vv.min() >= 0.0 else last  # a speed stays >= 0
         tt, vv = np.append(tt, tt[-1] + step), np.append(vv, last)
+    vv = np.maximum(vv, 0.0)  # speed and tension references are >= 0 (a noisy zero is not)
     return {"type": "table", "time": [float(x) for x in tt], "value": [float(x) for x in vv]}
 
 
