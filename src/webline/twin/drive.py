@@ -8,8 +8,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from webline.errors import LineFileError
 from webline.line import Line, Zone
 from webline.twin.measurements import Measurements
+from webline.twin.read import MeasurementError
 
 #: most points of a reference table built from a logged reference
 MAX_TABLE = 2000
@@ -104,7 +106,12 @@ def driven_line(data: Measurements, line: Line | None = None) -> Driven:
             if abs(radius - float(line.spec.rollers[index].radius)) > 1e-4:
                 changes[f"rollers.{roll}.radius"] = radius
                 notes.append(f"initial radius of {roll} from {name}: {radius:.4g} m")
-    return Driven(line.replace(changes) if changes else line, tuple(notes))
+    try:
+        driven = line.replace(changes) if changes else line
+    except LineFileError as exc:  # a logged reference the line file cannot take
+        raise MeasurementError(data.source, exc.key, f"the logged references cannot drive "
+                               f"line {line.name!r}: {exc.problem}") from None
+    return Driven(driven, tuple(notes))
 
 
 def _tapered(line: Line, zone: Zone) -> bool:
