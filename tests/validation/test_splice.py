@@ -246,3 +246,19 @@ def test_cli_refuses_a_bad_splice_in_one_line(tmp_path):
     assert result.exit_code == 2
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and "disturbances[0].roll" in lines[0], result.output
+
+
+def test_a_scenario_with_only_a_splice_key_runs_its_splice_once():
+    """A scenario that gives a `splice` and no `disturbances` of its own (it keeps the line's)
+    was refused as 'already spliced': the line as the scenario runs it listed the splice in
+    its disturbances and then checked the scenario's splice against that list. The splice is
+    in the run once, and the same scenario applied again adds nothing (the splice's time and
+    roll are an exact match: one entry)."""
+    data = webline.load_line("converter").spec.model_dump(exclude_none=True)
+    data["scenarios"]["splice-only"] = {"duration": 1.0, "splice": {
+        "roll": "rewind", "at": 0.5, "new_diameter": 0.19}}
+    line = webline.load_line(data).with_scenario("splice-only")
+    splices = [d for d in line.spec.disturbances if d.type == "flying_splice"]
+    assert [(d.roll, d.at) for d in splices] == [("rewind", 0.5)]
+    again = line.with_scenario("splice-only")
+    assert [d.type for d in again.spec.disturbances] == ["flying_splice"]
