@@ -114,8 +114,9 @@ def main() -> None:
     start = webline.simulate(line, scenario="startup")
     figures["guide-dancer-startup"] = dancer_startup(start)
     lift = 1e3 * np.abs(_position(start, "dancer") - 0.15).max()
-    say("startup: dancer within", f"{lift:.3g} mm of its set position; unwind_span",
-        f"{start.tension[:, 0].min():.4g}-{start.tension[:, 0].max():.4g} N")
+    say("startup: dancer within", f"{lift:.3g} mm of its set position;", *(
+        f"{start.span_names[k]} {start.tension[:, k].min():.4g}-{start.tension[:, k].max():.4g}"
+        f" N, {start.tension[-1, k]:.4g} N at the end;" for k in (0, 1)))
     roll = webline.simulate(line, scenario="roll-change")
     rewind_zone = line.zones[line.controlled_zone(line.n_nodes - 1)].loadcell
     figures["guide-taper"] = taper_figure(roll, display, rewind_zone)
