@@ -70,8 +70,8 @@ def zone_load_step(runs: dict[str, Result]) -> Figure:
 
 
 def web_break(result: Result, until: float) -> Figure:
-    """converter's web break up to the end of the stop ramp: span tensions (top) and the
-    driven rollers' surface speeds (bottom)."""
+    """converter's web break: span tensions (top) and the driven rollers' surface speeds
+    (bottom), through the stop ramp and the hold after it, up to ``until`` [s]."""
     fig = framed_figure(9.0, 5.4, rows=2)
     top, bottom = fig.subplots(2, 1, sharex=True)
     shown = result.time <= until + 1e-9
@@ -159,9 +159,12 @@ def main() -> None:
         f"zeta {np.nanmin(least):.3g}-{np.nanmax(least):.3g}; findings:",
         str([f.message for f in course.findings()]))
     broken = webline.simulate(line, scenario="web-break", raise_on_failure=False)
-    figures["guide-web-break"] = web_break(broken, until=10.0)
+    figures["guide-web-break"] = web_break(broken, until=float(broken.time[-1]))
     for finding in broken.verdict.findings:
         say("web-break:", finding.message)
+    held = broken.time >= 10.0  # the scenario's stop: break at 5 s, 5 s ramp
+    say("web-break: largest driven surface speed after the stop",
+        f"{np.abs(broken.surface_speed[held][:, line.drives]).max():.3g} m/s")
     spliced = webline.simulate(line, scenario="flying-splice")
     figures["guide-flying-splice"] = splice_figure(spliced, display)
     say("flying-splice:", splice_caption(spliced, display))
