@@ -73,6 +73,20 @@ def test_the_guide_has_excerpts_for_every_task():
         assert (LINES / f"{first.split()[-1]}.toml").exists(), block_id
 
 
+def test_each_task_of_the_guide_has_an_excerpt_and_a_figure():
+    # the guide's tasks are its "### N. ..." sections before the derivations; each shows the
+    # keys it needs and a figure that exists (drawn by docs/winder_figures.py)
+    text = GUIDE.read_text(encoding="utf-8").split("\n## Derivations", 1)[0]
+    tasks = re.split(r"\n### \d\. ", text)[1:]
+    assert len(tasks) == 7
+    for task in tasks:
+        title = task.splitlines()[0]
+        assert "```toml\n# line: " in task, title
+        figures = re.findall(r"!\[[^\]]+\]\((img/[^)]+)\)", task)
+        assert figures, title
+        assert all((GUIDE.parent / f).exists() for f in figures), title
+
+
 @pytest.mark.parametrize(("block_id", "text", "needs"), guide_blocks(),
                          ids=[b[0] for b in guide_blocks()])
 def test_guide_excerpt_validates_in_its_line(tmp_path, block_id, text, needs):
