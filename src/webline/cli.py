@@ -41,6 +41,7 @@ from webline.cli_common import (
     sigterm_as_interrupt,
 )
 from webline.cli_sweep import sweep_command
+from webline.cli_twin import fit_command, replay_command
 from webline.version import __version__
 
 # The simulation, analysis and report layers are imported inside the commands that use them,
@@ -274,6 +275,8 @@ def study(
 
 app.command("sweep")(handles_errors(
     sweep_command, resume="the same command with --resume goes on from the chunks stored"))
+app.command("replay")(handles_errors(replay_command))
+app.command("fit")(handles_errors(fit_command))
 
 
 def main() -> None:
