@@ -298,7 +298,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     web[L.W_RHOA] = spec.web.density * spec.web.width * spec.web.thickness
     web[L.W_TRAMP] = ramp_profile_index
     web[L.W_STRENGTH] = math.inf if spec.web.strength is None else spec.web.strength
-    if line.nonlinear:  # the kernel checks the stretch; the law's at the strength
+    if line.nonlinear:  # the kernel checks the stretch: the one where the law reaches it
         web[L.W_STRENGTH] = line.stretch_of(web[L.W_STRENGTH])
     web[L.W_STRETCH_MAX] = RUNAWAY_STRAIN * line.ea
     top_speed = float(np.max(np.abs(breakpoints(spec.speed)[1])))
