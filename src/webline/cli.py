@@ -41,6 +41,7 @@ from webline.cli_common import (
     sigterm_as_interrupt,
 )
 from webline.cli_sweep import sweep_command
+from webline.cli_tune import experiment_command, tune_command
 from webline.version import __version__
 
 # The simulation, analysis and report layers are imported inside the commands that use them,
@@ -272,6 +273,8 @@ def study(
 
 app.command("sweep")(handles_errors(
     sweep_command, resume="the same command with --resume goes on from the chunks stored"))
+app.command("tune")(handles_errors(tune_command))
+app.command("experiment")(handles_errors(experiment_command))
 
 
 def main() -> None:

@@ -28,8 +28,10 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline",),
     ("webline.analysis",),
     ("webline.report",),
+    ("webline.twin",),
     ("webline.studies",),
-    ("webline.cli", "webline.cli_analyze", "webline.cli_common", "webline.cli_sweep"),
+    ("webline.cli", "webline.cli_analyze", "webline.cli_common", "webline.cli_sweep",
+     "webline.cli_tune"),
 )
 
 
