@@ -75,7 +75,9 @@ def parse_free(line: Line, text: str) -> FreeParameter:
     unit = high_text.split(maxsplit=1)[1] if len(high_text.split(maxsplit=1)) == 2 else ""
     if unit and _is_number(low_text):
         low_text = f"{low_text} {unit}"
-    low, high = (path_value(line, path, t) for t in (low_text, high_text))
+    # a plain number is SI, as a line file's numbers are
+    low, high = (path_value(line, path, float(t) if _is_number(t) else t)
+                 for t in (low_text, high_text))
     if not 0.0 < low < high:
         raise ArgumentError(f"--free {text!r}: needs 0 < LOW < HIGH (tuning moves on log "
                             f"values), got {low:g} .. {high:g} [SI]")
