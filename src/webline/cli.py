@@ -194,6 +194,8 @@ def validate(line: LineArg) -> None:
     warnings = [*loaded.warnings, *leaks]
     for warning in warnings:
         typer.echo(f"warning: {loaded.source}: {warning}", err=True)
+    for note in loaded.notes:  # what webline derived (a roll's inertia from its totals)
+        typer.echo(f"note: {loaded.source}: {note}")
     scenarios = ", ".join(loaded.spec.scenarios) or "none"
     typer.echo(f"ok: {loaded.source}: line {loaded.name!r} with {loaded.n_nodes} rollers, "
                f"{loaded.n_spans} spans, {len(loaded.drives)} drives, {len(loaded.zones)} "

@@ -103,6 +103,15 @@ class Line:
 
         return tuple(warnings(self.spec)) + tuple(winder_warnings(self.spec))
 
+    @cached_property
+    def notes(self) -> tuple[str, ...]:
+        """What webline derived from the file beyond its keys' plain reading (a roll's core
+        inertia and wound density from its totals, ``spec.roll_inertia``), one line each."""
+        from webline.spec.roll_inertia import derivation
+
+        found = (derivation(r, self.spec.web) for r in (self.unwind, self.rewind))
+        return tuple(note for note in found if note)
+
     def zone_of_span(self, span: int) -> int:
         return next(z for z, zone in enumerate(self.zones) if span in zone.spans)
 
