@@ -11,7 +11,7 @@ ranges, so a batch uses all cores.
 The reductions follow the definitions of a single run (``webline.sim.metrics``): the records
 are those ``simulate`` stores by default, events are intervals of records
 (``webline.sim.events``), the tension reference is the loadcell profile at each record (a
-taper rewind's tapered at the rewind radius of the record, as ``Result.tension_ref``), and
+taper rewind's tapered at the radius its controller uses, as ``Result.tension_ref``), and
 the tension of a Kelvin-Voigt span is what its rollers feel, s + τ ds/dt, from the kernel's
 right-hand side at each record (``webline.sim.viscoelastic``).
 """
@@ -142,8 +142,8 @@ def _tension_error(acc: np.ndarray, n_s: int, k: int, p: int, rec: np.ndarray,
                    radius_column: int, drives: np.ndarray) -> None:
     """Fold span ``k``'s error from its reference profile ``p`` over ``n_rec`` records into
     its sum of squares, peak and settling columns; with ``taper_drive`` >= 0 the reference
-    is tapered at the rewind radius of record column ``radius_column``, as
-    ``Result.tension_ref`` tapers it (docs/winder.md W1)."""
+    is tapered at the radius the rewind's controller uses (record column
+    ``radius_column``), as ``Result.tension_ref`` tapers it (docs/winder.md W1)."""
     sumsq, peak = acc[A_SUMSQ * n_s + k], acc[A_PEAK * n_s + k]
     settle, lastout = acc[A_SETTLE * n_s + k], acc[A_LASTOUT * n_s + k]
     for r in range(n_rec):
@@ -168,7 +168,7 @@ def _reduce(rec: np.ndarray, felt: np.ndarray, kv: bool, n_rec: int, acc: np.nda
             trace: np.ndarray, trace_every: int, dt: float, n_x: int, n_s: int, n_d: int,
             n_n: int, nodes: np.ndarray, drives: np.ndarray, prof_t: np.ndarray,
             prof_v: np.ndarray, prof_off: np.ndarray, span_prof: np.ndarray,
-            tension_limit: float, offsets_rolls: int) -> None:
+            tension_limit: float) -> None:
     """Fold ``n_rec`` record rows (``kernel.run``'s layout) into the accumulators ``acc``,
     one column at a time; with ``kv`` the tensions are the felt ones in ``felt``. Events
     that cannot occur (no tension limit, no backlash gap, no traction) are skipped: their
@@ -181,7 +181,9 @@ def _reduce(rec: np.ndarray, felt: np.ndarray, kv: bool, n_rec: int, acc: np.nda
     taper_drive, taper_span = -1, -1
     if n_d > 0 and drives[n_d - 1, L.D_NODE] == n_n - 1 and drives[n_d - 1, L.D_TAPER] > 0.0:
         taper_drive, taper_span = n_d - 1, int(drives[n_d - 1, L.D_LOADCELL])
-    radius_column = 1 + offsets_rolls + 1  # record columns: time, then the states
+    # the radius the rewind's controller uses (calculated or true): the record's column of
+    # controller radii (``kernel.slip_column``: time, states, six columns per drive)
+    radius_column = 1 + n_x + 5 * n_d + taper_drive
     for k in range(n_s):
         tmin, tmax = acc[A_TMIN * n_s + k], acc[A_TMAX * n_s + k]
         for r in range(n_rec):
@@ -291,7 +293,7 @@ def _compiled_batch(node_rows: tuple[tuple[int, ...], ...],
                                  wound_ripple[c])
                 _reduce(rec, felt, kv, n_rec, acc[c], traces[c], trace_every[c], dt[c], n_x,
                         n_s, n_d, n_n, nodes[c], drives[c], prof_t[c], prof_v[c],
-                        prof_off[c], span_prof, tension_limit[c], offsets[L.O_RADIUS])
+                        prof_off[c], span_prof, tension_limit[c])
                 if n_rec > 0:
                     t_last = rec[n_rec - 1, 0]
                 done += count
