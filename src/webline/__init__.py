@@ -1,7 +1,7 @@
 """webline: model, simulate, analyse and control roll-to-roll (web handling) process lines.
 
 The front door: ``load_line``, ``simulate``, ``sweep``, ``monte_carlo``, ``linearize``,
-``operating_point`` and their types. Each is imported on first use (PEP 562), so ``import
+``operating_point`` and their types, and ``tune`` (``webline.twin.tune``). Each is imported on first use (PEP 562), so ``import
 webline`` and the command line start fast; python-control, scipy and numba load only when a
 model or a run needs them.
 """
@@ -41,6 +41,9 @@ _LAZY = {
     "simulate": "webline.sim.simulate",
     "sweep": "webline.sim.sweep",
     "monte_carlo": "webline.sim.sweep",
+    # a layer above the front door (twin), named by string as line.HTML_VIEW names the report:
+    # resolved on first use, so the front door imports nothing above it
+    "tune": "webline.twin.tune",
 }
 
 __all__ = [
@@ -60,6 +63,7 @@ __all__ = [
     "simulate",
     "simulate_reference",
     "sweep",
+    "tune",
 ]
 
 

@@ -116,3 +116,9 @@ def test_bad_fit_json_names_the_file(tmp_path) -> None:
         fit_uncertain(path)
     with pytest.raises(ArgumentError, match="cannot read"):
         fit_uncertain(tmp_path / "none.json")
+
+
+def test_front_door_names_tune() -> None:
+    from webline.twin.tune import tune
+
+    assert webline.tune is tune
