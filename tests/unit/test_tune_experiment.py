@@ -66,6 +66,7 @@ def test_cli_experiment_writes_webline_columns(tmp_path) -> None:
      "0 < LOW < HIGH"),
     (["tune", "converter", "--out", "OUT", "--uncertain", "web.modulus"], "PATH=DIST"),
     (["tune", "converter", "--out", "OUT", "--scenario", "nosuch"], "scenario 'nosuch'"),
+    (["tune", "converter", "--out", "OUT", "--fit", "no/such/fit.json"], "cannot read"),
 ])
 def test_bad_input_is_one_line_exit_2(tmp_path, args: list[str], words: str) -> None:
     args = [str(tmp_path / "o") if a == "OUT" else a for a in args]
