@@ -1,9 +1,9 @@
 """webline: model, simulate, analyse and control roll-to-roll (web handling) process lines.
 
 The front door: ``load_line``, ``simulate``, ``sweep``, ``monte_carlo``, ``linearize``,
-``operating_point`` and their types, and ``tune`` (``webline.twin.tune``). Each is imported on first use (PEP 562), so ``import
-webline`` and the command line start fast; python-control, scipy and numba load only when a
-model or a run needs them.
+``operating_point`` and their types, and ``tune`` (``webline.twin.tune``). Each is imported
+on first use (PEP 562), so ``import webline`` and the command line start fast;
+python-control, scipy and numba load only when a model or a run needs them.
 """
 
 from __future__ import annotations
