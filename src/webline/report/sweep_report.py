@@ -17,6 +17,7 @@ from webline.report.html import Image, Section, Text, render
 from webline.report.tables import Table, make_table
 from webline.sim.distributions import proportion_interval
 from webline.sim.metrics import METRICS
+from webline.sim.study_grid import as_cases
 from webline.verdict import RANK
 
 #: the metric the plots show, per loadcell span
@@ -32,6 +33,7 @@ def _png(fig: Any) -> bytes:
 
 def loadcell_spans(ds: Any) -> list[str]:
     """Spans with a tension reference (their RMS error is a number)."""
+    ds = as_cases(ds)  # a grid laid flat: one row per case
     values = ds[MAIN_METRIC].values
     return [str(s) for j, s in enumerate(ds.span.values) if np.isfinite(values[:, j]).any()]
 
@@ -39,6 +41,7 @@ def loadcell_spans(ds: Any) -> list[str]:
 def status_table(ds: Any) -> Table:
     """Cases and share of cases per verdict status, worst first; for Monte Carlo the exact
     95 % interval of each share as a probability (``distributions.proportion_interval``)."""
+    ds = as_cases(ds)  # a grid laid flat: one row per case
     status = ds.status.values.astype(str)
     n = len(status)
     sampled = ds.attrs.get("mode") == "monte_carlo"
@@ -65,6 +68,7 @@ def worst_cases_table(ds: Any) -> Table | None:
     """The cases that were not ok, worst status first (then in case order), at most
     ``WORST_SHOWN``: each case's number, status and verdict headline (what its run says);
     None when every case was ok or the study has no headlines."""
+    ds = as_cases(ds)  # a grid laid flat: one row per case
     if "headline" not in ds:
         return None
     status = ds.status.values.astype(str)
@@ -82,6 +86,7 @@ def worst_cases_table(ds: Any) -> Table | None:
 def metric_table(ds: Any) -> Table:
     """Min, median and max over the cases of each metric of each element where it is not
     NaN in every case."""
+    ds = as_cases(ds)  # a grid laid flat: one row per case
     rows = []
     for name, (dim, units, _) in METRICS.items():
         for j, element in enumerate(ds[dim].values):
@@ -110,6 +115,7 @@ def figures(ds: Any) -> list[Image]:
     (a grid or zip: a line per loadcell span, or with other parameters a line per value of
     theirs), and histograms per loadcell span (Monte Carlo, or nothing numeric to plot
     against)."""
+    ds = as_cases(ds)  # a grid laid flat: one row per case
     spans = loadcell_spans(ds)
     if not spans:
         return []
@@ -192,6 +198,7 @@ def _histograms(metric: Any, spans: list[str]) -> Image:
 
 def sweep_html(ds: Any) -> str:
     """The whole sweep report page."""
+    ds = as_cases(ds)  # a grid laid flat: one row per case
     status = ds.status.values.astype(str)
     worst = max(status, key=lambda s: RANK[s]) if len(status) else "ok"
     failed = float(np.mean(np.isin(status, ("unstable", "failed"))))
