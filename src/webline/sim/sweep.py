@@ -150,9 +150,9 @@ def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
     """Simulate ``line`` over parameter values: ``{path: [v1, v2, ...]}`` (paths as in
     ``Line.replace``, values with units as a line file takes them). ``mode`` "grid" runs every
     combination (the last path varies fastest), "zip" the i-th value of every path together.
-    Returns the Dataset of ``run_cases`` (a ``study_view.StudyDataset``: a short repr); its attribute
-    ``mode`` and, for a grid, ``shape``. A grid has one dimension per path instead of
-    ``case``, named by the path, its values as coordinate (``sim.study_grid.as_grid``;
+    Returns the Dataset of ``run_cases`` (a ``study_view.StudyDataset``: a short repr); its
+    attribute ``mode`` and, for a grid, ``shape``. A grid has one dimension per path instead
+    of ``case``, named by the path, its values as coordinate (``sim.study_grid.as_grid``;
     ``as_cases`` flattens it back).
     The study's work is bounded before it runs (``sim.study_work``; ``work_limit=False``
     lifts ``budget.MAX_STUDY_RK4_STEPS``)."""
