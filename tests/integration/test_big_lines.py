@@ -20,7 +20,7 @@ from webline.report.tables import summary_tables
 from webline.report.writer import MAX_MODE_STATES, analyse, write_report
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
-from long_line import long_line  # noqa: E402
+from long_line import long_line
 
 
 def _pixels(result) -> dict[str, tuple[int, int]]:
@@ -74,15 +74,18 @@ def test_the_report_of_a_long_line_is_written_with_condensed_tables(runs, tmp_pa
     assert "span47" not in html.split("Resolved line file")[0]  # a middle span left out
 
 
-def test_a_model_beyond_the_mode_limit_gets_a_note_not_a_decomposition() -> None:
+def test_a_model_beyond_the_eigen_limit_gets_a_note_not_a_decomposition() -> None:
     line = long_line(149)  # 300 spans: a closed-loop model of about 1000 states
     analysis = analyse(line)
-    assert analysis.point is not None and analysis.modes == ()
+    assert analysis.point is not None and analysis.modes == () and analysis.zone_loops == ()
     assert f"limit of {MAX_MODE_STATES}" in analysis.modes_note
     states = int(analysis.modes_note.split(" states")[0].split()[-1])
     assert states > MAX_MODE_STATES
-    # zone loops are still reported (one per zone)
-    assert len(analysis.zone_loops) == len(line.zones)
+    # the run's verdict says its stability was not checked: a warning, never silence
+    verdict = webline.simulate(line, 0.05).verdict
+    unchecked = [f for f in verdict.findings if f.kind == "stability_unchecked"]
+    assert verdict.status == "warning" and len(unchecked) == 1
+    assert unchecked[0].details["states"] == states
 
 
 def test_a_short_line_still_gets_its_modes() -> None:

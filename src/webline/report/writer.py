@@ -14,6 +14,7 @@ from webline.analysis.zone_loops import ZoneLoop, speed_leaks, zone_loops
 from webline.control.zone_tuning import SpeedLoopLeak
 from webline.errors import WeblineError
 from webline.files import atomic_write_bytes, atomic_write_text
+from webline.limits import MAX_EIGEN_STATES
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint, analysis_time, operating_point
 from webline.report.big_lines import condensed, summarised
@@ -60,10 +61,9 @@ class Analysis:
     modes_note: str = ""  #: why there are no modes although there is an operating point
 
 
-#: the report computes no modes of a closed-loop model with more states than this: the dense
-#: eigen-decomposition (with left eigenvectors for the dominant states) grows as n³ and took
-#: 80 s for 881 states (a 250-span line) on a loaded 2-core machine
-MAX_MODE_STATES = 500
+#: the report computes no modes or zone loops of a closed-loop model with more states than
+#: this (``limits.MAX_EIGEN_STATES``: a dense eigen-decomposition grows as n³)
+MAX_MODE_STATES = MAX_EIGEN_STATES
 
 
 def analyse(line: Line) -> Analysis:
@@ -80,9 +80,9 @@ def analyse(line: Line) -> Analysis:
         states = len(plan_linear_model(compile_plan(line), loop="closed", t=t).states)
         note = ""
         if states > MAX_MODE_STATES:
-            note = (f"Modes not computed: the closed-loop model has {states} states, more "
-                    f"than the report's limit of {MAX_MODE_STATES} (a dense eigen-"
-                    "decomposition, whose time grows as the cube of the states).")
+            note = (f"Modes and zone loops not computed: the closed-loop model has {states} "
+                    f"states, more than the report's limit of {MAX_MODE_STATES} (a dense "
+                    "eigen-decomposition, whose time grows as the cube of the states).")
         modes = () if note else tuple(closed_loop_modes(line, t))
         return Analysis(t, point, modes, zone_loops=tuple(zone_loops(line, t)),
                         leaks=tuple(speed_leaks(line)), modes_note=note)
