@@ -277,8 +277,8 @@ def study(
     typer.echo(result.summary)
     if result.verdict is not None:
         typer.echo(f"verdict of its runs: {result.verdict.headline}")
-    typer.echo(str(folder.path.resolve()))
     typer.echo(f"Report (open it in a browser): {(folder.path / 'report.html').resolve()}")
+    typer.echo(str(folder.path.resolve()))
 
 
 app.command("sweep")(handles_errors(

@@ -57,3 +57,20 @@ def test_per_width_units_of_a_study_that_changes_the_width_are_refused(tmp_path)
         str(tmp_path), "--units", "si-per-width"])
     assert result.exit_code == 2
     assert "web.width" in result.output and "Traceback" not in result.output
+
+
+def test_a_named_study_writes_a_report_with_its_findings_table_and_figures(tmp_path) -> None:
+    import json
+
+    folder = tmp_path / "sm"
+    result = CliRunner().invoke(app, ["study", "solid-motion", "--quick", "--out", str(folder)])
+    assert result.exit_code == 0, result.output
+    html = (folder / "report.html").read_text()
+    summary = (folder / "summary.txt").read_text().strip()
+    assert summary.splitlines()[0] in html  # its findings, as summary.txt says them
+    rows = (folder / "table.csv").read_text().strip().count("\n")  # rows below the header
+    assert html.split('id="study-table"')[1].split("</table>")[0].count("<tr>") == rows + 1
+    figures = sorted(p.name for p in folder.glob("*.png"))
+    assert figures and html.count("src=\"data:image/png;base64,") == len(figures)
+    listed = json.loads((folder / ".webline-manifest.json").read_text())["files"]
+    assert "report.html" in listed  # webline's file: a rerun may replace it
