@@ -189,20 +189,9 @@ class Result:
     @cached_property
     def slip_velocity(self) -> np.ndarray:
         """Surface speed minus web speed at each node [m/s] (0 where the web adheres)."""
-        from webline.physics.slip import slip_velocity
+        from webline.sim.derived_signals import slip_velocities
 
-        out = np.zeros_like(self.omega)
-        nodes = self.plan.nodes
-        rho_a = self.plan.web[L.W_RHOA]
-        for i in range(1, self.line.n_nodes - 1):
-            if nodes[i, L.N_TRACTION] == 0.0:
-                continue
-            surface = self.surface_speed[:, i]
-            out[:, i] = np.vectorize(slip_velocity)(
-                self.tension[:, i - 1], self.tension[:, i], nodes[i, L.N_WRAP],
-                nodes[i, L.N_MU], nodes[i, L.N_MUK], nodes[i, L.N_SLIPB],
-                rho_a * surface**2, self.slipping[:, i].astype(int), nodes[i, L.N_NIPK])
-        return out
+        return slip_velocities(self.plan, self.tension, self.surface_speed, self.slipping)
 
     @cached_property
     def slip_power(self) -> np.ndarray:
@@ -210,6 +199,20 @@ class Result:
         out = np.zeros_like(self.omega)
         out[:, 1:-1] = (self.tension[:, :-1] - self.tension[:, 1:]) * self.slip_velocity[:, 1:-1]
         return out
+
+    @cached_property
+    def dancer_names(self) -> list[str]:
+        """Names of the line's dancers, in web order."""
+        from webline.sim.dancer import dancer_nodes
+
+        return [self.line.node_name(i) for i in dancer_nodes(self.line)]
+
+    @cached_property
+    def dancer_position(self) -> np.ndarray:
+        """Carriage position of each dancer [m] (records x dancers; 0 and its stroke are the
+        end stops), as its position sensor reads it."""
+        names = self.plan.state_names
+        return self.states[:, [names.index(f"{d}.position") for d in self.dancer_names]]
 
     @cached_property
     def speed(self) -> np.ndarray:
@@ -254,25 +257,17 @@ class Result:
     @cached_property
     def twist(self) -> np.ndarray:
         """Twist θm/n - θL of each compliant transmission [rad] (NaN for rigid drives)."""
-        out = np.full_like(self.torque, np.nan)
-        for d in range(len(self.line.drives)):
-            state = int(self.plan.drives[d, L.D_TSTATE])
-            if state >= 0:
-                out[:, d] = self.states[:, state + 1]
-        return out
+        from webline.sim.derived_signals import transmission_twist
+
+        return transmission_twist(self.plan, self.states)
 
     @cached_property
     def contact(self) -> np.ndarray:
         """Backlash contact of each drive: +1 forward flank, -1 backward flank, 0 in the gap
         (NaN for drives without backlash)."""
-        out = np.full_like(self.torque, np.nan)
-        for d in range(len(self.line.drives)):
-            row = self.plan.drives[d]
-            if row[L.D_TSTATE] >= 0 and row[L.D_GAPNEG] + row[L.D_GAPPOS] > 0:
-                twist = self.twist[:, d]
-                out[:, d] = np.where(twist > row[L.D_GAPPOS], 1.0,
-                                     np.where(twist < -row[L.D_GAPNEG], -1.0, 0.0))
-        return out
+        from webline.sim.derived_signals import backlash_contact
+
+        return backlash_contact(self.plan, self.twist)
 
     @cached_property
     def inertia(self) -> np.ndarray:
