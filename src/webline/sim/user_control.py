@@ -1,0 +1,264 @@
+"""User controllers in the loop: the protocol (docs/controllers.md) and the run that calls them.
+
+A controller is a Python object with ``reset(context)`` (once, before the run) and
+``__call__(t, measurements, references) -> torques`` (every tick of ``context.sample_period``
+[s]). ``measurements`` and ``references`` are float arrays named by ``context.measurement_names``
+and ``context.reference_names`` (per drive ``"<drive>.speed"`` [m/s], ``".tension"`` [N],
+``".radius"`` [m], ``".inertia"`` [kg·m²]; ``"<drive>.speed_reference"`` [m/s],
+``".tension_reference"`` [N]); the arrays are reused every tick (copy what you keep). It
+returns one torque command [N·m] per drive of ``context.drives`` (a float for one drive).
+
+The run goes one tick per compiled call (``sim.user_step``) and allocates nothing per tick
+but what the controller does itself.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+
+from webline.control.pi import PIGains
+from webline.errors import ArgumentError
+from webline.line import Line
+from webline.model.operating_point import OperatingPoint
+from webline.sim import layout as L
+from webline.sim.plan import Plan
+from webline.sim.user_loop import N_MEASURED, N_REFERENCES, STATUS_USER_NONFINITE, U_ROWS
+from webline.sim.user_step import compiled_user_step
+
+MEASURED = ("speed", "tension", "radius", "inertia")  # in ``user_loop.U_*`` order
+REFERENCES = ("speed_reference", "tension_reference")
+
+
+@runtime_checkable
+class Controller(Protocol):
+    """What ``simulate(..., controller=...)`` accepts (module docstring)."""
+
+    def reset(self, context: ControllerContext) -> None: ...
+
+    def __call__(self, t: float, measurements: np.ndarray,
+                 references: np.ndarray) -> Any: ...
+
+
+@dataclass(frozen=True)
+class DriveInfo:
+    """One drive a user controller commands.
+
+    ``role``: "master" (speed) or "tension"; ``tension_sign`` σ: +1 if speeding the drive up
+    raises its zone's tension, -1 if it lowers it (the drive upstream of its zone), 0 for the
+    master; ``torque_limit`` [N·m] (the command is clipped there); ``ratio`` motor / roller
+    speed; ``radius`` [m] and ``inertia`` [kg·m²] at the roller at t = 0; ``builtin_pi``: the
+    cascaded-PI gains webline would tune for this drive (SI, ``control.pi``), a place to start;
+    ``gain_norm`` [kg·m] the inertia / (ratio x radius) those gains were tuned at (the built-in
+    PI scales its speed gains by the current value over this one); ``equilibrium_command``
+    [N·m]: the command that holds the drive at the operating point, where the run starts
+    (the motor torque there, less what the drive's own compensation adds).
+    """
+
+    name: str
+    node: int
+    role: str
+    tension_sign: float
+    torque_limit: float
+    ratio: float
+    radius: float
+    inertia: float
+    builtin_pi: PIGains
+    gain_norm: float
+    equilibrium_command: float
+
+
+@dataclass(frozen=True)
+class ControllerContext:
+    """What ``reset`` receives: the ``line``, its ``operating_point`` at t = 0, the
+    ``sample_period`` [s], the ``drives`` commanded (torques in this order) and the names of
+    the entries of ``measurements`` and ``references``."""
+
+    line: Line
+    operating_point: OperatingPoint
+    sample_period: float
+    drives: tuple[DriveInfo, ...]
+    measurement_names: tuple[str, ...]
+    reference_names: tuple[str, ...]
+
+    def index(self, name: str) -> int:
+        """Position of measurement or reference ``name`` (e.g. ``"rewind.tension"``)."""
+        for names in (self.measurement_names, self.reference_names):
+            if name in names:
+                return names.index(name)
+        raise KeyError(f"no measurement or reference {name!r}; there are "
+                       f"{', '.join(self.measurement_names + self.reference_names)}")
+
+
+@dataclass(frozen=True)
+class Group:
+    """One controller object and the drives (indices into ``line.drives``) it commands."""
+
+    name: str
+    controller: Controller
+    drives: tuple[int, ...]
+
+
+def user_groups(line: Line, controller: object | Mapping[str, object] | None,
+                from_file: Mapping[int, Controller]) -> list[Group]:
+    """The user controllers of a run: ``controller`` (one object for every drive, or a dict
+    drive name -> object) and those the line file names (``from_file``, by drive index), in
+    drive order. ``ArgumentError`` for an unknown drive name or an object without the
+    protocol."""
+    names = [line.node_name(i) for i in line.drives]
+    groups: list[Group] = []
+    if controller is None:
+        pass
+    elif isinstance(controller, Mapping):
+        for name, obj in controller.items():
+            if name not in names:
+                raise ArgumentError(f"controller: no drive {name!r}; the drives are "
+                                    f"{', '.join(names)}")
+            groups.append(Group(name, _checked(obj, f"controller[{name!r}]"),
+                                (names.index(name),)))
+    else:
+        groups.append(Group("line", _checked(controller, "controller"),
+                            tuple(range(len(names)))))
+    taken = {d for g in groups for d in g.drives}
+    groups += [Group(names[d], obj, (d,)) for d, obj in from_file.items() if d not in taken]
+    return sorted(groups, key=lambda g: g.drives[0])
+
+
+def _checked(obj: object, what: str) -> Controller:
+    if not isinstance(obj, Controller):
+        raise ArgumentError(f"{what}: {type(obj).__name__} is not a controller: it needs "
+                            f"reset(context) and __call__(t, measurements, references)")
+    return obj
+
+
+def user_plan(plan: Plan, drives: Sequence[int]) -> Plan:
+    """``plan`` with ``drives`` (indices) run by user controllers (``FAMILY_USER``)."""
+    table, structure = plan.drives.copy(), plan.drive_structure.copy()
+    table[list(drives), L.D_FAMILY] = L.FAMILY_USER
+    structure[list(drives), L.DRIVE_STRUCTURE.index(L.D_FAMILY)] = L.FAMILY_USER
+    return dataclasses.replace(plan, drives=table, drive_structure=structure, memo={})
+
+
+def builtin_stand_in(plan: Plan) -> Plan:
+    """``plan`` with its user drives run by the cascaded PI (their columns hold its tuned
+    gains): what sets the integration step and what a linear model can describe."""
+    users = np.flatnonzero(plan.drives[:, L.D_FAMILY] == L.FAMILY_USER)
+    if not users.size:
+        return plan
+    table, structure = plan.drives.copy(), plan.drive_structure.copy()
+    table[users, L.D_FAMILY] = L.FAMILY_PI
+    structure[users, L.DRIVE_STRUCTURE.index(L.D_FAMILY)] = L.FAMILY_PI
+    return dataclasses.replace(plan, drives=table, drive_structure=structure, memo={})
+
+
+def context_for(plan: Plan, group: Group) -> ControllerContext:
+    """The ``ControllerContext`` of ``group`` in a run of ``plan``."""
+    line, op = plan.line, plan.op
+    held = plan.initial_state(op)[1][:, L.I_SPEED]  # the built-in PI's speed integrator
+    infos = []
+    for d in group.drives:
+        i = line.drives[d]
+        row = plan.drives[d]
+        infos.append(DriveInfo(
+            line.node_name(i), i, "tension" if row[L.D_ROLE] == L.ROLE_TENSION else "master",
+            float(row[L.D_SIGMA]), float(row[L.D_LIMIT]), float(plan.nodes[i, L.N_RATIO]),
+            float(op.radius[i]), float(op.inertia[i]), plan.gains[d], float(row[L.D_GAINNORM]),
+            float(held[d])))
+    return ControllerContext(
+        line, op, plan.dt, tuple(infos),
+        tuple(f"{info.name}.{m}" for info in infos for m in MEASURED),
+        tuple(f"{info.name}.{r}" for info in infos for r in REFERENCES))
+
+
+@dataclass
+class UserRun:
+    """Where a user run stopped: records stored, kernel status (or
+    ``STATUS_USER_NONFINITE``), time and place of a failure, final arrays, and the error of a
+    controller that failed (None if none did)."""
+
+    stored: int
+    status: int
+    t_fail: float
+    where: int
+    x: np.ndarray
+    istate: np.ndarray
+    error: str | None = None
+    controller: str = ""
+
+
+def run_user(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: np.ndarray,
+             slip0: np.ndarray, n_ticks: int, substeps: int, every: int,
+             buffer: np.ndarray) -> UserRun:
+    """Run ``plan`` (user drives ``FAMILY_USER``) for ``n_ticks`` ticks from its state
+    ``x0``, ``istate0``, ``slip0``, records every ``every`` ticks into ``buffer``; each tick
+    the controllers of ``groups`` compute their drives' commands from the sampled
+    measurements. A controller that raises, returns a wrong shape or a non-finite torque
+    stops the run there (``UserRun.error`` names it and the tick)."""
+    n_x, n_d, n_n = x0.shape[0], plan.drives.shape[0], plan.nodes.shape[0]
+    n_prof = max(plan.prof_off.shape[0] - 1, n_n)
+
+    def arrays() -> tuple[np.ndarray, ...]:
+        return (np.zeros(n_x), np.zeros_like(istate0), np.zeros_like(slip0),
+                np.zeros((U_ROWS, n_d)), np.empty((5, n_x)), np.empty((4, n_prof)),
+                np.zeros((2, 3 * n_n)))
+
+    live, scratch = arrays(), arrays()
+    live[0][:], live[1][:], live[2][:] = x0, istate0, slip0
+    users = np.array([d for g in groups for d in g.drives], dtype=np.int64)
+    measured = np.zeros(N_MEASURED * len(users))
+    references = np.zeros(N_REFERENCES * len(users))
+    commands = np.zeros(len(users))
+    rec_scratch = np.empty((1, buffer.shape[1]))
+    step = compiled_user_step(plan)
+    params = plan.params()
+    # each group's slices of the shared arrays, made once
+    views, first = [], 0
+    for g in groups:
+        k = len(g.drives)
+        views.append((g, measured[N_MEASURED * first:N_MEASURED * (first + k)],
+                      references[N_REFERENCES * first:N_REFERENCES * (first + k)],
+                      commands[first:first + k], k))
+        first += k
+        g.controller.reset(context_for(plan, g))
+    dt, stored = plan.dt, 0
+    # tick 0's sample: no live tick, measure only
+    n_rec, status, t_fail, where = step(live, scratch, buffer, rec_scratch, users, measured,
+                                        references, commands, 0, 0, 0, False, True, dt,
+                                        substeps, every, params)
+    for j in range(n_ticks + 1):
+        t = j * dt
+        for g, meas, refs, cmds, k in views:  # the commands of tick j
+            try:
+                torque = g.controller(t, meas, refs)
+                cmds[:] = torque
+                if k > 1 and np.ndim(torque) == 0:
+                    raise ValueError(f"returned one torque for {k} drives")
+            except Exception as exc:  # the user's code: any error stops the run, named
+                return UserRun(stored, STATUS_USER_NONFINITE, t, -1, live[0], live[1],
+                               controller_error(g, j, t, exc), g.name)
+        last = j == n_ticks
+        n_rec, status, t_fail, where = step(
+            live, scratch, buffer, rec_scratch, users, measured, references, commands, j,
+            stored, 0 if last else 1, last, not last, dt, substeps, every, params)
+        stored += n_rec
+        if status == STATUS_USER_NONFINITE:
+            group = next(g for g, *_ in views if users[where] in g.drives)
+            return UserRun(stored, status, t, -1, live[0], live[1], controller_error(
+                group, j, t, None, f"returned a non-finite torque {commands[where]!r} for "
+                f"{plan.line.node_name(plan.line.drives[users[where]])}"), group.name)
+        if status != L.STATUS_OK:
+            break
+    return UserRun(stored, status, t_fail, where, live[0], live[1])
+
+
+def controller_error(group: Group, tick: int, t: float, exc: BaseException | None,
+                     what: str = "") -> str:
+    """One sentence: which controller failed, how, at which tick and time [s]."""
+    if exc is not None:
+        what = f"raised {type(exc).__name__}: {exc}"
+    kind = type(group.controller).__name__
+    return f"controller {group.name!r} ({kind}) {what} at tick {tick} (t = {t:.6g} s)"
