@@ -48,19 +48,25 @@ class Controller(Protocol):
 class DriveInfo:
     """One drive a user controller commands.
 
-    ``role``: "master" (speed) or "tension"; ``tension_sign`` σ: +1 if speeding the drive up
+    ``node``: its roller's index in the line; ``roll``: True for the unwind or rewind, whose
+    radius and inertia change as the roll runs; ``role``: "master" (speed) or "tension"; ``tension_sign`` σ: +1 if speeding the drive up
     raises its zone's tension, -1 if it lowers it (the drive upstream of its zone), 0 for the
     master; ``torque_limit`` [N·m] (the command is clipped there); ``ratio`` motor / roller
     speed; ``radius`` [m] and ``inertia`` [kg·m²] at the roller at t = 0; ``builtin_pi``: the
-    cascaded-PI gains webline would tune for this drive (SI, ``control.pi``), a place to start;
+    cascaded-PI gains webline would run this drive with (SI, ``control.pi``; a dancer zone's
+    tension gains act on the dancer's position error, (m/s)/m), a place to start;
     ``gain_norm`` [kg·m] the inertia / (ratio x radius) those gains were tuned at (the built-in
     PI scales its speed gains by the current value over this one); ``equilibrium_command``
     [N·m]: the command that holds the drive at the operating point, where the run starts
-    (the motor torque there, less what the drive's own compensation adds).
+    (the motor torque there, less what the drive's own compensation adds);
+    ``equilibrium_trim`` [m/s]: how much faster than its speed reference the drive runs at
+    the operating point (the draw its idle rollers' friction takes; what the built-in PI's
+    tension integrator starts at, times ``tension_sign``).
     """
 
     name: str
     node: int
+    roll: bool
     role: str
     tension_sign: float
     torque_limit: float
@@ -70,6 +76,7 @@ class DriveInfo:
     builtin_pi: PIGains
     gain_norm: float
     equilibrium_command: float
+    equilibrium_trim: float
 
 
 @dataclass(frozen=True)
@@ -158,16 +165,19 @@ def builtin_stand_in(plan: Plan) -> Plan:
 def context_for(plan: Plan, group: Group) -> ControllerContext:
     """The ``ControllerContext`` of ``group`` in a run of ``plan``."""
     line, op = plan.line, plan.op
-    held = plan.initial_state(op)[1][:, L.I_SPEED]  # the built-in PI's speed integrator
+    istate = plan.initial_state(op)[1]  # the built-in PI's integrators at the equilibrium
     infos = []
     for d in group.drives:
         i = line.drives[d]
         row = plan.drives[d]
         infos.append(DriveInfo(
-            line.node_name(i), i, "tension" if row[L.D_ROLE] == L.ROLE_TENSION else "master",
+            line.node_name(i), i, i in (0, line.n_nodes - 1),
+            "tension" if row[L.D_ROLE] == L.ROLE_TENSION else "master",
             float(row[L.D_SIGMA]), float(row[L.D_LIMIT]), float(plan.nodes[i, L.N_RATIO]),
-            float(op.radius[i]), float(op.inertia[i]), plan.gains[d], float(row[L.D_GAINNORM]),
-            float(held[d])))
+            float(op.radius[i]), float(op.inertia[i]),
+            PIGains(*(float(row[c]) for c in (L.D_KPS, L.D_KIS, L.D_KPT, L.D_KIT))),
+            float(row[L.D_GAINNORM]),
+            float(istate[d, L.I_SPEED]), float(row[L.D_SIGMA] * istate[d, L.I_TENSION])))
     return ControllerContext(
         line, op, plan.dt, tuple(infos),
         tuple(f"{info.name}.{m}" for info in infos for m in MEASURED),
