@@ -244,12 +244,18 @@ def run_user(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: np.nd
         for g, meas, refs, cmds, k in views:  # the commands of tick j
             try:
                 torque = g.controller(t, meas, refs)
-                cmds[:] = torque
-                if k > 1 and np.ndim(torque) == 0:
-                    raise ValueError(f"returned one torque for {k} drives")
             except Exception as exc:  # the user's code: any error stops the run, named
                 return UserRun(stored, STATUS_USER_NONFINITE, t, -1, live[0], live[1],
                                controller_error(g, j, t, exc), g.name)
+            try:
+                cmds[:] = torque
+                if k > 1 and np.ndim(torque) == 0:
+                    raise ValueError
+            except (ValueError, TypeError):
+                return UserRun(stored, STATUS_USER_NONFINITE, t, -1, live[0], live[1],
+                               controller_error(g, j, t, None, (
+                                   f"returned {_shape(torque)} where {k} torque(s) [N·m] "
+                                   f"were due")), g.name)
         last = j == n_ticks
         n_rec, status, t_fail, where = step(
             live, scratch, buffer, rec_scratch, users, measured, references, commands, j,
@@ -258,11 +264,17 @@ def run_user(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: np.nd
         if status == STATUS_USER_NONFINITE:
             group = next(g for g, *_ in views if users[where] in g.drives)
             return UserRun(stored, status, t, -1, live[0], live[1], controller_error(
-                group, j, t, None, f"returned a non-finite torque {commands[where]!r} for "
+                group, j, t, None, f"returned a non-finite torque {float(commands[where])} for "
                 f"{plan.line.node_name(plan.line.drives[users[where]])}"), group.name)
         if status != L.STATUS_OK:
             break
     return UserRun(stored, status, t_fail, where, live[0], live[1])
+
+
+def _shape(value: object) -> str:
+    """What a controller returned, for an error: "shape (2,)", "a str"."""
+    shape = np.shape(value) if isinstance(value, np.ndarray | list | tuple) else None
+    return f"shape {shape}" if shape is not None else f"a {type(value).__name__}"
 
 
 def controller_error(group: Group, tick: int, t: float, exc: BaseException | None,
