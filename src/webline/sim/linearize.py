@@ -66,8 +66,9 @@ def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...
     tension references (the draw, of order T/EA) is left out of Kr.
     """
     line = plan.line
-    for d in np.flatnonzero(plan.drives[:, L.D_FAMILY] == L.FAMILY_USER):
-        raise LineFileError(line.source, f"rollers.{line.node_name(line.drives[d])}.controller",
+    for user in np.flatnonzero(plan.drives[:, L.D_FAMILY] == L.FAMILY_USER):
+        raise LineFileError(line.source,
+                            f"rollers.{line.node_name(line.drives[int(user)])}.controller",
                             "a user's (python) controller has no linear model in webline: "
                             "closed-loop analyses need a built-in controller")
     n_d = len(line.drives)

@@ -49,11 +49,11 @@ class DriveInfo:
     """One drive a user controller commands.
 
     ``node``: its roller's index in the line; ``roll``: True for the unwind or rewind, whose
-    radius and inertia change as the roll runs; ``role``: "master" (speed) or "tension"; ``tension_sign`` σ: +1 if speeding the drive up
-    raises its zone's tension, -1 if it lowers it (the drive upstream of its zone), 0 for the
-    master; ``torque_limit`` [N·m] (the command is clipped there); ``ratio`` motor / roller
-    speed; ``radius`` [m] and ``inertia`` [kg·m²] at the roller at t = 0; ``builtin_pi``: the
-    cascaded-PI gains webline would run this drive with (SI, ``control.pi``; a dancer zone's
+    radius and inertia change as the roll runs; ``role``: "master" (speed) or "tension";
+    ``tension_sign`` σ: +1 if speeding the drive up raises its zone's tension, -1 if it
+    lowers it (the drive upstream of its zone), 0 for the master; ``torque_limit`` [N·m]
+    (the command is clipped there); ``ratio`` motor / roller speed; ``radius`` [m] and
+    ``inertia`` [kg·m²] at the roller at t = 0; ``builtin_pi``: the cascaded-PI gains webline would run this drive with (SI, ``control.pi``; a dancer zone's
     tension gains act on the dancer's position error, (m/s)/m), a place to start;
     ``gain_norm`` [kg·m] the inertia / (ratio x radius) those gains were tuned at (the built-in
     PI scales its speed gains by the current value over this one); ``equilibrium_command``
