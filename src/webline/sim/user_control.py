@@ -53,15 +53,15 @@ class DriveInfo:
     ``tension_sign`` σ: +1 if speeding the drive up raises its zone's tension, -1 if it
     lowers it (the drive upstream of its zone), 0 for the master; ``torque_limit`` [N·m]
     (the command is clipped there); ``ratio`` motor / roller speed; ``radius`` [m] and
-    ``inertia`` [kg·m²] at the roller at t = 0; ``builtin_pi``: the cascaded-PI gains webline would run this drive with (SI, ``control.pi``; a dancer zone's
-    tension gains act on the dancer's position error, (m/s)/m), a place to start;
-    ``gain_norm`` [kg·m] the inertia / (ratio x radius) those gains were tuned at (the built-in
-    PI scales its speed gains by the current value over this one); ``equilibrium_command``
-    [N·m]: the command that holds the drive at the operating point, where the run starts
-    (the motor torque there, less what the drive's own compensation adds);
-    ``equilibrium_trim`` [m/s]: how much faster than its speed reference the drive runs at
-    the operating point (the draw its idle rollers' friction takes; what the built-in PI's
-    tension integrator starts at, times ``tension_sign``).
+    ``inertia`` [kg·m²] at the roller at t = 0; ``builtin_pi``: the cascaded-PI gains
+    webline would run this drive with (SI, ``control.pi``; a dancer zone's tension gains act
+    on the dancer's position error, (m/s)/m), a place to start; ``gain_norm`` [kg·m]: the
+    inertia / (ratio x radius) those gains were tuned at (the built-in PI scales its speed
+    gains by the current value over this one); ``equilibrium_command`` [N·m]: the command
+    that holds the drive at the operating point, where the run starts (the motor torque
+    there, less what the drive's own compensation adds); ``equilibrium_trim`` [m/s]: how
+    much faster than its speed reference the drive runs there (the draw its idle rollers'
+    friction takes; the built-in PI's tension integrator starts at it times σ).
     """
 
     name: str
