@@ -27,8 +27,20 @@ from webline.line import Line
 from webline.model.operating_point import OperatingPoint
 from webline.sim import layout as L
 from webline.sim.plan import Plan
-from webline.sim.user_loop import N_MEASURED, N_REFERENCES, STATUS_USER_NONFINITE, U_ROWS
-from webline.sim.user_step import compiled_user_step
+from webline.sim.user_loop import N_MEASURED, N_REFERENCES, STATUS_USER_NONFINITE
+from webline.sim.user_step import (
+    C_EVERY,
+    C_INCLUDE_END,
+    C_MEASURE,
+    C_N_TICKS,
+    C_STATUS,
+    C_STORED,
+    C_SUBSTEPS,
+    C_WHERE,
+    Packed,
+    compiled_user_step,
+    packed_run,
+)
 
 MEASURED = ("speed", "tension", "radius", "inertia")  # in ``user_loop.U_*`` order
 REFERENCES = ("speed_reference", "tension_reference")
@@ -208,23 +220,12 @@ def run_user(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: np.nd
     the controllers of ``groups`` compute their drives' commands from the sampled
     measurements. A controller that raises, returns a wrong shape or a non-finite torque
     stops the run there (``UserRun.error`` names it and the tick)."""
-    n_x, n_d, n_n = x0.shape[0], plan.drives.shape[0], plan.nodes.shape[0]
-    n_prof = max(plan.prof_off.shape[0] - 1, n_n)
-
-    def arrays() -> tuple[np.ndarray, ...]:
-        return (np.zeros(n_x), np.zeros_like(istate0), np.zeros_like(slip0),
-                np.zeros((U_ROWS, n_d)), np.empty((5, n_x)), np.empty((4, n_prof)),
-                np.zeros((2, 3 * n_n)))
-
-    live, scratch = arrays(), arrays()
-    live[0][:], live[1][:], live[2][:] = x0, istate0, slip0
     users = np.array([d for g in groups for d in g.drives], dtype=np.int64)
-    measured = np.zeros(N_MEASURED * len(users))
-    references = np.zeros(N_REFERENCES * len(users))
-    commands = np.zeros(len(users))
-    rec_scratch = np.empty((1, buffer.shape[1]))
+    packed = packed_run(plan, x0, istate0, slip0, users, buffer.shape[1])
+    v = packed.views
+    measured, references, commands = v["measured"], v["references"], v["commands"]
+    control, floats, ints = v["control"], packed.floats, packed.ints
     step = compiled_user_step(plan)
-    params = plan.params()
     # each group's slices of the shared arrays, made once
     views, first = [], 0
     for g in groups:
@@ -234,41 +235,45 @@ def run_user(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: np.nd
                       commands[first:first + k], k))
         first += k
         g.controller.reset(context_for(plan, g))
-    dt, stored = plan.dt, 0
-    # tick 0's sample: no live tick, measure only
-    n_rec, status, t_fail, where = step(live, scratch, buffer, rec_scratch, users, measured,
-                                        references, commands, 0, 0, 0, False, True, dt,
-                                        substeps, every, params)
+    control[C_SUBSTEPS], control[C_EVERY] = substeps, every
+    control[C_MEASURE] = 1
+    step(floats, ints, buffer)  # tick 0's sample: no live tick, measure only
+    control[C_N_TICKS] = 1
+    dt = plan.dt
     for j in range(n_ticks + 1):
         t = j * dt
         for g, meas, refs, cmds, k in views:  # the commands of tick j
             try:
                 torque = g.controller(t, meas, refs)
             except Exception as exc:  # the user's code: any error stops the run, named
-                return UserRun(stored, STATUS_USER_NONFINITE, t, -1, live[0], live[1],
-                               controller_error(g, j, t, exc), g.name)
+                return _stopped(packed, g, controller_error(g, j, t, exc), t)
             try:
                 cmds[:] = torque
                 if k > 1 and np.ndim(torque) == 0:
                     raise ValueError
             except (ValueError, TypeError):
-                return UserRun(stored, STATUS_USER_NONFINITE, t, -1, live[0], live[1],
-                               controller_error(g, j, t, None, (
-                                   f"returned {_shape(torque)} where {k} torque(s) [N·m] "
-                                   f"were due")), g.name)
-        last = j == n_ticks
-        n_rec, status, t_fail, where = step(
-            live, scratch, buffer, rec_scratch, users, measured, references, commands, j,
-            stored, 0 if last else 1, last, not last, dt, substeps, every, params)
-        stored += n_rec
+                return _stopped(packed, g, controller_error(g, j, t, None, (
+                    f"returned {_shape(torque)} where {k} torque(s) [N·m] were due")), t)
+        if j == n_ticks:  # the last sample is recorded, not integrated
+            control[C_N_TICKS], control[C_INCLUDE_END], control[C_MEASURE] = 0, 1, 0
+        step(floats, ints, buffer)
+        status = control[C_STATUS]
         if status == STATUS_USER_NONFINITE:
+            where = int(control[C_WHERE])
             group = next(g for g, *_ in views if users[where] in g.drives)
-            return UserRun(stored, status, t, -1, live[0], live[1], controller_error(
-                group, j, t, None, f"returned a non-finite torque {float(commands[where])} for "
-                f"{plan.line.node_name(plan.line.drives[users[where]])}"), group.name)
+            return _stopped(packed, group, controller_error(
+                group, j, t, None, f"returned a non-finite torque {float(commands[where])} "
+                f"for {plan.line.node_name(plan.line.drives[users[where]])}"), t)
         if status != L.STATUS_OK:
             break
-    return UserRun(stored, status, t_fail, where, live[0], live[1])
+    return UserRun(int(control[C_STORED]), int(control[C_STATUS]), float(v["t_fail"][0]),
+                   int(control[C_WHERE]), v["x"].copy(), v["istate"].copy())
+
+
+def _stopped(packed: Packed, group: Group, error: str, t: float) -> UserRun:
+    v = packed.views
+    return UserRun(int(v["control"][C_STORED]), STATUS_USER_NONFINITE, t, -1, v["x"].copy(),
+                   v["istate"].copy(), error, group.name)
 
 
 def _shape(value: object) -> str:
