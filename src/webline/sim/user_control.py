@@ -36,8 +36,8 @@ from webline.sim.user_step import (
     C_STATUS,
     C_STORED,
     C_SUBSTEPS,
+    C_TICK,
     C_WHERE,
-    Packed,
     compiled_user_step,
     packed_run,
 )
@@ -212,6 +212,92 @@ class UserRun:
     controller: str = ""
 
 
+class UserLoop:
+    """A run of ``plan`` (user drives ``FAMILY_USER``, commanded by ``groups``) from the
+    state ``x0``, ``istate0``, ``slip0``, one tick at a time: ``tick`` calls the controllers
+    with the sampled measurements, then the compiled step (``sim.user_step``). Records go
+    every ``every`` ticks into the ``rec`` each call is given, from row ``stored``."""
+
+    def __init__(self, plan: Plan, groups: Sequence[Group], x0: np.ndarray,
+                 istate0: np.ndarray, slip0: np.ndarray, substeps: int, every: int,
+                 record_width: int) -> None:
+        self.plan, self.groups = plan, list(groups)
+        self.users = np.array([d for g in groups for d in g.drives], dtype=np.int64)
+        self.packed = packed_run(plan, x0, istate0, slip0, self.users, record_width)
+        v = self.packed.views
+        self.control, self.commands = v["control"], v["commands"]
+        self.step = compiled_user_step(plan)
+        self.views, first = [], 0  # each group's slices of the shared arrays, made once
+        for g in groups:
+            k = len(g.drives)
+            self.views.append((g, v["measured"][N_MEASURED * first:N_MEASURED * (first + k)],
+                               v["references"][N_REFERENCES * first:
+                                               N_REFERENCES * (first + k)],
+                               self.commands[first:first + k], k))
+            first += k
+            g.controller.reset(context_for(plan, g))
+        self.control[C_SUBSTEPS], self.control[C_EVERY] = substeps, every
+        self.control[C_MEASURE] = 1
+        self.step(self.packed.floats, self.packed.ints, np.empty((1, record_width)))  # tick 0
+        self.control[C_N_TICKS] = 1
+
+    @property
+    def tick_index(self) -> int:
+        """The tick whose commands come next."""
+        return int(self.control[C_TICK])
+
+    @property
+    def status(self) -> int:
+        """The kernel's status after the last step (``layout.STATUS_*``)."""
+        return int(self.control[C_STATUS])
+
+    def tick(self, rec: np.ndarray, last: bool = False) -> str | None:
+        """The controllers' commands of the next tick, then that tick (``last``: only
+        sampled and recorded, as a run's end); the error of a controller that failed (one
+        line), else None."""
+        j = int(self.control[C_TICK])
+        t = j * self.plan.dt
+        for g, meas, refs, cmds, k in self.views:
+            try:
+                torque = g.controller(t, meas, refs)
+            except Exception as exc:  # the user's code: any error stops the run, named
+                return self._failed(g, controller_error(g, j, t, exc))
+            try:
+                cmds[:] = torque
+                if k > 1 and np.ndim(torque) == 0:
+                    raise ValueError
+            except (ValueError, TypeError):
+                return self._failed(g, controller_error(g, j, t, None, (
+                    f"returned {_shape(torque)} where {k} torque(s) [N·m] were due")))
+        if last:
+            self.control[C_N_TICKS], self.control[C_INCLUDE_END] = 0, 1
+            self.control[C_MEASURE] = 0
+        self.step(self.packed.floats, self.packed.ints, rec)
+        if self.control[C_STATUS] == STATUS_USER_NONFINITE:
+            where = int(self.control[C_WHERE])
+            group = next(g for g, *_ in self.views if self.users[where] in g.drives)
+            name = self.plan.line.node_name(self.plan.line.drives[self.users[where]])
+            return self._failed(group, controller_error(
+                group, j, t, None, f"returned a non-finite torque "
+                f"{float(self.commands[where])} for {name}"))
+        return None
+
+    def _failed(self, group: Group, error: str) -> str:
+        self.failed = (group.name, error, self.tick_index * self.plan.dt)
+        return error
+
+    def outcome(self) -> UserRun:
+        """Where the run stands (``UserRun``)."""
+        v = self.packed.views
+        failed = getattr(self, "failed", None)
+        if failed is not None:
+            return UserRun(int(self.control[C_STORED]), STATUS_USER_NONFINITE, failed[2], -1,
+                           v["x"].copy(), v["istate"].copy(), failed[1], failed[0])
+        return UserRun(int(self.control[C_STORED]), int(self.control[C_STATUS]),
+                       float(v["t_fail"][0]), int(self.control[C_WHERE]), v["x"].copy(),
+                       v["istate"].copy())
+
+
 def run_user(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: np.ndarray,
              slip0: np.ndarray, n_ticks: int, substeps: int, every: int,
              buffer: np.ndarray) -> UserRun:
@@ -220,60 +306,11 @@ def run_user(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: np.nd
     the controllers of ``groups`` compute their drives' commands from the sampled
     measurements. A controller that raises, returns a wrong shape or a non-finite torque
     stops the run there (``UserRun.error`` names it and the tick)."""
-    users = np.array([d for g in groups for d in g.drives], dtype=np.int64)
-    packed = packed_run(plan, x0, istate0, slip0, users, buffer.shape[1])
-    v = packed.views
-    measured, references, commands = v["measured"], v["references"], v["commands"]
-    control, floats, ints = v["control"], packed.floats, packed.ints
-    step = compiled_user_step(plan)
-    # each group's slices of the shared arrays, made once
-    views, first = [], 0
-    for g in groups:
-        k = len(g.drives)
-        views.append((g, measured[N_MEASURED * first:N_MEASURED * (first + k)],
-                      references[N_REFERENCES * first:N_REFERENCES * (first + k)],
-                      commands[first:first + k], k))
-        first += k
-        g.controller.reset(context_for(plan, g))
-    control[C_SUBSTEPS], control[C_EVERY] = substeps, every
-    control[C_MEASURE] = 1
-    step(floats, ints, buffer)  # tick 0's sample: no live tick, measure only
-    control[C_N_TICKS] = 1
-    dt = plan.dt
+    loop = UserLoop(plan, groups, x0, istate0, slip0, substeps, every, buffer.shape[1])
     for j in range(n_ticks + 1):
-        t = j * dt
-        for g, meas, refs, cmds, k in views:  # the commands of tick j
-            try:
-                torque = g.controller(t, meas, refs)
-            except Exception as exc:  # the user's code: any error stops the run, named
-                return _stopped(packed, g, controller_error(g, j, t, exc), t)
-            try:
-                cmds[:] = torque
-                if k > 1 and np.ndim(torque) == 0:
-                    raise ValueError
-            except (ValueError, TypeError):
-                return _stopped(packed, g, controller_error(g, j, t, None, (
-                    f"returned {_shape(torque)} where {k} torque(s) [N·m] were due")), t)
-        if j == n_ticks:  # the last sample is recorded, not integrated
-            control[C_N_TICKS], control[C_INCLUDE_END], control[C_MEASURE] = 0, 1, 0
-        step(floats, ints, buffer)
-        status = control[C_STATUS]
-        if status == STATUS_USER_NONFINITE:
-            where = int(control[C_WHERE])
-            group = next(g for g, *_ in views if users[where] in g.drives)
-            return _stopped(packed, group, controller_error(
-                group, j, t, None, f"returned a non-finite torque {float(commands[where])} "
-                f"for {plan.line.node_name(plan.line.drives[users[where]])}"), t)
-        if status != L.STATUS_OK:
+        if loop.tick(buffer, last=j == n_ticks) is not None or loop.status != L.STATUS_OK:
             break
-    return UserRun(int(control[C_STORED]), int(control[C_STATUS]), float(v["t_fail"][0]),
-                   int(control[C_WHERE]), v["x"].copy(), v["istate"].copy())
-
-
-def _stopped(packed: Packed, group: Group, error: str, t: float) -> UserRun:
-    v = packed.views
-    return UserRun(int(v["control"][C_STORED]), STATUS_USER_NONFINITE, t, -1, v["x"].copy(),
-                   v["istate"].copy(), error, group.name)
+    return loop.outcome()
 
 
 def _shape(value: object) -> str:

@@ -245,7 +245,7 @@ def packed_run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarra
                "control": ((1, N_CONTROL), int), "slip": ((1, n_n), int),
                "slip_s": ((1, n_n), int), "users": ((1, len(users)), int),
                "prof_off": ((1, plan.prof_off.shape[0]), int)}
-    packed = Packed.of(shapes)  # type: ignore[arg-type]
+    packed = Packed.of(shapes)
     v = packed.views
     v["x"][:], v["istate"][:], v["slip"][:] = x0, istate0, slip0
     v["users"][:] = users
