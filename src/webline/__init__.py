@@ -1,6 +1,6 @@
 """webline: model, simulate, analyse and control roll-to-roll (web handling) process lines.
 
-The front door: ``load_line``, ``simulate``, ``sweep``, ``monte_carlo``, ``linearize``,
+The front door: ``load_line``, ``simulate``, ``Session``, ``sweep``, ``monte_carlo``, ``linearize``,
 ``operating_point`` and their types. Each is imported on first use (PEP 562), so ``import
 webline`` and the command line start fast; python-control, scipy and numba load only when a
 model or a run needs them.
@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 from webline.errors import (
     ArgumentError,
+    ControllerError,
     LineFileError,
     SimulationError,
     SimulationInterrupted,
@@ -26,6 +27,7 @@ if TYPE_CHECKING:
     from webline.sim.linearize import linearize
     from webline.sim.reference import simulate_reference
     from webline.sim.result import Result
+    from webline.sim.session import Session
     from webline.sim.simulate import simulate
     from webline.sim.sweep import monte_carlo, sweep
 
@@ -39,16 +41,19 @@ _LAZY = {
     "simulate_reference": "webline.sim.reference",
     "Result": "webline.sim.result",
     "simulate": "webline.sim.simulate",
+    "Session": "webline.sim.session",
     "sweep": "webline.sim.sweep",
     "monte_carlo": "webline.sim.sweep",
 }
 
 __all__ = [
     "ArgumentError",
+    "ControllerError",
     "Line",
     "LineFileError",
     "OperatingPoint",
     "Result",
+    "Session",
     "SimulationError",
     "SimulationInterrupted",
     "WeblineError",
