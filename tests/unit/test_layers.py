@@ -27,6 +27,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline.sim",),
     ("webline",),
     ("webline.analysis",),
+    ("webline.gym",),
     ("webline.report",),
     ("webline.studies",),
     ("webline.cli", "webline.cli_analyze", "webline.cli_common", "webline.cli_sweep"),
