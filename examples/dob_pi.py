@@ -24,7 +24,7 @@ import webline
 from webline.sim.user_control import ControllerContext
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from user_pi import CascadedPI  # noqa: E402 - the example next to this one
+from user_pi import CascadedPI
 
 
 class DisturbanceObserverPI(CascadedPI):
