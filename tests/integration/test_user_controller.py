@@ -189,3 +189,22 @@ def test_unknown_drive_and_non_controller_are_argument_errors() -> None:
         webline.simulate(line, 0.1, controller={"nope": Hold()})
     with pytest.raises(ArgumentError, match="is not a controller"):
         webline.simulate(line, 0.1, controller=42)
+
+
+def test_ctrl_c_keeps_the_run_so_far() -> None:
+    """Ctrl-C (KeyboardInterrupt) between ticks of a user run stops it as the built-in run
+    stops: SimulationInterrupted whose partial holds the ticks done (here 0..299)."""
+    from webline.errors import SimulationInterrupted
+
+    class Interrupts(FailsAt):
+        def __call__(self, t: float, m: np.ndarray, r: np.ndarray) -> object:
+            if round(t / self.dt) == 300:
+                raise KeyboardInterrupt
+            return self.torque
+
+    with pytest.raises(SimulationInterrupted) as info:
+        webline.simulate(webline.load_line("hswl"), 1.0,
+                         controller={"rewind": Interrupts(0, None)})
+    partial = info.value.partial
+    assert partial.status == "interrupted"
+    assert partial.time[-1] == pytest.approx(0.299)

@@ -240,14 +240,19 @@ def _user_result(plan: Plan, groups: list[Group], x: np.ndarray, istate: np.ndar
     """``simulate`` with user controllers (``sim.user_control.run_user``)."""
     run = run_user(plan, groups, x, istate, slipping, n_ticks, substeps, every, buffer)
     records = buffer[:run.stored].copy() if run.stored < len(buffer) - 2 else buffer[:run.stored]
-    if run.error is not None:
-        failure: Failure | None = Failure("controller", run.controller, run.t_fail,
-                                          run.error)
+    if run.interrupted and run.error is None:
+        end = float(records[-1, 0]) if len(records) else 0.0
+        failure: Failure | None = Failure("interrupted", plan.line.name, end,
+                                          interrupt_text(signal.SIGINT, end))
+    elif run.error is not None:
+        failure = Failure("controller", run.controller, run.t_fail, run.error)
     else:
         failure = kernel_failure(plan, run.status, run.t_fail, run.where, run.x)
     result = _result(plan, records, failure, settings,
                      (float(run.istate[0, L.I_DETECT]), int(run.istate[0, L.I_METHOD]))
                      if len(run.istate) else (-1.0, 0))
+    if run.interrupted and run.error is None and raise_on_failure:
+        raise SimulationInterrupted(result.message, partial=result)
     if run.error is not None and raise_on_failure:
         raise ControllerError(run.error, partial=result)
     if failure is not None and raise_on_failure:

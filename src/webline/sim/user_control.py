@@ -199,8 +199,8 @@ def context_for(plan: Plan, group: Group) -> ControllerContext:
 @dataclass
 class UserRun:
     """Where a user run stopped: records stored, kernel status (or
-    ``STATUS_USER_NONFINITE``), time and place of a failure, final arrays, and the error of a
-    controller that failed (None if none did)."""
+    ``STATUS_USER_NONFINITE``), time and place of a failure, final arrays, the error of a
+    controller that failed (None if none did) and its name, and whether Ctrl-C stopped it."""
 
     stored: int
     status: int
@@ -210,6 +210,7 @@ class UserRun:
     istate: np.ndarray
     error: str | None = None
     controller: str = ""
+    interrupted: bool = False
 
 
 class UserLoop:
@@ -307,9 +308,14 @@ def run_user(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: np.nd
     measurements. A controller that raises, returns a wrong shape or a non-finite torque
     stops the run there (``UserRun.error`` names it and the tick)."""
     loop = UserLoop(plan, groups, x0, istate0, slip0, substeps, every, buffer.shape[1])
-    for j in range(n_ticks + 1):
-        if loop.tick(buffer, last=j == n_ticks) is not None or loop.status != L.STATUS_OK:
-            break
+    try:
+        for j in range(n_ticks + 1):
+            if loop.tick(buffer, last=j == n_ticks) is not None or loop.status != L.STATUS_OK:
+                break
+    except KeyboardInterrupt:  # Ctrl-C between ticks: keep what was computed
+        run = loop.outcome()
+        run.interrupted = True
+        return run
     return loop.outcome()
 
 
