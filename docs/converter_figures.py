@@ -1,6 +1,7 @@
-"""Draw the figures of docs/winder.md that come from the built-in `converter` line.
+"""Draw the figures of docs/winder.md that come from the built-in `converter` line, and the
+two of rockwell's web-break scenario.
 
-    .venv/bin/python docs/converter_figures.py      # writes docs/img/converter-*.png
+    .venv/bin/python docs/converter_figures.py      # writes docs/img/converter-*.png, ...
 
 Uses the report's own figure functions, so the docs show what `webline run converter
 --scenario NAME` puts in its report.
@@ -15,7 +16,7 @@ from webline.report.display import Display
 from webline.report.figures import tension_figure
 from webline.report.schematic import schematic
 from webline.report.splice_figures import splice_figure
-from webline.report.winder_figures import diameter_figure, taper_figure
+from webline.report.winder_figures import dancer_figure, diameter_figure, taper_figure
 
 IMG = Path(__file__).resolve().parent / "img"
 
@@ -33,6 +34,10 @@ def main() -> None:
         webline.simulate(line, scenario="web-break", raise_on_failure=False), display)
     figures["converter-flying-splice"] = splice_figure(
         webline.simulate(line, scenario="flying-splice"), display)
+    rockwell = webline.load_line("rockwell")
+    broken = webline.simulate(rockwell, scenario="web-break")
+    figures["winder-break-tension"] = tension_figure(broken, display)
+    figures["winder-break-dancer"] = dancer_figure(broken, display, [1])
     IMG.mkdir(exist_ok=True)
     for name, fig in figures.items():
         path = IMG / f"{name}.png"

@@ -41,6 +41,7 @@ from webline.cli_common import (
     sigterm_as_interrupt,
 )
 from webline.cli_sweep import sweep_command
+from webline.cli_twin import fit_command, replay_command
 from webline.version import __version__
 
 # The simulation, analysis and report layers are imported inside the commands that use them,
@@ -193,6 +194,8 @@ def validate(line: LineArg) -> None:
     warnings = [*loaded.warnings, *leaks]
     for warning in warnings:
         typer.echo(f"warning: {loaded.source}: {warning}", err=True)
+    for note in loaded.notes:  # what webline derived (a roll's inertia from its totals)
+        typer.echo(f"note: {loaded.source}: {note}")
     scenarios = ", ".join(loaded.spec.scenarios) or "none"
     typer.echo(f"ok: {loaded.source}: line {loaded.name!r} with {loaded.n_nodes} rollers, "
                f"{loaded.n_spans} spans, {len(loaded.drives)} drives, {len(loaded.zones)} "
@@ -272,6 +275,8 @@ def study(
 
 app.command("sweep")(handles_errors(
     sweep_command, resume="the same command with --resume goes on from the chunks stored"))
+app.command("replay")(handles_errors(replay_command))
+app.command("fit")(handles_errors(fit_command))
 
 
 def main() -> None:

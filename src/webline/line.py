@@ -103,6 +103,15 @@ class Line:
 
         return tuple(warnings(self.spec)) + tuple(winder_warnings(self.spec))
 
+    @cached_property
+    def notes(self) -> tuple[str, ...]:
+        """What webline derived from the file beyond its keys' plain reading (a roll's core
+        inertia and wound density from its totals, ``spec.roll_inertia``), one line each."""
+        from webline.spec.roll_inertia import derivation
+
+        found = (derivation(r, self.spec.web) for r in (self.unwind, self.rewind))
+        return tuple(note for note in found if note)
+
     def zone_of_span(self, span: int) -> int:
         return next(z for z, zone in enumerate(self.zones) if span in zone.spans)
 
@@ -145,6 +154,12 @@ class Line:
         for index, radius in ((0, scenario.unwind_radius), (-1, scenario.rewind_radius)):
             if radius is not None:
                 rollers[index] = rollers[index].model_copy(update={"radius": radius})
+        # the kept scenario names its own disturbances (the line's where it gave none), so that
+        # the checks, and this scenario applied again, find its break and splice not yet in
+        # them: without it, the line's list (its break and splice added) was the scenario's
+        own = (scenario.disturbances if scenario.disturbances is not None
+               else self.spec.disturbances)
+        scenario = scenario.model_copy(update={"disturbances": list(own)})
         changes: dict[str, object] = {"rollers": rollers, "scenarios": {name: scenario}}
         if scenario.speed is not None:
             changes["speed"] = scenario.speed

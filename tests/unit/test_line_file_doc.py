@@ -18,7 +18,7 @@ PROFILE_PARTS = ("Ramp", "Steps", "Step", "Table")
 
 def model_name(model: type[BaseModel]) -> str:
     """A model's name; a profile part goes by its shape: ``Ramp[Speed]`` (generic) and
-    ``SpeedRamp`` or ``TensionRamp`` (one class per quantity) are all ``Ramp``."""
+    ``SpeedRamp`` or ``StartStopTension`` (one class per quantity) are all ``Ramp``."""
     origin = getattr(model, "__pydantic_generic_metadata__", {}).get("origin")
     name = (origin or model).__name__
     for prefix in ("Speed", "Tension", "Torque"):

@@ -393,9 +393,12 @@ MALFORMED: dict[str, tuple[Callable[[dict[str, Any]], None], str, str]] = {
     "eccentric missing roller in scenario": (
         _set("scenarios.disturbance.disturbances.1.roller", "nope"),
         "scenarios.disturbance.disturbances[1].roller", "no roller named 'nope'"),
-    "eccentric roll": (_set("scenarios.disturbance.disturbances.1.roller", "unwind"),
-                       "scenarios.disturbance.disturbances[1].roller",
-                       "applies to rollers, not rolls"),
+    # an out-of-round roll (issue 21, docs/winder.md E1) is allowed, up to its core radius
+    "eccentric roll": (_set("scenarios.disturbance.disturbances.1", {
+                           "type": "eccentric_roller", "roller": "unwind",
+                           "eccentricity": "4 in"}),
+                       "scenarios.disturbance.disturbances[1].eccentricity",
+                       "below the roll's core radius"),
     "eccentricity above radius": (_set("scenarios.disturbance.disturbances.1.eccentricity",
                                        "2 in"),
                                   "scenarios.disturbance.disturbances[1].eccentricity",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 import webline
 
@@ -23,12 +24,15 @@ def test_fast_path_matches_reference_over_60s_ramp(hswl):
     np.testing.assert_allclose(fast.speed, ref.speed, rtol=1e-6)
 
 
-def test_fast_path_matches_reference_through_a_web_break():
+@pytest.mark.parametrize("hold", ["zero_speed", "brakes", "off"])
+def test_fast_path_matches_reference_through_a_web_break(hold):
     """rockwell's dancer span breaks at 0.1 s; the monitor (loadcell below 20 %) detects it
-    and the line ramps to a stop in 0.1 s, then torque is off. Both paths apply the break
-    at the same tick, so they must agree through it as they do without one."""
+    and the line ramps to a stop in 0.1 s, then the drives hold (zero speed, brakes, or
+    torque off). Both paths apply the break at the same tick, so they must agree through it
+    as they do without one."""
     line = webline.load_line("rockwell").replace({"disturbances": [
-        {"type": "web_break", "span": "dancer_span", "at": 0.1, "stop_time": 0.1}]})
+        {"type": "web_break", "span": "dancer_span", "at": 0.1, "stop_time": 0.1,
+         "hold": hold}]})
     fast = webline.simulate(line, 0.3)
     ref = webline.simulate_reference(line, 0.3, method="DOP853", rtol=1e-10, atol=1e-10)
     assert fast.break_monitor == ref.break_monitor == (0.1, 1)  # same tick, by tension
@@ -38,5 +42,7 @@ def test_fast_path_matches_reference_through_a_web_break():
     # measured 2.8e-4 N of 141 N (2e-6) through a break at 0.2 s: RK4 at the 1 ms tick
     assert np.abs(fast.tension - ref.tension).max() < 2e-5 * scale
     assert np.abs(fast.speed - ref.speed).max() < 2e-5 * np.abs(ref.speed).max()
-    assert np.all(fast.torque_cmd[ref.time > 0.21] == 0.0)
+    held = ref.time > 0.21
+    if hold != "zero_speed":
+        assert np.all(fast.torque_cmd[held] == 0.0)
     np.testing.assert_array_equal(fast.torque_cmd == 0.0, ref.torque_cmd == 0.0)

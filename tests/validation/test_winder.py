@@ -119,15 +119,18 @@ def test_web_break_detected_within_50_ms(method):
     detected, how = result.break_monitor
     assert how == {"tension": L.BREAK_TENSION, "dancer": L.BREAK_DANCER}[method]
     assert 0.0 <= detected - 2.0 < 0.05  # issue 15: within 50 ms
-    # the broken zone carries no tension; the line ramped to a stop, torque off
+    # the broken zone carries no tension; the line ramped to a stop and the drives hold
+    # zero speed (docs/winder.md W8; the idlers spin on freely without web)
     broken = result.time > 2.0
     assert np.all(result.tension[broken, :2] == 0.0)
-    stopped = result.time > detected + 2.0 + 0.5
-    assert np.all(result.torque_cmd[stopped] == 0.0)
-    # the driven nodes coast down from near zero (the idlers spin on freely without web)
-    driven = list(result.line.drives)
-    assert np.abs(result.speed[stopped][:, driven]).max() < 0.25 * result.line.spec.speed
+    stopped = result.time > detected + 2.0
     assert np.all(result.speed_feedforward[stopped] == 0.0)
+    assert np.all(result.trim[stopped] == 0.0)
+    driven = list(result.line.drives)
+    speed = np.abs(result.surface_speed[stopped][:, driven])
+    # 2 s after the stop, nearly at rest (rockwell's soft 10 rad/s speed loops swing slowly
+    # with the intact rewind zone: 2.1-2.3 % here, below 2 % a second later)
+    assert speed[-1].max() < 0.05 * result.line.spec.speed
     finding = next(f for f in result.verdict.findings if f.kind == "web_break")
     assert finding.level == "warning" and finding.details["method"].startswith(method)
     assert f"{1000 * (detected - 2.0):.3g} ms" in finding.message

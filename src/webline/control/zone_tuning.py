@@ -4,22 +4,24 @@ the web (docs/winder.md, Z1-Z3).
 A zone's tension PI trims the web speed of its drive, so its plant is the web stored in the
 zone: an extra length δu of unstrained web changes the tension by δT = -K δu. Without a
 dancer K = EA / L_zone (the spans in series). A dancer on a spring k (its load constant)
-lets its carriage move by δy = -2 δT / k and stores 2 δy of web, so the zone's compliance is
+whose strands lengthen the spans by g = g_in + g_out per metre of travel (2 for two parallel
+strands; docs/winder.md D0) lets its carriage move by δy = -g δT / k and stores g δy of web,
+so the zone's compliance is
 
-    C = δu / (-δT) = L_zone / EA + Σ_dancers 4 / k_j                                  (Z1)
+    C = δu / (-δT) = L_zone / EA + Σ_dancers g_j² / k_j                               (Z1)
 
-(the dancer's spring, seen through its two strands as k/4, in series with the spans); an
+(the dancer's spring, seen through its strands as k/g², in series with the spans); an
 air-loaded dancer (k = 0) makes C infinite: its load alone sets the tension. The tension loop
 designed for K = 1/C closes at the asked bandwidth ω_t and damping ζ:
 kp = 2 ζ ω_t C, ki = ω_t² C (``control.pi.tune`` with L/EA replaced by C). A loop on the
 position y_p of a dancer p (position control) sees δy_p = G δu with
 
-    G = 1 / (2 + k_p C_p / 2),   C_p = C without dancer p's own term                  (Z2)
+    G = 1 / (g_p + k_p C_p / g_p),   C_p = C without dancer p's own term              (Z2)
 
-(air-loaded: G = 1/2), so kp = 2 ζ ω_t / G, ki = ω_t² / G [(m/s)/m, (m/s)/(m·s)].
+(air-loaded: G = 1/g_p), so kp = 2 ζ ω_t / G, ki = ω_t² / G [(m/s)/m, (m/s)/(m·s)].
 
 A loadcell in a zone with a dancer feels the carriage's damper c too: to first order in s
-the zone is a spring K_e = 1/C with a damper c_e = K_e² Σ 4 c_j / k_j² in parallel, and the
+the zone is a spring K_e = 1/C with a damper c_e = K_e² Σ g_j² c_j / k_j² in parallel, and the
 plant from trim to tension is -(K_e + c_e s)/s. With the PI, the closed loop is
 (1 + c_e kp) s² + (K_e kp + c_e ki) s + K_e ki; matching s² + 2ζω s + ω² gives, with
 ρ = c_e ω / K_e,
@@ -67,24 +69,26 @@ def zone_dancers(line: Line, z: int) -> list[int]:
 
 
 def zone_compliance(line: Line, z: int, without: int | None = None) -> float:
-    """C [m/N] of zone ``z`` (Z1): the spans' L/EA plus 4/k of each dancer in it (inf for an
-    air-loaded one), leaving out the dancer on node ``without``."""
+    """C [m/N] of zone ``z`` (Z1): the spans' L/EA plus g²/k of each dancer in it (inf for
+    an air-loaded one), leaving out the dancer on node ``without``."""
     length = sum(line.spec.spans[k].length for k in line.zones[z].spans)
     compliance = length / line.ea
     for i in zone_dancers(line, z):
         if i == without:
             continue
-        k = line.spec.rollers[i].dancer.stiffness  # type: ignore[union-attr]
-        compliance += math.inf if k == 0.0 else 4.0 / k
+        dancer = line.spec.rollers[i].dancer  # type: ignore[union-attr]
+        k = dancer.stiffness
+        compliance += math.inf if k == 0.0 else sum(dancer.gains) ** 2 / k
     return compliance
 
 
 def position_gain(line: Line, z: int, i: int) -> float:
     """G [m/m] (Z2): carriage travel of the dancer on node ``i`` per metre of web stored in
     zone ``z``."""
-    k = line.spec.rollers[i].dancer.stiffness  # type: ignore[union-attr]
+    dancer = line.spec.rollers[i].dancer  # type: ignore[union-attr]
+    k, g = dancer.stiffness, sum(dancer.gains)
     other = zone_compliance(line, z, without=i)
-    return 1.0 / (2.0 + (0.0 if k == 0.0 else 0.5 * k * other))
+    return 1.0 / (g + (0.0 if k == 0.0 else k * other / g))
 
 
 def loop_plant_gain(line: Line, z: int) -> tuple[str, float]:
@@ -108,7 +112,7 @@ def zone_damper(line: Line, z: int) -> float:
     for i in zone_dancers(line, z):
         c = line.spec.rollers[i].dancer  # type: ignore[union-attr]
         if c.stiffness > 0.0:
-            total += 4.0 * c.damping / c.stiffness**2
+            total += sum(c.gains) ** 2 * c.damping / c.stiffness**2
     return stiffness**2 * total
 
 

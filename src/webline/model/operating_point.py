@@ -25,11 +25,13 @@ import numpy as np
 
 from webline.errors import SimulationError
 from webline.line import Line, Zone, load_line
+from webline.model.tension_ramp import ramp_factor
 from webline.physics import roll, roller
 from webline.physics.taper import spec_factor
 from webline.profiles import breakpoints, pwl_slope, pwl_value
 from webline.spec.nip import shaft_terms
 from webline.spec.ranges import argument
+from webline.spec.roll_inertia import roll_constants
 from webline.spec.schema import IdleSpec, RewindSpec, RollerDrag, UnwindSpec
 
 
@@ -79,11 +81,14 @@ def node_inertias(line: Line, radii: np.ndarray) -> np.ndarray:
     web = line.spec.web
     out = np.empty(line.n_nodes)
     for i, r in enumerate(line.spec.rollers):
+        if isinstance(r, UnwindSpec | RewindSpec):  # totals: spec.roll_inertia (J1)
+            core, density = roll_constants(r, web)
+            constant = core + r.drive.ratio**2 * r.drive.motor_inertia
+            out[i] = roll.roll_inertia(constant, radii[i], r.core_radius, web.width, density)
+            continue
         constant = shaft_terms(r)[0]
         if not isinstance(r, IdleSpec):
             constant += r.drive.ratio**2 * r.drive.motor_inertia
-        if isinstance(r, UnwindSpec | RewindSpec):
-            constant = roll.roll_inertia(constant, radii[i], r.core_radius, web.width, web.density)
         out[i] = constant
     return out
 
@@ -110,6 +115,8 @@ def operating_point(line: Line | str, t: float | str = 0.0, *,
     for zone in line.zones:
         ref = line.spec.spans[zone.loadcell].tension
         tension[list(zone.spans)] = pwl_value(*breakpoints(ref), t) * _taper(line, zone, radii)
+    if line.spec.control.tension_ramp is not None:  # the ramp at start and stop (R1)
+        tension *= ramp_factor(line, t)
     tension_l, speed_l, omega_l, accel_l = _equilibrium_motion(line, tension.tolist(), v_line,
                                                                a_line, radii, inertia, drags)
     tension, speed = np.array(tension_l), np.array(speed_l)
@@ -129,6 +136,8 @@ def operating_point(line: Line | str, t: float | str = 0.0, *,
         _, viscous, coulomb = shaft_terms(r)  # a nip's bearing friction included
         friction = roller.friction_torque(omega_l[i], viscous, coulomb)
         friction += roller.friction_torque(omega_l[i], 0.0, drag[i])  # brake (4.12) or drag
+        if r.friction_table is not None:  # measured against speed (docs/winder.md F1)
+            friction += roller.table_friction(omega_l[i], *r.friction_table.arrays())[0]
         n = r.drive.ratio  # the motor's own friction acts at n ω
         torque[d] = (j[i] * accel_l[i] - r_node[i] * (t_out - t_in) + friction) / n + (
             r.drive.motor_friction * n * omega_l[i])
@@ -153,11 +162,16 @@ def _equilibrium_motion(line: Line, tension: list[float], v_line: float, a_line:
     thickness = line.spec.web.thickness
     r, j, drag = radii.tolist(), inertia.tolist(), drags.tolist()
     friction = [shaft_terms(roller)[1:] for roller in line.spec.rollers]  # a nip's included
+    tables = [None if r_.friction_table is None else r_.friction_table.arrays()
+              for r_ in line.spec.rollers]
     last = line.n_nodes - 1
 
     def idle_drop(i: int) -> float:  # tension rise across idle roller i: (J dω/dt + f)/r
         viscous, coulomb = friction[i]
         torque = roller.friction_torque(omega[i], viscous, coulomb + drag[i])
+        table = tables[i]
+        if table is not None:  # measured against speed (docs/winder.md F1)
+            torque += roller.table_friction(omega[i], *table)[0]
         return (j[i] * accel[i] + torque) / r[i]
 
     for _ in range(50):

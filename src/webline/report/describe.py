@@ -7,6 +7,7 @@ from webline.line import Line
 from webline.report.describe_winder import winder_table, zones_table
 from webline.report.display import Display, profile_text
 from webline.report.tables import Table, make_table, node_kind
+from webline.spec.roll_inertia import roll_constants
 from webline.spec.schema import IdleSpec, RewindSpec, UnwindSpec
 
 
@@ -47,7 +48,7 @@ def _rollers(line: Line, d: Display) -> Table:
     for i, r in enumerate(line.spec.rollers):
         core = d.text(r.core_radius, "length") if isinstance(r, UnwindSpec | RewindSpec) else ""
         rows.append([str(i), r.name, node_kind(line, i), d.text(r.radius, "length"), core,
-                     d.text(r.inertia, "inertia"), d.text(r.friction, "rot_damping"),
+                     _inertia_text(r, line, d), d.text(r.friction, "rot_damping"),
                      "" if isinstance(r, IdleSpec) else "yes",
                      nip_text(getattr(r, "nip", None), r.radius, d)])
     columns = ["#", "name", "kind", "radius", "core radius", "inertia", "viscous friction",
@@ -55,6 +56,16 @@ def _rollers(line: Line, d: Display) -> Table:
     if not any(row[-1] for row in rows):  # a nip column only for a line with nips
         columns, rows = columns[:-1], [row[:-1] for row in rows]
     return make_table("rollers", "Rollers (web order)", columns, rows)
+
+
+def _inertia_text(roller: object, line: Line, d: Display) -> str:
+    """A roller's inertia without web; a roll's derived core where the file gave totals."""
+    inertia = roller.inertia  # type: ignore[attr-defined]
+    if isinstance(inertia, float | int):
+        return d.text(inertia, "inertia")
+    core, density = roll_constants(roller, line.spec.web)
+    return (f"{d.text(core, 'inertia')} (from {inertia.type}; wound "
+            f"{d.text(density, 'density')})")
 
 
 def nip_text(nip: object, radius: float, d: Display) -> str:

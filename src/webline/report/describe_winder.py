@@ -10,6 +10,7 @@ from webline.profiles import breakpoints, pwl_value
 from webline.report.display import Display, profile_text
 from webline.report.tables import Table, make_table
 from webline.spec.dancer import DancerCarriage
+from webline.spec.roll_inertia import roll_constants
 from webline.spec.schema import DancerSpec, RewindSpec, UnwindSpec
 from webline.spec.splice import FlyingSplice
 from webline.spec.winder import WebBreak
@@ -163,9 +164,10 @@ def splice_text(line: Line, item: FlyingSplice, d: Display) -> str:
     roll = line.spec.rollers[0 if item.roll == line.node_name(0) else -1]
     radius = item.new_diameter / 2.0
     drive = roll.drive  # type: ignore[union-attr]
-    inertia = roll_inertia(roll.inertia + drive.ratio**2 * drive.motor_inertia, radius,
+    core, density = roll_constants(roll, line.spec.web)  # the web's, or the totals' (J1)
+    inertia = roll_inertia(core + drive.ratio**2 * drive.motor_inertia, radius,
                            roll.core_radius, line.spec.web.width,  # type: ignore[union-attr]
-                           line.spec.web.density)
+                           density)
     t, v = breakpoints(line.spec.speed)
     omega = abs(float(pwl_value(t, v, item.at))) / radius
     slack = f"slack {d.text(item.slack, 'length')}" if item.slack else "no slack"

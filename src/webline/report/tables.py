@@ -44,7 +44,8 @@ def node_kind(line: Line, i: int) -> str:
 _SPAN_STATS = (("reference", "reference (mean)"), ("mean", "mean"), ("std", "std"),
                ("mean_error", "mean error"), ("max_abs_error", "largest |error|"),
                ("rms_error", "rms error"))
-_DRIVE_STATS = (("mean_error", "mean speed error", "speed"),
+_DRIVE_STATS = (("mean_reference", "speed reference (mean)", "speed"),
+                ("mean_error", "mean speed error", "speed"),
                 ("std_error", "std of speed error", "speed"),
                 ("max_abs_error", "largest |speed error|", "speed"),
                 ("max_abs_torque", "largest |torque|", "torque"))

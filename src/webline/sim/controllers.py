@@ -24,7 +24,9 @@ import numpy as np
 
 from webline.physics import motor, roll, roller, span, taper
 from webline.sim import layout as L
-from webline.sim.diameter import update_radius
+from webline.sim.break_hold import fade_trim, held_command, stop_acceleration
+from webline.sim.diameter import preset_radius, update_radius
+from webline.sim.friction_loop import table_torque
 from webline.sim.measure import measured_speed
 from webline.sim.mrac import mrac_adapt, mrac_feedback
 from webline.sim.observer import observe
@@ -60,8 +62,23 @@ def node_inertia(i: int, radius: float, ns: np.ndarray, nodes: np.ndarray,
     kind = ns[i, L.NS_KIND]
     if kind == L.KIND_UNWIND or kind == L.KIND_REWIND:
         return _roll_inertia(nodes[i, L.N_JCONST], radius, nodes[i, L.N_CORE], web[L.W_WIDTH],
-                             web[L.W_DENSITY])
+                             nodes[i, L.N_RHO])
     return nodes[i, L.N_JCONST]
+
+
+@jit
+def web_density_inertia(d: int, i: int, radius: float, ns: np.ndarray, ds: np.ndarray,
+                        nodes: np.ndarray, drives: np.ndarray, web: np.ndarray) -> float:
+    """``drive_inertia`` of a line whose rolls all carry the web's density (written apart so
+    that the decentralized controllers of such a line compile as they did before J1)."""
+    inertia = nodes[i, L.N_JCONST]
+    kind = ns[i, L.NS_KIND]
+    if kind == L.KIND_UNWIND or kind == L.KIND_REWIND:
+        inertia = _roll_inertia(nodes[i, L.N_JCONST], radius, nodes[i, L.N_CORE],
+                                web[L.W_WIDTH], web[L.W_DENSITY])
+    if ds[d, L.DS_TSTATE] >= 0:
+        inertia += drives[d, L.D_RATIO] ** 2 * drives[d, L.D_JMOTOR]
+    return inertia
 
 
 @jit
@@ -114,8 +131,12 @@ def reference_state(a_line: float, refs: np.ndarray, ds: np.ndarray, offsets: np
             loadcell = ds[d, L.DS_LOADCELL]
             for k in range(loadcell + 1, last):
                 span_ref[k] = span_ref[k - 1] + _idle_drop(k, v_ref, a_ref, nodes)
+                if offsets[L.O_FRICTION]:  # a measured friction table (F1)
+                    span_ref[k] += _table_drop(k, v_ref, nodes)
             for k in range(loadcell, first, -1):
                 span_ref[k - 1] = span_ref[k] - _idle_drop(k, v_ref, a_ref, nodes)
+                if offsets[L.O_FRICTION]:
+                    span_ref[k - 1] -= _table_drop(k, v_ref, nodes)
 
 
 @jit
@@ -126,6 +147,13 @@ def _idle_drop(i: int, v_ref: np.ndarray, a_ref: np.ndarray, nodes: np.ndarray) 
     torque = nodes[i, L.N_JCONST] * a_ref[i] / r
     torque += _friction(omega, nodes[i, L.N_VISCOUS], nodes[i, L.N_COULOMB])
     return torque / r
+
+
+@jit
+def _table_drop(i: int, v_ref: np.ndarray, nodes: np.ndarray) -> float:
+    """Tension rise [N] across idle roller ``i`` from its friction table (F1)."""
+    r = nodes[i, L.N_RADIUS]
+    return table_torque(i, v_ref[i] / r, nodes) / r
 
 
 @jit
@@ -164,17 +192,27 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
         refs[p] = profile_at(p, t, prof_t, prof_v, prof_off)
     for d in range(ds.shape[0]):  # the radius each controller uses (calculated or true)
         i = ds[d, L.DS_NODE]
+        if drives[d, L.D_PRESETN] > 0.0:  # set while running (docs/winder.md W2a)
+            preset_radius(d, t, dt, node_radius(i, x, ns, offsets, nodes), istate, drives)
         update_radius(d, i, tick, dt, node_radius(i, x, ns, offsets, nodes), x, istate, ns,
                       ds, offsets, nodes, drives, web, refs)
         if drives[d, L.D_TAPER] > 0.0:
             refs[ds[d, L.DS_REF]] *= taper_at(d, istate[d, L.I_RADIUS], drives, prof_t, prof_v,
                                               prof_off)
+    if web[L.W_TRAMP] > 0.0:  # the tension ramp at start and stop (docs/winder.md R1)
+        ramp = refs[int(web[L.W_TRAMP])]
+        for d in range(ds.shape[0]):
+            if ds[d, L.DS_ROLE] == L.ROLE_TENSION:
+                refs[ds[d, L.DS_REF]] *= ramp
     stopping = 1.0  # the line-speed factor of a ramp to stop after a detected web break
+    a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)  # line acceleration [m/s²]
     if offsets[L.O_BREAK]:
-        stopping = break_monitor(t, x, istate, ns, ds, nodes, drives, web, refs)
+        stopping = break_monitor(t, x, istate, ns, ds, nodes, drives, web, refs,
+                                 offsets[L.O_OMEGA])
+        if stopping < 1.0:
+            a_line = stop_acceleration(a_line, refs[0], stopping, web)
         refs[0] *= stopping
     if offsets[L.O_NEED_EQ]:
-        a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)
         reference_state(a_line, refs, ds, offsets, nodes, web, span_ref, v_ref, a_ref)
     seed = int(web[L.W_SEED])
     for d in range(ds.shape[0]):
@@ -197,35 +235,36 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
             t_meas = dancer_measurement(d, x, ns, ds, nodes, refs)
         if stopping < 1.0 and ds[d, L.DS_ROLE] == L.ROLE_TENSION:  # tension loops frozen
             t_meas = refs[ds[d, L.DS_REF]]
+            fade_trim(d, dt, stopping, istate, web)
         gain = 1.0
         if ds[d, L.DS_ADAPTIVE] > 0:
             inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
             gain = inertia / (nodes[i, L.N_RATIO] * radius) / drives[d, L.D_GAINNORM]
+        if offsets[L.O_BREAK] and stopping == 0.0 and held_command(  # stopped: hold (W8)
+                d, dt, roll_direction(i, ns), radius, v_meas, gain, refs[ds[d, L.DS_REF]],
+                istate, ds, drives, web, out):
+            continue
         comp = 0.0  # a centre winder's compensations (docs/winder.md W3)
-        if drives[d, L.D_COMPJ] + drives[d, L.D_COMPCS] + drives[d, L.D_COMPB] > 0.0:
+        if (drives[d, L.D_COMPJ] + drives[d, L.D_COMPCS] + drives[d, L.D_COMPB]
+                + drives[d, L.D_COMPFN] > 0.0):
             comp = compensation(d, drive_inertia(d, i, radius, ns, ds, nodes, drives, web),
-                                radius, v_meas / radius,
-                                profile_slope_at(0, t, prof_t, prof_v, prof_off), drives)
+                                radius, v_meas / radius, a_line, drives)
         if ds[d, L.DS_FAMILY] == L.FAMILY_PI:
             pi_command(d, t, dt, v_meas, t_meas, gain, istate, ds, offsets, drives, web, refs,
                        speed_ripple, out)
         elif ds[d, L.DS_FAMILY] == L.FAMILY_OPEN_LOOP:
-            open_loop_command(d, roll_direction(i, ns), radius, refs[ds[d, L.DS_REF]], comp,
-                              drives, out)
-            if offsets[L.O_BREAK] and stopping == 0.0:
-                out[0, d] = 0.0
+            open_loop_command(d, dt, roll_direction(i, ns), radius, refs[ds[d, L.DS_REF]],
+                              comp, v_meas, refs[0], gain, istate, drives, out)
             continue
         elif ds[d, L.DS_FAMILY] == L.FAMILY_USER:  # the command a user's controller wrote
             user_command(d, t, v_meas, t_meas, radius,
                          drive_inertia(d, i, radius, ns, ds, nodes, drives, web), ds, offsets,
                          drives, web, refs, speed_ripple, out)
         else:
-            decentralized_command(d, i, dt, radius, v_meas, t_meas, gain, istate, ns, ds,
+            decentralized_command(d, i, dt, radius, v_meas, t_meas, gain, istate, ns, ds, offsets,
                                   nodes, drives, web, span_ref, v_ref, a_ref, out)
         if comp != 0.0:
             out[0, d] = _saturate(out[0, d] + comp, drives[d, L.D_LIMIT])
-        if offsets[L.O_BREAK] and stopping == 0.0:  # stopped after a break: torque off
-            out[0, d] = 0.0
 
 
 @jit
@@ -250,6 +289,9 @@ def dancer_measurement(d: int, x: np.ndarray, ns: np.ndarray, ds: np.ndarray,
     i = ds[d, L.DS_DANCER]
     y = x[ns[i, L.NS_DANCER]] - nodes[i, L.N_DSET]
     if ds[d, L.DS_DUSE] == L.DANCER_TENSION:
+        if ns[i, L.NS_DGEOM]:  # strands or angles (D2 at rest)
+            return ((refs[int(nodes[i, L.N_DLOAD])] - nodes[i, L.N_DK] * y)
+                    / (nodes[i, L.N_DGIN] + nodes[i, L.N_DGOUT]))
         return 0.5 * (refs[int(nodes[i, L.N_DLOAD])] - nodes[i, L.N_DK] * y)
     return refs[ds[d, L.DS_REF]] - y
 
@@ -296,17 +338,22 @@ def pi_command(d: int, t: float, dt: float, v_meas: float, t_meas: float, gain: 
 @jit
 def decentralized_command(d: int, i: int, dt: float, radius: float, v_meas: float,
                           t_meas: float, gain: float, istate: np.ndarray, ns: np.ndarray,
-                          ds: np.ndarray, nodes: np.ndarray, drives: np.ndarray,
-                          web: np.ndarray, span_ref: np.ndarray, v_ref: np.ndarray,
-                          a_ref: np.ndarray, out: np.ndarray) -> None:
+                          ds: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
+                          drives: np.ndarray, web: np.ndarray, span_ref: np.ndarray,
+                          v_ref: np.ndarray, a_ref: np.ndarray, out: np.ndarray) -> None:
     """State feedback, adaptive control or MRAC (``sim.mrac``) of drive ``d`` on node ``i``
     (module docstring)."""
-    inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
+    if offsets[L.O_OWNRHO]:  # a roll given by its totals (J1)
+        inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
+    else:
+        inertia = web_density_inertia(d, i, radius, ns, ds, nodes, drives, web)
     ratio = nodes[i, L.N_RATIO]
     adaptive = ds[d, L.DS_FAMILY] == L.FAMILY_ADAPTIVE
     friction = istate[d, L.I_FRICTION] if adaptive else drives[d, L.D_BMODEL]
     u_eq = equilibrium_input(i, radius, inertia, friction, ns, nodes, web, span_ref, v_ref,
                              a_ref)
+    if offsets[L.O_FRICTION] and nodes[i, L.N_FRICN] > 0.0:  # a measured friction table (F1)
+        u_eq += table_torque(i, v_ref[i] / radius, nodes) / ratio
     u_eq += drives[d, L.D_BMOTOR] * ratio * v_ref[i] / radius  # the motor's own friction
     loadcell = ds[d, L.DS_LOADCELL]
     x_t = t_meas - span_ref[loadcell] if loadcell >= 0 else 0.0

@@ -49,7 +49,8 @@ def load_profile(line: Line, i: int) -> tuple[np.ndarray, np.ndarray]:
         return breakpoints(carriage.load)
     zone = line.zones[dancer_zone(line, i)]
     t, v = breakpoints(line.spec.spans[zone.loadcell].tension)
-    return t, 2.0 * v
+    g_in, g_out = carriage.gains
+    return t, (g_in + g_out) * v
 
 
 def node_columns(row: np.ndarray, line: Line, i: int, state: int, profile: int) -> None:
@@ -64,6 +65,8 @@ def node_columns(row: np.ndarray, line: Line, i: int, state: int, profile: int) 
     row[L.N_DSTOP] = c.stop_stiffness
     row[L.N_DSTOPC] = 2.0 * STOP_DAMPING_RATIO * np.sqrt(c.stop_stiffness * mass)
     row[L.N_DLOAD] = profile
+    row[L.N_DGIN], row[L.N_DGOUT] = c.gains
+    row[L.N_DGEOM] = 0.0 if c.gains == (1.0, 1.0) else 1.0
 
 
 def drive_columns(drives: np.ndarray, line: Line) -> None:
@@ -142,7 +145,8 @@ def equilibrium_position(line: Line, i: int, tension_in: float, tension_out: flo
     c = _carriage(line, i)
     if c.stiffness == 0.0:
         return c.position
-    return c.position + (load - tension_in - tension_out) / c.stiffness
+    g_in, g_out = c.gains
+    return c.position + (load - g_in * tension_in - g_out * tension_out) / c.stiffness
 
 
 def _carriage(line: Line, i: int) -> DancerCarriage:

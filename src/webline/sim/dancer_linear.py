@@ -29,13 +29,14 @@ def plant_rows(a: np.ndarray, e: np.ndarray, plan: Plan, tension: np.ndarray,
         row = plan.nodes[i]
         pos, vel = first + 2 * j, first + 2 * j + 1
         y = plan.initial_state(plan.op)[0][int(row[L.N_DANCER])] - row[L.N_DSET]
-        for k in (i - 1, i):
-            length = plan.spans[k, L.S_LENGTH] + y
-            a[k, :] *= plan.spans[k, L.S_LENGTH] / length  # the span is L + y long here
+        for k, gain in ((i - 1, row[L.N_DGIN]), (i, row[L.N_DGOUT])):
+            length = plan.spans[k, L.S_LENGTH] + gain * y
+            a[k, :] *= plan.spans[k, L.S_LENGTH] / length  # the span is L + g y long here
             e[k, :] *= plan.spans[k, L.S_LENGTH] / length
-            a[k, vel] = (ea - tension[k]) / length
+            a[k, vel] = (ea - tension[k]) * gain / length
         inv_m = row[L.N_DINVM]
-        a[vel, i - 1] = a[vel, i] = -inv_m
+        a[vel, i - 1] = -row[L.N_DGIN] * inv_m
+        a[vel, i] = -row[L.N_DGOUT] * inv_m
         a[pos, vel] = 1.0
         a[vel, pos] = -row[L.N_DK] * inv_m
         a[vel, vel] = -row[L.N_DC] * inv_m
@@ -51,4 +52,5 @@ def measurement_row(plan: Plan, d: int, first: int) -> tuple[int, float] | None:
     state = first + 2 * dancer_nodes(plan.line).index(i)
     if plan.drives[d, L.D_DUSE] == L.DANCER_POSITION:
         return state, -1.0
-    return state, -0.5 * float(plan.nodes[i, L.N_DK])
+    row = plan.nodes[i]
+    return state, -float(row[L.N_DK]) / float(row[L.N_DGIN] + row[L.N_DGOUT])

@@ -12,23 +12,29 @@ from webline.sim.signals import jit
 @jit
 def span_motion(k: int, x: np.ndarray, ns: np.ndarray, nodes: np.ndarray,
                 spans: np.ndarray) -> tuple[float, float]:
-    """(length [m], rate of lengthening [m/s]) of span ``k``: its file length plus the
-    excursion y - y_set of a dancer at either end (each moves both its spans by dy)."""
+    """(length [m], rate of lengthening [m/s]) of span ``k``: its file length plus g times
+    the excursion y - y_set of a dancer at either end (D0: g = (strands/2) cos(angle) of
+    the dancer's downstream span (node k) or upstream span (node k + 1))."""
     length, rate = spans[k, L.S_LENGTH], 0.0
     for i in (k, k + 1):
         state = ns[i, L.NS_DANCER]
         if state >= 0:
-            length += x[state] - nodes[i, L.N_DSET]
-            rate += x[state + 1]
+            if ns[i, L.NS_DGEOM]:  # strands or angles (D0)
+                gain = nodes[i, L.N_DGOUT] if i == k else nodes[i, L.N_DGIN]
+                length += gain * (x[state] - nodes[i, L.N_DSET])
+                rate += gain * x[state + 1]
+            else:  # a plain dancer, g = 1
+                length += x[state] - nodes[i, L.N_DSET]
+                rate += x[state + 1]
     return length, rate
 
 
 @jit
 def dancer_rate(i: int, x: np.ndarray, ns: np.ndarray, nodes: np.ndarray, pull: float,
                 load: float, dx: np.ndarray) -> None:
-    """Carriage of the dancer on node ``i`` (docs/winder.md, D2): M d²y/dt² = load - (T_in +
-    T_out) - k (y - y_set) - c dy/dt, plus an end-stop spring-damper beyond 0 and the travel;
-    ``pull`` = T_in + T_out [N], ``load`` [N] held over the tick."""
+    """Carriage of the dancer on node ``i`` (docs/winder.md, D2): M d²y/dt² = load - (g_in T_in
+    + g_out T_out) - k (y - y_set) - c dy/dt, plus an end-stop spring-damper beyond 0 and the
+    travel; ``pull`` = g_in T_in + g_out T_out [N], ``load`` [N] held over the tick."""
     state = ns[i, L.NS_DANCER]
     y, vy = x[state], x[state + 1]
     force = load - pull - nodes[i, L.N_DK] * (y - nodes[i, L.N_DSET]) - nodes[i, L.N_DC] * vy

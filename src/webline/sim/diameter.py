@@ -13,6 +13,21 @@ from webline.sim.signals import jit
 
 
 @jit
+def preset_radius(d: int, t: float, dt: float, true_radius: float, istate: np.ndarray,
+                  drives: np.ndarray) -> None:
+    """Set drive ``d``'s calculated radius at the first tick at or after a preset's time
+    (W2a): to the preset diameter / 2, or to ``true_radius`` [m] for a measured one; the
+    break monitor's extreme restarts there (a preset is no web break)."""
+    for k in range(int(drives[d, L.D_PRESETN])):
+        at = drives[d, L.D_PRESETT + k]
+        if t - dt < at <= t:
+            diameter = drives[d, L.D_PRESETD + k]
+            radius = true_radius if diameter <= 0.0 else 0.5 * diameter
+            istate[d, L.I_RADIUS] = radius
+            istate[d, L.I_REXTREME] = radius
+
+
+@jit
 def update_radius(d: int, i: int, tick: int, dt: float, true_radius: float, x: np.ndarray,
                   istate: np.ndarray, ns: np.ndarray, ds: np.ndarray, offsets: np.ndarray,
                   nodes: np.ndarray, drives: np.ndarray, web: np.ndarray,

@@ -15,11 +15,16 @@ from webline.sim.signals import jit
 @jit
 def node_arm(i: int, x: np.ndarray, ns: np.ndarray, offsets: np.ndarray,
              nodes: np.ndarray) -> float:
-    """Effective radius [m] of node ``i``: roll radius state, or roller radius + eccentricity
-    (only rollers may be eccentric, ``spec.check``)."""
+    """Effective radius [m] of node ``i``: roll radius state or roller radius, plus an
+    eccentricity e cos(angle) (an out-of-round roll rides it on its changing radius,
+    docs/winder.md E1)."""
     ecc_state = ns[i, L.NS_ECCSTATE]
     if ecc_state >= 0:
-        return nodes[i, L.N_RADIUS] + nodes[i, L.N_ECC] * math.cos(x[ecc_state])
+        kind = ns[i, L.NS_KIND]
+        base = nodes[i, L.N_RADIUS]
+        if kind == L.KIND_UNWIND or kind == L.KIND_REWIND:
+            base = node_radius(i, x, ns, offsets, nodes)
+        return base + nodes[i, L.N_ECC] * math.cos(x[ecc_state])
     return node_radius(i, x, ns, offsets, nodes)
 
 

@@ -89,11 +89,11 @@ def kernel_failure(plan: Plan, status: int, t_fail: float, where: int,
 def _arm(plan: Plan, i: int, x: np.ndarray) -> float:
     """Radius [m] of node ``i`` in state ``x`` (roll radius state, else nominal + eccentric)."""
     off_r = int(plan.offsets[L.O_RADIUS])
-    if i == 0:
-        return float(x[off_r])
-    if i == plan.nodes.shape[0] - 1:
-        return float(x[off_r + 1])
     radius = float(plan.nodes[i, L.N_RADIUS])
+    if i == 0:
+        radius = float(x[off_r])
+    if i == plan.nodes.shape[0] - 1:
+        radius = float(x[off_r + 1])
     ecc_state = int(plan.nodes[i, L.N_ECCSTATE])
     if ecc_state >= 0:
         radius += float(plan.nodes[i, L.N_ECC]) * math.cos(float(x[ecc_state]))

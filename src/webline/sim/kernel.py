@@ -25,10 +25,12 @@ import numpy as np
 
 from webline.physics import roll, roller, slip, span
 from webline.sim import layout as L
+from webline.sim.break_hold import brake_drag, brake_torque
 from webline.sim.controllers import control_tick
 from webline.sim.dancer_loop import dancer_rate, span_motion
 from webline.sim.dancer_taper import load_factor
 from webline.sim.envelope import envelope, node_arm
+from webline.sim.friction_loop import STICK_SPEED, breakaway, table_torque
 from webline.sim.signals import jit, loop_njit, njit, profile_at, sines
 from webline.sim.splice import apply_splices
 from webline.sim.transmission_loop import compliant_torque
@@ -60,7 +62,8 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
         work: np.ndarray) -> None:
     """Plant derivative dx/dt into ``dx`` with held torque commands ``cmd`` [N·m], held drag
     torques ``drag`` [N·m] (brakes, failing bearings: per node), held stick/slip states
-    ``slipping`` (per node; ``drag[nodes + i]``: the load [N] on a dancer on node i,
+    ``slipping`` (per node; ``drag[nodes + i]``: the load [N] on a dancer on node i, or the
+    holding brake [N·m] set on driven node i after a web break (``sim.break_hold``),
     ``drag[2 nodes + k]`` 1 while span k is broken) and the
     unwind's wound-in tension ``t0`` [N] at that instant (see
     ``wound_in``); nothing else depends on time. ``ns``, ``ds``, ``offsets`` are the line's
@@ -112,7 +115,7 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
     for k in range(n_spans if offsets[L.O_KV] else 0):  # the rollers feel T = s + τ ds/dt
         work[te + k] = _kv_tension(x[k], dx[k], spans[k, L.S_TAU])  # (docs/winder.md)
 
-    width, density = web[L.W_WIDTH], web[L.W_DENSITY]
+    width = web[L.W_WIDTH]
     for i in range(n_nodes):
         omega = x[off_w + i]
         t_out = work[te + i] if i < n_spans else 0.0
@@ -121,8 +124,14 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
         coulomb = nodes[i, L.N_COULOMB]
         if ns[i, L.NS_DRAG] >= 0:  # a brake (4.12) or drag acts like Coulomb friction
             coulomb += drag[i]
+        dry = 0.0  # dry friction: Coulomb, brake, drag and a friction table (F1)
         if coulomb != 0.0:
-            torque -= _friction(omega, 0.0, coulomb)
+            dry = _friction(omega, 0.0, coulomb)
+            torque -= dry
+        if offsets[L.O_FRICTION] and nodes[i, L.N_FRICN] > 0.0:
+            table = table_torque(i, omega, nodes)
+            dry += table
+            torque -= table
         d = ns[i, L.NS_DRIVE]
         if d >= 0:
             n = drives[d, L.D_RATIO]
@@ -130,17 +139,34 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
                 torque += n * (x[off_tq + d] - n * drives[d, L.D_BMOTOR] * omega)
             else:
                 torque += compliant_torque(d, x, ds, offsets, drives, dx)
+        if (offsets[L.O_FRICTION] and nodes[i, L.N_BREAKAWAY] > 0.0
+                and abs(omega) < STICK_SPEED):  # at rest: static friction (F2)
+            stuck, torque = breakaway(i, omega, torque + dry, nodes)
+            if stuck:  # held at rest: ω decays to 0 in a control period
+                dx[off_w + i] = -omega / nodes[i, L.N_STICKTAU]
+                ecc_state = ns[i, L.NS_ECCSTATE]
+                if ecc_state >= 0:
+                    dx[ecc_state] = omega
+                continue
+        inertia = 0.0
+        if i == 0 or i == last:  # J(R) of the mean radius, also for an out-of-round roll
+            radius = work[i]
+            if ns[i, L.NS_ECCSTATE] >= 0:  # out of round: the mean radius (E1)
+                radius = x[off_r] if i == 0 else x[off_r + 1]
+            inertia = _roll_inertia(nodes[i, L.N_JCONST], radius, nodes[i, L.N_CORE], width,
+                                    nodes[i, L.N_RHO])  # the web's or the totals' (J1)
+        if offsets[L.O_BREAK] and d >= 0 and drag[n_nodes + i] != 0.0:  # a set brake (W8)
+            torque -= brake_torque(drag[n_nodes + i], omega,
+                                   1.0 / inertia if inertia > 0.0 else nodes[i, L.N_INVJ])
         if i == 0 or i == last:
-            inertia = _roll_inertia(nodes[i, L.N_JCONST], work[i], nodes[i, L.N_CORE], width,
-                                    density)
             dx[off_w + i] = torque / inertia
         else:
             dx[off_w + i] = torque * nodes[i, L.N_INVJ]
-            ecc_state = ns[i, L.NS_ECCSTATE]
-            if ecc_state >= 0:
-                dx[ecc_state] = omega
+        ecc_state = ns[i, L.NS_ECCSTATE]
+        if ecc_state >= 0:
+            dx[ecc_state] = omega
 
-    v_unwind, v_rewind = work[sp], work[sp + last]
+    v_unwind, v_rewind = work[sp], work[sp + last]  # surface speeds (E1: eccentric too)
     dx[off_r] = _radius_rate(v_unwind, x[off_r], web[L.W_THICK], -1.0)
     dx[off_r + 1] = _radius_rate(v_rewind, x[off_r + 1], web[L.W_THICK], 1.0)
 
@@ -148,7 +174,11 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
         dx[off_tq + d] = (cmd[d] - x[off_tq + d]) * drives[d, L.D_INVLAG]
     for i in range(1, last):
         if ns[i, L.NS_DANCER] >= 0:
-            dancer_rate(i, x, ns, nodes, work[te + i - 1] + work[te + i], drag[n_nodes + i], dx)
+            if ns[i, L.NS_DGEOM]:  # strands or angles: g_in T_in + g_out T_out (D0-D2)
+                pull = nodes[i, L.N_DGIN] * work[te + i - 1] + nodes[i, L.N_DGOUT] * work[te + i]
+            else:
+                pull = work[te + i - 1] + work[te + i]
+            dancer_rate(i, x, ns, nodes, pull, drag[n_nodes + i], dx)
 
     inv_ea = 1.0 / ea
     dx[off_q] = v_unwind * (1.0 - t0 * inv_ea)
@@ -347,6 +377,8 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
                 drag[n_n + i] = profile_at(int(nodes[i, L.N_DLOAD]), t, prof_t, prof_v,
                                            prof_off) * load_factor(i, istate, ds, drives,
                                                                    prof_t, prof_v, prof_off)
+            if offsets[L.O_BREAK] and ns[i, L.NS_DRIVE] >= 0:  # a driven node is no dancer
+                drag[n_n + i] = brake_drag(i, t, istate, ns, drives, web)
         t0_start = wound_in(t, web, wound_ripple)
         for s in range(substeps):
             ts = t + s * h

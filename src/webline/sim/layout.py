@@ -27,13 +27,28 @@ kernel; a new structure compiles (and caches) another.
  # whose breakpoints are the splices' times [s] and new radii [m] (-1: none); profiles p + 1
  # and p + 2 hold, at the same times, the new roll's surface speed over the web's [-] and the
  # slack [m] each splice puts into the span next to the roll
- N_SPLICE) = range(29)
-N_COLS = 29
+ N_SPLICE,
+ # a roll's wound density [kg/m³]: the web's, or derived from its totals (spec.roll_inertia)
+ N_RHO) = range(30)
+# friction as drives measure it (docs/winder.md F1-F2): points of the friction table (0:
+# none), its speeds [rad/s] and torques [N·m] (5 slots each), the break-away torque [N·m]
+# (0: none) and the time constant [s] that holds a stuck roller at rest
+N_FRICN, N_FRICW, N_FRICT, N_BREAKAWAY, N_STICKTAU = 30, 31, 36, 41, 42
+# a dancer's geometry (docs/winder.md D0): how much its upstream and downstream span lengthen
+# per metre of carriage travel, g = (strands / 2) cos(angle) (1 for two parallel strands)
+N_DGIN, N_DGOUT = 43, 44
+# 1.0 for a dancer whose geometry is not g = 1 (N_DGIN, N_DGOUT), copied into the node
+# structure so that a plain dancer's loop compiles as it did before D0 (numba's fastmath
+# reassociates sums across the code it sees: a product by g = 1 changed the last bits)
+N_DGEOM = 45
+N_COLS = 46
+FRICTION_POINTS = 5  # slots of a friction table (spec.friction.MAX_POINTS)
 
 # node structure (integer) columns, and the float columns they copy
 NS_KIND, NS_DRIVE, NS_ECCSTATE, NS_TRACTION, NS_DRAG, NS_DANCER = range(6)
-NS_COLS = 6
-NODE_STRUCTURE = (N_KIND, N_DRIVE, N_ECCSTATE, N_TRACTION, N_DRAG, N_DANCER)
+NS_DGEOM = 6  # a dancer's geometry other than g = 1 (D0)
+NS_COLS = 7
+NODE_STRUCTURE = (N_KIND, N_DRIVE, N_ECCSTATE, N_TRACTION, N_DRAG, N_DANCER, N_DGEOM)
 
 # span table columns
 # length [m], 1/length, time it breaks [s] (inf), Kelvin-Voigt retardation τ [s] (0: elastic)
@@ -72,10 +87,17 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  # ... and the centre winder's compensation (W3): inertia (1 on), static [N·m] and viscous
  # [N·m·s] friction at the roll shaft
  D_COMPJ, D_COMPCS, D_COMPB,
- # ... and where the diameter calculator's line speed comes from (DSOURCE_* or the node of
+ # ... where the diameter calculator's line speed comes from (DSOURCE_* or the node of
  # a measuring roller)
- D_DSOURCE) = range(64)
-D_COLS = 64
+ D_DSOURCE,
+ # ... and an open-loop drive's speed limiter (W7): offset over the line reference [m/s]
+ D_SPEEDLIM) = range(65)
+# ... and its friction table (F1): points (0: none), speeds [rad/s], torques [N·m], 5 slots
+D_COMPFN, D_COMPFW, D_COMPFT = 65, 66, 71
+# ... and the diameter calculator's presets while running (W2a): how many, their times [s]
+# and diameters [m] (0: the true one), 4 slots
+D_PRESETN, D_PRESETT, D_PRESETD = 76, 77, 81
+D_COLS = 85
 DSOURCE_MASTER, DSOURCE_REFERENCE = -1, -2
 DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = 0, 1, 2
 DANCER_NONE, DANCER_POSITION, DANCER_TENSION = 0, 1, 2
@@ -109,10 +131,16 @@ I_COLS = 12
  # the break monitor: tension threshold [fraction of the reference], ramp-to-stop time [s],
  # diameter threshold [m] (0: off)
  W_BTHRESH, W_BSTOP, W_BDIAM,
+ # ... its overspeed detection (1 on), the hold after the stop (HOLD_*), the standstill
+ # tension [fraction of the set tension] and the brakes' torque [fraction of the limit] (W8)
+ W_BOVER, W_BHOLD, W_BSTALL, W_BBRAKE,
  # the resolution of measured surface speeds [m/s] (0: exact)
- W_RES_V) = range(16)
-W_COLS = 16
+ W_RES_V) = range(20)
+W_TRAMP = 20  # the profile of the tension ramp's factor (docs/winder.md R1; 0: none)
+W_COLS = 21
 BREAK_TENSION, BREAK_DANCER, BREAK_DIAMETER = 1, 2, 3  # how the monitor detected a break
+BREAK_OVERSPEED = 4  # an open-loop roll at its speed limit (W7)
+HOLD_OFF, HOLD_ZERO_SPEED, HOLD_BRAKES = 0, 1, 2  # what the drives do after the stop (W8)
 
 # the integer ``offsets`` array: where state blocks start (spans at 0, node speeds, the two roll
 # radii, motor torques, eccentric angles, web-length integrals), the master's upstream
@@ -123,6 +151,8 @@ O_NEED_EQ = 10  # 1 if a controller needs the reference state every tick
 O_BREAK = 11  # 1 if the web breaks in this run (docs/winder.md W5): the break monitor is on
 O_KV = 12  # 1 if a span is Kelvin-Voigt: the rollers and loadcells feel s + τ ds/dt
 O_SPLICE = 13  # 1 if a roll is spliced in this run (docs/winder.md S1, ``sim.splice``)
+O_FRICTION = 14  # 1 if a roller or a compensation has a friction table or a break-away (F1-F2)
+O_OWNRHO = 15  # 1 if a roll has its own wound density, from its totals (J1)
 
 # kernel status codes; with each failure the kernel returns where it happened: the span
 # (strength, runaway stretch), node (runaway speed) or drive (runaway motor speed), else -1

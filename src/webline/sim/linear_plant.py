@@ -13,7 +13,7 @@ import numpy as np
 from webline.line import Line, is_roll
 from webline.model.operating_point import OperatingPoint
 from webline.physics.roll import web_inertia
-from webline.physics.roller import COULOMB_SMOOTHING
+from webline.physics.roller import COULOMB_SMOOTHING, table_friction
 from webline.sim import dancer_linear as dancers
 from webline.sim import layout as L
 from webline.sim import viscoelastic
@@ -83,6 +83,11 @@ def plan_plant(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
         if plan.nodes[i, L.N_DRAG] >= 0:  # a brake or drag acts like Coulomb friction
             coulomb += plan.profile_value(int(plan.nodes[i, L.N_DRAG]), op.time)
         slope = coulomb / COULOMB_SMOOTHING * (1.0 - np.tanh(op.omega[i] / COULOMB_SMOOTHING) ** 2)
+        points = int(plan.nodes[i, L.N_FRICN])
+        if points > 0:  # a measured friction table (docs/winder.md F1)
+            slope += table_friction(float(op.omega[i]),
+                                    plan.nodes[i, L.N_FRICW:L.N_FRICW + points],
+                                    plan.nodes[i, L.N_FRICT:L.N_FRICT + points])[1]
         a[wn + i, wn + i] = -(viscous + slope) / inertia
     for d in range(n_d):  # lag dτ/dt = (u - τ)/lag
         lag = plan.drives[d, L.D_LAG]
@@ -104,7 +109,8 @@ def load_inertia(plan: Plan, op: OperatingPoint, i: int) -> float:
         return float(plan.nodes[i, L.N_JCONST])
     web = plan.line.spec.web
     return float(plan.nodes[i, L.N_JCONST]) + web_inertia(
-        op.radius[i], roller.core_radius, web.width, web.density)  # type: ignore[union-attr]
+        op.radius[i], roller.core_radius, web.width,  # type: ignore[union-attr]
+        plan.roll_density(i))
 
 
 def _drive_block(a: np.ndarray, plan: Plan, op: OperatingPoint, wn: int, wt: int,

@@ -87,7 +87,8 @@ def metrics_table(values: Mapping[str, np.ndarray], names: Mapping[str, list[str
 def run_summary(result: Any) -> dict[str, dict[str, dict[str, float]]]:
     """``Result.summary()`` of ``result`` (which imports this module): per span its tension
     mean, standard deviation and, with a loadcell, mean, largest and RMS error [N]; per drive
-    its speed error's mean, standard deviation and largest value [m/s] against its reference
+    the mean of its speed reference [m/s] (an open-loop drive's: its limiter's), its speed
+    error's mean, standard deviation and largest value [m/s] against its reference
     and its largest torque [N·m]."""
     spans = {}
     for k, name in enumerate(result.span_names):
@@ -103,7 +104,8 @@ def run_summary(result: Any) -> dict[str, dict[str, dict[str, float]]]:
     drives = {}
     for d, name in enumerate(result.drive_names):
         error = result.drive_speed[:, d] - result.speed_ref[:, d]
-        drives[name] = {"mean_error": float(error.mean()), "std_error": float(error.std()),
+        drives[name] = {"mean_reference": float(result.speed_ref[:, d].mean()),
+                        "mean_error": float(error.mean()), "std_error": float(error.std()),
                         "max_abs_error": float(np.abs(error).max()),
                         "max_abs_torque": float(np.abs(result.torque[:, d]).max())}
     return {"spans": spans, "drives": drives}

@@ -11,12 +11,15 @@ from webline.control.decentralized import SectionDesign
 from webline.control.pi import PIGains
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint, operating_point
+from webline.model.tension_ramp import ramp_profile
 from webline.profiles import breakpoints, pwl_slope, pwl_value
 from webline.sim import dancer as dancers
 from webline.sim import layout as L
 from webline.sim import splice, winder
 from webline.sim.drive_table import drive_table, transmission, transmission_columns
+from webline.sim.friction_loop import friction_columns
 from webline.spec.nip import shaft_terms
+from webline.spec.roll_inertia import roll_constants
 from webline.spec.schema import (
     DancerSpec,
     DrivenSpec,
@@ -96,6 +99,11 @@ class Plan:
         a, b = self.prof_off[p], self.prof_off[p + 1]
         return float(pwl_slope(self.prof_t[a:b], self.prof_v[a:b], t))
 
+    def roll_density(self, i: int) -> float:
+        """Density [kg/m³] of the web wound on roll node ``i``: derived from its totals
+        (``spec.roll_inertia``), else the web's."""
+        return float(self.nodes[i, L.N_RHO])
+
     def linear_motor_state(self, d: int) -> int | None:
         """Index of drive ``d``'s motor speed in the linear model's states, if compliant."""
         if "motor_states" not in self.memo:  # once per plan: it is asked per drive and model
@@ -141,10 +149,12 @@ class Plan:
         for d, i in enumerate(op.drives):
             istate[d, L.I_RADIUS] = winder.initial_radius(self.drives, d, op.radius[i])
         ea = self.line.ea
-        t_master = self.profile_value(int(off[6]), op.time)
+        ramp = 1.0 if self.web[L.W_TRAMP] == 0 else self.profile_value(
+            int(self.web[L.W_TRAMP]), op.time)  # the tension ramp, as the kernel applies it
+        t_master = self.profile_value(int(off[6]), op.time) * ramp
         for d, i in enumerate(op.drives):
             up = int(self.drives[d, L.D_UPREF])
-            t_up = self.web[L.W_T0] if up < 0 else self.profile_value(up, op.time)
+            t_up = self.web[L.W_T0] if up < 0 else self.profile_value(up, op.time) * ramp
             feedforward = op.line_speed * (ea - t_master) / (ea - t_up)
             istate[d, L.I_TENSION] = self.drives[d, L.D_SIGMA] * (op.speed[i] - feedforward)
         return x, istate
@@ -211,6 +221,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     nodes = np.zeros((n_nodes, L.N_COLS))
     kinds = {UnwindSpec: L.KIND_UNWIND, DrivenSpec: L.KIND_DRIVEN, IdleSpec: L.KIND_IDLE,
              DancerSpec: L.KIND_IDLE, RewindSpec: L.KIND_REWIND}
+    own_density = False  # a roll whose wound density comes from its totals (J1)
     for i, r in enumerate(rollers):
         row = nodes[i]
         row[L.N_KIND] = kinds[type(r)]
@@ -225,7 +236,10 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         row[L.N_INVJ] = 1.0 / row[L.N_JCONST]
         if isinstance(r, UnwindSpec | RewindSpec):
             row[L.N_CORE] = r.core_radius
-            row[L.N_JCONST] = r.inertia + r.drive.ratio**2 * r.drive.motor_inertia - motor
+            core, density = roll_constants(r, spec.web)  # the web's density, or totals'
+            row[L.N_RHO] = density  # the web's, or derived from the totals (J1)
+            own_density = own_density or density != spec.web.density
+            row[L.N_JCONST] = core + r.drive.ratio**2 * r.drive.motor_inertia - motor
         contact = getattr(r, "contact", None)
         if contact is not None and contact.type == "traction":
             row[L.N_TRACTION], row[L.N_WRAP] = 1.0, r.wrap  # type: ignore[union-attr]
@@ -256,6 +270,10 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     profiles += winder.taper_profiles(line)
     spliced = splice.splice_columns(nodes, line, len(profiles))
     profiles += splice.splice_profiles(line)
+    ramp_profile_index = 0  # the tension ramp's factor (docs/winder.md R1), 0: none
+    if spec.control.tension_ramp is not None:
+        ramp_profile_index = len(profiles)
+        profiles.append(ramp_profile(spec.speed, spec.control.tension_ramp))
     prof_off = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
 
     rate = sample_rate if sample_rate is not None else spec.control.sample_rate
@@ -267,6 +285,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     winder.taper_columns(drives, line, taper_profile)
     winder.diameter_columns(drives, line)
     winder.compensation_columns(drives, line)
+    friction = friction_columns(nodes, drives, line, 1.0 / rate)
     master_up = 1 + line.zone_of_span(line.master - 1)
     web = np.zeros(L.W_COLS)
     web[L.W_EA] = line.ea
@@ -275,6 +294,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     web[L.W_DENSITY] = spec.web.density
     web[L.W_T0] = line.unwind.wound_in_tension
     web[L.W_RHOA] = spec.web.density * spec.web.width * spec.web.thickness
+    web[L.W_TRAMP] = ramp_profile_index
     web[L.W_STRENGTH] = math.inf if spec.web.strength is None else spec.web.strength
     web[L.W_STRETCH_MAX] = RUNAWAY_STRAIN * line.ea
     top_speed = float(np.max(np.abs(breakpoints(spec.speed)[1])))
@@ -291,7 +311,8 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     breaks = winder.break_columns(line, span_table, web)
     viscoelastic = bool(np.any(span_table[:, L.S_TAU] > 0.0))
     offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
-                        off_tr, noisy, need_eq, breaks, viscoelastic, spliced],
+                        off_tr, noisy, need_eq, breaks, viscoelastic, spliced, friction,
+                        own_density],
                        dtype=np.int64)
     wound = np.array([[d.amplitude, d.frequency, d.phase] for d in spec.disturbances
                       if isinstance(d, WoundInRipple)]).reshape(-1, 3)

@@ -14,6 +14,7 @@ from scipy.integrate import solve_ivp
 from webline.line import Line, load_line
 from webline.sim import kernel
 from webline.sim import layout as L
+from webline.sim.break_hold import brake_drag
 from webline.sim.controllers import control_tick
 from webline.sim.dancer_taper import load_factor
 from webline.sim.plan import compile_plan, equilibrium_plan_state
@@ -85,6 +86,8 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
                 drag[nodes.shape[0] + i] = profile_at(int(nodes[i, L.N_DLOAD]), t, prof_t,
                                                       prof_v, prof_off) * load_factor(
                     i, istate, ds, drives, prof_t, prof_v, prof_off)  # a taper through it
+            if offsets[L.O_BREAK] and ns[i, L.NS_DRIVE] >= 0:  # as the kernel: a set brake
+                drag[nodes.shape[0] + i] = brake_drag(i, t, istate, ns, drives, web)
         sol = solve_ivp(derivative, (t, t + plan.dt), x, method=method, rtol=rtol, atol=atol)
         x = sol.y[:, -1].copy()
     return _result(plan, np.array(rows), None,

@@ -79,14 +79,19 @@ class Result:
         at ``analysis_time`` (``webline.sim.findings``)."""
         from webline.sim.findings import run_verdict
         from webline.sim.splice_findings import splice_findings
+        from webline.sim.winder_findings import after_stop_from_records
+        from webline.sim.winder_states import winder_state_findings
 
         extra = splice_findings(self.line, self.plan.dt, self.time, self.tension)
+        extra += winder_state_findings(self)
         if self.roll_modes is not None:  # a run across a roll: its modes along the way
             extra += self.roll_modes.findings()
         end = float(self.time[-1]) if len(self.time) else 0.0
         return run_verdict(self.plan, self.failure, [e.summary() for e in self.events], end,
                            self.break_monitor,
-                           lambda t: float(np.abs(self.speed[self.time >= t]).max()), extra)
+                           after_stop_from_records(self.time,
+                                                   self.surface_speed[:, list(self.line.drives)],
+                                                   self.drive_names), extra)
 
     @cached_property
     def roll_modes(self) -> RollModes | None:
@@ -151,22 +156,11 @@ class Result:
     @cached_property
     def tension_ref(self) -> np.ndarray:
         """Tension reference of each loadcell span [N] (NaN on spans without a loadcell), the
-        rewind's taper applied (docs/winder.md W1)."""
-        from webline.profiles import breakpoints
+        rewind's taper applied to the diameter its controller uses (the calculated one where
+        the roll has a calculator, ``control_radius``; docs/winder.md W1), as it sets it."""
+        from webline.sim.winder import tension_references
 
-        out = np.full_like(self.tension, np.nan)
-        for zone in self.line.zones:
-            times, values = breakpoints(self.line.spec.spans[zone.loadcell].tension)
-            out[:, zone.loadcell] = np.interp(self.time, times, values)
-        rewind = self.line.rewind
-        zone = self.line.controlled_zone(self.line.n_nodes - 1)
-        if rewind.taper is not None and zone is not None:
-            from webline.physics.taper import spec_factor
-
-            k = self.line.zones[zone].loadcell
-            out[:, k] *= [spec_factor(rewind.taper, rewind.core_radius, r)
-                          for r in self._block(2, 2)[:, 1]]  # as the controller sets it
-        return out
+        return tension_references(self.line, self.time, self.control_radius)
 
     @cached_property
     def omega(self) -> np.ndarray:
@@ -288,7 +282,8 @@ class Result:
         out = np.empty((len(self.time), 2))
         for col, i in enumerate((0, self.line.n_nodes - 1)):
             out[:, col] = roll_inertia(self.plan.nodes[i, L.N_JCONST], self.radius[:, i],
-                                       self.plan.nodes[i, L.N_CORE], web.width, web.density)
+                                       self.plan.nodes[i, L.N_CORE], web.width,
+                                       self.plan.roll_density(i))
         return out
 
     @cached_property
@@ -315,7 +310,7 @@ class Result:
         for i in np.flatnonzero(nodes[:, L.N_DANCER] >= 0):
             index = self.plan.state_names.index(f"{self.line.node_name(int(i))}.position")
             excursion = self.states[:, index] - nodes[i, L.N_DSET]
-            lengths[:, [i - 1, i]] += excursion[:, None]
+            lengths[:, [i - 1, i]] += excursion[:, None] * nodes[i, [L.N_DGIN, L.N_DGOUT]]
         return lengths
 
     @cached_property
@@ -351,8 +346,9 @@ class Result:
         return {"span": self.span_names, "drive": self.drive_names, "node": self.node_names}
 
     def summary(self) -> dict[str, dict[str, dict[str, float]]]:
-        """Per span: tension mean, standard deviation and largest error [N]; per drive: speed
-        error mean, standard deviation and largest error [m/s] against its reference
+        """Per span: tension mean, standard deviation and largest error [N]; per drive: the
+        mean of its speed reference (an open-loop drive's: its limiter's, docs/winder.md W7)
+        and speed error mean, standard deviation and largest error [m/s] against it
         (``webline.sim.metrics.run_summary``)."""
         return run_summary(self)
 

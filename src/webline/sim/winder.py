@@ -8,9 +8,12 @@ import math
 import numpy as np
 
 from webline.line import Line
+from webline.physics.roller import table_magnitude
 from webline.physics.taper import KINDS
 from webline.sim import layout as L
 from webline.spec.winder import WebBreak
+
+HOLDS = {"off": L.HOLD_OFF, "zero_speed": L.HOLD_ZERO_SPEED, "brakes": L.HOLD_BRAKES}
 
 
 def taper_profiles(line: Line) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -53,6 +56,10 @@ def diameter_columns(drives: np.ndarray, line: Line) -> None:
         sources = {"master": L.DSOURCE_MASTER, "reference": L.DSOURCE_REFERENCE}
         row[L.D_DSOURCE] = sources.get(spec.line_speed, next(
             (j for j, r in enumerate(line.spec.rollers) if r.name == spec.line_speed), -1))
+        row[L.D_PRESETN] = len(spec.preset)
+        for k, preset in enumerate(spec.preset):
+            row[L.D_PRESETT + k] = preset.at
+            row[L.D_PRESETD + k] = 0.0 if preset.diameter == "measured" else preset.diameter
 
 
 def initial_radius(drives: np.ndarray, d: int, true_radius: float) -> float:
@@ -74,6 +81,14 @@ def compensation_columns(drives: np.ndarray, line: Line) -> None:
         row[L.D_COMPCS], row[L.D_COMPB] = spec.static_friction, spec.viscous_friction
         if spec.mode == "open_loop" and line.controlled_zone(i) is not None:
             row[L.D_FAMILY] = L.FAMILY_OPEN_LOOP
+            row[L.D_SPEEDLIM] = spec.speed_limit_offset * top_speed(line)
+
+
+def top_speed(line: Line) -> float:
+    """The line's top speed [m/s]: the largest magnitude of its speed reference's values."""
+    from webline.profiles import breakpoints
+
+    return float(np.abs(breakpoints(line.spec.speed)[1]).max())
 
 
 def compensation_torque(row: np.ndarray, inertia: float, radius: float, omega: float,
@@ -83,6 +98,10 @@ def compensation_torque(row: np.ndarray, inertia: float, radius: float, omega: f
     acceleration [m/s²]."""
     torque = row[L.D_COMPJ] * inertia * a_line / radius
     torque += row[L.D_COMPCS] * float(np.sign(omega)) + row[L.D_COMPB] * omega
+    n = int(row[L.D_COMPFN])
+    if n > 0 and omega != 0.0:  # the measured friction table (F1)
+        torque += float(np.sign(omega)) * table_magnitude(
+            abs(omega), row[L.D_COMPFW:L.D_COMPFW + n], row[L.D_COMPFT:L.D_COMPFT + n])
     return float(torque / row[L.D_RATIO])
 
 
@@ -111,4 +130,31 @@ def break_columns(line: Line, spans: np.ndarray, web: np.ndarray) -> bool:
             spans[k, L.S_BREAK] = min(spans[k, L.S_BREAK], b.at)
         web[L.W_BTHRESH], web[L.W_BSTOP] = b.threshold, b.stop_time
         web[L.W_BDIAM] = b.diameter_threshold
+        web[L.W_BOVER] = 1.0 if b.overspeed else 0.0
+        web[L.W_BHOLD] = HOLDS[b.hold]
+        web[L.W_BSTALL], web[L.W_BBRAKE] = b.standstill_tension, b.brake_torque_fraction
     return bool(breaks)
+
+
+def tension_references(line: Line, time: np.ndarray, control_radius: np.ndarray) -> np.ndarray:
+    """Set tension of each loadcell span [N] at ``time`` [s] (NaN on spans without one): its
+    zone's profile times the tension ramp at start and stop (docs/winder.md R1), the rewind's
+    taper applied at the radius its controller uses (``control_radius`` [m], records x
+    drives: calculated or true), as the controller sets it (``Result.tension_ref``)."""
+    from webline.model.tension_ramp import ramp_factor
+    from webline.physics.taper import spec_factor
+    from webline.profiles import breakpoints
+
+    out = np.full((len(time), line.n_spans), np.nan)
+    for zone in line.zones:
+        times, values = breakpoints(line.spec.spans[zone.loadcell].tension)
+        out[:, zone.loadcell] = np.interp(time, times, values)
+    if line.spec.control.tension_ramp is not None:
+        out *= np.asarray(ramp_factor(line, time))[:, None]
+    rewind = line.rewind
+    z = line.controlled_zone(line.n_nodes - 1)
+    if rewind.taper is not None and z is not None:
+        d = line.drives.index(line.n_nodes - 1)
+        out[:, line.zones[z].loadcell] *= [spec_factor(rewind.taper, rewind.core_radius, r)
+                                           for r in control_radius[:, d]]
+    return out

@@ -8,7 +8,9 @@ from typing import NoReturn
 
 from webline.errors import LineFileError
 from webline.spec.dancer import check_dancers
+from webline.spec.friction import check_friction
 from webline.spec.nip import check_nips
+from webline.spec.roll_inertia import check_roll_inertia
 from webline.spec.schema import (
     DisturbanceSpec,
     DrivenSpec,
@@ -90,6 +92,9 @@ def check_spec(spec: LineSpec, file: str) -> None:
         if isinstance(roller, UnwindSpec | RewindSpec) and roller.core_radius >= roller.radius:
             fail(f"rollers[{i}].core_radius",
                  f"must be below the roll radius {roller.radius:g} m, got {roller.core_radius:g} m")
+        if isinstance(roller, UnwindSpec | RewindSpec):
+            check_roll_inertia(roller, web, f"rollers[{i}].inertia", fail)
+        check_friction(roller, f"rollers[{i}]", fail)
         contact = getattr(roller, "contact", None)
         if contact is not None and contact.type == "traction":
             if roller.wrap is None:  # type: ignore[union-attr]
@@ -208,8 +213,10 @@ def _check_disturbances(items: list[DisturbanceSpec], spec: LineSpec, key: str,
             if roller is None:
                 fail(f"{here}.roller", f"no roller named {item.roller!r}")
             elif isinstance(item, EccentricRoller):
-                if isinstance(roller, UnwindSpec | RewindSpec):
-                    fail(f"{here}.roller", "eccentricity applies to rollers, not rolls")
+                if isinstance(roller, UnwindSpec | RewindSpec):  # an out-of-round roll
+                    if item.eccentricity >= roller.core_radius:
+                        fail(f"{here}.eccentricity", f"must be below the roll's core radius "
+                             f"{roller.core_radius:g} m (the roll is never smaller)")
                 elif item.eccentricity >= roller.radius:
                     fail(f"{here}.eccentricity", "must be below the roller radius")
             elif isinstance(roller, IdleSpec):

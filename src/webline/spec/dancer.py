@@ -3,6 +3,7 @@ roller, its load, spring, damper, travel and what the zone's drive does with it.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from typing import Annotated, Any, Literal
 
@@ -21,20 +22,25 @@ class DancerCarriage(Strict):
     """A dancer roller's carriage (linear slide) or pivoting arm.
 
     The carriage moves by y [m] along its ``travel`` (0 .. travel, end stops of
-    ``stop_stiffness`` [N/m] beyond); moving by dy lengthens each of the roller's two spans by
-    dy (web wrapped 180°, spans parallel to the travel). A span's ``length`` in the file is its
-    length with the carriage at ``position`` (the set position). ``mass`` [kg] is everything
-    that moves with the roller; a pivoting arm of ``arm_inertia`` J [kg·m²] about its pivot
-    with the roller at ``arm_length`` a [m] moves like a mass J/a² at the roller (small
-    swings, y = a·angle), added to ``mass``. ``load`` [N] pushes the carriage towards longer
-    spans (weight or air cylinder, constant or a profile; default: twice the zone's tension
-    reference, so the set position is an equilibrium); ``stiffness`` [N/m] pulls it back to
+    ``stop_stiffness`` [N/m] beyond); moving by dy lengthens its upstream span by g_in dy and
+    its downstream span by g_out dy, g = (``strands``/2) cos(angle), ``angle_in`` and
+    ``angle_out`` [rad] the spans' angles to the travel (default 0: the web wrapped 180°,
+    spans parallel to the travel, g = 1); a festoon of n strands stores n dy of web, its
+    spans' tensions pulling the carriage back with g_in T_in + g_out T_out (D0-D2). A span's
+    ``length`` in the file is its length with the carriage at ``position`` (the set
+    position). ``mass`` [kg] is everything that moves with the roller; a pivoting arm of
+    ``arm_inertia`` J [kg·m²] about its pivot with the roller at ``arm_length`` a [m] moves
+    like a mass J/a² at the roller (small swings, y = a·angle), added to ``mass``. ``load``
+    [N] pushes the carriage towards longer spans (weight or air cylinder, constant or a
+    profile; default: (g_in + g_out) x the zone's tension reference, so the set position is
+    an equilibrium); ``stiffness`` [N/m] pulls it back to
     ``position``; ``damping`` [N·s/m].
 
     ``use``: ``"position"`` - the zone's drive trims its speed by a PI on the position error
     (dancer position control; gains ``position_kp`` [(m/s)/m], ``position_ki`` [(m/s)/(m·s)],
     tuned like the zone's tension loop where missing); ``"tension"`` - the dancer is the zone's
-    tension sensor, T = (load - stiffness·(y - position))/2; ``"none"`` - the loadcell.
+    tension sensor, T = (load - stiffness·(y - position))/(g_in + g_out); ``"none"`` - the
+    loadcell.
     """
 
     mass: Mass
@@ -46,9 +52,19 @@ class DancerCarriage(Strict):
     stop_stiffness: Annotated[float, si("stiffness", ">0")] = 1e6
     arm_length: Length | None = None
     arm_inertia: Annotated[float, si("inertia", ">0")] | None = None
+    strands: Annotated[int, Field(ge=2, le=200)] = 2
+    angle_in: Annotated[float, si("angle", ">=0")] = 0.0
+    angle_out: Annotated[float, si("angle", ">=0")] = 0.0
     use: Literal["position", "tension", "none"] = "position"
     position_kp: PositionGain | None = None
     position_ki: PositionIntegral | None = None
+
+    @property
+    def gains(self) -> tuple[float, float]:
+        """(g_in, g_out) [m/m]: how much the upstream and downstream span lengthen per metre
+        of travel, (strands / 2) cos(angle) (docs/winder.md, D0)."""
+        half = self.strands / 2
+        return half * math.cos(self.angle_in), half * math.cos(self.angle_out)
 
     @property
     def moving_mass(self) -> float:
@@ -69,10 +85,15 @@ def check_dancers(rollers: Sequence[Any], spans: Sequence[Any],
         key = f"rollers[{i}].dancer"
         if c.position > c.travel:
             fail(f"{key}.position", f"must lie within the travel {c.travel:g} m")
-        for k in (i - 1, i):
-            if spans[k].length <= c.position:
-                fail(f"spans[{k}].length", f"must exceed the dancer {roller.name!r}'s set "
-                     f"position {c.position:g} m (the span is that much shorter at y = 0)")
+        for k, gain in zip((i - 1, i), c.gains, strict=True):
+            if spans[k].length <= gain * c.position:
+                fail(f"spans[{k}].length", f"must exceed {gain * c.position:g} m, what the "
+                     f"dancer {roller.name!r} takes from it between its set position "
+                     f"{c.position:g} m and y = 0 (D0)")
+        for name, angle in (("angle_in", c.angle_in), ("angle_out", c.angle_out)):
+            if angle >= 0.5 * math.pi:
+                fail(f"{key}.{name}", "a span at 90 deg or more to the travel does not "
+                     "pull the carriage back (must be below 90 deg)")
         if (c.arm_length is None) != (c.arm_inertia is None):
             fail(f"{key}.arm_inertia", "a pivoting arm needs both arm_length and arm_inertia")
         if c.use == "tension" and c.stiffness == 0.0:

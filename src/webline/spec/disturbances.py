@@ -34,7 +34,9 @@ class WoundInRipple(Strict):
 
 
 class EccentricRoller(Strict):
-    """Out-of-round roller: its effective radius is ``radius + eccentricity·cos(angle)``."""
+    """Out-of-round roller or roll: its effective radius is ``radius + eccentricity·cos(angle)``
+    (on an unwind or rewind the radius is the roll's, changing as it winds; docs/winder.md
+    E1)."""
 
     type: Literal["eccentric_roller"]
     roller: Name

@@ -20,6 +20,7 @@ from webline.spec.disturbances import (  # noqa: F401 - re-exported for users of
     SpeedRipple,
     WoundInRipple,
 )
+from webline.spec.friction import MeasuredFriction
 from webline.spec.nip import NipSpec
 from webline.spec.quantities import (  # noqa: F401 - re-exported for users of the schema
     Angle,
@@ -50,8 +51,17 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
     TorqueProfile,
     si,
 )
+from webline.spec.roll_inertia import RollInertiaSpec
 from webline.spec.splice import FlyingSplice, SpliceEvent  # noqa: F401
-from webline.spec.winder import BreakEvent, DiameterSpec, TaperSpec, WebBreak, WinderSpec  # noqa: F401
+from webline.spec.winder import (  # noqa: F401
+    BreakEvent,
+    DiameterSpec,
+    StartStopTension,
+    StateChecksSpec,
+    TaperSpec,
+    WebBreak,
+    WinderSpec,
+)
 
 #: free text, bounded
 Text = Annotated[str, Field(max_length=10_000)]
@@ -283,12 +293,19 @@ class _RollerBase(Strict):
     inertia: Inertia
     friction: Damping = 0.0
     coulomb_friction: TorqueNonNeg = 0.0
+    #: friction torque measured against shaft speed, added to the two above (spec.friction)
+    friction_table: MeasuredFriction | None = None
+    #: static friction [N·m] a roller at rest must overcome; 0: none (docs/winder.md, F2)
+    breakaway_torque: TorqueNonNeg = 0.0
 
 
 class UnwindSpec(_RollerBase):
-    """Unwind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web."""
+    """Unwind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web, or
+    is given as totals at stated diameters (``webline.spec.roll_inertia``)."""
 
     type: Literal["unwind"]
+    #: rotating parts without the web [kg·m²], or totals at stated diameters (spec.roll_inertia)
+    inertia: Inertia | RollInertiaSpec  # type: ignore[assignment]
     core_radius: Length
     wound_in_tension: Force
     drive: DriveSpec
@@ -298,10 +315,12 @@ class UnwindSpec(_RollerBase):
 
 
 class RewindSpec(_RollerBase):
-    """Rewind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web;
+    """Rewind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web (or
+    totals, ``webline.spec.roll_inertia``);
     ``taper`` makes its zone's tension reference a function of its diameter."""
 
     type: Literal["rewind"]
+    inertia: Inertia | RollInertiaSpec  # type: ignore[assignment]
     core_radius: Length
     drive: DriveSpec
     controller: ControllerSpec = CascadedPISpec()
@@ -360,9 +379,11 @@ class SpanSpec(Strict):
 
 
 class ControlSpec(Strict):
-    """Sampling of the built-in controllers."""
+    """Sampling of the built-in controllers, and the tension ramp at start and stop of
+    every zone's set tension (``spec.winder.StartStopTension``)."""
 
     sample_rate: Frequency = 1000.0
+    tension_ramp: StartStopTension | None = None
 
 
 class ScenarioSpec(Strict):
@@ -396,5 +417,6 @@ class LineSpec(Strict):
     spans: list[SpanSpec] = Field(min_length=1)
     speed: SpeedProfile
     control: ControlSpec = ControlSpec()
+    checks: StateChecksSpec = StateChecksSpec()
     disturbances: list[DisturbanceSpec] = Field(default_factory=list)
     scenarios: dict[str, ScenarioSpec] = Field(default_factory=dict)

@@ -8,6 +8,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field
 
+from webline.spec.friction import MeasuredFriction
 from webline.spec.quantities import Length, Strict, si
 
 Fraction = Annotated[float, Field(ge=0.0, le=1.0)]
@@ -42,6 +43,19 @@ def check_taper(taper: TaperSpec | None, key: str, fail: Callable[[str, str], An
             fail(f"{key}.diameter", "diameters must increase")
 
 
+class DiameterPreset(Strict):
+    """One preset of a diameter calculator while running (docs/winder.md, W2a): at time
+    ``at`` [s] the calculated diameter is set to ``diameter`` [m], or to the true one
+    (``"measured"``: an operator's measurement)."""
+
+    at: Annotated[float, si("time", ">=0")]
+    diameter: Literal["measured"] | Length = "measured"
+
+
+#: presets a calculator takes (drive-table slots)
+MAX_PRESETS = 4
+
+
 class DiameterSpec(Strict):
     """A roll drive's diameter calculator (docs/winder.md, W2): its controllers use the
     calculated radius, not the true one.
@@ -54,7 +68,8 @@ class DiameterSpec(Strict):
     controllers measure them (``measurement_noise``: noise and resolution; the spindle's
     encoder, on the motor across a transmission with motor feedback). ``"thickness"``: each
     revolution adds (rewind) or removes (unwind) two web thicknesses. ``initial``:
-    ``"measured"`` (the true diameter at the start) or a guessed diameter [m].
+    ``"measured"`` (the true diameter at the start) or a guessed diameter [m]. ``preset``:
+    diameters set while running (after a splice, or measured by the operator), up to four.
     """
 
     method: Literal["speed_ratio", "thickness"]
@@ -63,6 +78,7 @@ class DiameterSpec(Strict):
     filter: Annotated[float, si("time", ">0")] = 0.2
     rate_limit: Annotated[float, si("speed", ">0")] | None = None
     hold_below: Annotated[float, si("speed", ">=0")] = 0.05
+    preset: list[DiameterPreset] = Field(default_factory=list, max_length=MAX_PRESETS)
 
 
 def check_diameters(rollers: list[Any], fail: Callable[[str, str], Any]) -> None:
@@ -87,14 +103,32 @@ class WinderSpec(Strict):
     J(D) a_line / (R ratio), J the roll's inertia (core, shaft and motor, and the web from the
     diameter, width and density) and a_line the line-speed reference's acceleration;
     ``static_friction`` [N·m] and ``viscous_friction`` [N·m·s] at the roll shaft add
-    (static sign(ω) + viscous ω) / ratio. The radius is the calculated one where the roll has
-    a ``diameter`` calculator.
+    (static sign(ω) + viscous ω) / ratio, a ``friction_table`` (``spec.friction``) its
+    measured torque at |ω| times sign(ω) / ratio. The radius is the calculated one where the
+    roll has a ``diameter`` calculator. ``speed_limit_offset``: an open-loop drive's speed limiter,
+    as a fraction of the line's top speed (the largest value of its speed reference) over
+    the line-speed reference (a rewind's upper, an unwind's lower limit): its speed
+    controller, saturated at the tension torque while the web holds the roll, takes over
+    when a freed roll reaches the limit (docs/winder.md W7).
     """
 
     mode: Literal["closed_loop", "open_loop"] = "closed_loop"
+    speed_limit_offset: Annotated[float, Field(gt=0.0, le=1.0)] = 0.05
     inertia_compensation: bool = False
     static_friction: Annotated[float, si("torque", ">=0")] = 0.0
     viscous_friction: Annotated[float, si("rot_damping", ">=0")] = 0.0
+    friction_table: MeasuredFriction | None = None
+
+
+class StartStopTension(Strict):
+    """``control.tension_ramp`` (docs/winder.md, R1): every zone's set tension is
+    ``standstill`` x its reference while the line stands (speed reference |v| <= ``below``
+    [m/s]) and ramps to the full reference in ``time`` [s] when the line starts, and back
+    when it stops (``model.tension_ramp``)."""
+
+    standstill: Fraction
+    time: Annotated[float, si("time", ">0")]
+    below: Annotated[float, si("speed", ">=0")] = 0.05
 
 
 class WebBreak(Strict):
@@ -104,8 +138,13 @@ class WebBreak(Strict):
     break: it detects a loadcell tension below ``threshold`` x its reference, a dancer at
     an end stop, or the speed-ratio diameter of a roll running the wrong way (an unwind's
     growing, a rewind's shrinking) by more than ``diameter_threshold`` [m] (0: off) beyond
-    its extreme so far, and reacts by ramping the line to a stop in ``stop_time`` [s],
-    tension loops frozen, then switching every torque off."""
+    its extreme so far, or (``overspeed``) an open-loop roll at its speed limit, and reacts
+    by ramping the line to a stop in ``stop_time`` [s], tension loops frozen. Then the
+    drives ``hold`` (docs/winder.md W8): ``"zero_speed"``: every speed loop holds zero speed,
+    an open-loop roll's torque limited to its ``standstill_tension`` (a fraction of its
+    zone's set tension) on the tension side; ``"brakes"``: torque off and a holding brake of
+    ``brake_torque_fraction`` x each drive's torque limit set on every driven roller;
+    ``"off"``: torque off, nothing holds."""
 
     type: Literal["web_break"]
     span: Annotated[str, Field(min_length=1, max_length=100)]
@@ -113,6 +152,10 @@ class WebBreak(Strict):
     threshold: Fraction = 0.2
     stop_time: Annotated[float, si("time", ">0")] = 2.0
     diameter_threshold: Annotated[float, si("length", ">=0")] = 0.005
+    overspeed: bool = True
+    hold: Literal["zero_speed", "brakes", "off"] = "zero_speed"
+    standstill_tension: Fraction = 0.5
+    brake_torque_fraction: Annotated[float, Field(gt=0.0, le=10.0)] = 1.0
 
 
 class BreakEvent(WebBreak):
@@ -120,3 +163,16 @@ class BreakEvent(WebBreak):
     added to the scenario's disturbances (``type`` may be left out)."""
 
     type: Literal["web_break"] = "web_break"
+
+
+class StateChecksSpec(Strict):
+    """Thresholds of the verdict's winder-state findings (docs/winder.md, "Winder states in
+    the verdict"): a zone whose tension stays more than ``tension_tolerance`` x its set
+    tension off it, or a calculated diameter more than ``diameter_tolerance`` x the true one
+    off it, for at least ``min_duration`` [s] in one go; a dancer on an end stop for at
+    least ``end_stop_time`` [s] (0: any touch)."""
+
+    tension_tolerance: Annotated[float, Field(gt=0.0)] = 0.2
+    diameter_tolerance: Annotated[float, Field(gt=0.0)] = 0.02
+    min_duration: Annotated[float, si("time", ">=0")] = 1.0
+    end_stop_time: Annotated[float, si("time", ">=0")] = 0.0

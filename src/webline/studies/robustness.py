@@ -34,7 +34,8 @@ def uncertainty(line: webline.Line) -> dict[str, str]:
     for roller in spec.rollers:
         if roller.name in ROLLERS:
             dists[f"rollers.{roller.name}.friction"] = f"uniform({roller.friction!r}, 50 %)"
-            dists[f"rollers.{roller.name}.inertia"] = f"uniform({roller.inertia!r}, 20 %)"
+            if isinstance(roller.inertia, float):  # (not a roll's totals table)
+                dists[f"rollers.{roller.name}.inertia"] = f"uniform({roller.inertia!r}, 20 %)"
     dists[f"disturbances[{len(spec.disturbances) - 1}].tension"] = NOISE
     return dists
 

@@ -163,7 +163,8 @@ def rewind_zone(line: Line, c: HswlContact, contact: Contact | None) -> tuple[Ch
     chain = Chain(
         ea=line.ea, lengths=(line.spec.spans[i - 1].length, line.spec.spans[i].length),
         rollers=(Roller(speed=constant(float(op.speed[i - 1]))),
-                 Roller(radius=idler.radius, inertia=idler.inertia, viscous=idler.friction,
+                 Roller(radius=idler.radius, inertia=idler.inertia,  # type: ignore[arg-type]
+                        viscous=idler.friction,
                         drag=extra_drag, contact=contact),
                  Roller(speed=constant(float(op.speed[i + 1])))),
         tension_in=constant(float(op.tension[i - 2])),
