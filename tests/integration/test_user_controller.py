@@ -208,3 +208,15 @@ def test_ctrl_c_keeps_the_run_so_far() -> None:
     partial = info.value.partial
     assert partial.status == "interrupted"
     assert partial.time[-1] == pytest.approx(0.299)
+
+
+def test_study_refuses_a_python_controller() -> None:
+    """A sweep runs its cases in the compiled batch loop, which has no user path: a line with
+    a python controller is one clear error (exit 2), never a run of garbage commands."""
+    source = webline.load_line("hswl")
+    rollers = [r.model_dump(exclude_none=True) for r in source.spec.rollers]
+    rollers[-1]["controller"] = {"type": "python", "object": "math:pi"}
+    line = source.replace(rollers=rollers)
+    with pytest.raises(LineFileError) as info:
+        webline.sweep(line, {"web.ea": [8000.0, 9000.0]}, duration=0.1)
+    assert "controller" in info.value.key and info.value.exit_code == 2

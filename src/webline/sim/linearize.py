@@ -67,10 +67,10 @@ def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...
     """
     line = plan.line
     for user in np.flatnonzero(plan.drives[:, L.D_FAMILY] == L.FAMILY_USER):
-        raise LineFileError(line.source,
-                            f"rollers.{line.node_name(line.drives[int(user)])}.controller",
-                            "a user's (python) controller has no linear model in webline: "
-                            "closed-loop analyses need a built-in controller")
+        raise LineFileError(line.source, f"rollers[{line.drives[int(user)]}].controller",
+                            "a python controller has no linear model in webline: analyses "
+                            "and studies (sweeps, Monte Carlo) need a built-in controller; "
+                            "run it with simulate or Session")
     n_d = len(line.drives)
     n = len(plan_state_names(plan))
     n_ref = 1 + len(line.zones)
