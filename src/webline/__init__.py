@@ -3,9 +3,9 @@
 The front door: ``load_line``, ``simulate``, ``Session``, ``sweep``, ``monte_carlo``,
 ``linearize``, ``operating_point`` and their types; and, from the layer above it
 (``webline.twin``, which is imported only when one of them is first used, never by this
-module's code), ``load_measurements``, ``replay`` and ``fit``. Each is imported on first use
-(PEP 562), so ``import webline`` and the command line start fast; python-control, scipy and
-numba load only when a model or a run needs them.
+module's code), ``load_measurements``, ``replay``, ``fit`` and ``tune``. Each is imported on
+first use (PEP 562), so ``import webline`` and the command line start fast; python-control,
+scipy and numba load only when a model or a run needs them.
 """
 
 from __future__ import annotations
@@ -54,6 +54,7 @@ _LAZY_ABOVE = {
     "Measurements": "webline.twin.measurements",
     "replay": "webline.twin.replay",
     "fit": "webline.twin.fit",
+    "tune": "webline.twin.tune",
 }
 
 __all__ = [
@@ -79,6 +80,7 @@ __all__ = [
     "simulate",
     "simulate_reference",
     "sweep",
+    "tune",
 ]
 
 

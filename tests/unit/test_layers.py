@@ -32,6 +32,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline.twin",),
     ("webline.studies",),
     ("webline.cli", "webline.cli_analyze", "webline.cli_common", "webline.cli_sweep",
+     "webline.cli_tune",
      "webline.cli_twin"),
 )
 

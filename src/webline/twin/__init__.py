@@ -1,6 +1,7 @@
 """Measured traces in, a line replayed against them, parameters fitted with intervals
-(issue 24): ``load_measurements``, ``replay``, ``fit``. Sits above ``report`` (its reports
-and figures use it) and below the CLI."""
+(issue 24): ``load_measurements``, ``replay``, ``fit``; identification experiments
+(``experiment``) and controllers tuned on the (fitted) line (``tune``). Sits above
+``report`` (its reports and figures use it) and below the CLI."""
 
 from __future__ import annotations
 
