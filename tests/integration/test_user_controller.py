@@ -220,3 +220,42 @@ def test_study_refuses_a_python_controller() -> None:
     with pytest.raises(LineFileError) as info:
         webline.sweep(line, {"web.ea": [8000.0, 9000.0]}, duration=0.1)
     assert "controller" in info.value.key and info.value.exit_code == 2
+
+
+def _line_file(tmp_path: Path, obj: str) -> Path:
+    source = webline.load_line("hswl")
+    rollers = [r.model_dump(exclude_none=True) for r in source.spec.rollers]
+    rollers[-1]["controller"] = {"type": "python", "object": obj}
+    import tomli_w
+
+    path = tmp_path / "line.toml"
+    path.write_bytes(tomli_w.dumps(source.spec.model_dump(exclude_none=True)
+                                   | {"rollers": rollers}).encode())
+    return path
+
+
+def test_cli_bad_object_exit_2_and_failing_controller_exit_1(tmp_path: Path) -> None:
+    """``webline run``: a line file naming an object that is not there is one line on
+    stderr and exit 2; a controller that raises fails the run (exit 1) with its name and
+    tick in the verdict, and the results up to it are written."""
+    import subprocess
+
+    (tmp_path / "bad.py").write_text(
+        "class Raises:\n"
+        "    def reset(self, context):\n        pass\n"
+        "    def __call__(self, t, m, r):\n"
+        "        if t > 0.05:\n            raise RuntimeError('boom')\n        return 0.0\n")
+    command = [str(Path(sys.executable).parent / "webline"), "run"]
+    done = subprocess.run([*command, str(_line_file(tmp_path, "bad.py:Nope")), "--duration",
+                           "0.1", "-o", str(tmp_path / "a")], capture_output=True, text=True,
+                          timeout=600)
+    assert done.returncode == 2, done.stderr
+    errors = [s for s in done.stderr.splitlines() if s.startswith("error")]
+    assert len(errors) == 1 and "rollers[4].controller.object" in errors[0]
+    done = subprocess.run([*command, str(_line_file(tmp_path, "bad.py:Raises")), "--duration",
+                           "0.1", "-o", str(tmp_path / "b")], capture_output=True, text=True,
+                          timeout=600)
+    assert done.returncode == 1, done.stderr
+    assert "controller 'rewind' (Raises) raised RuntimeError: boom at tick 51" in (
+        done.stdout + done.stderr)
+    assert (tmp_path / "b" / "summary.json").exists()
