@@ -75,15 +75,18 @@ class Result:
 
     @cached_property
     def verdict(self) -> Verdict:
-        """The run's verdict: its failure, its events and the linear stability of the line
-        at ``analysis_time`` (``webline.sim.findings``)."""
+        """The run's verdict: its failure, its events, its splices' slack, strain beyond the
+        web's yield and the linear stability of the line at ``analysis_time``
+        (``webline.sim.findings``)."""
         from webline.sim.findings import run_verdict
         from webline.sim.splice_findings import splice_findings
         from webline.sim.winder_findings import after_stop_from_records
         from webline.sim.winder_states import winder_state_findings
+        from webline.sim.yield_findings import yield_findings
 
         extra = splice_findings(self.line, self.plan.dt, self.time, self.tension)
         extra += winder_state_findings(self)
+        extra += yield_findings(self.line, self.time, self.stretch)
         if self.roll_modes is not None:  # a run across a roll: its modes along the way
             extra += self.roll_modes.findings()
         end = float(self.time[-1]) if len(self.time) else 0.0

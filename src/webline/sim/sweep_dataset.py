@@ -20,6 +20,7 @@ from webline.sim.failure import kernel_failure
 from webline.sim.findings import run_verdict
 from webline.sim.metrics import METRICS
 from webline.sim.plan import Plan
+from webline.sim.yield_findings import case_yield_findings
 from webline.verdict import Verdict
 
 #: the kinds of event in the order ``Result.events`` lists them, with their elements
@@ -30,8 +31,9 @@ _EVENT_ELEMENTS = (("slack", "span"), ("tension_limit", "span"), ("torque_limit"
 def case_verdict(plan: Plan, out: BatchOutput, c: int) -> Verdict:
     """The verdict of case ``c`` of a batch, by ``findings.run_verdict`` as ``Result.verdict``
     gives it for the same run: its failure, its events (``EventSummary`` from the batch's
-    accumulators), its web breaks (the monitor's state at the end) and its stability. Only a
-    detected break's residual speed after the stop is NaN (a study keeps no speeds)."""
+    accumulators), its web breaks (the monitor's state at the end), strain beyond yield (from
+    its largest tensions) and its stability. Only a detected break's residual speed after the
+    stop is NaN (a study keeps no speeds)."""
     line, lay = plan.line, out.layout
     failure = kernel_failure(plan, int(out.status[c]), float(out.t_fail[c]), int(out.where[c]),
                              out.x[c])
@@ -53,7 +55,9 @@ def case_verdict(plan: Plan, out: BatchOutput, c: int) -> Verdict:
                     float(row[base + B.EV_TOTAL * n_ev + e]),
                     float(row[base + B.EV_LONGEST * n_ev + e]), end))
     monitor = (float(out.monitor[c, 0]), int(out.monitor[c, 1]))
-    return run_verdict(plan, failure, events, end, monitor)
+    n_s = line.n_spans
+    extra = case_yield_findings(line, row[B.A_TMAX * n_s:(B.A_TMAX + 1) * n_s])
+    return run_verdict(plan, failure, events, end, monitor, extra=extra)
 
 
 def batch_metrics(out: BatchOutput) -> dict[str, np.ndarray]:

@@ -53,6 +53,7 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
 )
 from webline.spec.roll_inertia import RollInertiaSpec
 from webline.spec.splice import FlyingSplice, SpliceEvent  # noqa: F401
+from webline.spec.web_law import StressStrainSpec
 from webline.spec.winder import (  # noqa: F401
     BreakEvent,
     DiameterSpec,
@@ -74,6 +75,7 @@ class WebSpec(Strict):
 
     ``strength`` [N]: the tension at which the web breaks (a run stops there, failed);
     ``tension_limit`` [N]: a tension the line should stay below (a warning where exceeded).
+    ``stress_strain``: the stress-strain law (``spec.web_law``; none: linear, T = EA ε).
     """
 
     thickness: Length
@@ -83,6 +85,7 @@ class WebSpec(Strict):
     ea: Force | None = None
     strength: Force | None = None
     tension_limit: Force | None = None
+    stress_strain: StressStrainSpec | None = None
 
 
 # --- drives and controllers ---------------------------------------------------------------
