@@ -164,8 +164,9 @@ def _compiled_step(node_rows: tuple[tuple[int, ...], ...],
         k = 18
         drives = f[i[3 * k]:i[3 * k] + i[3 * k + 1] * i[3 * k + 2]].reshape(
             (i[3 * k + 1], i[3 * k + 2]))
-        k = 19
-        web = f[i[3 * k]:i[3 * k] + i[3 * k + 1] * i[3 * k + 2]]
+        k = 19  # the plan's web table, then the sample period [s] (``packed_run``)
+        web = f[i[3 * k]:i[3 * k] + i[3 * k + 1] * i[3 * k + 2] - 1]
+        dt = f[i[3 * k] + i[3 * k + 1] * i[3 * k + 2] - 1]
         k = 20
         wound = f[i[3 * k]:i[3 * k] + i[3 * k + 1] * i[3 * k + 2]].reshape(
             (i[3 * k + 1], i[3 * k + 2]))
@@ -179,7 +180,7 @@ def _compiled_step(node_rows: tuple[tuple[int, ...], ...],
         k = 24
         t_fail = f[i[3 * k]:i[3 * k] + 1]
 
-        tick, n_ticks, dt = c[C_TICK], c[C_N_TICKS], web[L.W_COLS]
+        tick, n_ticks = c[C_TICK], c[C_N_TICKS]
         for u in range(users.shape[0]):
             if not math.isfinite(commands[u]):
                 c[C_N_REC], c[C_STATUS], c[C_WHERE] = 0, STATUS_USER_NONFINITE, u
@@ -256,5 +257,6 @@ def packed_run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarra
                            strict=True):
         v[name][...] = value
     v["web"][:-1] = plan.web
-    v["web"][-1] = plan.dt  # the sample period [s] rides after the line-wide scalars
+    v["web"][-1] = plan.dt  # the sample period [s] rides after the web table (which the
+    # step hands the loop without it: the table may end in a stress-strain law's columns)
     return packed
