@@ -111,6 +111,7 @@ DRIVE_STRUCTURE = (D_NODE, D_ROLE, D_LOADCELL, D_REF, D_UPREF, D_TSTATE, D_FAMIL
                    D_ADAPTIVE, D_ZFIRST, D_ZLAST, D_DANCER, D_DUSE)
 FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE, FAMILY_MRAC = 0, 1, 2, 3
 FAMILY_OPEN_LOOP = 4  # indirect tension control of a centre winder (docs/winder.md W4)
+FAMILY_USER = 5  # a user's controller: its held command is written between ticks (sim.user_loop)
 
 # controller memory per drive: PI integrators, adaptive friction estimate [N·m·s], the MRAC's
 # adapted gains k̂_T [N·m/N], k̂_V [N·m·s/m] and bias [N·m] and its observer's estimates, the

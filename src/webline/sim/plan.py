@@ -308,7 +308,8 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         web[L.W_NOISE_T], web[L.W_NOISE_V], web[L.W_SEED] = noise.tension, noise.speed, noise.seed
         web[L.W_RES_V] = noise.speed_resolution
         noisy = noise.tension > 0 or noise.speed > 0 or noise.speed_resolution > 0
-    need_eq = bool(np.any(drives[:, L.D_FAMILY] != L.FAMILY_PI))
+    need_eq = bool(np.any((drives[:, L.D_FAMILY] != L.FAMILY_PI)
+                          & (drives[:, L.D_FAMILY] != L.FAMILY_USER)))
     span_table = np.array([[s.length, 1.0 / s.length, 0.0, s.retardation or 0.0]
                            for s in spec.spans])
     breaks = winder.break_columns(line, span_table, web)

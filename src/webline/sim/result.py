@@ -102,6 +102,8 @@ class Result:
         (``webline.sim.roll_modes.run_roll_modes``), else None."""
         from webline.sim.roll_modes import run_roll_modes
 
+        if np.any(self.plan.drives[:, L.D_FAMILY] == L.FAMILY_USER):
+            return None  # a user's controller has no linear model
         rolls = self._block(2, 2)
         return run_roll_modes(self.line, self.time, rolls[:, 0], rolls[:, 1])
 

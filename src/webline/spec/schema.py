@@ -239,6 +239,17 @@ class MRACSpec(_DecentralizedSpec):
     parameter_bound: Annotated[float, si("dimensionless", ">0")] = 2.0
 
 
+class PythonControllerSpec(Strict):
+    """A user's controller in Python (docs/controllers.md): ``object`` is
+    ``"module:attribute"`` (an importable module, or a ``.py`` file relative to the line
+    file) naming a class or factory, called with ``parameters`` as keyword arguments, or a
+    controller object itself (then ``parameters`` must be empty)."""
+
+    type: Literal["python"]
+    object: Annotated[str, Field(pattern=r"^[^:]+:[A-Za-z_][\w.]*$")]
+    parameters: dict[str, Any] = Field(default_factory=dict)
+
+
 def _controller_tag(value: object) -> str:
     """The controller family; a table without ``type`` is the industrial cascaded PI."""
     if isinstance(value, dict):
@@ -250,7 +261,8 @@ ControllerSpec = Annotated[
     Annotated[CascadedPISpec, Tag("cascaded_pi")]
     | Annotated[StateFeedbackSpec, Tag("state_feedback")]
     | Annotated[AdaptiveSpec, Tag("adaptive")]
-    | Annotated[MRACSpec, Tag("mrac")],
+    | Annotated[MRACSpec, Tag("mrac")]
+    | Annotated[PythonControllerSpec, Tag("python")],
     Discriminator(_controller_tag),
 ]
 
