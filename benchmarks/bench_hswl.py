@@ -6,7 +6,7 @@ Scenario: the built-in ``hswl`` line, line speed ramped 200 -> 1000 ft/min from 
 5 s, a 1 lbf, 1 Hz wound-in tension ripple, 60 s simulated.
 
 * webline: ``webline.simulate(line, 60.0)`` (1 kHz sampled cascaded PI, RK4 plant), timed as
-  the whole public call and as the bare compiled kernel call ``webline.sim.kernel.run`` on the
+  the whole public call and as the bare compiled kernel call ``webline.sim.core.kernel.run`` on the
   plan arrays (the same call ``simulate`` makes), each after a warm-up, median of ``--repeat``.
 * plain: the same equations written out with numpy and continuous-time controllers,
   integrated by ``scipy.integrate.solve_ivp`` (LSODA, rtol 1e-6, default atol, solution on the
@@ -39,8 +39,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import plain_scipy
 
 import webline
-from webline.sim import kernel
-from webline.sim.plan import compile_plan, equilibrium_plan_state
+from webline.sim.core import kernel
+from webline.sim.core.plan import compile_plan, equilibrium_plan_state
 from webline.sim.simulate import MAX_RECORDS, choose_substeps
 
 DURATION = 60.0

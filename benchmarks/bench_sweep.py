@@ -24,7 +24,7 @@ machine's core count and load average (at the start and at the end):
     below 2;
 (c) a 2-process, 1-thread-each ``LocalCluster``: its start-up and the workers' warm-up (import,
     loading the compiled loop) timed apart, then the same cases in chunks (256 cases, or a
-    quarter of them if fewer than 1024) through ``webline.sim.chunks.run_chunked`` (chunk
+    quarter of them if fewer than 1024) through ``webline.sim.sweeps.chunks.run_chunked`` (chunk
     files written and merged), against the local batch on 2 threads without files
     (efficiency, goal >= 0.8) and with the same chunk files;
 (d) the peak resident memory of a fresh process running ``--memory-cases`` cases (default
@@ -77,7 +77,7 @@ def one_core(line: object, cases: int, loop_cases: int, repeat: int) -> dict[str
     """(a): per-case wall and CPU time [s] of the loop and the one-thread batch, best of
     ``repeat`` interleaved rounds, and the batch's split (wall, from the Dataset)."""
     import webline
-    from webline.sim.distributions import draw
+    from webline.sim.sweeps.distributions import draw
 
     samples = draw(DISTS, loop_cases, seed=2)["web.ea"]
     best = {"loop_wall": float("inf"), "loop_cpu": float("inf"),
@@ -120,9 +120,9 @@ def compiled_scaling(line: object, cases: int, cores: int, repeat: int) -> float
     the cores give compiled code that shares nothing, the ceiling of (b)."""
     import numpy as np
 
-    from webline.sim.batch import run_batch
-    from webline.sim.cases import build_cases
-    from webline.sim.distributions import draw
+    from webline.sim.sweeps.batch import run_batch
+    from webline.sim.sweeps.cases import build_cases
+    from webline.sim.sweeps.distributions import draw
 
     samples = draw(DISTS, cases, seed=4)["web.ea"]
     built = build_cases(line, [{"web.ea": float(v)} for v in samples], DURATION)  # type: ignore[arg-type]
@@ -226,13 +226,13 @@ def main() -> None:
 
         logging.getLogger("distributed").setLevel(logging.ERROR)  # a nanny's closing chatter
 
-        from webline.sim.chunks import run_chunked
-        from webline.sim.distributions import draw
-        from webline.sim.sweep import run_cases
+        from webline.sim.sweeps.chunks import run_chunked
+        from webline.sim.sweeps.distributions import draw
+        from webline.sim.sweeps.sweep import run_cases
 
         samples = draw(DISTS, cases, seed=3)["web.ea"]
         case_list = [{"web.ea": float(v)} for v in samples]
-        from webline.sim.chunks import CHUNK
+        from webline.sim.sweeps.chunks import CHUNK
 
         chunk = min(CHUNK, max(1, -(-cases // 4)))  # at least 4 chunks for the 2 workers
         started = time.perf_counter()

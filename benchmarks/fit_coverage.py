@@ -25,8 +25,8 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=50)
     parser.add_argument("--duration", type=float, default=10.0)
     args = parser.parse_args()
-    from webline.twin.fit import fit
-    from webline.twin.synthetic import synthetic_csv
+    from webline.twin.fitting.fit import fit
+    from webline.twin.traces.synthetic import synthetic_csv
 
     hits = {p: 0 for p in TRUTH}
     started = time.perf_counter()

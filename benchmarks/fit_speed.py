@@ -5,7 +5,7 @@
 
 The traces: the converter's start-up (0 to 300 m/min from 1 s to 21 s, then steady) with
 five parameters changed (``TRUTH``), logged at 200 Hz with sensor noise and a 3.7 s clock
-offset (``webline.twin.synthetic``). The compiled loop is loaded (and a first simulation
+offset (``webline.twin.traces.synthetic``). The compiled loop is loaded (and a first simulation
 run) before the clock starts: the fit's own time is measured.
 """
 
@@ -31,8 +31,8 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=1)
     args = parser.parse_args()
     import webline
-    from webline.twin.fit import fit
-    from webline.twin.synthetic import synthetic_csv
+    from webline.twin.fitting.fit import fit
+    from webline.twin.traces.synthetic import synthetic_csv
 
     with tempfile.TemporaryDirectory() as folder:
         path = synthetic_csv(Path(folder) / "log.csv", "converter", changes=TRUTH,

@@ -197,7 +197,7 @@ def check(raw: bytes, path: str) -> tuple[str, str]:
     or ('absurd', what) for a loaded line, any other exception propagates."""
     from webline.errors import LineFileError
     from webline.line import load_line
-    from webline.sim.plan import compile_plan
+    from webline.sim.core.plan import compile_plan
     from webline.spec.ranges import walk
 
     with open(path, "wb") as handle:

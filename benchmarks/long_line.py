@@ -10,7 +10,7 @@ drive regulating the zone through the idler before it — and its rewind: 2 + 2�
 2·pairs + 2 spans (64 for the default 31 pairs). Each repeat loads the line anew (a new
 ``Line``, as every case of a sweep is), so every per-line cost is paid; the structure's loop is
 compiled once before timing. Reported: the whole call, the operating point, the fastest mode
-(``webline.sim.linearize.fastest_mode``, building the plan's open- and closed-loop models
+(``webline.sim.linear.linearize.fastest_mode``, building the plan's open- and closed-loop models
 included, and of it the bound on their eigenvalues alone) and the compiled loop
 (``kernel.run``), each the best of ``repeat`` runs [ms] (the least disturbed by other work).
 """
@@ -26,8 +26,8 @@ from typing import Any
 from webline import load_line, simulate
 from webline.line import Line
 from webline.model import operating_point as op_module
-from webline.sim import kernel
-from webline.sim import linearize as lin_module
+from webline.sim.core import kernel
+from webline.sim.linear import linearize as lin_module
 
 
 def long_line(pairs: int = 31) -> Line:
@@ -94,8 +94,8 @@ def profile(pairs: int, repeat: int) -> dict[str, float]:
 def _patches(originals: tuple[Callable[..., Any], ...]) -> list[tuple[Any, str, str, Any]]:
     """Where each timed function is looked up: its home module and the modules that imported
     it by name."""
-    from webline.sim import plan as plan_module
     from webline.sim import simulate as sim_module
+    from webline.sim.core import plan as plan_module
 
     op, fastest, bound, run = originals
     return [(op_module, "operating_point", "operating point", op),

@@ -5,7 +5,8 @@ This is the "what an engineer would write without webline" baseline of the bench
 (``tests/validation/test_benchmark_equations.py``). It deliberately does not import webline's
 kernel or physics functions: the equations below are written out again from the model
 description. Only *numbers* are taken from webline: parameters from the compiled plan's
-arrays (``webline.sim.plan.compile_plan``), controller gains from ``plan.gains`` and the initial
+arrays (``webline.sim.core.plan.compile_plan``), controller gains from ``plan.gains`` and the
+initial
 state from ``webline.operating_point``.
 
 Model (SI). Nodes i = 0..N in web order (0 unwind roll, N rewind roll); span k joins node k to
@@ -39,8 +40,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 import webline
-from webline.sim import layout as C  # column indices of the plan tables (numbers only)
-from webline.sim.plan import compile_plan
+from webline.sim.core.plan import compile_plan
+from webline.sim.elements import layout as C  # column indices of the plan tables numbers only
 
 #: Benchmark scenario of issue 2: 200 -> 1000 ft/min ramp from t = 1 s over 5 s, plus a 1 Hz,
 #: 1 lbf wound-in tension ripple, on the built-in HSWL line (1 kHz control in webline).

@@ -4,7 +4,7 @@ residuals.
 
     .venv/bin/python docs/commissioning_figures.py      # writes docs/img/commissioning-*.png
 
-Uses the fit report's own figure functions (`webline.twin.figures`).
+Uses the fit report's own figure functions (`webline.twin.traces.figures`).
 """
 
 from __future__ import annotations
@@ -12,9 +12,9 @@ from __future__ import annotations
 import tempfile
 from pathlib import Path
 
-from webline.twin.figures import overlay_figure, residual_figure
-from webline.twin.fit import fit
-from webline.twin.synthetic import synthetic_csv
+from webline.twin.fitting.fit import fit
+from webline.twin.traces.figures import overlay_figure, residual_figure
+from webline.twin.traces.synthetic import synthetic_csv
 
 IMG = Path(__file__).resolve().parent / "img"
 TRUTH = {"rollers.infeed.inertia": 0.7, "rollers.chill.inertia": 2.4,

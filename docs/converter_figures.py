@@ -12,11 +12,11 @@ from __future__ import annotations
 from pathlib import Path
 
 import webline
-from webline.report.display import Display
-from webline.report.figures import tension_figure
-from webline.report.schematic import schematic
-from webline.report.splice_figures import splice_figure
-from webline.report.winder_figures import dancer_figure, diameter_figure, taper_figure
+from webline.report.plots.figures import tension_figure
+from webline.report.plots.schematic import schematic
+from webline.report.plots.splice_figures import splice_figure
+from webline.report.plots.winder_figures import dancer_figure, diameter_figure, taper_figure
+from webline.report.text.display import Display
 
 IMG = Path(__file__).resolve().parent / "img"
 

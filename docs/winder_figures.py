@@ -16,12 +16,12 @@ from matplotlib.figure import Figure
 
 import webline
 from webline.analysis import modes_across_roll
-from webline.report.display import Display
-from webline.report.frame import framed_figure
-from webline.report.roll_figures import roll_modes_figure
-from webline.report.splice_figures import splice_caption, splice_figure
-from webline.report.winder_figures import diameter_figure, taper_figure
-from webline.sim.result import Result
+from webline.report.plots.frame import framed_figure
+from webline.report.plots.roll_figures import roll_modes_figure
+from webline.report.plots.splice_figures import splice_caption, splice_figure
+from webline.report.plots.winder_figures import diameter_figure, taper_figure
+from webline.report.text.display import Display
+from webline.sim.results.result import Result
 
 IMG = Path(__file__).resolve().parent / "img"
 SPRING = 2000.0  # [N/m]: the soft sprung dancer of the zone-loop figure (as in Z1-Z4)

@@ -13,7 +13,7 @@ import tempfile
 from pathlib import Path
 
 import webline
-from webline.twin.synthetic import synthetic_csv
+from webline.twin.traces.synthetic import synthetic_csv
 
 TRUTH = {"rollers.chill.inertia": 2.4, "web.modulus": 3.3e9}  # SI: kg m², Pa
 

@@ -26,12 +26,12 @@ from webline.version import __version__
 if TYPE_CHECKING:
     from webline.line import Line, load_line
     from webline.model.operating_point import OperatingPoint, operating_point
-    from webline.sim.linearize import linearize
+    from webline.sim.linear.linearize import linearize
     from webline.sim.reference import simulate_reference
-    from webline.sim.result import Result
+    from webline.sim.results.result import Result
     from webline.sim.session import Session
     from webline.sim.simulate import simulate
-    from webline.sim.sweep import monte_carlo, sweep
+    from webline.sim.sweeps.sweep import monte_carlo, sweep
 
 #: where each lazily imported name lives
 _LAZY = {
@@ -39,22 +39,22 @@ _LAZY = {
     "load_line": "webline.line",
     "OperatingPoint": "webline.model.operating_point",
     "operating_point": "webline.model.operating_point",
-    "linearize": "webline.sim.linearize",
+    "linearize": "webline.sim.linear.linearize",
     "simulate_reference": "webline.sim.reference",
-    "Result": "webline.sim.result",
+    "Result": "webline.sim.results.result",
     "simulate": "webline.sim.simulate",
     "Session": "webline.sim.session",
-    "sweep": "webline.sim.sweep",
-    "monte_carlo": "webline.sim.sweep",
+    "sweep": "webline.sim.sweeps.sweep",
+    "monte_carlo": "webline.sim.sweeps.sweep",
 }
 #: names of the twin layer (above this one): looked up on first use only, so importing
 #: ``webline`` never imports the layer above it (docs/architecture.md)
 _LAZY_ABOVE = {
-    "load_measurements": "webline.twin.measurements",
-    "Measurements": "webline.twin.measurements",
-    "replay": "webline.twin.replay",
-    "fit": "webline.twin.fit",
-    "tune": "webline.twin.tune",
+    "load_measurements": "webline.twin.traces.measurements",
+    "Measurements": "webline.twin.traces.measurements",
+    "replay": "webline.twin.traces.replay",
+    "fit": "webline.twin.fitting.fit",
+    "tune": "webline.twin.tuning.tune",
 }
 
 __all__ = [

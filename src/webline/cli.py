@@ -117,7 +117,7 @@ def run(
     try:
         from webline.report.outputs import default_folder
         from webline.report.run_output import write_run
-        from webline.report.verdict_text import verdict_lines
+        from webline.report.text.verdict_text import verdict_lines
         from webline.sim.simulate import simulate
 
         scenario_line = _load(line, scenario, controller, sets)
@@ -152,8 +152,8 @@ def run(
             fail(f"interrupted while writing {folder.path}: the files written are whole, the "
                  "others missing or from the previous run", INTERRUPTED)
         if not quiet:
-            from webline.report.display import Display
-            from webline.report.tables import summary_tables
+            from webline.report.text.display import Display
+            from webline.report.text.tables import summary_tables
 
             console = _console()
             print_tables(summary_tables(result, Display(units.value, result.line.spec.web.width)),
@@ -209,7 +209,7 @@ def validate(line: LineArg) -> None:
 def lines() -> None:
     """List the built-in lines and their scenarios."""
     from webline.line import load_line
-    from webline.report.tables import make_table
+    from webline.report.text.tables import make_table
     from webline.spec.load import builtin_lines
 
     rows = [[name, description, ", ".join(load_line(name).spec.scenarios)]
@@ -223,8 +223,8 @@ def lines() -> None:
 def show(line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None,
          sets: SetOpt = None) -> None:
     """Show a line: sections, rollers, spans, drives, controllers and scenarios."""
-    from webline.report.describe import line_tables
-    from webline.report.display import Display
+    from webline.report.text.describe import line_tables
+    from webline.report.text.display import Display
 
     loaded = _load(line, scenario, None, sets)
     print_tables(line_tables(loaded, Display(units.value, loaded.spec.web.width)), _console())

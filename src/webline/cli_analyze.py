@@ -25,8 +25,8 @@ from webline.cli_common import (
 if TYPE_CHECKING:
     from webline.analysis.certificate import Certificate
     from webline.line import Line
-    from webline.report.display import Display
-    from webline.sim.roll_modes import RollModes
+    from webline.report.text.display import Display
+    from webline.sim.linear.roll_modes import RollModes
 
 
 def analyze(
@@ -61,16 +61,20 @@ def analyze(
     from webline.analysis.modes import closed_loop_modes
     from webline.analysis.zone_loops import speed_leaks, zone_loops
     from webline.model.operating_point import analysis_time, operating_point
-    from webline.report.display import Display
-    from webline.report.tables import modes_table, operating_point_tables, operating_point_values
-    from webline.report.verdict_text import verdict_lines
-    from webline.report.zone_tables import (
+    from webline.report.text.display import Display
+    from webline.report.text.tables import (
+        modes_table,
+        operating_point_tables,
+        operating_point_values,
+    )
+    from webline.report.text.verdict_text import verdict_lines
+    from webline.report.text.zone_tables import (
         leak_lines,
         roll_modes_table,
         roll_modes_values,
         zone_loops_table,
     )
-    from webline.sim.stability import stability_findings
+    from webline.sim.linear.stability import stability_findings
     from webline.verdict import Verdict
 
     loaded = _load(line, scenario, controller, sets)
@@ -129,7 +133,7 @@ def _across_roll(line: Line, scenario: str | None, points: int, damping: float,
     course = modes_across_roll(line, points, duration=duration, threshold=damping)
     if figure is not None:
         from webline.files import atomic_write_bytes
-        from webline.report.roll_figures import roll_modes_figure
+        from webline.report.plots.roll_figures import roll_modes_figure
 
         fig = roll_modes_figure(course, display)
         import io
@@ -156,7 +160,7 @@ def _certificate(line: Line) -> Certificate:
 
 def _print_certificate(cert: Certificate) -> None:
     """Certificate rows as a table and a one-line verdict, with the true stability margin."""
-    from webline.report.tables import make_table
+    from webline.report.text.tables import make_table
 
     rows = cert.rows()
     columns = list(rows[0])

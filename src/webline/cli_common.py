@@ -148,7 +148,7 @@ def _console() -> Console:
 
 
 def print_tables(tables: list, console: Console) -> None:
-    """Print report tables (``webline.report.tables.Table``) with rich, skipping empty ones."""
+    """Print report tables (``webline.report.text.tables.Table``) with rich, skipping empty ones."""
     for table in tables:
         if not table.rows:
             continue

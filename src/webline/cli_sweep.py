@@ -30,10 +30,10 @@ from webline.errors import ArgumentError
 from webline.spec.paths import split_values, toml_value
 
 if TYPE_CHECKING:
-    from webline.report.display import Display
     from webline.report.outputs import OutputFolder
+    from webline.report.text.display import Display
 
-#: the chunk store's folder in a sweep's output folder (``webline.sim.chunks``)
+#: the chunk store's folder in a sweep's output folder (``webline.sim.sweeps.chunks``)
 CHUNKS = "chunks"
 
 # webline.units (pint) and the simulation layers load inside the functions that use them, so
@@ -110,7 +110,7 @@ def parse_sets(sets: list[str], samples: int | None) -> dict[str, Any]:
         if not sep or not path or not text:
             raise ArgumentError(f"--set: expected PATH=VALUES, got {item!r}")
         if samples is not None:
-            from webline.sim.distributions import parse_distribution
+            from webline.sim.sweeps.distributions import parse_distribution
 
             try:
                 parse_distribution(text)
@@ -138,11 +138,11 @@ def write_outputs(ds: Any, folder: OutputFolder,
     from webline.report.sweep_report import sweep_html
 
     # built in memory and written in one plain write, as a run's results
-    # (``sim.result_files.write_netcdf``): HDF5 crashes closing a file on a full disk
+    # (``sim.results.result_files.write_netcdf``): HDF5 crashes closing a file on a full disk
     image = _jsonable_attrs(ds).to_netcdf(engine="h5netcdf")
     results = atomic_write_bytes(folder.claim("sweep.nc"), image)
     report = atomic_write_text(folder.claim("report.html"), sweep_html(ds, display))
-    from webline.sim.chunks import store_files
+    from webline.sim.sweeps.chunks import store_files
 
     for kept in store_files(folder.path / CHUNKS):  # kept for --resume; its chunk store's
         folder.adopt(f"{CHUNKS}/{kept.name}")  # (written since, beside its claimed record)
@@ -154,7 +154,7 @@ def _display(line: str, system: str, spec: dict[str, Any]) -> Display:
     """The report's units: ``system``, forces per width of the line's web for the per-width
     systems (refused when the study changes the web's width: no one width to divide by)."""
     from webline.line import load_line
-    from webline.report.display import Display
+    from webline.report.text.display import Display
 
     if not system.endswith("per-width"):
         return Display(system)  # type: ignore[arg-type]
@@ -219,7 +219,7 @@ def sweep_command(
                             "start it again)")
     seconds = _duration(duration)  # as run's: a plain number is seconds
     display = _display(line, units.value, spec)
-    from webline.sim.chunks import STUDY_FILE, store_files
+    from webline.sim.sweeps.chunks import STUDY_FILE, store_files
 
     folder = open_output(out or Path("out") / f"{Path(line).stem}-sweep", force, "sweep",
                          ("sweep.nc", "report.html", f"{CHUNKS}/{STUDY_FILE}"))

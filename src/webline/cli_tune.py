@@ -60,10 +60,10 @@ def tune_command(
     torque limit and robustness constraint held. Exit 0 when every constraint holds, 1 when
     one does not (the files say which)."""
     from webline.line import load_line
-    from webline.twin.tune import tune
-    from webline.twin.tune_output import FILES, write_tune
-    from webline.twin.tune_robust import fit_uncertain
-    from webline.twin.tune_space import parse_free
+    from webline.twin.tuning.tune import tune
+    from webline.twin.tuning.tune_output import FILES, write_tune
+    from webline.twin.tuning.tune_robust import fit_uncertain
+    from webline.twin.tuning.tune_space import parse_free
 
     base = load_line(line)
     space = None if not free else [parse_free(base, text) for text in free]
@@ -104,7 +104,7 @@ def experiment_command(
 ) -> None:
     """Simulate an identification test on LINE and write the traces to record."""
     from webline.line import load_line
-    from webline.twin.experiment import EXPERIMENTS, plan_experiment, write_experiment
+    from webline.twin.tuning.experiment import EXPERIMENTS, plan_experiment, write_experiment
 
     base = load_line(line)
     if list_:

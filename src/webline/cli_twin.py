@@ -16,7 +16,7 @@ from webline.cli_common import LineArg, ScenarioOpt, _console, open_output
 from webline.errors import ArgumentError
 
 if TYPE_CHECKING:
-    from webline.twin.measurements import Measurements
+    from webline.twin.traces.measurements import Measurements
 
 DataArg = Annotated[str, typer.Argument(
     help="Measurement file: CSV, Parquet or NetCDF with a time column and webline's signal "
@@ -47,7 +47,7 @@ def parse_pairs(items: list[str] | None, option: str, sep: str = "=") -> dict[st
 def _data(data: str, line: str, scenario: str | None,
           maps: list[str] | None) -> Measurements:
     from webline.line import load_line
-    from webline.twin.measurements import load_measurements
+    from webline.twin.traces.measurements import load_measurements
 
     base = load_line(line)
     if scenario:
@@ -68,8 +68,8 @@ def replay_command(
     every measured signal: metrics (RMS, max |error|, NRMSE, bias, R²), overlay figure and an
     HTML report. Exit status: 0, 2 bad input (the file, column and problem)."""
     from webline.report.outputs import default_folder
-    from webline.twin.replay import replay
-    from webline.twin.report import write_replay_report
+    from webline.twin.fitting.report import write_replay_report
+    from webline.twin.traces.replay import replay
 
     measurements = _data(data, line, scenario, maps)
     result = replay(measurements.line, measurements)
@@ -107,9 +107,9 @@ def fit_command(
     Writes fitted.toml (the line with the fitted values, annotated), fit.json and an HTML
     report. Exit status: 0, 2 bad input."""
     from webline.report.outputs import default_folder
-    from webline.twin.fit import fit
-    from webline.twin.fit_files import write_fit_files
-    from webline.twin.report import write_fit_report
+    from webline.twin.fitting.fit import fit
+    from webline.twin.fitting.fit_files import write_fit_files
+    from webline.twin.fitting.report import write_fit_report
 
     bounds = parse_pairs(free, "--free")
     measurements = _data(data, line, scenario, maps)

@@ -4,7 +4,7 @@ A study holds its cases in memory (their values, metrics and status) until it is
 written, so its number of cases is bounded by memory: checked first, from the number typed
 (``--samples``, a range's ``n``, a grid's product), before a value is drawn or a list built.
 This module imports nothing heavy, so the command line refuses ``--samples 1e9`` in a fraction
-of a second. The work bounds (RK4 steps) that need the line live in ``webline.sim.budget``.
+of a second. The work bounds (RK4 steps) that need the line live in ``webline.sim.linear.budget``.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from webline.errors import ArgumentError
 MAX_EIGEN_STATES = 400
 
 #: Most bytes a study's cases may hold in memory (their values, metrics and traces), as
-#: ``sim.budget.MAX_RECORD_BYTES`` for one run; not lifted: a study that cannot be held
+#: ``sim.linear.budget.MAX_RECORD_BYTES`` for one run; not lifted: a study that cannot be held
 #: cannot finish.
 MAX_STUDY_BYTES = 4_000_000_000
 #: Bytes one case holds at least beside its metrics and traces: its values (a Python dict),

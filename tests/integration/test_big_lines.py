@@ -13,10 +13,10 @@ import pytest
 from PIL import Image as PILImage
 
 import webline
-from webline.report.big_lines import DETAILED_SPANS, TABLE_ENDS, condensed
-from webline.report.display import Display
-from webline.report.figures import figure_jobs
-from webline.report.tables import summary_tables
+from webline.report.plots.big_lines import DETAILED_SPANS, TABLE_ENDS, condensed
+from webline.report.plots.figures import figure_jobs
+from webline.report.text.display import Display
+from webline.report.text.tables import summary_tables
 from webline.report.writer import MAX_MODE_STATES, analyse, write_report
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))

@@ -8,7 +8,7 @@ import numpy as np
 
 import webline
 from webline.twin import load_measurements
-from webline.twin.replay import replay
+from webline.twin.traces.replay import replay
 
 
 def test_the_dancer_position_is_written_read_back_and_replayed(tmp_path) -> None:

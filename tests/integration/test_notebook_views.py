@@ -45,7 +45,7 @@ def test_line_and_result_reprs_are_a_few_lines() -> None:
 def test_linear_model_repr_is_one_line() -> None:
     """``repr`` of the numpy linear model behind ``linearize``: its size and first names, one
     line (its matrices are in ``.a``, ``.b``, ``.c``)."""
-    from webline.sim.linearize import linear_model
+    from webline.sim.linear.linearize import linear_model
 
     model = linear_model(webline.load_line("hswl"))
     text = repr(model)

@@ -70,7 +70,7 @@ def test_sigterm_during_a_sweep_keeps_its_chunks_and_it_resumes(tmp_path) -> Non
     """``kill -TERM`` once a sweep's first chunk (256 cases) is stored: one line, exit 143,
     the chunk kept whole; ``--resume`` runs only the other two chunks and writes all 768
     cases."""
-    from webline.sim.chunks import chunk_path
+    from webline.sim.sweeps.chunks import chunk_path
 
     out = tmp_path / "sweep"
     args = ("sweep", "hswl", "--set", "web.ea=8 kN:10 kN:768", "-d", "1", "--workers", "1",

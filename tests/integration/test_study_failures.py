@@ -90,7 +90,7 @@ def test_a_run_on_a_full_disk_ends_in_one_line_exit_1_files_whole(small_disk) ->
 
 def test_a_sweep_on_a_full_disk_stops_cleanly_and_resumes_once_space_is_back(
         small_disk, monkeypatch) -> None:
-    from webline.sim import chunks
+    from webline.sim.sweeps import chunks
 
     monkeypatch.setattr(chunks, "CHUNK", 4)  # 12 cases in 3 chunks of a few kB each
     out = small_disk / "sweep"
@@ -114,7 +114,7 @@ def test_a_sweep_on_a_full_disk_stops_cleanly_and_resumes_once_space_is_back(
 
 
 def test_a_damaged_chunk_is_named_before_a_resume_runs(tmp_path) -> None:
-    from webline.sim import chunks
+    from webline.sim.sweeps import chunks
 
     chunks_kw = {"web.ea": "normal(9 kN, 5 %)"}
     webline.monte_carlo("hswl", chunks_kw, 6, seed=1, duration=0.05, store=tmp_path, workers=1)
@@ -171,7 +171,7 @@ def _serve(answer: bytes | None) -> tuple[socket.socket, str]:
 ], ids=["silent-port", "web-server"])
 def test_a_service_that_is_no_scheduler_is_refused_in_seconds(tmp_path, monkeypatch, answer,
                                                               why) -> None:
-    from webline.sim import scheduler
+    from webline.sim.sweeps import scheduler
 
     monkeypatch.setattr(scheduler, "CONNECT_SECONDS", 1.0)
     monkeypatch.setattr(scheduler, "HANDSHAKE_SECONDS", 1.0)
@@ -223,7 +223,7 @@ def test_workers_that_all_die_end_in_one_line_with_the_resume_count(monkeypatch)
     saved for --resume (the chunks saved before the failure count)."""
     import distributed
 
-    from webline.sim import dask_run
+    from webline.sim.sweeps import dask_run
 
     monkeypatch.setattr(distributed, "as_completed", lambda futures: list(futures))
     saved: list[int] = []
@@ -245,7 +245,7 @@ def test_ctrl_c_while_a_chunk_is_written_waits_for_it_and_says_how_to_resume(
     import signal
 
     from webline.files import atomic_write as real_write
-    from webline.sim import chunks
+    from webline.sim.sweeps import chunks
 
     def write_then_ctrl_c(path, write):
         def interrupted_write(tmp):
@@ -263,7 +263,7 @@ def test_ctrl_c_while_a_chunk_is_written_waits_for_it_and_says_how_to_resume(
 
 
 def chunks_run_cases():
-    from webline.sim.sweep import run_cases
+    from webline.sim.sweeps.sweep import run_cases
 
     return run_cases
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import webline
-from webline.sim.study_grid import as_cases
+from webline.sim.sweeps.study_grid import as_cases
 
 LBF = 4.4482216152605  # [N]
 EA = "web.ea"

@@ -80,7 +80,7 @@ def test_resume_with_the_same_line_in_other_words_goes_on(line_file, tmp_path) -
 
 def test_resume_of_a_study_from_another_webline_is_refused_naming_both_versions(
         tmp_path, monkeypatch) -> None:
-    from webline.sim import study_record
+    from webline.sim.sweeps import study_record
 
     values = {"web.ea": ["1900 lbf", "2100 lbf"]}
     webline.sweep("hswl", values, duration=0.2, workers=1, store=tmp_path)

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import webline
-from webline.sim import chunks
-from webline.sim.metrics import METRICS
-from webline.sim.study_grid import as_cases
+from webline.sim.results.metrics import METRICS
+from webline.sim.sweeps import chunks
+from webline.sim.sweeps.study_grid import as_cases
 
 CONTROLLER = "rollers.process.controller"
 PI = {"type": "cascaded_pi", "speed_bandwidth": 40.0, "tension_bandwidth": 8.0}

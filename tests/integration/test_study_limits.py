@@ -17,7 +17,7 @@ from typer.testing import CliRunner
 import webline
 from webline.cli import app
 from webline.errors import ArgumentError, LineFileError
-from webline.sim.distributions import parse_distribution
+from webline.sim.sweeps.distributions import parse_distribution
 
 SRC = str(Path(__file__).resolve().parents[2] / "src")
 
@@ -108,7 +108,8 @@ def test_a_range_reads_its_stop_in_the_unit_of_its_start() -> None:
 def test_a_case_run_would_refuse_is_refused_before_the_study_runs(monkeypatch) -> None:
     """With run's bound lowered below one 0.3 s case of hswl, `run` refuses it: so must the
     sweep, naming the same key, before any case runs (``run_batch`` is never called)."""
-    from webline.sim import batch, budget, sweep
+    from webline.sim.linear import budget
+    from webline.sim.sweeps import batch, sweep
 
     monkeypatch.setattr(budget, "MAX_RK4_STEPS", 10)
     with pytest.raises(LineFileError) as by_run:
@@ -126,8 +127,8 @@ def test_a_case_run_would_refuse_is_refused_before_the_study_runs(monkeypatch) -
 
 def test_each_built_case_is_held_to_runs_budget(monkeypatch) -> None:
     """A case is checked again when it is built (a combination of values no probe saw)."""
-    from webline.sim import budget
-    from webline.sim.cases import build_cases
+    from webline.sim.linear import budget
+    from webline.sim.sweeps.cases import build_cases
 
     monkeypatch.setattr(budget, "MAX_RK4_STEPS", 10)
     with pytest.raises(LineFileError, match="RK4 steps"):
@@ -135,7 +136,7 @@ def test_each_built_case_is_held_to_runs_budget(monkeypatch) -> None:
 
 
 def test_the_study_limit_refuses_and_can_be_lifted(monkeypatch) -> None:
-    from webline.sim import budget
+    from webline.sim.linear import budget
 
     one = webline.sweep("hswl", {"web.ea": ["8 kN"]}, duration=0.2, workers=1)
     steps = int(one.substeps[0]) * round(0.2 * 1000)  # hswl's controllers tick at 1 kHz
@@ -149,7 +150,7 @@ def test_the_study_limit_refuses_and_can_be_lifted(monkeypatch) -> None:
 
 
 def test_the_cli_names_the_override(tmp_path, monkeypatch) -> None:
-    from webline.sim import budget
+    from webline.sim.linear import budget
 
     monkeypatch.setattr(budget, "MAX_STUDY_RK4_STEPS", 10)
     args = ["sweep", "hswl", "--set", "web.ea=8 kN,9 kN", "-d", "0.1", "--workers", "1", "-q"]
@@ -163,7 +164,7 @@ def test_the_cli_names_the_override(tmp_path, monkeypatch) -> None:
 def test_a_grid_is_counted_before_its_combinations_are_built(monkeypatch) -> None:
     """A grid of 2 x 2000 x 2000 values is 8e6 cases: refused from the product of the counts
     (the itertools product is never listed)."""
-    from webline.sim import sweep
+    from webline.sim.sweeps import sweep
 
     def never(*args, **kwargs):
         raise AssertionError("the combinations were built")
@@ -177,7 +178,7 @@ def test_a_grid_is_counted_before_its_combinations_are_built(monkeypatch) -> Non
 
 
 def test_monte_carlo_bounds_n_before_drawing(monkeypatch) -> None:
-    from webline.sim import sweep
+    from webline.sim.sweeps import sweep
 
     def never(*args, **kwargs):
         raise AssertionError("samples were drawn")

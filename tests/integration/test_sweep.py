@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 import webline
-from webline.sim.distributions import draw, parse_distribution
-from webline.sim.metrics import METRICS
-from webline.sim.sweep import run_cases
+from webline.sim.results.metrics import METRICS
+from webline.sim.sweeps.distributions import draw, parse_distribution
+from webline.sim.sweeps.sweep import run_cases
 
 LBF = 4.4482216152605  # [N]
 #: cases covering a quiet run, a softer web and a drive that saturates (torque-limit events)
@@ -176,7 +176,7 @@ def test_monte_carlo_same_seed_same_study_on_1_and_2_workers() -> None:
 def test_blocks_overlapping_on_threads_give_the_one_thread_results(monkeypatch) -> None:
     # blocks of 1, 2, 2, 2 cases: each is built while the one before runs compiled, and
     # collected while the next runs; the numbers do not depend on that order
-    from webline.sim import sweep
+    from webline.sim.sweeps import sweep
 
     monkeypatch.setattr(sweep, "FIRST_BLOCK", 1)
     monkeypatch.setattr(sweep, "BLOCK", 2)
@@ -198,8 +198,8 @@ def test_compiled_batch_releases_the_gil() -> None:
     import threading
     import time
 
-    from webline.sim.cases import build_cases
-    from webline.sim.sweep import _run_block
+    from webline.sim.sweeps.cases import build_cases
+    from webline.sim.sweeps.sweep import _run_block
 
     built = build_cases(webline.load_line("hswl"), [{}] * 64, 10.0)
     started = time.perf_counter()

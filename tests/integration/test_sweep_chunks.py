@@ -11,7 +11,7 @@ import pytest
 
 import webline
 from webline.errors import ArgumentError
-from webline.sim.metrics import METRICS
+from webline.sim.results.metrics import METRICS
 
 DISTS = {"web.ea": "normal(2000 lbf, 10 %)", "rollers.idler.friction": "uniform(5e-5, 2e-4)"}
 N = 10
@@ -31,7 +31,7 @@ def assert_same(a, b) -> None:
 
 
 def test_killed_study_resumes_with_every_case_once(tmp_path, reference, monkeypatch) -> None:
-    from webline.sim import chunks
+    from webline.sim.sweeps import chunks
 
     monkeypatch.setattr(chunks, "CHUNK", 4)  # 3 chunks: 4 + 4 + 2 cases
     calls = []
@@ -63,7 +63,7 @@ def test_killed_study_resumes_with_every_case_once(tmp_path, reference, monkeypa
 
 @pytest.mark.dask
 def test_dask_local_cluster_equals_local_run(reference, monkeypatch) -> None:
-    from webline.sim import chunks
+    from webline.sim.sweeps import chunks
 
     monkeypatch.setattr(chunks, "CHUNK", 4)  # 3 tasks over 2 worker processes
     ds = webline.monte_carlo("hswl", DISTS, N, seed=11, duration=0.3, scheduler="local",
@@ -81,7 +81,7 @@ def _die() -> None:
 def test_killed_worker_chunks_are_recomputed(reference, monkeypatch) -> None:
     from distributed import Client, LocalCluster
 
-    from webline.sim import chunks
+    from webline.sim.sweeps import chunks
 
     monkeypatch.setattr(chunks, "CHUNK", 2)  # 5 tasks over 2 worker processes
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,

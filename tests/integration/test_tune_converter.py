@@ -14,9 +14,9 @@ from typer.testing import CliRunner
 
 import webline
 from webline.cli import app
-from webline.sim.plan import compile_plan
-from webline.twin.tune_constraints import Limits
-from webline.twin.tune_space import roll_radii
+from webline.sim.core.plan import compile_plan
+from webline.twin.tuning.tune_constraints import Limits
+from webline.twin.tuning.tune_space import roll_radii
 
 LIMITS = Limits()
 

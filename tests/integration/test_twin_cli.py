@@ -10,7 +10,7 @@ import pytest
 from typer.testing import CliRunner
 
 from webline.cli import app
-from webline.twin.synthetic import synthetic_csv
+from webline.twin.traces.synthetic import synthetic_csv
 
 
 def invoke(*args: str):

@@ -9,9 +9,9 @@ import json
 import numpy as np
 import pytest
 
-from webline.twin.fit import fit
-from webline.twin.fit_files import fit_json, write_fit_files
-from webline.twin.synthetic import synthetic_csv
+from webline.twin.fitting.fit import fit
+from webline.twin.fitting.fit_files import fit_json, write_fit_files
+from webline.twin.traces.synthetic import synthetic_csv
 
 #: five parameters of the converter, changed from the line file's values (0.5, 3, 0.05,
 #: 4 GPa, 500 N s/m) by 20-40 %
@@ -85,7 +85,7 @@ def test_replay_of_a_runs_own_results_reproduces_it(tmp_path):
     """A run's own results.nc replayed on its line: the logged speed reference drives the
     same run, so every signal matches to rounding (float64 file: 1e-9 of its scale)."""
     import webline
-    from webline.twin.replay import replay
+    from webline.twin.traces.replay import replay
 
     run = webline.simulate("converter", 3.0, scenario="startup")
     path = run.to_netcdf(tmp_path / "results.nc")
@@ -103,7 +103,7 @@ def test_replay_without_a_logged_speed_reference_follows_the_measured_master(tmp
     reach the references (noisy speed references, differentiated by the inertia
     compensation, would swamp the torques)."""
     from webline.twin import load_measurements
-    from webline.twin.replay import replay
+    from webline.twin.traces.replay import replay
 
     line = webline_line_startup()
     path = synthetic_csv(tmp_path / "log.csv", "converter", changes={}, duration=6.0,

@@ -17,7 +17,7 @@ from typer.testing import CliRunner
 import webline
 from webline.cli import app
 from webline.errors import SimulationError
-from webline.sim import layout as L
+from webline.sim.elements import layout as L
 from webline.spec.load import dump_spec
 
 
@@ -174,8 +174,8 @@ def test_a_thousand_slack_events_give_one_row_and_one_legend_entry(hswl, tmp_pat
     """span1 made slack on every other record of a 2 s run: 1000 intervals of one record
     each, summarised in one row of the events table and one legend entry."""
     from webline.report import write_report
-    from webline.report.display import Display
-    from webline.report.figures import tension_figure
+    from webline.report.plots.figures import tension_figure
+    from webline.report.text.display import Display
 
     run = webline.simulate(hswl, 2.0)
     states = run.states.copy()

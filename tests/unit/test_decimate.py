@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from webline.sim.decimate import envelope, envelope_indices
+from webline.sim.results.decimate import envelope, envelope_indices
 
 
 def test_short_signals_are_kept_whole() -> None:

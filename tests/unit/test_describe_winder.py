@@ -5,9 +5,9 @@ calculation, compensation, open-loop mode and break monitoring."""
 from __future__ import annotations
 
 import webline
-from webline.report.describe import line_tables
-from webline.report.display import Display
-from webline.report.schematic import schematic
+from webline.report.plots.schematic import schematic
+from webline.report.text.describe import line_tables
+from webline.report.text.display import Display
 
 
 def _tables(line: webline.Line) -> dict[str, object]:

@@ -6,9 +6,9 @@ from __future__ import annotations
 from importlib import resources
 
 import webline
-from webline.report.describe import line_tables
-from webline.report.display import Display
-from webline.report.schematic import schematic
+from webline.report.plots.schematic import schematic
+from webline.report.text.describe import line_tables
+from webline.report.text.display import Display
 
 ROCKWELL = resources.files("webline.data.lines").joinpath("rockwell.toml").read_text("utf-8")
 BELT = 'damping = "50 N*s/m" }'

@@ -1,4 +1,5 @@
-"""The fastest mode that sets the RK4 step (``webline.sim.fastest``): a rigorous upper bound of
+"""The fastest mode that sets the RK4 step (``webline.sim.linear.fastest``): a rigorous upper bound
+of
 max |λ|, exact on small blocks, within ~10 % on a 64-span line."""
 
 from __future__ import annotations
@@ -10,9 +11,9 @@ import numpy as np
 import pytest
 
 import webline
-from webline.sim import fastest
-from webline.sim.linearize import fastest_mode, plan_linear_model
-from webline.sim.plan import compile_plan
+from webline.sim.core.plan import compile_plan
+from webline.sim.linear import fastest
+from webline.sim.linear.linearize import fastest_mode, plan_linear_model
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 from long_line import long_line

@@ -18,7 +18,7 @@ import webline
 from webline.cli import app
 from webline.errors import ArgumentError, LineFileError
 from webline.line import load_line
-from webline.sim import budget
+from webline.sim.linear import budget
 from webline.spec.load import spec_from_dict
 from webline.spec.locate import key_lines
 from webline.spec.schema import CascadedPISpec, LineSpec

@@ -1,6 +1,7 @@
 """How the simulation loop is compiled: once per line structure, with no reference counting.
 
-Both are performance properties (see ``webline.sim.layout`` and ``webline.sim.signals``) that
+Both are performance properties (see ``webline.sim.elements.layout`` and
+``webline.sim.elements.signals``) that
 a harmless-looking edit could silently undo, so they are checked directly.
 """
 
@@ -11,17 +12,17 @@ import re
 import numba as nb
 
 import webline
-from webline.sim import kernel
-from webline.sim.plan import compile_plan, equilibrium_plan_state
-from webline.sim.signals import _NO_NRT, FAST
+from webline.sim.core import kernel
+from webline.sim.core.plan import compile_plan, equilibrium_plan_state
+from webline.sim.elements.signals import _NO_NRT, FAST
 
 
 def test_a_parameter_change_reuses_the_compiled_loop(hswl):
     """Tension, speed, inertia and gains are run-time parameters: no new compile for them."""
     other = hswl.replace(speed="800 ft/min").replace(
         web={**hswl.spec.web.model_dump(), "thickness": 2 * hswl.spec.web.thickness})
-    assert compile_plan(other).web[webline.sim.layout.W_THICK] != compile_plan(
-        hswl).web[webline.sim.layout.W_THICK]
+    assert compile_plan(other).web[webline.sim.elements.layout.W_THICK] != compile_plan(
+        hswl).web[webline.sim.elements.layout.W_THICK]
     assert kernel.compiled_loop(compile_plan(other)) is kernel.compiled_loop(compile_plan(hswl))
 
 

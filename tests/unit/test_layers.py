@@ -24,11 +24,21 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline.line", "webline.physics", "webline.profiles"),
     ("webline.model",),
     ("webline.control",),
+    ("webline.sim.elements",),
+    ("webline.sim.core",),
+    ("webline.sim.linear",),
+    ("webline.sim.results",),
     ("webline.sim",),
+    ("webline.sim.sweeps",),
     ("webline",),
     ("webline.analysis",),
     ("webline.gym",),
+    ("webline.report.text",),
+    ("webline.report.plots",),
     ("webline.report",),
+    ("webline.twin.traces",),
+    ("webline.twin.fitting",),
+    ("webline.twin.tuning",),
     ("webline.twin",),
     ("webline.studies",),
     ("webline.cli", "webline.cli_analyze", "webline.cli_common", "webline.cli_sweep",
@@ -174,8 +184,8 @@ def test_checks_catch_what_they_are_for(tmp_path: Path) -> None:
     (pkg / "sim" / "kernel.py").write_text(
         "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from .plan import Plan\n")
     edges = graph(tmp_path)
-    assert upward_imports(edges) == ["webline.line (layer 2) -> webline.sim.plan (layer 5)"]
-    assert cycles(edges) == [["webline.sim.kernel", "webline.sim.plan"]]
+    assert upward_imports(edges) == ["webline.line (layer 2) -> webline.sim.core.plan (layer 5)"]
+    assert cycles(edges) == [["webline.sim.core.kernel", "webline.sim.core.plan"]]
 
 
 if __name__ == "__main__":

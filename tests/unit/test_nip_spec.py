@@ -70,9 +70,9 @@ def test_show_and_the_schematic_show_the_nip():
     the inertia it adds (0.08 (100/60)² = 0.2222 kg·m²); the schematic draws one more circle."""
     from matplotlib.patches import Circle
 
-    from webline.report.describe import line_tables
-    from webline.report.display import Display
-    from webline.report.schematic import schematic
+    from webline.report.plots.schematic import schematic
+    from webline.report.text.describe import line_tables
+    from webline.report.text.display import Display
 
     def rollers(line):
         return next(t for t in line_tables(line, Display()) if t.key == "rollers")

@@ -11,13 +11,13 @@ import pytest
 import webline
 from webline.control.select import with_controller
 from webline.model import operating_point as op_module
-from webline.sim.linearize import (
+from webline.sim.core.plan import compile_plan
+from webline.sim.linear.linearize import (
     fastest_mode,
     linear_model,
     plan_eigenvalues,
     plan_linear_model,
 )
-from webline.sim.plan import compile_plan
 
 
 def count_calls(monkeypatch: pytest.MonkeyPatch) -> list[tuple[object, ...]]:

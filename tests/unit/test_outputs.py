@@ -11,8 +11,8 @@ import pytest
 from matplotlib.figure import Figure
 
 from webline.files import OutputError, atomic_write, atomic_write_text
-from webline.report.mpl_text import legend_label, literal
 from webline.report.outputs import MANIFEST, NAME_LIMIT, OutputFolder, default_folder, safe_name
+from webline.report.plots.mpl_text import legend_label, literal
 
 NASTY = ["/tmp/x", "../../x", "a/b", "..", ".", "", "a\\b", "C:\\x", "x\x00y\n\tz", "~", "-rf",
          "$HOME", "`id`", "\u202eevil", "." * 300, "ä" * 500, "name with spaces", "a" + "/" * 50]

@@ -12,7 +12,7 @@ from typer.testing import CliRunner
 import webline
 from webline.cli import app
 from webline.errors import LineFileError
-from webline.report.display import Display
+from webline.report.text.display import Display
 from webline.units import per_width_to_si
 
 LBF, INCH = 4.4482216152605, 0.0254  # N, m (exact definitions)

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from webline.sim.distributions import parse_distribution
+from webline.sim.sweeps.distributions import parse_distribution
 from webline.units import to_si
 
 

@@ -10,7 +10,7 @@ import pytest
 from matplotlib.figure import Figure
 
 from webline.report import render
-from webline.report.figures import ReportFigure
+from webline.report.plots.figures import ReportFigure
 
 
 def _job(key: str, n: int = 1):

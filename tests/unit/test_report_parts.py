@@ -12,12 +12,12 @@ from matplotlib.patches import Circle
 import webline
 from webline.analysis.modes import modes
 from webline.model.operating_point import analysis_time
-from webline.report.describe import profile_text
-from webline.report.display import Display, number_text
-from webline.report.html import Section, Text, render
-from webline.report.schematic import schematic
-from webline.report.tables import make_table, modes_table
-from webline.sim.decimate import envelope
+from webline.report.plots.schematic import schematic
+from webline.report.text.describe import profile_text
+from webline.report.text.display import Display, number_text
+from webline.report.text.html import Section, Text, render
+from webline.report.text.tables import make_table, modes_table
+from webline.sim.results.decimate import envelope
 
 
 def test_display_converts_to_imperial_units():

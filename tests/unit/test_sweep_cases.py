@@ -1,4 +1,5 @@
-"""The per-case Python of a batch (issue 14, ``webline.sim.cases``): a case's line re-validates
+"""The per-case Python of a batch (issue 14, ``webline.sim.sweeps.cases``): a case's line
+re-validates
 only what its paths touch yet equals ``Line.replace``'s, bad values give ``Line.replace``'s error,
 and the batched eigenvalues give each case the fastest mode and RK4 sub-steps that
 ``simulate`` chooses."""
@@ -10,11 +11,11 @@ import pytest
 
 import webline
 from webline.errors import LineFileError
-from webline.sim.cases import batch_rates, case_value, derive_line
-from webline.sim.linearize import fastest_mode, plan_linear_model
-from webline.sim.plan import compile_plan
+from webline.sim.core.plan import compile_plan
+from webline.sim.linear.linearize import fastest_mode, plan_linear_model
 from webline.sim.simulate import choose_substeps
-from webline.sim.sweep import BLOCK, FIRST_BLOCK, blocks_of
+from webline.sim.sweeps.cases import batch_rates, case_value, derive_line
+from webline.sim.sweeps.sweep import BLOCK, FIRST_BLOCK, blocks_of
 
 CHANGES = [
     {"web.ea": "1800 lbf"},

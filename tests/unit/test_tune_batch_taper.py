@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import webline
-from webline.sim.sweep import run_cases
+from webline.sim.sweeps.sweep import run_cases
 
 
 @pytest.mark.parametrize("scenario", ["startup", "flying-splice"])

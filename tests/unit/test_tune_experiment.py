@@ -1,4 +1,4 @@
-"""Identification experiments (``webline.twin.experiment``): each test's traces carry what it
+"""Identification experiments (``webline.twin.tuning.experiment``): each test's traces carry what it
 claims to identify, within the line's limits."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from typer.testing import CliRunner
 
 import webline
 from webline.cli import app
-from webline.twin.experiment import plan_experiment
+from webline.twin.tuning.experiment import plan_experiment
 
 LINE = webline.load_line("converter")
 

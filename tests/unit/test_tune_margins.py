@@ -1,4 +1,4 @@
-"""Loop-at-a-time margins (``webline.twin.loop_margins``) against closed forms."""
+"""Loop-at-a-time margins (``webline.twin.tuning.loop_margins``) against closed forms."""
 
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import webline
-from webline.sim.plan import compile_plan
-from webline.twin.loop_margins import _margins, feedback_rows, loop_margins
+from webline.sim.core.plan import compile_plan
+from webline.twin.tuning.loop_margins import _margins, feedback_rows, loop_margins
 
 
 def test_margins_of_a_third_order_lag() -> None:

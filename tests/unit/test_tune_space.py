@@ -1,5 +1,5 @@
-"""Tuning variables, frozen gains and roll points (``webline.twin.tune_space``) and the
-robustness inputs (``webline.twin.tune_robust``)."""
+"""Tuning variables, frozen gains and roll points (``webline.twin.tuning.tune_space``) and the
+robustness inputs (``webline.twin.tuning.tune_robust``)."""
 
 from __future__ import annotations
 
@@ -11,10 +11,10 @@ import pytest
 
 import webline
 from webline.errors import ArgumentError
-from webline.sim import layout as L
-from webline.sim.plan import compile_plan
-from webline.twin.tune_robust import fit_uncertain
-from webline.twin.tune_space import (
+from webline.sim.core.plan import compile_plan
+from webline.sim.elements import layout as L
+from webline.twin.tuning.tune_robust import fit_uncertain
+from webline.twin.tuning.tune_space import (
     default_free,
     frozen_gains,
     gain_table,
@@ -119,6 +119,6 @@ def test_bad_fit_json_names_the_file(tmp_path) -> None:
 
 
 def test_front_door_names_tune() -> None:
-    from webline.twin.tune import tune
+    from webline.twin.tuning.tune import tune
 
     assert webline.tune is tune

@@ -7,7 +7,7 @@ import pytest
 
 import webline
 from webline.errors import ArgumentError
-from webline.twin.free import parse_free
+from webline.twin.fitting.free import parse_free
 
 
 @pytest.fixture(scope="module")

@@ -8,9 +8,9 @@ import sys
 
 def test_front_door_names_are_the_twin_functions():
     import webline
-    from webline.twin.fit import fit
-    from webline.twin.measurements import load_measurements
-    from webline.twin.replay import replay
+    from webline.twin.fitting.fit import fit
+    from webline.twin.traces.measurements import load_measurements
+    from webline.twin.traces.replay import replay
 
     assert webline.fit is fit
     assert webline.replay is replay

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from webline.twin.identify import identifiability
+from webline.twin.fitting.identify import identifiability
 
 
 def verdict(jac, ci95=None, low=None, high=None):

@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from webline.sim.events import EventStats, intervals
+from webline.sim.results.events import EventStats, intervals
 from webline.verdict import Finding, Verdict, combine
 
 SLACK = Finding("warning", "slack", "span2", "span2 went slack 3 times", 1.5)

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 import webline
-from webline.sim import kernel
-from webline.sim.plan import compile_plan
+from webline.sim.core import kernel
+from webline.sim.core.plan import compile_plan
 
 
 def plant_derivative(line: webline.Line, op: webline.OperatingPoint):

@@ -224,7 +224,7 @@ def test_design_redone_at_other_roll_radii(lumped):
 def test_default_designs_are_the_simulators(lumped):
     """``section_designs`` reproduces the drive table's LQ design."""
     from webline.control.select import with_controller
-    from webline.sim.drive_table import drive_table
+    from webline.sim.core.drive_table import drive_table
 
     line = with_controller(lumped, "state_feedback")
     op = webline.operating_point(line)

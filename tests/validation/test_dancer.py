@@ -87,10 +87,10 @@ def test_dancer_mode_is_its_spring_mass_frequency():
 
 def test_closed_loop_with_position_control_matches_finite_differences():
     # the cascaded PI written out here, the unwind's outer loop on y - y_set (independent of
-    # linearize.controller_matrices and sim.dancer_linear)
+    # linearize.controller_matrices and sim.linear.dancer_linear)
     from test_linearize import continuous_pi
 
-    from webline.sim import layout as L
+    from webline.sim.elements import layout as L
 
     # the helper measures every speed on the roller: the rewind's encoder goes there too
     line = dancer_line("position", stiffness=500.0).replace(

@@ -9,7 +9,7 @@ import pytest
 
 import webline
 from webline.analysis.zone_loops import speed_leaks, zone_loops
-from webline.sim.stability import stability_findings
+from webline.sim.linear.stability import stability_findings
 
 ASKED = 4.0  # converter's tension bandwidth [rad/s], damping 1
 SPRING = 2000.0  # [N/m]: a soft sprung dancer, 4/k = 60 x the spans' L/EA

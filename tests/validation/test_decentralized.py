@@ -9,7 +9,7 @@ import pytest
 
 import webline
 from webline.control.select import with_controller
-from webline.sim import layout as L
+from webline.sim.elements import layout as L
 from webline.studies.hswl_controllers import disturbances
 
 

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 import webline
-from webline.sim import layout as L
-from webline.sim.plan import compile_plan
-from webline.sim.signals import gaussian
+from webline.sim.core.plan import compile_plan
+from webline.sim.elements import layout as L
+from webline.sim.elements.signals import gaussian
 
 SIGMA = 0.01  # speed noise [m/s]
 TAU = 0.05  # the calculator's filter [s] (converter: 0.2 s; shorter: more samples per run)

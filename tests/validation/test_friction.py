@@ -8,7 +8,7 @@ import pytest
 
 import webline
 from webline.errors import LineFileError
-from webline.sim import layout as L
+from webline.sim.elements import layout as L
 
 IDLER_RADIUS = 1.5 * 0.0254  # hswl's idler [m]
 IDLER = 3  # its node; spans 2 (span3a) in, 3 (span3b) out

@@ -8,7 +8,7 @@ import pytest
 from fd_helpers import jacobian, plant_derivative
 
 import webline
-from webline.sim import layout as L
+from webline.sim.elements import layout as L
 
 
 @pytest.mark.parametrize("name", ["hswl", "six"])

@@ -12,9 +12,9 @@ from fd_helpers import jacobian, plant_derivative
 
 import webline
 from webline.physics.slip import capstan_limit, centrifugal_tension
-from webline.sim import kernel
-from webline.sim import layout as L
-from webline.sim.plan import compile_plan
+from webline.sim.core import kernel
+from webline.sim.core.plan import compile_plan
+from webline.sim.elements import layout as L
 
 NIP = {"load": "1300 N", "radius": "60 mm", "inertia": "0.08 kg*m**2",
        "bearing_friction": "0.002 N*m*s", "bearing_coulomb": "0.05 N*m"}

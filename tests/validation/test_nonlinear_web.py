@@ -9,8 +9,8 @@ from fd_helpers import jacobian, plant_derivative
 
 import webline
 from webline.physics import web_law
-from webline.sim import layout as L
-from webline.sim.linearize import linear_model
+from webline.sim.elements import layout as L
+from webline.sim.linear.linearize import linear_model
 
 E = 0.3e9  # rockwell's paper modulus [Pa]
 POWER = {"law": "power", "exponent": 1.6, "reference_strain": 0.004}
@@ -154,8 +154,8 @@ def _hand_frequencies(line: webline.Line, tangent: float) -> np.ndarray:
     K/L_k, K = A E_t = ``tangent`` [N] the tangent stiffness (transport v/L and the (1 - ε)
     of 6.8 left out)."""
     op = webline.operating_point(line)
-    from webline.sim.linear_plant import load_inertia
-    from webline.sim.plan import compile_plan
+    from webline.sim.core.plan import compile_plan
+    from webline.sim.linear.linear_plant import load_inertia
 
     plan = compile_plan(line)
     mass = np.array([load_inertia(plan, op, i) / op.radius[i] ** 2 for i in range(3)])
@@ -257,7 +257,7 @@ def test_a_study_case_that_yields_is_judged_as_its_run():
     """The yielding line of the test above as a sweep over its hardening: each case's status
     and headline say what its run's verdict says (warning: span1 beyond yield), and the
     case's peak strain is its run's, F⁻¹(T_max)/EA from the largest felt tension."""
-    from webline.sim.sweep import sweep
+    from webline.sim.sweeps.sweep import sweep
 
     law = {"law": "bilinear", "yield_strain": 0.004, "hardening": 0.5}
     step = {"type": "steps", "initial": "30 N", "steps": [{"time": 0.5, "value": "45 N"}]}

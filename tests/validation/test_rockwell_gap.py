@@ -13,8 +13,8 @@ from webline.analysis.drivetrain.gap_condition import (
     ripple_gains,
     tension_bound,
 )
-from webline.sim import layout as L
-from webline.sim.plan import compile_plan
+from webline.sim.core.plan import compile_plan
+from webline.sim.elements import layout as L
 from webline.studies import rockwell_gap
 from webline.studies.rockwell_rewind import FPM, PULL_ROLL, case_line, half_gap, params
 

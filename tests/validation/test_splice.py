@@ -15,8 +15,8 @@ import pytest
 
 import webline
 from webline.errors import LineFileError
-from webline.report.display import Display
-from webline.report.winder_figures import winder_figures
+from webline.report.plots.winder_figures import winder_figures
+from webline.report.text.display import Display
 
 DURATION = 14.0  # [s]: both splices and 2 s after the second
 SPEED = 5.0  # [m/s]: 300 m/min

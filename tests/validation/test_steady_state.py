@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import webline
-from webline.sim import layout as L
+from webline.sim.elements import layout as L
 
 
 def settle(line: webline.Line, duration: float) -> tuple[webline.Result, webline.OperatingPoint]:

@@ -1,4 +1,5 @@
-"""The section tension observer (``webline.sim.observer``) and study ``tension-observer``."""
+"""The section tension observer (``webline.sim.elements.observer``) and study
+``tension-observer``."""
 
 from __future__ import annotations
 

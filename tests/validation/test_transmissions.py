@@ -12,7 +12,7 @@ import pytest
 from fd_helpers import jacobian, plant_derivative
 
 import webline
-from webline.sim import layout as L
+from webline.sim.elements import layout as L
 
 MOTOR = {"motor_inertia": "0.05 kg*m**2", "motor_friction": "0.01 N*m*s"}
 

@@ -1,5 +1,5 @@
 """The Chapter 4 unwind model (``webline.analysis.unwind_model``, thesis 4.3-4.6, 4.12) against
-webline's own linearisation of the same line (``webline.sim.linearize``): the thesis's nine
+webline's own linearisation of the same line (``webline.sim.linear.linearize``): the thesis's nine
 states map onto webline's (twist = θm/n - θL; PI integrators I_s, I_t as combinations of x1,
 x2, x3), and A_T, B_V, B_T, B_b must commute with that map to rounding."""
 
@@ -10,10 +10,10 @@ import pytest
 
 import webline
 from webline.analysis.unwind_model import unwind_model
-from webline.sim import layout as L
-from webline.sim.linear_plant import plant_matrices
-from webline.sim.linearize import controller_matrices
-from webline.sim.plan import compile_plan
+from webline.sim.core.plan import compile_plan
+from webline.sim.elements import layout as L
+from webline.sim.linear.linear_plant import plant_matrices
+from webline.sim.linear.linearize import controller_matrices
 from webline.studies.unwind_belt_ramp import case_line
 
 

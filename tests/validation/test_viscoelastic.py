@@ -11,8 +11,8 @@ from test_linearize import continuous_pi
 
 import webline
 from webline.errors import LineFileError
-from webline.sim import layout as L
-from webline.sim.linearize import linear_model
+from webline.sim.elements import layout as L
+from webline.sim.linear.linearize import linear_model
 
 IDLER, SPANS = "eccentric", ("rewind_span_a", "rewind_span_b")  # rockwell's idle roller
 

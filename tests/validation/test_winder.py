@@ -8,7 +8,7 @@ import pytest
 
 import webline
 from webline.physics.taper import spec_factor
-from webline.sim import layout as L
+from webline.sim.elements import layout as L
 
 
 @pytest.fixture(scope="module")

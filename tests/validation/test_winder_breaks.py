@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import webline
-from webline.sim import layout as L
+from webline.sim.elements import layout as L
 
 #: after the stop every driven roller must stay below this fraction of line speed (issue 21)
 REST = 0.02
@@ -132,8 +132,8 @@ def test_overspeed_of_a_freed_roll_detects_the_break():
 def test_drives_table_shows_the_open_loop_drives_limiter_reference():
     """The report's drives table (and summary.json) give an open-loop drive's speed
     reference as the limiter's, line speed + 5 % of it, and its error against it."""
-    from webline.report.display import Display
-    from webline.report.tables import summary_values
+    from webline.report.text.display import Display
+    from webline.report.text.tables import summary_values
 
     line = _open_loop_rockwell()
     result = webline.simulate(line.replace(disturbances=[]), 1.0)

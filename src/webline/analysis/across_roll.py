@@ -1,12 +1,13 @@
 """Closed-loop modes across the roll, the public API (docs/winder.md, "Modes across the
-roll"); the numbers come from ``webline.sim.roll_modes`` (which the run's verdict uses too)."""
+roll"); the numbers come from ``webline.sim.linear.roll_modes`` (which the run's verdict uses
+too)."""
 
 from __future__ import annotations
 
 from webline.analysis.modes import Mode
 from webline.errors import ArgumentError
 from webline.line import Line, load_line
-from webline.sim.roll_modes import (
+from webline.sim.linear.roll_modes import (
     DAMPING_THRESHOLD,
     POINTS,
     RollModes,

@@ -322,9 +322,9 @@ def _plant_check(line: Line, models: list[SectionModel],
     import scipy.linalg
 
     from webline.control.gains import gains_from_closed, with_gains
-    from webline.sim.linear_plant import plant_matrices
-    from webline.sim.linearize import controller_matrices, linear_model
-    from webline.sim.plan import compile_plan
+    from webline.sim.core.plan import compile_plan
+    from webline.sim.linear.linear_plant import plant_matrices
+    from webline.sim.linear.linearize import controller_matrices, linear_model
 
     try:
         gains = gains_from_closed(models, bars)

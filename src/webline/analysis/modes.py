@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from webline.line import Line, load_line
-from webline.sim.linearize import LinearModel
+from webline.sim.linear.linearize import LinearModel
 
 if TYPE_CHECKING:
     import control
@@ -88,7 +88,7 @@ def modes_of(a: np.ndarray, names: Sequence[str]) -> list[Mode]:
 def closed_loop_modes(line: Line | str, t: float = 0.0) -> list[Mode]:
     """Modes of ``line`` with its controllers, linearized at time ``t`` [s] (the plan's cached
     closed-loop model: no python-control needed)."""
-    from webline.sim.linearize import plan_linear_model
-    from webline.sim.plan import compile_plan
+    from webline.sim.core.plan import compile_plan
+    from webline.sim.linear.linearize import plan_linear_model
 
     return modes(plan_linear_model(compile_plan(load_line(line)), loop="closed", t=t))

@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike
 
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint
-from webline.sim.result import Result
+from webline.sim.results.result import Result
 
 
 def required_mu_wrap(t_in: ArrayLike, t_out: ArrayLike, t_c: ArrayLike = 0.0) -> np.ndarray:

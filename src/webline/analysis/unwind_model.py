@@ -26,9 +26,9 @@ from dataclasses import dataclass
 import numpy as np
 
 import webline
-from webline.sim import layout as L
-from webline.sim.linear_plant import load_inertia
-from webline.sim.plan import compile_plan
+from webline.sim.core.plan import compile_plan
+from webline.sim.elements import layout as L
+from webline.sim.linear.linear_plant import load_inertia
 
 STATES = ("theta_m", "omega_m", "theta_L", "omega_L", "T1", "x1", "x2", "x3", "tau_m")
 

@@ -13,9 +13,9 @@ import numpy as np
 from webline.control.zone_tuning import SpeedLoopLeak, loop_plant_gain, speed_loop_leaks
 from webline.limits import MAX_EIGEN_STATES
 from webline.line import Line, load_line
-from webline.sim import layout as L
-from webline.sim.linearize import plan_linear_model
-from webline.sim.plan import compile_plan
+from webline.sim.core.plan import compile_plan
+from webline.sim.elements import layout as L
+from webline.sim.linear.linearize import plan_linear_model
 from webline.spec.schema import CascadedPISpec
 
 #: a loop's mode counts as meeting its asked bandwidth within this share, with this damping

@@ -75,7 +75,7 @@ def section_designs(line: Line, op: OperatingPoint | None = None, *,
                     tension_weight: float | Sequence[float] = 1.0,
                     bandwidth_fraction: float = 1.0) -> list[SectionDesign]:
     """webline's LQ design of every section at ``op`` (default: the line's operating point), as
-    the simulator makes it (``webline.sim.drive_table``): scales from the drive's controller
+    the simulator makes it (``webline.sim.core.drive_table``): scales from the drive's controller
     table or the defaults (1 % of the tension reference, 1 % of the line speed, 10 % of the
     torque limit), fastest pole capped at min(0.2 / torque lag, 2π f_s / 20) [rad/s] times
     ``bandwidth_fraction``; gains given in the table replace the LQ ones. ``tension_weight``

@@ -21,7 +21,7 @@ docs/sweeps.md), drawn anew at each ``reset`` from the environment's seeded gene
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any, ClassVar
+from typing import Any
 
 import gymnasium
 import numpy as np
@@ -29,8 +29,8 @@ from gymnasium import spaces
 
 from webline.errors import ArgumentError, SimulationError
 from webline.line import Line, load_line
-from webline.sim.distributions import draw
 from webline.sim.session import Session
+from webline.sim.sweeps.distributions import draw
 from webline.sim.user_control import ControllerContext
 
 
@@ -61,7 +61,7 @@ class LineEnv(gymnasium.Env):
     [-]; ``randomize``: {line path: distribution}.
     """
 
-    metadata: ClassVar[dict[str, Any]] = {"render_modes": []}
+    metadata = {"render_modes": []}  # noqa: RUF012 (gymnasium declares it on Env)
 
     def __init__(self, line: Line | str = "hswl", *, drives: list[str] | None = None,
                  scenario: str | None = None, duration: float = 5.0,

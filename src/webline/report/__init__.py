@@ -10,14 +10,14 @@ import importlib
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from webline.report.display import Display
     from webline.report.outputs import ReportFiles
     from webline.report.results_file import write_results
+    from webline.report.text.display import Display
     from webline.report.writer import Analysis, analyse, write_report
 
 __all__ = ["Analysis", "Display", "ReportFiles", "analyse", "write_report", "write_results"]
 
-_HOME = {"Display": "webline.report.display", "ReportFiles": "webline.report.outputs",
+_HOME = {"Display": "webline.report.text.display", "ReportFiles": "webline.report.outputs",
          "write_results": "webline.report.results_file"}
 
 

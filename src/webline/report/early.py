@@ -28,9 +28,9 @@ from typing import TYPE_CHECKING
 from webline.report.forking import can_fork
 
 if TYPE_CHECKING:  # at run time only the copy imports them (the command forks before)
-    from webline.report.display import System
     from webline.report.outputs import OutputFolder, ReportFiles
-    from webline.sim.result import Result
+    from webline.report.text.display import System
+    from webline.sim.results.result import Result
 
 #: Longest wait [s] for the copy to end after its reply (it has nothing left to do).
 JOIN_SECONDS = 5.0

@@ -10,9 +10,9 @@ from __future__ import annotations
 import io
 
 from webline.line import Line
-from webline.report.describe import line_tables
-from webline.report.display import Display, System
-from webline.report.html import table_html
+from webline.report.text.describe import line_tables
+from webline.report.text.display import Display, System
+from webline.report.text.html import table_html
 
 #: the tables a notebook shows (``describe.line_tables``' keys); ``webline show`` has them all
 KEY_TABLES = ("line", "rollers", "spans", "drives", "zones")
@@ -23,7 +23,7 @@ def schematic_svg(line: Line, display: Display | None = None) -> str:
     element ids from a fixed salt: the same line gives the same text)."""
     import matplotlib
 
-    from webline.report.schematic import schematic
+    from webline.report.plots.schematic import schematic
 
     buffer = io.StringIO()
     with matplotlib.rc_context({"svg.hashsalt": "webline", "svg.fonttype": "none"}):

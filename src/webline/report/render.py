@@ -17,8 +17,8 @@ from dataclasses import dataclass
 from multiprocessing.connection import Connection
 from multiprocessing.sharedctypes import Synchronized
 
-from webline.report.figures import FigureJob, ReportFigure
 from webline.report.forking import can_fork
+from webline.report.plots.figures import FigureJob, ReportFigure
 
 
 @dataclass(frozen=True)

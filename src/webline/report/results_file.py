@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import Literal
 
 from webline.report.outputs import OutputFolder
-from webline.sim.result import Precision, Result
+from webline.sim.results.result import Precision, Result
 
 Format = Literal["netcdf", "csv"]
 

@@ -7,11 +7,11 @@ from pathlib import Path
 
 from webline.errors import WeblineError
 from webline.files import write_failure
-from webline.report.display import System
 from webline.report.early import Reporter, ReportJob
 from webline.report.outputs import OutputFolder, ReportFiles
 from webline.report.results_file import Format, results_name, write_results
-from webline.sim.result import Precision, Result
+from webline.report.text.display import System
+from webline.sim.results.result import Precision, Result
 
 
 def write_run(result: Result, folder: OutputFolder, fmt: Format = "netcdf",

@@ -7,9 +7,9 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from webline.report.html import Image, Section, Text, render
-from webline.report.tables import Table, make_table
-from webline.report.verdict_text import STATUS_CLASS
+from webline.report.text.html import Image, Section, Text, render
+from webline.report.text.tables import Table, make_table
+from webline.report.text.verdict_text import STATUS_CLASS
 from webline.verdict import Verdict
 
 #: rows of the study's table the page shows, at most (table.csv holds every row)

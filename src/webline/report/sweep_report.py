@@ -15,12 +15,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from webline.report.display import Display, number_text
-from webline.report.html import Image, Section, Text, render
-from webline.report.tables import Table, make_table
-from webline.sim.distributions import proportion_interval
-from webline.sim.metrics import METRICS
-from webline.sim.study_grid import as_cases
+from webline.report.text.display import Display, number_text
+from webline.report.text.html import Image, Section, Text, render
+from webline.report.text.tables import Table, make_table
+from webline.sim.results.metrics import METRICS
+from webline.sim.sweeps.distributions import proportion_interval
+from webline.sim.sweeps.study_grid import as_cases
 from webline.units import SI_UNITS
 from webline.verdict import RANK
 

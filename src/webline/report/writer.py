@@ -17,14 +17,14 @@ from webline.files import atomic_write_bytes, atomic_write_text
 from webline.limits import MAX_EIGEN_STATES
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint, analysis_time, operating_point
-from webline.report.big_lines import condensed, summarised
-from webline.report.describe import line_tables
-from webline.report.display import Display, System
-from webline.report.figures import figure_jobs
-from webline.report.html import Image, Section, Text, render
 from webline.report.outputs import OutputFolder, ReportFiles
+from webline.report.plots.big_lines import condensed, summarised
+from webline.report.plots.figures import figure_jobs
 from webline.report.render import render_figures
-from webline.report.tables import (
+from webline.report.text.describe import line_tables
+from webline.report.text.display import Display, System
+from webline.report.text.html import Image, Section, Text, render
+from webline.report.text.tables import (
     Table,
     make_table,
     modes_table,
@@ -33,14 +33,14 @@ from webline.report.tables import (
     summary_tables,
     summary_values,
 )
-from webline.report.verdict_text import STATUS_CLASS, events_table
-from webline.report.zone_tables import (
+from webline.report.text.verdict_text import STATUS_CLASS, events_table
+from webline.report.text.zone_tables import (
     leak_lines,
     roll_modes_table,
     roll_modes_values,
     zone_loops_table,
 )
-from webline.sim.result import Result
+from webline.sim.results.result import Result
 from webline.spec.load import dump_spec
 
 #: Resolution of the PNG figures [dots per inch].
@@ -71,8 +71,8 @@ def analyse(line: Line) -> Analysis:
     equilibrium gives an ``Analysis`` that says why instead of raising. A line whose
     closed-loop model has more than ``MAX_MODE_STATES`` states gets no modes, and a note that
     says so (``modes_note``)."""
-    from webline.sim.linearize import plan_linear_model
-    from webline.sim.plan import compile_plan
+    from webline.sim.core.plan import compile_plan
+    from webline.sim.linear.linearize import plan_linear_model
 
     t = analysis_time(line)
     try:

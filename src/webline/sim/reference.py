@@ -12,16 +12,16 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from webline.line import Line, load_line
-from webline.sim import kernel
-from webline.sim import layout as L
-from webline.sim.break_hold import brake_drag
-from webline.sim.controllers import control_tick
-from webline.sim.dancer_taper import load_factor
-from webline.sim.plan import compile_plan, equilibrium_plan_state
-from webline.sim.result import Result
-from webline.sim.signals import profile_at
+from webline.sim.core import kernel
+from webline.sim.core.plan import compile_plan, equilibrium_plan_state
+from webline.sim.elements import layout as L
+from webline.sim.elements.break_hold import brake_drag
+from webline.sim.elements.controllers import control_tick
+from webline.sim.elements.dancer_taper import load_factor
+from webline.sim.elements.signals import profile_at
+from webline.sim.elements.splice import apply_splices
+from webline.sim.results.result import Result
 from webline.sim.simulate import _result
-from webline.sim.splice import apply_splices
 
 
 def simulate_reference(line: Line | str | Path, duration: float, *, scenario: str | None = None,

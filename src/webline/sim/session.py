@@ -1,6 +1,6 @@
 """``webline.Session``: a line driven by hand, tick by tick (co-simulation, hardware in the
 loop, notebooks). The plant and the built-in controllers still run compiled between ticks
-(``sim.user_step``); user controllers (docs/controllers.md) are called every tick."""
+(``sim.core.user_step``); user controllers (docs/controllers.md) are called every tick."""
 
 from __future__ import annotations
 
@@ -13,11 +13,12 @@ import numpy as np
 
 from webline.errors import ArgumentError, ControllerError, SimulationError
 from webline.line import Line, load_line
-from webline.sim import kernel
-from webline.sim import layout as L
-from webline.sim.failure import Failure, kernel_failure
-from webline.sim.plan import compile_plan, equilibrium_plan_state
-from webline.sim.result import Result
+from webline.sim.core import kernel
+from webline.sim.core.plan import compile_plan, equilibrium_plan_state
+from webline.sim.core.user_step import C_STORED
+from webline.sim.elements import layout as L
+from webline.sim.results.failure import Failure, kernel_failure
+from webline.sim.results.result import Result
 from webline.sim.simulate import _result, choose_substeps
 from webline.sim.user_control import (
     UserLoop,
@@ -26,7 +27,6 @@ from webline.sim.user_control import (
     user_plan,
 )
 from webline.sim.user_objects import file_controllers
-from webline.sim.user_step import C_STORED
 
 #: records the session's buffer starts with; it doubles when full
 FIRST_ROWS = 4096

@@ -19,13 +19,15 @@ from webline.errors import (
     SimulationInterrupted,
 )
 from webline.line import Line, load_line
-from webline.sim import budget, kernel
-from webline.sim import layout as L
-from webline.sim.failure import Failure, kernel_failure
-from webline.sim.fastest import slip_rates
-from webline.sim.linearize import fastest_mode
-from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
-from webline.sim.result import Result
+from webline.sim.core import kernel
+from webline.sim.core.plan import Plan, compile_plan, equilibrium_plan_state
+from webline.sim.elements import layout as L
+from webline.sim.elements.web_state import slip_column
+from webline.sim.linear import budget
+from webline.sim.linear.fastest import slip_rates
+from webline.sim.linear.linearize import fastest_mode
+from webline.sim.results.failure import Failure, kernel_failure
+from webline.sim.results.result import Result
 from webline.sim.user_control import Group, builtin_stand_in, run_user, user_groups, user_plan
 from webline.sim.user_objects import file_controllers
 from webline.spec.ranges import argument, whole_argument
@@ -132,7 +134,7 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
     roll empty, a tension beyond ``web.strength``) it stops there and raises
     ``SimulationError`` whose ``partial`` is the ``Result`` so far (or, with
     ``raise_on_failure=False``, returns it with its ``failure`` set). The run's ``verdict``
-    also covers warnings (``webline.sim.events``) and the linear stability of the line.
+    also covers warnings (``webline.sim.results.events``) and the linear stability of the line.
 
     The run goes in chunks of about 0.1 s of wall time, so Ctrl-C is seen within a chunk: it
     stops the run after that chunk, and the ``Result`` so far has ``status`` "interrupted"; it
@@ -265,7 +267,7 @@ def _result(plan: Plan, rec: np.ndarray, failure: Failure | None,
     n_x, n_d = plan.n_x, plan.drives.shape[0]
     block = [rec[:, 1 + n_x + q * n_d:1 + n_x + (q + 1) * n_d] for q in range(6)]
     n_n = plan.nodes.shape[0]
-    col = kernel.slip_column(n_x, n_d)
+    col = slip_column(n_x, n_d)
     slipping = rec[:, col:col + n_n]
     adapted = rec[:, col + n_n:].reshape(len(rec), n_d, 3)
     mrac = (plan.drives[:, L.D_FAMILY] == L.FAMILY_MRAC)[None, :, None]

@@ -8,7 +8,7 @@ and ``context.reference_names`` (per drive ``"<drive>.speed"`` [m/s], ``".tensio
 ``".tension_reference"`` [N]); the arrays are reused every tick (copy what you keep). It
 returns one torque command [N·m] per drive of ``context.drives`` (a float for one drive).
 
-The run goes one tick per compiled call (``sim.user_step``) and allocates nothing per tick
+The run goes one tick per compiled call (``sim.core.user_step``) and allocates nothing per tick
 but what the controller does itself.
 """
 
@@ -25,10 +25,8 @@ from webline.control.pi import PIGains
 from webline.errors import ArgumentError
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint
-from webline.sim import layout as L
-from webline.sim.plan import Plan
-from webline.sim.user_loop import N_MEASURED, N_REFERENCES, STATUS_USER_NONFINITE
-from webline.sim.user_step import (
+from webline.sim.core.plan import Plan
+from webline.sim.core.user_step import (
     C_EVERY,
     C_INCLUDE_END,
     C_MEASURE,
@@ -41,6 +39,8 @@ from webline.sim.user_step import (
     compiled_user_step,
     packed_run,
 )
+from webline.sim.elements import layout as L
+from webline.sim.elements.user_loop import N_MEASURED, N_REFERENCES, STATUS_USER_NONFINITE
 
 MEASURED = ("speed", "tension", "radius", "inertia")  # in ``user_loop.U_*`` order
 REFERENCES = ("speed_reference", "tension_reference")
@@ -216,7 +216,7 @@ class UserRun:
 class UserLoop:
     """A run of ``plan`` (user drives ``FAMILY_USER``, commanded by ``groups``) from the
     state ``x0``, ``istate0``, ``slip0``, one tick at a time: ``tick`` calls the controllers
-    with the sampled measurements, then the compiled step (``sim.user_step``). Records go
+    with the sampled measurements, then the compiled step (``sim.core.user_step``). Records go
     every ``every`` ticks into the ``rec`` each call is given, from row ``stored``."""
 
     def __init__(self, plan: Plan, groups: Sequence[Group], x0: np.ndarray,

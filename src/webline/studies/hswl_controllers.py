@@ -17,7 +17,8 @@ measurement noise on every controller's tension (0.05 lbf) and speed (0.5 ft/min
 * ``state_feedback_certified``: the state feedback with the gains of
   ``webline.analysis.certified.design_for_certificate``, redone at each speed on the lumped
   (idler-free) line, for which the decentralized certificate (6.54) holds;
-* ``mrac``, ``mrac_true_friction``: the decentralized MRAC of Sec. 6.3 (``webline.sim.mrac``)
+* ``mrac``, ``mrac_true_friction``: the decentralized MRAC of Sec. 6.3
+(``webline.sim.elements.mrac``)
   starting from the same design, with the 50 %-low and with the true friction model;
 * ``state_feedback_thesis_gains``, ``mrac_thesis_gains``: the thesis's own setup of Sec. 6.2-6.3,
   its closed loops C_ij (E-6.7; the MRAC's reference models A_mi), which the 2 ms torque lag
@@ -46,7 +47,7 @@ from webline.control.lumped import without_idlers
 from webline.control.sections import section_models
 from webline.control.select import Family, with_controller
 from webline.line import Line
-from webline.sim.result import Result
+from webline.sim.results.result import Result
 from webline.studies.output import pyplot, write_figure, write_table, write_text
 from webline.studies.result import StudyResult
 from webline.units import display_factor
@@ -242,8 +243,8 @@ def _case_figure(result: Result, case: Case, fpm: float, start: float, path: Pat
     """Master speed error [ft/min] and each zone's tension error [lbf] over time."""
     plt = pyplot()
 
-    from webline.report.mpl_text import literal
-    from webline.sim.decimate import envelope
+    from webline.report.plots.mpl_text import literal
+    from webline.sim.results.decimate import envelope
 
     line = result.line
     v_factor, v_unit = display_factor("speed", "imperial")

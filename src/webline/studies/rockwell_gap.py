@@ -31,8 +31,8 @@ from webline.analysis.drivetrain.gap_condition import (
     tension_deviation,
 )
 from webline.analysis.drivetrain.params import load_parameter_set
-from webline.sim import layout as L
-from webline.sim.plan import compile_plan
+from webline.sim.core.plan import compile_plan
+from webline.sim.elements import layout as L
 
 FPM = 0.00508  # m/s per ft/min
 LBF = 4.4482216152605  # N per lbf

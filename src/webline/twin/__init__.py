@@ -5,7 +5,7 @@
 
 from __future__ import annotations
 
-from webline.twin.measurements import Measurements, load_measurements
-from webline.twin.read import MeasurementError
+from webline.twin.traces.measurements import Measurements, load_measurements
+from webline.twin.traces.read import MeasurementError
 
 __all__ = ["MeasurementError", "Measurements", "load_measurements"]

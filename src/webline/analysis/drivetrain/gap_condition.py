@@ -35,10 +35,10 @@ from webline.analysis.drivetrain.backlash_bounds import BacklashLoop, l1_bound, 
 from webline.analysis.drivetrain.sampled import zoh
 from webline.line import Line
 from webline.physics.backlash import transmitted_torque
-from webline.sim import layout as L
-from webline.sim.linear_plant import load_inertia
-from webline.sim.linearize import LinearModel, linear_model, plan_linear_model
-from webline.sim.plan import compile_plan
+from webline.sim.core.plan import compile_plan
+from webline.sim.elements import layout as L
+from webline.sim.linear.linear_plant import load_inertia
+from webline.sim.linear.linearize import LinearModel, linear_model, plan_linear_model
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,80 @@
+"""Friction as drives measure it, in the compiled loop (docs/winder.md, F1-F2): a node's
+friction table and the break-away torque of a roller at rest."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from webline.physics import roller
+from webline.sim.elements import layout as L
+from webline.sim.elements.signals import jit
+
+_table_friction: Any = jit(roller.table_friction)
+_table_magnitude: Any = jit(roller.table_magnitude)
+
+#: Speed [rad/s] below which a roller with a break-away torque counts as at rest (F2): a
+#: tenth of the Coulomb smoothing, where the running friction has fallen to a tenth
+STICK_SPEED = 0.1 * roller.COULOMB_SMOOTHING
+
+
+@jit
+def table_torque(i: int, omega: float, nodes: np.ndarray) -> float:
+    """Friction torque [N·m] of node ``i``'s friction table at ``omega`` [rad/s] (F1; 0
+    without one)."""
+    n = int(nodes[i, L.N_FRICN])
+    if n == 0:
+        return 0.0
+    return _table_friction(omega, nodes[i, L.N_FRICW:L.N_FRICW + n],
+                           nodes[i, L.N_FRICT:L.N_FRICT + n])[0]
+
+
+@jit
+def breakaway(i: int, omega: float, applied: float, nodes: np.ndarray) -> tuple[bool, float]:
+    """(stuck, torque [N·m]) of node ``i`` at rest (|ω| < STICK_SPEED) with break-away
+    torque B under the ``applied`` torque (web, drive and viscous, no dry friction): stuck
+    while |applied| <= B, else applied less B against it (Karnopp's model, F2)."""
+    limit = nodes[i, L.N_BREAKAWAY]
+    if abs(applied) <= limit:
+        return True, 0.0
+    return False, applied - limit if applied > 0.0 else applied + limit
+
+
+@jit
+def compensation_table(d: int, omega: float, drives: np.ndarray) -> float:
+    """Friction torque [N·m] at the roll shaft a drive's compensation table gives at the
+    measured ``omega`` [rad/s]: its magnitude at |ω| with the sign of ω (F1, W3)."""
+    n = int(drives[d, L.D_COMPFN])
+    if n == 0 or omega == 0.0:
+        return 0.0
+    mag = _table_magnitude(abs(omega), drives[d, L.D_COMPFW:L.D_COMPFW + n],
+                           drives[d, L.D_COMPFT:L.D_COMPFT + n])
+    return mag if omega > 0.0 else -mag
+
+
+def friction_columns(nodes: np.ndarray, drives: np.ndarray, line: Any, dt: float) -> bool:
+    """Fill the friction-table and break-away columns of the node table and the compensation
+    tables of the drive table from ``line`` (control period ``dt`` [s]: a stuck roller's ω
+    decays in it, slower than any RK4 sub-step); True if any is used (``O_FRICTION``)."""
+    used = False
+    for i, spec in enumerate(line.spec.rollers):
+        if spec.friction_table is not None:
+            speeds, torques = spec.friction_table.arrays()
+            nodes[i, L.N_FRICN] = len(speeds)
+            nodes[i, L.N_FRICW:L.N_FRICW + len(speeds)] = speeds
+            nodes[i, L.N_FRICT:L.N_FRICT + len(speeds)] = torques
+            used = True
+        if spec.breakaway_torque > 0.0:
+            nodes[i, L.N_BREAKAWAY] = spec.breakaway_torque
+            used = True
+        nodes[i, L.N_STICKTAU] = dt
+        winder = getattr(spec, "winder", None)
+        if winder is not None and winder.friction_table is not None:
+            speeds, torques = winder.friction_table.arrays()
+            row = drives[line.drives.index(i)]
+            row[L.D_COMPFN] = len(speeds)
+            row[L.D_COMPFW:L.D_COMPFW + len(speeds)] = speeds
+            row[L.D_COMPFT:L.D_COMPFT + len(speeds)] = torques
+            used = True
+    return used
