@@ -168,6 +168,21 @@ def test_winder_state_findings_are_in_a_sweep_cases_verdict(case) -> None:
     assert_same_findings(lines[0], duration)
 
 
+def test_cases_of_one_batch_keep_their_own_winder_states() -> None:
+    """rockwell's dancer as a store swept over its load, in one batch: 88 N (2 x the zone
+    tension) holds the carriage off its stops, 150 N rests it on one from 1.4 s. Each case
+    has its own run's verdict, so one case's slot never leaks into another's."""
+    line = webline.load_line("rockwell").replace({"rollers.dancer.dancer.use": "none"})
+    loads = ["88 N", "150 N"]
+    duration = 4.0
+    ds = webline.sweep(line, {"rollers.dancer.dancer.load": loads}, duration=duration,
+                       workers=1)
+    cases = [line.replace({"rollers.dancer.dancer.load": load}) for load in loads]
+    assert_same_verdicts(ds, cases, duration)
+    stops = ["end stop" in str(h) for h in ds.headline.values]
+    assert stops == [False, True]
+
+
 @pytest.mark.parametrize("name", ["rockwell", "converter"])
 def test_a_full_length_web_break_has_its_run_verdict_in_a_sweep(name) -> None:
     """The whole web-break scenario (12 s: the stop and the rest after it): today a batch

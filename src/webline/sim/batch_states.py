@@ -64,11 +64,12 @@ def state_table(plan: Plan) -> np.ndarray:
     line = plan.line
     n_n, n_d = line.n_nodes, plan.drives.shape[0]
     table = np.full((n_slots(n_n, n_d), P_COLS), -1.0)
-    taper = -1
-    zone = line.controlled_zone(n_n - 1)
-    if line.rewind.taper is not None and zone is not None:
-        taper = line.drives.index(n_n - 1)
-    span_profile = {zone.loadcell: 1 + z for z, zone in enumerate(line.zones)}
+    rewind_zone = line.controlled_zone(n_n - 1)
+    # the rewind's taper sets its zone's tension at the radius its controller uses
+    taper_drive, taper_span = -1, -1
+    if line.rewind.taper is not None and rewind_zone is not None:
+        taper_drive, taper_span = line.drives.index(n_n - 1), line.zones[rewind_zone].loadcell
+    span_profile = {zone.loadcell: 1 + z for z, zone in enumerate(line.zones)}  # as run_batch
     for e in state_elements(plan):
         row = table[slot_of(e, n_n, n_d)]
         row[P_KIND], row[P_LIMIT], row[P_MIN] = e.kind, e.limit, e.min_duration
@@ -76,8 +77,7 @@ def state_table(plan: Plan) -> np.ndarray:
             row[P_COL] = plan.state_names.index(f"{e.where}.position")
         elif e.kind == TENSION:
             row[P_COL], row[P_PROF] = e.span, span_profile[e.span]
-            is_rewind_zone = zone is not None and line.zones[zone].loadcell == e.span
-            row[P_DRIVE] = taper if is_rewind_zone else -1
+            row[P_DRIVE] = taper_drive if e.span == taper_span else -1
         else:
             row[P_COL], row[P_DRIVE] = e.node, e.drive
     return table
@@ -218,7 +218,8 @@ def batch_state_findings(plan: Plan, row: np.ndarray, base: int, n_records: int,
                          end: float) -> list[Finding]:
     """The winder-state findings of a case from its accumulator ``row`` (slots from
     ``base``), ``n_records`` records up to ``end`` [s]: ``winder_state_findings``' own."""
-    if n_records < 2:
+    counts = row[base + S_COUNT:base + n_slots(*_sizes(plan)) * SLOT_COLS:SLOT_COLS]
+    if n_records < 2 or not np.any(counts > 0):  # nothing held long enough (most cases)
         return []
     out = []
     n_n, n_d = plan.line.n_nodes, plan.drives.shape[0]
@@ -233,11 +234,17 @@ def batch_state_findings(plan: Plan, row: np.ndarray, base: int, n_records: int,
     return out
 
 
+def _sizes(plan: Plan) -> tuple[int, int]:
+    return plan.line.n_nodes, plan.drives.shape[0]
+
+
 def batch_after_stop(plan: Plan, row: np.ndarray, base: int, detected: float
-                     ) -> AfterStopReader:
+                     ) -> AfterStopReader | None:
     """``AfterStopReader`` of a case from its accumulator ``row`` (breaks from ``base``),
     the monitor having detected the break at ``detected`` [s]: the break whose stop and rest
-    limit ``break_findings`` asks for."""
+    limit ``break_findings`` asks for (None where nothing was detected: it asks for none)."""
+    if detected < 0.0:
+        return None
     n_d = plan.drives.shape[0]
     names = [plan.line.node_name(i) for i in plan.line.drives]
     kept = {(detected + stop_time, limit): j
