@@ -129,6 +129,14 @@ def test_a_monte_carlo_of_break_detection_counts_the_undetected_breaks() -> None
     assert worst.rows[0][2] == str(ds.headline.values[first]) and statuses[first] == "failed"
 
 
+def _with_break(line: webline.Line, span: str, at: float) -> webline.Line:
+    """``line`` whose web breaks in ``span`` at ``at`` [s], stopping in 1 s: the checks look
+    up to the break, the break's finding after it (the stop and the rest)."""
+    data = line.spec.model_dump(exclude_none=True)
+    data["disturbances"] = [{"type": "web_break", "span": span, "at": at, "stop_time": 1.0}]
+    return webline.load_line(data)
+
+
 def _winder_state_lines() -> dict[str, tuple[webline.Line, float, str]]:
     """Lines whose runs have a winder-state finding (tests/validation/test_winder_states.py),
     the duration [s] that shows it and the finding's kind."""
@@ -149,6 +157,9 @@ def _winder_state_lines() -> dict[str, tuple[webline.Line, float, str]]:
             "rollers.rewind.diameter": {"method": "thickness",
                                         "initial": 2 * hswl.rewind.radius + 0.020}}), 3.0,
             "diameter_error"),
+        "zone off its set tension, then a break in it": (_with_break(rockwell.replace({
+            "rollers.rewind.drive.torque_limit": "3 N*m"}), "rewind_span_b", 2.5), 4.0,
+            "tension_off_set"),
         "diameter guessed twice the true one": (rockwell.replace({
             "rollers.rewind.winder": open_loop, "rollers.rewind.diameter": {
                 "method": "thickness", "initial": 4 * rockwell.rewind.radius}}), 5.0,
