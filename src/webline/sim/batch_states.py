@@ -218,11 +218,11 @@ def batch_state_findings(plan: Plan, row: np.ndarray, base: int, n_records: int,
                          end: float) -> list[Finding]:
     """The winder-state findings of a case from its accumulator ``row`` (slots from
     ``base``), ``n_records`` records up to ``end`` [s]: ``winder_state_findings``' own."""
-    counts = row[base + S_COUNT:base + n_slots(*_sizes(plan)) * SLOT_COLS:SLOT_COLS]
+    n_n, n_d = plan.line.n_nodes, plan.drives.shape[0]
+    counts = row[base + S_COUNT:base + n_slots(n_n, n_d) * SLOT_COLS:SLOT_COLS]
     if n_records < 2 or not np.any(counts > 0):  # nothing held long enough (most cases)
         return []
     out = []
-    n_n, n_d = plan.line.n_nodes, plan.drives.shape[0]
     for element in state_elements(plan):
         b = base + slot_of(element, n_n, n_d) * SLOT_COLS
         if row[b + S_COUNT] > 0:
@@ -232,10 +232,6 @@ def batch_state_findings(plan: Plan, row: np.ndarray, base: int, n_records: int,
             out.append(state_finding(plan.line, element, stats,
                                      (float(row[b + S_X1]), float(row[b + S_X2])), end))
     return out
-
-
-def _sizes(plan: Plan) -> tuple[int, int]:
-    return plan.line.n_nodes, plan.drives.shape[0]
 
 
 def batch_after_stop(plan: Plan, row: np.ndarray, base: int, detected: float
