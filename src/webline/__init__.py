@@ -1,9 +1,11 @@
 """webline: model, simulate, analyse and control roll-to-roll (web handling) process lines.
 
 The front door: ``load_line``, ``simulate``, ``sweep``, ``monte_carlo``, ``linearize``,
-``operating_point`` and their types. Each is imported on first use (PEP 562), so ``import
-webline`` and the command line start fast; python-control, scipy and numba load only when a
-model or a run needs them.
+``operating_point`` and their types; and, from the layer above it (``webline.twin``, which
+is imported only when one of them is first used, never by this module's code),
+``load_measurements``, ``replay``, ``fit`` and ``tune``. Each is imported on first use (PEP
+562), so ``import webline`` and the command line start fast; python-control, scipy and
+numba load only when a model or a run needs them.
 """
 
 from __future__ import annotations
@@ -42,30 +44,44 @@ _LAZY = {
     "sweep": "webline.sim.sweep",
     "monte_carlo": "webline.sim.sweep",
 }
+#: names of the twin layer (above this one): looked up on first use only, so importing
+#: ``webline`` never imports the layer above it (docs/architecture.md)
+_LAZY_ABOVE = {
+    "load_measurements": "webline.twin.measurements",
+    "Measurements": "webline.twin.measurements",
+    "replay": "webline.twin.replay",
+    "fit": "webline.twin.fit",
+    "tune": "webline.twin.tune",
+}
 
 __all__ = [
     "ArgumentError",
     "Line",
     "LineFileError",
+    "Measurements",
     "OperatingPoint",
     "Result",
     "SimulationError",
     "SimulationInterrupted",
     "WeblineError",
     "__version__",
+    "fit",
     "linearize",
     "load_line",
+    "load_measurements",
     "monte_carlo",
     "operating_point",
+    "replay",
     "simulate",
     "simulate_reference",
     "sweep",
+    "tune",
 ]
 
 
 def __getattr__(name: str) -> object:
-    if name in _LAZY:
-        value = getattr(importlib.import_module(_LAZY[name]), name)
+    if name in _LAZY or name in _LAZY_ABOVE:
+        value = getattr(importlib.import_module({**_LAZY, **_LAZY_ABOVE}[name]), name)
         globals()[name] = value  # later look-ups skip this function
         return value
     raise AttributeError(f"module 'webline' has no attribute {name!r}")

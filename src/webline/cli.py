@@ -41,6 +41,8 @@ from webline.cli_common import (
     sigterm_as_interrupt,
 )
 from webline.cli_sweep import sweep_command
+from webline.cli_tune import experiment_command, tune_command
+from webline.cli_twin import fit_command, replay_command
 from webline.version import __version__
 
 # The simulation, analysis and report layers are imported inside the commands that use them,
@@ -274,6 +276,10 @@ def study(
 
 app.command("sweep")(handles_errors(
     sweep_command, resume="the same command with --resume goes on from the chunks stored"))
+app.command("replay")(handles_errors(replay_command))
+app.command("fit")(handles_errors(fit_command))
+app.command("tune")(handles_errors(tune_command))
+app.command("experiment")(handles_errors(experiment_command))
 
 
 def main() -> None:

@@ -17,6 +17,7 @@ OPTIONAL: dict[str, tuple[str, str]] = {
     "jupytext": ("notebook", "running the tutorial notebooks"),
     "nbclient": ("notebook", "running the tutorial notebooks"),
     "mkdocs": ("docs", "building the documentation site"),
+    "pyarrow": ("parquet", "reading a Parquet measurement file"),
 }
 
 

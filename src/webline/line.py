@@ -154,6 +154,12 @@ class Line:
         for index, radius in ((0, scenario.unwind_radius), (-1, scenario.rewind_radius)):
             if radius is not None:
                 rollers[index] = rollers[index].model_copy(update={"radius": radius})
+        # the kept scenario names its own disturbances (the line's where it gave none), so that
+        # the checks, and this scenario applied again, find its break and splice not yet in
+        # them: without it, the line's list (its break and splice added) was the scenario's
+        own = (scenario.disturbances if scenario.disturbances is not None
+               else self.spec.disturbances)
+        scenario = scenario.model_copy(update={"disturbances": list(own)})
         changes: dict[str, object] = {"rollers": rollers, "scenarios": {name: scenario}}
         if scenario.speed is not None:
             changes["speed"] = scenario.speed

@@ -16,99 +16,29 @@ import math
 import numbers
 import os
 import re
-import shutil
 import sys
-import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from webline import unit_registry
 from webline.files import atomic_write_text
+from webline.unit_registry import NO_CACHE_VARIABLE
 
 if TYPE_CHECKING:
     import pint
 
     ureg: pint.UnitRegistry  # built on first use (``__getattr__``)
 
-#: set to any value to build pint's registry from its definition files every time, and to
-#: convert every quantity through pint (no factors read or written)
-NO_CACHE_VARIABLE = "WEBLINE_NO_UNIT_CACHE"
-#: units webline adds to pint's
-DEFINITIONS = ("fpm = foot / minute", "pli = pound_force / inch", "rpm_ = revolution / minute")
-
-
-@functools.cache
-def _pint_version() -> str:
-    """pint's installed version, without importing pint: the name of its
-    ``pint-X.Y.Z.dist-info`` folder beside the package (importlib.metadata costs 70 ms of a
-    command's start-up), else importlib.metadata."""
-    import importlib.util
-
-    spec = importlib.util.find_spec("pint")
-    if spec is not None and spec.origin:
-        site = os.path.dirname(os.path.dirname(spec.origin))
-        found = [e for e in os.listdir(site) if e.startswith("pint-")
-                 and e.endswith(".dist-info")]
-        if len(found) == 1:
-            return found[0][len("pint-"):-len(".dist-info")]
-    from importlib.metadata import version
-
-    return version("pint")
-
-
-def _cache_folder() -> Path:
-    """Where pint's parsed definitions are kept: one folder per pint and Python version,
-    since the cache is a pickle."""
-    import platformdirs
-
-    tag = f"pint-{_pint_version()}-py{sys.version_info.major}.{sys.version_info.minor}"
-    return platformdirs.user_cache_path("webline") / tag
-
-
-def _registry() -> pint.UnitRegistry:
-    """pint's registry, its parsed definition files loaded from a disk cache (0.3 s of a
-    command's start-up otherwise). pint writes its cache files in place, so a reader beside a
-    writer (two commands, Dask workers) could see half a file: the cache is built in a private
-    folder and renamed into place whole, and only a complete folder is ever read. Any problem
-    with the cache falls back to parsing the definitions."""
-    import pint
-
-    if os.environ.get(NO_CACHE_VARIABLE):
-        return pint.UnitRegistry()
-    try:
-        folder = _cache_folder()
-        if folder.is_dir():
-            return pint.UnitRegistry(cache_folder=folder)
-        folder.parent.mkdir(parents=True, exist_ok=True)
-        building = Path(tempfile.mkdtemp(prefix=".building-", dir=folder.parent))
-        registry: pint.UnitRegistry = pint.UnitRegistry(cache_folder=building)
-        try:
-            building.rename(folder)
-        except OSError:  # another process put its complete cache there first
-            shutil.rmtree(building, ignore_errors=True)
-        return registry
-    except Exception:  # the cache only saves time: never fail a command for it
-        return pint.UnitRegistry()
-
-
-@functools.cache
-def _ureg() -> pint.UnitRegistry:
-    """webline's registry (``ureg``), built on first use."""
-    registry = _registry()
-    for definition in DEFINITIONS:
-        registry.define(definition)
-    return registry
-
-
 def __getattr__(name: str) -> object:
     if name == "ureg":  # ``from webline.units import ureg`` builds the registry
-        return _ureg()
+        return unit_registry.ureg()
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _conversions_path() -> Path:
     """The file of known factors, beside pint's cache: named by pint's and Python's versions
     and by this module's source (its tables and rules decide every factor)."""
-    folder = _cache_folder()
+    folder = unit_registry.cache_folder()
     digest = hashlib.sha256(Path(__file__).read_bytes()).hexdigest()[:16]
     return folder.with_name(f"{folder.name}-conversions-{digest}.json")
 
@@ -244,7 +174,7 @@ def short(value: object, limit: int = 40) -> str:
 
 @functools.lru_cache(maxsize=64)
 def _dimensionality(kind: str) -> pint.util.UnitsContainer:
-    return _ureg().parse_expression(SI_UNITS[kind] or "1").dimensionality
+    return unit_registry.ureg().parse_expression(SI_UNITS[kind] or "1").dimensionality
 
 
 def _split(text: str, kind: str) -> tuple[float, str]:
@@ -281,7 +211,7 @@ def unit_reading(unit: str, text: str) -> tuple[float, str, bool]:
     it is a plain ratio such as ppm or percent) through pint; ``text``: the string it came
     from, for errors (``ValueError`` naming it for a unit pint does not know)."""
     quantity = _quantity(unit, text, "quantity").to_base_units()
-    names = {str(name) for name, _ in _ureg().Quantity(1.0, unit).unit_items()}
+    names = {str(name) for name, _ in unit_registry.ureg().Quantity(1.0, unit).unit_items()}
     dims = str(quantity.dimensionality) if quantity.dimensionality else ""
     return float(quantity.magnitude), dims, bool(names) and names <= _RATIO_UNITS
 
@@ -289,7 +219,7 @@ def unit_reading(unit: str, text: str) -> tuple[float, str, bool]:
 def _quantity(unit: str, text: str, kind: str) -> pint.Quantity:
     """One ``unit`` as a pint quantity (``text``: the string it came from, for errors)."""
     try:
-        return _ureg().Quantity(1.0, unit)
+        return unit_registry.ureg().Quantity(1.0, unit)
     except Exception as exc:  # pint raises many types for unknown units
         raise ValueError(f"cannot read {short(text)} as {_a(kind)}: {exc}") from None
 
@@ -331,7 +261,7 @@ def to_si(value: object, kind: str) -> float:
         number = magnitude * _factor(unit, kind, value)
     elif _is_pint_quantity(value):
         try:
-            quantity = _ureg().Quantity(float(value.magnitude), str(value.units))  # type: ignore[attr-defined]
+            quantity = unit_registry.ureg().Quantity(float(value.magnitude), str(value.units))  # type: ignore[attr-defined]
         except Exception:  # an array, or a unit this registry does not know
             raise ValueError(f"expected {_a(kind)} as one number with a unit, "
                              f"got {short(value)}") from None
@@ -358,7 +288,7 @@ def per_width_to_si(value: object) -> float | None:
         return None if factor is None else magnitude * factor
     if _is_pint_quantity(value):
         try:
-            quantity = _ureg().Quantity(float(value.magnitude), str(value.units))  # type: ignore[attr-defined]
+            quantity = unit_registry.ureg().Quantity(float(value.magnitude), str(value.units))  # type: ignore[attr-defined]
         except Exception:  # an array, or a unit this registry does not know
             return None
         factor = _per_width_factor(quantity)
@@ -370,7 +300,7 @@ def _per_width_factor(quantity: pint.Quantity) -> float | None:
     """N/m per unit of ``quantity``, or None if it is not a force per width."""
     if quantity.dimensionless or quantity.dimensionality != _dimensionality("force_per_width"):
         return None
-    return float(_ureg().Quantity(1.0, quantity.units).to("N/m").magnitude)
+    return float(unit_registry.ureg().Quantity(1.0, quantity.units).to("N/m").magnitude)
 
 
 def _si_number(quantity: pint.Quantity, kind: str, value: object) -> float:
@@ -405,6 +335,6 @@ def display_factor(kind: str, system: str) -> tuple[float, str]:
     key = f"display|{kind}|{system}"
     factor = _conversions().get(key)
     if factor is None:
-        factor = float(_ureg().Quantity(1.0, SI_UNITS[kind]).to(unit).magnitude)
+        factor = float(unit_registry.ureg().Quantity(1.0, SI_UNITS[kind]).to(unit).magnitude)
         _remember(key, factor)
     return factor, unit

@@ -22,7 +22,15 @@ def run_example(name: str) -> str:
 
 def test_every_example_is_covered() -> None:
     assert {p.name for p in EXAMPLES.glob("*.py")} == {
-        "own_line.py", "gain_sweep.py", "compare_controllers.py", "bode.py"}
+        "own_line.py", "gain_sweep.py", "compare_controllers.py", "bode.py",
+        "fit_converter.py"}
+
+
+def test_fit_converter_recovers_both_values() -> None:
+    """The fitted intervals hold the values the recording was made with (issue 24)."""
+    out = run_example("fit_converter.py")
+    assert "time offset 12 s removed" in out
+    assert out.count("inside the 95 % interval") == 2, out
 
 
 def test_own_line() -> None:

@@ -18,8 +18,8 @@ SRC = Path(__file__).resolve().parents[2] / "src"
 #: ``webline`` itself (the front door, ``webline/__init__.py``) re-exports model and sim entry
 #: points, so it sits just above sim; the layers above may use it.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("webline.units", "webline.errors", "webline.version", "webline.data", "webline.files",
-     "webline.verdict", "webline.limits", "webline.extras"),
+    ("webline.units", "webline.unit_registry", "webline.errors", "webline.version",
+     "webline.data", "webline.files", "webline.verdict", "webline.limits", "webline.extras"),
     ("webline.spec",),
     ("webline.line", "webline.physics", "webline.profiles"),
     ("webline.model",),
@@ -28,8 +28,11 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline",),
     ("webline.analysis",),
     ("webline.report",),
+    ("webline.twin",),
     ("webline.studies",),
-    ("webline.cli", "webline.cli_analyze", "webline.cli_common", "webline.cli_sweep"),
+    ("webline.cli", "webline.cli_analyze", "webline.cli_common", "webline.cli_sweep",
+     "webline.cli_tune",
+     "webline.cli_twin"),
 )
 
 

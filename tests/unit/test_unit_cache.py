@@ -1,5 +1,5 @@
 """pint's registry from webline's disk cache: the same units as parsing the definitions, and a
-broken cache falls back to parsing instead of failing a command (webline.units._registry)."""
+broken cache falls back to parsing instead of failing a command (webline.unit_registry.registry)."""
 
 from __future__ import annotations
 
@@ -13,13 +13,13 @@ from pathlib import Path
 
 import pytest
 
-from webline import units
+from webline import unit_registry, units
 
 
 @pytest.fixture
 def cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     folder = tmp_path / "pint-cache"
-    monkeypatch.setattr(units, "_cache_folder", lambda: folder)
+    monkeypatch.setattr(unit_registry, "cache_folder", lambda: folder)
     monkeypatch.delenv(units.NO_CACHE_VARIABLE, raising=False)
     return folder
 
@@ -33,25 +33,25 @@ def _parses(registry) -> None:
 
 
 def test_the_first_registry_builds_the_cache_whole_and_the_next_reads_it(cache: Path) -> None:
-    _parses(units._registry())
+    _parses(unit_registry.registry())
     assert cache.is_dir() and list(cache.glob("*.pickle"))
     assert not list(cache.parent.glob(".building-*")), "the private build folder is renamed"
-    _parses(units._registry())
+    _parses(unit_registry.registry())
 
 
 def test_a_broken_cache_falls_back_to_parsing(cache: Path) -> None:
-    units._registry()
+    unit_registry.registry()
     for pickle in cache.glob("*.pickle"):
         pickle.write_bytes(pickle.read_bytes()[:10])  # half a file, as a crash would leave
-    _parses(units._registry())
+    _parses(unit_registry.registry())
 
 
 def test_an_unwritable_cache_place_falls_back_to_parsing(tmp_path: Path,
                                                         monkeypatch: pytest.MonkeyPatch) -> None:
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
-    monkeypatch.setattr(units, "_cache_folder", lambda: blocker / "pint")
-    _parses(units._registry())
+    monkeypatch.setattr(unit_registry, "cache_folder", lambda: blocker / "pint")
+    _parses(unit_registry.registry())
 
 
 # --- the factors of unit strings met before (webline.units._conversions) -------------------
@@ -122,8 +122,8 @@ def test_a_run_whose_units_are_known_does_not_import_pint(tmp_path: Path) -> Non
     """The point of the memo: loading, simulating and reporting a line whose unit strings were
     met before leaves pint (and the dask it imports where installed) out of the process."""
     script = ("import sys, pathlib, webline\n"
-              "import webline.units as units\n"
-              f"units._cache_folder = lambda: pathlib.Path({str(tmp_path)!r}) / 'pint'\n"
+              "import webline.units as units, webline.unit_registry as registry\n"
+              f"registry.cache_folder = lambda: pathlib.Path({str(tmp_path)!r}) / 'pint'\n"
               "line = webline.load_line('hswl')\n"
               "webline.simulate(line, 0.05)\n"
               "units.display_factor('speed', 'imperial')\n"
@@ -138,6 +138,6 @@ def test_the_cache_is_keyed_by_the_installed_pint_read_without_importlib_metadat
     """The fast reading of pint's version (its dist-info folder) agrees with the metadata."""
     from importlib.metadata import version
 
-    units._pint_version.cache_clear()
-    assert units._pint_version() == version("pint")
-    assert units._cache_folder().name.startswith(f"pint-{version('pint')}-py")
+    unit_registry.pint_version.cache_clear()
+    assert unit_registry.pint_version() == version("pint")
+    assert unit_registry.cache_folder().name.startswith(f"pint-{version('pint')}-py")

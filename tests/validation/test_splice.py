@@ -184,9 +184,13 @@ def test_the_report_shows_each_splice_and_its_disturbance(base):
     assert "unwind spliced onto a 0.8 m roll at t = 4 s (surface speed -1 %" in caption
     assert "rewind spliced onto a 0.19 m roll at t = 12 s (surface speed +1 %" in caption
     assert "largest tension change" in caption
-    # the rewind's set tension steps back to the taper's at the core: 150 N (1 - 0.3 (0.7811 -
-    # 0.178)/(0.8 - 0.178)) = 106.4 N before, 150 N (1 - 0.3 (0.19 - 0.178)/0.622) = 149.1 after
-    assert "the zone's set tension changed by 42.7" in caption
+    # the rewind's set tension steps back to the taper's at the core, the taper read at the
+    # controller's diameter (issue 21 item 2): before the splice the speed-ratio calculator
+    # reads 0.7811 m x (EA - 106 N)/(EA - 200 N) = 0.78171 m (the strain of the drum's web
+    # over the rewind's, EA = 120 kN), 150 N (1 - 0.3 (0.78171 - 0.178)/(0.8 - 0.178)) =
+    # 106.32 N; after it the calculator is preset to the new core's 0.19 m, 150 N (1 - 0.3
+    # (0.19 - 0.178)/0.622) = 149.13 N: 42.81 N (at the true diameter it was 42.76 N)
+    assert "the zone's set tension changed by 42.81 N" in caption
     assert "the old 0.7811 m roll" in caption and "stops in 2.31 s at the least" in caption
 
 
@@ -246,3 +250,19 @@ def test_cli_refuses_a_bad_splice_in_one_line(tmp_path):
     assert result.exit_code == 2
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and "disturbances[0].roll" in lines[0], result.output
+
+
+def test_a_scenario_with_only_a_splice_key_runs_its_splice_once():
+    """A scenario that gives a `splice` and no `disturbances` of its own (it keeps the line's)
+    was refused as 'already spliced': the line as the scenario runs it listed the splice in
+    its disturbances and then checked the scenario's splice against that list. The splice is
+    in the run once, and the same scenario applied again adds nothing (the splice's time and
+    roll are an exact match: one entry)."""
+    data = webline.load_line("converter").spec.model_dump(exclude_none=True)
+    data["scenarios"]["splice-only"] = {"duration": 1.0, "splice": {
+        "roll": "rewind", "at": 0.5, "new_diameter": 0.19}}
+    line = webline.load_line(data).with_scenario("splice-only")
+    splices = [d for d in line.spec.disturbances if d.type == "flying_splice"]
+    assert [(d.roll, d.at) for d in splices] == [("rewind", 0.5)]
+    again = line.with_scenario("splice-only")
+    assert [d.type for d in again.spec.disturbances] == ["flying_splice"]

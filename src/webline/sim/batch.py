@@ -10,7 +10,9 @@ ranges, so a batch uses all cores.
 
 The reductions follow the definitions of a single run (``webline.sim.metrics``): the records
 are those ``simulate`` stores by default, events are intervals of records
-(``webline.sim.events``), the tension reference is the loadcell profile at each record, and
+(``webline.sim.events``), the tension reference is the loadcell profile at each record (a
+taper rewind's tapered at the radius its controller uses, and every zone's scaled by a
+start/stop tension ramp, as ``Result.tension_ref``), and
 the tension of a Kelvin-Voigt span is what its rollers feel, s + τ ds/dt, from the kernel's
 right-hand side at each record (``webline.sim.viscoelastic``).
 """
@@ -40,6 +42,7 @@ from webline.sim.batch_layout import (
     SPAN_BLOCKS,
     Layout,
 )
+from webline.sim.controllers import taper_at
 from webline.sim.kernel import advance, compiled_slip_column, record_width
 from webline.sim.metrics import SETTLE_BAND
 from webline.sim.plan import Plan
@@ -107,14 +110,23 @@ def _tension(rec: np.ndarray, felt: np.ndarray, kv: bool, r: int, k: int) -> flo
 @jit
 def _tension_error(acc: np.ndarray, n_s: int, k: int, p: int, rec: np.ndarray,
                    felt: np.ndarray, kv: bool, n_rec: int, prof_t: np.ndarray,
-                   prof_v: np.ndarray, prof_off: np.ndarray) -> None:
+                   prof_v: np.ndarray, prof_off: np.ndarray, taper_drive: int,
+                   radius_column: int, drives: np.ndarray, ramp_profile: int) -> None:
     """Fold span ``k``'s error from its reference profile ``p`` over ``n_rec`` records into
-    its sum of squares, peak and settling columns."""
+    its sum of squares, peak and settling columns; with ``taper_drive`` >= 0 the reference
+    is tapered at the radius the rewind's controller uses (record column
+    ``radius_column``), as ``Result.tension_ref`` tapers it (docs/winder.md W1); with
+    ``ramp_profile`` > 0 it is scaled by that profile, the start/stop tension ramp (R1)."""
     sumsq, peak = acc[A_SUMSQ * n_s + k], acc[A_PEAK * n_s + k]
     settle, lastout = acc[A_SETTLE * n_s + k], acc[A_LASTOUT * n_s + k]
     for r in range(n_rec):
         t = rec[r, 0]
         ref = profile_at(p, t, prof_t, prof_v, prof_off)
+        if taper_drive >= 0:
+            ref *= taper_at(taper_drive, rec[r, radius_column], drives, prof_t, prof_v,
+                            prof_off)
+        if ramp_profile > 0:
+            ref *= profile_at(ramp_profile, t, prof_t, prof_v, prof_off)
         err = _tension(rec, felt, kv, r, k) - ref
         sumsq += err * err
         peak = max(peak, abs(err))
@@ -131,7 +143,7 @@ def _reduce(rec: np.ndarray, felt: np.ndarray, kv: bool, n_rec: int, acc: np.nda
             trace: np.ndarray, trace_every: int, dt: float, n_x: int, n_s: int, n_d: int,
             n_n: int, nodes: np.ndarray, drives: np.ndarray, prof_t: np.ndarray,
             prof_v: np.ndarray, prof_off: np.ndarray, span_prof: np.ndarray,
-            tension_limit: float) -> None:
+            tension_limit: float, ramp_profile: int) -> None:
     """Fold ``n_rec`` record rows (``kernel.run``'s layout) into the accumulators ``acc``,
     one column at a time; with ``kv`` the tensions are the felt ones in ``felt``. Events
     that cannot occur (no tension limit, no backlash gap, no traction) are skipped: their
@@ -140,6 +152,13 @@ def _reduce(rec: np.ndarray, felt: np.ndarray, kv: bool, n_rec: int, acc: np.nda
     n_ev = 2 * n_s + 2 * n_d + n_n
     col_cmd = 1 + n_x
     col_slip = compiled_slip_column(n_x, n_d)
+    # the rewind's zone loadcell under a taper: its reference follows the rewind radius
+    taper_drive, taper_span = -1, -1
+    if n_d > 0 and drives[n_d - 1, L.D_NODE] == n_n - 1 and drives[n_d - 1, L.D_TAPER] > 0.0:
+        taper_drive, taper_span = n_d - 1, int(drives[n_d - 1, L.D_LOADCELL])
+    # the radius the rewind's controller uses (calculated or true): the record's column of
+    # controller radii (``kernel.slip_column``: time, states, six columns per drive)
+    radius_column = 1 + n_x + 5 * n_d + taper_drive
     for k in range(n_s):
         tmin, tmax = acc[A_TMIN * n_s + k], acc[A_TMAX * n_s + k]
         for r in range(n_rec):
@@ -148,7 +167,8 @@ def _reduce(rec: np.ndarray, felt: np.ndarray, kv: bool, n_rec: int, acc: np.nda
         acc[A_TMIN * n_s + k], acc[A_TMAX * n_s + k] = tmin, tmax
         if span_prof[k] >= 0:
             _tension_error(acc, n_s, k, span_prof[k], rec, felt, kv, n_rec, prof_t, prof_v,
-                           prof_off)
+                           prof_off, taper_drive if k == taper_span else -1, radius_column,
+                           drives, ramp_profile)
         _intervals(acc, base, n_ev, k, rec, rec, n_rec, 1 + k, BELOW, 0.0, 0.0)  # stretch < 0
         if tension_limit < math.inf:  # (a limit >= 0: the stretch above it is the tension)
             if kv:
@@ -249,7 +269,7 @@ def _compiled_batch(node_rows: tuple[tuple[int, ...], ...],
                                  wound_ripple[c])
                 _reduce(rec, felt, kv, n_rec, acc[c], traces[c], trace_every[c], dt[c], n_x,
                         n_s, n_d, n_n, nodes[c], drives[c], prof_t[c], prof_v[c],
-                        prof_off[c], span_prof, tension_limit[c])
+                        prof_off[c], span_prof, tension_limit[c], int(web[c][L.W_TRAMP]))
                 S.reduce_states(rec, felt, kv, n_rec, acc[c], state_base, states[c], window[c],
                                 n_x, n_d, ns, offsets, nodes[c], drives[c], web[c], prof_t[c],
                                 prof_v[c], prof_off[c])

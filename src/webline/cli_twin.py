@@ -1,0 +1,130 @@
+"""``webline replay`` and ``webline fit``: measured traces against a line (issue 24).
+
+Registered on the app by ``webline.cli``; it imports nothing from there (no cycle). The twin
+layer (scipy, pandas, the simulation) loads inside the commands.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+from rich.markup import escape
+
+from webline.cli_common import LineArg, ScenarioOpt, _console, open_output
+from webline.errors import ArgumentError
+
+if TYPE_CHECKING:
+    from webline.twin.measurements import Measurements
+
+DataArg = Annotated[str, typer.Argument(
+    help="Measurement file: CSV, Parquet or NetCDF with a time column and webline's signal "
+    "names (a run's own results.csv/results.nc work as they are); units in the headers.")]
+MapOpt = Annotated[list[str] | None, typer.Option(
+    "--map", metavar="COLUMN=SIGNAL", help="Read a foreign column as a webline signal, e.g. "
+    "--map LC2=tension[process_span] (repeatable; SIGNAL empty: skip the column).")]
+ForceOpt = Annotated[bool, typer.Option(
+    "--force", help="Write into a non-empty folder webline did not write, or over another "
+    "command's output there.")]
+
+REPLAY_FILES = ("report.html", "metrics.csv", "replay.png")
+FIT_FILES = ("fitted.toml", "fit.json", "report.html", "fit.png", "residuals.png")
+
+
+def parse_pairs(items: list[str] | None, option: str, sep: str = "=") -> dict[str, str]:
+    """``["A=B", ...]`` as a dict; ``ArgumentError`` naming ``option`` for an item without
+    ``sep``."""
+    out = {}
+    for item in items or []:
+        key, found, value = item.partition(sep)
+        if not found or not key.strip():
+            raise ArgumentError(f"{option}: expected NAME{sep}VALUE, got {item!r}")
+        out[key.strip()] = value.strip()
+    return out
+
+
+def _data(data: str, line: str, scenario: str | None,
+          maps: list[str] | None) -> Measurements:
+    from webline.line import load_line
+    from webline.twin.measurements import load_measurements
+
+    base = load_line(line)
+    if scenario:
+        base = base.with_scenario(scenario)
+    return load_measurements(data, base, parse_pairs(maps, "--map"))
+
+
+def replay_command(
+    line: LineArg,
+    data: DataArg,
+    out: Annotated[Path | None, typer.Option(
+        "--out", "-o", help="Output folder; default out/LINE-replay.")] = None,
+    scenario: ScenarioOpt = None,
+    maps: MapOpt = None,
+    force: ForceOpt = False,
+) -> None:
+    """Simulate a line driven by the references logged in measured data and compare it with
+    every measured signal: metrics (RMS, max |error|, NRMSE, bias, R²), overlay figure and an
+    HTML report. Exit status: 0, 2 bad input (the file, column and problem)."""
+    from webline.report.outputs import default_folder
+    from webline.twin.replay import replay
+    from webline.twin.report import write_replay_report
+
+    measurements = _data(data, line, scenario, maps)
+    result = replay(measurements.line, measurements)
+    target = out or Path(default_folder(result.line.name, "replay"))
+    folder = open_output(target, force, "replay", REPLAY_FILES)
+    for name in REPLAY_FILES:
+        folder.claim(name)
+    report = write_replay_report(result, target)
+    folder.finish()
+    console = _console()
+    console.print(escape(measurements.report()))
+    console.print(escape("driven by: " + "; ".join(result.notes)))
+    console.print(escape(result.metrics.to_string(
+        index=False, float_format=lambda v: f"{v:.4g}")))
+    console.print(escape(f"report: {report}"))
+
+
+def fit_command(
+    line: LineArg,
+    data: DataArg,
+    free: Annotated[list[str], typer.Option(
+        "--free", metavar="PATH=LOW..HIGH", help="A parameter to fit and its bounds, e.g. "
+        "--free 'rollers.unwind.inertia=0.5..5 kg*m**2' (repeatable; * for every element: "
+        "rollers.*.friction).")],
+    out: Annotated[Path | None, typer.Option(
+        "--out", "-o", help="Output folder; default out/LINE-fit.")] = None,
+    scenario: ScenarioOpt = None,
+    maps: MapOpt = None,
+    max_simulations: Annotated[int, typer.Option(
+        "--max-simulations", min=10, help="Stop after about this many simulations.")] = 400,
+    force: ForceOpt = False,
+) -> None:
+    """Fit line parameters to measured data by weighted least squares: values, standard
+    errors, 95 % intervals, correlations, and the parameters the data cannot identify.
+    Writes fitted.toml (the line with the fitted values, annotated), fit.json and an HTML
+    report. Exit status: 0, 2 bad input."""
+    from webline.report.outputs import default_folder
+    from webline.twin.fit import fit
+    from webline.twin.fit_files import write_fit_files
+    from webline.twin.report import write_fit_report
+
+    bounds = parse_pairs(free, "--free")
+    measurements = _data(data, line, scenario, maps)
+    from webline.line import load_line
+
+    result = fit(load_line(line), measurements, bounds, scenario=scenario,
+                 max_simulations=max_simulations)
+    target = out or Path(default_folder(result.line.name, "fit"))
+    folder = open_output(target, force, "fit", FIT_FILES)
+    for name in FIT_FILES:
+        folder.claim(name)
+    write_fit_files(result, target)
+    report = write_fit_report(result, target)
+    folder.finish()
+    console = _console()
+    console.print(escape(measurements.report()))
+    console.print(escape(repr(result)))
+    console.print(escape(f"report: {report}"))

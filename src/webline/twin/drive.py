@@ -1,0 +1,118 @@
+"""The line as the measurements drove it: its speed reference, tension set points and initial
+roll radii replaced by what the file logged, so a simulation sees the run the data saw."""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+
+from webline.errors import LineFileError
+from webline.line import Line, Zone
+from webline.twin.measurements import Measurements
+from webline.twin.read import MeasurementError
+
+#: most points of a reference table built from a logged reference
+MAX_TABLE = 2000
+#: a measured speed used as the speed reference is averaged over bins of this length [s]
+MEASURED_BIN = 0.05
+#: a logged tension set point replaces the line's only where it differs by more than this
+#: share of the line's (a logged copy of the line's own set point changes nothing)
+SET_POINT_CHANGE = 0.005
+
+
+@dataclass(frozen=True)
+class Driven:
+    """The line driven by the data and, one per line, what was taken from the data."""
+
+    line: Line
+    notes: tuple[str, ...]
+
+
+def reference_table(time: np.ndarray, values: np.ndarray,
+                    smooth: float = 0.0) -> dict[str, object]:
+    """A ``table`` profile (SI) following a logged reference: its corners where it is
+    piecewise linear (a ramp logged exactly), else bin means of at most ``MAX_TABLE`` points
+    (a noisy or curved log), or bin means over ``smooth`` [s] if given (a measured speed
+    standing in for a reference: its noise must not reach the references and the inertia
+    compensation, which differentiates them); one point past the end continues the last
+    slope (a ramp cut by the end of the record still has its rate there, as the inertia
+    compensation needs)."""
+    ok = np.isfinite(values)
+    t, v = time[ok], values[ok]
+    scale = max(float(np.max(np.abs(v))), 1e-12)
+    bends = np.flatnonzero(np.abs(np.diff(v, 2)) > 1e-9 * scale) + 1
+    knots = np.unique(np.concatenate([[0], bends - 1, bends, bends + 1, [len(t) - 1]]))
+    knots = knots[(knots >= 0) & (knots < len(t))]
+    bins = MAX_TABLE
+    if smooth > 0 and len(t) > 1:
+        bins = min(MAX_TABLE, max(2, round((t[-1] - t[0]) / smooth)))
+    if len(knots) <= MAX_TABLE and not smooth:
+        tt, vv = t[knots], v[knots]
+    else:
+        edges = np.linspace(0, len(t), bins + 1).astype(int)
+        tt = np.array([t[a:b].mean() for a, b in itertools.pairwise(edges)])
+        vv = np.array([v[a:b].mean() for a, b in itertools.pairwise(edges)])
+        tt[0], tt[-1] = t[0], t[-1]
+    if len(tt) >= 2:  # one more point on the last slope: the last tick sees the same rate
+        slope = (vv[-1] - vv[-2]) / (tt[-1] - tt[-2])
+        step = max(tt[-1] - tt[-2], 1e-3)
+        last = vv[-1] + slope * step
+        tt, vv = np.append(tt, tt[-1] + step), np.append(vv, last)
+    vv = np.maximum(vv, 0.0)  # speed and tension references are >= 0 (a noisy zero is not)
+    return {"type": "table", "time": [float(x) for x in tt], "value": [float(x) for x in vv]}
+
+
+def driven_line(data: Measurements, line: Line | None = None) -> Driven:
+    """``line`` (default: the data's) with the logged references of ``data`` swapped in:
+    line speed from ``speed_ref[MASTER]`` (else the master roller's measured ``speed``), each
+    zone's tension set point from ``tension_ref[LOADCELL]`` where it differs from the line's
+    (zones with a taper keep the line's: the logged reference includes the taper), the rolls'
+    radii from ``radius[...]`` at t = 0."""
+    line = data.line if line is None else line
+    changes: dict[str, object] = {}
+    notes = []
+    master = line.node_name(line.master)
+    for name, what, smooth in (
+            (f"speed_ref[{master}]", "logged speed reference", 0.0),
+            (f"speed[{master}]", f"measured speed of the master roller, {MEASURED_BIN * 1e3:g} "
+             "ms means", MEASURED_BIN)):
+        if name in data.signals:
+            changes["speed"] = reference_table(data.time, data.signals[name], smooth)
+            notes.append(f"line speed from {name} ({what})")
+            break
+    else:
+        notes.append("line speed: the line's own reference (no speed_ref or master speed "
+                     "logged)")
+    for zone in line.zones:
+        span = line.span_name(zone.loadcell)
+        name = f"tension_ref[{span}]"
+        spec = line.spec.spans[zone.loadcell].tension
+        if name not in data.signals or not isinstance(spec, int | float):
+            continue
+        logged = data.signals[name]
+        if np.nanmax(np.abs(logged - spec)) > SET_POINT_CHANGE * abs(spec):
+            if _tapered(line, zone):
+                notes.append(f"{name}: a tapered zone keeps the line's set point and taper")
+                continue
+            changes[f"spans.{span}.tension"] = reference_table(data.time, logged)
+            notes.append(f"tension set point of {span} from {name}")
+    for index in (0, line.n_nodes - 1):
+        roll = line.node_name(index)
+        name = f"radius[{roll}]"
+        if name in data.signals and np.isfinite(data.signals[name][0]):
+            radius = float(data.signals[name][0])
+            if abs(radius - float(line.spec.rollers[index].radius)) > 1e-4:
+                changes[f"rollers.{roll}.radius"] = radius
+                notes.append(f"initial radius of {roll} from {name}: {radius:.4g} m")
+    try:
+        driven = line.replace(changes) if changes else line
+    except LineFileError as exc:  # a logged reference the line file cannot take
+        raise MeasurementError(data.source, exc.key, f"the logged references cannot drive "
+                               f"line {line.name!r}: {exc.problem}") from None
+    return Driven(driven, tuple(notes))
+
+
+def _tapered(line: Line, zone: Zone) -> bool:
+    return getattr(line.spec.rollers[zone.controller], "taper", None) is not None

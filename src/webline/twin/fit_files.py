@@ -1,0 +1,106 @@
+"""A fit's files: ``fit.json`` (the numbers, for ``webline tune`` and scripts) and
+``fitted.toml`` (the line with the fitted values, each annotated with its interval and the
+data it came from)."""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from webline.files import atomic_write_text
+from webline.spec.load import dump_spec
+from webline.spec.paths import split_path
+
+if TYPE_CHECKING:
+    from webline.twin.fit import FitResult
+
+
+def _number(value: float) -> float | None:
+    return float(value) if math.isfinite(value) else None
+
+
+def fit_json(result: FitResult) -> dict[str, Any]:
+    """The ``fit.json`` object: ``{"line", "data", "parameters": {PATH: {"value", "unit",
+    "stderr", "ci95": [lo, hi], "identifiable"}}, "correlation", "simulations", "cost",
+    "converged"}``, values in SI."""
+    parameters = {
+        p.path: {"value": float(result.value[i]), "unit": p.unit,
+                 "stderr": float(result.stderr[i]),
+                 "ci95": [float(result.ci95[i, 0]), float(result.ci95[i, 1])],
+                 "identifiable": bool(result.identifiable[i])}
+        for i, p in enumerate(result.parameters)}
+    return {"line": result.line.name, "data": str(result.data.source),
+            "parameters": parameters,
+            "correlation": [[float(c) if math.isfinite(c) else 0.0 for c in row]
+                            for row in result.correlation],
+            "simulations": int(result.simulations), "cost": float(result.cost),
+            "converged": bool(result.converged)}
+
+
+def annotation(result: FitResult, i: int) -> str:
+    """The comment of parameter ``i``: interval and data file, or why it was not fitted."""
+    p, data = result.parameters[i], Path(result.data.source).name
+    if not result.identifiable[i]:
+        return (f"not identifiable from {data} ({result.identifiability.reasons[i]}): "
+                f"kept the line's value")
+    lo, hi = result.ci95[i]
+    return (f"fitted to {data}: {result.value[i]:.6g} {p.unit}, 95 % interval "
+            f"{lo:.6g} .. {hi:.6g}, stderr {result.stderr[i]:.3g}")
+
+
+def fitted_toml(result: FitResult) -> str:
+    """The fitted line as TOML (SI, ``dump_spec``), a header listing every parameter and a
+    comment on each fitted value's line (where the value has a line of its own)."""
+    text = dump_spec(result.fitted_line.spec)
+    lines = text.splitlines()
+    for i, p in enumerate(result.parameters):
+        row = _value_row(lines, p.path)
+        if row is not None:
+            lines[row] = f"{lines[row]}  # {annotation(result, i)}"
+    header = [f"# Line {result.line.name!r} fitted by webline to {result.data.source}",
+              f"# {result.simulations} simulations, cost {result.cost:.6g}, "
+              f"{'converged' if result.converged else 'NOT converged'}; values in SI",
+              *(f"# {p.path}: {annotation(result, i)}"
+                for i, p in enumerate(result.parameters)), ""]
+    return "\n".join(header + lines) + "\n"
+
+
+def _value_row(lines: list[str], path: str) -> int | None:
+    """Index of the ``key = value`` line of ``path`` in ``dump_spec``'s text: under the
+    table ``[SECTION.SUB...]`` (or ``[[SECTION]]`` for the element itself) whose element is
+    named ``name = "ELEMENT"``; None where the value sits in an inline table."""
+    parts = [str(x) for x in split_path(path)]
+    if len(parts) < 2:
+        return None
+    section, key = parts[0], parts[-1]
+    arrays = {"rollers", "spans", "disturbances"}
+    element = parts[1] if section in arrays else None
+    inner = parts[2:-1] if section in arrays else parts[1:-1]
+    want = ".".join([section, *inner])
+    header, current = "", None
+    for row, text in enumerate(lines):
+        match = re.match(r"^\[\[?([^\]]+)\]\]?\s*$", text)
+        if match:
+            header = match[1]
+            if text.startswith("[[") and header == section:
+                current = None
+            continue
+        name = re.match(r'^name = "(.*)"$', text)
+        if name and header == section:
+            current = name[1]
+        if header == want and (element is None or current == element) and \
+                text.startswith(f"{key} = "):
+            return row
+    return None
+
+
+def write_fit_files(result: FitResult, out: Path) -> tuple[Path, Path]:
+    """Write ``out/fitted.toml`` and ``out/fit.json`` (atomically); their paths."""
+    out.mkdir(parents=True, exist_ok=True)
+    toml_path, json_path = out / "fitted.toml", out / "fit.json"
+    atomic_write_text(toml_path, fitted_toml(result))
+    atomic_write_text(json_path, json.dumps(fit_json(result), indent=2) + "\n")
+    return toml_path, json_path

@@ -1,0 +1,163 @@
+"""HTML reports of a replay and of a fit, built from ``webline.report``'s page pieces: the
+data and what loading did to it, the metrics, the fitted values with their intervals, the
+correlations, the overlays and the residuals."""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from webline.files import atomic_write_bytes, atomic_write_text
+from webline.report.html import Image, Section, Text, render
+from webline.report.tables import Table, make_table
+from webline.twin.figures import overlay_figure, residual_figure
+from webline.version import __version__
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from webline.twin.fit import FitResult
+    from webline.twin.measurements import Measurements
+    from webline.twin.replay import Replay
+
+#: residuals larger than this many noise levels (RMS) mean the model misses something
+MISFIT = 1.5
+#: a replayed signal whose NRMSE exceeds this is named in the status line as poorly matched
+POOR_NRMSE = 0.1
+
+
+def _which(names: list[str]) -> str:
+    """What a figure shows of ``names``: all, or how many (the tables list every signal)."""
+    from webline.twin.figures import MAX_PANELS
+
+    if len(names) <= MAX_PANELS:
+        return ""
+    return (f" ({MAX_PANELS} of the {len(names)} signals, tensions and torques first; the "
+            "tables list them all)")
+
+
+def _png(fig: Figure) -> bytes:
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=90)
+    return buffer.getvalue()
+
+
+def _g(value: float) -> str:
+    return f"{value:.4g}" if np.isfinite(value) else "—"
+
+
+def _data_section(data: Measurements) -> Section:
+    return Section("Data", [Text(data.report(), pre=True)])
+
+
+def metrics_table(frame: Any, key: str, title: str) -> Table:
+    """The metrics DataFrame (``twin.metrics.COLUMNS``) as a report table."""
+    rows = [(r.signal, r.unit, str(r.points), _g(r.rms), _g(r.max_abs), _g(r.nrmse),
+             _g(r.bias), _g(r.r2)) for r in frame.itertuples()]
+    return make_table(key, title, ("signal", "unit", "points", "RMS", "max |error|", "NRMSE",
+                                   "bias", "R²"), rows)
+
+
+def _status(frame: Any) -> tuple[str, str]:
+    """(status text, class) computed from the metrics: the worst NRMSE and how many signals
+    exceed ``POOR_NRMSE``."""
+    nrmse = frame["nrmse"].to_numpy(dtype=float)
+    finite = nrmse[np.isfinite(nrmse)]
+    if not len(finite):
+        return "no signal could be compared", "warning"
+    poor = int((finite > POOR_NRMSE).sum())
+    worst = frame.loc[frame["nrmse"].idxmax()]
+    text = (f"{len(finite)} signals compared; largest NRMSE {worst['nrmse']:.3g} "
+            f"({worst['signal']}); {poor} above {POOR_NRMSE:g}")
+    return text, "warning" if poor else "ok"
+
+
+def write_replay_report(replay: Replay, out: Path) -> Path:
+    """``out/report.html``, ``out/metrics.csv`` and ``out/replay.png``; the report's path."""
+    out.mkdir(parents=True, exist_ok=True)
+    figure = _png(replay.plot())
+    atomic_write_bytes(out / "replay.png", figure)
+    atomic_write_text(out / "metrics.csv", replay.metrics.to_csv(index=False))
+    status, css = _status(replay.metrics)
+    if replay.run.failure:
+        status, css = f"the simulation failed: {replay.run.failure}", "failed"
+    sections = [
+        _data_section(replay.data),
+        Section("Replay", [Text("Driven by: " + "; ".join(replay.notes)),
+                           metrics_table(replay.metrics, "metrics",
+                                         "Simulated against measured (SI)"),
+                           Image("replay", "measured (grey) and simulated (blue)"
+                                 + _which(replay.data.names), figure)]),
+    ]
+    html = render(f"webline replay: {replay.line.name}", str(replay.data.source), status, css,
+                  sections, f"webline {__version__}", headline="replay")
+    return atomic_write_text(out / "report.html", html)
+
+
+def write_fit_report(result: FitResult, out: Path) -> Path:
+    """``out/report.html`` (data, fitted values and intervals, correlations, overlays before
+    and after, residuals) and its figures as PNG; the report's path."""
+    out.mkdir(parents=True, exist_ok=True)
+    names = list(result.signals)
+    measured = {n: result.data.signals[n][::result.data.stride] for n in names}
+    overlay = _png(overlay_figure(result.time, measured, result.after.values, names,
+                                  "fit: measured, before and after", result.before.values))
+    residuals = _png(residual_figure(result.time, result.residuals(), result.noise,
+                                     "residuals after the fit (simulated - measured)"))
+    atomic_write_bytes(out / "fit.png", overlay)
+    atomic_write_bytes(out / "residuals.png", residuals)
+    rows = []
+    for i, p in enumerate(result.parameters):
+        ok = bool(result.identifiable[i])
+        rows.append((p.path, p.unit, _g(p.start), _g(result.value[i]) if ok else "—",
+                     _g(result.stderr[i]) if ok else "—", _g(result.ci95[i, 0]),
+                     _g(result.ci95[i, 1]),
+                     "yes" if ok else "no: " + result.identifiability.reasons[i]))
+    values = make_table("parameters", "Fitted parameters (SI; an interval of a parameter that "
+                        "is not identifiable is its bounds)",
+                        ("parameter", "unit", "line", "fitted", "stderr", "95 % low",
+                         "95 % high", "identifiable"), rows)
+    short = [f"p{i + 1}" for i in range(len(result.parameters))]
+    correlation = make_table("correlation", "Correlation of the estimates (" + ", ".join(
+        f"{s} = {p.path}" for s, p in zip(short, result.parameters, strict=True)) + ")",
+        ("", *short), [(s, *(f"{c:+.3f}" for c in row))
+                       for s, row in zip(short, result.correlation, strict=True)])
+    from webline.twin.metrics import signal_metrics
+    from webline.twin.signals import si_unit
+
+    units = {n: si_unit(n) for n in names}
+    before = signal_metrics(result.before.values, measured, units)
+    after = signal_metrics(result.after.values, measured, units)
+    unidentified = [p.path for i, p in enumerate(result.parameters)
+                    if not result.identifiable[i]]
+    status = (f"{len(result.parameters) - len(unidentified)} of {len(result.parameters)} "
+              f"parameters identified; {result.simulations} simulations, cost "
+              f"{result.cost:.4g} over {sum(np.isfinite(m).sum() for m in measured.values())} "
+              f"points; {'converged' if result.converged else 'not converged: ' + result.message}"
+              + (f"; not identifiable from this data: {', '.join(unidentified)}"
+                 if unidentified else ""))
+    misfit = result.residual_scale > MISFIT
+    if misfit:
+        status += (f"; the residuals are {result.residual_scale:.3g} x the signals' noise: the "
+                   "model misses something the data show, and the intervals assume it does "
+                   "not (docs/commissioning.md: when the fit is poor)")
+    css = "ok" if result.converged and not unidentified and not misfit else "warning"
+    weights = make_table("weights", "Noise level each signal was weighted by (SI)",
+                         ("signal", "noise σ"), [(n, _g(result.noise[n])) for n in names])
+    sections = [
+        _data_section(result.data),
+        Section("Fit", [values, correlation, weights]),
+        Section("Traces", [Image("fit", "measured (grey), the line's values (dashed), fitted "
+                                 "(blue)" + _which(names), overlay),
+                           metrics_table(before, "before", "Before the fit"),
+                           metrics_table(after, "after", "After the fit")]),
+        Section("Residuals", [Image("residuals", "simulated - measured after the fit, with "
+                                    "the ±2σ band of each signal's noise level"
+                                    + _which(names), residuals)]),
+    ]
+    html = render(f"webline fit: {result.line.name}", str(result.data.source), status, css,
+                  sections, f"webline {__version__}", headline="fit")
+    return atomic_write_text(out / "report.html", html)
