@@ -157,6 +157,14 @@ def _winder_state_lines() -> dict[str, tuple[webline.Line, float, str]]:
             "rollers.rewind.diameter": {"method": "thickness",
                                         "initial": 2 * hswl.rewind.radius + 0.020}}), 3.0,
             "diameter_error"),
+        "zone off its tapered, ramped set tension": (rockwell.replace({
+            "rollers.rewind.winder": {
+                **open_loop, "viscous_friction": rockwell.rewind.friction + 0.174},
+            "rollers.rewind.taper": {"type": "linear", "taper": 0.3, "max_diameter": "0.5 m"},
+            "control.tension_ramp": {"standstill": 0.3, "time": "3 s"},
+            "speed": {"type": "ramp", "initial": "0 ft/min", "final": "300 ft/min",
+                      "start": "0.5 s", "duration": "2 s"}}), 4.0,
+            "tension_off_set"),
         "zone off its set tension, then a break in it": (_with_break(rockwell.replace({
             "rollers.rewind.drive.torque_limit": "3 N*m"}), "rewind_span_b", 2.5), 4.0,
             "tension_off_set"),
