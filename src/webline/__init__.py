@@ -1,11 +1,11 @@
 """webline: model, simulate, analyse and control roll-to-roll (web handling) process lines.
 
-The front door: ``load_line``, ``simulate``, ``sweep``, ``monte_carlo``, ``linearize``,
-``operating_point`` and their types; and, from the layer above it (``webline.twin``, which
-is imported only when one of them is first used, never by this module's code),
-``load_measurements``, ``replay``, ``fit`` and ``tune``. Each is imported on first use (PEP
-562), so ``import webline`` and the command line start fast; python-control, scipy and
-numba load only when a model or a run needs them.
+The front door: ``load_line``, ``simulate``, ``Session``, ``sweep``, ``monte_carlo``,
+``linearize``, ``operating_point`` and their types; and, from the layer above it
+(``webline.twin``, which is imported only when one of them is first used, never by this
+module's code), ``load_measurements``, ``replay``, ``fit`` and ``tune``. Each is imported on
+first use (PEP 562), so ``import webline`` and the command line start fast; python-control,
+scipy and numba load only when a model or a run needs them.
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 
 from webline.errors import (
     ArgumentError,
+    ControllerError,
     LineFileError,
     SimulationError,
     SimulationInterrupted,
@@ -28,6 +29,7 @@ if TYPE_CHECKING:
     from webline.sim.linearize import linearize
     from webline.sim.reference import simulate_reference
     from webline.sim.result import Result
+    from webline.sim.session import Session
     from webline.sim.simulate import simulate
     from webline.sim.sweep import monte_carlo, sweep
 
@@ -41,6 +43,7 @@ _LAZY = {
     "simulate_reference": "webline.sim.reference",
     "Result": "webline.sim.result",
     "simulate": "webline.sim.simulate",
+    "Session": "webline.sim.session",
     "sweep": "webline.sim.sweep",
     "monte_carlo": "webline.sim.sweep",
 }
@@ -56,11 +59,13 @@ _LAZY_ABOVE = {
 
 __all__ = [
     "ArgumentError",
+    "ControllerError",
     "Line",
     "LineFileError",
     "Measurements",
     "OperatingPoint",
     "Result",
+    "Session",
     "SimulationError",
     "SimulationInterrupted",
     "WeblineError",

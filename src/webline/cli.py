@@ -249,8 +249,9 @@ def study(
         "webline did not write.")]
     = False,
 ) -> None:
-    """Run a named study (thesis reproductions): figures, table.csv and summary.txt, listed in
-    the folder's manifest like a run's files (a rerun removes what it no longer writes)."""
+    """Run a named study (thesis reproductions): figures, table.csv, summary.txt and an HTML
+    report (report.html: findings, table, figures), listed in the folder's manifest like a
+    run's files (a rerun removes what it no longer writes)."""
     from webline.studies import STUDIES
     from webline.studies.output import recording
 
@@ -268,9 +269,19 @@ def study(
                          ("table.csv", "summary.txt"))
     with recording(folder):
         result = STUDIES[name](folder.path, quick=quick)
+        from webline import __version__
+        from webline.report.study_report import study_html
+        from webline.studies.output import write_text
+
+        doc = " ".join((sys.modules[STUDIES[name].__module__].__doc__ or "").split("\n\n")[0]
+                       .split())
+        write_text(folder.path / "report.html", study_html(
+            name, doc, result.summary, result.table, result.figures, result.verdict,
+            __version__))
     typer.echo(result.summary)
     if result.verdict is not None:
         typer.echo(f"verdict of its runs: {result.verdict.headline}")
+    typer.echo(f"Report (open it in a browser): {(folder.path / 'report.html').resolve()}")
     typer.echo(str(folder.path.resolve()))
 
 

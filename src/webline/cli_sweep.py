@@ -25,11 +25,12 @@ from rich.progress import (
 )
 from rich.table import Table as RichTable
 
-from webline.cli_common import _duration, fail, open_output
+from webline.cli_common import Units, UnitsOpt, _duration, fail, open_output
 from webline.errors import ArgumentError
 from webline.spec.paths import split_values, toml_value
 
 if TYPE_CHECKING:
+    from webline.report.display import Display
     from webline.report.outputs import OutputFolder
 
 #: the chunk store's folder in a sweep's output folder (``webline.sim.chunks``)
@@ -128,9 +129,11 @@ def _jsonable_attrs(ds: Any) -> Any:
     return ds
 
 
-def write_outputs(ds: Any, folder: OutputFolder) -> tuple[Path, Path]:
-    """Write ``sweep.nc`` and ``report.html`` into ``folder`` atomically, list them and the
-    chunk store's files in its manifest and finish it (``report.outputs``)."""
+def write_outputs(ds: Any, folder: OutputFolder,
+                  display: Display | None = None) -> tuple[Path, Path]:
+    """Write ``sweep.nc`` (SI) and ``report.html`` (in ``display``'s units, default SI) into
+    ``folder`` atomically, list them and the chunk store's files in its manifest and finish
+    it (``report.outputs``)."""
     from webline.files import atomic_write_bytes, atomic_write_text
     from webline.report.sweep_report import sweep_html
 
@@ -138,13 +141,27 @@ def write_outputs(ds: Any, folder: OutputFolder) -> tuple[Path, Path]:
     # (``sim.result_files.write_netcdf``): HDF5 crashes closing a file on a full disk
     image = _jsonable_attrs(ds).to_netcdf(engine="h5netcdf")
     results = atomic_write_bytes(folder.claim("sweep.nc"), image)
-    report = atomic_write_text(folder.claim("report.html"), sweep_html(ds))
+    report = atomic_write_text(folder.claim("report.html"), sweep_html(ds, display))
     from webline.sim.chunks import store_files
 
     for kept in store_files(folder.path / CHUNKS):  # kept for --resume; its chunk store's
         folder.adopt(f"{CHUNKS}/{kept.name}")  # (written since, beside its claimed record)
     folder.finish()
     return results, report
+
+
+def _display(line: str, system: str, spec: dict[str, Any]) -> Display:
+    """The report's units: ``system``, forces per width of the line's web for the per-width
+    systems (refused when the study changes the web's width: no one width to divide by)."""
+    from webline.line import load_line
+    from webline.report.display import Display
+
+    if not system.endswith("per-width"):
+        return Display(system)  # type: ignore[arg-type]
+    if "web.width" in spec:
+        raise ArgumentError(f"--units {system}: the study changes web.width, so its tensions "
+                            "have no one width to be shown per; choose si or imperial")
+    return Display(system, load_line(line).spec.web.width)  # type: ignore[arg-type]
 
 
 def sweep_command(
@@ -175,6 +192,7 @@ def sweep_command(
     out: Annotated[Path | None, typer.Option(
         "--out", "-o", help="Output folder; default out/LINE-sweep.")] = None,
     quiet: Annotated[bool, typer.Option("--quiet", "-q")] = False,
+    units: UnitsOpt = Units.si,
     force: Annotated[bool, typer.Option(
         "--force", help="Write into a non-empty folder webline did not write, or over "
         "another command's output there (the files its manifest lists); never over a file "
@@ -185,7 +203,8 @@ def sweep_command(
         "(about a day of one core) before it runs; --no-work-limit lifts it.")] = True,
 ) -> None:
     """Run a parameter sweep (grid or --zip) or, with --samples, a Monte Carlo study; write
-    sweep.nc (one row per case, metrics and verdict) and an HTML report."""
+    sweep.nc (SI: metrics and verdict per case, a grid with a dimension per parameter) and an
+    HTML report (in --units: the table of cases, verdicts, metrics, figures)."""
     n_samples = None
     if samples is not None:  # bounded before anything is read or allocated
         from webline.limits import check_case_count
@@ -199,6 +218,7 @@ def sweep_command(
         raise ArgumentError("--resume and --restart: choose one (go on with the study, or "
                             "start it again)")
     seconds = _duration(duration)  # as run's: a plain number is seconds
+    display = _display(line, units.value, spec)
     from webline.sim.chunks import STUDY_FILE, store_files
 
     folder = open_output(out or Path("out") / f"{Path(line).stem}-sweep", force, "sweep",
@@ -233,7 +253,7 @@ def sweep_command(
     from webline.report.sweep_report import metric_table, status_table
 
     try:
-        results, report = write_outputs(ds, folder)
+        results, report = write_outputs(ds, folder, display)
     except OSError as exc:  # every chunk is saved: a resume only merges them
         from webline.errors import StudyError
         from webline.files import write_failure
@@ -242,7 +262,7 @@ def sweep_command(
                                        "chunks without running a case again")) from None
     if not quiet:
         console = Console(highlight=False, width=None if err.is_terminal else 120)
-        for table in (status_table(ds), metric_table(ds)):
+        for table in (status_table(ds), metric_table(ds, display)):
             shown = RichTable(title=escape(table.title), title_justify="left")
             for column in table.columns:
                 shown.add_column(escape(column))
@@ -250,6 +270,6 @@ def sweep_command(
                 shown.add_row(*(escape(cell) for cell in row))
             console.print(shown)
         elapsed = time.perf_counter() - started
-        console.print(f"{ds.sizes['case']} cases in {elapsed:.1f} s; results: "
+        console.print(f"{ds.status.size} cases in {elapsed:.1f} s; results: "
                       f"{escape(str(results))}\nReport (open it in a browser):")
     typer.echo(str(report.resolve()))

@@ -75,6 +75,11 @@ class SimulationError(WeblineError):
         super().__init__(message)
 
 
+class ControllerError(SimulationError):
+    """A user's controller raised or returned a wrong shape or a non-finite torque; the
+    message names it and the tick, ``partial`` holds the run up to that tick."""
+
+
 class StudyError(WeblineError):
     """A study stopped before its end (a full disk, its workers lost, a damaged chunk); the
     message says what ``--resume`` will continue from (exit status 1)."""

@@ -18,6 +18,7 @@ OPTIONAL: dict[str, tuple[str, str]] = {
     "nbclient": ("notebook", "running the tutorial notebooks"),
     "mkdocs": ("docs", "building the documentation site"),
     "pyarrow": ("parquet", "reading a Parquet measurement file"),
+    "gymnasium": ("gym", "the Gymnasium environment webline/Line-v0"),
 }
 
 

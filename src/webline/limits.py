@@ -11,6 +11,15 @@ from __future__ import annotations
 
 from webline.errors import ArgumentError
 
+#: Most states of a closed-loop linear model whose dense eigen-decomposition webline computes
+#: for a run (its verdict's stability check, the report's modes and zone loops). LAPACK's
+#: time grows as the cube of the states: 881 states (a 250-span line) took 80 s with left
+#: eigenvectors on the shared, loaded 2-core machine; 400 states (about 110 spans of the
+#: ``benchmarks/long_line.py`` line) take a few seconds. Beyond it a run's verdict carries a
+#: warning that stability was not checked, and its report says modes and zone loops were not
+#: computed (issue 22 item 7; docs/sweeps.md, "Long lines").
+MAX_EIGEN_STATES = 400
+
 #: Most bytes a study's cases may hold in memory (their values, metrics and traces), as
 #: ``sim.budget.MAX_RECORD_BYTES`` for one run; not lifted: a study that cannot be held
 #: cannot finish.

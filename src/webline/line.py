@@ -13,6 +13,8 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
+import numpy as np
+
 from webline.spec.check import check_spec, web_ea, zones
 from webline.spec.load import read_spec, spec_from_dict
 from webline.spec.paths import set_path
@@ -24,6 +26,8 @@ from webline.spec.schema import (
     UnwindSpec,
 )
 from webline.spec.splice import FlyingSplice
+from webline.spec.web_law import stretch_at
+from webline.spec.web_law_checks import law_array
 from webline.spec.winder import WebBreak
 
 #: The notebook view of a line, "module:function" taking the ``Line`` and returning HTML: a
@@ -65,6 +69,23 @@ class Line:
         """Axial stiffness of the web E·A [N]."""
         return web_ea(self.spec.web)
 
+    @cached_property
+    def law(self) -> np.ndarray:
+        """The web's stress-strain law in stretch s = EA·ε [N] (``physics.web_law``; a
+        one-element array for the linear law), read-only."""
+        law = law_array(self.spec.web, self.ea)
+        law.setflags(write=False)
+        return law
+
+    @property
+    def nonlinear(self) -> bool:
+        """Whether the web's law is other than T = EA ε."""
+        return self.law.size > 1
+
+    def stretch_of(self, tension: float) -> float:
+        """Stretch EA·ε [N] at which the web carries ``tension`` [N] (itself, linear)."""
+        return stretch_at(self.law, tension) if self.nonlinear else tension
+
     @property
     def n_nodes(self) -> int:
         return len(self.spec.rollers)
@@ -97,11 +118,14 @@ class Line:
     def warnings(self) -> tuple[str, ...]:
         """'key: problem' for every value of the line file outside its usual physical range
         (``webline.spec.ranges``): possible, but rare enough to be a slip of the unit; and
-        every winder setting that cannot act (``webline.spec.winder_checks``)."""
+        every winder setting that cannot act (``webline.spec.winder_checks``); a web whose
+        momentum flux ρA v² is a share of its tension (``spec.web_mass``)."""
         from webline.spec.ranges import warnings
+        from webline.spec.web_mass import web_mass_warnings
         from webline.spec.winder_checks import winder_warnings
 
-        return tuple(warnings(self.spec)) + tuple(winder_warnings(self.spec))
+        return (tuple(warnings(self.spec)) + tuple(winder_warnings(self.spec))
+                + tuple(web_mass_warnings(self.spec)))
 
     @cached_property
     def notes(self) -> tuple[str, ...]:

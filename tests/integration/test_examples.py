@@ -23,7 +23,7 @@ def run_example(name: str) -> str:
 def test_every_example_is_covered() -> None:
     assert {p.name for p in EXAMPLES.glob("*.py")} == {
         "own_line.py", "gain_sweep.py", "compare_controllers.py", "bode.py",
-        "fit_converter.py"}
+        "fit_converter.py", "user_pi.py", "dob_pi.py", "user_lqr.py", "gym_sketch.py"}
 
 
 def test_fit_converter_recovers_both_values() -> None:
@@ -62,3 +62,42 @@ def test_bode_has_unit_dc_gain() -> None:
     match = re.search(r"span2_tension: (-?[\d.]+) dB at", out)
     assert match is not None, out
     assert float(match.group(1)) == pytest.approx(0.0, abs=0.01)
+
+
+def test_user_pi_reproduces_the_builtin_run() -> None:
+    """The built-in PI in Python gives the built-in run to round-off (< 1e-9 of each
+    state's range, the must-show's bound; tests/integration/test_user_controller.py)."""
+    out = run_example("user_pi.py")
+    match = re.search(r"largest difference ([\d.e+-]+) of each state's range; verdict: ok", out)
+    assert match is not None, out
+    assert float(match.group(1)) < 1e-9
+
+
+def test_dob_pi_runs_the_speed_change() -> None:
+    """The disturbance-observer PI keeps hswl through its speed change: verdict ok, and
+    its relative tension RMS within twice the built-in PI's (a DOB that fought the PI or
+    estimated the load with the wrong sign would swing the tensions by far more)."""
+    out = run_example("dob_pi.py")
+    match = re.search(r"built-in PI ([\d.e+-]+), DOB-PI ([\d.e+-]+); verdicts ok, ok", out)
+    assert match is not None, out
+    assert float(match.group(2)) < 2.0 * float(match.group(1))
+
+
+def test_user_lqr_runs_the_speed_change() -> None:
+    """The integral LQR (designed on the section models) keeps hswl through its speed
+    change with a tension deviation of the built-in PI's order (within 3x: both loops are
+    tuned for the same zones; an unstable or mis-signed design diverges)."""
+    out = run_example("user_lqr.py")
+    rows = dict(re.findall(r"^(built-in PI|integral LQR) +verdict ok +largest tension "
+                           r"deviation ([\d.e+-]+) N", out, re.M))
+    assert set(rows) == {"built-in PI", "integral LQR"}, out
+    assert float(rows["integral LQR"]) < 3.0 * float(rows["built-in PI"])
+
+
+def test_gym_sketch_trains() -> None:
+    """The training-loop sketch runs its random search on webline/Line-v0 and reports the
+    reward before and after (needs the optional extra gym)."""
+    pytest.importorskip("gymnasium")
+    out = run_example("gym_sketch.py")
+    assert re.search(r"random search, 8 trials, \d kept: reward on a new line -?[\d.e+-]+ "
+                     r"at K = 0, -?[\d.e+-]+ at the found K", out), out

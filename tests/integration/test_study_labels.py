@@ -1,6 +1,7 @@
 """Any value type sweeps (issue 22): table-valued, string and boolean paths keep their labels
-as coordinates along ``case`` through chunks, merges and resumes, so grouping by a label
-gives each case's own numbers."""
+as coordinates through chunks, merges and resumes (a grid's: along the path's own dimension,
+issue 23; flat, ``as_cases``, along ``case``), so grouping by a label gives each case's own
+numbers."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import pytest
 import webline
 from webline.sim import chunks
 from webline.sim.metrics import METRICS
+from webline.sim.study_grid import as_cases
 
 CONTROLLER = "rollers.process.controller"
 PI = {"type": "cascaded_pi", "speed_bandwidth": 40.0, "tension_bandwidth": 8.0}
@@ -51,7 +53,8 @@ def test_a_table_valued_sweep_of_three_chunks_killed_and_resumed_equals_the_unin
     assert_same_study(resumed, reference)
     whole = webline.sweep("hswl", VALUES, duration=DURATION, workers=1, store=tmp_path / "w")
     assert_same_study(whole, reference)
-    assert resumed[CONTROLLER].dims == ("case",)
+    assert resumed[CONTROLLER].dims == (CONTROLLER,)
+    assert as_cases(resumed)[CONTROLLER].dims == ("case",)
 
 
 @pytest.mark.parametrize("chunk", [None, 2])  # one chunk file, or three
@@ -62,7 +65,8 @@ def test_grouping_by_a_table_label_gives_each_cases_own_numbers(chunk, tmp_path,
     if chunk is not None:
         monkeypatch.setattr(chunks, "CHUNK", chunk)
     ds = webline.sweep("hswl", VALUES, duration=DURATION, workers=1, store=tmp_path)
-    grouped = ds.tension_rms_error.groupby(CONTROLLER).mean()
+    grouped = as_cases(ds).tension_rms_error.groupby(CONTROLLER).mean()
+    on_grid = ds.tension_rms_error.mean("web.ea")  # the same numbers read off the grid
     assert grouped.sizes[CONTROLLER] == len(TABLES)
     line = webline.load_line("hswl")
     for table in TABLES:
@@ -73,6 +77,7 @@ def test_grouping_by_a_table_label_gives_each_cases_own_numbers(chunk, tmp_path,
                      if f'type = "{table["type"]}"' in str(v))
         got = grouped.sel({CONTROLLER: label}).values
         np.testing.assert_allclose(got, want, rtol=1e-12, equal_nan=True, err_msg=label)
+        np.testing.assert_array_equal(on_grid.sel({CONTROLLER: label}).values, got)
 
 
 def test_string_and_boolean_paths_keep_their_labels_through_chunks(tmp_path,
@@ -85,12 +90,15 @@ def test_string_and_boolean_paths_keep_their_labels_through_chunks(tmp_path,
     monkeypatch.setattr(chunks, "CHUNK", 2)
     chunked = webline.sweep("hswl", values, duration=DURATION, workers=1, store=tmp_path)
     assert_same_study(chunked, at_once)
-    # grid order: the last path varies fastest
-    assert list(chunked["rollers.process.drive.feedback"].values) == [
+    # each path's labels along its own dimension, as a line file writes them
+    assert list(chunked["rollers.process.drive.feedback"].values) == ["load", "motor"]
+    assert list(chunked[f"{CONTROLLER}.inertia_adaptive"].values) == ["true", "false"]
+    flat = as_cases(chunked)  # grid order: the last path varies fastest
+    assert list(flat["rollers.process.drive.feedback"].values) == [
         "load", "load", "motor", "motor"]
-    assert list(chunked[f"{CONTROLLER}.inertia_adaptive"].values) == [
+    assert list(flat[f"{CONTROLLER}.inertia_adaptive"].values) == [
         "true", "false", "true", "false"]
     for name in values:
-        assert chunked[name].dims == ("case",)
-    for name in METRICS:  # the metrics stay per case, not spread over a label dimension
-        assert chunked[name].dims[0] == "case"
+        assert chunked[name].dims == (name,) and flat[name].dims == ("case",)
+    for name in METRICS:  # the metrics over the grid, one cell per case
+        assert chunked[name].dims[:2] == tuple(values)

@@ -145,7 +145,7 @@ def test_the_study_limit_refuses_and_can_be_lifted(monkeypatch) -> None:
                                             r"\(--no-work-limit"):
         webline.sweep("hswl", values, duration=0.2, workers=1)
     ds = webline.sweep("hswl", values, duration=0.2, workers=1, work_limit=False)
-    assert ds.sizes["case"] == 4
+    assert ds.status.size == 4  # a grid: the cases over its dimensions
 
 
 def test_the_cli_names_the_override(tmp_path, monkeypatch) -> None:

@@ -27,6 +27,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline.sim",),
     ("webline",),
     ("webline.analysis",),
+    ("webline.gym",),
     ("webline.report",),
     ("webline.twin",),
     ("webline.studies",),

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from webline.control.zone_tuning import SpeedLoopLeak, loop_plant_gain, speed_loop_leaks
+from webline.limits import MAX_EIGEN_STATES
 from webline.line import Line, load_line
 from webline.sim import layout as L
 from webline.sim.linearize import plan_linear_model
@@ -61,10 +62,13 @@ class ZoneLoop:
 
 def zone_loops(line: Line | str, t: float = 0.0) -> list[ZoneLoop]:
     """The tension loop of every zone whose drive runs a cascaded PI, linearized at time ``t``
-    [s] (the plan's cached closed-loop model)."""
+    [s] (the plan's cached closed-loop model); none for a model beyond
+    ``limits.MAX_EIGEN_STATES`` states (its dense eigen-decomposition is not computed)."""
     line = load_line(line)
     plan = compile_plan(line)
     model = plan_linear_model(plan, loop="closed", t=t)
+    if len(model.states) > MAX_EIGEN_STATES:
+        return []
     values, right = np.linalg.eig(np.asarray(model.a, dtype=float))
     left = np.linalg.inv(right)
     participation = np.abs(right * left.T)

@@ -176,6 +176,8 @@ def _equilibrium_motion(line: Line, tension: list[float], v_line: float, a_line:
 
     for _ in range(50):
         upstream = [t0, *tension]
+        if line.nonlinear:  # mass flow carries strain: the stretch EA·ε of each tension
+            upstream = [line.stretch_of(up) for up in upstream]
         ratio = [(ea - upstream[master]) / (ea - up) for up in upstream]
         speed = [v_line * q for q in ratio]
         omega = [v / r_i for v, r_i in zip(speed, r, strict=True)]

@@ -27,6 +27,7 @@ def _overview(line: Line, d: Display) -> Table:
     rows = [("name", spec.name), ("description", spec.description), ("source", spec.source),
             ("file", line.source), ("line speed reference", profile_text(spec.speed, "speed", d)),
             ("web EA", d.text(line.ea, "force")),
+            ("web stress-strain law", _law_text(line)),
             ("web thickness", _thickness(web.thickness, d)),
             ("web width", d.text(web.width, "length")),
             ("web density", d.text(web.density, "density")),
@@ -34,6 +35,22 @@ def _overview(line: Line, d: Display) -> Table:
             ("size", f"{line.n_nodes} rollers, {line.n_spans} spans, {len(line.drives)} drives, "
                      f"{len(line.zones)} tension zones")]
     return make_table("line", "Line", ["key", "value"], [r for r in rows if r[1]])
+
+
+def _law_text(line: Line) -> str:
+    """The web's stress-strain law in words (docs/nonlinear-web.md), "" for a linear web."""
+    law = line.spec.web.stress_strain
+    if law is None or not line.nonlinear:
+        return ""
+    if law.law == "power":
+        text = f"power: σ = E ε_r (ε/ε_r)^{law.exponent:g}, ε_r = {law.reference_strain:g}"
+    elif law.law == "bilinear":
+        text = f"bilinear: {law.hardening:g} E beyond yield"
+    else:
+        text = f"table of {len(law.strain or [])} points"
+    if law.yield_strain is not None:
+        text += f", yield at ε = {100 * law.yield_strain:.3g} %"
+    return text
 
 
 def _thickness(thickness: float, d: Display) -> str:

@@ -22,6 +22,13 @@ from matplotlib.figure import Figure
 
 from webline.analysis.modes import Mode
 from webline.profiles import breakpoints
+from webline.report.big_lines import (
+    condensed_schematic,
+    speed_summary,
+    summarised,
+    tension_summary,
+    torque_summary,
+)
 from webline.report.display import Display
 from webline.report.frame import framed_figure, make_room_for_title
 from webline.report.mpl_text import legend_label, literal
@@ -247,7 +254,7 @@ def figure_jobs(result: Result, display: Display,
     def one(key: str, caption: str, make: Callable[[], Figure]) -> FigureJob:
         return lambda: [ReportFigure(key, caption, make())]
 
-    jobs = [
+    jobs = _summarised_jobs(result, display) if summarised(result.line) else [
         one("schematic", "The line, drawn from its topology.",
             lambda: schematic(result.line, display)),
         one("tension", "Tension in every span against its reference.",
@@ -258,6 +265,8 @@ def figure_jobs(result: Result, display: Display,
         one("rolls", "Unwind and rewind roll radius and inertia.",
             lambda: roll_figure(result, display)),
     ]
+    jobs += [one("rolls", "Unwind and rewind roll radius and inertia.",
+                  lambda: roll_figure(result, display))] if summarised(result.line) else []
     slipping = [i for i in range(1, result.line.n_nodes - 1)
                 if getattr(result.line.spec.rollers[i].contact, "type", "") == "traction"]
     if slipping:
@@ -274,3 +283,24 @@ def figure_jobs(result: Result, display: Display,
         jobs.append(one("poles", "Closed-loop poles at the operating point.",
                         lambda: poles_figure(modes)))
     return jobs
+
+
+def _summarised_jobs(result: Result, display: Display) -> list[FigureJob]:
+    """The schematic, tension, speed and torque figures of a line with many spans, each one
+    figure of a size and cost independent of the number of spans (``report.big_lines``)."""
+    n = result.line.n_spans
+
+    def tension() -> list[ReportFigure]:
+        caption, fig = tension_summary(result, display)
+        return [ReportFigure("tension", caption, fig)]
+
+    return [
+        lambda: [ReportFigure("schematic", f"The line, condensed ({n} spans): a mark per "
+                              "roller in web order.", condensed_schematic(result.line))],
+        tension,
+        lambda: [ReportFigure("speed", "Web speed at the rollers and the drives' speed-loop "
+                              "errors: smallest, median and largest at each instant.",
+                              speed_summary(result, display))],
+        lambda: [ReportFigure("torque", "Motor torque of the drives: smallest, median and "
+                              "largest at each instant.", torque_summary(result, display))],
+    ]

@@ -14,8 +14,10 @@ from webline.analysis.zone_loops import ZoneLoop, speed_leaks, zone_loops
 from webline.control.zone_tuning import SpeedLoopLeak
 from webline.errors import WeblineError
 from webline.files import atomic_write_bytes, atomic_write_text
+from webline.limits import MAX_EIGEN_STATES
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint, analysis_time, operating_point
+from webline.report.big_lines import condensed, summarised
 from webline.report.describe import line_tables
 from webline.report.display import Display, System
 from webline.report.figures import figure_jobs
@@ -56,15 +58,34 @@ class Analysis:
     problem: str = ""
     zone_loops: tuple[ZoneLoop, ...] = ()
     leaks: tuple[SpeedLoopLeak, ...] = ()
+    modes_note: str = ""  #: why there are no modes although there is an operating point
+
+
+#: the report computes no modes or zone loops of a closed-loop model with more states than
+#: this (``limits.MAX_EIGEN_STATES``: a dense eigen-decomposition grows as n³)
+MAX_MODE_STATES = MAX_EIGEN_STATES
 
 
 def analyse(line: Line) -> Analysis:
     """Operating point and closed-loop modes at ``analysis_time(line)``; a line without an
-    equilibrium gives an ``Analysis`` that says why instead of raising."""
+    equilibrium gives an ``Analysis`` that says why instead of raising. A line whose
+    closed-loop model has more than ``MAX_MODE_STATES`` states gets no modes, and a note that
+    says so (``modes_note``)."""
+    from webline.sim.linearize import plan_linear_model
+    from webline.sim.plan import compile_plan
+
     t = analysis_time(line)
     try:
-        return Analysis(t, operating_point(line, t), tuple(closed_loop_modes(line, t)),
-                        zone_loops=tuple(zone_loops(line, t)), leaks=tuple(speed_leaks(line)))
+        point = operating_point(line, t)
+        states = len(plan_linear_model(compile_plan(line), loop="closed", t=t).states)
+        note = ""
+        if states > MAX_MODE_STATES:
+            note = (f"Modes and zone loops not computed: the closed-loop model has {states} "
+                    f"states, more than the report's limit of {MAX_MODE_STATES} (a dense "
+                    "eigen-decomposition, whose time grows as the cube of the states).")
+        modes = () if note else tuple(closed_loop_modes(line, t))
+        return Analysis(t, point, modes, zone_loops=tuple(zone_loops(line, t)),
+                        leaks=tuple(speed_leaks(line)), modes_note=note)
     except (WeblineError, ValueError, ArithmeticError) as exc:
         return Analysis(t, None, (), str(exc))
 
@@ -163,7 +184,8 @@ def _sections(result: Result, display: Display, images: dict[str, Image], analys
     described = {t.key: t for t in line_tables(line, display)}
     if analysis.point is not None:
         op_parts: list = [*operating_point_tables(line, analysis.point, display),
-                          modes_table(analysis.modes)]
+                          Text(analysis.modes_note) if analysis.modes_note
+                          else modes_table(analysis.modes)]
         if analysis.zone_loops:
             op_parts.append(zone_loops_table(analysis.zone_loops))
         op_parts += [Text(line) for line in leak_lines(analysis.leaks)]
@@ -187,11 +209,17 @@ def _sections(result: Result, display: Display, images: dict[str, Image], analys
                 ("RK4 sub-steps per period", f"{settings.get('substeps', 0):g}"),
                 ("records", str(len(result.time))),
                 ("results file (SI)", str(results_file.name) if results_file else "(none)")]
+    line_parts = [described["line"], described["rollers"], described["spans"],
+                  described["drives"], described["zones"],
+                  *([described["winder"]] if "winder" in described else [])]
+    summary_parts = [*summary_tables(result, display), *_verdict_parts(result)]
+    if summarised(line):  # hundreds of rows: the first and last of each table
+        line_parts = [condensed(p) for p in line_parts]
+        summary_parts = [condensed(p) if isinstance(p, Table) else p for p in summary_parts]
+        op_parts = [condensed(p) if isinstance(p, Table) else p for p in op_parts]
     return [
-        Section("Line", [images["schematic"], described["line"], described["rollers"],
-                         described["spans"], described["drives"], described["zones"],
-                         *([described["winder"]] if "winder" in described else [])]),
-        Section("Summary", [*summary_tables(result, display), *_verdict_parts(result)]),
+        Section("Line", [images["schematic"], *line_parts]),
+        Section("Summary", summary_parts),
         # every figure of the run in report order, but the line's and the modes' own
         Section("Time plots", [image for key, image in images.items()
                                if key not in ("schematic", "poles", "across_roll")]),

@@ -29,6 +29,7 @@ from typing import Any
 import numba as nb
 import numpy as np
 
+from webline.errors import LineFileError
 from webline.sim import batch_states as S
 from webline.sim import layout as L
 from webline.sim.batch_layout import (
@@ -325,6 +326,10 @@ def run_batch(plans: list[Plan], states: list[tuple[np.ndarray, np.ndarray, np.n
     first = plans[0]
     n_c = len(plans)
     line = first.line
+    for user in np.flatnonzero(first.drives[:, L.D_FAMILY] == L.FAMILY_USER):
+        raise LineFileError(line.source, f"rollers[{line.drives[int(user)]}].controller",
+                            "a study runs its cases compiled: a python controller runs "
+                            "with simulate or Session, one case at a time")
     stop_rows = max(len(rest_limits(p.line)) for p in plans)
     lay = Layout(line.n_spans, first.drives.shape[0], line.n_nodes, stop_rows)
     if any(p.wound_ripple.shape != first.wound_ripple.shape

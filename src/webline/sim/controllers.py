@@ -31,6 +31,7 @@ from webline.sim.measure import measured_speed
 from webline.sim.mrac import mrac_adapt, mrac_feedback
 from webline.sim.observer import observe
 from webline.sim.signals import gaussian, jit, profile_at, profile_slope_at
+from webline.sim.user_loop import user_command
 from webline.sim.winder_loop import break_monitor, compensation, open_loop_command
 
 _tension: Any = jit(span.tension)
@@ -255,6 +256,10 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
             open_loop_command(d, dt, roll_direction(i, ns), radius, refs[ds[d, L.DS_REF]],
                               comp, v_meas, refs[0], gain, istate, drives, out)
             continue
+        elif ds[d, L.DS_FAMILY] == L.FAMILY_USER:  # the command a user's controller wrote
+            user_command(d, t, v_meas, t_meas, radius,
+                         drive_inertia(d, i, radius, ns, ds, nodes, drives, web), ds, offsets,
+                         drives, web, refs, speed_ripple, out)
         else:
             decentralized_command(d, i, dt, radius, v_meas, t_meas, gain, istate, ns, ds, offsets,
                                   nodes, drives, web, span_ref, v_ref, a_ref, out)

@@ -16,13 +16,15 @@ def linear_states(plan: Plan) -> list[str]:
             for part in ("position", "velocity")]
 
 
-def plant_rows(a: np.ndarray, e: np.ndarray, plan: Plan, tension: np.ndarray,
+def plant_rows(a: np.ndarray, e: np.ndarray, plan: Plan, stretch: np.ndarray,
                first: int) -> None:
     """Dancer entries of the plant matrices ``a`` (and the wound-in column ``e``) at span
-    tensions ``tension`` [N] (an equilibrium: the spans' flows balance, so only the
-    lengthening rate enters their rows); the dancer states start at row ``first``. Span k
-    next to a dancer: d(stretch_k)/dt gains (EA - T_k) v_y / L_k; the carriage:
-    M dv_y/dt = -(T_in + T_out) - k y - c v_y (end stops inactive at the set position).
+    stretches ``stretch`` = EA ε [N] (the tensions of a linear web; an equilibrium: the
+    spans' flows balance, so only the lengthening rate enters their rows); the dancer states
+    start at row ``first``. Span k next to a dancer: d(stretch_k)/dt gains
+    (EA - s_k) g_k v_y / (L_k + g_k y), g_k its strand gain; the carriage:
+    M dv_y/dt = -(g_in T_in + g_out T_out) - k y - c v_y (end stops inactive at the set
+    position; T the felt tensions, ``viscoelastic.felt_rows``).
     """
     ea = plan.line.ea
     for j, i in enumerate(dancer_nodes(plan.line)):
@@ -33,7 +35,7 @@ def plant_rows(a: np.ndarray, e: np.ndarray, plan: Plan, tension: np.ndarray,
             length = plan.spans[k, L.S_LENGTH] + gain * y
             a[k, :] *= plan.spans[k, L.S_LENGTH] / length  # the span is L + g y long here
             e[k, :] *= plan.spans[k, L.S_LENGTH] / length
-            a[k, vel] = (ea - tension[k]) * gain / length
+            a[k, vel] = (ea - stretch[k]) * gain / length
         inv_m = row[L.N_DINVM]
         a[vel, i - 1] = -row[L.N_DGIN] * inv_m
         a[vel, i] = -row[L.N_DGOUT] * inv_m

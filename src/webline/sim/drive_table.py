@@ -20,12 +20,14 @@ from webline.spec.schema import (
     DriveSpec,
     IdleSpec,
     MRACSpec,
+    PythonControllerSpec,
     ShaftSpec,
     StateFeedbackSpec,
 )
 
 FAMILIES = {CascadedPISpec: L.FAMILY_PI, StateFeedbackSpec: L.FAMILY_STATE_FEEDBACK,
-            AdaptiveSpec: L.FAMILY_ADAPTIVE, MRACSpec: L.FAMILY_MRAC}
+            AdaptiveSpec: L.FAMILY_ADAPTIVE, MRACSpec: L.FAMILY_MRAC,
+            PythonControllerSpec: L.FAMILY_USER}
 
 
 Designs = tuple[SectionDesign | None, ...]
@@ -45,7 +47,8 @@ def drive_table(line: Line, op: OperatingPoint,
     gains: list[PIGains] = []
     designs: list[SectionDesign | None] = []
     controllers = [getattr(spec.rollers[i], "controller", None) for i in line.drives]
-    decentralized = any(not isinstance(c, CascadedPISpec) for c in controllers)
+    decentralized = any(not isinstance(c, CascadedPISpec | PythonControllerSpec)
+                        for c in controllers)
     inertia = op.inertia
     models = section_models(line, op) if decentralized else None
     for d, i in enumerate(line.drives):
@@ -67,7 +70,9 @@ def drive_table(line: Line, op: OperatingPoint,
         row[L.D_UPREF] = -1 if i == 0 else 1 + line.zone_of_span(i - 1)
         controller = roller.controller
         row[L.D_FAMILY] = FAMILIES[type(controller)]
-        if isinstance(controller, CascadedPISpec):
+        if isinstance(controller, CascadedPISpec | PythonControllerSpec):
+            # a user drive keeps the default PI's gains: its stand-in where a linear model
+            # or the integration step needs a built-in controller (sim.user_control)
             gains.append(_pi_columns(row, line, d, inertia[i], sample_rate))
             designs.append(None)
         else:
@@ -87,6 +92,8 @@ def _pi_columns(row: np.ndarray, line: Line, d: int, inertia: float,
     i = line.drives[d]
     roller = line.spec.rollers[i]
     c = roller.controller  # type: ignore[union-attr]
+    if isinstance(c, PythonControllerSpec):
+        c = CascadedPISpec()
     assert isinstance(c, CascadedPISpec)
     drive = roller.drive  # type: ignore[union-attr]
     z = line.controlled_zone(i)

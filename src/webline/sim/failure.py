@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from webline.physics.web_law import law_tension
 from webline.sim import layout as L
 from webline.sim.plan import RUNAWAY_SPEED_FACTOR, RUNAWAY_SPEED_FLOOR, Plan
 
@@ -52,6 +53,9 @@ def kernel_failure(plan: Plan, status: int, t_fail: float, where: int,
     if status == L.STATUS_STRENGTH:
         name, tension = line.span_name(where), float(x[where])
         strength = float(plan.web[L.W_STRENGTH])
+        if line.nonlinear:  # the kernel compared stretches: say it in tensions
+            tension = law_tension(tension, line.law)
+            strength = float(line.spec.web.strength or math.inf)
         return Failure("strength_exceeded", name, t_fail,
                        f"the web broke in {name}: tension {tension:.4g} N exceeded its strength "
                        f"{strength:.4g} N {at}",

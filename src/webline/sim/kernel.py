@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from webline.physics import roll, roller, slip, span
+from webline.physics import roll, roller, slip, span, web_law
 from webline.sim import layout as L
 from webline.sim.break_hold import brake_drag, brake_torque
 from webline.sim.controllers import control_tick
@@ -40,6 +40,8 @@ if TYPE_CHECKING:
 
 _tension: Any = jit(span.tension)
 _kv_tension: Any = jit(span.kelvin_voigt_tension)
+_law_tension: Any = jit(web_law.law_tension)
+_law_stretch: Any = jit(web_law.law_stretch)
 _roll_inertia: Any = jit(roll.roll_inertia)
 _radius_rate: Any = jit(roll.radius_rate)
 _friction: Any = jit(roller.friction_torque)
@@ -95,11 +97,15 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
         if ns[i, L.NS_TRACTION] != 0 and slipping[i] != 0:
             surface = work[sp + i]
             t_c = web[L.W_RHOA] * surface * surface
-            work[sp + i] -= _slip_velocity(work[te + i - 1], work[te + i], nodes[i, L.N_WRAP],
+            t_a, t_b = work[te + i - 1], work[te + i]
+            if offsets[L.O_LAW]:  # the arc's tensions, not the stretches
+                t_a, t_b = _law_tension(t_a, web[L.W_COLS:]), _law_tension(t_b, web[L.W_COLS:])
+            work[sp + i] -= _slip_velocity(t_a, t_b, nodes[i, L.N_WRAP],
                                            nodes[i, L.N_MU], nodes[i, L.N_MUK], nodes[i, L.N_SLIPB],
                                            t_c, slipping[i], nodes[i, L.N_NIPK])  # nip: Coulomb
 
-    t_in = t0
+    s0 = _law_stretch(t0, web[L.W_COLS:]) if offsets[L.O_LAW] else t0  # wound-in strain x EA
+    t_in = s0
     for k in range(n_spans):
         v_in, v_out, t_out = work[sp + k], work[sp + k + 1], work[te + k]
         flow = ea * (v_out - v_in) + t_in * v_in - t_out * v_out
@@ -112,8 +118,9 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
             dx[k] = flow * spans[k, L.S_INVLENGTH]
         t_in = t_out
     t_last = work[te + n_spans - 1]  # the strain the rewind winds in, damper or not
-    for k in range(n_spans if offsets[L.O_KV] else 0):  # the rollers feel T = s + τ ds/dt
-        work[te + k] = _kv_tension(x[k], dx[k], spans[k, L.S_TAU])  # (docs/winder.md)
+    for k in range(n_spans if offsets[L.O_KV] else 0):  # the rollers feel T = F(s) + τ ds/dt
+        felt = _law_tension(x[k], web[L.W_COLS:]) if offsets[L.O_LAW] else x[k]
+        work[te + k] = _kv_tension(felt, dx[k], spans[k, L.S_TAU])  # (docs/winder.md)
 
     width = web[L.W_WIDTH]
     for i in range(n_nodes):
@@ -181,7 +188,7 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
             dancer_rate(i, x, ns, nodes, pull, drag[n_nodes + i], dx)
 
     inv_ea = 1.0 / ea
-    dx[off_q] = v_unwind * (1.0 - t0 * inv_ea)
+    dx[off_q] = v_unwind * (1.0 - s0 * inv_ea)
     dx[off_q + 1] = v_rewind * (1.0 - t_last * inv_ea)
 
 
@@ -194,7 +201,10 @@ def update_slip(x: np.ndarray, slipping: np.ndarray, ns: np.ndarray, offsets: np
         if ns[i, L.NS_TRACTION] == 0:
             continue
         surface = node_arm(i, x, ns, offsets, nodes) * x[offsets[L.O_OMEGA] + i]
-        slipping[i] = _slip_state(_tension(x[i - 1]), _tension(x[i]), nodes[i, L.N_WRAP],
+        t_a, t_b = _tension(x[i - 1]), _tension(x[i])
+        if offsets[L.O_LAW]:
+            t_a, t_b = _law_tension(t_a, web[L.W_COLS:]), _law_tension(t_b, web[L.W_COLS:])
+        slipping[i] = _slip_state(t_a, t_b, nodes[i, L.N_WRAP],
                                   nodes[i, L.N_MU], nodes[i, L.N_MUK], web[L.W_RHOA] * surface
                                   * surface, slipping[i], nodes[i, L.N_NIPS], nodes[i, L.N_NIPK])
 

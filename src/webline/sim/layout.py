@@ -111,6 +111,7 @@ DRIVE_STRUCTURE = (D_NODE, D_ROLE, D_LOADCELL, D_REF, D_UPREF, D_TSTATE, D_FAMIL
                    D_ADAPTIVE, D_ZFIRST, D_ZLAST, D_DANCER, D_DUSE)
 FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE, FAMILY_MRAC = 0, 1, 2, 3
 FAMILY_OPEN_LOOP = 4  # indirect tension control of a centre winder (docs/winder.md W4)
+FAMILY_USER = 5  # a user's controller: its held command is written between ticks (sim.user_loop)
 
 # controller memory per drive: PI integrators, adaptive friction estimate [N·m·s], the MRAC's
 # adapted gains k̂_T [N·m/N], k̂_V [N·m·s/m] and bias [N·m] and its observer's estimates, the
@@ -143,15 +144,17 @@ HOLD_OFF, HOLD_ZERO_SPEED, HOLD_BRAKES = 0, 1, 2  # what the drives do after the
 
 # the integer ``offsets`` array: where state blocks start (spans at 0, node speeds, the two roll
 # radii, motor torques, eccentric angles, web-length integrals), the master's upstream
-# reference profile, the master node, where transmission states start, then two flags
+# reference profile, the master node, where transmission states start, then flags
 (O_OMEGA, O_RADIUS, O_TORQUE, O_ANGLE, O_WEB, O_MASTER_UP, O_MASTER, O_TRANSMISSION) = range(1, 9)
 O_NOISE = 9  # 1 if measurements carry noise or a resolution
 O_NEED_EQ = 10  # 1 if a controller needs the reference state every tick
 O_BREAK = 11  # 1 if the web breaks in this run (docs/winder.md W5): the break monitor is on
-O_KV = 12  # 1 if a span is Kelvin-Voigt: the rollers and loadcells feel s + τ ds/dt
+O_KV = 12  # 1 if the rollers and loadcells feel other than the stretch: T = F(s) + τ ds/dt
 O_SPLICE = 13  # 1 if a roll is spliced in this run (docs/winder.md S1, ``sim.splice``)
 O_FRICTION = 14  # 1 if a roller or a compensation has a friction table or a break-away (F1-F2)
 O_OWNRHO = 15  # 1 if a roll has its own wound density, from its totals (J1)
+O_LAW = 16  # 1 if the web's stress-strain law is nonlinear: T = F(s) (``physics.web_law``),
+# the law's array after the W_COLS scalars of the web table
 
 # kernel status codes; with each failure the kernel returns where it happened: the span
 # (strength, runaway stretch), node (runaway speed) or drive (runaway motor speed), else -1

@@ -14,6 +14,7 @@ from webline.line import Line, is_roll
 from webline.model.operating_point import OperatingPoint
 from webline.physics.roll import web_inertia
 from webline.physics.roller import COULOMB_SMOOTHING, table_friction
+from webline.physics.web_law import law_slope
 from webline.sim import dancer_linear as dancers
 from webline.sim import layout as L
 from webline.sim import viscoelastic
@@ -21,7 +22,8 @@ from webline.sim.plan import Plan, compile_plan
 
 
 def state_names(line: Line) -> list[str]:
-    """Names of the linear model's states: span tensions, node speeds, motor torques, and the
+    """Names of the linear model's states: span tensions (their stretches EA·ε where the
+    rollers feel more: a damper, a nonlinear law), node speeds, motor torques, and the
     motor speed and twist of each compliant transmission."""
     return plan_state_names(compile_plan(line))
 
@@ -62,17 +64,23 @@ def plan_plant(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
     ea = line.ea
     r, v, t = op.radius, op.speed, op.tension
     t_up = np.concatenate(([line.unwind.wound_in_tension], t))
+    s, s_up = t, t_up  # the stretch EA·ε mass flow moves: the tension, for a linear web
+    if line.nonlinear:  # docs/nonlinear-web.md (N2)
+        s_up = np.array([line.stretch_of(x) for x in t_up])
+        s = s_up[1:]
     a = np.zeros((n, n))
     b = np.zeros((n, n_d))
     e = np.zeros((n, 1))
-    for k in range(n_s):  # L dT_k/dt = EA (v_{k+1} - v_k) + T_{k-1} v_k - T_k v_{k+1}
+    for k in range(n_s):  # L ds_k/dt = EA (v_{k+1} - v_k) + s_{k-1} v_k - s_k v_{k+1}
         length = plan.spans[k, L.S_LENGTH]
         a[ws + k, ws + k] = -v[k + 1] / length
         if k > 0:
             a[ws + k, ws + k - 1] = v[k] / length
-        a[ws + k, wn + k + 1] = (ea - t[k]) * r[k + 1] / length
-        a[ws + k, wn + k] = -(ea - t_up[k]) * r[k] / length
+        a[ws + k, wn + k + 1] = (ea - s[k]) * r[k + 1] / length
+        a[ws + k, wn + k] = -(ea - s_up[k]) * r[k] / length
     e[ws, 0] = v[0] / plan.spans[0, L.S_LENGTH]
+    if line.nonlinear:  # the wound-in tension enters as its stretch: ds0/dT0 = 1 / F'(s0)
+        e[ws, 0] /= law_slope(s_up[0], line.law)
     for i in range(n_n):  # J dω/dt = r (T_out - T_in) + shaft torque - b ω - c tanh(ω/ωc)
         inertia = load_inertia(plan, op, i)
         if i < n_s:
@@ -94,9 +102,10 @@ def plan_plant(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
         a[wt + d, wt + d] = -1.0 / lag
         b[wt + d, d] = 1.0 / lag
     _drive_block(a, plan, op, wn, wt, wt + n_d)
-    dancers.plant_rows(a, e, plan, t, wt + n_d + 2 * n_c)
+    dancers.plant_rows(a, e, plan, s, wt + n_d + 2 * n_c)
     c = np.zeros((n_s + n_n, n))
-    c[:n_s] = viscoelastic.felt_rows(plan, a, e)  # T = s (+ τ ds/dt, Kelvin-Voigt)
+    slopes = np.array([law_slope(x, line.law) for x in s]) if line.nonlinear else None
+    c[:n_s] = viscoelastic.felt_rows(plan, a, e, slopes)  # T = F(s) (+ τ ds/dt, Kelvin-Voigt)
     c[n_s:, wn:wn + n_n] = np.diag(r)
     return a, b, e, c
 

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
+from webline.errors import LineFileError
 from webline.line import Line, load_line
 from webline.model.operating_point import OperatingPoint, operating_point
 from webline.sim import dancer_linear as dancers
@@ -65,6 +66,11 @@ def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...
     tension references (the draw, of order T/EA) is left out of Kr.
     """
     line = plan.line
+    for user in np.flatnonzero(plan.drives[:, L.D_FAMILY] == L.FAMILY_USER):
+        raise LineFileError(line.source, f"rollers[{line.drives[int(user)]}].controller",
+                            "a python controller has no linear model in webline: analyses "
+                            "and studies (sweeps, Monte Carlo) need a built-in controller; "
+                            "run it with simulate or Session")
     n_d = len(line.drives)
     n = len(plan_state_names(plan))
     n_ref = 1 + len(line.zones)

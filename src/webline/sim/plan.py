@@ -118,6 +118,8 @@ class Plan:
         off = self.offsets
         x = np.zeros(self.n_x)
         x[: self.line.n_spans] = op.tension
+        if self.line.nonlinear:  # the state is the stretch EA·ε the law gives each tension
+            x[: self.line.n_spans] = [self.line.stretch_of(t) for t in op.tension]
         x[off[1]: off[1] + self.line.n_nodes] = op.omega
         x[off[2]] = op.radius[0]
         x[off[2] + 1] = op.radius[-1]
@@ -296,6 +298,8 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     web[L.W_RHOA] = spec.web.density * spec.web.width * spec.web.thickness
     web[L.W_TRAMP] = ramp_profile_index
     web[L.W_STRENGTH] = math.inf if spec.web.strength is None else spec.web.strength
+    if line.nonlinear:  # the kernel checks the stretch: the one where the law reaches it
+        web[L.W_STRENGTH] = line.stretch_of(web[L.W_STRENGTH])
     web[L.W_STRETCH_MAX] = RUNAWAY_STRAIN * line.ea
     top_speed = float(np.max(np.abs(breakpoints(spec.speed)[1])))
     web[L.W_SPEED_MAX] = RUNAWAY_SPEED_FACTOR * top_speed + RUNAWAY_SPEED_FLOOR
@@ -304,14 +308,16 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         web[L.W_NOISE_T], web[L.W_NOISE_V], web[L.W_SEED] = noise.tension, noise.speed, noise.seed
         web[L.W_RES_V] = noise.speed_resolution
         noisy = noise.tension > 0 or noise.speed > 0 or noise.speed_resolution > 0
-    need_eq = bool(np.any(drives[:, L.D_FAMILY] != L.FAMILY_PI))
+    need_eq = bool(np.any((drives[:, L.D_FAMILY] != L.FAMILY_PI)
+                          & (drives[:, L.D_FAMILY] != L.FAMILY_USER)))
     span_table = np.array([[s.length, 1.0 / s.length, 0.0, s.retardation or 0.0]
                            for s in spec.spans])
     breaks = winder.break_columns(line, span_table, web)
-    viscoelastic = bool(np.any(span_table[:, L.S_TAU] > 0.0))
+    # the rollers feel a tension other than the stretch: a damper, a nonlinear law, or both
+    felt = bool(np.any(span_table[:, L.S_TAU] > 0.0)) or line.nonlinear
     offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
-                        off_tr, noisy, need_eq, breaks, viscoelastic, spliced, friction,
-                        own_density],
+                        off_tr, noisy, need_eq, breaks, felt, spliced, friction,
+                        own_density, line.nonlinear],
                        dtype=np.int64)
     wound = np.array([[d.amplitude, d.frequency, d.phase] for d in spec.disturbances
                       if isinstance(d, WoundInRipple)]).reshape(-1, 3)
@@ -321,7 +327,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     return Plan(
         line=line, nodes=nodes, drives=drives,
         spans=span_table,
-        web=web, wound_ripple=wound, speed_ripple=ripple,
+        web=np.concatenate((web, line.law)), wound_ripple=wound, speed_ripple=ripple,
         prof_t=np.concatenate([t for t, _ in profiles]),
         prof_v=np.concatenate([v for _, v in profiles]), prof_off=prof_off, offsets=offsets,
         node_structure=nodes[:, list(L.NODE_STRUCTURE)].astype(np.int64),

@@ -75,15 +75,18 @@ class Result:
 
     @cached_property
     def verdict(self) -> Verdict:
-        """The run's verdict: its failure, its events and the linear stability of the line
-        at ``analysis_time`` (``webline.sim.findings``)."""
+        """The run's verdict: its failure, its events, its splices' slack, strain beyond the
+        web's yield and the linear stability of the line at ``analysis_time``
+        (``webline.sim.findings``)."""
         from webline.sim.findings import run_verdict
         from webline.sim.splice_findings import splice_findings
         from webline.sim.winder_findings import after_stop_from_records
         from webline.sim.winder_states import winder_state_findings
+        from webline.sim.yield_findings import yield_findings
 
         extra = splice_findings(self.line, self.plan.dt, self.time, self.tension)
         extra += winder_state_findings(self)
+        extra += yield_findings(self.line, self.time, self.stretch)
         if self.roll_modes is not None:  # a run across a roll: its modes along the way
             extra += self.roll_modes.findings()
         end = float(self.time[-1]) if len(self.time) else 0.0
@@ -99,6 +102,8 @@ class Result:
         (``webline.sim.roll_modes.run_roll_modes``), else None."""
         from webline.sim.roll_modes import run_roll_modes
 
+        if np.any(self.plan.drives[:, L.D_FAMILY] == L.FAMILY_USER):
+            return None  # a user's controller has no linear model
         rolls = self._block(2, 2)
         return run_roll_modes(self.line, self.time, rolls[:, 0], rolls[:, 1])
 
@@ -186,20 +191,9 @@ class Result:
     @cached_property
     def slip_velocity(self) -> np.ndarray:
         """Surface speed minus web speed at each node [m/s] (0 where the web adheres)."""
-        from webline.physics.slip import slip_velocity
+        from webline.sim.derived_signals import slip_velocities
 
-        out = np.zeros_like(self.omega)
-        nodes = self.plan.nodes
-        rho_a = self.plan.web[L.W_RHOA]
-        for i in range(1, self.line.n_nodes - 1):
-            if nodes[i, L.N_TRACTION] == 0.0:
-                continue
-            surface = self.surface_speed[:, i]
-            out[:, i] = np.vectorize(slip_velocity)(
-                self.tension[:, i - 1], self.tension[:, i], nodes[i, L.N_WRAP],
-                nodes[i, L.N_MU], nodes[i, L.N_MUK], nodes[i, L.N_SLIPB],
-                rho_a * surface**2, self.slipping[:, i].astype(int), nodes[i, L.N_NIPK])
-        return out
+        return slip_velocities(self.plan, self.tension, self.surface_speed, self.slipping)
 
     @cached_property
     def slip_power(self) -> np.ndarray:
@@ -207,6 +201,20 @@ class Result:
         out = np.zeros_like(self.omega)
         out[:, 1:-1] = (self.tension[:, :-1] - self.tension[:, 1:]) * self.slip_velocity[:, 1:-1]
         return out
+
+    @cached_property
+    def dancer_names(self) -> list[str]:
+        """Names of the line's dancers, in web order."""
+        from webline.sim.dancer import dancer_nodes
+
+        return [self.line.node_name(i) for i in dancer_nodes(self.line)]
+
+    @cached_property
+    def dancer_position(self) -> np.ndarray:
+        """Carriage position of each dancer [m] (records x dancers; 0 and its stroke are the
+        end stops), as its position sensor reads it."""
+        names = self.plan.state_names
+        return self.states[:, [names.index(f"{d}.position") for d in self.dancer_names]]
 
     @cached_property
     def speed(self) -> np.ndarray:
@@ -251,25 +259,17 @@ class Result:
     @cached_property
     def twist(self) -> np.ndarray:
         """Twist θm/n - θL of each compliant transmission [rad] (NaN for rigid drives)."""
-        out = np.full_like(self.torque, np.nan)
-        for d in range(len(self.line.drives)):
-            state = int(self.plan.drives[d, L.D_TSTATE])
-            if state >= 0:
-                out[:, d] = self.states[:, state + 1]
-        return out
+        from webline.sim.derived_signals import transmission_twist
+
+        return transmission_twist(self.plan, self.states)
 
     @cached_property
     def contact(self) -> np.ndarray:
         """Backlash contact of each drive: +1 forward flank, -1 backward flank, 0 in the gap
         (NaN for drives without backlash)."""
-        out = np.full_like(self.torque, np.nan)
-        for d in range(len(self.line.drives)):
-            row = self.plan.drives[d]
-            if row[L.D_TSTATE] >= 0 and row[L.D_GAPNEG] + row[L.D_GAPPOS] > 0:
-                twist = self.twist[:, d]
-                out[:, d] = np.where(twist > row[L.D_GAPPOS], 1.0,
-                                     np.where(twist < -row[L.D_GAPNEG], -1.0, 0.0))
-        return out
+        from webline.sim.derived_signals import backlash_contact
+
+        return backlash_contact(self.plan, self.twist)
 
     @cached_property
     def inertia(self) -> np.ndarray:

@@ -18,7 +18,8 @@ if TYPE_CHECKING:
 
 #: CF ``long_name`` of each element coordinate (names, so no units)
 COORD_NAMES = {"span": "span name (web order)", "node": "roller name (web order)",
-               "drive": "driven roller name (web order)", "roll": "roll name (unwind, rewind)"}
+               "drive": "driven roller name (web order)", "roll": "roll name (unwind, rewind)",
+               "dancer": "dancer name (web order)"}
 
 #: one exported variable: dimensions, values and CF attributes
 Variable = tuple[tuple[str, ...], np.ndarray, dict[str, object]]
@@ -74,6 +75,9 @@ def result_variables(result: Any) -> ResultVariables:
                  "mrac_bias": (dims_drive, gains[:, :, 2])}
     names = {"span": result.span_names, "node": result.node_names,
              "drive": result.drive_names, "roll": [result.node_names[0], result.node_names[-1]]}
+    if result.dancer_names:
+        data["dancer_position"] = (("time", "dancer"), result.dancer_position)
+        names["dancer"] = result.dancer_names
     coords: dict[str, Variable] = {
         "time": (("time",), result.time, {"units": "s", "long_name": "simulated time",
                                           "standard_name": "time", "axis": "T"}),

@@ -14,6 +14,7 @@ SIGNAL_UNITS = {
     "surface_speed": "m/s", "slipping": "", "slip_velocity": "m/s", "slip_power": "W",
     "web_rewound": "m", "web_stored": "m", "wound_in": "N",
     "mrac_gain_tension": "m", "mrac_gain_speed": "N*s", "mrac_bias": "N*m",
+    "dancer_position": "m",
 }
 
 
@@ -36,6 +37,7 @@ LONG_NAMES = {
     "mrac_gain_tension": "MRAC adapted gain on the tension deviation",
     "mrac_gain_speed": "MRAC adapted gain on the speed deviation",
     "mrac_bias": "MRAC adapted bias (equilibrium input error)",
+    "dancer_position": "dancer carriage position (0 and its stroke: the end stops)",
 }
 #: flag meanings (CF) of the integer-coded signals
 FLAGS = {"slack": ([0, 1], "taut slack"), "slipping": ([0, 1], "stuck slipping")}

@@ -6,13 +6,18 @@ import math
 import signal
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
-from webline.errors import LineFileError, SimulationError, SimulationInterrupted
+from webline.errors import (
+    ControllerError,
+    LineFileError,
+    SimulationError,
+    SimulationInterrupted,
+)
 from webline.line import Line, load_line
 from webline.sim import budget, kernel
 from webline.sim import layout as L
@@ -21,6 +26,8 @@ from webline.sim.fastest import slip_rates
 from webline.sim.linearize import fastest_mode
 from webline.sim.plan import Plan, compile_plan, equilibrium_plan_state
 from webline.sim.result import Result
+from webline.sim.user_control import Group, builtin_stand_in, run_user, user_groups, user_plan
+from webline.sim.user_objects import file_controllers
 from webline.spec.ranges import argument, whole_argument
 
 #: RK4 sub-steps are chosen so that h·|λ|max stays below this (RK4 is accurate to ~1e-4 per
@@ -108,7 +115,8 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
              scenario: str | None = None, sample_rate: float | str | None = None,
              substeps: int | None = None, record_interval: float | str | None = None,
              progress: Callable[[float], None] | None = None,
-             raise_on_failure: bool = True) -> Result:
+             raise_on_failure: bool = True,
+             controller: object | Mapping[str, object] | None = None) -> Result:
     """Simulate ``line`` for ``duration`` [s] from equilibrium at its initial references.
 
     ``duration``, ``sample_rate`` and ``record_interval`` take numbers [SI], strings with
@@ -131,6 +139,13 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
     is raised as ``SimulationInterrupted`` (a KeyboardInterrupt, ``partial`` = the result) or,
     with ``raise_on_failure=False``, returned. A second Ctrl-C (e.g. while the loop still
     compiles) raises a plain KeyboardInterrupt at once.
+
+    ``controller``: a user's controller (docs/controllers.md) for every drive, or a dict
+    drive name -> controller; drives the line file gives ``type = "python"`` run theirs. The
+    run then goes one tick at a time through Python (``sim.user_control``); a controller that
+    raises or returns a wrong shape or a non-finite torque stops it with ``ControllerError``
+    (``partial``: the run so far). The step is chosen for the line with its built-in
+    controllers in place of the user's (``substeps`` overrides it).
     """
     line = load_line(line)
     duration, sample_rate, record_interval = (  # units and checks as the CLI's
@@ -147,8 +162,9 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
         duration = 10.0
     plan = compile_plan(line, sample_rate=sample_rate)
     n_ticks = max(1, round(duration / plan.dt))
+    groups = user_groups(line, controller, file_controllers(line))
     if substeps is None:
-        substeps = choose_substeps(plan)
+        substeps = choose_substeps(builtin_stand_in(plan))
     else:
         substeps = whole_argument(substeps, "substeps", 1,
                                   "expected a whole number of RK4 steps per controller period")
@@ -164,6 +180,11 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
     # one buffer for the whole run, filled chunk by chunk (no concatenation)
     buffer = np.empty((n_ticks // every + 2, kernel.record_width(
         plan.n_x, plan.drives.shape[0], plan.nodes.shape[0])))
+    if groups:
+        return _user_result(user_plan(plan, [d for g in groups for d in g.drives]), groups,
+                            x, istate, slipping, n_ticks, substeps, every, buffer,
+                            {"duration": duration, "dt": plan.dt, "substeps": substeps,
+                             "record_every": every}, raise_on_failure)
     status, t_fail, where, done, stored = L.STATUS_OK, math.nan, -1, 0, 0
     chunk = FIRST_CHUNK
     if progress is not None:
@@ -207,6 +228,33 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
                      if len(istate) else (-1.0, 0))
     if status == STATUS_INTERRUPTED and raise_on_failure:
         raise SimulationInterrupted(result.message, partial=result)
+    if failure is not None and raise_on_failure:
+        raise SimulationError(result.message, partial=result)
+    return result
+
+
+def _user_result(plan: Plan, groups: list[Group], x: np.ndarray, istate: np.ndarray,
+                 slipping: np.ndarray, n_ticks: int, substeps: int, every: int,
+                 buffer: np.ndarray, settings: dict[str, float],
+                 raise_on_failure: bool) -> Result:
+    """``simulate`` with user controllers (``sim.user_control.run_user``)."""
+    run = run_user(plan, groups, x, istate, slipping, n_ticks, substeps, every, buffer)
+    records = buffer[:run.stored].copy() if run.stored < len(buffer) - 2 else buffer[:run.stored]
+    if run.interrupted and run.error is None:
+        end = float(records[-1, 0]) if len(records) else 0.0
+        failure: Failure | None = Failure("interrupted", plan.line.name, end,
+                                          interrupt_text(signal.SIGINT, end))
+    elif run.error is not None:
+        failure = Failure("controller", run.controller, run.t_fail, run.error)
+    else:
+        failure = kernel_failure(plan, run.status, run.t_fail, run.where, run.x)
+    result = _result(plan, records, failure, settings,
+                     (float(run.istate[0, L.I_DETECT]), int(run.istate[0, L.I_METHOD]))
+                     if len(run.istate) else (-1.0, 0))
+    if run.interrupted and run.error is None and raise_on_failure:
+        raise SimulationInterrupted(result.message, partial=result)
+    if run.error is not None and raise_on_failure:
+        raise ControllerError(run.error, partial=result)
     if failure is not None and raise_on_failure:
         raise SimulationError(result.message, partial=result)
     return result

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from webline.errors import WeblineError
+from webline.limits import MAX_EIGEN_STATES
 from webline.line import Line
 from webline.model.operating_point import analysis_time
 from webline.sim.linearize import plan_eigenvalues, plan_linear_model
@@ -91,15 +92,22 @@ def stability_findings(line: Line, t: float | None = None, *,
                        plan: Plan | None = None) -> list[Finding]:
     """An ``unstable`` finding per unstable closed-loop mode of ``line`` at ``t`` [s]
     (default ``analysis_time``); none for a stable line or one without an operating point
-    (the run or analysis reports that itself). ``plan``: the compiled plan of ``line`` whose
-    cached linear model to use (default: the line's own plan)."""
+    (the run or analysis reports that itself); a ``warning`` (``stability_unchecked``) for a
+    model beyond ``limits.MAX_EIGEN_STATES`` states. ``plan``: the compiled plan of ``line``
+    whose cached linear model to use (default: the line's own plan)."""
     t = analysis_time(line) if t is None else t
     plan = compile_plan(line) if plan is None else plan
     try:
         model = plan_linear_model(plan, loop="closed", t=t)
-        values = plan_eigenvalues(plan, loop="closed", t=t)
     except (WeblineError, ValueError, ArithmeticError, np.linalg.LinAlgError):
         return []
+    if len(model.states) > MAX_EIGEN_STATES:  # said, never silently skipped
+        return [Finding("warning", "stability_unchecked", "", (
+            f"stability not checked: the closed-loop model has {len(model.states)} states, "
+            f"more than the {MAX_EIGEN_STATES} whose eigenvalues webline computes for a run "
+            "(limits.MAX_EIGEN_STATES)"), None,
+            {"states": len(model.states), "limit": MAX_EIGEN_STATES})]
+    values = plan_eigenvalues(plan, loop="closed", t=t)
     out = []
     for mode in unstable_modes(model.a, model.states, values):
         states = ", ".join(f"{name} {share:.0%}" for name, share in mode.states)

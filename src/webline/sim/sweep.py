@@ -27,6 +27,7 @@ from webline.sim.cases import Built, build_cases, case_value, derive_line
 from webline.sim.distributions import draw, values_written
 from webline.sim.plan import compile_plan
 from webline.sim.simulate import MAX_RECORDS
+from webline.sim.study_grid import as_grid
 from webline.sim.study_work import check_study_work
 from webline.sim.sweep_dataset import Collector
 from webline.spec.ranges import argument, whole_argument
@@ -149,7 +150,10 @@ def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
     """Simulate ``line`` over parameter values: ``{path: [v1, v2, ...]}`` (paths as in
     ``Line.replace``, values with units as a line file takes them). ``mode`` "grid" runs every
     combination (the last path varies fastest), "zip" the i-th value of every path together.
-    Returns the Dataset of ``run_cases``; its attribute ``mode`` and, for a grid, ``shape``.
+    Returns the Dataset of ``run_cases`` (a ``study_view.StudyDataset``: a short repr); its
+    attribute ``mode`` and, for a grid, ``shape``. A grid has one dimension per path instead
+    of ``case``, named by the path, its values as coordinate (``sim.study_grid.as_grid``;
+    ``as_cases`` flattens it back).
     The study's work is bounded before it runs (``sim.study_work``; ``work_limit=False``
     lifts ``budget.MAX_STUDY_RK4_STEPS``)."""
     paths = list(values)
@@ -175,9 +179,12 @@ def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
     if mode == "grid":
         attrs["shape"] = [len(c) for c in columns]
     _check_work(base, probes, len(cases), len(paths), duration, scenario, record, work_limit)
-    return _study(line, cases, attrs, duration=duration, scenario=scenario, record=record,
-                  workers=workers, progress=progress, scheduler=scheduler, store=store,
-                  resume=resume)
+    ds = _study(line, cases, attrs, duration=duration, scenario=scenario, record=record,
+                workers=workers, progress=progress, scheduler=scheduler, store=store,
+                resume=resume)
+    from webline.sim.study_view import as_study  # xarray: loaded when a study returns
+
+    return as_study(as_grid(ds, paths, attrs["shape"]) if mode == "grid" else ds)
 
 
 def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: int, *,
@@ -208,9 +215,12 @@ def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: in
     probes = _check_values(base, cases,
                            {p: f"the samples of {distributions[p]}" for p in distributions})
     _check_work(base, probes, n, len(distributions), duration, scenario, record, work_limit)
-    return _study(line, cases, {"mode": "monte_carlo", "seed": seed}, duration=duration,
-                  scenario=scenario, record=record, workers=workers, progress=progress,
-                  scheduler=scheduler, store=store, resume=resume)
+    from webline.sim.study_view import as_study
+
+    return as_study(_study(line, cases, {"mode": "monte_carlo", "seed": seed},
+                               duration=duration, scenario=scenario, record=record,
+                               workers=workers, progress=progress, scheduler=scheduler,
+                               store=store, resume=resume))
 
 
 def _base(line: Line | str | Path, scenario: str | None) -> Line:

@@ -21,6 +21,7 @@ from webline.sim.failure import kernel_failure
 from webline.sim.findings import run_verdict
 from webline.sim.metrics import METRICS
 from webline.sim.plan import Plan
+from webline.sim.yield_findings import case_yield_findings
 from webline.verdict import Verdict
 
 #: the kinds of event in the order ``Result.events`` lists them, with their elements
@@ -32,7 +33,8 @@ def case_verdict(plan: Plan, out: BatchOutput, c: int) -> Verdict:
     """The verdict of case ``c`` of a batch, by ``findings.run_verdict`` as ``Result.verdict``
     gives it for the same run: its failure, its events (``EventSummary`` from the batch's
     accumulators), its web breaks (the monitor's state at the end and the driven rollers
-    after the stop), its winder states (``batch_states``) and its stability."""
+    after the stop), its winder states (``batch_states``), strain beyond yield (from its
+    largest tensions) and its stability."""
     line, lay = plan.line, out.layout
     failure = kernel_failure(plan, int(out.status[c]), float(out.t_fail[c]), int(out.where[c]),
                              out.x[c])
@@ -54,10 +56,12 @@ def case_verdict(plan: Plan, out: BatchOutput, c: int) -> Verdict:
                     float(row[base + B.EV_TOTAL * n_ev + e]),
                     float(row[base + B.EV_LONGEST * n_ev + e]), end))
     monitor = (float(out.monitor[c, 0]), int(out.monitor[c, 1]))
-    states = batch_state_findings(plan, row, lay.state_base, int(row[lay.end_column + 1]),
-                                  end)
+    n_s = line.n_spans
+    # in the order Result.verdict lists them: the winder states, then strain beyond yield
+    extra = batch_state_findings(plan, row, lay.state_base, int(row[lay.end_column + 1]), end)
+    extra += case_yield_findings(line, row[B.A_TMAX * n_s:(B.A_TMAX + 1) * n_s])
     return run_verdict(plan, failure, events, end, monitor,
-                       batch_after_stop(plan, row, lay.stop_base, monitor[0]), states)
+                       batch_after_stop(plan, row, lay.stop_base, monitor[0]), extra)
 
 
 def batch_metrics(out: BatchOutput) -> dict[str, np.ndarray]:

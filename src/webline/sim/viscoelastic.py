@@ -64,18 +64,23 @@ def felt_records(time: np.ndarray, states: np.ndarray, slipping: np.ndarray, out
             out[r, k] = work[2 * n_n + k]
 
 
-def felt_rows(plan: Plan, a: np.ndarray, e: np.ndarray) -> np.ndarray:
+def felt_rows(plan: Plan, a: np.ndarray, e: np.ndarray,
+              slopes: np.ndarray | None = None) -> np.ndarray:
     """Rows M [N per state unit] of the felt tensions T = M x (+ τ E t0) of a linear plant
     dx = A x + E t0 whose first n_s states are the span stretches and whose other rows were
     written with the felt tensions in the stretch columns; substitutes T = s + τ (A_s x +
     E_s t0) into those rows of ``a`` and ``e`` in place (span rows keep the stretch: mass
-    conservation transports strain). Elastic lines are left untouched (M = [I 0])."""
+    conservation transports strain). ``slopes``: F'(s) [-] of each span at the operating
+    point, for a nonlinear law (docs/nonlinear-web.md, N2: T = F(s) + τ ds/dt). Linear
+    elastic lines are left untouched (M = [I 0])."""
     n_s = plan.spans.shape[0]
     tau = plan.spans[:, L.S_TAU]
     rows = np.eye(n_s, a.shape[1])
-    if not np.any(tau > 0.0):
+    if not plan.offsets[L.O_KV]:
         return rows
     extra, extra_e = tau[:, None] * a[:n_s], tau * e[:n_s, 0]
+    if slopes is not None:  # a nonlinear law: δT = F'(s) δs
+        extra[:, :n_s] += np.diag(slopes - 1.0)
     coef = a[n_s:, :n_s].copy()  # what the other rows take from the span tensions
     a[n_s:] += coef @ extra
     e[n_s:, 0] += coef @ extra_e
@@ -89,8 +94,9 @@ def measured(plan: Plan, gain: np.ndarray, felt: np.ndarray,
     column they then take from the wound-in tension through τ E_s (plant ``e``)."""
     n_s = plan.spans.shape[0]
     tau = plan.spans[:, L.S_TAU]
-    if not np.any(tau > 0.0):
+    if not plan.offsets[L.O_KV]:
         return gain, np.zeros((gain.shape[0], 1))
     out = gain.copy()
     out[:, :felt.shape[1]] += gain[:, :n_s] @ (felt - np.eye(n_s, felt.shape[1]))
     return out, gain[:, :n_s] @ (tau * e[:n_s, 0])[:, None]
+

@@ -29,6 +29,8 @@ from webline.spec.schema import (
     WoundInRipple,
 )
 from webline.spec.splice import check_splices
+from webline.spec.web_law import stretch_at
+from webline.spec.web_law_checks import check_web_law, law_array, table_modulus
 from webline.spec.winder import WebBreak, check_diameters, check_taper
 
 Fail = Callable[[str, str], NoReturn]
@@ -38,6 +40,8 @@ def web_ea(web: WebSpec) -> float:
     """Axial stiffness E·A of the web [N]."""
     if web.ea is not None:
         return web.ea
+    if web.modulus is None and web.stress_strain is not None:
+        return table_modulus(web)  # a table law: its first segment
     assert web.modulus is not None
     return web.modulus * web.thickness * web.width
 
@@ -66,9 +70,15 @@ def check_spec(spec: LineSpec, file: str) -> None:
         raise LineFileError(file, key, problem)
 
     web = spec.web
-    if (web.modulus is None) == (web.ea is None):
+    if web.stress_strain is not None:
+        check_web_law(web, fail)
+    elif (web.modulus is None) == (web.ea is None):
         fail("web", "give exactly one of 'modulus' or 'ea'")
     ea = web_ea(web)
+    law = law_array(web, ea)
+
+    def strain_of(tension: float) -> float:  # the law's strain at a tension [-]
+        return stretch_at(law, tension) / ea
 
     rollers = spec.rollers
     if not isinstance(rollers[0], UnwindSpec):
@@ -107,8 +117,9 @@ def check_spec(spec: LineSpec, file: str) -> None:
         if drive is not None and drive.transmission.type != "direct" and drive.motor_inertia <= 0:
             fail(f"rollers[{i}].drive.motor_inertia",
                  f"a {drive.transmission.type} transmission needs the motor's inertia (> 0)")
-        if isinstance(roller, UnwindSpec) and roller.wound_in_tension >= ea:
-            fail(f"rollers[{i}].wound_in_tension", f"must be below EA = {ea:g} N")
+        if isinstance(roller, UnwindSpec) and strain_of(roller.wound_in_tension) >= 1.0:
+            fail(f"rollers[{i}].wound_in_tension", f"must be below EA = {ea:g} N"
+                 if law.size == 1 else "must be below the law's tension at strain 1")
 
     for z, (first, last) in enumerate(zones(spec)):
         loadcells = [k for k in range(first, last) if spec.spans[k].tension is not None]
@@ -124,9 +135,10 @@ def check_spec(spec: LineSpec, file: str) -> None:
         _check_span_model(spec, k, fail)
         if span.tension is not None:
             for value in profile_values(span.tension):
-                if value >= ea:
+                if strain_of(value) >= 1.0:
+                    below = f"EA = {ea:g} N" if law.size == 1 else "the law's tension at strain 1"
                     fail(f"spans[{k}].tension", f"reference {value:g} N must be below "
-                         f"EA = {ea:g} N (the web would break, strain >= 100 %)")
+                         f"{below} (the web would break, strain >= 100 %)")
 
     _check_disturbances(spec.disturbances, spec, "disturbances", fail)
     for name, scenario in spec.scenarios.items():

@@ -95,6 +95,21 @@ RANGES: dict[str, Range] = {
     "web.ea": _r(FORCE, (1.0, 1e11), (100.0, 5e9), "E·A of thin film strips to steel strip"),
     "web.strength": TENSION_RANGE,
     "web.tension_limit": TENSION_RANGE,
+    # the web's stress-strain law (docs/nonlinear-web.md)
+    "stress_strain.strain": _r("dimensionless", (0.0, 1.0), (0.0, 0.3),
+                               "foils break below 2 %, papers 3-8 %, nonwovens 30 %"),
+    "stress_strain.stress": _r("pressure", (0.0, 1e10), (0.0, 2e9),
+                               "up to the strength of steel strip"),
+    "stress_strain.tension_per_width": _r("force_per_width", (0.0, 1e7), (0.0, 2e5),
+                                          "up to the breaking load of heavy board"),
+    "stress_strain.exponent": _r("dimensionless", (0.05, 20.0), (0.3, 3.0),
+                                 "softening (< 1) or stiffening (> 1) webs"),
+    "stress_strain.reference_strain": _r("dimensionless", (1e-7, 1.0), (1e-4, 0.1),
+                                         "a strain where the secant modulus is E"),
+    "stress_strain.yield_strain": _r("dimensionless", (1e-7, 1.0), (1e-4, 0.1),
+                                     "aluminium foil ~0.1-0.5 %, films 1-4 %"),
+    "stress_strain.hardening": _r("dimensionless", (0.0, 10.0), (0.001, 1.0),
+                                  "the tangent beyond yield over E"),
     # rollers and rolls
     "roll.radius": ROLL_RADIUS,
     "roll.core_radius": _r(LEN, (1e-3, 5.0), (0.01, 0.5), "cores of 20 mm to 1 m diameter"),
@@ -276,6 +291,7 @@ RANGES: dict[str, Range] = {
 #: schema model name -> the sections of ``RANGES`` its fields look up, first match first
 SECTIONS: dict[str, tuple[str, ...]] = {
     "WebSpec": ("web",),
+    "StressStrainSpec": ("stress_strain",),
     "BacklashSpec": ("backlash",),
     "BeltSpec": ("belt",),
     "ShaftSpec": ("shaft",),

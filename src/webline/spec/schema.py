@@ -53,6 +53,7 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
 )
 from webline.spec.roll_inertia import RollInertiaSpec
 from webline.spec.splice import FlyingSplice, SpliceEvent  # noqa: F401
+from webline.spec.web_law import StressStrainSpec
 from webline.spec.winder import (  # noqa: F401
     BreakEvent,
     DiameterSpec,
@@ -74,6 +75,7 @@ class WebSpec(Strict):
 
     ``strength`` [N]: the tension at which the web breaks (a run stops there, failed);
     ``tension_limit`` [N]: a tension the line should stay below (a warning where exceeded).
+    ``stress_strain``: the stress-strain law (``spec.web_law``; none: linear, T = EA ε).
     """
 
     thickness: Length
@@ -83,6 +85,7 @@ class WebSpec(Strict):
     ea: Force | None = None
     strength: Force | None = None
     tension_limit: Force | None = None
+    stress_strain: StressStrainSpec | None = None
 
 
 # --- drives and controllers ---------------------------------------------------------------
@@ -236,6 +239,17 @@ class MRACSpec(_DecentralizedSpec):
     parameter_bound: Annotated[float, si("dimensionless", ">0")] = 2.0
 
 
+class PythonControllerSpec(Strict):
+    """A user's controller in Python (docs/controllers.md): ``object`` is
+    ``"module:attribute"`` (an importable module, or a ``.py`` file relative to the line
+    file) naming a class or factory, called with ``parameters`` as keyword arguments, or a
+    controller object itself (then ``parameters`` must be empty)."""
+
+    type: Literal["python"]
+    object: Annotated[str, Field(pattern=r"^[^:]+:[A-Za-z_][\w.]*$")]
+    parameters: dict[str, Any] = Field(default_factory=dict)
+
+
 def _controller_tag(value: object) -> str:
     """The controller family; a table without ``type`` is the industrial cascaded PI."""
     if isinstance(value, dict):
@@ -247,7 +261,8 @@ ControllerSpec = Annotated[
     Annotated[CascadedPISpec, Tag("cascaded_pi")]
     | Annotated[StateFeedbackSpec, Tag("state_feedback")]
     | Annotated[AdaptiveSpec, Tag("adaptive")]
-    | Annotated[MRACSpec, Tag("mrac")],
+    | Annotated[MRACSpec, Tag("mrac")]
+    | Annotated[PythonControllerSpec, Tag("python")],
     Discriminator(_controller_tag),
 ]
 

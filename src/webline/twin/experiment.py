@@ -241,9 +241,8 @@ def write_experiment(line: Line, name: str, out: Path,
     """Simulate the test ``name`` on ``line`` and write into ``out``: ``results.csv`` (the
     run's signals with webline's names and units, what ``load_measurements`` reads),
     ``experiment.json`` (what it identifies, its duration and how it was derived, the
-    columns to record), ``traces.png``, and for a dancer test ``dancer_position.csv`` (the
-    carriage position [m], which a run's results file does not hold). Returns the plan and
-    the ``Result``."""
+    columns to record; a dancer's carriage position is among the run's signals) and
+    ``traces.png``. Returns the plan and the ``Result``."""
     from webline.sim.simulate import simulate
 
     place = claim or (lambda relative: out / relative)
@@ -251,15 +250,6 @@ def write_experiment(line: Line, name: str, out: Path,
     result = simulate(plan.line, plan.duration, raise_on_failure=False)
     result.to_csv(place("results.csv"))
     data = plan.as_dict() | {"line": line.name, "verdict": result.verdict.headline}
-    if name == "dancer-step":
-        columns = {"time [s]": result.time}
-        for i in range(line.n_nodes):
-            if isinstance(line.spec.rollers[i], DancerSpec):
-                index = result.plan.state_names.index(f"{line.node_name(i)}.position")
-                columns[f"dancer_position[{line.node_name(i)}] [m]"] = result.states[:, index]
-        import pandas as pd
-
-        pd.DataFrame(columns).to_csv(place("dancer_position.csv"), index=False)
     place("experiment.json").write_text(json.dumps(data, indent=2), encoding="utf-8")
     signals = ("speed", "torque") if name == "accel-ramps" else ("tension", "speed")
     figure = result.plot(signals)

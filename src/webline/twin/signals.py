@@ -27,6 +27,7 @@ COMPARED: dict[str, tuple[str, str, str]] = {
     "torque_cmd": ("drive", "torque", "torque_cmd"),
     "trim": ("drive", "speed", "trim"),
     "motor_speed": ("drive", "angular_frequency", "motor_speed"),
+    "dancer_position": ("dancer", "length", "dancer_position"),
 }
 #: signals of webline's own results files that are read but never compared (flags, the
 #: controllers' internal estimates, web bookkeeping): a run's own file loads without a mapping
@@ -57,6 +58,10 @@ def elements(line: Line, dim: str) -> list[str]:
         return [line.span_name(k) for k in range(line.n_spans)]
     if dim == "node":
         return [line.node_name(i) for i in range(line.n_nodes)]
+    if dim == "dancer":
+        from webline.sim.dancer import dancer_nodes
+
+        return [line.node_name(i) for i in dancer_nodes(line)]
     return [line.node_name(i) for i in line.drives]
 
 

@@ -1,0 +1,78 @@
+"""Cost of the Python controller path per tick above the compiled loop (issue 25).
+
+    python benchmarks/bench_user_controller.py [--seconds 6]
+
+Runs ``hswl`` for the given time with its built-in controllers (the compiled loop), then
+with a user controller that only returns held torques for every drive (the path's own cost:
+one compiled call per tick, the measurement pass, the Python call), then with the built-in
+cascaded PI written in Python (examples/user_pi.py: the path plus a controller's own
+arithmetic). Each run is timed after a warm-up (compilation excluded);
+the per-tick numbers are (user run - built-in run) / ticks. Times are the process's CPU
+time, best of five.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import time
+from pathlib import Path
+
+import numpy as np
+
+import webline
+
+
+class Hold:
+    """Returns the same torques every tick: the cheapest controller there is."""
+
+    def reset(self, context: object) -> None:
+        self.torques = np.array([d.equilibrium_command for d in context.drives])  # type: ignore[attr-defined]
+
+    def __call__(self, t: float, measurements: np.ndarray, references: np.ndarray) -> object:
+        return self.torques
+
+
+def _pi() -> type:
+    path = Path(__file__).resolve().parents[1] / "examples" / "user_pi.py"
+    spec = importlib.util.spec_from_file_location("user_pi", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.CascadedPI  # type: ignore[no-any-return]
+
+
+def best(run: object, repeat: int = 5) -> float:
+    """Least CPU time [s] of this process over ``repeat`` calls of ``run`` (CPU time, not
+    wall time: on a shared machine the wall time counts other processes' turns)."""
+    times = []
+    for _ in range(repeat):
+        start = time.process_time()
+        run()  # type: ignore[operator]
+        times.append(time.process_time() - start)
+    return min(times)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--seconds", type=float, default=6.0)
+    args = parser.parse_args()
+    line = webline.load_line("hswl")
+    pi = _pi()
+    for controller in (None, Hold(), pi()):  # warm-up: compile every path
+        webline.simulate(line, 0.01, controller=controller)
+    ticks = round(args.seconds / 1e-3) + 1
+    builtin = best(lambda: webline.simulate(line, args.seconds))
+    hold = best(lambda: webline.simulate(line, args.seconds, controller=Hold()))
+    python_pi = best(lambda: webline.simulate(line, args.seconds, controller=pi()))
+    print(f"hswl, {args.seconds:g} s, {ticks} ticks, {len(line.drives)} drives")
+    print(f"built-in (compiled loop)      {builtin * 1e3:8.1f} ms  {builtin / ticks * 1e6:6.2f} "
+          f"us/tick")
+    for name, seconds in (("user: held torques", hold), ("user: PI in Python", python_pi)):
+        extra = (seconds - builtin) / ticks * 1e6
+        print(f"{name:29s} {seconds * 1e3:8.1f} ms  {seconds / ticks * 1e6:6.2f} us/tick  "
+              f"+{extra:5.2f} us/tick above the compiled loop ({seconds / builtin:5.1f}x)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,334 @@
+"""User controllers in the loop: the protocol (docs/controllers.md) and the run that calls them.
+
+A controller is a Python object with ``reset(context)`` (once, before the run) and
+``__call__(t, measurements, references) -> torques`` (every tick of ``context.sample_period``
+[s]). ``measurements`` and ``references`` are float arrays named by ``context.measurement_names``
+and ``context.reference_names`` (per drive ``"<drive>.speed"`` [m/s], ``".tension"`` [N],
+``".radius"`` [m], ``".inertia"`` [kg·m²]; ``"<drive>.speed_reference"`` [m/s],
+``".tension_reference"`` [N]); the arrays are reused every tick (copy what you keep). It
+returns one torque command [N·m] per drive of ``context.drives`` (a float for one drive).
+
+The run goes one tick per compiled call (``sim.user_step``) and allocates nothing per tick
+but what the controller does itself.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+
+from webline.control.pi import PIGains
+from webline.errors import ArgumentError
+from webline.line import Line
+from webline.model.operating_point import OperatingPoint
+from webline.sim import layout as L
+from webline.sim.plan import Plan
+from webline.sim.user_loop import N_MEASURED, N_REFERENCES, STATUS_USER_NONFINITE
+from webline.sim.user_step import (
+    C_EVERY,
+    C_INCLUDE_END,
+    C_MEASURE,
+    C_N_TICKS,
+    C_STATUS,
+    C_STORED,
+    C_SUBSTEPS,
+    C_TICK,
+    C_WHERE,
+    compiled_user_step,
+    packed_run,
+)
+
+MEASURED = ("speed", "tension", "radius", "inertia")  # in ``user_loop.U_*`` order
+REFERENCES = ("speed_reference", "tension_reference")
+
+
+@runtime_checkable
+class Controller(Protocol):
+    """What ``simulate(..., controller=...)`` accepts (module docstring)."""
+
+    def reset(self, context: ControllerContext) -> None: ...
+
+    def __call__(self, t: float, measurements: np.ndarray,
+                 references: np.ndarray) -> Any: ...
+
+
+@dataclass(frozen=True)
+class DriveInfo:
+    """One drive a user controller commands.
+
+    ``node``: its roller's index in the line; ``roll``: True for the unwind or rewind, whose
+    radius and inertia change as the roll runs; ``role``: "master" (speed) or "tension";
+    ``tension_sign`` σ: +1 if speeding the drive up raises its zone's tension, -1 if it
+    lowers it (the drive upstream of its zone), 0 for the master; ``torque_limit`` [N·m]
+    (the command is clipped there); ``ratio`` motor / roller speed; ``radius`` [m] and
+    ``inertia`` [kg·m²] at the roller at t = 0; ``builtin_pi``: the cascaded-PI gains
+    webline would run this drive with (SI, ``control.pi``; a dancer zone's tension gains act
+    on the dancer's position error, (m/s)/m), a place to start; ``gain_norm`` [kg·m]: the
+    inertia / (ratio x radius) those gains were tuned at (the built-in PI scales its speed
+    gains by the current value over this one); ``equilibrium_command`` [N·m]: the command
+    that holds the drive at the operating point, where the run starts (the motor torque
+    there, less what the drive's own compensation adds); ``equilibrium_trim`` [m/s]: how
+    much faster than its speed reference the drive runs there (the draw its idle rollers'
+    friction takes; the built-in PI's tension integrator starts at it times σ).
+    """
+
+    name: str
+    node: int
+    roll: bool
+    role: str
+    tension_sign: float
+    torque_limit: float
+    ratio: float
+    radius: float
+    inertia: float
+    builtin_pi: PIGains
+    gain_norm: float
+    equilibrium_command: float
+    equilibrium_trim: float
+
+
+@dataclass(frozen=True)
+class ControllerContext:
+    """What ``reset`` receives: the ``line``, its ``operating_point`` at t = 0, the
+    ``sample_period`` [s], the ``drives`` commanded (torques in this order) and the names of
+    the entries of ``measurements`` and ``references``."""
+
+    line: Line
+    operating_point: OperatingPoint
+    sample_period: float
+    drives: tuple[DriveInfo, ...]
+    measurement_names: tuple[str, ...]
+    reference_names: tuple[str, ...]
+
+    def index(self, name: str) -> int:
+        """Position of measurement or reference ``name`` (e.g. ``"rewind.tension"``)."""
+        for names in (self.measurement_names, self.reference_names):
+            if name in names:
+                return names.index(name)
+        raise KeyError(f"no measurement or reference {name!r}; there are "
+                       f"{', '.join(self.measurement_names + self.reference_names)}")
+
+
+@dataclass(frozen=True)
+class Group:
+    """One controller object and the drives (indices into ``line.drives``) it commands."""
+
+    name: str
+    controller: Controller
+    drives: tuple[int, ...]
+
+
+def user_groups(line: Line, controller: object | Mapping[str, object] | None,
+                from_file: Mapping[int, Controller]) -> list[Group]:
+    """The user controllers of a run: ``controller`` (one object for every drive, or a dict
+    drive name -> object) and those the line file names (``from_file``, by drive index), in
+    drive order. ``ArgumentError`` for an unknown drive name or an object without the
+    protocol."""
+    names = [line.node_name(i) for i in line.drives]
+    groups: list[Group] = []
+    if controller is None:
+        pass
+    elif isinstance(controller, Mapping):
+        for name, obj in controller.items():
+            if name not in names:
+                raise ArgumentError(f"controller: no drive {name!r}; the drives are "
+                                    f"{', '.join(names)}")
+            groups.append(Group(name, _checked(obj, f"controller[{name!r}]"),
+                                (names.index(name),)))
+    else:
+        groups.append(Group("line", _checked(controller, "controller"),
+                            tuple(range(len(names)))))
+    taken = {d for g in groups for d in g.drives}
+    groups += [Group(names[d], obj, (d,)) for d, obj in from_file.items() if d not in taken]
+    return sorted(groups, key=lambda g: g.drives[0])
+
+
+def _checked(obj: object, what: str) -> Controller:
+    if not isinstance(obj, Controller):
+        raise ArgumentError(f"{what}: {type(obj).__name__} is not a controller: it needs "
+                            f"reset(context) and __call__(t, measurements, references)")
+    return obj
+
+
+def user_plan(plan: Plan, drives: Sequence[int]) -> Plan:
+    """``plan`` with ``drives`` (indices) run by user controllers (``FAMILY_USER``)."""
+    table, structure = plan.drives.copy(), plan.drive_structure.copy()
+    table[list(drives), L.D_FAMILY] = L.FAMILY_USER
+    structure[list(drives), L.DRIVE_STRUCTURE.index(L.D_FAMILY)] = L.FAMILY_USER
+    return dataclasses.replace(plan, drives=table, drive_structure=structure, memo={})
+
+
+def builtin_stand_in(plan: Plan) -> Plan:
+    """``plan`` with its user drives run by the cascaded PI (their columns hold its tuned
+    gains): what sets the integration step and what a linear model can describe."""
+    users = np.flatnonzero(plan.drives[:, L.D_FAMILY] == L.FAMILY_USER)
+    if not users.size:
+        return plan
+    table, structure = plan.drives.copy(), plan.drive_structure.copy()
+    table[users, L.D_FAMILY] = L.FAMILY_PI
+    structure[users, L.DRIVE_STRUCTURE.index(L.D_FAMILY)] = L.FAMILY_PI
+    return dataclasses.replace(plan, drives=table, drive_structure=structure, memo={})
+
+
+def context_for(plan: Plan, group: Group) -> ControllerContext:
+    """The ``ControllerContext`` of ``group`` in a run of ``plan``."""
+    line, op = plan.line, plan.op
+    istate = plan.initial_state(op)[1]  # the built-in PI's integrators at the equilibrium
+    infos = []
+    for d in group.drives:
+        i = line.drives[d]
+        row = plan.drives[d]
+        infos.append(DriveInfo(
+            line.node_name(i), i, i in (0, line.n_nodes - 1),
+            "tension" if row[L.D_ROLE] == L.ROLE_TENSION else "master",
+            float(row[L.D_SIGMA]), float(row[L.D_LIMIT]), float(plan.nodes[i, L.N_RATIO]),
+            float(op.radius[i]), float(op.inertia[i]),
+            PIGains(*(float(row[c]) for c in (L.D_KPS, L.D_KIS, L.D_KPT, L.D_KIT))),
+            float(row[L.D_GAINNORM]),
+            float(istate[d, L.I_SPEED]), float(row[L.D_SIGMA] * istate[d, L.I_TENSION])))
+    return ControllerContext(
+        line, op, plan.dt, tuple(infos),
+        tuple(f"{info.name}.{m}" for info in infos for m in MEASURED),
+        tuple(f"{info.name}.{r}" for info in infos for r in REFERENCES))
+
+
+@dataclass
+class UserRun:
+    """Where a user run stopped: records stored, kernel status (or
+    ``STATUS_USER_NONFINITE``), time and place of a failure, final arrays, the error of a
+    controller that failed (None if none did) and its name, and whether Ctrl-C stopped it."""
+
+    stored: int
+    status: int
+    t_fail: float
+    where: int
+    x: np.ndarray
+    istate: np.ndarray
+    error: str | None = None
+    controller: str = ""
+    interrupted: bool = False
+
+
+class UserLoop:
+    """A run of ``plan`` (user drives ``FAMILY_USER``, commanded by ``groups``) from the
+    state ``x0``, ``istate0``, ``slip0``, one tick at a time: ``tick`` calls the controllers
+    with the sampled measurements, then the compiled step (``sim.user_step``). Records go
+    every ``every`` ticks into the ``rec`` each call is given, from row ``stored``."""
+
+    def __init__(self, plan: Plan, groups: Sequence[Group], x0: np.ndarray,
+                 istate0: np.ndarray, slip0: np.ndarray, substeps: int, every: int,
+                 record_width: int) -> None:
+        self.plan, self.groups = plan, list(groups)
+        self.users = np.array([d for g in groups for d in g.drives], dtype=np.int64)
+        self.packed = packed_run(plan, x0, istate0, slip0, self.users, record_width)
+        v = self.packed.views
+        self.control, self.commands = v["control"], v["commands"]
+        self.step = compiled_user_step(plan)
+        self.views, first = [], 0  # each group's slices of the shared arrays, made once
+        for g in groups:
+            k = len(g.drives)
+            self.views.append((g, v["measured"][N_MEASURED * first:N_MEASURED * (first + k)],
+                               v["references"][N_REFERENCES * first:
+                                               N_REFERENCES * (first + k)],
+                               self.commands[first:first + k], k))
+            first += k
+            g.controller.reset(context_for(plan, g))
+        self.control[C_SUBSTEPS], self.control[C_EVERY] = substeps, every
+        self.control[C_MEASURE] = 1
+        self.step(self.packed.floats, self.packed.ints, np.empty((1, record_width)))  # tick 0
+        self.control[C_N_TICKS] = 1
+
+    @property
+    def tick_index(self) -> int:
+        """The tick whose commands come next."""
+        return int(self.control[C_TICK])
+
+    @property
+    def status(self) -> int:
+        """The kernel's status after the last step (``layout.STATUS_*``)."""
+        return int(self.control[C_STATUS])
+
+    def tick(self, rec: np.ndarray, last: bool = False) -> str | None:
+        """The controllers' commands of the next tick, then that tick (``last``: only
+        sampled and recorded, as a run's end); the error of a controller that failed (one
+        line), else None."""
+        j = int(self.control[C_TICK])
+        t = j * self.plan.dt
+        for g, meas, refs, cmds, k in self.views:
+            try:
+                torque = g.controller(t, meas, refs)
+            except Exception as exc:  # the user's code: any error stops the run, named
+                return self._failed(g, controller_error(g, j, t, exc))
+            try:
+                cmds[:] = torque
+                if k > 1 and np.ndim(torque) == 0:
+                    raise ValueError
+            except (ValueError, TypeError):
+                return self._failed(g, controller_error(g, j, t, None, (
+                    f"returned {_shape(torque)} where {k} torque(s) [N·m] were due")))
+        if last:
+            self.control[C_N_TICKS], self.control[C_INCLUDE_END] = 0, 1
+            self.control[C_MEASURE] = 0
+        self.step(self.packed.floats, self.packed.ints, rec)
+        if self.control[C_STATUS] == STATUS_USER_NONFINITE:
+            where = int(self.control[C_WHERE])
+            group = next(g for g, *_ in self.views if self.users[where] in g.drives)
+            name = self.plan.line.node_name(self.plan.line.drives[self.users[where]])
+            return self._failed(group, controller_error(
+                group, j, t, None, f"returned a non-finite torque "
+                f"{float(self.commands[where])} for {name}"))
+        return None
+
+    def _failed(self, group: Group, error: str) -> str:
+        self.failed = (group.name, error, self.tick_index * self.plan.dt)
+        return error
+
+    def outcome(self) -> UserRun:
+        """Where the run stands (``UserRun``)."""
+        v = self.packed.views
+        failed = getattr(self, "failed", None)
+        if failed is not None:
+            return UserRun(int(self.control[C_STORED]), STATUS_USER_NONFINITE, failed[2], -1,
+                           v["x"].copy(), v["istate"].copy(), failed[1], failed[0])
+        return UserRun(int(self.control[C_STORED]), int(self.control[C_STATUS]),
+                       float(v["t_fail"][0]), int(self.control[C_WHERE]), v["x"].copy(),
+                       v["istate"].copy())
+
+
+def run_user(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: np.ndarray,
+             slip0: np.ndarray, n_ticks: int, substeps: int, every: int,
+             buffer: np.ndarray) -> UserRun:
+    """Run ``plan`` (user drives ``FAMILY_USER``) for ``n_ticks`` ticks from its state
+    ``x0``, ``istate0``, ``slip0``, records every ``every`` ticks into ``buffer``; each tick
+    the controllers of ``groups`` compute their drives' commands from the sampled
+    measurements. A controller that raises, returns a wrong shape or a non-finite torque
+    stops the run there (``UserRun.error`` names it and the tick)."""
+    loop = UserLoop(plan, groups, x0, istate0, slip0, substeps, every, buffer.shape[1])
+    try:
+        for j in range(n_ticks + 1):
+            if loop.tick(buffer, last=j == n_ticks) is not None or loop.status != L.STATUS_OK:
+                break
+    except KeyboardInterrupt:  # Ctrl-C between ticks: keep what was computed
+        run = loop.outcome()
+        run.interrupted = True
+        return run
+    return loop.outcome()
+
+
+def _shape(value: object) -> str:
+    """What a controller returned, for an error: "shape (2,)", "a str"."""
+    shape = np.shape(value) if isinstance(value, np.ndarray | list | tuple) else None
+    return f"shape {shape}" if shape is not None else f"a {type(value).__name__}"
+
+
+def controller_error(group: Group, tick: int, t: float, exc: BaseException | None,
+                     what: str = "") -> str:
+    """One sentence: which controller failed, how, at which tick and time [s]."""
+    if exc is not None:
+        what = f"raised {type(exc).__name__}: {exc}"
+    kind = type(group.controller).__name__
+    return f"controller {group.name!r} ({kind}) {what} at tick {tick} (t = {t:.6g} s)"

@@ -1,0 +1,87 @@
+"""The controllers a line file names (``controller = { type = "python", object = ... }``):
+imported and made once per run, each bad name one ``LineFileError`` (exit 2)."""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import sys
+from pathlib import Path
+from types import ModuleType
+
+from webline.errors import LineFileError
+from webline.line import Line
+from webline.sim.user_control import Controller
+from webline.spec.schema import PythonControllerSpec
+
+
+def file_controllers(line: Line) -> dict[int, Controller]:
+    """The controller object of each drive (index into ``line.drives``) whose line-file
+    controller is ``type = "python"``."""
+    out = {}
+    for d, i in enumerate(line.drives):
+        spec = getattr(line.spec.rollers[i], "controller", None)
+        if isinstance(spec, PythonControllerSpec):
+            out[d] = make_controller(spec, line.source, f"rollers[{i}].controller")
+    return out
+
+
+def make_controller(spec: PythonControllerSpec, source: str, key: str) -> Controller:
+    """The object ``spec.object`` names, called with ``spec.parameters`` if it is a class or
+    factory; ``LineFileError`` naming ``source`` and ``key`` if it cannot be had."""
+    module_name, _, attribute = spec.object.partition(":")
+
+    def fail(where: str, problem: str) -> LineFileError:
+        return LineFileError(source, f"{key}.{where}", problem)
+
+    try:
+        module = _module(module_name, source)
+    except Exception as exc:  # an import runs the user's module: any error is theirs
+        raise fail("object", f"cannot import {module_name!r}: {type(exc).__name__}: "
+                   f"{exc}") from None
+    target: object = module
+    for part in attribute.split("."):
+        if not hasattr(target, part):
+            raise fail("object", f"{module_name!r} has no {attribute!r}") from None
+        target = getattr(target, part)
+    if isinstance(target, Controller) and not isinstance(target, type):
+        if spec.parameters:
+            raise fail("parameters", f"{attribute!r} is a controller object already; "
+                       f"parameters need a class or factory")
+        return target
+    if not callable(target):
+        raise fail("object", f"{spec.object!r} is neither a controller nor a class")
+    try:
+        made = target(**spec.parameters)
+    except Exception as exc:  # the user's constructor
+        raise fail("parameters", f"{attribute}(**parameters) raised {type(exc).__name__}: "
+                   f"{exc}") from None
+    if not isinstance(made, Controller):
+        raise fail("object", f"{attribute}(...) gave a {type(made).__name__}, which lacks "
+                   f"reset(context) and __call__(t, measurements, references)")
+    return made
+
+
+def _module(name: str, source: str) -> ModuleType:
+    """Module ``name``: a ``.py`` file (relative to the line file's folder) or an importable
+    module."""
+    if not name.endswith(".py"):
+        return importlib.import_module(name)
+    path = Path(name)
+    if not path.is_absolute():
+        path = Path(source).parent / path
+    if not path.is_file():
+        raise FileNotFoundError(f"no file {path}")
+    module_id = f"webline_user_{path.stem}_{abs(hash(str(path.resolve())))}"
+    if module_id in sys.modules:
+        return sys.modules[module_id]
+    found = importlib.util.spec_from_file_location(module_id, path)
+    assert found is not None and found.loader is not None
+    module = importlib.util.module_from_spec(found)
+    sys.modules[module_id] = module
+    try:
+        found.loader.exec_module(module)
+    except BaseException:
+        del sys.modules[module_id]
+        raise
+    return module
