@@ -127,3 +127,117 @@ def test_a_monte_carlo_of_break_detection_counts_the_undetected_breaks() -> None
     assert [row[1] for row in worst.rows] == ["failed"] * failed + ["warning"] * (n - failed)
     first = int(worst.rows[0][0])
     assert worst.rows[0][2] == str(ds.headline.values[first]) and statuses[first] == "failed"
+
+
+def _with_break(line: webline.Line, span: str, at: float) -> webline.Line:
+    """``line`` whose web breaks in ``span`` at ``at`` [s], stopping in 1 s: the checks look
+    up to the break, the break's finding after it (the stop and the rest)."""
+    data = line.spec.model_dump(exclude_none=True)
+    data["disturbances"] = [{"type": "web_break", "span": span, "at": at, "stop_time": 1.0}]
+    return webline.load_line(data)
+
+
+def _winder_state_lines() -> dict[str, tuple[webline.Line, float, str]]:
+    """Lines whose runs have a winder-state finding (tests/validation/test_winder_states.py),
+    the duration [s] that shows it and the finding's kind."""
+    rockwell, hswl = webline.load_line("rockwell"), webline.load_line("hswl")
+    open_loop = {"mode": "open_loop", "inertia_compensation": True,
+                 "viscous_friction": rockwell.rewind.friction}
+    return {
+        "dancer on its end stop": (rockwell.replace({
+            "rollers.dancer.dancer.use": "none", "rollers.dancer.dancer.load": "150 N"}), 4.0,
+            "dancer_end_stop"),
+        "open-loop zone off its set tension": (rockwell.replace({"rollers.rewind.winder": {
+            **open_loop, "viscous_friction": rockwell.rewind.friction + 0.174}}), 5.0,
+            "tension_off_set"),
+        "measured zone off its set tension": (rockwell.replace({
+            "rollers.rewind.drive.torque_limit": "3 N*m"}), 4.0, "tension_off_set"),
+        "misjudged diameter": (hswl.replace({
+            "rollers.rewind.taper": {"type": "linear", "taper": 0.5, "max_diameter": "0.5 m"},
+            "rollers.rewind.diameter": {"method": "thickness",
+                                        "initial": 2 * hswl.rewind.radius + 0.020}}), 3.0,
+            "diameter_error"),
+        "zone off its tapered, ramped set tension": (rockwell.replace({
+            "rollers.rewind.winder": {
+                **open_loop, "viscous_friction": rockwell.rewind.friction + 0.174},
+            "rollers.rewind.taper": {"type": "linear", "taper": 0.3, "max_diameter": "0.5 m"},
+            "control.tension_ramp": {"standstill": 0.3, "time": "3 s"},
+            "speed": {"type": "ramp", "initial": "0 ft/min", "final": "300 ft/min",
+                      "start": "0.5 s", "duration": "2 s"}}), 4.0,
+            "tension_off_set"),
+        "zone off its set tension, then a break in it": (_with_break(rockwell.replace({
+            "rollers.rewind.drive.torque_limit": "3 N*m"}), "rewind_span_b", 2.5), 4.0,
+            "tension_off_set"),
+        "diameter guessed twice the true one": (rockwell.replace({
+            "rollers.rewind.winder": open_loop, "rollers.rewind.diameter": {
+                "method": "thickness", "initial": 4 * rockwell.rewind.radius}}), 5.0,
+            "diameter_error"),
+    }
+
+
+@pytest.mark.parametrize("case", list(_winder_state_lines()))
+def test_winder_state_findings_are_in_a_sweep_cases_verdict(case) -> None:
+    """Today a batch misses the winder-state findings: the case says ok where its run
+    warns of a dancer on its stop, a zone off its set tension, a misjudged diameter."""
+    line, duration, kind = _winder_state_lines()[case]
+    ds, lines = nominal_sweep(line, None, duration)
+    assert_same_verdicts(ds, lines, duration)
+    verdict = webline.simulate(lines[0], duration, raise_on_failure=False).verdict
+    assert kind in {f.kind for f in verdict.findings}  # the case shows what it is for
+    assert_same_findings(lines[0], duration)
+
+
+def test_cases_of_one_batch_keep_their_own_winder_states() -> None:
+    """rockwell's dancer as a store swept over its load, in one batch: 88 N (2 x the zone
+    tension) holds the carriage off its stops, 150 N rests it on one from 1.4 s. Each case
+    has its own run's verdict, so one case's slot never leaks into another's."""
+    line = webline.load_line("rockwell").replace({"rollers.dancer.dancer.use": "none"})
+    loads = ["88 N", "150 N"]
+    duration = 4.0
+    ds = webline.sweep(line, {"rollers.dancer.dancer.load": loads}, duration=duration,
+                       workers=1)
+    cases = [line.replace({"rollers.dancer.dancer.load": load}) for load in loads]
+    assert_same_verdicts(ds, cases, duration)
+    stops = ["end stop" in str(h) for h in ds.headline.values]
+    assert stops == [False, True]
+
+
+@pytest.mark.parametrize("name", ["rockwell", "converter"])
+def test_a_full_length_web_break_has_its_run_verdict_in_a_sweep(name) -> None:
+    """The whole web-break scenario (12 s: the stop and the rest after it): today a batch
+    keeps no roller speeds, so its break finding says whether the rollers came to rest 'is
+    not known' where the run's says they did (or which one did not, and from when)."""
+    line = webline.load_line(name)
+    duration = float(line.spec.scenarios["web-break"].duration)
+    ds, lines = nominal_sweep(line, "web-break", duration)
+    assert assert_same_verdicts(ds, lines, duration) == ["warning"]
+    assert "not known" not in str(ds.headline.values[0])
+    assert_same_findings(lines[0], duration)
+
+
+def assert_same_findings(case: webline.Line, duration: float) -> None:
+    """Every finding of ``case``'s batch verdict (``sweep_dataset.case_verdict``) has the
+    level, kind, place, time and message of its run's, and the same details: numbers to
+    1e-9 relative (the batch's compiled reduction and the run's numpy may round the last
+    bits differently; a rounding of the printed 3-4 digits would already fail the message)."""
+    from webline.sim.sweeps.batch import run_batch
+    from webline.sim.sweeps.cases import build_cases
+    from webline.sim.sweeps.sweep_dataset import case_verdict
+
+    built = build_cases(case, [{}], duration)
+    out = run_batch(built.plans, built.states, np.array(built.n_ticks),
+                    np.array(built.substeps), np.array(built.every), workers=1)
+    batch = case_verdict(built.plans[0], out, 0).findings
+    run = webline.simulate(case, duration, raise_on_failure=False).verdict.findings
+    assert [(f.level, f.kind, f.where, f.message) for f in batch] == [
+        (f.level, f.kind, f.where, f.message) for f in run]
+    for b, r in zip(batch, run, strict=True):
+        assert (b.time is None) == (r.time is None)
+        if r.time is not None:
+            assert b.time == pytest.approx(r.time, rel=1e-9, nan_ok=True)
+        assert b.details.keys() == r.details.keys(), b.kind
+        for key, value in r.details.items():
+            if isinstance(value, float):
+                assert b.details[key] == pytest.approx(value, rel=1e-9, nan_ok=True), key
+            else:
+                assert b.details[key] == value, key

@@ -144,3 +144,28 @@ def test_an_open_loop_rewind_with_its_diameter_guessed_twice_the_true_one_is_not
     assert result.verdict.status == "failed"
     kinds = {f.kind for f in result.verdict.findings}
     assert {"diameter_error", "tension_off_set", "slack"} <= kinds
+
+
+def test_a_zone_finding_states_its_numbers_from_before_the_break():
+    """The torque-limited rewind zone of rockwell (measured tension off its set value) whose
+    web then breaks in that zone at 2.5 s: the checks look up to the break, so the finding's
+    largest error and ratio are those of the records before it. Today they are taken over
+    the whole run: after the break the tension is 0, the error the whole set tension and
+    the ratio 0, numbers of the break, not of the zone's control."""
+    base = webline.load_line("rockwell").replace({"rollers.rewind.drive.torque_limit": "3 N*m"})
+    data = base.spec.model_dump(exclude_none=True)
+    data["disturbances"] = [{"type": "web_break", "span": "rewind_span_b", "at": 2.5,
+                             "stop_time": 1.0}]
+    line = webline.load_line(data)
+    result = webline.simulate(line, 4.0, raise_on_failure=False)
+    finding = _finding(result, "tension_off_set")
+    k = result.span_names.index("rewind_span_b")
+    before = result.time < 2.5
+    error = np.abs(result.tension[:, k] - result.tension_ref[:, k])
+    off = before & (error > 0.2 * np.abs(result.tension_ref[:, k]))
+    worst = int(np.argmax(np.where(off, error, -1.0)))
+    # the same records and arithmetic: equal to the last bit
+    assert finding.details["largest_error_N"] == error[worst]
+    assert finding.details["largest_ratio"] == pytest.approx(
+        result.tension[worst, k] / result.tension_ref[worst, k], rel=1e-15)
+    assert finding.details["largest_ratio"] > 0.3  # the zone still pulled on the web

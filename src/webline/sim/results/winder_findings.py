@@ -55,6 +55,13 @@ def after_stop_from_records(time: np.ndarray, speed: np.ndarray, names: list[str
     return read
 
 
+def rest_limits(line: Line) -> list[tuple[float, float]]:
+    """Each web break's (stop time [s] after its detection, rest limit [m/s] after the stop:
+    ``REST_FRACTION`` x the line speed at the break), in the line file's order."""
+    return [(b.stop_time, REST_FRACTION * _line_speed(line, b.at))
+            for b in line.spec.disturbances if isinstance(b, WebBreak)]
+
+
 def break_findings(line: Line, end: float, monitor: tuple[float, int],
                    after_stop: AfterStopReader | None = None) -> list[Finding]:
     """One finding per web break that happened within a run of ``line`` whose last record is

@@ -2,15 +2,19 @@
 dancer on an end stop, a zone far from its set tension, a calculated diameter far from the
 true one. Each is a ``warning`` naming where, when and how long.
 
-A check is a function of the run giving ``StateCheck`` rows: the element, a mask over the
-records and what to say; ``winder_state_findings`` turns every row whose condition holds
-long enough into a finding. Add a check by appending a function to ``CHECKS``.
+The checks watch ``StateElement`` rows (``state_elements``: the element, its threshold and
+minimum duration). Over the records before the first web break, each row gives a condition
+per record and two extremes (``Extremes``); the intervals in which the condition holds for at
+least the minimum duration reduce to ``IntervalStats``. A run computes both from its records
+(``winder_state_findings``, numpy), a study case from its batch's accumulators
+(``sim.sweeps.batch_states``, compiled, the same definitions); ``state_finding`` turns them into the
+same finding for both.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass, field
+import math
+from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
@@ -21,6 +25,10 @@ from webline.sim.elements import layout as L
 from webline.sim.results.events import intervals
 from webline.spec.winder import WebBreak
 from webline.verdict import Finding
+
+#: the kinds of check, in the order their findings are listed
+DANCER, TENSION, DIAMETER = range(3)
+KIND_NAMES = ("dancer_end_stop", "tension_off_set", "diameter_error")
 
 
 class Result(Protocol):
@@ -38,10 +46,6 @@ class Result(Protocol):
     @property
     def line(self) -> Line: ...
     @property
-    def node_names(self) -> list[str]: ...
-    @property
-    def span_names(self) -> list[str]: ...
-    @property
     def tension(self) -> np.ndarray: ...
     @property
     def tension_ref(self) -> np.ndarray: ...
@@ -50,120 +54,157 @@ class Result(Protocol):
 
 
 @dataclass(frozen=True)
-class StateCheck:
-    """One element's condition over a run: ``kind`` of finding, ``where`` (element name),
-    ``mask`` (records where it holds), ``what`` (the sentence's subject and condition,
-    e.g. "dancer rested on an end stop"), ``min_duration`` [s] an interval must last to
-    count, and ``details`` for the finding (its numbers)."""
+class StateElement:
+    """One element a check watches: ``kind`` (``DANCER``, ``TENSION``, ``DIAMETER``),
+    ``where`` (its name in the finding), ``node`` (the dancer's, the drive's), ``drive``
+    (-1 for a dancer), ``span`` (a tension zone's loadcell span, else -1), ``limit`` (the
+    dancer's travel [m], else the tolerance [-]), ``min_duration`` [s] an interval must last
+    to count, ``read`` (a tension zone whose drive reads its loadcell)."""
 
-    kind: str
+    kind: int
     where: str
-    mask: np.ndarray
-    what: str
+    node: int
+    drive: int
+    span: int
+    limit: float
     min_duration: float
-    details: dict[str, object] = field(default_factory=dict)
+    read: bool = False
 
 
-def dancer_end_stops(result: Result) -> list[StateCheck]:
-    """A dancer's carriage on an end stop (y <= 0 or y >= travel, as the break monitor
-    reads it): any touch counts (``checks.end_stop_time``, default 0 s)."""
-    out = []
-    nodes = result.plan.nodes
-    for i in np.flatnonzero(nodes[:, L.N_DANCER] >= 0):
-        name = result.node_names[i]
-        y = result.states[:, result.plan.state_names.index(f"{name}.position")]
-        travel = nodes[i, L.N_DTRAVEL]
-        mask = (y <= 0.0) | (y >= travel)
-        low = bool(np.any(y[mask] <= 0.0))
-        out.append(StateCheck("dancer_end_stop", name, mask,
-                              f"{name} rested on its end stop", result.line.spec.checks
-                              .end_stop_time, {"travel_m": float(travel), "low_stop": low}))
+@dataclass(frozen=True)
+class IntervalStats:
+    """The intervals of a condition that lasted at least their minimum duration: how many,
+    the first one's start and end, the total and the longest [s]."""
+
+    count: int
+    first: float
+    first_end: float
+    total: float
+    longest: float
+
+
+#: two numbers per element over the records looked at (the NaN-free start values in
+#: ``EXTREMES_START``): a dancer's (1 if it touched its low stop, unused); a zone's (largest
+#: error |T - T_set| [N] where it was off, T/T_set there (NaN: T_set = 0)); a calculator's
+#: (largest |error| [m] of the diameter, that error with its sign [m])
+Extremes = tuple[float, float]
+EXTREMES_START: Extremes = (-1.0, math.nan)
+
+
+def state_elements(plan: Plan) -> list[StateElement]:
+    """Every element the checks watch on ``plan``'s line, in the order of their findings:
+    the dancers, the tension zones' drives, the drives with a diameter calculator."""
+    line, checks = plan.line, plan.line.spec.checks
+    out = [StateElement(DANCER, line.node_name(i), i, -1, -1,
+                        float(plan.nodes[i, L.N_DTRAVEL]), checks.end_stop_time)
+           for i in map(int, np.flatnonzero(plan.nodes[:, L.N_DANCER] >= 0))]
+    for d, i in enumerate(line.drives):
+        row = plan.drives[d]
+        if row[L.D_ROLE] == L.ROLE_TENSION:
+            read = bool(row[L.D_FAMILY] != L.FAMILY_OPEN_LOOP and row[L.D_OBS] == 0.0)
+            k = int(row[L.D_LOADCELL])
+            out.append(StateElement(TENSION, line.span_name(k), i, d, k,
+                                    checks.tension_tolerance, checks.min_duration, read))
+    out += [StateElement(DIAMETER, line.node_name(i), i, d, -1, checks.diameter_tolerance,
+                         checks.min_duration)
+            for d, i in enumerate(line.drives) if plan.drives[d, L.D_DCALC] != L.DCALC_NONE]
     return out
 
 
-def tension_off_set(result: Result) -> list[StateCheck]:
-    """Each tension zone's loadcell span farther than ``checks.tension_tolerance`` x its set
-    tension (``Result.tension_ref``, the controller's) from it: the measured tension where
-    the zone's drive reads a loadcell, the true tension otherwise (open loop, an observer)."""
-    out = []
-    checks = result.line.spec.checks
-    for d, i in enumerate(result.line.drives):
-        row = result.plan.drives[d]
-        if row[L.D_ROLE] != L.ROLE_TENSION:
-            continue
-        k = int(row[L.D_LOADCELL])
-        ref = result.tension_ref[:, k]
-        tension = result.tension[:, k]
+def window_end(line: Line) -> float:
+    """The time [s] the checks stop looking: the first web break (inf: none)."""
+    return min((b.at for b in line.spec.disturbances if isinstance(b, WebBreak)),
+               default=math.inf)
+
+
+def state_finding(line: Line, element: StateElement, stats: IntervalStats,
+                  extremes: Extremes, duration: float) -> Finding:
+    """The ``warning`` of ``element`` whose condition held in ``stats``' intervals, with
+    its ``extremes``, over a run of ``duration`` [s]."""
+    what, details = _words(line, element, extremes)
+    times = "once" if stats.count == 1 else f"{stats.count} times"
+    message = (f"{what} {times}, first from t = {stats.first:.4g} s to "
+               f"{stats.first_end:.4g} s, {stats.total:.3g} s in all "
+               f"({stats.total / duration:.1%} of the run)")
+    return Finding("warning", KIND_NAMES[element.kind], element.where, message, stats.first,
+                   {"first_s": stats.first, "total_s": stats.total,
+                    "longest_s": stats.longest, "count": stats.count,
+                    "fraction": stats.total / duration, **details})
+
+
+def _words(line: Line, element: StateElement, extremes: Extremes
+           ) -> tuple[str, dict[str, object]]:
+    """The sentence's subject and condition, and the finding's own numbers."""
+    name, first, second = element.where, extremes[0], extremes[1]
+    if element.kind == DANCER:
+        return (f"{name} rested on its end stop",
+                {"travel_m": element.limit, "low_stop": first > 0.0})
+    if element.kind == TENSION:
+        words = "measured" if element.read else "true (no loadcell read)"
+        return (f"{name}'s {words} tension stayed more than {element.limit:.0%} off its set "
+                f"tension (the zone of {line.node_name(element.node)})",
+                {"source": "measured (loadcell)" if element.read else "true tension",
+                 "tolerance": element.limit, "largest_error_N": first,
+                 "largest_ratio": None if math.isnan(second) else second})
+    return (f"{name}'s calculated diameter stayed more than {element.limit:.0%} off the "
+            f"true one (largest {1000 * second:+.3g} mm)",
+            {"tolerance": element.limit, "largest_error_m": first})
+
+
+def interval_stats(time: np.ndarray, mask: np.ndarray, min_duration: float
+                   ) -> IntervalStats | None:
+    """``IntervalStats`` of the runs of True in ``mask`` over ``time`` [s]
+    (``events.intervals``) that last at least ``min_duration`` [s]; None if none does."""
+    spans = intervals(time, mask)
+    lengths = spans[:, 1] - spans[:, 0]
+    long = lengths >= min_duration
+    if not long.any():
+        return None
+    spans, lengths = spans[long], lengths[long]
+    return IntervalStats(len(spans), float(spans[0, 0]), float(spans[0, 1]),
+                         float(lengths.sum()), float(lengths.max()))
+
+
+def record_condition(result: Result, element: StateElement, before: np.ndarray
+                     ) -> tuple[np.ndarray, Extremes]:
+    """``element``'s condition per record of ``result`` within ``before`` (a mask over the
+    records) and its extremes there (``Extremes``)."""
+    if element.kind == DANCER:
+        y = result.states[:, result.plan.state_names.index(f"{element.where}.position")]
+        low = bool(np.any(before & (y <= 0.0)))
+        return before & ((y <= 0.0) | (y >= element.limit)), (1.0 if low else -1.0, math.nan)
+    if element.kind == TENSION:
+        ref = result.tension_ref[:, element.span]
+        tension = result.tension[:, element.span]
         error = np.abs(tension - ref)
-        mask = error > checks.tension_tolerance * np.abs(ref)
-        read = row[L.D_FAMILY] != L.FAMILY_OPEN_LOOP and row[L.D_OBS] == 0.0
-        source = "measured (loadcell)" if read else "true tension"
-        words = "measured" if read else "true (no loadcell read)"
+        mask = before & (error > element.limit * np.abs(ref))
+        if not mask.any():
+            return mask, EXTREMES_START
         worst = int(np.argmax(np.where(mask, error, -1.0)))
-        out.append(StateCheck(
-            "tension_off_set", result.span_names[k], mask,
-            f"{result.span_names[k]}'s {words} tension stayed more than "
-            f"{checks.tension_tolerance:.0%} off its set tension (the zone of "
-            f"{result.node_names[i]})", checks.min_duration,
-            {"source": source, "tolerance": checks.tension_tolerance,
-             "largest_error_N": float(error[worst]),
-             "largest_ratio": float(tension[worst] / ref[worst]) if ref[worst] else None}))
-    return out
-
-
-def diameter_error(result: Result) -> list[StateCheck]:
-    """Each diameter calculator farther than ``checks.diameter_tolerance`` x the true
-    diameter from it."""
-    out = []
-    checks = result.line.spec.checks
-    for d, i in enumerate(result.line.drives):
-        if result.plan.drives[d, L.D_DCALC] == L.DCALC_NONE:
-            continue
-        error = 2.0 * (result.control_radius[:, d] - result.radius[:, i])
-        true = 2.0 * result.radius[:, i]
-        mask = np.abs(error) > checks.diameter_tolerance * true
-        worst = int(np.argmax(np.abs(error)))
-        name = result.node_names[i]
-        out.append(StateCheck(
-            "diameter_error", name, mask,
-            f"{name}'s calculated diameter stayed more than {checks.diameter_tolerance:.0%} "
-            f"off the true one (largest {1000 * error[worst]:+.3g} mm)", checks.min_duration,
-            {"tolerance": checks.diameter_tolerance,
-             "largest_error_m": float(abs(error[worst]))}))
-    return out
-
-
-#: every check of a run's winder states, in the order their findings are listed
-CHECKS: list[Callable[[Result], list[StateCheck]]] = [
-    dancer_end_stops, tension_off_set, diameter_error]
+        ratio = tension[worst] / ref[worst] if ref[worst] else math.nan
+        return mask, (float(error[worst]), float(ratio))
+    true = result.radius[:, element.node]
+    error = 2.0 * (result.control_radius[:, element.drive] - true)
+    mask = before & (np.abs(error) > element.limit * (2.0 * true))
+    if not before.any():
+        return mask, EXTREMES_START
+    worst = int(np.argmax(np.where(before, np.abs(error), -1.0)))
+    return mask, (float(abs(error[worst])), float(error[worst]))
 
 
 def winder_state_findings(result: Result) -> list[Finding]:
-    """A ``warning`` for each check that holds for at least its minimum duration in one
-    interval, up to the first web break (after it the break's finding speaks)."""
+    """A ``warning`` for each watched element whose condition holds for at least its
+    minimum duration in one interval, up to the first web break (after it the break's
+    finding speaks)."""
     time = result.time
     if len(time) < 2:
         return []
-    breaks = [b.at for b in result.line.spec.disturbances if isinstance(b, WebBreak)]
-    before = time < min(breaks) if breaks else np.ones(len(time), dtype=bool)
+    before = time < window_end(result.line)
     duration = float(time[-1] - time[0])
     out = []
-    for check in CHECKS:
-        for row in check(result):
-            spans = intervals(time, row.mask & before)
-            lengths = spans[:, 1] - spans[:, 0]
-            long = lengths >= row.min_duration if row.min_duration > 0 else lengths >= 0
-            if not long.any():
-                continue
-            spans, lengths = spans[long], lengths[long]
-            total = float(lengths.sum())
-            times = "once" if len(spans) == 1 else f"{len(spans)} times"
-            message = (f"{row.what} {times}, first from t = {spans[0, 0]:.4g} s to "
-                       f"{spans[0, 1]:.4g} s, {total:.3g} s in all "
-                       f"({total / duration:.1%} of the run)")
-            details = {"first_s": float(spans[0, 0]), "total_s": total,
-                       "longest_s": float(lengths.max()), "count": len(spans),
-                       "fraction": total / duration, **row.details}
-            out.append(Finding("warning", row.kind, row.where, message, float(spans[0, 0]),
-                               details))
+    for element in state_elements(result.plan):
+        mask, extremes = record_condition(result, element, before)
+        stats = interval_stats(time, mask, element.min_duration)
+        if stats is not None:
+            out.append(state_finding(result.line, element, stats, extremes, duration))
     return out

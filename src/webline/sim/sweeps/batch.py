@@ -38,55 +38,26 @@ from webline.sim.elements.controllers import taper_at
 from webline.sim.elements.signals import _NO_NRT, FAST, jit, profile_at
 from webline.sim.elements.web_state import compiled_slip_column, record_width
 from webline.sim.results.metrics import SETTLE_BAND
+from webline.sim.results.winder_findings import rest_limits
+from webline.sim.results.winder_states import window_end
+from webline.sim.sweeps import batch_states as S
+from webline.sim.sweeps.batch_layout import (
+    A_LASTOUT,
+    A_PEAK,
+    A_SETTLE,
+    A_SUMSQ,
+    A_TMAX,
+    A_TMIN,
+    EV_BLOCKS,
+    SPAN_BLOCKS,
+    Layout,
+)
 
 #: Ticks per chunk of a case: the record buffer holds this many rows (x ~30 columns), small
 #: enough to stay in cache, large enough that a chunk's call overhead (ns) is negligible.
 CHUNK_TICKS = 512
 
 batch_njit = nb.njit(cache=True, fastmath=FAST, error_model="numpy", nogil=True, **_NO_NRT)
-
-# accumulator layout per case: blocks of per-element columns (``Accumulators``)
-(A_SUMSQ, A_PEAK, A_TMIN, A_TMAX, A_SETTLE, A_LASTOUT) = range(6)  # per span
-SPAN_BLOCKS = 6
-# events: each element has total time, first time, the start of an open interval, the count
-# of intervals and the longest (what a verdict's finding states: ``events.EventSummary``)
-EV_TOTAL, EV_FIRST, EV_OPEN, EV_COUNT, EV_LONGEST = range(5)
-EV_BLOCKS = 5
-
-
-@dataclass(frozen=True)
-class Layout:
-    """Where each accumulator sits in a case's row (all counts per line structure)."""
-
-    n_spans: int
-    n_drives: int
-    n_nodes: int
-
-    @property
-    def n_events(self) -> int:
-        """Event elements: slack and tension limit per span, torque limit and backlash per
-        drive, slip per node."""
-        return 2 * self.n_spans + 2 * self.n_drives + self.n_nodes
-
-    @property
-    def event_base(self) -> int:
-        return SPAN_BLOCKS * self.n_spans
-
-    @property
-    def end_column(self) -> int:
-        """The time of the last record [s] (then the number of records, the last column)."""
-        return self.event_base + EV_BLOCKS * self.n_events
-
-    @property
-    def width(self) -> int:
-        return self.end_column + 2  # + time of the last record, number of records
-
-    def event_slices(self) -> dict[str, tuple[int, int]]:
-        """(first element, count) of each kind of event among the event elements."""
-        s, d, n = self.n_spans, self.n_drives, self.n_nodes
-        return {"slack": (0, s), "tension_limit": (s, s), "torque_limit": (2 * s, d),
-                "backlash_open": (2 * s + d, d), "slip": (2 * s + 2 * d, n)}
-
 
 # conditions of an event element on one record column (``_intervals``)
 BELOW, ABOVE, BEYOND, WITHIN, NONZERO = range(5)
@@ -266,9 +237,10 @@ def _compiled_batch(node_rows: tuple[tuple[int, ...], ...],
                   prof_v: np.ndarray, prof_off: np.ndarray, dt: np.ndarray,
                   substeps: np.ndarray, n_ticks: np.ndarray, every: np.ndarray,
                   span_prof: np.ndarray, tension_limit: np.ndarray, trace_every: np.ndarray,
-                  rec: np.ndarray, out: np.ndarray, stages: np.ndarray, refs: np.ndarray,
-                  work: np.ndarray, felt: np.ndarray, slip: np.ndarray, kv_scratch: np.ndarray,
-                  acc: np.ndarray, traces: np.ndarray, status: np.ndarray,
+                  states: np.ndarray, window: np.ndarray, stops: np.ndarray, state_base: int,
+                  stop_base: int, rec: np.ndarray, out: np.ndarray, stages: np.ndarray,
+                  refs: np.ndarray, work: np.ndarray, felt: np.ndarray, slip: np.ndarray,
+                  kv_scratch: np.ndarray, acc: np.ndarray, traces: np.ndarray, status: np.ndarray,
                   t_fail: np.ndarray, where: np.ndarray) -> None:
         n_x = offsets[L.O_WEB] + 2
         kv = offsets[L.O_KV] != 0  # Kelvin-Voigt spans: metrics of the felt tensions
@@ -300,10 +272,17 @@ def _compiled_batch(node_rows: tuple[tuple[int, ...], ...],
                 _reduce(rec, felt, kv, n_rec, acc[c], traces[c], trace_every[c], dt[c], n_x,
                         n_s, n_d, n_n, nodes[c], drives[c], prof_t[c], prof_v[c],
                         prof_off[c], span_prof, tension_limit[c], int(web[c][L.W_TRAMP]))
+                S.reduce_states(rec, felt, kv, n_rec, acc[c], state_base, states[c], window[c],
+                                n_x, n_d, ns, offsets, nodes[c], drives[c], web[c], prof_t[c],
+                                prof_v[c], prof_off[c])
+                if offsets[L.O_BREAK] and n_d > 0:  # the rollers after a break's stop
+                    S.reduce_after_stop(rec, n_rec, acc[c], stop_base, stops[c],
+                                        istate[c, 0, L.I_DETECT], ds, ns, offsets, nodes[c])
                 if n_rec > 0:
                     t_last = rec[n_rec - 1, 0]
                 done += count
             _finish(acc[c], n_s, n_d, n_n, t_last)
+            S.finish_states(acc[c], state_base, states[c], t_last)
             status[c], t_fail[c], where[c] = st, tf, wh
 
     return run_cases
@@ -352,7 +331,8 @@ def run_batch(plans: list[Plan], states: list[tuple[np.ndarray, np.ndarray, np.n
         raise LineFileError(line.source, f"rollers[{line.drives[int(user)]}].controller",
                             "a study runs its cases compiled: a python controller runs "
                             "with simulate or Session, one case at a time")
-    lay = Layout(line.n_spans, first.drives.shape[0], line.n_nodes)
+    stop_rows = max(len(rest_limits(p.line)) for p in plans)
+    lay = Layout(line.n_spans, first.drives.shape[0], line.n_nodes, stop_rows)
     if any(p.wound_ripple.shape != first.wound_ripple.shape
            or p.speed_ripple.shape != first.speed_ripple.shape
            or p.prof_off.shape != first.prof_off.shape for p in plans):
@@ -374,6 +354,8 @@ def run_batch(plans: list[Plan], states: list[tuple[np.ndarray, np.ndarray, np.n
     acc[:, A_TMAX * lay.n_spans:(A_TMAX + 1) * lay.n_spans] = -math.inf
     base = lay.event_base
     acc[:, base + lay.n_events:base + 3 * lay.n_events] = math.nan  # first, open start
+    S.start_columns(acc, lay.state_base, lay.n_slots)
+    acc[:, lay.stop_base + lay.n_drives::lay.n_drives + 1] = math.nan  # settled: not yet
     traces = np.full((n_c, n_trace if trace_every > 0 else 0, lay.n_spans), math.nan)
     status = np.zeros(n_c, dtype=np.int64)
     t_fail = np.full(n_c, math.nan)
@@ -383,7 +365,11 @@ def run_batch(plans: list[Plan], states: list[tuple[np.ndarray, np.ndarray, np.n
     args = (x, istate, slipping, *tables, prof_off, dt,
             np.asarray(substeps, dtype=np.int64), np.asarray(n_ticks, dtype=np.int64),
             every, span_prof, tension_limit,
-            np.full(n_c, max(trace_every, 1), dtype=np.int64))
+            np.full(n_c, max(trace_every, 1), dtype=np.int64),
+            np.stack([S.state_table(p) for p in plans]),
+            np.array([window_end(p.line) for p in plans]),
+            np.stack([S.stop_table(p, stop_rows) for p in plans]), lay.state_base,
+            lay.stop_base)
     n_x, n_d, n_n = first.n_x, lay.n_drives, lay.n_nodes
     n_prof = prof_off.shape[1] - 1
 

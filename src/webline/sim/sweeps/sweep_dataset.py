@@ -19,8 +19,9 @@ from webline.sim.results.failure import kernel_failure
 from webline.sim.results.findings import run_verdict
 from webline.sim.results.metrics import METRICS
 from webline.sim.results.yield_findings import case_yield_findings
-from webline.sim.sweeps import batch as B
+from webline.sim.sweeps import batch_layout as B
 from webline.sim.sweeps.batch import BatchOutput
+from webline.sim.sweeps.batch_states import batch_after_stop, batch_state_findings
 from webline.sim.sweeps.cases import case_value, path_unit
 from webline.verdict import Verdict
 
@@ -32,9 +33,9 @@ _EVENT_ELEMENTS = (("slack", "span"), ("tension_limit", "span"), ("torque_limit"
 def case_verdict(plan: Plan, out: BatchOutput, c: int) -> Verdict:
     """The verdict of case ``c`` of a batch, by ``findings.run_verdict`` as ``Result.verdict``
     gives it for the same run: its failure, its events (``EventSummary`` from the batch's
-    accumulators), its web breaks (the monitor's state at the end), strain beyond yield (from
-    its largest tensions) and its stability. Only a detected break's residual speed after the
-    stop is NaN (a study keeps no speeds)."""
+    accumulators), its web breaks (the monitor's state at the end and the driven rollers
+    after the stop), its winder states (``batch_states``), strain beyond yield (from its
+    largest tensions) and its stability."""
     line, lay = plan.line, out.layout
     failure = kernel_failure(plan, int(out.status[c]), float(out.t_fail[c]), int(out.where[c]),
                              out.x[c])
@@ -57,8 +58,11 @@ def case_verdict(plan: Plan, out: BatchOutput, c: int) -> Verdict:
                     float(row[base + B.EV_LONGEST * n_ev + e]), end))
     monitor = (float(out.monitor[c, 0]), int(out.monitor[c, 1]))
     n_s = line.n_spans
-    extra = case_yield_findings(line, row[B.A_TMAX * n_s:(B.A_TMAX + 1) * n_s])
-    return run_verdict(plan, failure, events, end, monitor, extra=extra)
+    # in the order Result.verdict lists them: the winder states, then strain beyond yield
+    extra = batch_state_findings(plan, row, lay.state_base, int(row[lay.end_column + 1]), end)
+    extra += case_yield_findings(line, row[B.A_TMAX * n_s:(B.A_TMAX + 1) * n_s])
+    return run_verdict(plan, failure, events, end, monitor,
+                       batch_after_stop(plan, row, lay.stop_base, monitor[0]), extra)
 
 
 def batch_metrics(out: BatchOutput) -> dict[str, np.ndarray]:
@@ -69,7 +73,7 @@ def batch_metrics(out: BatchOutput) -> dict[str, np.ndarray]:
     def block(b: int) -> np.ndarray:
         return acc[:, b * s:(b + 1) * s]
 
-    n_rec = acc[:, -1:]
+    n_rec = acc[:, lay.end_column + 1:lay.end_column + 2]
     totals = acc[:, lay.event_base:lay.event_base + lay.n_events]
     sl = lay.event_slices()
     settle = np.where(block(B.A_LASTOUT) > 0, math.inf, block(B.A_SETTLE))
