@@ -4,7 +4,7 @@ controller ticks and reported, and every bad file is one clear error."""
 
 from __future__ import annotations
 
-import importlib.util
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -144,10 +144,22 @@ def test_an_empty_file_is_refused(tmp_path, converter):
     one_line(exc, "empty.csv", "empty")
 
 
-@pytest.mark.skipif(importlib.util.find_spec("pyarrow") is not None,
-                    reason="pyarrow installed: Parquet is read")
-def test_parquet_without_pyarrow_names_the_extra(tmp_path, converter):
+def test_parquet_without_pyarrow_names_the_extra(tmp_path, converter, monkeypatch):
+    monkeypatch.setitem(sys.modules, "pyarrow", None)  # as if the extra were not installed
     path = tmp_path / "log.parquet"
     path.write_bytes(b"PAR1")
     with pytest.raises(MissingExtra, match=r"webline\[parquet\]"):
         load_measurements(path, converter)
+
+
+def test_a_parquet_log_reads_as_its_csv(tmp_path, converter):
+    """The same columns written as Parquet (pyarrow, the ``parquet`` extra) and as CSV give
+    the same measurements, value for value."""
+    pytest.importorskip("pyarrow")
+    import pandas as pd
+
+    csv = webline.simulate(converter, 2.0).to_csv(tmp_path / "log.csv")
+    pd.read_csv(csv).to_parquet(tmp_path / "log.parquet")  # webline's column names, units
+    a = load_measurements(csv, converter).to_dataframe()
+    b = load_measurements(tmp_path / "log.parquet", converter).to_dataframe()
+    assert len(a) > 100 and a.equals(b)

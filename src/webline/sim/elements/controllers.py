@@ -27,6 +27,7 @@ from webline.sim.elements import layout as L
 from webline.sim.elements.break_hold import fade_trim, held_command, stop_acceleration
 from webline.sim.elements.dancer_loop import dancer_measurement
 from webline.sim.elements.diameter import preset_radius, update_radius
+from webline.sim.elements.feedforward import speed_feedforward
 from webline.sim.elements.friction_loop import table_torque
 from webline.sim.elements.measure import measured_speed
 from webline.sim.elements.mrac import mrac_adapt, mrac_feedback
@@ -292,14 +293,7 @@ def pi_command(d: int, t: float, dt: float, v_meas: float, t_meas: float, gain: 
     torque [N·m] and trim [m/s] and stop while the torque saturates in the direction they push
     (conditional integration).
     """
-    ea = web[L.W_EA]
-    up = ds[d, L.DS_UPREF]
-    t_up = web[L.W_T0] if up < 0 else refs[up]
-    ref = refs[0] * (ea - refs[offsets[L.O_MASTER_UP]]) / (ea - t_up)
-    for r in range(speed_ripple.shape[0]):
-        if int(speed_ripple[r, 0]) == d:
-            ref += speed_ripple[r, 1] * math.sin(2.0 * math.pi * speed_ripple[r, 2] * t
-                                                 + speed_ripple[r, 3])
+    ref = speed_feedforward(d, t, ds, offsets, web, refs, speed_ripple)
     e_t = 0.0
     trim = 0.0
     if ds[d, L.DS_ROLE] == L.ROLE_TENSION:

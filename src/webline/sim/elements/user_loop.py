@@ -26,6 +26,7 @@ import numpy as np
 
 from webline.physics import motor
 from webline.sim.elements import layout as L
+from webline.sim.elements.feedforward import speed_feedforward
 from webline.sim.elements.signals import jit
 
 _saturate: Any = jit(motor.saturate)
@@ -49,14 +50,7 @@ def user_command(d: int, t: float, v_meas: float, t_meas: float, radius: float,
     """Store what user drive ``d`` measured at time ``t`` [s] (module docstring) and issue
     its held command, saturated at the torque limit. Its speed reference [m/s] is the cascaded
     PI's feedforward (``controllers.pi_command``): line speed x draw + speed ripple."""
-    ea = web[L.W_EA]
-    up = ds[d, L.DS_UPREF]
-    t_up = web[L.W_T0] if up < 0 else refs[up]
-    ref = refs[0] * (ea - refs[offsets[L.O_MASTER_UP]]) / (ea - t_up)
-    for r in range(speed_ripple.shape[0]):
-        if int(speed_ripple[r, 0]) == d:
-            ref += speed_ripple[r, 1] * math.sin(2.0 * math.pi * speed_ripple[r, 2] * t
-                                                 + speed_ripple[r, 3])
+    ref = speed_feedforward(d, t, ds, offsets, web, refs, speed_ripple)
     tension_role = ds[d, L.DS_ROLE] == L.ROLE_TENSION
     out[U_SPEED, d] = v_meas
     out[U_TENSION, d] = t_meas if tension_role else math.nan
