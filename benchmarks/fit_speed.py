@@ -29,6 +29,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float, default=60.0)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--workers", type=int, default=1,
+                        help="threads for the Jacobian's cases (0: every core)")
     args = parser.parse_args()
     import webline
     from webline.twin.fitting.fit import fit
@@ -41,7 +43,8 @@ def main() -> None:
         webline.simulate("converter", 0.1)  # load the compiled loop
         load = os.getloadavg()
         started, cpu = time.perf_counter(), time.process_time()
-        result = fit("converter", path, FREE, scenario="startup")
+        result = fit("converter", path, FREE, scenario="startup",
+                     workers=args.workers or None)
         seconds, cpu = time.perf_counter() - started, time.process_time() - cpu
     print(result)
     inside = sum(result.ci95[i, 0] <= TRUTH[p.path] <= result.ci95[i, 1]
@@ -49,7 +52,7 @@ def main() -> None:
     print(f"fit of {len(FREE)} parameters to {args.duration:g} s of converter traces: "
           f"{seconds:.1f} s wall, {cpu:.1f} s of CPU, {result.simulations} simulations "
           f"({seconds / result.simulations * 1e3:.0f} ms each), {inside}/{len(FREE)} true "
-          f"values inside their 95 % intervals")
+          f"values inside their 95 % intervals, {args.workers or os.cpu_count()} thread(s)")
     print(f"machine: {os.cpu_count()} cores, load average before the fit "
           f"{load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
 
