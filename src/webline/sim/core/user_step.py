@@ -127,7 +127,8 @@ def _compiled_step(node_rows: tuple[tuple[int, ...], ...],
         users = i[s[0]:s[0] + s[1] * s[2]]
         s = i[3 * (n_float + 4):3 * (n_float + 4) + 3]
         prof_off = i[s[0]:s[0] + s[1] * s[2]]
-        # the float segments in FLOAT_SEGMENTS order (k: its index there)
+        # the float segments in FLOAT_SEGMENTS order (k: its index there), sliced inline:
+        # without numba's runtime (``_NO_NRT``) a helper cannot return a view
         k = 0
         x = f[i[3 * k]:i[3 * k] + i[3 * k + 1] * i[3 * k + 2]]
         k = 1
