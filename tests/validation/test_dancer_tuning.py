@@ -46,6 +46,33 @@ def test_zone_stiffness_is_the_dancer_spring_in_series_with_the_spans():
     assert loop.measures == "loadcell"
 
 
+FESTOON = {"rollers.dancer.dancer.strands": 6, "rollers.dancer.dancer.angle_in": "20 deg",
+           "rollers.dancer.dancer.angle_out": "10 deg"}
+
+
+@pytest.mark.parametrize(("use", "stiffness"), [("tension", SPRING), ("none", SPRING),
+                                                ("position", 0.0), ("position", SPRING)])
+def test_a_festoon_zone_loop_meets_the_asked_bandwidth_and_damping(use, stiffness):
+    """Z1-Z2 with the strand gains g = g_in + g_out (docs/winder.md D0): a carriage of 6
+    strands at 20 and 10 degrees stores g dy of web, so the zone's compliance is
+    L/EA + g²/k. Tuned for it, the loop of the full linear model (dancer, web, speed loops)
+    still closes at the asked 4 rad/s (30 %) with damping >= 0.5; tuned for g = 2 it would
+    be about g/2 = 2.9 times too fast in position control.
+
+    The loadcell loop beside the sprung festoon ("none") reaches only ζ 0.44: the zone is
+    8.5 times softer than with two strands, and kp stays capped at ``KP_SPANS`` times the
+    spans' own design (Z4), which then sets the damping. That is a known limit, held here
+    so that it cannot get worse unseen."""
+    line = converter_dancer(use, stiffness, **FESTOON)
+    loop = zone_loops(line)[0]
+    assert abs(loop.bandwidth / ASKED - 1.0) < 0.3
+    assert loop.damping >= (0.4 if use == "none" else 0.5)
+    if use == "none":
+        g = 3 * (np.cos(np.radians(20)) + np.cos(np.radians(10)))
+        assert loop.plant_gain == pytest.approx(1.0 / (4.0 / line.ea + g**2 / SPRING),
+                                                rel=1e-12)
+
+
 LOAD_STEP = {"rollers.dancer.dancer.load": {
     "type": "steps", "initial": "300 N", "steps": [{"time": "1 s", "value": "360 N"}]}}
 
