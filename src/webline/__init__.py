@@ -1,7 +1,7 @@
 """webline: model, simulate, analyse and control roll-to-roll (web handling) process lines.
 
-The front door: ``load_line``, ``simulate``, ``Session``, ``sweep``, ``monte_carlo``,
-``linearize``, ``operating_point`` and their types; and, from the layer above it
+The front door: ``load_line``, ``simulate``, ``Session``, ``CompiledController``, ``sweep``,
+``monte_carlo``, ``linearize``, ``operating_point`` and their types; and, from the layer above it
 (``webline.twin``, which is imported only when one of them is first used, never by this
 module's code), ``load_measurements``, ``replay``, ``fit`` and ``tune``. Each is imported on
 first use (PEP 562), so ``import webline`` and the command line start fast; python-control,
@@ -26,6 +26,7 @@ from webline.version import __version__
 if TYPE_CHECKING:
     from webline.line import Line, load_line
     from webline.model.operating_point import OperatingPoint, operating_point
+    from webline.sim.compiled_control import CompiledController
     from webline.sim.linear.linearize import linearize
     from webline.sim.reference import simulate_reference
     from webline.sim.results.result import Result
@@ -36,6 +37,7 @@ if TYPE_CHECKING:
 #: where each lazily imported name lives
 _LAZY = {
     "Line": "webline.line",
+    "CompiledController": "webline.sim.compiled_control",
     "load_line": "webline.line",
     "OperatingPoint": "webline.model.operating_point",
     "operating_point": "webline.model.operating_point",
@@ -59,6 +61,7 @@ _LAZY_ABOVE = {
 
 __all__ = [
     "ArgumentError",
+    "CompiledController",
     "ControllerError",
     "Line",
     "LineFileError",

@@ -70,7 +70,7 @@ def simulate_reference(line: Line | str | Path, duration: float, *, scenario: st
                                  ds, offsets, nodes, spans, drives, web, np.empty_like(x),
                                  work, saved)
         control_tick(j, plan.dt, x, istate, ns, ds, offsets, nodes, drives, web, prof_t,
-                     prof_v, prof_off, ripple, out, refs, span_ref, v_ref, a_ref)
+                     prof_v, prof_off, ripple, out, refs, span_ref, v_ref, a_ref, None, None)
         if offsets[L.O_KV]:
             x[:n_s] = saved
         kernel.update_slip(x, slipping, ns, offsets, nodes, web)

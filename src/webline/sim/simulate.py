@@ -19,6 +19,7 @@ from webline.errors import (
     SimulationInterrupted,
 )
 from webline.line import Line, load_line
+from webline.sim.compiled_control import CompiledController, run_compiled
 from webline.sim.core import kernel
 from webline.sim.core.plan import Plan, compile_plan, equilibrium_plan_state
 from webline.sim.elements import layout as L
@@ -144,7 +145,8 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
 
     ``controller``: a user's controller (docs/controllers.md) for every drive, or a dict
     drive name -> controller; drives the line file gives ``type = "python"`` run theirs. The
-    run then goes one tick at a time through Python (``sim.user_control``); a controller that
+    run then goes one tick at a time through Python (``sim.user_control``), or, where every
+    user controller is a ``CompiledController``, in the compiled loop; a controller that
     raises or returns a wrong shape or a non-finite torque stops it with ``ControllerError``
     (``partial``: the run so far). The step is chosen for the line with its built-in
     controllers in place of the user's (``substeps`` overrides it).
@@ -240,7 +242,10 @@ def _user_result(plan: Plan, groups: list[Group], x: np.ndarray, istate: np.ndar
                  buffer: np.ndarray, settings: dict[str, float],
                  raise_on_failure: bool) -> Result:
     """``simulate`` with user controllers (``sim.user_control.run_user``)."""
-    run = run_user(plan, groups, x, istate, slipping, n_ticks, substeps, every, buffer)
+    if all(isinstance(g.controller, CompiledController) for g in groups):  # in the loop
+        run = run_compiled(plan, groups, x, istate, slipping, n_ticks, substeps, every, buffer)
+    else:  # one tick at a time through Python (a compiled law called from there)
+        run = run_user(plan, groups, x, istate, slipping, n_ticks, substeps, every, buffer)
     records = buffer[:run.stored].copy() if run.stored < len(buffer) - 2 else buffer[:run.stored]
     if run.interrupted and run.error is None:
         end = float(records[-1, 0]) if len(records) else 0.0

@@ -262,28 +262,35 @@ class UserLoop:
             try:
                 torque = g.controller(t, meas, refs)
             except Exception as exc:  # the user's code: any error stops the run, named
-                return self._failed(g, controller_error(g, j, t, exc))
+                return self.failed_with(g, controller_error(g, j, t, exc))
             try:
                 cmds[:] = torque
                 if k > 1 and np.ndim(torque) == 0:
                     raise ValueError
             except (ValueError, TypeError):
-                return self._failed(g, controller_error(g, j, t, None, (
+                return self.failed_with(g, controller_error(g, j, t, None, (
                     f"returned {_shape(torque)} where {k} torque(s) [N·m] were due")))
         if last:
             self.control[C_N_TICKS], self.control[C_INCLUDE_END] = 0, 1
             self.control[C_MEASURE] = 0
         self.step(self.packed.floats, self.packed.ints, rec)
         if self.control[C_STATUS] == STATUS_USER_NONFINITE:
-            where = int(self.control[C_WHERE])
-            group = next(g for g, *_ in self.views if self.users[where] in g.drives)
-            name = self.plan.line.node_name(self.plan.line.drives[self.users[where]])
-            return self._failed(group, controller_error(
-                group, j, t, None, f"returned a non-finite torque "
-                f"{float(self.commands[where])} for {name}"))
+            return self.nonfinite_error()
         return None
 
-    def _failed(self, group: Group, error: str) -> str:
+    def nonfinite_error(self) -> str:
+        """The error of the controller whose command the step refused as non-finite (its
+        status ``STATUS_USER_NONFINITE``; the tick did not advance)."""
+        where = int(self.control[C_WHERE])
+        j = self.tick_index
+        group = next(g for g, *_ in self.views if self.users[where] in g.drives)
+        name = self.plan.line.node_name(self.plan.line.drives[self.users[where]])
+        return self.failed_with(group, controller_error(
+            group, j, j * self.plan.dt, None, f"returned a non-finite torque "
+            f"{float(self.commands[where])} for {name}"))
+
+    def failed_with(self, group: Group, error: str) -> str:
+        """Record that ``group``'s controller failed with ``error``; returns it."""
         self.failed = (group.name, error, self.tick_index * self.plan.dt)
         return error
 
@@ -330,5 +337,5 @@ def controller_error(group: Group, tick: int, t: float, exc: BaseException | Non
     """One sentence: which controller failed, how, at which tick and time [s]."""
     if exc is not None:
         what = f"raised {type(exc).__name__}: {exc}"
-    kind = type(group.controller).__name__
+    kind = getattr(group.controller, "kind", type(group.controller).__name__)
     return f"controller {group.name!r} ({kind}) {what} at tick {tick} (t = {t:.6g} s)"

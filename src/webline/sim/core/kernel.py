@@ -34,6 +34,7 @@ from webline.sim.elements.friction_loop import STICK_SPEED, breakaway, table_tor
 from webline.sim.elements.signals import jit, loop_njit, njit, profile_at
 from webline.sim.elements.splice import apply_splices
 from webline.sim.elements.transmission_loop import compliant_torque
+from webline.sim.elements.user_loop import STATUS_USER_NONFINITE, user_nonfinite
 from webline.sim.elements.web_state import (
     record_width,
     update_slip,
@@ -268,7 +269,8 @@ def _compiled(node_rows: tuple[tuple[int, ...], ...], drive_rows: tuple[tuple[in
              prof_off: np.ndarray) -> tuple[int, int, float, int]:
         return advance(x, istate, slipping, rec, out, stages, refs, work, tick0, n_ticks, dt,
                        substeps, record_every, include_end, ns, ds, offsets, nodes, spans,
-                       drives, web, wound_ripple, speed_ripple, prof_t, prof_v, prof_off)
+                       drives, web, wound_ripple, speed_ripple, prof_t, prof_v, prof_off,
+                       None, None)
 
     return loop
 
@@ -280,11 +282,13 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
             include_end: bool, ns: np.ndarray, ds: np.ndarray, offsets: np.ndarray,
             nodes: np.ndarray, spans: np.ndarray, drives: np.ndarray, web: np.ndarray,
             wound_ripple: np.ndarray, speed_ripple: np.ndarray, prof_t: np.ndarray,
-            prof_v: np.ndarray, prof_off: np.ndarray) -> tuple[int, int, float, int]:
+            prof_v: np.ndarray, prof_off: np.ndarray, law: Any,
+            law_buf: Any) -> tuple[int, int, float, int]:
     """The loop of ``run``: advances ``x``, ``istate`` and ``slipping`` in place, writes
     ``rec`` and returns (records written, status, time of failure, where: ``envelope``); the
-    other arrays are
-    scratch of the shapes ``run`` gives them."""
+    other arrays are scratch of the shapes ``run`` gives them. ``law``, ``law_buf``: None, or
+    the compiled user laws (``sim.core.law_kernel``), whose non-finite command stops the run
+    before its tick is recorded (``STATUS_USER_NONFINITE``, ``where``: the drive)."""
     n_x = offsets[L.O_WEB] + 2
     n_d = ds.shape[0]
     n_n = ns.shape[0]
@@ -315,9 +319,14 @@ def advance(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.nda
             felt_tensions(wound_in(t, web, wound_ripple), x, cmd, drag, slipping, ns, ds,
                           offsets, nodes, spans, drives, web, stages[0], scratch, tmp)
         control_tick(tick, dt, x, istate, ns, ds, offsets, nodes, drives, web, prof_t, prof_v,
-                     prof_off, speed_ripple, out, prof, span_ref, v_ref, a_ref)
+                     prof_off, speed_ripple, out, prof, span_ref, v_ref, a_ref, law, law_buf)
         for k in range(n_n - 1 if offsets[L.O_KV] else 0):
             x[k] = tmp[k]  # the stretch states back
+        if law is not None:
+            where = user_nonfinite(ds, out)
+            if where >= 0:
+                status, t_fail = STATUS_USER_NONFINITE, t
+                break
         update_slip(x, slipping, ns, offsets, nodes, web)
         if tick % record_every == 0 or j == n_ticks:
             rec[n_rec, 0] = t

@@ -208,7 +208,7 @@ def _compiled_step(node_rows: tuple[tuple[int, ...], ...],
                 rec[c[C_STORED]:] if phase == 0 else rec_s, out, stages, refs, work,
                 tick + phase * n_ticks, n_ticks if phase == 0 else 0, dt, c[C_SUBSTEPS],
                 c[C_EVERY], c[C_INCLUDE_END] != 0 if phase == 0 else True, ns, ds, offsets,
-                nodes, spans, drives, web, wound, ripple, prof_t, prof_v, prof_off)
+                nodes, spans, drives, web, wound, ripple, prof_t, prof_v, prof_off, None, None)
             if phase == 0:
                 c[C_N_REC], c[C_STATUS], c[C_WHERE] = n_rec, status, where
                 c[C_STORED] += n_rec

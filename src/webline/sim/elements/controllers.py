@@ -33,7 +33,7 @@ from webline.sim.elements.measure import measured_speed
 from webline.sim.elements.mrac import mrac_adapt, mrac_feedback
 from webline.sim.elements.observer import observe
 from webline.sim.elements.signals import gaussian, jit, profile_at, profile_slope_at
-from webline.sim.elements.user_loop import user_command
+from webline.sim.elements.user_loop import U_COMP, user_command, user_law_commands
 from webline.sim.elements.winder_loop import break_monitor, compensation, open_loop_command
 
 _tension: Any = jit(span.tension)
@@ -180,14 +180,16 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
                  web: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
                  prof_off: np.ndarray, speed_ripple: np.ndarray, out: np.ndarray,
                  refs: np.ndarray, span_ref: np.ndarray, v_ref: np.ndarray,
-                 a_ref: np.ndarray) -> None:
+                 a_ref: np.ndarray, law: Any, law_buf: Any) -> None:
     """One sample of every drive's controller at tick ``tick`` (t = tick·dt [s]).
 
     ``istate`` (drive x I_COLS) holds PI integrators, adaptive estimates and the radius each
     drive's controller uses (``sim.elements.diameter``, updated first); ``out`` (4 x
     drives) receives the torque command [N·m], the speed reference [m/s], the PI trim [m/s]
     and the equilibrium input [N·m]; ``refs`` (one per profile), ``span_ref`` (spans),
-    ``v_ref`` and ``a_ref`` (nodes) are scratch for the references.
+    ``v_ref`` and ``a_ref`` (nodes) are scratch for the references. ``law``: None, or the
+    compiled user laws of the user drives (``sim.elements.user_loop.user_law_commands``),
+    called once all drives are measured, with their scratch ``law_buf``; None folds away.
     """
     t = tick * dt
     for p in range(prof_off.shape[0] - 1):
@@ -217,6 +219,10 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
     if offsets[L.O_NEED_EQ]:
         reference_state(a_line, refs, ds, offsets, nodes, web, span_ref, v_ref, a_ref)
     seed = int(web[L.W_SEED])
+    if law is not None:  # a user drive the laws may command (a held one is not: W8)
+        for d in range(ds.shape[0]):
+            if ds[d, L.DS_FAMILY] == L.FAMILY_USER:
+                out[U_COMP, d] = math.nan
     for d in range(ds.shape[0]):
         i = ds[d, L.DS_NODE]
         radius = istate[d, L.I_RADIUS]
@@ -262,11 +268,16 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
             user_command(d, t, v_meas, t_meas, radius,
                          drive_inertia(d, i, radius, ns, ds, nodes, drives, web), ds, offsets,
                          drives, web, refs, speed_ripple, out)
+            if law is not None:
+                out[U_COMP, d] = comp
         else:
             decentralized_command(d, i, dt, radius, v_meas, t_meas, gain, istate, ns, ds, offsets,
                                   nodes, drives, web, span_ref, v_ref, a_ref, out)
         if comp != 0.0:
             out[0, d] = _saturate(out[0, d] + comp, drives[d, L.D_LIMIT])
+    if law is not None:
+        law(t, out, law_buf)
+        user_law_commands(ds, drives, out)
 
 
 @jit

@@ -33,9 +33,10 @@ _saturate: Any = jit(motor.saturate)
 
 #: rows of ``out`` in a user run: the command Python wrote [N·m]; the drive's measured surface
 #: speed [m/s], measured tension [N] (NaN without a loadcell), radius its controller uses [m],
-#: inertia at its roller from that radius [kg·m²]; its speed and tension references [m/s, N]
-U_CMD, U_SPEED, U_TENSION, U_RADIUS, U_INERTIA, U_VREF, U_TREF = range(4, 11)
-U_ROWS = 11
+#: inertia at its roller from that radius [kg·m²]; its speed and tension references [m/s, N];
+#: with compiled laws, the compensation added to the law's command [N·m] (NaN: held, W8)
+U_CMD, U_SPEED, U_TENSION, U_RADIUS, U_INERTIA, U_VREF, U_TREF, U_COMP = range(4, 12)
+U_ROWS = 12
 #: measurements and references per user drive, in ``U_*`` order from ``U_SPEED``
 N_MEASURED, N_REFERENCES = 4, 2
 #: status of a step whose user command is not finite (the kernel's are >= 0)
@@ -62,3 +63,24 @@ def user_command(d: int, t: float, v_meas: float, t_meas: float, radius: float,
     out[1, d] = ref
     out[2, d] = 0.0
     out[3, d] = 0.0
+
+
+@jit
+def user_law_commands(ds: np.ndarray, drives: np.ndarray, out: np.ndarray) -> None:
+    """Issue the commands compiled laws wrote into ``out[U_CMD]`` (``controllers.control_tick``
+    calls them after measuring every drive): saturated, the compensation added as
+    ``control_tick`` adds it to any command; a held drive (``U_COMP`` NaN) keeps its hold."""
+    for d in range(ds.shape[0]):
+        if ds[d, L.DS_FAMILY] == L.FAMILY_USER and not math.isnan(out[U_COMP, d]):
+            out[0, d] = _saturate(out[U_CMD, d], drives[d, L.D_LIMIT])
+            if out[U_COMP, d] != 0.0:
+                out[0, d] = _saturate(out[0, d] + out[U_COMP, d], drives[d, L.D_LIMIT])
+
+
+@jit
+def user_nonfinite(ds: np.ndarray, out: np.ndarray) -> int:
+    """The first user drive whose law command ``out[U_CMD]`` is not finite, else -1."""
+    for d in range(ds.shape[0]):
+        if ds[d, L.DS_FAMILY] == L.FAMILY_USER and not math.isfinite(out[U_CMD, d]):
+            return d
+    return -1

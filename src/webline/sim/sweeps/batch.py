@@ -263,7 +263,7 @@ def _compiled_batch(node_rows: tuple[tuple[int, ...], ...],
                     x[c], istate[c], slipping[c], rec, out, stages, refs, work, done, count,
                     dt[c], substeps[c], every[c], last, ns, ds, offsets, nodes[c], spans[c],
                     drives[c], web[c], wound_ripple[c], speed_ripple[c], prof_t[c], prof_v[c],
-                    prof_off[c])
+                    prof_off[c], None, None)
                 if kv:
                     felt_records(rec[:n_rec, 0], rec[:n_rec, 1:1 + n_x],
                                  rec[:n_rec, col_slip:col_slip + n_n], felt, slip, kv_scratch,

@@ -1,0 +1,206 @@
+"""A user controller compiled into the loop (docs/controllers.md, "Moving a controller into
+the loop").
+
+The controller is a control law, a plain Python function (or a ``numba.njit`` one) that numba
+compiles::
+
+    def law(t, meas, refs, params, state, out) -> None
+
+``t`` [s] is the tick's time; ``meas`` and ``refs`` are the measurements and references of
+the Python protocol (``sim.user_control``), in its order and units (per drive: speed [m/s],
+tension [N], radius [m], inertia [kg·m²]; speed reference [m/s], tension reference [N]);
+``params`` the user's parameters (read them only); ``state`` the law's own memory
+(integrators, filters), kept from tick to tick; ``out`` the torque command [N·m] per drive,
+which the law writes. All are float64 arrays over the run's memory: the law allocates
+nothing and keeps no reference to them.
+
+``CompiledController(law, params=..., state=...)`` is accepted wherever a Python controller
+is (``simulate(line, controller=...)``, per drive or for the whole line, ``Session``). Where
+every user controller of a run is compiled, the run's ticks go in one compiled call
+(``sim.core.law_loop``); mixed with Python controllers, the law is called from Python.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import re
+import time
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numba as nb
+import numpy as np
+from numba.core.dispatcher import Dispatcher
+
+from webline.errors import ArgumentError, ControllerError
+from webline.sim.core import law_kernel
+from webline.sim.core.law_kernel import buffer_layout, law_hook
+from webline.sim.core.plan import Plan
+from webline.sim.elements import layout as L
+from webline.sim.elements.user_loop import STATUS_USER_NONFINITE
+from webline.sim.user_control import (
+    ControllerContext,
+    Group,
+    UserRun,
+    context_for,
+    controller_error,
+)
+
+#: what ``params`` and ``state`` may be: numbers, or a function of the run's context
+Values = Sequence[float] | np.ndarray | Callable[[ControllerContext], Any]
+
+_ARRAY = nb.float64[::1]
+#: the law's signature: (t, meas, refs, params, state, out)
+SIGNATURE = nb.void(nb.float64, _ARRAY, _ARRAY, _ARRAY, _ARRAY, _ARRAY)
+_ANSI = re.compile(r"\x1b\[[0-9;]*m")
+
+
+class CompiledController:
+    """A control law numba compiles into the loop (module docstring).
+
+    ``law``: the function (plain or ``numba.njit``); ``params``: its parameters, numbers or
+    ``params(context) -> numbers`` (``sim.user_control.ControllerContext``: the drives'
+    gains, limits, operating point, sample period); ``state``: the size of its memory
+    (zeros), its initial values, or ``state(context) -> values``; ``name``: what errors call
+    it (default the function's name). ``params`` and ``state`` after ``reset`` are the arrays
+    the law is given (``state`` holds the memory where the run ended).
+    """
+
+    def __init__(self, law: Callable[..., None], *, params: Values = (),
+                 state: int | Values = 0, name: str | None = None) -> None:
+        py_func = getattr(law, "py_func", law)
+        if not callable(py_func):
+            raise ArgumentError(f"CompiledController: law must be a function, "
+                                f"not a {type(law).__name__}")
+        self.law_source = law
+        self.name = name or getattr(py_func, "__qualname__", repr(py_func))
+        self.params_given, self.state_given = params, state
+        self.params = np.zeros(0)
+        self.state = np.zeros(0)
+        self.torques = np.zeros(0)
+        self._law: Any = None
+
+    @property
+    def kind(self) -> str:
+        """What errors call this controller: ``compiled law <name>``."""
+        return f"compiled law {self.name}"
+
+    @property
+    def law(self) -> Any:
+        """The law as a numba dispatcher, compiled for ``SIGNATURE`` (``ControllerError``
+        naming the function if numba cannot compile it)."""
+        if self._law is None:
+            self._law = compile_law(self.law_source, self.name)
+        return self._law
+
+    def reset(self, context: ControllerContext) -> None:
+        """Compile the law and set its parameters and initial state for ``context``."""
+        self.params = _floats(self.params_given, context, f"{self.name}: params")
+        given = self.state_given
+        if isinstance(given, bool):
+            raise ArgumentError(f"{self.name}: state = {given}: expected a size or values")
+        if isinstance(given, int | np.integer):
+            if given < 0:
+                raise ArgumentError(f"{self.name}: state = {given}: a size must be >= 0")
+            self.state = np.zeros(int(given))
+        else:
+            self.state = _floats(given, context, f"{self.name}: state")
+        self.torques = np.zeros(len(context.drives))
+        self.law  # noqa: B018  (compile now: a failure names the law before the run)
+
+    def __call__(self, t: float, measurements: np.ndarray,
+                 references: np.ndarray) -> np.ndarray:
+        """The Python protocol's call (a run that mixes it with Python controllers)."""
+        self.law(t, measurements, references, self.params, self.state, self.torques)
+        return self.torques
+
+
+@functools.cache
+def compile_law(law: Callable[..., None], name: str) -> Any:
+    """``law`` compiled by numba for ``SIGNATURE``: a plain function with numba's disk cache
+    where its source file allows it, a ``numba.njit`` dispatcher as its author set it up.
+    Once per function in a process (the same dispatcher: ``law_loop`` reuses its driver)."""
+    if not isinstance(law, Dispatcher):
+        try:  # numba's disk cache fails on code without a stable module (a notebook's, a
+            # file loaded by path): then compile without it
+            dispatcher = nb.njit(cache=True, error_model="numpy")(law)
+            dispatcher.compile(SIGNATURE)
+            return dispatcher
+        except Exception:  # any failure: compile again below, uncached
+            law = nb.njit(error_model="numpy")(law)
+    try:
+        law.compile(SIGNATURE)
+    except Exception as exc:  # numba's errors on the user's code: one line naming it
+        raise ControllerError(f"compiled law {name}: numba cannot compile {name}(t, meas, "
+                              f"refs, params, state, out) with float64 arrays: "
+                              f"{_first_line(exc)}") from None
+    return law
+
+
+def _first_line(exc: Exception) -> str:
+    """The first informative line of a numba error (its colour codes removed)."""
+    lines = [line.strip() for line in _ANSI.sub("", str(exc)).splitlines() if line.strip()]
+    lines = [line for line in lines if not line.startswith(("During:", "File ", "^"))]
+    return f"{type(exc).__name__}: {lines[0] if lines else ''}"
+
+
+def _floats(given: Values, context: ControllerContext, what: str) -> np.ndarray:
+    """``given`` (numbers or a function of ``context``) as a fresh 1-d float64 array."""
+    try:
+        values = given(context) if callable(given) else given
+        array = np.array(values, dtype=np.float64).ravel()
+    except Exception as exc:  # the user's function or values
+        raise ArgumentError(f"{what}: {type(exc).__name__}: {exc}") from None
+    return np.ascontiguousarray(array)
+
+
+def run_compiled(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: np.ndarray,
+                 slip0: np.ndarray, n_ticks: int, substeps: int, every: int,
+                 buffer: np.ndarray) -> UserRun:
+    """``user_control.run_user`` where every controller is a ``CompiledController``: the
+    laws run inside the compiled loop (``sim.core.law_kernel``), in chunks of about 0.1 s of
+    wall time (Ctrl-C is seen between them). Each controller's ``params`` and ``state``
+    become views of the run's buffer (``state``: its memory where the run ended)."""
+    controllers: list[CompiledController] = []
+    for g in groups:
+        assert isinstance(g.controller, CompiledController)
+        g.controller.reset(context_for(plan, g))
+        controllers.append(g.controller)
+    users = tuple(d for g in groups for d in g.drives)
+    hook = law_hook(users, tuple((c.law, len(g.drives), c.params.size, c.state.size)
+                                 for c, g in zip(controllers, groups, strict=True)))
+    layout = buffer_layout(len(users), sum(c.params.size for c in controllers),
+                           sum(c.state.size for c in controllers))
+    buf = np.zeros(layout["state"][1])
+    p0, s0 = layout["params"][0], layout["state"][0]
+    for c in controllers:  # the laws' arrays become views of the run's buffer
+        buf[p0:p0 + c.params.size], buf[s0:s0 + c.state.size] = c.params, c.state
+        c.params, c.state = buf[p0:p0 + c.params.size], buf[s0:s0 + c.state.size]
+        p0, s0 = p0 + c.params.size, s0 + c.state.size
+    x, istate, slipping = x0, istate0, slip0
+    status, t_fail, where, done, stored, chunk = L.STATUS_OK, math.nan, -1, 0, 0, 1000
+    interrupted = False
+    try:
+        while done < n_ticks and status == L.STATUS_OK:
+            count = min(chunk, n_ticks - done)
+            last = done + count == n_ticks
+            started = time.perf_counter()
+            n_rec, status, t_fail, where, x, istate, slipping = law_kernel.run(
+                plan, x, istate, slipping, done, count, substeps, every, last,
+                buffer[stored:], hook, buf)
+            stored += n_rec
+            done += count
+            elapsed = time.perf_counter() - started
+            chunk = max(100, min(8 * chunk, round(count * 0.1 / max(elapsed, 1e-6))))
+    except KeyboardInterrupt:  # Ctrl-C between chunks: keep what was computed
+        interrupted = True
+    run = UserRun(stored, status, t_fail, where, x, istate, interrupted=interrupted)
+    if status == STATUS_USER_NONFINITE:
+        tick = round(t_fail / plan.dt)
+        group = next(g for g in groups if where in g.drives)
+        drive = plan.line.node_name(plan.line.drives[where])
+        run.where, run.controller = -1, group.name
+        run.error = controller_error(group, tick, t_fail, None, f"returned a non-finite "
+                                     f"torque for {drive}")
+    return run
