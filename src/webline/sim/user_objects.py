@@ -1,5 +1,6 @@
-"""The controllers a line file names (``controller = { type = "python", object = ... }``):
-imported and made once per run, each bad name one ``LineFileError`` (exit 2)."""
+"""The controllers a line file names (``controller = { type = "python", object = ... }``, or
+``function = ...`` for a compiled law): imported and made once per run, each bad name one
+``LineFileError`` (exit 2)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from types import ModuleType
 
 from webline.errors import LineFileError
 from webline.line import Line
+from webline.sim.compiled_control import CompiledController
 from webline.sim.user_control import Controller
 from webline.spec.schema import PythonControllerSpec
 
@@ -18,17 +20,44 @@ from webline.spec.schema import PythonControllerSpec
 def file_controllers(line: Line) -> dict[int, Controller]:
     """The controller object of each drive (index into ``line.drives``) whose line-file
     controller is ``type = "python"``."""
-    out = {}
+    out: dict[int, Controller] = {}
     for d, i in enumerate(line.drives):
         spec = getattr(line.spec.rollers[i], "controller", None)
-        if isinstance(spec, PythonControllerSpec):
+        if isinstance(spec, PythonControllerSpec) and spec.function is not None:
+            out[d] = make_law(spec, line.source, f"rollers[{i}].controller")
+        elif isinstance(spec, PythonControllerSpec):
             out[d] = make_controller(spec, line.source, f"rollers[{i}].controller")
     return out
+
+
+def make_law(spec: PythonControllerSpec, source: str, key: str) -> CompiledController:
+    """The ``CompiledController`` of the function ``spec.function`` names, with its
+    ``params`` and ``states``; ``LineFileError`` naming ``source`` and ``key.function`` if
+    the function cannot be had (numba's verdict on it comes when the run starts)."""
+    assert spec.function is not None
+    module_name, _, attribute = spec.function.partition(":")
+    try:
+        module = _module(module_name, source)
+    except Exception as exc:  # an import runs the user's module: any error is theirs
+        raise LineFileError(source, f"{key}.function", f"cannot import {module_name!r}: "
+                            f"{type(exc).__name__}: {exc}") from None
+    target: object = module
+    for part in attribute.split("."):
+        if not hasattr(target, part):
+            raise LineFileError(source, f"{key}.function",
+                                f"{module_name!r} has no {attribute!r}") from None
+        target = getattr(target, part)
+    if not callable(target) or isinstance(target, type):
+        raise LineFileError(source, f"{key}.function", f"{spec.function!r} is not a "
+                            f"function law(t, meas, refs, params, state, out)")
+    return CompiledController(target, params=spec.params, state=spec.states,
+                              name=attribute)
 
 
 def make_controller(spec: PythonControllerSpec, source: str, key: str) -> Controller:
     """The object ``spec.object`` names, called with ``spec.parameters`` if it is a class or
     factory; ``LineFileError`` naming ``source`` and ``key`` if it cannot be had."""
+    assert spec.object is not None
     module_name, _, attribute = spec.object.partition(":")
 
     def fail(where: str, problem: str) -> LineFileError:

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from pydantic import Discriminator, Field, Tag
+from pydantic import Discriminator, Field, Tag, model_validator
 
 from webline.spec.quantities import (
     AngularFrequency,
@@ -105,15 +105,35 @@ class MRACSpec(_DecentralizedSpec):
     parameter_bound: Annotated[float, si("dimensionless", ">0")] = 2.0
 
 
+_TARGET = r"^[^:]+:[A-Za-z_][\w.]*$"  # "module:attribute"
+
+
 class PythonControllerSpec(Strict):
     """A user's controller in Python (docs/controllers.md): ``object`` is
     ``"module:attribute"`` (an importable module, or a ``.py`` file relative to the line
     file) naming a class or factory, called with ``parameters`` as keyword arguments, or a
-    controller object itself (then ``parameters`` must be empty)."""
+    controller object itself (then ``parameters`` must be empty). Or ``function``: a
+    control law numba compiles into the loop (``sim.compiled_control``), given ``params``
+    and ``states`` values of memory."""
 
     type: Literal["python"]
-    object: Annotated[str, Field(pattern=r"^[^:]+:[A-Za-z_][\w.]*$")]
+    object: Annotated[str, Field(pattern=_TARGET)] | None = None
     parameters: dict[str, Any] = Field(default_factory=dict)
+    function: Annotated[str, Field(pattern=_TARGET)] | None = None
+    params: list[float] = Field(default_factory=list)
+    states: Annotated[int, Field(ge=0, le=1_000_000)] = 0
+
+    @model_validator(mode="after")
+    def _object_or_function(self) -> PythonControllerSpec:
+        if (self.object is None) == (self.function is None):
+            raise ValueError("give either object (a controller) or function (a compiled "
+                             "law), not both or neither")
+        if self.object is not None and (self.params or self.states):
+            raise ValueError("params and states go with function; an object takes "
+                             "parameters")
+        if self.function is not None and self.parameters:
+            raise ValueError("parameters go with object; a function takes params and states")
+        return self
 
 
 def _controller_tag(value: object) -> str:
