@@ -141,7 +141,8 @@ def compile_law(law: Callable[..., None], name: str) -> Any:
 def _first_line(exc: Exception) -> str:
     """The first informative line of a numba error (its colour codes removed)."""
     lines = [line.strip() for line in _ANSI.sub("", str(exc)).splitlines() if line.strip()]
-    lines = [line for line in lines if not line.startswith(("During:", "File ", "^"))]
+    lines = [line for line in lines
+             if not line.startswith(("During:", "File ", "^", "Failed in ", "<source"))]
     return f"{type(exc).__name__}: {lines[0] if lines else ''}"
 
 
