@@ -1,22 +1,25 @@
-"""Cost of the Python controller path per tick above the compiled loop (issue 25).
+"""Cost of the user controller paths against the built-in loop (issue 25).
 
     python benchmarks/bench_user_controller.py [--seconds 6]
 
 Runs ``hswl`` for the given time with its built-in controllers (the compiled loop), then
-with a user controller that only returns held torques for every drive (the path's own cost:
-one compiled call per tick, the measurement pass, the Python call), then with the built-in
-cascaded PI written in Python (examples/user_pi.py: the path plus a controller's own
-arithmetic). Each run is timed after a warm-up (compilation excluded);
-the per-tick numbers are (user run - built-in run) / ticks. Times are the process's CPU
-time, best of five.
+with a user controller that only returns held torques for every drive (the Python path's own
+cost: one compiled call per tick, the measurement pass, the Python call), then with the
+built-in cascaded PI written in Python (examples/user_pi.py: the path plus a controller's own
+arithmetic), then with that PI as a compiled law (examples/user_pi_numba.py: in the loop).
+Each run is timed after a warm-up (compilation excluded); the per-tick numbers are (user
+run - built-in run) / ticks, the ratios user run / built-in run, all from this one process.
+Times are the process's CPU time, best of five; the load average is printed with them.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib.util
+import os
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -33,13 +36,13 @@ class Hold:
         return self.torques
 
 
-def _pi() -> type:
-    path = Path(__file__).resolve().parents[1] / "examples" / "user_pi.py"
-    spec = importlib.util.spec_from_file_location("user_pi", path)
+def _example(name: str) -> Any:
+    path = Path(__file__).resolve().parents[1] / "examples" / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(name, path)
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    return module.CascadedPI  # type: ignore[no-any-return]
+    return module
 
 
 def best(run: object, repeat: int = 5) -> float:
@@ -58,20 +61,29 @@ def main() -> None:
     parser.add_argument("--seconds", type=float, default=6.0)
     args = parser.parse_args()
     line = webline.load_line("hswl")
-    pi = _pi()
-    for controller in (None, Hold(), pi()):  # warm-up: compile every path
+    pi = _example("user_pi").CascadedPI
+    compiled_pi = _example("user_pi_numba").cascaded_pi
+    for controller in (None, Hold(), pi(), compiled_pi()):  # warm-up: compile every path
         webline.simulate(line, 0.01, controller=controller)
     ticks = round(args.seconds / 1e-3) + 1
     builtin = best(lambda: webline.simulate(line, args.seconds))
     hold = best(lambda: webline.simulate(line, args.seconds, controller=Hold()))
     python_pi = best(lambda: webline.simulate(line, args.seconds, controller=pi()))
-    print(f"hswl, {args.seconds:g} s, {ticks} ticks, {len(line.drives)} drives")
+    compiled = best(lambda: webline.simulate(line, args.seconds, controller=compiled_pi()))
+    builtin = min(builtin, best(lambda: webline.simulate(line, args.seconds)))  # both ends
+    load = ", ".join(f"{v:.2f}" for v in os.getloadavg())
+    print(f"hswl, {args.seconds:g} s, {ticks} ticks, {len(line.drives)} drives; "
+          f"load average {load}")
     print(f"built-in (compiled loop)      {builtin * 1e3:8.1f} ms  {builtin / ticks * 1e6:6.2f} "
           f"us/tick")
-    for name, seconds in (("user: held torques", hold), ("user: PI in Python", python_pi)):
+    for name, seconds in (("user: held torques", hold), ("user: PI in Python", python_pi),
+                          ("user: PI compiled (numba)", compiled)):
         extra = (seconds - builtin) / ticks * 1e6
         print(f"{name:29s} {seconds * 1e3:8.1f} ms  {seconds / ticks * 1e6:6.2f} us/tick  "
-              f"+{extra:5.2f} us/tick above the compiled loop ({seconds / builtin:5.1f}x)")
+              f"+{extra:5.2f} us/tick above the compiled loop ({seconds / builtin:5.2f}x)")
+    ratio = compiled / builtin
+    print(f"compiled user PI / built-in PI: {ratio:.2f} (must show: <= 1.5: "
+          f"{'met' if ratio <= 1.5 else 'NOT met'})")
 
 
 if __name__ == "__main__":

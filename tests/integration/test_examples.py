@@ -23,7 +23,8 @@ def run_example(name: str) -> str:
 def test_every_example_is_covered() -> None:
     assert {p.name for p in EXAMPLES.glob("*.py")} == {
         "own_line.py", "gain_sweep.py", "compare_controllers.py", "bode.py",
-        "fit_converter.py", "user_pi.py", "dob_pi.py", "user_lqr.py", "gym_sketch.py"}
+        "fit_converter.py", "user_pi.py", "user_pi_numba.py", "dob_pi.py", "user_lqr.py",
+        "gym_sketch.py"}
 
 
 def test_fit_converter_recovers_both_values() -> None:
@@ -68,6 +69,15 @@ def test_user_pi_reproduces_the_builtin_run() -> None:
     """The built-in PI in Python gives the built-in run to round-off (< 1e-9 of each
     state's range, the must-show's bound; tests/integration/test_user_controller.py)."""
     out = run_example("user_pi.py")
+    match = re.search(r"largest difference ([\d.e+-]+) of each state's range; verdict: ok", out)
+    assert match is not None, out
+    assert float(match.group(1)) < 1e-9
+
+
+def test_user_pi_numba_reproduces_the_builtin_run() -> None:
+    """The built-in PI as a compiled law gives the built-in run to round-off (< 1e-9, as
+    above; tests/integration/test_compiled_controller.py)."""
+    out = run_example("user_pi_numba.py")
     match = re.search(r"largest difference ([\d.e+-]+) of each state's range; verdict: ok", out)
     assert match is not None, out
     assert float(match.group(1)) < 1e-9
