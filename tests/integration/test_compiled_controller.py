@@ -204,3 +204,61 @@ def test_compiled_law_costs_little_more_than_the_builtin_pi() -> None:
         return min(times)
 
     assert least(PI.cascaded_pi) <= 3.0 * least(None)  # type: ignore[attr-defined]
+
+
+
+def test_the_law_loop_makes_no_reference_counting_call(monkeypatch: pytest.MonkeyPatch) -> None:
+    """As the built-in loop (tests/unit/test_kernel_compile.py): compiled afresh, the loop
+    with laws, and the hook that calls the laws, call neither NRT_incref nor NRT_decref
+    (each an atomic operation per tick)."""
+    import re
+
+    import numba as nb
+
+    from webline.sim.core import law_kernel
+    from webline.sim.core.plan import compile_plan
+    from webline.sim.elements.signals import _NO_NRT, FAST
+    from webline.sim.user_control import user_plan
+
+    line = webline.load_line("hswl")
+    plan = user_plan(compile_plan(line), range(len(line.drives)))
+    fresh = nb.njit(fastmath=FAST, error_model="numpy", **_NO_NRT)(
+        law_kernel.compiled_law_loop(plan).py_func)
+    monkeypatch.setattr(law_kernel, "compiled_law_loop", lambda _: fresh)
+    ctrl = PI.cascaded_pi()  # type: ignore[attr-defined]
+    webline.simulate(line, 0.01, controller=ctrl)
+    hook = law_kernel.law_hook(tuple(range(len(line.drives))),
+                               ((ctrl.law, len(line.drives), ctrl.params.size,
+                                 ctrl.state.size),))
+    for ir in (fresh.inspect_llvm(fresh.signatures[0]), hook.inspect_llvm()):
+        calls = set(re.findall(r"call [^@]*@(NRT_\w+)", ir))
+        assert not calls & {"NRT_incref", "NRT_decref"}, calls
+
+
+def test_session_calls_the_law_from_python() -> None:
+    """``webline.Session`` takes a compiled law too (called from Python each tick): the
+    compiled PI stepped by hand follows the built-in run (1e-9, as above)."""
+    line = webline.load_line("hswl")
+    builtin = webline.simulate(line, 0.5)
+    session = webline.Session(line, controller=PI.cascaded_pi())  # type: ignore[attr-defined]
+    session.step(500)
+    stepped = session.result().states
+    n = min(len(stepped), len(builtin.states))
+    assert n >= 500
+    assert _worst(stepped[:n], builtin.states[:n]) < 1e-9
+
+
+def test_cli_law_that_does_not_compile_exits_1_with_one_line(tmp_path: Path) -> None:
+    """``webline run`` on a line file whose ``function`` numba cannot compile: exit 1, one
+    line naming the function."""
+    import subprocess
+
+    (tmp_path / "laws.py").write_text("def law(t, meas, refs, params, state, out):\n"
+                                      "    out[0] = 'fast'\n")
+    path = _line_file(tmp_path, {"function": "laws.py:law"})
+    done = subprocess.run([str(Path(sys.executable).parent / "webline"), "run", str(path),
+                           "--duration", "0.1", "-o", str(tmp_path / "out")],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 1, done.stderr
+    lines = [s for s in (done.stdout + done.stderr).splitlines() if "numba cannot compile" in s]
+    assert len(lines) == 1 and "compiled law law" in lines[0], done.stdout + done.stderr
