@@ -138,6 +138,27 @@ def test_nonfinite_torque_named_with_tick_and_partial_kept() -> None:
     assert partial.status == "failed"
 
 
+def raises(t: float, meas: np.ndarray, refs: np.ndarray, params: np.ndarray,
+           state: np.ndarray, out: np.ndarray) -> None:
+    """Holds its drive at ``params[0]``; from t = 0.25 s it raises."""
+    if t >= 0.25:
+        raise ValueError("gain table empty")
+    out[0] = params[0]
+
+
+def test_law_that_raises_named_with_tick_and_message() -> None:
+    """Must show: a law that raises in the loop (where compiled code keeps no exception) stops
+    the run with one error naming it, the tick and its own message; the records of ticks
+    0..249 are kept, and nothing is printed per tick."""
+    ctrl = CompiledController(raises, params=lambda c: [c.drives[0].equilibrium_command])
+    with pytest.raises(ControllerError) as info:
+        webline.simulate(webline.load_line("hswl"), 1.0, controller={"rewind": ctrl})
+    message = str(info.value)
+    assert message == ("controller 'rewind' (compiled law raises) raised ValueError: gain "
+                       "table empty at tick 250 (t = 0.25 s)")
+    assert info.value.partial.time[-1] == pytest.approx(0.249)
+
+
 GAINS = {"kp": 1.0}  # a Python dict: a law cannot read it
 
 

@@ -38,7 +38,7 @@ from webline.sim.core import law_kernel
 from webline.sim.core.law_kernel import buffer_layout, law_hook
 from webline.sim.core.plan import Plan
 from webline.sim.elements import layout as L
-from webline.sim.elements.user_loop import STATUS_USER_NONFINITE
+from webline.sim.elements.user_loop import N_MEASURED, N_REFERENCES, STATUS_USER_NONFINITE
 from webline.sim.user_control import (
     ControllerContext,
     Group,
@@ -173,7 +173,7 @@ def run_compiled(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: n
                                  for c, g in zip(controllers, groups, strict=True)))
     layout = buffer_layout(len(users), sum(c.params.size for c in controllers),
                            sum(c.state.size for c in controllers))
-    buf = np.zeros(layout["state"][1])
+    buf = np.zeros(layout["raised"][1])
     p0, s0 = layout["params"][0], layout["state"][0]
     for c in controllers:  # the laws' arrays become views of the run's buffer
         buf[p0:p0 + c.params.size], buf[s0:s0 + c.state.size] = c.params, c.state
@@ -199,9 +199,38 @@ def run_compiled(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: n
     run = UserRun(stored, status, t_fail, where, x, istate, interrupted=interrupted)
     if status == STATUS_USER_NONFINITE:
         tick = round(t_fail / plan.dt)
-        group = next(g for g in groups if where in g.drives)
+        raised = int(buf[layout["raised"][0]])
+        group = groups[raised - 1] if raised else next(g for g in groups if where in g.drives)
         drive = plan.line.node_name(plan.line.drives[where])
         run.where, run.controller = -1, group.name
         run.error = controller_error(group, tick, t_fail, None, f"returned a non-finite "
                                      f"torque for {drive}")
+        if raised:
+            run.error = _raised(group, groups, tick, t_fail, buf, layout)
     return run
+
+
+def _raised(group: Group, groups: Sequence[Group], tick: int, t: float, buf: np.ndarray,
+            layout: dict[str, tuple[int, int]]) -> str:
+    """The error of ``group``'s law, which raised in the loop at ``tick`` (time ``t`` [s]):
+    compiled code keeps no exception, so the law's Python function is run again on copies of
+    that tick's arrays to name it (its state as the failed call left it)."""
+    first = p0 = s0 = 0
+    for g in groups:
+        if g is group:
+            break
+        c = g.controller
+        assert isinstance(c, CompiledController)
+        first, p0, s0 = first + len(g.drives), p0 + c.params.size, s0 + c.state.size
+    ctrl, k = group.controller, len(group.drives)
+    assert isinstance(ctrl, CompiledController)
+    m, r = layout["meas"][0] + N_MEASURED * first, layout["refs"][0] + N_REFERENCES * first
+    py_func = getattr(ctrl.law, "py_func", None)
+    try:
+        if py_func is not None:
+            py_func(t, buf[m:m + N_MEASURED * k].copy(), buf[r:r + N_REFERENCES * k].copy(),
+                    ctrl.params.copy(), ctrl.state.copy(), np.zeros(k))
+    except Exception as exc:  # the user's law, run in Python: its own error
+        return controller_error(group, tick, t, exc)
+    return controller_error(group, tick, t, None, "raised an exception in compiled code "
+                            "(numba keeps no message; run the law in Python to see it)")

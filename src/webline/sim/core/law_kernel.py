@@ -48,14 +48,16 @@ _inline = nb.njit(fastmath=FAST, error_model="numpy", forceinline=True, **_NO_NR
 
 @_inline
 def _no_law(t: float, meas: np.ndarray, refs: np.ndarray, params: np.ndarray,
-            state: np.ndarray, out: np.ndarray) -> None:
+            state: np.ndarray, out: np.ndarray, raised: np.ndarray) -> None:
     """The start of a chain of laws (``_chained``): nothing."""
 
 
-def _chained(before: Any, law: Any, first: int, count: int, params: tuple[int, int],
-             state: tuple[int, int]) -> Any:
-    """``before``, then ``law`` on the user drives ``first`` .. ``first + count - 1`` and its
-    (start, stop) of the parameters and state."""
+def _chained(before: Any, law: Any, group: int, first: int, count: int,
+             params: tuple[int, int], state: tuple[int, int]) -> Any:
+    """``before``, then ``law`` (of group number ``group``) on the user drives ``first`` ..
+    ``first + count - 1`` and its (start, stop) of the parameters and state. A law that
+    raises sets ``raised[0]`` to its group number + 1 (the first to raise is kept): a
+    ``cfunc`` cannot pass an exception on, it would print it and go on."""
     m0, m1 = N_MEASURED * first, N_MEASURED * (first + count)
     r0, r1 = N_REFERENCES * first, N_REFERENCES * (first + count)
     p0, p1 = params
@@ -64,19 +66,24 @@ def _chained(before: Any, law: Any, first: int, count: int, params: tuple[int, i
 
     @_inline
     def call(t: float, meas: np.ndarray, refs: np.ndarray, all_params: np.ndarray,
-             all_state: np.ndarray, commands: np.ndarray) -> None:
-        before(t, meas, refs, all_params, all_state, commands)
-        law(t, meas[m0:m1], refs[r0:r1], all_params[p0:p1], all_state[s0:s1],
-            commands[o0:o1])
+             all_state: np.ndarray, commands: np.ndarray, raised: np.ndarray) -> None:
+        before(t, meas, refs, all_params, all_state, commands, raised)
+        try:
+            law(t, meas[m0:m1], refs[r0:r1], all_params[p0:p1], all_state[s0:s1],
+                commands[o0:o1])
+        except Exception:  # the user's law: any error stops the run
+            if raised[0] == 0.0:
+                raised[0] = group + 1.0
 
     return call
 
 
 def buffer_layout(n_users: int, n_params: int, n_state: int) -> dict[str, tuple[int, int]]:
     """(start, stop) in the hook's buffer of the user drives' measurements, references and
-    commands, then the laws' parameters and states (each concatenated in group order)."""
+    commands, the laws' parameters and states (each concatenated in group order), and the
+    number + 1 of the first group whose law raised (0: none)."""
     sizes = {"meas": N_MEASURED * n_users, "refs": N_REFERENCES * n_users,
-             "commands": n_users, "params": n_params, "state": n_state}
+             "commands": n_users, "params": n_params, "state": n_state, "raised": 1}
     layout, start = {}, 0
     for name, size in sizes.items():
         layout[name] = (start, start + size)
@@ -94,12 +101,12 @@ def law_hook(users: tuple[int, ...],
     n_state = sum(s for _, _, _, s in laws)
     layout = buffer_layout(len(users), n_params, n_state)
     call, first, p0, s0 = _no_law, 0, 0, 0
-    for law, count, n_p, n_s in laws:
-        call = _chained(call, law, first, count, (p0, p0 + n_p), (s0, s0 + n_s))
+    for group, (law, count, n_p, n_s) in enumerate(laws):
+        call = _chained(call, law, group, first, count, (p0, p0 + n_p), (s0, s0 + n_s))
         first, p0, s0 = first + count, p0 + n_p, s0 + n_s
     drive_of = np.array(users, dtype=np.int64)
     (m0, m1), (r0, r1), (c0, c1) = layout["meas"], layout["refs"], layout["commands"]
-    (q0, q1), (s0, s1) = layout["params"], layout["state"]
+    (q0, q1), (s0, s1), (f0, f1) = layout["params"], layout["state"], layout["raised"]
 
     @nb.cfunc(HOOK_SIGNATURE, fastmath=FAST, error_model="numpy", **_NO_NRT)
     def hook(t: float, out: np.ndarray, buf: np.ndarray) -> None:
@@ -109,9 +116,9 @@ def law_hook(users: tuple[int, ...],
                 meas[N_MEASURED * u + q] = out[U_SPEED + q, drive_of[u]]
             for q in range(N_REFERENCES):
                 refs[N_REFERENCES * u + q] = out[U_VREF + q, drive_of[u]]
-        call(t, meas, refs, buf[q0:q1], buf[s0:s1], commands)
-        for u in range(drive_of.shape[0]):
-            out[U_CMD, drive_of[u]] = commands[u]
+        call(t, meas, refs, buf[q0:q1], buf[s0:s1], commands, buf[f0:f1])
+        for u in range(drive_of.shape[0]):  # NaN after a law raised: the loop stops there
+            out[U_CMD, drive_of[u]] = commands[u] if buf[f0] == 0.0 else np.nan
 
     return hook
 
