@@ -1,15 +1,17 @@
 """Cost of the user controller paths against the built-in loop (issue 25).
 
-    python benchmarks/bench_user_controller.py [--seconds 6]
+    python benchmarks/bench_user_controller.py [--seconds 6] [--line hswl]
 
-Runs ``hswl`` for the given time with its built-in controllers (the compiled loop), then
-with a user controller that only returns held torques for every drive (the Python path's own
-cost: one compiled call per tick, the measurement pass, the Python call), then with the
-built-in cascaded PI written in Python (examples/user_pi.py: the path plus a controller's own
-arithmetic), then with that PI as a compiled law (examples/user_pi_numba.py: in the loop).
+Runs ``hswl`` (or ``--line``) for the given time with its built-in controllers (the compiled
+loop), then with a user controller that only returns held torques for every drive (the
+Python path's own cost: one compiled call per tick, the measurement pass, the Python call),
+then with the built-in cascaded PI written in Python (examples/user_pi.py: the path plus a
+controller's own arithmetic), then with that PI as a compiled law
+(examples/user_pi_numba.py: in the loop).
 Each run is timed after a warm-up (compilation excluded); the per-tick numbers are (user
 run - built-in run) / ticks, the ratios user run / built-in run, all from this one process.
-Times are the process's CPU time, best of five; the load average is printed with them.
+Times are the process's CPU time, best of five (built-in and compiled: best of 15, the two
+alternating); the load average is printed with them.
 """
 
 from __future__ import annotations
@@ -56,23 +58,37 @@ def best(run: object, repeat: int = 5) -> float:
     return min(times)
 
 
+def interleaved(first: object, second: object, repeat: int = 15) -> tuple[float, float]:
+    """Least CPU time [s] of ``first`` and of ``second`` over ``repeat`` alternating calls:
+    on a shared machine the load drifts, and alternating gives both sides the same."""
+    a, b = [], []
+    for _ in range(repeat):
+        for run, times in ((first, a), (second, b)):
+            start = time.process_time()
+            run()  # type: ignore[operator]
+            times.append(time.process_time() - start)
+    return min(a), min(b)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seconds", type=float, default=6.0)
+    parser.add_argument("--line", default="hswl", help="a built-in line or a line file")
     args = parser.parse_args()
-    line = webline.load_line("hswl")
+    line = webline.load_line(args.line)
     pi = _example("user_pi").CascadedPI
     compiled_pi = _example("user_pi_numba").cascaded_pi
     for controller in (None, Hold(), pi(), compiled_pi()):  # warm-up: compile every path
         webline.simulate(line, 0.01, controller=controller)
-    ticks = round(args.seconds / 1e-3) + 1
-    builtin = best(lambda: webline.simulate(line, args.seconds))
+    dt = webline.simulate(line, 0.01).settings["dt"]
+    ticks = round(args.seconds / dt) + 1
     hold = best(lambda: webline.simulate(line, args.seconds, controller=Hold()))
     python_pi = best(lambda: webline.simulate(line, args.seconds, controller=pi()))
-    compiled = best(lambda: webline.simulate(line, args.seconds, controller=compiled_pi()))
-    builtin = min(builtin, best(lambda: webline.simulate(line, args.seconds)))  # both ends
+    builtin, compiled = interleaved(  # the ratio's two sides, alternately: the same load
+        lambda: webline.simulate(line, args.seconds),
+        lambda: webline.simulate(line, args.seconds, controller=compiled_pi()))
     load = ", ".join(f"{v:.2f}" for v in os.getloadavg())
-    print(f"hswl, {args.seconds:g} s, {ticks} ticks, {len(line.drives)} drives; "
+    print(f"{line.name}, {args.seconds:g} s, {ticks} ticks, {len(line.drives)} drives; "
           f"load average {load}")
     print(f"built-in (compiled loop)      {builtin * 1e3:8.1f} ms  {builtin / ticks * 1e6:6.2f} "
           f"us/tick")

@@ -166,7 +166,7 @@ def run_compiled(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: n
     controllers: list[CompiledController] = []
     for g in groups:
         assert isinstance(g.controller, CompiledController)
-        g.controller.reset(context_for(plan, g))
+        g.controller.reset(context_for(plan, g, istate0))
         controllers.append(g.controller)
     users = tuple(d for g in groups for d in g.drives)
     hook = law_hook(users, tuple((c.law, len(g.drives), c.params.size, c.state.size)
@@ -180,7 +180,8 @@ def run_compiled(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: n
         c.params, c.state = buf[p0:p0 + c.params.size], buf[s0:s0 + c.state.size]
         p0, s0 = p0 + c.params.size, s0 + c.state.size
     x, istate, slipping = x0, istate0, slip0
-    status, t_fail, where, done, stored, chunk = L.STATUS_OK, math.nan, -1, 0, 0, 1000
+    # chunks as the built-in run's (``simulate.FIRST_CHUNK``, then ~0.1 s of work each)
+    status, t_fail, where, done, stored, chunk = L.STATUS_OK, math.nan, -1, 0, 0, 2000
     interrupted = False
     try:
         while done < n_ticks and status == L.STATUS_OK:
@@ -193,7 +194,7 @@ def run_compiled(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: n
             stored += n_rec
             done += count
             elapsed = time.perf_counter() - started
-            chunk = max(100, min(8 * chunk, round(count * 0.1 / max(elapsed, 1e-6))))
+            chunk = max(500, round(count * 0.1 / max(elapsed, 1e-6)))
     except KeyboardInterrupt:  # Ctrl-C between chunks: keep what was computed
         interrupted = True
     run = UserRun(stored, status, t_fail, where, x, istate, interrupted=interrupted)

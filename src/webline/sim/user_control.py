@@ -174,10 +174,13 @@ def builtin_stand_in(plan: Plan) -> Plan:
     return dataclasses.replace(plan, drives=table, drive_structure=structure, memo={})
 
 
-def context_for(plan: Plan, group: Group) -> ControllerContext:
-    """The ``ControllerContext`` of ``group`` in a run of ``plan``."""
+def context_for(plan: Plan, group: Group,
+                istate: np.ndarray | None = None) -> ControllerContext:
+    """The ``ControllerContext`` of ``group`` in a run of ``plan``; ``istate``: the plan's
+    initial controller memory where the caller has it (else computed again)."""
     line, op = plan.line, plan.op
-    istate = plan.initial_state(op)[1]  # the built-in PI's integrators at the equilibrium
+    if istate is None:  # the built-in PI's integrators at the equilibrium
+        istate = plan.initial_state(op)[1]
     infos = []
     for d in group.drives:
         i = line.drives[d]
