@@ -300,3 +300,19 @@ def test_cli_law_that_does_not_compile_exits_1_with_one_line(tmp_path: Path) -> 
     assert done.returncode == 1, done.stderr
     lines = [s for s in (done.stdout + done.stderr).splitlines() if "numba cannot compile" in s]
     assert len(lines) == 1 and "compiled law law" in lines[0], done.stdout + done.stderr
+
+
+def test_session_snapshot_keeps_the_law_state() -> None:
+    """A snapshot holds a compiled law's ``state`` (its integrators) with the line: restored
+    and stepped again, the session repeats its run to the bit. Without the law's state the
+    integrators would go on from where the first pass left them and the second pass would
+    part from the first."""
+    session = webline.Session("hswl", controller=PI.cascaded_pi())  # type: ignore[attr-defined]
+    session.step(200)
+    snap = session.snapshot()
+    session.step(300)
+    first = session.result().states
+    session.restore(snap)
+    session.step(300)
+    again = session.result().states
+    assert np.array_equal(first, again)

@@ -13,6 +13,7 @@ import numpy as np
 
 from webline.errors import ArgumentError, ControllerError, SimulationError
 from webline.line import Line, load_line
+from webline.sim.compiled_control import CompiledController
 from webline.sim.core import kernel
 from webline.sim.core.plan import compile_plan, equilibrium_plan_state
 from webline.sim.core.user_step import C_STORED
@@ -34,12 +35,13 @@ FIRST_ROWS = 4096
 
 @dataclass(frozen=True)
 class Snapshot:
-    """Everything a session needs to go back to a tick (``Session.restore``); the user
-    controllers' own memory is theirs to keep."""
+    """Everything a session needs to go back to a tick (``Session.restore``), compiled laws'
+    ``state`` included; a Python controller's own memory is its to keep."""
 
     floats: np.ndarray
     ints: np.ndarray
     records: np.ndarray
+    law_states: tuple[np.ndarray, ...] = ()
 
 
 class Session:
@@ -64,6 +66,9 @@ class Session:
         self._loop = UserLoop(self.plan, groups, x, istate, kernel.initial_slip(self.plan, x),
                               self.substeps, 1, self._width)
         self._views = self._loop.packed.views
+        #: the compiled laws, whose memory (``state``) snapshots keep
+        self._laws = [g.controller for g in groups if isinstance(g.controller,
+                                                                  CompiledController)]
 
     @property
     def t(self) -> float:
@@ -142,12 +147,15 @@ class Session:
         """The session now (state, controller memory, references, records)."""
         stored = int(self._loop.control[C_STORED])
         return Snapshot(self._loop.packed.floats.copy(), self._loop.packed.ints.copy(),
-                        self._rec[:stored].copy())
+                        self._rec[:stored].copy(),
+                        tuple(law.state.copy() for law in self._laws))
 
     def restore(self, snap: Snapshot) -> None:
         """Go back to ``snap`` (of this session)."""
         self._loop.packed.floats[:] = snap.floats
         self._loop.packed.ints[:] = snap.ints
+        for law, state in zip(self._laws, snap.law_states, strict=True):
+            law.state[:] = state
         self._rec = np.empty((max(FIRST_ROWS, 2 * len(snap.records) + 2), self._width))
         self._rec[:len(snap.records)] = snap.records
         self._loop.failed = None  # type: ignore[assignment]
