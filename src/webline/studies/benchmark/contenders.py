@@ -48,7 +48,8 @@ class Contender:
             return line, self.make()
         assert self.family is not None
         if self.family == "cascaded_pi" and all(
-                getattr(line.spec.rollers[i].controller, "type", "") == "cascaded_pi"
+                getattr(getattr(line.spec.rollers[i], "controller", None), "type",
+                        "") == "cascaded_pi"
                 for i in line.drives):
             return line, None  # the line file's own PI, with its bandwidths
         overrides = {}
@@ -124,7 +125,8 @@ def _factory(target: object) -> tuple[str, Callable[[], Controller]]:
     text = target if isinstance(target, str) else None
     if text is not None:
         target = load_object(text)
-    label = text or getattr(target, "__name__", type(target).__name__)
+    label: str = text if text is not None else str(
+        getattr(target, "__name__", type(target).__name__))
     if isinstance(target, Controller) and not isinstance(target, type):
         obj = target
         return label if text else type(obj).__name__, lambda: obj  # reset() each run

@@ -19,14 +19,29 @@ if TYPE_CHECKING:
 class Outcome(Protocol):
     """What the report reads of a ``result.BenchmarkResult``."""
 
-    version: str
-    set_hash: str
-    webline_version: str
-    quick: bool
-    cases: Sequence[Case]
-    contenders: Sequence[str]
-    runs: Sequence[CaseRun]
-    seconds: float
+    @property
+    def version(self) -> str: ...
+
+    @property
+    def set_hash(self) -> str: ...
+
+    @property
+    def webline_version(self) -> str: ...
+
+    @property
+    def quick(self) -> bool: ...
+
+    @property
+    def cases(self) -> Sequence[Case]: ...
+
+    @property
+    def contenders(self) -> Sequence[str]: ...
+
+    @property
+    def runs(self) -> Sequence[CaseRun]: ...
+
+    @property
+    def seconds(self) -> float: ...
 
     @property
     def ranking(self) -> pd.DataFrame: ...

@@ -16,11 +16,11 @@ if TYPE_CHECKING:
 RANK_RULE = (
     "In every case the contenders that ran it are ranked on each ranked metric (lower is "
     "better; values equal to 9 significant digits share the mean of their places, as "
-    "round-off must not order two controllers that compute the same; a contender whose run failed, or "
-    "whose value is not a number, takes the last places). A contender's score is the mean of "
-    "its ranks over every (case, metric) pair it was ranked in; cases where it is n/a are "
-    "left out (the column 'pairs' says how many pairs each score averages). The lowest mean "
-    "rank comes first.")
+    "round-off must not order two controllers that compute the same; a contender whose run "
+    "failed, or whose value is not a number, takes the last places). A contender's score is "
+    "the mean of its ranks over every (case, metric) pair it was ranked in; cases where it "
+    "is n/a are left out (the column 'pairs' says how many pairs each score averages). The "
+    "lowest mean rank comes first.")
 
 
 @dataclass(frozen=True)
