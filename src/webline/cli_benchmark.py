@@ -11,7 +11,7 @@ from typing import Annotated
 
 import typer
 
-from webline.cli_common import _console, open_output, progress_bar
+from webline.cli_common import BadInput, _console, open_output, progress_bar
 
 # the simulation and studies layers load inside the command, so that --help stays fast
 
@@ -34,7 +34,8 @@ def benchmark_command(
 ) -> None:
     """Rank controllers on the standard benchmark set (versioned): tension IAE, peak and
     settling, speed IAE, torque RMS, energy and Monte Carlo robustness, the same settings
-    for every contender. Writes benchmark.csv, runs.csv and benchmark.md."""
+    for every contender. Writes benchmark.csv, runs.csv and benchmark.md. Exit 0 when the
+    set ran (a contender that failed a case is scored "failed" there), 2 for bad input."""
     from rich.markup import escape
     from rich.table import Table
 
@@ -44,6 +45,8 @@ def benchmark_command(
     from webline.studies.benchmark.standard_set import cases
 
     controllers = list(controller or [])
+    if not builtin and not controllers:
+        raise BadInput("--no-builtin needs at least one --controller")
     user_contenders(controllers)  # a bad name is one line, exit 2, before anything runs
     folder = open_output(out, force, "benchmark", FILES)
     total = len(cases(quick)) * (len(BUILTIN) * builtin + len(controllers))

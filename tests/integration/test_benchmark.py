@@ -137,3 +137,11 @@ def test_bad_controller_is_one_line_exit_2(tmp_path: Path, spec: str, fragment: 
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and fragment in lines[0]
     assert not (tmp_path / "out").exists()  # refused before anything ran or was written
+
+
+def test_no_contenders_is_one_line_exit_2(tmp_path: Path) -> None:
+    result = CliRunner().invoke(app, ["benchmark", "--no-builtin", "--out",
+                                      str(tmp_path / "out")])
+    assert result.exit_code == 2 and result.stderr.count("\n") == 1
+    assert "--no-builtin needs at least one --controller" in result.stderr
+    assert not (tmp_path / "out").exists()
