@@ -145,3 +145,27 @@ def test_no_contenders_is_one_line_exit_2(tmp_path: Path) -> None:
     assert result.exit_code == 2 and result.stderr.count("\n") == 1
     assert "--no-builtin needs at least one --controller" in result.stderr
     assert not (tmp_path / "out").exists()
+
+
+def test_a_family_the_line_refuses_is_na_with_its_reason() -> None:
+    """The converter's dancer trims a cascaded PI, so the decentralized families are n/a
+    there, with the line's own reason; the case keeps their rows (nothing silently dropped)
+    and they are left out of its ranks. Nothing is simulated: the refusal comes first."""
+    from webline.studies.benchmark.records import case_ranks
+    from webline.studies.benchmark.run import case_lines, run_case
+    from webline.studies.benchmark.standard_set import CASES
+
+    case = next(c for c in CASES if c.name == "converter/flying-splice")
+    lines = case_lines(case)
+    runs = [run_case(case, lines, c) for c in BUILTIN if c.name != "cascaded PI"]
+    assert {r.status for r in runs} == {"n/a"}
+    assert all("dancer" in r.note and r.scores == {} for r in runs)
+    assert case_ranks(runs, [case]).empty
+
+
+def test_api_result_has_a_tidy_table_and_a_report() -> None:
+    result = webline.benchmark([ReturnsNaN], quick=True, builtin=False)
+    assert isinstance(result.table, pd.DataFrame) and result.table.empty  # all failed
+    assert list(result.runs_table.status) == ["failed"] * len(cases(quick=True))
+    report = result.to_markdown()
+    assert "ReturnsNaN" in report and "non-finite torque" in report
