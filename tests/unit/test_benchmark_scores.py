@@ -149,3 +149,14 @@ def test_set_hash_follows_the_cases() -> None:
     assert set_hash(cases(quick=True)) != set_hash(CASES)
     assert len({c.name for c in CASES}) == len(CASES)
     assert sum(c.monte_carlo for c in CASES) == 1
+
+
+#: the hash of each published version of the standard set: a change to ``CASES`` changes the
+#: hash, and then ``BENCHMARK_VERSION`` must be bumped and the new pair added here
+PUBLISHED = {"1": "8e4cb92a9c4c"}
+
+
+def test_the_set_matches_its_published_version() -> None:
+    assert PUBLISHED.get(BENCHMARK_VERSION) == set_hash(CASES), (
+        "the standard set changed: bump BENCHMARK_VERSION (docs/benchmark.md, version "
+        "policy) and record its hash in PUBLISHED")
