@@ -107,9 +107,14 @@ class ReturnsNaN:
         return self.torques * (math.nan if t > 0.5 else 1.0)
 
 
+class ResetRaises(ReturnsNaN):
+    def reset(self, context) -> None:
+        raise RuntimeError("no gains for this line")
+
+
 def test_a_failing_controller_fails_its_case_and_the_rest_goes_on() -> None:
-    result = webline.benchmark({"raises": RaisesAboveSpeed, "nan": ReturnsNaN()},
-                               quick=True, builtin=False)
+    result = webline.benchmark({"raises": RaisesAboveSpeed, "nan": ReturnsNaN(),
+                                "reset": ResetRaises()}, quick=True, builtin=False)
     runs = result.runs_table.set_index(["case", "contender"])
     failed = runs.loc[("hswl/speed-change", "raises")]
     assert failed.status == "failed"
@@ -119,6 +124,9 @@ def test_a_failing_controller_fails_its_case_and_the_rest_goes_on() -> None:
     assert runs.loc[("hswl/monte-carlo", "raises")].status == "ok"
     assert set(runs.xs("nan", level="contender").status) == {"failed"}
     assert "non-finite torque" in runs.loc[("hswl/tension-step", "nan")].note
+    assert set(runs.xs("reset", level="contender").status) == {"failed"}
+    assert "RuntimeError: no gains for this line" in runs.loc[("hswl/tension-step",
+                                                                "reset")].note
     ranking = result.ranking.set_index("contender")
     assert ranking.loc["raises", "failed"] == 1 and ranking.loc["nan", "failed"] == 3
     assert ranking.loc["raises", "place"] == 1  # fewer failures, better ranks

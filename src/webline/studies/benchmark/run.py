@@ -1,5 +1,5 @@
 """``webline.benchmark``: every contender on every case of the standard set, scored by the
-metrics of ``scores`` and ranked by one stated rule (``ranking.RANK_RULE``)."""
+metrics of ``scores`` and ranked by one stated rule (``records.RANK_RULE``)."""
 
 from __future__ import annotations
 
@@ -94,11 +94,14 @@ def run_case(case: Case, lines: list[Line], contender: Contender) -> CaseRun:
 def _one_run(case: Case, line: Line,
              contender: Contender) -> tuple[str, str, dict[str, float] | None]:
     """(status, verdict line, scores or None) of one run."""
-    run_line, controller = contender.setup(line)
     try:
+        run_line, controller = contender.setup(line)
         result = simulate(run_line, case.duration, raise_on_failure=False,
                           controller=controller)
-    except Exception as exc:  # a user's reset() or anything the run could not catch: scored
+    except NotApplicable:
+        raise
+    except Exception as exc:  # the user's constructor or reset(), or what a run raises:
+        # that contender fails this case; the benchmark goes on
         return "failed", f"{type(exc).__name__}: {' '.join(str(exc).split())}", None
     if result.status == "interrupted":  # Ctrl-C stops the benchmark, not only this run
         raise KeyboardInterrupt
