@@ -97,6 +97,16 @@ def test_noisy_measurements_and_one_drive_of_a_mixed_line() -> None:
     assert _worst(user.torque_cmd, builtin.torque_cmd) < 1e-9
 
 
+def test_two_compiled_laws_each_on_its_drive() -> None:
+    """Two laws, one per drive (two groups chained in the loop, each on its own slices of
+    the measurements, parameters and state): with the PI on both, the built-in run (1e-9)."""
+    line = webline.load_line("hswl")
+    builtin = webline.simulate(line, 1.0)
+    user = webline.simulate(line, 1.0, controller={
+        "unwind": PI.cascaded_pi(), "rewind": PI.cascaded_pi()})  # type: ignore[attr-defined]
+    assert _worst(user.states, builtin.states) < 1e-9
+
+
 def test_mixed_with_a_python_controller_runs_the_law_from_python() -> None:
     """A compiled law beside a Python controller: the run goes tick by tick through Python
     and calls the law there; the same PI on both drives is the built-in run (1e-9)."""

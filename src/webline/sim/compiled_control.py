@@ -11,13 +11,13 @@ the Python protocol (``sim.user_control``), in its order and units (per drive: s
 tension [N], radius [m], inertia [kg·m²]; speed reference [m/s], tension reference [N]);
 ``params`` the user's parameters (read them only); ``state`` the law's own memory
 (integrators, filters), kept from tick to tick; ``out`` the torque command [N·m] per drive,
-which the law writes. All are float64 arrays over the run's memory: the law allocates
-nothing and keeps no reference to them.
+which the law writes. All are float64 arrays over the run's memory: the law should allocate
+nothing and must keep no reference to them.
 
 ``CompiledController(law, params=..., state=...)`` is accepted wherever a Python controller
 is (``simulate(line, controller=...)``, per drive or for the whole line, ``Session``). Where
-every user controller of a run is compiled, the run's ticks go in one compiled call
-(``sim.core.law_loop``); mixed with Python controllers, the law is called from Python.
+every user controller of a run is compiled, the laws run inside the compiled loop's tick
+(``sim.core.law_kernel``); mixed with Python controllers, the law is called from Python.
 """
 
 from __future__ import annotations
@@ -120,7 +120,8 @@ class CompiledController:
 def compile_law(law: Callable[..., None], name: str) -> Any:
     """``law`` compiled by numba for ``SIGNATURE``: a plain function with numba's disk cache
     where its source file allows it, a ``numba.njit`` dispatcher as its author set it up.
-    Once per function in a process (the same dispatcher: ``law_loop`` reuses its driver)."""
+    Once per function in a process (the same dispatcher: ``law_kernel.law_hook`` reuses the
+    hook it compiled for it)."""
     if not isinstance(law, Dispatcher):
         try:  # numba's disk cache fails on code without a stable module (a notebook's, a
             # file loaded by path): then compile without it
