@@ -219,6 +219,17 @@ def test_line_file_function(tmp_path: Path) -> None:
     assert _worst(from_file.states, direct.states) < 1e-12  # the same law, the same run
 
 
+def test_line_file_object_factory_of_a_compiled_law(tmp_path: Path) -> None:
+    """``object = "file.py:cascaded_pi"``, a factory returning a ``CompiledController``:
+    the compiled PI on the rewind, whose params come from the context (the built-in run,
+    1e-9)."""
+    (tmp_path / "pi.py").write_text((EXAMPLES / "user_pi_numba.py").read_text())
+    path = _line_file(tmp_path, {"object": "pi.py:cascaded_pi"})
+    builtin = webline.simulate(webline.load_line("hswl"), 1.0)
+    assert _worst(webline.simulate(webline.load_line(path), 1.0).states,
+                  builtin.states) < 1e-9
+
+
 @pytest.mark.parametrize(("controller", "says"), [
     ({"function": "laws.py:nope"}, "has no 'nope'"),
     ({"function": "nofile.py:law"}, "cannot import"),
