@@ -18,6 +18,8 @@ from webline.spec.check import check_spec
 from webline.spec.locate import key_lines, locate
 from webline.spec.quantities import WEB_WIDTH
 from webline.spec.schema import LineSpec
+from webline.spec.webs import BranchedLineSpec
+from webline.spec.webs_check import check_branched
 from webline.units import clip, short, to_si
 
 BUILTIN_PACKAGE = "webline.data.lines"
@@ -156,6 +158,9 @@ def spec_from_dict(data: Any, file: str = "<dict>") -> LineSpec:
     checks across keys, which need a valid schema)."""
     if not isinstance(data, dict):
         raise LineFileError(file, "(top level)", "a line file must be a table of keys")
+    if "webs" in data:
+        raise LineFileError(file, "webs", "a branched line ([[webs]]): load it with "
+                            "webline.load_branched, or run it with webline.simulate")
     try:  # forces per width (pli, N/m) need the web's width: read it first
         spec = LineSpec.model_validate(data, context={WEB_WIDTH: _web_width(data)})
     except ValidationError as exc:
@@ -164,6 +169,45 @@ def spec_from_dict(data: Any, file: str = "<dict>") -> LineSpec:
         raise LineFileError(file, "(top level)", clip(str(exc), 200)) from None
     check_spec(spec, file)
     return spec
+
+
+def is_branched(data: Any) -> bool:
+    """Whether a line file's data is a branched line (``[[webs]]``, docs/branching.md)."""
+    return isinstance(data, dict) and "webs" in data
+
+
+def branched_from_dict(data: Any, file: str = "<dict>") -> BranchedLineSpec:
+    """Validate a plain dict into a checked ``BranchedLineSpec`` (``LineFileError`` else)."""
+    if not isinstance(data, dict):
+        raise LineFileError(file, "(top level)", "a line file must be a table of keys")
+    if "spans" in data:
+        raise LineFileError(file, "spans", "a branched line gives its spans in each of its "
+                            "[[webs]], not at the top level")
+    try:
+        spec = BranchedLineSpec.model_validate(data, context={WEB_WIDTH: _web_width(data)})
+    except ValidationError as exc:
+        raise LineFileError.of(file, _problems(exc, data)) from None
+    except (TypeError, ValueError, ArithmeticError, RecursionError) as exc:  # defensive
+        raise LineFileError(file, "(top level)", clip(str(exc), 200)) from None
+    check_branched(spec, file)
+    return spec
+
+
+def read_any(source: str | Path) -> tuple[dict[str, Any], str, str]:
+    """(TOML data, text, file label) of a line file path or a built-in line's name."""
+    text, label = read_text(source)
+    return _toml(text, label), text, label
+
+
+def parse_branched(data: dict[str, Any], text: str, label: str) -> BranchedLineSpec:
+    """The checked branched spec of a line file's ``data``; problems carry their TOML line."""
+    try:
+        return branched_from_dict(data, label)
+    except LineFileError as exc:
+        lines = key_lines(text)
+        raise LineFileError.of(label, [
+            Problem(p.key, p.problem, p.line or locate(lines, p.key)) for p in exc.problems
+        ]) from None
 
 
 def read_text(source: str | Path) -> tuple[str, str]:
@@ -196,16 +240,20 @@ def read_text(source: str | Path) -> tuple[str, str]:
     return resources.files(BUILTIN_PACKAGE).joinpath(f"{name}.toml").read_text("utf-8"), label
 
 
-def parse_text(text: str, label: str) -> LineSpec:
-    """The checked spec of a line file's ``text``; problems carry their TOML line."""
+def _toml(text: str, label: str) -> dict[str, Any]:
     try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise LineFileError(label, "(syntax)", str(exc)) from None
     except RecursionError:
         raise LineFileError(label, "(syntax)", "arrays or tables nested too deeply") from None
     except ValueError as exc:  # e.g. an integer of more than 4300 digits
         raise LineFileError(label, "(syntax)", clip(str(exc), 200)) from None
+
+
+def parse_text(text: str, label: str) -> LineSpec:
+    """The checked spec of a line file's ``text``; problems carry their TOML line."""
+    data = _toml(text, label)
     try:
         return spec_from_dict(data, label)
     except LineFileError as exc:

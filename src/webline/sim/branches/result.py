@@ -1,0 +1,147 @@
+"""The result of a branched line's run: an xarray Dataset of named signals and a verdict per
+web and lane computed from them."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import TYPE_CHECKING
+
+import numpy as np
+import xarray as xr
+
+from webline.sim.branches import layout as B
+from webline.spec.webs_check import kind_of
+from webline.verdict import Finding, Verdict
+from webline.version import __version__
+
+if TYPE_CHECKING:
+    from webline.sim.branches.plan import BranchPlan
+
+
+@dataclass(frozen=True, eq=False)
+class BranchResult:
+    """Records ``rec`` (rows [t, x..., torque command...]) of a run of ``plan``; ``failure``
+    says why it stopped early (None: it ran to its end)."""
+
+    plan: BranchPlan
+    rec: np.ndarray
+    failure: str | None
+    settings: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def time(self) -> np.ndarray:
+        return self.rec[:, 0]
+
+    @property
+    def states(self) -> np.ndarray:
+        return self.rec[:, 1:1 + self.plan.n_x]
+
+    @cached_property
+    def dataset(self) -> xr.Dataset:
+        """Signals with units (attrs ``units``): tension per span, layer tensions of laminate
+        spans, node speeds, roll radii, torques per drive, web length in/out per web."""
+        plan, line = self.plan, self.plan.line
+        x = self.states
+        n_s, n_n = len(line.spans), plan.nodes.shape[0]
+        o = plan.offsets
+        ea = plan.sf[:, B.SF_EA]
+        tension = np.maximum(x[:, :n_s], 0.0)
+        omega = x[:, o[B.O_OMEGA]:o[B.O_OMEGA] + n_n]
+        radius = x[:, o[B.O_RADIUS]:o[B.O_TORQUE]]
+        torque = x[:, o[B.O_TORQUE]:o[B.O_WEB]]
+        q = x[:, o[B.O_WEB]:o[B.O_N]]
+        stored = np.stack([np.sum(plan.sf[s, B.SF_LENGTH] * (1.0 - x[:, s] / ea[s]), axis=1)
+                           for s in (line.web_spans(w) for w in range(len(line.spec.webs)))],
+                          axis=1)
+        layer_names, layer_values = [], []
+        for span in line.spans:  # each layer's tension in the laminate: (EA_i / EA_L) x_L
+            web = line.spec.webs[span.web]
+            for name in web.layers or []:
+                share = line.materials[line.web_index[name]].ea / ea[span.index]
+                layer_names.append(f"{span.name}/{name}")
+                layer_values.append(share * tension[:, span.index])
+        roll_names = [f"{line.spec.rollers[r.node].name}/{line.spec.webs[r.web].name}"
+                      for r in line.rolls]
+        drives = [line.spec.rollers[i].name for i in line.drives]
+        t = self.time
+
+        def var(dims: tuple[str, ...], values: np.ndarray, units: str, text: str) -> xr.Variable:
+            return xr.Variable(("time", *dims), values, {"units": units, "long_name": text})
+
+        data = {
+            "tension": var(("span",), tension, "N", "span tension"),
+            "strain": var(("span",), x[:, :n_s] / ea, "1", "span strain EA·ε / EA"),
+            "layer_tension": var(("layer_span",), np.array(layer_values).T.reshape(
+                len(t), len(layer_names)), "N", "layer tension in a laminate span"),
+            "omega": var(("node",), omega, "rad/s", "roller angular speed"),
+            "radius": var(("roll",), radius, "m", "wound radius of a roll or lane"),
+            "torque": var(("drive",), torque, "N*m", "motor torque"),
+            "torque_cmd": var(("drive",), self.rec[:, 1 + plan.n_x:], "N*m", "torque command"),
+            "web_in": var(("web",), q[:, 0::2], "m", "unstrained web in at the path's start"),
+            "web_out": var(("web",), q[:, 1::2], "m", "unstrained web out at the path's end"),
+            "web_stored": var(("web",), stored, "m", "unstrained web in the path's spans"),
+        }
+        coords = {"time": ("time", t, {"units": "s"}),
+                  "span": [s.name for s in line.spans],
+                  "span_web": ("span", [line.spec.webs[s.web].name for s in line.spans]),
+                  "layer_span": layer_names, "node": [r.name for r in line.spec.rollers],
+                  "roll": roll_names, "drive": drives,
+                  "web": [w.name for w in line.spec.webs]}
+        return xr.Dataset(data, coords, attrs={
+            "line": line.name, "scenario": line.scenario or "", "webline_version": __version__,
+            "failure": self.failure or "", **{k: float(v) for k, v in self.settings.items()}})
+
+    def to_xarray(self) -> xr.Dataset:
+        return self.dataset
+
+    @cached_property
+    def verdict(self) -> Verdict:
+        """Per web and lane: slack (tension 0 in a span) and tension above the web's
+        ``tension_limit`` are warnings; a run stopped early is a failure."""
+        line = self.plan.line
+        ds = self.dataset
+        findings = []
+        if self.failure is not None:
+            kind = "nonfinite" if "finite" in self.failure else (
+                "unwind_empty" if "unwind" in self.failure else "diverged")
+            findings.append(Finding("failed", kind, line.name, f"the run stopped: "
+                                    f"{self.failure}", float(self.time[-1]) if len(
+                                        self.time) else 0.0))
+        for w, web in enumerate(line.spec.webs):
+            spans = line.web_spans(w)
+            tension = ds["tension"].values[:, spans]
+            label = f"{kind_of(web)} {web.name}"
+            slack = np.nonzero(np.any(tension <= 0.0, axis=1))[0]
+            if len(slack):
+                findings.append(Finding("warning", "slack", web.name, f"{label} goes slack at "
+                                        f"t = {self.time[slack[0]]:.4g} s", float(
+                                            self.time[slack[0]])))
+            material = web.web or (line.spec.web if kind_of(web) == "web" else None)
+            limit = material.tension_limit if material is not None else None
+            if limit is not None and np.max(tension) > limit:
+                first = int(np.nonzero(np.any(tension > limit, axis=1))[0][0])
+                findings.append(Finding("warning", "tension_limit", web.name,
+                                        f"{label} exceeds its tension limit {limit:.4g} N "
+                                        f"(max {np.max(tension):.4g} N)",
+                                        float(self.time[first])))
+        return Verdict.of(findings)
+
+    def web_summary(self) -> list[dict[str, object]]:
+        """Per web: its kind, tension min/max/final per span [N] and length balance [m]."""
+        line = self.plan.line
+        ds = self.dataset
+        out = []
+        for w, web in enumerate(line.spec.webs):
+            spans = line.web_spans(w)
+            balance = (ds["web_stored"].values[:, w] + ds["web_out"].values[:, w]
+                       - ds["web_in"].values[:, w])
+            out.append({
+                "web": web.name, "kind": kind_of(web),
+                "spans": {line.spans[k].name: {
+                    "min_N": float(ds["tension"].values[:, k].min()),
+                    "max_N": float(ds["tension"].values[:, k].max()),
+                    "final_N": float(ds["tension"].values[-1, k])} for k in spans},
+                "length_balance_drift_m": float(np.max(np.abs(balance - balance[0]))),
+            })
+        return out
