@@ -1,11 +1,11 @@
 """webline: model, simulate, analyse and control roll-to-roll (web handling) process lines.
 
-The front door: ``load_line``, ``simulate``, ``Session``, ``sweep``, ``monte_carlo``,
-``linearize``, ``operating_point`` and their types; and, from the layer above it
-(``webline.twin``, which is imported only when one of them is first used, never by this
-module's code), ``load_measurements``, ``replay``, ``fit`` and ``tune``. Each is imported on
-first use (PEP 562), so ``import webline`` and the command line start fast; python-control,
-scipy and numba load only when a model or a run needs them.
+The front door: ``load_line`` (``load_branched`` for a line whose webs branch), ``simulate``,
+``Session``, ``sweep``, ``monte_carlo``, ``linearize``, ``operating_point`` and their types;
+and, from the layer above it (``webline.twin``, which is imported only when one of them is
+first used, never by this module's code), ``load_measurements``, ``replay``, ``fit`` and
+``tune``. Each is imported on first use (PEP 562), so ``import webline`` and the command line
+start fast; python-control, scipy and numba load only when a model or a run needs them.
 """
 
 from __future__ import annotations
@@ -26,6 +26,7 @@ from webline.version import __version__
 if TYPE_CHECKING:
     from webline.line import Line, load_line
     from webline.model.operating_point import OperatingPoint, operating_point
+    from webline.model.web_graph import BranchedLine, load_branched
     from webline.sim.linear.linearize import linearize
     from webline.sim.reference import simulate_reference
     from webline.sim.results.result import Result
@@ -37,6 +38,8 @@ if TYPE_CHECKING:
 _LAZY = {
     "Line": "webline.line",
     "load_line": "webline.line",
+    "BranchedLine": "webline.model.web_graph",
+    "load_branched": "webline.model.web_graph",
     "OperatingPoint": "webline.model.operating_point",
     "operating_point": "webline.model.operating_point",
     "linearize": "webline.sim.linear.linearize",
@@ -59,6 +62,7 @@ _LAZY_ABOVE = {
 
 __all__ = [
     "ArgumentError",
+    "BranchedLine",
     "ControllerError",
     "Line",
     "LineFileError",
@@ -72,6 +76,7 @@ __all__ = [
     "__version__",
     "fit",
     "linearize",
+    "load_branched",
     "load_line",
     "load_measurements",
     "monte_carlo",

@@ -28,6 +28,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline.sim.core",),
     ("webline.sim.linear",),
     ("webline.sim.results",),
+    ("webline.sim.branches",),
     ("webline.sim",),
     ("webline.sim.sweeps",),
     ("webline",),

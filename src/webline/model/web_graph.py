@@ -127,7 +127,7 @@ class BranchedLine:
 
     @cached_property
     def spans(self) -> tuple[Span, ...]:
-        out = []
+        out: list[Span] = []
         for w, web in enumerate(self.spec.webs):
             for k, s in enumerate(web.spans):
                 a, b = self.node_index[web.path[k]], self.node_index[web.path[k + 1]]
@@ -140,7 +140,7 @@ class BranchedLine:
 
     @cached_property
     def rolls(self) -> tuple[Roll, ...]:
-        out = []
+        out: list[Roll] = []
         for w, web in enumerate(self.spec.webs):
             first = self.spec.rollers[self.node_index[web.path[0]]]
             last = self.spec.rollers[self.node_index[web.path[-1]]]

@@ -67,7 +67,8 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
                 unsupported(f"{key}.{name}", fail)
         if roller.breakaway_torque > 0.0:
             unsupported(f"{key}.breakaway_torque", fail)
-        if getattr(roller, "contact", None) is not None and roller.contact.type != "adhered":
+        contact = getattr(roller, "contact", None)
+        if contact is not None and contact.type != "adhered":
             unsupported(f"{key}.contact", fail)
         if isinstance(roller, UnwindSpec | RewindSpec) and not isinstance(roller.inertia, float):
             unsupported(f"{key}.inertia", fail, "a roll's inertia as one number, without web")
@@ -154,7 +155,7 @@ def _check_web(spec: BranchedLineSpec, w: int, web: WebPathSpec, webs: dict[str,
     last = rollers[web.path[-1]][1]
     consumers = [v for v in spec.webs if v.path[0] == web.path[-1]]
     if isinstance(last, UnwindSpec):
-        fail(f"{key}.path[-1]", f"a path ends at a rewind or a junction, not at an unwind")
+        fail(f"{key}.path[-1]", "a path ends at a rewind or a junction, not at an unwind")
     if not isinstance(last, RewindSpec) and not consumers:
         fail(f"{key}.path[-1]", f"{last.name!r} is no rewind and no web starts there: the web "
              "would end in the air")

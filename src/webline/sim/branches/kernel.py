@@ -200,7 +200,7 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             n_rec += 1
         if j == n_ticks:
             break
-        for s in range(substeps):
+        for _ in range(substeps):
             for stage in range(4):
                 state = x if stage == 0 else tmp
                 rhs(state, cmd, wound, offsets, nodes, si, sf, layers, rolls, webs, di, df,

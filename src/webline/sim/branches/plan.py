@@ -118,9 +118,9 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     if change is not None:
         node = line.node_index[change.roller]
         j = next(j for j, r in enumerate(line.rolls) if r.node == node)
-        web = line.rolls[j].web
-        new = wound[web] if change.wound_in_tension is None else change.wound_in_tension
-        events = np.array([[change.time, j, change.radius, new, web]])
+        w = line.rolls[j].web
+        new = wound[w] if change.wound_in_tension is None else change.wound_in_tension
+        events = np.array([[change.time, j, change.radius, new, w]])
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
     top = max(float(np.max(np.abs(v))) for v in [breakpoints(spec.speed)[1]])
     rate = spec.control.sample_rate if sample_rate is None else sample_rate
