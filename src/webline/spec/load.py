@@ -269,7 +269,7 @@ def read_spec(source: str | Path) -> tuple[LineSpec, str]:
     return parse_text(text, label), label
 
 
-def dump_spec(spec: LineSpec) -> str:
+def dump_spec(spec: LineSpec | BranchedLineSpec) -> str:
     """TOML text of ``spec`` with every quantity in SI; loading it gives the same line."""
     data = spec.model_dump(mode="python", exclude_none=True)
     return tomli_w.dumps(data)
