@@ -153,7 +153,8 @@ def _check_web(spec: BranchedLineSpec, w: int, web: WebPathSpec, webs: dict[str,
         if isinstance(rollers[name][1], UnwindSpec | RewindSpec):
             fail(f"{key}.path[{p}]", f"a roll ({name!r}) can only start or end a path")
     last = rollers[web.path[-1]][1]
-    consumers = [v for v in spec.webs if v.path[0] == web.path[-1]]
+    consumers = [v for v in spec.webs if v.path[0] == web.path[-1]  # (or its laminate or
+                 or web.name in (v.layers or []) or v.slit_from == web.name]  # lanes: say so)
     if isinstance(last, UnwindSpec):
         fail(f"{key}.path[-1]", "a path ends at a rewind or a junction, not at an unwind")
     if not isinstance(last, RewindSpec) and not consumers:
