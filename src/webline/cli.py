@@ -192,7 +192,18 @@ def validate(line: LineArg) -> None:
     TOML line and exit 2, or print 'ok' and any warnings (unusual values, winder settings that
     cannot act, speed loops soft against the web) and exit 0."""
     from webline.line import load_line
+    from webline.model.web_graph import load_branched, source_is_branched
 
+    if source_is_branched(line):  # docs/branching.md
+        branched = load_branched(line)
+        for name in branched.spec.scenarios:
+            branched.with_scenario(name)
+        typer.echo(f"ok: {branched.source}: branched line {branched.name!r} with "
+                   f"{len(branched.spec.webs)} webs, {len(branched.spec.rollers)} rollers, "
+                   f"{len(branched.spans)} spans, {len(branched.drives)} drives, "
+                   f"{len(branched.zones)} tension zones; scenarios: "
+                   f"{', '.join(branched.spec.scenarios) or 'none'}")
+        return
     loaded = load_line(line)  # a LineFileError lists every problem, one a line (fail())
     for name in loaded.spec.scenarios:
         loaded.with_scenario(name)

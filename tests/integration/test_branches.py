@@ -153,3 +153,48 @@ def test_roll_change_gives_the_new_roll_the_old_surface_speed():
     # controllers change it in one 10 ms step: < 1 %)
     v = speed.sel(time=[4.99, 5.01], method="nearest").values
     assert v[1] == pytest.approx(v[0], rel=1e-2)
+
+
+def test_webline_run_writes_a_branched_lines_files(tmp_path):
+    import json
+
+    import xarray as xr
+    from typer.testing import CliRunner
+
+    from webline.cli import app
+
+    out = tmp_path / "run"
+    result = CliRunner().invoke(app, ["run", "laminator", "-s", "layer-upset", "-d", "3",
+                                      "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    summary = json.loads((out / "summary.json").read_text("utf-8"))
+    assert summary["verdict"]["status"] == "ok"
+    assert [w["web"] for w in summary["webs"]] == ["film", "foil", "laminate"]
+    # the verdict's numbers are the run's: the film zone follows its step to 150 N
+    film = summary["webs"][0]["spans"]["film_zone"]
+    assert 149.0 < film["final_N"] < 151.0 and film["max_N"] > 150.0
+    with xr.open_dataset(out / "results.nc") as ds:
+        assert float(ds["time"][-1]) == pytest.approx(3.0)
+        assert "webs" in ds.attrs["line_spec"]
+    assert (out / "figures" / "tensions.png").stat().st_size > 10_000
+    valid = CliRunner().invoke(app, ["validate", "slitter"])
+    assert valid.exit_code == 0 and "branched line 'slitter' with 4 webs" in valid.output
+
+
+def test_webline_run_refuses_a_bad_branched_file_in_one_line(tmp_path):
+    from importlib import resources
+
+    from typer.testing import CliRunner
+
+    from webline.cli import app
+
+    text = resources.files("webline.data.lines").joinpath("laminator.toml").read_text("utf-8")
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace('type = "idle"', 'type = "idle"\nnip = { load = "1 kN", '
+                                'radius = "5 cm", inertia = "0.001 kg*m**2" }', 1),
+                   encoding="utf-8")
+    result = CliRunner().invoke(app, ["run", str(bad), "-o", str(tmp_path / "o")])
+    assert result.exit_code == 2, result.output
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and "rollers[1].nip: not yet supported on a branched line" in lines[0]
+    assert "Traceback" not in result.output
