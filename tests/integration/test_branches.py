@@ -135,7 +135,7 @@ def test_the_operating_point_is_steady_on_the_kernels_rhs():
         point = operating_point(plan)
         dx = np.zeros(plan.n_x)
         rhs(point.x, point.torque, plan.wound, *plan.tables(), dx,
-            np.zeros(2 * len(plan.line.spans) + plan.nodes.shape[0]))
+            plan.scratch())
         n_s = len(plan.line.spans)
         # stretch rates relative to EA v / L (the scale of a span's rate): solver tolerance
         scale = plan.sf[:, B.SF_EA] * point.line_speed / plan.sf[:, B.SF_LENGTH]

@@ -78,7 +78,7 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.nd
             arms[plan.di[d, B.DI_NODE]] = x[off_r + j]
     tables = (plan.offsets, nodes, *plan.tables()[2:])
     dx = np.zeros(plan.n_x)
-    work = np.zeros(2 * n_s + n_n)
+    work = plan.scratch()
     cmd = np.zeros(n_d)
     w_scale = speed / arms
     tq_scale = t_scale * plan.nodes[plan.di[:, B.DI_NODE], B.N_RADIUS]
@@ -122,7 +122,7 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.nd
 
 def operating_point(plan: BranchPlan, t: float = 0.0) -> BranchPoint:
     """The steady state of ``plan`` at time ``t`` [s] of its references (module docstring)."""
-    n_s, n_n, n_d = len(plan.line.spans), plan.nodes.shape[0], plan.di.shape[0]
+    n_n, n_d = plan.nodes.shape[0], plan.di.shape[0]
     off_w, off_r, off_tq = (plan.offsets[B.O_OMEGA], plan.offsets[B.O_RADIUS],
                             plan.offsets[B.O_TORQUE])
     speed = plan.profile(0, t)
@@ -141,7 +141,7 @@ def operating_point(plan: BranchPlan, t: float = 0.0) -> BranchPoint:
         dx = np.zeros(plan.n_x)
         cmd = np.zeros(n_d)
         at[off_tq:off_tq + n_d] = 0.0
-        rhs(at, cmd, plan.wound, *plan.tables(), dx, np.zeros(2 * n_s + n_n))
+        rhs(at, cmd, plan.wound, *plan.tables(), dx, plan.scratch())
         for d in range(n_d):  # J dω/dt = web torque + n τ = 0
             i = plan.di[d, B.DI_NODE]
             inertia_rate = dx[off_w + i]

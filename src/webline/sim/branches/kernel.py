@@ -6,6 +6,7 @@ rollers 6.9/6.11); tables in ``sim.branches.layout``.
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
@@ -69,49 +70,64 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         rolls: np.ndarray, webs: np.ndarray, di: np.ndarray, df: np.ndarray,
         dx: np.ndarray, work: np.ndarray) -> None:
     """dx/dt of a branched line into ``dx`` with held motor-torque commands ``cmd`` [N·m] and
-    wound-in tensions ``wound`` [N] per web. ``work``: scratch of 2 x spans + nodes."""
+    wound-in tensions ``wound`` [N] per web. ``work``: scratch of 4 x spans + 2 x nodes
+    (``work_size``)."""
     n_s, n_n = si.shape[0], nodes.shape[0]
     off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
     off_tq, off_q = offsets[B.O_TORQUE], offsets[B.O_WEB]
     tension = work[:n_s]
     s_in = work[n_s:2 * n_s]
-    torque = work[2 * n_s:2 * n_s + n_n]
+    v_a = work[2 * n_s:3 * n_s]
+    v_b = work[3 * n_s:4 * n_s]
+    torque = work[4 * n_s:4 * n_s + n_n]
+    inertia = work[4 * n_s + n_n:4 * n_s + 2 * n_n]
     for k in range(n_s):
         tension[k] = _tension(x[k])
     for i in range(n_n):
         torque[i] = 0.0
+        inertia[i] = nodes[i, B.N_JCONST]
+    for j in range(rolls.shape[0]):  # every roll wound on a node adds its web's inertia
+        i = int(rolls[j, B.R_NODE])
+        radius = x[off_r + j]
+        inertia[i] += _roll_inertia(0.0, radius, rolls[j, B.R_CORE], rolls[j, B.R_WIDTH],
+                                    rolls[j, B.R_RHO])
+        dx[off_r + j] = _radius_rate(radius * x[off_w + i], radius, rolls[j, B.R_THICK],
+                                     rolls[j, B.R_DIR])
     for k in range(n_s):
         a, b = si[k, B.S_A], si[k, B.S_B]
         arm_a = arm(si[k, B.S_ARMA], a, x, offsets, nodes)
         arm_b = arm(si[k, B.S_ARMB], b, x, offsets, nodes)
+        v_a[k] = arm_a * x[off_w + a]
+        v_b[k] = arm_b * x[off_w + b]
         s_in[k] = carried_in(k, x, tension, wound, si, sf, layers)
-        dx[k] = _stretch_rate(sf[k, B.SF_LENGTH], sf[k, B.SF_EA], arm_a * x[off_w + a],
-                              arm_b * x[off_w + b], s_in[k], tension[k])
+        dx[k] = _stretch_rate(sf[k, B.SF_LENGTH], sf[k, B.SF_EA], v_a[k], v_b[k], s_in[k],
+                              tension[k])
         torque[a] += arm_a * tension[k]  # the span pulls its upstream roller forward
         torque[b] -= arm_b * tension[k]
     for i in range(n_n):
         omega = x[off_w + i]
-        total = torque[i] - _friction(omega, nodes[i, B.N_VISCOUS], nodes[i, B.N_COULOMB])
+        total = torque[i] - nodes[i, B.N_VISCOUS] * omega
+        if nodes[i, B.N_COULOMB] != 0.0:  # (a tanh costs more than the rest of the node)
+            total -= _friction(omega, 0.0, nodes[i, B.N_COULOMB])
         d = int(nodes[i, B.N_DRIVE])
         if d >= 0:
             total += nodes[i, B.N_RATIO] * x[off_tq + d]
-        dx[off_w + i] = total / node_inertia(i, x, offsets, nodes, rolls)
-    for j in range(rolls.shape[0]):
-        i = int(rolls[j, B.R_NODE])
-        radius = x[off_r + j]
-        dx[off_r + j] = _radius_rate(radius * x[off_w + i], radius, rolls[j, B.R_THICK],
-                                     rolls[j, B.R_DIR])
+        if nodes[i, B.N_ROLLS] > 0.0:  # J(R) of the rolls on it (6.1)
+            dx[off_w + i] = total / inertia[i]
+        else:
+            dx[off_w + i] = total * nodes[i, B.N_INVJ]
     for d in range(di.shape[0]):
         dx[off_tq + d] = (cmd[d] - x[off_tq + d]) * df[d, B.D_INVLAG]
     for w in range(webs.shape[0]):  # unstrained web in and out: v (1 - ε) at each end
         first, last = webs[w, B.WB_FIRST], webs[w, B.WB_LAST]
-        ea = sf[first, B.SF_EA]
-        v_in = arm(si[first, B.S_ARMA], si[first, B.S_A], x, offsets, nodes) * x[
-            off_w + si[first, B.S_A]]
-        v_out = arm(si[last, B.S_ARMB], si[last, B.S_B], x, offsets, nodes) * x[
-            off_w + si[last, B.S_B]]
-        dx[off_q + 2 * w] = v_in * (1.0 - s_in[first] / ea)
-        dx[off_q + 2 * w + 1] = v_out * (1.0 - tension[last] / ea)
+        inv_ea = sf[first, B.SF_INVEA]
+        dx[off_q + 2 * w] = v_a[first] * (1.0 - s_in[first] * inv_ea)
+        dx[off_q + 2 * w + 1] = v_b[last] * (1.0 - tension[last] * inv_ea)
+
+
+def work_size(n_spans: int, n_nodes: int) -> int:
+    """Length of ``rhs``'s scratch array."""
+    return 4 * n_spans + 2 * n_nodes
 
 
 @jit
@@ -167,7 +183,7 @@ def roll_change(t: float, x: np.ndarray, wound: np.ndarray, done: np.ndarray,
             wound[int(events[e, B.E_WEB])] = events[e, B.E_WOUND]
 
 
-@loop_njit
+@jit
 def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
             rec: np.ndarray, stages: np.ndarray, cmd: np.ndarray, work: np.ndarray,
             tick0: int, n_ticks: int, dt: float, substeps: int, record_every: int,
@@ -226,6 +242,35 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             if abs(x[off_w + i]) * r_i > speed_max:
                 return n_rec, B.STATUS_RUNAWAY, t + dt
     return n_rec, B.STATUS_OK, math.nan
+
+
+def compiled_advance(offsets: np.ndarray, si: np.ndarray, layers: np.ndarray,
+                     webs: np.ndarray, di: np.ndarray, cells: np.ndarray) -> Any:
+    """``advance`` compiled for one line structure: its integer tables frozen into the loop
+    as constants (as the chain's ``sim.core.kernel.compiled_loop``), so the loops over spans,
+    nodes and drives have known trip counts and table look-ups fold away. Called with the
+    remaining arguments of ``advance`` (the float tables stay run-time arrays)."""
+    return _compiled(*((*np.asarray(a).ravel().tolist(), np.asarray(a).shape)
+                       for a in (offsets, si, layers, webs, di, cells)))
+
+
+@functools.cache
+def _compiled(*tables: tuple[Any, ...]) -> Any:
+    offsets, si, layers, webs, di, cells = (
+        np.array(t[:-1], dtype=np.int64).reshape(t[-1]) for t in tables)
+
+    @loop_njit
+    def loop(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
+             rec: np.ndarray, stages: np.ndarray, cmd: np.ndarray, work: np.ndarray,
+             tick0: int, n_ticks: int, dt: float, substeps: int, record_every: int,
+             speed_max: float, nodes: np.ndarray, sf: np.ndarray, rolls: np.ndarray,
+             df: np.ndarray, events: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
+             prof_off: np.ndarray) -> tuple[int, int, float]:
+        return advance(x, istate, wound, done, rec, stages, cmd, work, tick0, n_ticks, dt,
+                       substeps, record_every, speed_max, offsets, nodes, si, sf, layers,
+                       rolls, webs, di, df, cells, events, prof_t, prof_v, prof_off)
+
+    return loop
 
 
 def new_records(n_ticks: int, record_every: int, n_x: int, n_d: int) -> np.ndarray:

@@ -11,12 +11,13 @@ from __future__ import annotations
 O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_N = range(5)
 
 # node table (float)
-N_RADIUS, N_JCONST, N_VISCOUS, N_COULOMB, N_CORE, N_RATIO, N_DRIVE, N_COLS = range(8)
+(N_RADIUS, N_JCONST, N_VISCOUS, N_COULOMB, N_CORE, N_RATIO, N_DRIVE, N_INVJ, N_ROLLS,
+ N_COLS) = range(10)
 
 # span table (int): nodes, web, where the carried-in stretch comes from, roll arms, layers
 S_A, S_B, S_WEB, S_SRC, S_FROM, S_ARMA, S_ARMB, S_COUNT, S_COLS = range(9)
 # span table (float)
-SF_LENGTH, SF_EA, SF_SHARE, SF_COLS = range(4)
+SF_LENGTH, SF_EA, SF_SHARE, SF_INVEA, SF_COLS = range(5)
 #: S_SRC: the previous span of the path | the unwind's wound-in tension | the sum of the
 #: layers' last spans (a laminate's first span) | the base web's last span x share (a lane)
 SRC_PREVIOUS, SRC_WOUND, SRC_LAYERS, SRC_SLIT = range(4)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -13,6 +14,7 @@ from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
 from webline.sim.branches import layout as B
+from webline.sim.branches.kernel import compiled_advance, node_inertia, work_size
 from webline.spec.schema import CascadedPISpec, IdleSpec, RewindSpec, UnwindSpec
 from webline.spec.webs_check import kind_of
 
@@ -53,6 +55,27 @@ class BranchPlan:
         return (self.offsets, self.nodes, self.si, self.sf, self.layers, self.rolls, self.webs,
                 self.di, self.df)
 
+    def scratch(self) -> np.ndarray:
+        """Scratch for ``kernel.rhs``."""
+        return np.zeros(work_size(len(self.line.spans), self.nodes.shape[0]))
+
+    def loop(self) -> Any:
+        """The compiled loop of this plan's structure (``kernel.compiled_advance``)."""
+        return compiled_advance(self.offsets, self.si, self.layers, self.webs, self.di,
+                                self.cells)
+
+    def run(self, x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
+            rec: np.ndarray, cmd: np.ndarray, tick0: int, n_ticks: int, substeps: int,
+            record_every: int) -> tuple[int, int, float]:
+        """Advance ``x``, ``istate``, ``wound`` (wound-in tension per web), ``done`` (roll
+        changes made) and ``cmd`` in place by ``n_ticks`` controller periods, recording
+        into ``rec`` (``kernel.advance``)."""
+        stages = np.empty((5, self.n_x))
+        return self.loop()(x, istate, wound, done, rec, stages, cmd, self.scratch(), tick0,
+                           n_ticks, self.dt, substeps, record_every, self.speed_max,
+                           self.nodes, self.sf, self.rolls, self.df, self.events, self.prof_t,
+                           self.prof_v, self.prof_off)
+
     def profile(self, p: int, t: float) -> float:
         a, b = self.prof_off[p], self.prof_off[p + 1]
         return float(np.interp(t, self.prof_t[a:b], self.prof_v[a:b]))
@@ -82,8 +105,10 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
             nodes[i, B.N_VISCOUS] += n * n * r.drive.motor_friction  # at the motor shaft
         if isinstance(r, UnwindSpec | RewindSpec):
             nodes[i, B.N_CORE] = r.core_radius
+    nodes[:, B.N_INVJ] = 1.0 / nodes[:, B.N_JCONST]
     rolls = np.zeros((n_r, B.R_COLS))
     for j, roll in enumerate(line.rolls):
+        nodes[roll.node, B.N_ROLLS] += 1
         m = line.materials[roll.web]
         rolls[j] = (roll.node, roll.web, roll.direction, m.thickness, m.width, m.density,
                     nodes[roll.node, B.N_CORE])
@@ -146,6 +171,7 @@ def _span_tables(line: BranchedLine) -> tuple[np.ndarray, np.ndarray, np.ndarray
         si[k, B.S_ARMB] = line.roll_of(span.b, span.web)
         sf[k, B.SF_LENGTH] = span.length
         sf[k, B.SF_EA] = line.materials[span.web].ea
+        sf[k, B.SF_INVEA] = 1.0 / sf[k, B.SF_EA]
         if span.k > 0:
             si[k, B.S_SRC], si[k, B.S_FROM] = B.SRC_PREVIOUS, k - 1
         elif kind_of(web) == "laminate":
@@ -186,8 +212,6 @@ def zone_compliance(line: BranchedLine, i: int) -> float:
 
 def _tune(plan: BranchPlan) -> None:
     """PI gains of every drive (the chain's ``sim.core.drive_table._pi_columns`` rule)."""
-    from webline.sim.branches.kernel import node_inertia
-
     line = plan.line
     x = np.zeros(plan.n_x)
     for j, roll in enumerate(line.rolls):

@@ -11,7 +11,7 @@ from webline.errors import SimulationError
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches import layout as B
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
-from webline.sim.branches.kernel import advance, new_records, rhs
+from webline.sim.branches.kernel import new_records, rhs
 from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.branches.result import BranchResult
 from webline.spec.ranges import argument, whole_argument
@@ -28,10 +28,9 @@ def fastest_rate(plan: BranchPlan, point: BranchPoint) -> float:
     """Largest |eigenvalue| [1/s] of the plant at ``point`` (torques held), from a central
     finite-difference Jacobian of ``kernel.rhs`` (step 1e-6 of each state's scale)."""
     n = plan.n_x
-    n_work = 2 * len(plan.line.spans) + plan.nodes.shape[0]
     jac = np.zeros((n, n))
     up, down = np.zeros(n), np.zeros(n)
-    work = np.zeros(n_work)
+    work = plan.scratch()
     cmd = point.torque.copy()
     for m in range(n):
         h = 1e-6 * max(abs(point.x[m]), 1e-3)
@@ -84,14 +83,8 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     istate[:, B.I_SPEED] = point.torque  # the speed integrators hold the torques
     n_d = plan.di.shape[0]
     rec = new_records(n_ticks, every, plan.n_x, n_d)
-    stages = np.empty((5, plan.n_x))
-    work = np.zeros(2 * len(line.spans) + plan.nodes.shape[0])
-    wound = plan.wound.copy()
-    n_rec, status, t_fail = advance(
-        x, istate, wound, np.zeros(len(plan.events)), rec, stages, point.torque.copy(), work, 0,
-        n_ticks, plan.dt, substeps, every, plan.speed_max, plan.offsets, plan.nodes, plan.si,
-        plan.sf, plan.layers, plan.rolls, plan.webs, plan.di, plan.df, plan.cells,
-        plan.events, plan.prof_t, plan.prof_v, plan.prof_off)
+    n_rec, status, t_fail = plan.run(x, istate, plan.wound.copy(), np.zeros(len(plan.events)),
+                                     rec, point.torque.copy(), 0, n_ticks, substeps, every)
     failure = None if status == B.STATUS_OK else _failure_text(status, t_fail)
     result = BranchResult(plan, rec[:n_rec].copy(), failure,
                           {"duration": duration, "dt": plan.dt, "substeps": substeps,
