@@ -159,8 +159,9 @@ def spec_from_dict(data: Any, file: str = "<dict>") -> LineSpec:
     if not isinstance(data, dict):
         raise LineFileError(file, "(top level)", "a line file must be a table of keys")
     if "webs" in data:
-        raise LineFileError(file, "webs", "a branched line ([[webs]]): load it with "
-                            "webline.load_branched, or run it with webline.simulate")
+        raise LineFileError(file, "webs", "a branched line ([[webs]]): not yet supported "
+                            "here (stage 1: webline run and validate; in Python "
+                            "webline.load_branched and webline.simulate; docs/branching.md)")
     try:  # forces per width (pli, N/m) need the web's width: read it first
         spec = LineSpec.model_validate(data, context={WEB_WIDTH: _web_width(data)})
     except ValidationError as exc:
@@ -183,6 +184,9 @@ def branched_from_dict(data: Any, file: str = "<dict>") -> BranchedLineSpec:
     if "spans" in data:
         raise LineFileError(file, "spans", "a branched line gives its spans in each of its "
                             "[[webs]], not at the top level")
+    for key in not_yet_branched(data):
+        raise LineFileError(file, key, "not yet supported on a branched line (stage 1: "
+                            "speed, set and roll_change scenarios, no disturbances)")
     try:
         spec = BranchedLineSpec.model_validate(data, context={WEB_WIDTH: _web_width(data)})
     except ValidationError as exc:
@@ -191,6 +195,24 @@ def branched_from_dict(data: Any, file: str = "<dict>") -> BranchedLineSpec:
         raise LineFileError(file, "(top level)", clip(str(exc), 200)) from None
     check_branched(spec, file)
     return spec
+
+
+#: keys of a single-path line file that a branched line does not take yet (stage 1)
+_NOT_YET_TOP = ("disturbances", "checks")
+_NOT_YET_SCENARIO = ("disturbances", "unwind_radius", "rewind_radius", "break", "splice")
+
+
+def not_yet_branched(data: dict[str, Any]) -> list[str]:
+    """Keys of ``data`` (a branched line file) that stage 1 does not support, as key paths."""
+    keys = [key for key in _NOT_YET_TOP if key in data]
+    scenarios = data.get("scenarios")
+    for name, scenario in (scenarios.items() if isinstance(scenarios, dict) else ()):
+        if isinstance(scenario, dict):
+            keys += [f"scenarios.{name}.{key}" for key in _NOT_YET_SCENARIO if key in scenario]
+    control = data.get("control")
+    if isinstance(control, dict) and "tension_ramp" in control:
+        keys.append("control.tension_ramp")
+    return keys
 
 
 def read_any(source: str | Path) -> tuple[dict[str, Any], str, str]:
