@@ -125,3 +125,27 @@ def test_a_scenario_changes_a_web_by_its_path():
     assert slitter.materials[2].thickness == pytest.approx(50e-6, rel=1e-12)
     change = load_branched("laminator").with_scenario("roll-change").roll_change
     assert change is not None and change.radius == 0.3 and change.wound_in_tension == 45.0
+
+
+def _driven_guide(d):
+    """The slitter's guide roller driven in tension control, with a loadcell before it."""
+    d["rollers"][1] = {"name": "guide", "type": "driven", "role": "tension", "radius": "50 mm",
+                       "inertia": "0.01 kg*m**2",
+                       "drive": {"ratio": 1.0, "torque_limit": "20 N*m"}}
+    d["webs"][0]["spans"][0]["tension"] = "300 N"
+
+
+def test_a_driven_roller_controls_the_zone_towards_the_master():
+    line = load_branched(changed(SLITTER, _driven_guide))
+    names = {r.name: i for i, r in enumerate(line.spec.rollers)}
+    unwind, guide = line.zones[names["unwind"]], line.zones[names["guide"]]
+    # the unwind now holds only the span to the guide; the guide, upstream of the master,
+    # holds the span downstream of it, towards the master (it feeds its zone: sigma -1)
+    assert [line.spans[k].name for k in unwind.spans] == ["base[0]"]
+    assert [line.spans[k].name for k in guide.spans] == ["unwind_zone"] and guide.sigma == -1.0
+    # a rewind pulls its zone (upstream of it): sigma +1
+    assert line.zones[names["rewind_3"]].sigma == 1.0
+    result = webline.simulate(line, 1.0)
+    assert result.failure is None
+    tension = result.dataset["tension"].sel(span=["base[0]", "unwind_zone"])
+    assert float(abs(tension - 300.0).max()) < 0.5  # both zones held at their 300 N
