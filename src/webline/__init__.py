@@ -2,10 +2,11 @@
 
 The front door: ``load_line`` (``load_branched`` for a line whose webs branch), ``simulate``,
 ``Session``, ``sweep``, ``monte_carlo``, ``linearize``, ``operating_point`` and their types;
-and, from the layer above it (``webline.twin``, which is imported only when one of them is
-first used, never by this module's code), ``load_measurements``, ``replay``, ``fit`` and
-``tune``. Each is imported on first use (PEP 562), so ``import webline`` and the command line
-start fast; python-control, scipy and numba load only when a model or a run needs them.
+and, from the layers above it (``webline.twin`` and ``webline.studies``, imported only when
+one of them is first used, never by this module's code), ``load_measurements``, ``replay``,
+``fit``, ``tune`` and ``benchmark``. Each is imported on first use (PEP 562), so ``import
+webline`` and the command line start fast; python-control, scipy and numba load only when a
+model or a run needs them.
 """
 
 from __future__ import annotations
@@ -50,14 +51,15 @@ _LAZY = {
     "sweep": "webline.sim.sweeps.sweep",
     "monte_carlo": "webline.sim.sweeps.sweep",
 }
-#: names of the twin layer (above this one): looked up on first use only, so importing
-#: ``webline`` never imports the layer above it (docs/architecture.md)
+#: names of the twin and studies layers (above this one): looked up on first use only, so
+#: importing ``webline`` never imports the layers above it (docs/architecture.md)
 _LAZY_ABOVE = {
     "load_measurements": "webline.twin.traces.measurements",
     "Measurements": "webline.twin.traces.measurements",
     "replay": "webline.twin.traces.replay",
     "fit": "webline.twin.fitting.fit",
     "tune": "webline.twin.tuning.tune",
+    "benchmark": "webline.studies.benchmark.run",
 }
 
 __all__ = [
@@ -74,6 +76,7 @@ __all__ = [
     "SimulationInterrupted",
     "WeblineError",
     "__version__",
+    "benchmark",
     "fit",
     "linearize",
     "load_branched",

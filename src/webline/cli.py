@@ -18,6 +18,7 @@ from rich.console import Console
 from rich.markup import escape
 
 from webline.cli_analyze import analyze
+from webline.cli_benchmark import benchmark_command
 from webline.cli_common import (
     INTERRUPTED,
     TERMINATED,
@@ -311,6 +312,7 @@ app.command("replay")(handles_errors(replay_command))
 app.command("fit")(handles_errors(fit_command))
 app.command("tune")(handles_errors(tune_command))
 app.command("experiment")(handles_errors(experiment_command))
+app.command("benchmark")(handles_errors(benchmark_command))
 
 
 def main() -> None:

@@ -49,7 +49,7 @@ def observe(d: int, i: int, dt: float, tick: int, radius: float, inertia: float,
     ea = drives[d, L.D_OBS_EA]
     dt_hat = (ea * (v_out - v_in) + t_before * v_in - t_hat * v_out) / length
     if upstream:  # own roller: T_out = T̂, T_in = the span before
-        t_in = web[L.W_T0] if i == 0 else span_ref[i - 1]
+        t_in = 0.0 if i == 0 else span_ref[i - 1]  # an unwind roll: no span before it
         net = radius * (t_hat - t_in)
     else:  # own roller: T_in = T̂, T_out = the span after (its reference)
         t_out = span_ref[i] if i < span_ref.shape[0] else 0.0
