@@ -198,3 +198,30 @@ def test_webline_run_refuses_a_bad_branched_file_in_one_line(tmp_path):
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and "rollers[1].nip: not yet supported on a branched line" in lines[0]
     assert "Traceback" not in result.output
+
+
+def test_the_slitter_knife_carries_the_sum_of_its_lanes():
+    """At the operating point the idle slitter roller is in torque balance (B4):
+    r (T_1 + T_2 + T_3 - T_knife) = b ω, so T_knife = Σ T_lanes - b v / r² (0.2 N here)."""
+    ds = webline.simulate("slitter", 0.01).dataset.isel(time=0)
+    lanes = float(ds["tension"].sel(span=["lane_1_span", "lane_2_span", "lane_3_span"]).sum())
+    knife = float(ds["tension"].sel(span="knife_span"))
+    b, r, v = 1e-4, 0.05, 5.0
+    assert knife == pytest.approx(lanes - b * v / r**2, rel=1e-9)
+
+
+@pytest.mark.parametrize(("line", "scenario"), [
+    ("laminator", "start-up"), ("laminator", "roll-change"), ("laminator", "layer-upset"),
+    ("slitter", "start-up"), ("slitter", "thickness-profile")])
+def test_every_scenario_of_the_branched_lines_runs_to_its_end(line, scenario):
+    result = webline.simulate(line, scenario=scenario)
+    duration = webline.load_branched(line).spec.scenarios[scenario].duration
+    assert result.failure is None and result.time[-1] == pytest.approx(duration)
+    tension = result.dataset["tension"]
+    assert float(tension.min()) > 0.0  # no span went slack
+    if scenario == "start-up":  # from rest to line speed, the zones end at their references
+        final = tension.isel(time=-1)
+        for k, span in enumerate(result.plan.line.spans):
+            ref = result.plan.line.span_tension_spec(k)
+            if ref is not None:
+                assert float(final.sel(span=span.name)) == pytest.approx(ref, rel=2e-3)
