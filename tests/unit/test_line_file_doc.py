@@ -9,7 +9,7 @@ import pytest
 from pydantic import BaseModel
 
 from webline.spec import schema
-from webline.spec.webs import BranchedLineSpec
+from webline.spec.branched.schema import BranchedLineSpec
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "line-file.md"
 

@@ -14,6 +14,8 @@ from pathlib import Path
 from typing import Any
 
 from webline.errors import ArgumentError, LineFileError
+from webline.spec.branched.check import kind_of
+from webline.spec.branched.schema import BranchedLineSpec, RollChangeSpec, WebPathSpec
 from webline.spec.check import web_ea
 from webline.spec.load import (
     branched_from_dict,
@@ -23,8 +25,6 @@ from webline.spec.load import (
 )
 from webline.spec.paths import set_path
 from webline.spec.schema import DrivenSpec, IdleSpec, RewindSpec, UnwindSpec
-from webline.spec.webs import BranchedLineSpec, RollChangeSpec, WebPathSpec
-from webline.spec.webs_check import kind_of
 
 
 @dataclass(frozen=True)
@@ -97,7 +97,7 @@ class BranchedLine:
 
     @cached_property
     def materials(self) -> tuple[Material, ...]:
-        """The material of every web (module docstring of ``spec.webs``)."""
+        """The material of every web (module docstring of ``spec.branched.schema``)."""
         out: dict[str, Material] = {}
 
         def of(web: WebPathSpec) -> Material:

@@ -14,12 +14,12 @@ import tomli_w
 from pydantic import BaseModel, ValidationError
 
 from webline.errors import LineFileError, Problem
+from webline.spec.branched.check import check_branched
+from webline.spec.branched.schema import BranchedLineSpec
 from webline.spec.check import check_spec
 from webline.spec.locate import key_lines, locate
 from webline.spec.quantities import WEB_WIDTH
 from webline.spec.schema import LineSpec
-from webline.spec.webs import BranchedLineSpec
-from webline.spec.webs_check import check_branched
 from webline.units import clip, short, to_si
 
 BUILTIN_PACKAGE = "webline.data.lines"

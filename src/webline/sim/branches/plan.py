@@ -15,8 +15,8 @@ from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
 from webline.sim.branches import layout as B
 from webline.sim.branches.kernel import compiled_advance, node_inertia, work_size
+from webline.spec.branched.check import kind_of
 from webline.spec.schema import CascadedPISpec, IdleSpec, RewindSpec, UnwindSpec
-from webline.spec.webs_check import kind_of
 
 #: the runaway speed: this factor x the top reference speed, plus a floor [m/s]
 RUNAWAY_SPEED_FACTOR, RUNAWAY_SPEED_FLOOR = 3.0, 1.0

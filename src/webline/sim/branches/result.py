@@ -11,7 +11,7 @@ import numpy as np
 import xarray as xr
 
 from webline.sim.branches import layout as B
-from webline.spec.webs_check import kind_of
+from webline.spec.branched.check import kind_of
 from webline.verdict import Finding, Verdict
 from webline.version import __version__
 

@@ -10,6 +10,7 @@ from collections.abc import Callable
 from typing import NoReturn
 
 from webline.errors import LineFileError
+from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
 from webline.spec.schema import (
     CascadedPISpec,
     DrivenSpec,
@@ -18,7 +19,6 @@ from webline.spec.schema import (
     RollerSpec,
     UnwindSpec,
 )
-from webline.spec.webs import BranchedLineSpec, WebPathSpec
 
 Fail = Callable[[str, str], NoReturn]
 
