@@ -97,6 +97,11 @@ CASES = [  # (base, change, key in the message, fragment of the problem)
      "scenarios.start-up.unwind_radius", "not yet supported on a branched line"),
     (LAMINATOR, lambda d: d["control"].__setitem__("tension_ramp", {"time": "2 s"}),
      "control.tension_ramp", "not yet supported on a branched line"),
+    (LAMINATOR, lambda d: d["webs"][2].__setitem__("layers", ["foil", "foil"]),
+     "webs[0].path[-1]", "neither a layer of the laminate"),
+    (SLITTER, lambda d: d["webs"].append({"name": "second", "path": ["unwind", "guide"],
+                                          "spans": [{"length": "1 m"}]}),
+     "webs[0].path[0]", "several webs start at unwind"),
     (SLITTER, lambda d: d["webs"][1].__setitem__("width", "600 mm"), "webs[0]",
      "wider than the web"),
     (SLITTER, lambda d: d["webs"][1].pop("width"), "webs[1].width", "required"),
@@ -149,3 +154,44 @@ def test_a_driven_roller_controls_the_zone_towards_the_master():
     assert result.failure is None
     tension = result.dataset["tension"].sel(span=["base[0]", "unwind_zone"])
     assert float(abs(tension - 300.0).max()) < 0.5  # both zones held at their 300 N
+
+
+def _leaves(node: Any, path: tuple = ()):
+    if isinstance(node, dict):
+        for key, value in node.items():
+            yield from _leaves(value, (*path, key))
+    elif isinstance(node, list):
+        for i, value in enumerate(node):
+            yield from _leaves(value, (*path, i))
+    else:
+        yield path
+
+
+def _set(data: Any, path: tuple, value: object) -> None:
+    for part in path[:-1]:
+        data = data[part]
+    data[path[-1]] = value
+
+
+@pytest.mark.parametrize("base", [LAMINATOR, SLITTER], ids=["laminator", "slitter"])
+def test_no_mutation_of_a_branched_file_gives_a_traceback(base):
+    """Every value of the file replaced by a wrong one (wrong type, negative, a name of
+    nothing, empty): a LineFileError naming a key, or a line that still loads; never another
+    exception (the checks read names and indices the schema let through)."""
+    loaded = 0
+    for path in _leaves(base):
+        for value in (None, -1.0, "nowhere", [], "0 m"):
+            data = copy.deepcopy(base)
+            if value is None:
+                parent = data
+                for part in path[:-1]:
+                    parent = parent[part]
+                parent.pop(path[-1]) if isinstance(parent, dict) else parent.pop()
+            else:
+                _set(data, path, value)
+            try:
+                load_branched(data)
+                loaded += 1
+            except LineFileError as exc:
+                assert exc.key and exc.problem
+    assert loaded > 0  # some changes are harmless (a description, an optional name)

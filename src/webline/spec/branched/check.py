@@ -126,8 +126,8 @@ def _check_web(spec: BranchedLineSpec, w: int, web: WebPathSpec, webs: dict[str,
     first = rollers[web.path[0]][1]
     if kind == "laminate":
         assert web.layers is not None
-        if len(web.layers) < 2:
-            fail(f"{key}.layers", "a laminate has at least two layers")
+        if len(set(web.layers)) < 2 or len(set(web.layers)) < len(web.layers):
+            fail(f"{key}.layers", "a laminate has at least two layers, each named once")
         for layer in web.layers:
             if layer not in webs or layer == web.name:
                 fail(f"{key}.layers", f"no other web named {layer!r}")
@@ -160,6 +160,18 @@ def _check_web(spec: BranchedLineSpec, w: int, web: WebPathSpec, webs: dict[str,
     if not isinstance(last, RewindSpec) and not consumers:
         fail(f"{key}.path[-1]", f"{last.name!r} is no rewind and no web starts there: the web "
              "would end in the air")
+    if not isinstance(last, RewindSpec) and not any(
+            web.name in (v.layers or []) or v.slit_from == web.name for v in consumers):
+        fail(f"{key}.path[-1]", f"web {web.name!r} ends at junction {last.name!r} but is "
+             "neither a layer of the laminate nor the base of the lanes that start there")
+    starting = [v for v in spec.webs if v.path[0] == web.path[0]]
+    if isinstance(first, UnwindSpec) and len(starting) > 1:
+        fail(f"{key}.path[0]", f"several webs start at unwind {first.name!r}: an unwind "
+             "unwinds one web")
+    if kind != "web" and (len({kind_of(v) for v in starting}) > 1 or (
+            kind == "laminate" and len(starting) > 1)):
+        fail(f"{key}.path[0]", f"junction {first.name!r} starts several kinds of web: a "
+             "junction is one lamination nip or one slitter")
     if isinstance(last, RewindSpec) and kind != "lane" and sum(
             v.path[-1] == last.name for v in spec.webs) > 1:
         fail(f"{key}.path[-1]", f"several webs end on rewind {last.name!r}: only lanes may "
