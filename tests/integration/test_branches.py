@@ -225,3 +225,18 @@ def test_every_scenario_of_the_branched_lines_runs_to_its_end(line, scenario):
             ref = result.plan.line.span_tension_spec(k)
             if ref is not None:
                 assert float(final.sel(span=span.name)) == pytest.approx(ref, rel=2e-3)
+
+
+def test_a_drive_at_its_torque_limit_is_a_warning_of_the_verdict():
+    line = webline.load_branched("laminator")
+    data = line.spec.model_dump(exclude_none=True)
+    # the rewind needs r T + b ω = 0.08 x 180 + 0.05 x 2.5 / 0.08 = 15.96 N·m at 2.5 m/s
+    data["rollers"][6]["drive"]["torque_limit"] = 16.2
+    data["speed"] = {"type": "ramp", "initial": 2.0, "final": 2.5, "start": 0.5,
+                     "duration": 0.5}  # accelerating it (0.3 kg m² at 12.5 rad/s²) needs more
+    result = webline.simulate(webline.load_branched(data), 2.0, raise_on_failure=False)
+    found = [f for f in result.verdict.findings if f.kind == "torque_limit"]
+    assert [f.where for f in found] == ["rewind"] and 0.5 <= found[0].time < 1.0
+    assert result.verdict.status == "warning"
+    ok = webline.simulate("laminator", 1.0).verdict
+    assert ok.status == "ok" and not ok.findings

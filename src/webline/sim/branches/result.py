@@ -98,7 +98,8 @@ class BranchResult:
     @cached_property
     def verdict(self) -> Verdict:
         """Per web and lane: slack (tension 0 in a span) and tension above the web's
-        ``tension_limit`` are warnings; a run stopped early is a failure."""
+        ``tension_limit`` are warnings; so is a drive's command at its torque limit; a run
+        stopped early is a failure."""
         line = self.plan.line
         ds = self.dataset
         findings = []
@@ -125,6 +126,15 @@ class BranchResult:
                                         f"{label} exceeds its tension limit {limit:.4g} N "
                                         f"(max {np.max(tension):.4g} N)",
                                         float(self.time[first])))
+        limits = self.plan.df[:, B.D_LIMIT]
+        for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit
+            at_limit = np.nonzero(np.abs(ds["torque_cmd"].values[:, d]) >= limits[d])[0]
+            if len(at_limit):
+                first = float(self.time[at_limit[0]])
+                findings.append(Finding(
+                    "warning", "torque_limit", str(name), f"drive {name} at its torque limit "
+                    f"{limits[d]:.4g} N·m in {len(at_limit)} of {len(self.time)} records, first "
+                    f"at t = {first:.4g} s", first, {"records": len(at_limit)}))
         return Verdict.of(findings)
 
     def web_summary(self) -> list[dict[str, object]]:
