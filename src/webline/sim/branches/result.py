@@ -130,11 +130,11 @@ class BranchResult:
         for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit
             at_limit = np.nonzero(np.abs(ds["torque_cmd"].values[:, d]) >= limits[d])[0]
             if len(at_limit):
-                first = float(self.time[at_limit[0]])
+                when = float(self.time[at_limit[0]])
                 findings.append(Finding(
                     "warning", "torque_limit", str(name), f"drive {name} at its torque limit "
                     f"{limits[d]:.4g} N·m in {len(at_limit)} of {len(self.time)} records, first "
-                    f"at t = {first:.4g} s", first, {"records": len(at_limit)}))
+                    f"at t = {when:.4g} s", when, {"records": len(at_limit)}))
         return Verdict.of(findings)
 
     def web_summary(self) -> list[dict[str, object]]:
