@@ -60,7 +60,7 @@ def laminator_cost(seconds: float, repeat: int) -> tuple[float, int, int]:
         rec = new_records(ticks, 1, plan.n_x, n_d)
         started = time.perf_counter()
         plan.run(x, istate, plan.wound.copy(), np.zeros(len(plan.events)), rec,
-                 point.torque.copy(), 0, ticks, substeps, 1)
+                 point.torque.copy(), 0, ticks, substeps, 1, True)
         return time.perf_counter() - started
 
     once(100)  # compile

@@ -240,3 +240,14 @@ def test_a_drive_at_its_torque_limit_is_a_warning_of_the_verdict():
     assert result.verdict.status == "warning"
     ok = webline.simulate("laminator", 1.0).verdict
     assert ok.status == "ok" and not ok.findings
+
+
+def test_a_run_in_chunks_is_the_run_in_one_piece(monkeypatch):
+    """The loop returns to Python every ``CHUNK`` ticks (so that Ctrl-C is seen); each chunk
+    leaves its last tick to the next, so the controllers sample every tick exactly once."""
+    from webline.sim.branches import run
+
+    whole = webline.simulate("laminator", 1.5, scenario="layer-upset")
+    monkeypatch.setattr(run, "CHUNK", 377)
+    chunked = webline.simulate("laminator", 1.5, scenario="layer-upset")
+    assert np.array_equal(whole.rec, chunked.rec)

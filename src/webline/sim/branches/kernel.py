@@ -187,13 +187,15 @@ def roll_change(t: float, x: np.ndarray, wound: np.ndarray, done: np.ndarray,
 def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
             rec: np.ndarray, stages: np.ndarray, cmd: np.ndarray, work: np.ndarray,
             tick0: int, n_ticks: int, dt: float, substeps: int, record_every: int,
-            speed_max: float, offsets: np.ndarray, nodes: np.ndarray, si: np.ndarray,
+            include_end: bool, speed_max: float, offsets: np.ndarray, nodes: np.ndarray,
+            si: np.ndarray,
             sf: np.ndarray, layers: np.ndarray, rolls: np.ndarray, webs: np.ndarray,
             di: np.ndarray, df: np.ndarray, cells: np.ndarray, events: np.ndarray,
             prof_t: np.ndarray, prof_v: np.ndarray,
             prof_off: np.ndarray) -> tuple[int, int, float]:
     """Advance ``n_ticks`` controller periods from tick ``tick0``, recording [t, x..., cmd...]
-    every ``record_every`` ticks and after the last; returns (records, status, time of
+    every ``record_every`` ticks and, with ``include_end``, the state after the last (a
+    chunked run leaves that tick to the next chunk); returns (records, status, time of
     failure). Stops at a non-finite state, an empty unwind or a runaway (``layout``)."""
     n_x = x.shape[0]
     n_d = di.shape[0]
@@ -204,6 +206,8 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
     off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
     for j in range(n_ticks + 1):
         t = (tick0 + j) * dt
+        if j == n_ticks and not include_end:  # the next chunk starts with this tick
+            break
         roll_change(t, x, wound, done, offsets, rolls, events)
         control_tick(t, dt, x, istate, cmd, offsets, nodes, rolls, di, df, cells, prof_t,
                      prof_v, prof_off)
@@ -263,12 +267,12 @@ def _compiled(*tables: tuple[Any, ...]) -> Any:
     def loop(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
              rec: np.ndarray, stages: np.ndarray, cmd: np.ndarray, work: np.ndarray,
              tick0: int, n_ticks: int, dt: float, substeps: int, record_every: int,
-             speed_max: float, nodes: np.ndarray, sf: np.ndarray, rolls: np.ndarray,
-             df: np.ndarray, events: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
-             prof_off: np.ndarray) -> tuple[int, int, float]:
+             include_end: bool, speed_max: float, nodes: np.ndarray, sf: np.ndarray,
+             rolls: np.ndarray, df: np.ndarray, events: np.ndarray, prof_t: np.ndarray,
+             prof_v: np.ndarray, prof_off: np.ndarray) -> tuple[int, int, float]:
         return advance(x, istate, wound, done, rec, stages, cmd, work, tick0, n_ticks, dt,
-                       substeps, record_every, speed_max, offsets, nodes, si, sf, layers,
-                       rolls, webs, di, df, cells, events, prof_t, prof_v, prof_off)
+                       substeps, record_every, include_end, speed_max, offsets, nodes, si, sf,
+                       layers, rolls, webs, di, df, cells, events, prof_t, prof_v, prof_off)
 
     return loop
 

@@ -66,13 +66,14 @@ class BranchPlan:
 
     def run(self, x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
             rec: np.ndarray, cmd: np.ndarray, tick0: int, n_ticks: int, substeps: int,
-            record_every: int) -> tuple[int, int, float]:
+            record_every: int, include_end: bool = True) -> tuple[int, int, float]:
         """Advance ``x``, ``istate``, ``wound`` (wound-in tension per web), ``done`` (roll
-        changes made) and ``cmd`` in place by ``n_ticks`` controller periods, recording
-        into ``rec`` (``kernel.advance``)."""
+        changes made) and ``cmd`` in place by ``n_ticks`` controller periods from tick
+        ``tick0``, recording into ``rec`` (``kernel.advance``)."""
         stages = np.empty((5, self.n_x))
         return self.loop()(x, istate, wound, done, rec, stages, cmd, self.scratch(), tick0,
-                           n_ticks, self.dt, substeps, record_every, self.speed_max,
+                           n_ticks, self.dt, substeps, record_every, include_end,
+                           self.speed_max,
                            self.nodes, self.sf, self.rolls, self.df, self.events, self.prof_t,
                            self.prof_v, self.prof_off)
 

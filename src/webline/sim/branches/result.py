@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 import xarray as xr
@@ -105,8 +105,11 @@ class BranchResult:
         findings = []
         if self.failure is not None:
             kind = "nonfinite" if "finite" in self.failure else (
-                "unwind_empty" if "unwind" in self.failure else "diverged")
-            findings.append(Finding("failed", kind, line.name, f"the run stopped: "
+                "unwind_empty" if "unwind" in self.failure else "interrupted"
+                if "interrupted" in self.failure else "diverged")
+            level: Literal["failed", "interrupted"] = (
+                "interrupted" if kind == "interrupted" else "failed")
+            findings.append(Finding(level, kind, line.name, f"the run stopped: "
                                     f"{self.failure}", float(self.time[-1]) if len(
                                         self.time) else 0.0))
         for w, web in enumerate(line.spec.webs):

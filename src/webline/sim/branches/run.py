@@ -22,6 +22,8 @@ STEP_LIMIT = 0.5
 MAX_SUBSTEPS = 200
 #: default cap on stored records (longer runs are decimated, not the integration)
 MAX_RECORDS = 200_000
+#: controller ticks per call of the compiled loop (a run returns to Python between two)
+CHUNK = 20_000
 
 
 def fastest_rate(plan: BranchPlan, point: BranchPoint) -> float:
@@ -83,9 +85,23 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     istate[:, B.I_SPEED] = point.torque  # the speed integrators hold the torques
     n_d = plan.di.shape[0]
     rec = new_records(n_ticks, every, plan.n_x, n_d)
-    n_rec, status, t_fail = plan.run(x, istate, plan.wound.copy(), np.zeros(len(plan.events)),
-                                     rec, point.torque.copy(), 0, n_ticks, substeps, every)
+    wound, done, cmd = plan.wound.copy(), np.zeros(len(plan.events)), point.torque.copy()
+    status, t_fail, n_rec, tick = B.STATUS_OK, math.nan, 0, 0
+    interrupted = False
+    try:  # in chunks: Ctrl-C is seen between two, and the run keeps what it computed
+        while tick < n_ticks and status == B.STATUS_OK:
+            count = min(CHUNK, n_ticks - tick)
+            stored, status, t_fail = plan.run(x, istate, wound, done, rec[n_rec:], cmd, tick,
+                                              count, substeps, every, tick + count == n_ticks)
+            n_rec += stored
+            tick += count
+    except KeyboardInterrupt:
+        if not n_rec:
+            raise
+        interrupted = True
     failure = None if status == B.STATUS_OK else _failure_text(status, t_fail)
+    if interrupted:
+        failure = f"interrupted by the user (Ctrl-C) at t = {rec[n_rec - 1, 0]:.4g} s"
     result = BranchResult(plan, rec[:n_rec].copy(), failure,
                           {"duration": duration, "dt": plan.dt, "substeps": substeps,
                            "record_every": every})
