@@ -39,6 +39,9 @@ def test_laminator_starts_at_its_operating_point_and_stays_there():
     # force continuity at the nip: the laminate carries its layers' tensions (to the
     # operating point's tolerance, 1e-13 relative, with margin)
     assert laminate == pytest.approx(layers, rel=1e-9)
+    frame = result.to_dataframe()
+    assert list(frame.columns) == [s.name for s in result.plan.line.spans]
+    assert frame["laminate_zone"].iloc[0] == laminate
     # strains tied after the nip: each layer's strain in the laminate is the laminate's
     plan = result.plan
     ea = dict(zip([w.name for w in plan.line.spec.webs],

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 import xarray as xr
@@ -94,6 +94,11 @@ class BranchResult:
 
     def to_xarray(self) -> xr.Dataset:
         return self.dataset
+
+    def to_dataframe(self) -> Any:
+        """Span tensions [N] as a pandas DataFrame: one row per record (index ``time`` [s]),
+        one column per span."""
+        return self.dataset["tension"].to_pandas()
 
     @cached_property
     def verdict(self) -> Verdict:
