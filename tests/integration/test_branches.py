@@ -155,6 +155,7 @@ def test_roll_change_gives_the_new_roll_the_old_surface_speed():
     # a flying splice: the surface speed is continuous across the change (within what the
     # controllers change it in one 10 ms step: < 1 %)
     v = speed.sel(time=[4.99, 5.01], method="nearest").values
+    np.testing.assert_allclose(ds["speed"].sel(node="unwind_foil").values, speed.values)
     assert v[1] == pytest.approx(v[0], rel=1e-2)
 
 

@@ -39,8 +39,9 @@ class BranchResult:
 
     @cached_property
     def dataset(self) -> xr.Dataset:
-        """Signals with units (attrs ``units``): tension per span, layer tensions of laminate
-        spans, node speeds, roll radii, torques per drive, web length in/out per web."""
+        """Signals with units (attrs ``units``): tension and strain per span, layer tensions of
+        laminate spans, node angular and surface speeds, roll radii, torques per drive, web
+        length in/out and stored per web."""
         plan, line = self.plan, self.plan.line
         x = self.states
         n_s, n_n = len(line.spans), plan.nodes.shape[0]
@@ -64,6 +65,12 @@ class BranchResult:
         roll_names = [f"{line.spec.rollers[r.node].name}/{line.spec.webs[r.web].name}"
                       for r in line.rolls]
         drives = [line.spec.rollers[i].name for i in line.drives]
+        arm = np.tile(plan.nodes[:, B.N_RADIUS], (len(x), 1))  # a roll: its first web's radius
+        for j in reversed(range(len(line.rolls))):
+            arm[:, line.rolls[j].node] = radius[:, j]
+        for d, i in enumerate(line.drives):  # a shaft: the lane its drive measures speed on
+            if plan.di[d, B.DI_ROLL] >= 0:
+                arm[:, i] = radius[:, plan.di[d, B.DI_ROLL]]
         t = self.time
 
         def var(dims: tuple[str, ...], values: np.ndarray, units: str, text: str) -> xr.Variable:
@@ -75,6 +82,8 @@ class BranchResult:
             "layer_tension": var(("layer_span",), np.array(layer_values).T.reshape(
                 len(t), len(layer_names)), "N", "layer tension in a laminate span"),
             "omega": var(("node",), omega, "rad/s", "roller angular speed"),
+            "speed": var(("node",), arm * omega, "m/s", "surface speed of a roller (of a "
+                         "shaft: the lane its drive measures)"),
             "radius": var(("roll",), radius, "m", "wound radius of a roll or lane"),
             "torque": var(("drive",), torque, "N*m", "motor torque"),
             "torque_cmd": var(("drive",), self.rec[:, 1 + plan.n_x:], "N*m", "torque command"),
