@@ -23,7 +23,7 @@ from scipy.optimize import root
 
 from webline.errors import SimulationError
 from webline.sim.branches import layout as B
-from webline.sim.branches.kernel import rhs
+from webline.sim.branches.kernel import node_inertia, rhs
 from webline.sim.branches.plan import BranchPlan
 
 #: the solver's relative tolerance on the scaled unknowns [-]
@@ -144,10 +144,7 @@ def operating_point(plan: BranchPlan, t: float = 0.0) -> BranchPoint:
         rhs(at, cmd, plan.wound, *plan.tables(), dx, plan.scratch())
         for d in range(n_d):  # J dω/dt = web torque + n τ = 0
             i = plan.di[d, B.DI_NODE]
-            inertia_rate = dx[off_w + i]
-            from webline.sim.branches.kernel import node_inertia
-
-            web_torque = inertia_rate * node_inertia(i, at, plan.offsets, plan.nodes,
-                                                     plan.rolls)
+            web_torque = dx[off_w + i] * node_inertia(i, at, plan.offsets, plan.nodes,
+                                                      plan.rolls)
             at[off_tq + d] = -web_torque / plan.nodes[i, B.N_RATIO]
     return BranchPoint(at, at[off_tq:off_tq + n_d].copy(), ratio, speed)
