@@ -57,8 +57,8 @@ class Contender:
             overrides = {line.node_name(i): {"tension_feedback": "observer"}
                          for i in line.drives if _observable(line, i)}
             if not overrides:
-                raise NotApplicable("no driven roller (not a roll) controls a zone of one "
-                                    "span, which the section observer needs")
+                raise NotApplicable("no drive controls a zone of one span, which the "
+                                    "section observer needs")
         try:
             return with_controller(line, self.family, overrides=overrides,
                                    **self.options), None
@@ -67,12 +67,9 @@ class Contender:
 
 
 def _observable(line: Line, node: int) -> bool:
-    """Whether the section observer serves ``node``'s drive: a driven roller (the observer
-    is written for a rigid drive next to its span; on the hswl unwind roll it misreads span
-    1 by some 45 N RMS) whose zone is one span."""
+    """Whether the section observer serves ``node``'s drive: one whose zone is one span."""
     zone = line.controlled_zone(node)
-    return (zone is not None and node not in (0, line.n_nodes - 1)
-            and len(line.zones[zone].spans) == 1)
+    return zone is not None and len(line.zones[zone].spans) == 1
 
 
 #: the built-in families, each with its default design on every drive
@@ -88,8 +85,8 @@ BUILTIN: tuple[Contender, ...] = (
 BUILTIN_NOTES = {
     "cascaded PI": "the line file's cascaded PI (thesis Fig. 4.3) on every drive",
     "state feedback": "decentralized state feedback (6.39-6.42), webline's LQ design",
-    "observer": "the state feedback with the tension of a section observer on every driven "
-                "roller (not a roll) whose zone is one span, the loadcell elsewhere",
+    "observer": "the state feedback with the tension of a section observer on every drive "
+                "(roll or roller) whose zone is one span, the loadcell elsewhere",
     "adaptive": "decentralized adaptive control (6.62-6.77), default design",
     "MRAC": "decentralized MRAC (Sec. 6.3), default design",
 }
