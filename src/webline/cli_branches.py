@@ -23,8 +23,9 @@ def run_branched(source: str, seconds: float | None, scenario: str | None, out: 
     out/LINE[-SCENARIO]); ``unsupported``: options given that stage 1 does not support."""
     for option, given in unsupported.items():
         if given:
-            raise BadInput(f"{option}: not yet supported for a branched line (stage 1: "
-                           "results.nc in SI, summary.json and the tensions figure)")
+            raise BadInput(f"{option}: not yet supported for a branched line (stage 1: the "
+                           "file's cascaded PI drives; results.nc in SI, summary.json and the "
+                           "tensions figure)")
     line = load_branched(source)
     if scenario:
         line = line.with_scenario(scenario)
