@@ -195,3 +195,17 @@ def test_no_mutation_of_a_branched_file_gives_a_traceback(base):
             except LineFileError as exc:
                 assert exc.key and exc.problem
     assert loaded > 0  # some changes are harmless (a description, an optional name)
+
+
+def test_front_door_routes_each_kind_of_line_and_names_what_stage_1_lacks(tmp_path):
+    from importlib import resources as res
+
+    with pytest.raises(LineFileError, match="not a branched line"):
+        load_branched("hswl")
+    path = tmp_path / "mine.toml"
+    path.write_text(res.files("webline.data.lines").joinpath("slitter.toml").read_text("utf-8"),
+                    encoding="utf-8")
+    result = webline.simulate(path, 0.05)  # a file path: dispatched on its [[webs]]
+    assert type(result).__name__ == "BranchResult" and result.time[-1] == pytest.approx(0.05)
+    with pytest.raises(webline.ArgumentError, match="not yet supported for a branched line"):
+        webline.simulate(path, 0.05, controller=object())
