@@ -177,6 +177,10 @@ def test_webline_run_writes_a_branched_lines_files(tmp_path):
     # the verdict's numbers are the run's: the film zone follows its step to 150 N
     film = summary["webs"][0]["spans"]["film_zone"]
     assert 149.0 < film["final_N"] < 151.0 and film["max_N"] > 150.0
+    # the step itself: at its instant the tension is the old one (120.0003 N) against 150 N
+    assert 30.0 <= film["max_deviation_N"] < 30.01
+    foil = summary["webs"][1]["spans"]["foil_zone"]
+    assert foil["max_deviation_N"] == pytest.approx(60.0 - foil["min_N"], abs=1e-9)
     with xr.open_dataset(out / "results.nc") as ds:
         assert float(ds["time"][-1]) == pytest.approx(3.0)
         assert "webs" in ds.attrs["line_spec"]

@@ -155,7 +155,8 @@ class BranchResult:
         return Verdict.of(findings)
 
     def web_summary(self) -> list[dict[str, object]]:
-        """Per web: its kind, tension min/max/final per span [N] and length balance [m]."""
+        """Per web: its kind, tension min/max/final per span [N] (a loadcell's also its largest
+        deviation from its reference) and the drift of its length balance [m]."""
         line = self.plan.line
         ds = self.dataset
         out = []
@@ -163,12 +164,19 @@ class BranchResult:
             spans = line.web_spans(w)
             balance = (ds["web_stored"].values[:, w] + ds["web_out"].values[:, w]
                        - ds["web_in"].values[:, w])
+            table: dict[str, dict[str, float]] = {}
+            for k in spans:
+                tension = ds["tension"].values[:, k]
+                row = {"min_N": float(tension.min()), "max_N": float(tension.max()),
+                       "final_N": float(tension[-1])}
+                cell = np.nonzero(self.plan.cells[:, 0] == k)[0]
+                if len(cell):  # a loadcell: its deviation from its reference over the run
+                    p = int(self.plan.cells[cell[0], 1])
+                    ref = np.array([self.plan.profile(p, t) for t in self.time])
+                    row["max_deviation_N"] = float(np.max(np.abs(tension - ref)))
+                table[line.spans[k].name] = row
             out.append({
-                "web": web.name, "kind": kind_of(web),
-                "spans": {line.spans[k].name: {
-                    "min_N": float(ds["tension"].values[:, k].min()),
-                    "max_N": float(ds["tension"].values[:, k].max()),
-                    "final_N": float(ds["tension"].values[-1, k])} for k in spans},
+                "web": web.name, "kind": kind_of(web), "spans": table,
                 "length_balance_drift_m": float(np.max(np.abs(balance - balance[0]))),
             })
         return out
