@@ -1,12 +1,12 @@
 """webline: model, simulate, analyse and control roll-to-roll (web handling) process lines.
 
-The front door: ``load_line``, ``simulate``, ``Session``, ``CompiledController``, ``sweep``,
-``monte_carlo``, ``linearize``, ``operating_point`` and their types; and, from the layers
-above it (``webline.twin`` and ``webline.studies``, imported only when one of them is first
-used, never by this module's code), ``load_measurements``, ``replay``, ``fit``, ``tune`` and
-``benchmark``. Each is imported on first use (PEP 562), so ``import webline`` and the
-command line start fast; python-control, scipy and numba load only when a model or a run
-needs them.
+The front door: ``load_line`` (``load_branched`` for a line whose webs branch), ``simulate``,
+``Session``, ``CompiledController``, ``sweep``, ``monte_carlo``, ``linearize``,
+``operating_point`` and their types; and, from the layers above it (``webline.twin`` and
+``webline.studies``, imported only when one of them is first used, never by this module's
+code), ``load_measurements``, ``replay``, ``fit``, ``tune`` and ``benchmark``. Each is
+imported on first use (PEP 562), so ``import webline`` and the command line start fast;
+python-control, scipy and numba load only when a model or a run needs them.
 """
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ from webline.version import __version__
 if TYPE_CHECKING:
     from webline.line import Line, load_line
     from webline.model.operating_point import OperatingPoint, operating_point
+    from webline.model.web_graph import BranchedLine, load_branched
     from webline.sim.compiled_control import CompiledController
     from webline.sim.linear.linearize import linearize
     from webline.sim.reference import simulate_reference
@@ -40,6 +41,8 @@ _LAZY = {
     "Line": "webline.line",
     "CompiledController": "webline.sim.compiled_control",
     "load_line": "webline.line",
+    "BranchedLine": "webline.model.web_graph",
+    "load_branched": "webline.model.web_graph",
     "OperatingPoint": "webline.model.operating_point",
     "operating_point": "webline.model.operating_point",
     "linearize": "webline.sim.linear.linearize",
@@ -63,6 +66,7 @@ _LAZY_ABOVE = {
 
 __all__ = [
     "ArgumentError",
+    "BranchedLine",
     "CompiledController",
     "ControllerError",
     "Line",
@@ -78,6 +82,7 @@ __all__ = [
     "benchmark",
     "fit",
     "linearize",
+    "load_branched",
     "load_line",
     "load_measurements",
     "monte_carlo",

@@ -112,6 +112,16 @@ def run(
     (diverged), 130 interrupted by Ctrl-C, 143 by SIGTERM (what was computed is written, status
     interrupted).
     """
+    from webline.model.web_graph import source_is_branched
+
+    if source_is_branched(line):  # stage 1 of branched lines: its own files (docs/branching.md)
+        from webline.cli_branches import run_branched
+
+        run_branched(line, _duration(duration), scenario, out, force, quiet, {
+            "--controller": controller is not None, "--set": bool(sets),
+            "--format": data_format != DataFormat.netcdf, "--units": units != Units.si,
+            "--precision": precision != Precision.float64, "--svg": svg})
+        return
     from webline.report.early import Reporter
 
     reporter = Reporter.start()  # first: it loads the report's libraries while we simulate
@@ -183,7 +193,18 @@ def validate(line: LineArg) -> None:
     TOML line and exit 2, or print 'ok' and any warnings (unusual values, winder settings that
     cannot act, speed loops soft against the web) and exit 0."""
     from webline.line import load_line
+    from webline.model.web_graph import load_branched, source_is_branched
 
+    if source_is_branched(line):  # docs/branching.md
+        branched = load_branched(line)
+        for name in branched.spec.scenarios:
+            branched.with_scenario(name)
+        typer.echo(f"ok: {branched.source}: branched line {branched.name!r} with "
+                   f"{len(branched.spec.webs)} webs, {len(branched.spec.rollers)} rollers, "
+                   f"{len(branched.spans)} spans, {len(branched.drives)} drives, "
+                   f"{len(branched.zones)} tension zones; scenarios: "
+                   f"{', '.join(branched.spec.scenarios) or 'none'}")
+        return
     loaded = load_line(line)  # a LineFileError lists every problem, one a line (fail())
     for name in loaded.spec.scenarios:
         loaded.with_scenario(name)
@@ -209,11 +230,10 @@ def validate(line: LineArg) -> None:
 @handles_errors
 def lines() -> None:
     """List the built-in lines and their scenarios."""
-    from webline.line import load_line
     from webline.report.text.tables import make_table
-    from webline.spec.load import builtin_lines
+    from webline.spec.load import builtin_lines, read_any
 
-    rows = [[name, description, ", ".join(load_line(name).spec.scenarios)]
+    rows = [[name, description, ", ".join(read_any(name)[0].get("scenarios", {}))]
             for name, description in builtin_lines().items()]
     print_tables([make_table("lines", "Built-in lines", ["name", "description", "scenarios"],
                              rows)], _console())

@@ -160,7 +160,7 @@ def test_missing_file_exits_2(tmp_path, command):
 
 def test_unknown_builtin_line_exits_2():
     assert_one_line_error(invoke("show", "no-such-line"), 2, "no-such-line",
-                          "built-in: converter, hswl, rockwell")
+                          "built-in: converter, hswl, laminator, rockwell, slitter")
 
 
 @pytest.mark.parametrize("command", ["run", "show", "analyze"])

@@ -24,7 +24,20 @@ def test_every_example_is_covered() -> None:
     assert {p.name for p in EXAMPLES.glob("*.py")} == {
         "own_line.py", "gain_sweep.py", "compare_controllers.py", "bode.py",
         "fit_converter.py", "user_pi.py", "user_pi_numba.py", "dob_pi.py", "user_lqr.py",
-        "gym_sketch.py"}
+        "gym_sketch.py", "slitter_lanes.py"}
+
+
+def test_slitter_lanes_drift_at_the_first_order_rate() -> None:
+    """Lanes on one shaft, 1 % apart in thickness: the drive holds their sum (200 N) and
+    their difference drifts at EA v Δh / (2π r²) to within the 3 % that the first-order
+    formula leaves out (docs/branching.md)."""
+    out = run_example("slitter_lanes.py")
+    sums = [float(m) for m in re.findall(r"sum +([\d.]+) N", out)]
+    assert len(sums) == 3 and all(abs(s - 200.0) < 0.5 for s in sums), out
+    measured, first = (float(v) for v in re.search(
+        r"drift rate ([\d.]+) N/s \(first order: ([\d.]+)", out).groups())
+    assert abs(measured / first - 1.0) < 0.03, out
+    assert "verdict: ok" in out
 
 
 def test_fit_converter_recovers_both_values() -> None:

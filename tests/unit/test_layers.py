@@ -28,6 +28,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline.sim.core",),
     ("webline.sim.linear",),
     ("webline.sim.results",),
+    ("webline.sim.branches",),
     ("webline.sim",),
     ("webline.sim.sweeps",),
     ("webline",),
@@ -41,7 +42,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline.twin.tuning",),
     ("webline.twin",),
     ("webline.studies",),
-    ("webline.cli", "webline.cli_analyze", "webline.cli_benchmark", "webline.cli_common",
+    ("webline.cli", "webline.cli_analyze", "webline.cli_benchmark", "webline.cli_branches",
+     "webline.cli_common",
      "webline.cli_sweep", "webline.cli_tune",
      "webline.cli_twin"),
 )

@@ -9,6 +9,7 @@ import pytest
 from pydantic import BaseModel
 
 from webline.spec import schema
+from webline.spec.branched.schema import BranchedLineSpec
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "line-file.md"
 
@@ -59,6 +60,7 @@ def documented_models() -> list[type[BaseModel]]:
             visit(origin)
 
     visit(schema.LineSpec)
+    visit(BranchedLineSpec)  # a branched line's keys (docs/line-file.md "webs")
     return [m for n, m in seen.items() if n != "Step"]
 
 

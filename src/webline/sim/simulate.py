@@ -9,16 +9,19 @@ import time
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
+from typing import TYPE_CHECKING, overload
 
 import numpy as np
 
 from webline.errors import (
+    ArgumentError,
     ControllerError,
     LineFileError,
     SimulationError,
     SimulationInterrupted,
 )
 from webline.line import Line, load_line
+from webline.model.web_graph import BranchedLine, source_is_branched
 from webline.sim.compiled_control import CompiledController, run_compiled
 from webline.sim.core import kernel
 from webline.sim.core.plan import Plan, compile_plan, equilibrium_plan_state
@@ -32,6 +35,9 @@ from webline.sim.results.result import Result
 from webline.sim.user_control import Group, builtin_stand_in, run_user, user_groups, user_plan
 from webline.sim.user_objects import file_controllers
 from webline.spec.ranges import argument, whole_argument
+
+if TYPE_CHECKING:
+    from webline.sim.branches.result import BranchResult
 
 #: RK4 sub-steps are chosen so that h·|λ|max stays below this (RK4 is accurate to ~1e-4 per
 #: step there and stable up to 2.78).
@@ -114,12 +120,31 @@ def interrupt_text(signum: int, end: float) -> str:
     return f"interrupted by the user (Ctrl-C) at t = {end:.4g} s"
 
 
+@overload
+def simulate(line: BranchedLine, duration: float | str | None = None, *,
+             scenario: str | None = None, sample_rate: float | str | None = None,
+             substeps: int | None = None, record_interval: float | str | None = None,
+             progress: Callable[[float], None] | None = None,
+             raise_on_failure: bool = True,
+             controller: object | Mapping[str, object] | None = None) -> BranchResult: ...
+
+
+@overload
 def simulate(line: Line | str | Path, duration: float | str | None = None, *,
              scenario: str | None = None, sample_rate: float | str | None = None,
              substeps: int | None = None, record_interval: float | str | None = None,
              progress: Callable[[float], None] | None = None,
              raise_on_failure: bool = True,
-             controller: object | Mapping[str, object] | None = None) -> Result:
+             controller: object | Mapping[str, object] | None = None) -> Result: ...
+
+
+def simulate(line: Line | BranchedLine | str | Path, duration: float | str | None = None, *,
+             scenario: str | None = None, sample_rate: float | str | None = None,
+             substeps: int | None = None, record_interval: float | str | None = None,
+             progress: Callable[[float], None] | None = None,
+             raise_on_failure: bool = True,
+             controller: object | Mapping[str, object] | None = None,
+             ) -> Result | BranchResult:
     """Simulate ``line`` for ``duration`` [s] from equilibrium at its initial references.
 
     ``duration``, ``sample_rate`` and ``record_interval`` take numbers [SI], strings with
@@ -150,7 +175,23 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
     raises or returns a wrong shape or a non-finite torque stops it with ``ControllerError``
     (``partial``: the run so far). The step is chosen for the line with its built-in
     controllers in place of the user's (``substeps`` overrides it).
+
+    A branched line (``[[webs]]``, ``webline.load_branched``; docs/branching.md) runs through
+    ``sim.branches`` and returns a ``BranchResult`` (an xarray Dataset and a verdict per web
+    and lane); ``progress`` and ``controller`` are not yet supported there (stage 1).
     """
+    if isinstance(line, BranchedLine) or (not isinstance(line, Line)
+                                          and source_is_branched(line)):
+        if progress is not None or controller is not None:
+            raise ArgumentError("progress, controller: not yet supported for a branched line "
+                                "(stage 1: built-in cascaded PI, one run at a time)")
+        from webline.sim.branches.run import simulate_branches  # scipy: only when needed
+
+        return simulate_branches(line, duration, scenario=scenario,
+                                 sample_rate=sample_rate, substeps=substeps,
+                                 record_interval=record_interval,
+                                 raise_on_failure=raise_on_failure)
+    assert not isinstance(line, BranchedLine)
     line = load_line(line)
     duration, sample_rate, record_interval = (  # units and checks as the CLI's
         None if value is None else argument(value, kind, name, within=key)

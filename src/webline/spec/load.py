@@ -14,6 +14,8 @@ import tomli_w
 from pydantic import BaseModel, ValidationError
 
 from webline.errors import LineFileError, Problem
+from webline.spec.branched.check import check_branched
+from webline.spec.branched.schema import BranchedLineSpec
 from webline.spec.check import check_spec
 from webline.spec.locate import key_lines, locate
 from webline.spec.quantities import WEB_WIDTH
@@ -156,6 +158,10 @@ def spec_from_dict(data: Any, file: str = "<dict>") -> LineSpec:
     checks across keys, which need a valid schema)."""
     if not isinstance(data, dict):
         raise LineFileError(file, "(top level)", "a line file must be a table of keys")
+    if "webs" in data:
+        raise LineFileError(file, "webs", "a branched line ([[webs]]): not yet supported "
+                            "here (stage 1: webline run and validate; in Python "
+                            "webline.load_branched and webline.simulate; docs/branching.md)")
     try:  # forces per width (pli, N/m) need the web's width: read it first
         spec = LineSpec.model_validate(data, context={WEB_WIDTH: _web_width(data)})
     except ValidationError as exc:
@@ -164,6 +170,66 @@ def spec_from_dict(data: Any, file: str = "<dict>") -> LineSpec:
         raise LineFileError(file, "(top level)", clip(str(exc), 200)) from None
     check_spec(spec, file)
     return spec
+
+
+def is_branched(data: Any) -> bool:
+    """Whether a line file's data is a branched line (``[[webs]]``, docs/branching.md)."""
+    return isinstance(data, dict) and "webs" in data
+
+
+def branched_from_dict(data: Any, file: str = "<dict>") -> BranchedLineSpec:
+    """Validate a plain dict into a checked ``BranchedLineSpec`` (``LineFileError`` else)."""
+    if not isinstance(data, dict):
+        raise LineFileError(file, "(top level)", "a line file must be a table of keys")
+    if "spans" in data:
+        raise LineFileError(file, "spans", "a branched line gives its spans in each of its "
+                            "[[webs]], not at the top level")
+    for key in not_yet_branched(data):
+        raise LineFileError(file, key, "not yet supported on a branched line (stage 1: "
+                            "speed, set and roll_change scenarios, no disturbances)")
+    try:
+        spec = BranchedLineSpec.model_validate(data, context={WEB_WIDTH: _web_width(data)})
+    except ValidationError as exc:
+        raise LineFileError.of(file, _problems(exc, data)) from None
+    except (TypeError, ValueError, ArithmeticError, RecursionError) as exc:  # defensive
+        raise LineFileError(file, "(top level)", clip(str(exc), 200)) from None
+    check_branched(spec, file)
+    return spec
+
+
+#: keys of a single-path line file that a branched line does not take yet (stage 1)
+_NOT_YET_TOP = ("disturbances", "checks")
+_NOT_YET_SCENARIO = ("disturbances", "unwind_radius", "rewind_radius", "break", "splice")
+
+
+def not_yet_branched(data: dict[str, Any]) -> list[str]:
+    """Keys of ``data`` (a branched line file) that stage 1 does not support, as key paths."""
+    keys = [key for key in _NOT_YET_TOP if key in data]
+    scenarios = data.get("scenarios")
+    for name, scenario in (scenarios.items() if isinstance(scenarios, dict) else ()):
+        if isinstance(scenario, dict):
+            keys += [f"scenarios.{name}.{key}" for key in _NOT_YET_SCENARIO if key in scenario]
+    control = data.get("control")
+    if isinstance(control, dict) and "tension_ramp" in control:
+        keys.append("control.tension_ramp")
+    return keys
+
+
+def read_any(source: str | Path) -> tuple[dict[str, Any], str, str]:
+    """(TOML data, text, file label) of a line file path or a built-in line's name."""
+    text, label = read_text(source)
+    return _toml(text, label), text, label
+
+
+def parse_branched(data: dict[str, Any], text: str, label: str) -> BranchedLineSpec:
+    """The checked branched spec of a line file's ``data``; problems carry their TOML line."""
+    try:
+        return branched_from_dict(data, label)
+    except LineFileError as exc:
+        lines = key_lines(text)
+        raise LineFileError.of(label, [
+            Problem(p.key, p.problem, p.line or locate(lines, p.key)) for p in exc.problems
+        ]) from None
 
 
 def read_text(source: str | Path) -> tuple[str, str]:
@@ -196,16 +262,20 @@ def read_text(source: str | Path) -> tuple[str, str]:
     return resources.files(BUILTIN_PACKAGE).joinpath(f"{name}.toml").read_text("utf-8"), label
 
 
-def parse_text(text: str, label: str) -> LineSpec:
-    """The checked spec of a line file's ``text``; problems carry their TOML line."""
+def _toml(text: str, label: str) -> dict[str, Any]:
     try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise LineFileError(label, "(syntax)", str(exc)) from None
     except RecursionError:
         raise LineFileError(label, "(syntax)", "arrays or tables nested too deeply") from None
     except ValueError as exc:  # e.g. an integer of more than 4300 digits
         raise LineFileError(label, "(syntax)", clip(str(exc), 200)) from None
+
+
+def parse_text(text: str, label: str) -> LineSpec:
+    """The checked spec of a line file's ``text``; problems carry their TOML line."""
+    data = _toml(text, label)
     try:
         return spec_from_dict(data, label)
     except LineFileError as exc:
@@ -221,7 +291,7 @@ def read_spec(source: str | Path) -> tuple[LineSpec, str]:
     return parse_text(text, label), label
 
 
-def dump_spec(spec: LineSpec) -> str:
+def dump_spec(spec: LineSpec | BranchedLineSpec) -> str:
     """TOML text of ``spec`` with every quantity in SI; loading it gives the same line."""
     data = spec.model_dump(mode="python", exclude_none=True)
     return tomli_w.dumps(data)

@@ -1,0 +1,293 @@
+"""The topology of a branched line (docs/branching.md): webs on paths of rollers, joined at
+lamination nips, split at slitters, lanes wound on shared shafts; each drive's tension zone.
+
+Pure Python over a checked ``BranchedLineSpec``: everything is numbered once here (nodes in
+the file's roller order, spans web by web in path order, roll radii one per web that starts
+at an unwind or ends at a rewind) and the simulation's plan reads these numbers.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path
+from typing import Any
+
+from webline.errors import ArgumentError, LineFileError
+from webline.spec.branched.check import kind_of
+from webline.spec.branched.schema import BranchedLineSpec, RollChangeSpec, WebPathSpec
+from webline.spec.check import web_ea
+from webline.spec.load import (
+    branched_from_dict,
+    is_branched,
+    parse_branched,
+    read_any,
+)
+from webline.spec.paths import set_path
+from webline.spec.schema import DrivenSpec, IdleSpec, RewindSpec, UnwindSpec
+
+
+@dataclass(frozen=True)
+class Material:
+    """A web's material as the simulation sees it: ``ea`` [N], ``thickness`` [m], ``width``
+    [m], ``density`` [kg/m³]."""
+
+    ea: float
+    thickness: float
+    width: float
+    density: float
+
+
+@dataclass(frozen=True)
+class Span:
+    """Span number ``index`` of web ``web`` (its ``k``-th), from node ``a`` to node ``b``."""
+
+    index: int
+    web: int
+    k: int
+    a: int
+    b: int
+    name: str
+    length: float
+
+
+@dataclass(frozen=True)
+class Roll:
+    """One wound radius: web ``web``'s roll on node ``node`` (``direction`` -1 unwinding,
+    +1 winding), starting at ``radius`` [m]."""
+
+    node: int
+    web: int
+    direction: float
+    radius: float
+
+
+@dataclass(frozen=True)
+class Zone:
+    """The tension zone of the drive on node ``node``: its ``spans`` and the ``loadcells``
+    among them (several: their tensions' sum is controlled); ``sigma`` +1 where the drive
+    pulls its zone (downstream of it), -1 where it feeds it (upstream)."""
+
+    node: int
+    spans: tuple[int, ...]
+    loadcells: tuple[int, ...]
+    sigma: float
+
+
+@dataclass(frozen=True)
+class BranchedLine:
+    """A checked branched line and its topology. ``roll_change``: a scenario's roll change."""
+
+    spec: BranchedLineSpec
+    source: str = "<spec>"
+    roll_change: RollChangeSpec | None = None
+    scenario: str | None = field(default=None)
+
+    @property
+    def name(self) -> str:
+        return self.spec.name
+
+    @cached_property
+    def node_index(self) -> dict[str, int]:
+        return {r.name: i for i, r in enumerate(self.spec.rollers)}
+
+    @cached_property
+    def web_index(self) -> dict[str, int]:
+        return {w.name: k for k, w in enumerate(self.spec.webs)}
+
+    @cached_property
+    def materials(self) -> tuple[Material, ...]:
+        """The material of every web (module docstring of ``spec.branched.schema``)."""
+        out: dict[str, Material] = {}
+
+        def of(web: WebPathSpec) -> Material:
+            if web.name in out:
+                return out[web.name]
+            kind = kind_of(web)
+            if kind == "laminate":
+                layers = [of(self.spec.webs[self.web_index[n]]) for n in web.layers or []]
+                h = sum(m.thickness for m in layers)
+                w = min(m.width for m in layers)
+                mass = sum(m.density * m.thickness * m.width for m in layers)  # per length
+                made = Material(sum(m.ea for m in layers), h, w, mass / (h * w))
+            elif kind == "lane":
+                assert web.slit_from is not None and web.width is not None
+                base = of(self.spec.webs[self.web_index[web.slit_from]])
+                h = web.thickness or base.thickness
+                ea = base.ea * (web.width / base.width) * (h / base.thickness)
+                made = Material(ea, h, web.width, base.density)
+            else:
+                spec = web.web or self.spec.web
+                assert spec is not None
+                made = Material(web_ea(spec), spec.thickness, spec.width, spec.density)
+            out[web.name] = made
+            return made
+
+        return tuple(of(w) for w in self.spec.webs)
+
+    @cached_property
+    def spans(self) -> tuple[Span, ...]:
+        out: list[Span] = []
+        for w, web in enumerate(self.spec.webs):
+            for k, s in enumerate(web.spans):
+                a, b = self.node_index[web.path[k]], self.node_index[web.path[k + 1]]
+                out.append(Span(len(out), w, k, a, b, s.name or f"{web.name}[{k}]", s.length))
+        return tuple(out)
+
+    def web_spans(self, w: int) -> list[int]:
+        """Span numbers of web ``w`` in path order."""
+        return [s.index for s in self.spans if s.web == w]
+
+    @cached_property
+    def rolls(self) -> tuple[Roll, ...]:
+        out: list[Roll] = []
+        for w, web in enumerate(self.spec.webs):
+            first = self.spec.rollers[self.node_index[web.path[0]]]
+            last = self.spec.rollers[self.node_index[web.path[-1]]]
+            if isinstance(first, UnwindSpec):
+                out.append(Roll(self.node_index[first.name], w, -1.0, first.radius))
+            if isinstance(last, RewindSpec):
+                out.append(Roll(self.node_index[last.name], w, 1.0, last.radius))
+        return tuple(out)
+
+    def roll_of(self, node: int, web: int) -> int:
+        """Index of web ``web``'s roll on ``node``, or -1 where ``node`` is no roll of it."""
+        return next((j for j, r in enumerate(self.rolls) if r.node == node and r.web == web), -1)
+
+    @property
+    def master(self) -> int:
+        return next(i for i, r in enumerate(self.spec.rollers)
+                    if isinstance(r, DrivenSpec) and r.role == "master")
+
+    @cached_property
+    def drives(self) -> tuple[int, ...]:
+        """Nodes with a drive, in roller order."""
+        return tuple(i for i, r in enumerate(self.spec.rollers) if not isinstance(r, IdleSpec))
+
+    @cached_property
+    def junctions(self) -> frozenset[int]:
+        """Nodes where a path ends and another starts (nips, slitters)."""
+        starts = {self.node_index[w.path[0]] for w in self.spec.webs}
+        ends = {self.node_index[w.path[-1]] for w in self.spec.webs}
+        return frozenset(starts & ends)
+
+    def span_tension_spec(self, s: int) -> Any:
+        span = self.spans[s]
+        return self.spec.webs[span.web].spans[span.k].tension
+
+    @cached_property
+    def zones(self) -> dict[int, Zone]:
+        """Drive node -> its tension zone (``Zone``); the master has none. Raises
+        ``LineFileError`` where a zone has no loadcell, two in series, or overlaps another."""
+        out: dict[int, Zone] = {}
+        owner: dict[int, int] = {}
+        master = self.master
+        for i in self.drives:
+            if i == master:
+                continue
+            down = self._downstream_of(i, master)
+            spans = self._walk(i, down)
+            key = f"rollers[{i}]"
+            cells = tuple(s for s in spans if self.span_tension_spec(s) is not None)
+            if not cells:
+                raise LineFileError(self.source, key, f"no loadcell span (a span with "
+                                    f"'tension') in the zone of {self.spec.rollers[i].name!r}: "
+                                    f"{', '.join(self.spans[s].name for s in spans)}")
+            webs = [self.spans[s].web for s in cells]
+            if len(set(webs)) < len(webs):
+                raise LineFileError(self.source, key, "two loadcell spans in series in one "
+                                    "zone: which one the drive controls is ambiguous")
+            for s in spans:
+                if s in owner:
+                    raise LineFileError(self.source, key, f"its zone overlaps the zone of "
+                                        f"{self.spec.rollers[owner[s]].name!r} at span "
+                                        f"{self.spans[s].name!r}: ambiguous")
+                owner[s] = i
+            out[i] = Zone(i, tuple(spans), cells, 1.0 if not down else -1.0)
+        for s in range(len(self.spans)):
+            if self.span_tension_spec(s) is not None and s not in owner:
+                span = self.spans[s]
+                raise LineFileError(self.source, f"webs[{span.web}].spans[{span.k}].tension",
+                                    "no drive's zone holds this span: nothing controls it")
+        return out
+
+    def _downstream_of(self, i: int, master: int) -> bool:
+        """Whether node ``i``'s zone lies downstream of it (the master is downstream)."""
+        roller = self.spec.rollers[i]
+        if isinstance(roller, UnwindSpec | RewindSpec):
+            return isinstance(roller, UnwindSpec)
+        seen, todo = {i}, [i]
+        while todo:
+            n = todo.pop()
+            for s in self.spans:
+                if s.a == n and s.b not in seen:
+                    seen.add(s.b)
+                    todo.append(s.b)
+        return master in seen
+
+    def _walk(self, i: int, down: bool) -> list[int]:
+        """Spans from node ``i`` towards the master up to the next driven node or junction."""
+        out, todo = [], [i]
+        while todo:
+            n = todo.pop()
+            for s in self.spans:
+                if (s.a if down else s.b) != n:
+                    continue
+                out.append(s.index)
+                m = s.b if down else s.a
+                if isinstance(self.spec.rollers[m], IdleSpec) and m not in self.junctions:
+                    todo.append(m)
+        return sorted(out)
+
+    def with_scenario(self, name: str) -> BranchedLine:
+        """This line with scenario ``name`` applied (speed, ``set``, roll change)."""
+        if name not in self.spec.scenarios:
+            known = ", ".join(self.spec.scenarios) or "none"
+            raise ArgumentError(f"{self.source}: no scenario {name!r} (scenarios: {known})")
+        scenario = self.spec.scenarios[name]
+        data = self.spec.model_dump(exclude_none=True)
+        if scenario.speed is not None:
+            data["speed"] = scenario.model_dump(exclude_none=True)["speed"]
+        for path, value in scenario.set.items():
+            set_path(data, path, value, self.source)
+        spec = branched_from_dict(data, self.source)
+        return BranchedLine(spec, self.source, scenario.roll_change, name)
+
+
+def load_branched(source: BranchedLine | BranchedLineSpec | str | Path | dict[str, Any]
+                  ) -> BranchedLine:
+    """A branched line from a TOML file, a built-in name (``"laminator"``), a dict or a spec.
+
+    Raises ``LineFileError`` naming the file, key and problem for malformed input (a line
+    without ``[[webs]]`` included: load that with ``webline.load_line``)."""
+    if isinstance(source, BranchedLine):
+        return source
+    if isinstance(source, BranchedLineSpec):
+        return _checked(BranchedLine(source))
+    if isinstance(source, dict):
+        return _checked(BranchedLine(branched_from_dict(source, "<dict>"), "<dict>"))
+    data, text, label = read_any(source)
+    if not is_branched(data):
+        raise LineFileError(label, "webs", "not a branched line (no [[webs]]): load it with "
+                            "webline.load_line")
+    return _checked(BranchedLine(parse_branched(data, text, label), label))
+
+
+def source_is_branched(source: object) -> bool:
+    """Whether ``source`` (a line object, a path or a built-in name) is a branched line;
+    False for anything that cannot be read (``load_line`` then says why)."""
+    if isinstance(source, BranchedLine | BranchedLineSpec):
+        return True
+    if isinstance(source, dict):
+        return is_branched(source)
+    if not isinstance(source, str | Path):
+        return False
+    try:
+        return is_branched(read_any(source)[0])
+    except LineFileError:
+        return False
+
+
+def _checked(line: BranchedLine) -> BranchedLine:
+    _ = line.zones  # zones are checked when the line is loaded, not when it first runs
+    return line

@@ -1,0 +1,150 @@
+"""The operating point of a branched line: the state its simulation starts at.
+
+Solved on the kernel's own right-hand side (``sim.branches.kernel.rhs``), so a run started
+there stays put to the solver's tolerance: unknowns are the span stretches, node speeds and
+motor torques; equations are every span's and node's balance (a roll node turning at the
+rate that holds its surface speed while its radius changes), the master at the line speed
+and every tension drive's loadcell (or sum of loadcells) at its reference. Speeds follow from
+mass flow along each web (v (1 - ε) is the same at both ends of a steady span), so the draw
+between drives comes out of the solution, and each drive's speed feedforward is its speed at
+the operating point over the line speed.
+
+At rest (line speed 0) every span is trivially steady: the tensions are then those of the
+line at its top speed without bearing friction (the limit of a slow start), the speeds 0 and
+the torques what holds each node at rest.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import root
+
+from webline.errors import SimulationError
+from webline.sim.branches import layout as B
+from webline.sim.branches.kernel import node_inertia, rhs
+from webline.sim.branches.plan import BranchPlan
+
+#: the solver's relative tolerance on the scaled unknowns [-]
+XTOL = 1e-13
+
+
+@dataclass(frozen=True)
+class BranchPoint:
+    """An operating point: ``x`` the full state, ``torque`` [N·m] per drive, ``ratio`` [-]
+    each drive's surface speed over the line speed, ``line_speed`` [m/s]."""
+
+    x: np.ndarray
+    torque: np.ndarray
+    ratio: np.ndarray
+    line_speed: float
+
+
+def _references(plan: BranchPlan, t: float) -> np.ndarray:
+    refs = np.full(len(plan.line.spans), np.nan)
+    for k, p in plan.cells:
+        refs[k] = plan.profile(int(p), t)
+    return refs
+
+
+def _guess(plan: BranchPlan, refs: np.ndarray) -> np.ndarray:
+    """Stretch guesses [N]: a span's reference, else its web's first reference, else the
+    mean reference scaled to its web's stiffness."""
+    mean = float(np.nanmean(refs)) if np.any(np.isfinite(refs)) else 1.0
+    guess = np.empty(len(refs))
+    for w in range(plan.webs.shape[0]):
+        spans = range(plan.webs[w, B.WB_FIRST], plan.webs[w, B.WB_LAST] + 1)
+        known = [refs[k] for k in spans if np.isfinite(refs[k])]
+        for k in spans:
+            guess[k] = refs[k] if np.isfinite(refs[k]) else (known[0] if known else mean)
+    return guess
+
+
+def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.ndarray:
+    """Stretches, node speeds and torques (one vector) of the steady line at ``speed``."""
+    n_s, n_n, n_d = len(plan.line.spans), plan.nodes.shape[0], plan.di.shape[0]
+    off_w, off_r, off_tq = (plan.offsets[B.O_OMEGA], plan.offsets[B.O_RADIUS],
+                            plan.offsets[B.O_TORQUE])
+    refs = _references(plan, t)
+    t_scale = float(np.nanmean(np.abs(refs))) if np.any(np.isfinite(refs)) else 1.0
+    x = np.zeros(plan.n_x)
+    for j, roll in enumerate(plan.line.rolls):
+        x[off_r + j] = roll.radius
+    arms = plan.nodes[:, B.N_RADIUS].copy()
+    for d in range(n_d):
+        j = plan.di[d, B.DI_ROLL]
+        if j >= 0:
+            arms[plan.di[d, B.DI_NODE]] = x[off_r + j]
+    tables = (plan.offsets, nodes, *plan.tables()[2:])
+    dx = np.zeros(plan.n_x)
+    work = plan.scratch()
+    cmd = np.zeros(n_d)
+    w_scale = speed / arms
+    tq_scale = t_scale * plan.nodes[plan.di[:, B.DI_NODE], B.N_RADIUS]
+    master = plan.line.master
+
+    def state(z: np.ndarray) -> np.ndarray:
+        x[:n_s] = z[:n_s] * t_scale
+        x[off_w:off_w + n_n] = z[n_s:n_s + n_n] * w_scale
+        cmd[:] = z[n_s + n_n:] * tq_scale
+        x[off_tq:off_tq + n_d] = cmd
+        return x
+
+    def residual(z: np.ndarray) -> np.ndarray:
+        rhs(state(z), cmd, plan.wound, *tables, dx, work)
+        out = np.empty(n_s + n_n + n_d)
+        out[:n_s] = dx[:n_s] * plan.sf[:, B.SF_LENGTH] / (t_scale * max(speed, 1e-9))
+        accel = dx[off_w:off_w + n_n].copy()
+        for d in range(n_d):  # a roll drive holds its surface speed as its radius changes
+            i, j = plan.di[d, B.DI_NODE], plan.di[d, B.DI_ROLL]
+            if j >= 0:
+                accel[i] += x[off_w + i] * dx[off_r + j] / x[off_r + j]
+        out[n_s:n_s + n_n] = accel / w_scale * 1e-3
+        for d in range(n_d):
+            i = plan.di[d, B.DI_NODE]
+            if i == master:
+                out[n_s + n_n + d] = (arms[i] * x[off_w + i] - speed) / max(speed, 1e-9)
+                continue
+            first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
+            cells = plan.cells[first:first + count, 0]
+            out[n_s + n_n + d] = (np.sum(np.maximum(x[cells], 0.0)) - np.sum(refs[cells])
+                                  ) / t_scale
+        return out
+
+    z0 = np.concatenate([_guess(plan, refs) / t_scale, np.ones(n_n), np.zeros(n_d)])
+    found = root(residual, z0, method="hybr", options={"xtol": XTOL})
+    if not found.success or np.max(np.abs(residual(found.x))) > 1e-9:
+        raise SimulationError(f"{plan.line.name}: no steady operating point found at "
+                              f"{speed:.4g} m/s ({found.message})")
+    return state(found.x).copy()
+
+
+def operating_point(plan: BranchPlan, t: float = 0.0) -> BranchPoint:
+    """The steady state of ``plan`` at time ``t`` [s] of its references (module docstring)."""
+    n_n, n_d = plan.nodes.shape[0], plan.di.shape[0]
+    off_w, off_r, off_tq = (plan.offsets[B.O_OMEGA], plan.offsets[B.O_RADIUS],
+                            plan.offsets[B.O_TORQUE])
+    speed = plan.profile(0, t)
+    top = float(np.max(np.abs(plan.prof_v[plan.prof_off[0]:plan.prof_off[1]])))
+    at = _solve(plan, speed if speed > 0.0 else max(top, 1.0), plan.nodes, t)
+    ratio = np.empty(n_d)
+    for d in range(n_d):
+        i, j = plan.di[d, B.DI_NODE], plan.di[d, B.DI_ROLL]
+        arm = at[off_r + j] if j >= 0 else plan.nodes[i, B.N_RADIUS]
+        ratio[d] = arm * at[off_w + i] / (speed if speed > 0.0 else max(top, 1.0))
+    if speed <= 0.0:  # at rest: frictionless tensions, no motion, torques that hold it
+        nodes = plan.nodes.copy()
+        nodes[:, B.N_VISCOUS] = nodes[:, B.N_COULOMB] = 0.0
+        at = _solve(plan, max(top, 1.0), nodes, t)
+        at[off_w:off_w + n_n] = 0.0
+        dx = np.zeros(plan.n_x)
+        cmd = np.zeros(n_d)
+        at[off_tq:off_tq + n_d] = 0.0
+        rhs(at, cmd, plan.wound, *plan.tables(), dx, plan.scratch())
+        for d in range(n_d):  # J dω/dt = web torque + n τ = 0
+            i = plan.di[d, B.DI_NODE]
+            web_torque = dx[off_w + i] * node_inertia(i, at, plan.offsets, plan.nodes,
+                                                      plan.rolls)
+            at[off_tq + d] = -web_torque / plan.nodes[i, B.N_RATIO]
+    return BranchPoint(at, at[off_tq:off_tq + n_d].copy(), ratio, speed)

@@ -1,0 +1,282 @@
+"""The compiled loop of a branched line: the plant of docs/branching.md and sampled cascaded
+PI controllers, RK4 sub-steps between controller ticks as the chain kernel
+(``sim.core.kernel``) does. Physics from ``webline.physics`` (span 6.8, rolls 6.1-6.6,
+rollers 6.9/6.11); tables in ``sim.branches.layout``.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from typing import Any
+
+import numpy as np
+
+from webline.physics import motor, roll, roller, span
+from webline.sim.branches import layout as B
+from webline.sim.elements.signals import jit, loop_njit, profile_at
+
+_tension: Any = jit(span.tension)
+_stretch_rate: Any = jit(span.stretch_rate)
+_roll_inertia: Any = jit(roll.roll_inertia)
+_radius_rate: Any = jit(roll.radius_rate)
+_friction: Any = jit(roller.friction_torque)
+_saturate: Any = jit(motor.saturate)
+
+
+@jit
+def arm(end_roll: int, node: int, x: np.ndarray, offsets: np.ndarray,
+        nodes: np.ndarray) -> float:
+    """Lever arm [m] of a span's end on ``node``: its web's roll radius, or the roller's."""
+    if end_roll >= 0:
+        return x[offsets[B.O_RADIUS] + end_roll]
+    return nodes[node, B.N_RADIUS]
+
+
+@jit
+def carried_in(k: int, x: np.ndarray, tension: np.ndarray, wound: np.ndarray,
+               si: np.ndarray, sf: np.ndarray, layers: np.ndarray) -> float:
+    """Stretch [N] the web carries into span ``k`` (docs/branching.md, s_in)."""
+    src = si[k, B.S_SRC]
+    frm = si[k, B.S_FROM]
+    if src == B.SRC_PREVIOUS:
+        return tension[frm]
+    if src == B.SRC_WOUND:
+        return wound[si[k, B.S_WEB]]
+    if src == B.SRC_LAYERS:  # force continuity at the nip: the layers' tensions add up
+        total = 0.0
+        for j in range(si[k, B.S_COUNT]):
+            total += tension[layers[frm + j]]
+        return total
+    return sf[k, B.SF_SHARE] * tension[frm]  # a lane: the base web's strain at the knife
+
+
+@jit
+def node_inertia(i: int, x: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
+                 rolls: np.ndarray) -> float:
+    """Inertia [kg·m²] of node ``i``: rotating parts plus every roll wound on it (6.1)."""
+    inertia = nodes[i, B.N_JCONST]
+    off_r = offsets[B.O_RADIUS]
+    for j in range(rolls.shape[0]):
+        if int(rolls[j, B.R_NODE]) == i:
+            inertia += _roll_inertia(0.0, x[off_r + j], rolls[j, B.R_CORE],
+                                     rolls[j, B.R_WIDTH], rolls[j, B.R_RHO])
+    return inertia
+
+
+@jit
+def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
+        nodes: np.ndarray, si: np.ndarray, sf: np.ndarray, layers: np.ndarray,
+        rolls: np.ndarray, webs: np.ndarray, di: np.ndarray, df: np.ndarray,
+        dx: np.ndarray, work: np.ndarray) -> None:
+    """dx/dt of a branched line into ``dx`` with held motor-torque commands ``cmd`` [N·m] and
+    wound-in tensions ``wound`` [N] per web. ``work``: scratch of 4 x spans + 2 x nodes
+    (``work_size``)."""
+    n_s, n_n = si.shape[0], nodes.shape[0]
+    off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
+    off_tq, off_q = offsets[B.O_TORQUE], offsets[B.O_WEB]
+    tension = work[:n_s]
+    s_in = work[n_s:2 * n_s]
+    v_a = work[2 * n_s:3 * n_s]
+    v_b = work[3 * n_s:4 * n_s]
+    torque = work[4 * n_s:4 * n_s + n_n]
+    inertia = work[4 * n_s + n_n:4 * n_s + 2 * n_n]
+    for k in range(n_s):
+        tension[k] = _tension(x[k])
+    for i in range(n_n):
+        torque[i] = 0.0
+        inertia[i] = nodes[i, B.N_JCONST]
+    for j in range(rolls.shape[0]):  # every roll wound on a node adds its web's inertia
+        i = int(rolls[j, B.R_NODE])
+        radius = x[off_r + j]
+        inertia[i] += _roll_inertia(0.0, radius, rolls[j, B.R_CORE], rolls[j, B.R_WIDTH],
+                                    rolls[j, B.R_RHO])
+        dx[off_r + j] = _radius_rate(radius * x[off_w + i], radius, rolls[j, B.R_THICK],
+                                     rolls[j, B.R_DIR])
+    for k in range(n_s):
+        a, b = si[k, B.S_A], si[k, B.S_B]
+        arm_a = arm(si[k, B.S_ARMA], a, x, offsets, nodes)
+        arm_b = arm(si[k, B.S_ARMB], b, x, offsets, nodes)
+        v_a[k] = arm_a * x[off_w + a]
+        v_b[k] = arm_b * x[off_w + b]
+        s_in[k] = carried_in(k, x, tension, wound, si, sf, layers)
+        dx[k] = _stretch_rate(sf[k, B.SF_LENGTH], sf[k, B.SF_EA], v_a[k], v_b[k], s_in[k],
+                              tension[k])
+        torque[a] += arm_a * tension[k]  # the span pulls its upstream roller forward
+        torque[b] -= arm_b * tension[k]
+    for i in range(n_n):
+        omega = x[off_w + i]
+        total = torque[i] - nodes[i, B.N_VISCOUS] * omega
+        if nodes[i, B.N_COULOMB] != 0.0:  # (a tanh costs more than the rest of the node)
+            total -= _friction(omega, 0.0, nodes[i, B.N_COULOMB])
+        d = int(nodes[i, B.N_DRIVE])
+        if d >= 0:
+            total += nodes[i, B.N_RATIO] * x[off_tq + d]
+        if nodes[i, B.N_ROLLS] > 0.0:  # J(R) of the rolls on it (6.1)
+            dx[off_w + i] = total / inertia[i]
+        else:
+            dx[off_w + i] = total * nodes[i, B.N_INVJ]
+    for d in range(di.shape[0]):
+        dx[off_tq + d] = (cmd[d] - x[off_tq + d]) * df[d, B.D_INVLAG]
+    for w in range(webs.shape[0]):  # unstrained web in and out: v (1 - ε) at each end
+        first, last = webs[w, B.WB_FIRST], webs[w, B.WB_LAST]
+        inv_ea = sf[first, B.SF_INVEA]
+        dx[off_q + 2 * w] = v_a[first] * (1.0 - s_in[first] * inv_ea)
+        dx[off_q + 2 * w + 1] = v_b[last] * (1.0 - tension[last] * inv_ea)
+
+
+def work_size(n_spans: int, n_nodes: int) -> int:
+    """Length of ``rhs``'s scratch array."""
+    return 4 * n_spans + 2 * n_nodes
+
+
+@jit
+def control_tick(t: float, dt: float, x: np.ndarray, istate: np.ndarray, cmd: np.ndarray,
+                 offsets: np.ndarray, nodes: np.ndarray, rolls: np.ndarray, di: np.ndarray,
+                 df: np.ndarray, cells: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
+                 prof_off: np.ndarray) -> None:
+    """One sample of every drive's cascaded PI (thesis Fig. 4.3, as the chain's
+    ``sim.elements.controllers.pi_command``): line speed x draw is the speed feedforward, a
+    tension PI on the zone's loadcell (or the sum of its loadcells) trims it, a speed PI gives
+    the torque, clipped, with conditional integration. ``cells`` rows: (span, profile)."""
+    v_line = profile_at(0, t, prof_t, prof_v, prof_off)
+    off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
+    for d in range(di.shape[0]):
+        i = di[d, B.DI_NODE]
+        j = di[d, B.DI_ROLL]
+        radius = x[off_r + j] if j >= 0 else nodes[i, B.N_RADIUS]  # true radius (stage 1)
+        v_meas = radius * x[off_w + i]
+        e_t = 0.0
+        for c in range(di[d, B.DI_CELLS], di[d, B.DI_CELLS] + di[d, B.DI_NCELLS]):
+            e_t += profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - _tension(
+                x[cells[c, 0]])
+        trim = df[d, B.D_SIGMA] * (df[d, B.D_KPT] * e_t + istate[d, B.I_TENSION])
+        e_v = v_line * df[d, B.D_FF] + trim - v_meas
+        gain = 1.0
+        if df[d, B.D_ADAPTIVE] > 0.0:  # speed gains follow the roll's inertia
+            gain = node_inertia(i, x, offsets, nodes, rolls) / (
+                df[d, B.D_RATIO] * radius) / df[d, B.D_GAINNORM]
+        raw = df[d, B.D_KPS] * gain * e_v + istate[d, B.I_SPEED]
+        u = _saturate(raw, df[d, B.D_LIMIT])
+        saturated = raw != u
+        if not (saturated and e_v * raw > 0.0):
+            istate[d, B.I_SPEED] += df[d, B.D_KIS] * gain * e_v * dt
+        if not (saturated and df[d, B.D_SIGMA] * e_t * raw > 0.0):
+            istate[d, B.I_TENSION] += df[d, B.D_KIT] * e_t * dt
+        cmd[d] = u
+
+
+@jit
+def roll_change(t: float, x: np.ndarray, wound: np.ndarray, done: np.ndarray,
+                offsets: np.ndarray, rolls: np.ndarray, events: np.ndarray) -> None:
+    """A new roll takes over at its event's time: new radius and wound-in tension, brought
+    to the old roll's surface speed first (a flying splice)."""
+    for e in range(events.shape[0]):
+        if done[e] == 0.0 and t >= events[e, B.E_TIME]:
+            done[e] = 1.0
+            j = int(events[e, B.E_ROLL])
+            i = int(rolls[j, B.R_NODE])
+            w_i = offsets[B.O_OMEGA] + i
+            r_i = offsets[B.O_RADIUS] + j
+            x[w_i] = x[w_i] * x[r_i] / events[e, B.E_RADIUS]
+            x[r_i] = events[e, B.E_RADIUS]
+            wound[int(events[e, B.E_WEB])] = events[e, B.E_WOUND]
+
+
+@jit
+def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
+            rec: np.ndarray, stages: np.ndarray, cmd: np.ndarray, work: np.ndarray,
+            tick0: int, n_ticks: int, dt: float, substeps: int, record_every: int,
+            include_end: bool, speed_max: float, offsets: np.ndarray, nodes: np.ndarray,
+            si: np.ndarray,
+            sf: np.ndarray, layers: np.ndarray, rolls: np.ndarray, webs: np.ndarray,
+            di: np.ndarray, df: np.ndarray, cells: np.ndarray, events: np.ndarray,
+            prof_t: np.ndarray, prof_v: np.ndarray,
+            prof_off: np.ndarray) -> tuple[int, int, float]:
+    """Advance ``n_ticks`` controller periods from tick ``tick0``, recording [t, x..., cmd...]
+    every ``record_every`` ticks and, with ``include_end``, the state after the last (a
+    chunked run leaves that tick to the next chunk); returns (records, status, time of
+    failure). Stops at a non-finite state, an empty unwind or a runaway (``layout``)."""
+    n_x = x.shape[0]
+    n_d = di.shape[0]
+    n_s = si.shape[0]
+    tmp = stages[4]
+    h = dt / substeps
+    n_rec = 0
+    off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
+    for j in range(n_ticks + 1):
+        t = (tick0 + j) * dt
+        if j == n_ticks and not include_end:  # the next chunk starts with this tick
+            break
+        roll_change(t, x, wound, done, offsets, rolls, events)
+        control_tick(t, dt, x, istate, cmd, offsets, nodes, rolls, di, df, cells, prof_t,
+                     prof_v, prof_off)
+        if (tick0 + j) % record_every == 0 or j == n_ticks:
+            rec[n_rec, 0] = t
+            for m in range(n_x):
+                rec[n_rec, 1 + m] = x[m]
+            for d in range(n_d):
+                rec[n_rec, 1 + n_x + d] = cmd[d]
+            n_rec += 1
+        if j == n_ticks:
+            break
+        for _ in range(substeps):
+            for stage in range(4):
+                state = x if stage == 0 else tmp
+                rhs(state, cmd, wound, offsets, nodes, si, sf, layers, rolls, webs, di, df,
+                    stages[stage], work)
+                if stage < 3:
+                    c = h if stage == 2 else 0.5 * h
+                    for m in range(n_x):
+                        tmp[m] = x[m] + c * stages[stage, m]
+            for m in range(n_x):
+                x[m] += h / 6.0 * (stages[0, m] + 2.0 * stages[1, m] + 2.0 * stages[2, m]
+                                   + stages[3, m])
+        for m in range(n_x):
+            if not math.isfinite(x[m]):
+                return n_rec, B.STATUS_NONFINITE, t + dt
+        for r in range(rolls.shape[0]):
+            if rolls[r, B.R_DIR] < 0.0 and x[off_r + r] <= rolls[r, B.R_CORE]:
+                return n_rec, B.STATUS_UNWIND_EMPTY, t + dt
+        for k in range(n_s):
+            if x[k] > B.RUNAWAY_STRAIN * sf[k, B.SF_EA]:
+                return n_rec, B.STATUS_RUNAWAY, t + dt
+        for i in range(nodes.shape[0]):
+            r_i = nodes[i, B.N_RADIUS]
+            if abs(x[off_w + i]) * r_i > speed_max:
+                return n_rec, B.STATUS_RUNAWAY, t + dt
+    return n_rec, B.STATUS_OK, math.nan
+
+
+def compiled_advance(offsets: np.ndarray, si: np.ndarray, layers: np.ndarray,
+                     webs: np.ndarray, di: np.ndarray, cells: np.ndarray) -> Any:
+    """``advance`` compiled for one line structure: its integer tables frozen into the loop
+    as constants (as the chain's ``sim.core.kernel.compiled_loop``), so the loops over spans,
+    nodes and drives have known trip counts and table look-ups fold away. Called with the
+    remaining arguments of ``advance`` (the float tables stay run-time arrays)."""
+    return _compiled(*((*np.asarray(a).ravel().tolist(), np.asarray(a).shape)
+                       for a in (offsets, si, layers, webs, di, cells)))
+
+
+@functools.cache
+def _compiled(*tables: tuple[Any, ...]) -> Any:
+    offsets, si, layers, webs, di, cells = (
+        np.array(t[:-1], dtype=np.int64).reshape(t[-1]) for t in tables)
+
+    @loop_njit
+    def loop(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
+             rec: np.ndarray, stages: np.ndarray, cmd: np.ndarray, work: np.ndarray,
+             tick0: int, n_ticks: int, dt: float, substeps: int, record_every: int,
+             include_end: bool, speed_max: float, nodes: np.ndarray, sf: np.ndarray,
+             rolls: np.ndarray, df: np.ndarray, events: np.ndarray, prof_t: np.ndarray,
+             prof_v: np.ndarray, prof_off: np.ndarray) -> tuple[int, int, float]:
+        return advance(x, istate, wound, done, rec, stages, cmd, work, tick0, n_ticks, dt,
+                       substeps, record_every, include_end, speed_max, offsets, nodes, si, sf,
+                       layers, rolls, webs, di, df, cells, events, prof_t, prof_v, prof_off)
+
+    return loop
+
+
+def new_records(n_ticks: int, record_every: int, n_x: int, n_d: int) -> np.ndarray:
+    """A record buffer for ``advance``."""
+    return np.empty((n_ticks // record_every + 2, 1 + n_x + n_d))

@@ -1,0 +1,45 @@
+"""Column numbers of the flat tables of a branched line's plan (``sim.branches.plan``).
+
+State vector: span stretches EA·ε [N] | node speeds ω [rad/s] | roll radii [m] | motor
+torques [N·m] | web length in and out [m] per web (unstrained web that entered the web's
+first span and left its last one).
+"""
+
+from __future__ import annotations
+
+# offsets row
+O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_N = range(5)
+
+# node table (float)
+(N_RADIUS, N_JCONST, N_VISCOUS, N_COULOMB, N_CORE, N_RATIO, N_DRIVE, N_INVJ, N_ROLLS,
+ N_COLS) = range(10)
+
+# span table (int): nodes, web, where the carried-in stretch comes from, roll arms, layers
+S_A, S_B, S_WEB, S_SRC, S_FROM, S_ARMA, S_ARMB, S_COUNT, S_COLS = range(9)
+# span table (float)
+SF_LENGTH, SF_EA, SF_SHARE, SF_INVEA, SF_COLS = range(5)
+#: S_SRC: the previous span of the path | the unwind's wound-in tension | the sum of the
+#: layers' last spans (a laminate's first span) | the base web's last span x share (a lane)
+SRC_PREVIOUS, SRC_WOUND, SRC_LAYERS, SRC_SLIT = range(4)
+
+# roll table (float): node, web, direction, thickness, width, density, core radius
+R_NODE, R_WEB, R_DIR, R_THICK, R_WIDTH, R_RHO, R_CORE, R_COLS = range(8)
+
+# web table (int): first span, last span
+WB_FIRST, WB_LAST, WB_COLS = range(3)
+
+# drive table (int)
+DI_NODE, DI_CELLS, DI_NCELLS, DI_ROLL, DI_COLS = range(5)
+# drive table (float)
+(D_RATIO, D_KPS, D_KIS, D_KPT, D_KIT, D_LIMIT, D_INVLAG, D_SIGMA, D_GAINNORM, D_FF,
+ D_ADAPTIVE, D_COLS) = range(12)
+
+# controller memory per drive
+I_SPEED, I_TENSION, I_COLS = range(3)
+
+# event table (roll change): time, roll, new radius, new wound-in tension, web
+E_TIME, E_ROLL, E_RADIUS, E_WOUND, E_WEB, E_COLS = range(6)
+
+STATUS_OK, STATUS_NONFINITE, STATUS_UNWIND_EMPTY, STATUS_RUNAWAY = range(4)
+#: a strain beyond this, or a speed beyond 3x the top reference + 1 m/s, is a runaway [-]
+RUNAWAY_STRAIN = 0.05

@@ -1,0 +1,244 @@
+"""The plan of a branched line: its topology (``model.web_graph``) as flat arrays for the
+compiled loop (``sim.branches.kernel``), with the PI gains of every drive.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from webline.control.pi import tune
+from webline.model.web_graph import BranchedLine
+from webline.profiles import breakpoints
+from webline.sim.branches import layout as B
+from webline.sim.branches.kernel import compiled_advance, node_inertia, work_size
+from webline.spec.branched.check import kind_of
+from webline.spec.schema import CascadedPISpec, IdleSpec, RewindSpec, UnwindSpec
+
+#: the runaway speed: this factor x the top reference speed, plus a floor [m/s]
+RUNAWAY_SPEED_FACTOR, RUNAWAY_SPEED_FLOOR = 3.0, 1.0
+
+
+@dataclass(frozen=True, eq=False)
+class BranchPlan:
+    """Flat tables of a branched line (columns: ``sim.branches.layout``). Profile 0 is the
+    line speed, profile 1 + k the tension reference of span k (where it has one)."""
+
+    line: BranchedLine
+    offsets: np.ndarray
+    nodes: np.ndarray
+    si: np.ndarray
+    sf: np.ndarray
+    layers: np.ndarray
+    rolls: np.ndarray
+    webs: np.ndarray
+    di: np.ndarray
+    df: np.ndarray
+    cells: np.ndarray
+    events: np.ndarray
+    wound: np.ndarray
+    prof_t: np.ndarray
+    prof_v: np.ndarray
+    prof_off: np.ndarray
+    dt: float
+    speed_max: float
+
+    @property
+    def n_x(self) -> int:
+        return int(self.offsets[B.O_N])
+
+    def tables(self) -> tuple[np.ndarray, ...]:
+        """The tables ``kernel.rhs`` takes after ``wound``, in order."""
+        return (self.offsets, self.nodes, self.si, self.sf, self.layers, self.rolls, self.webs,
+                self.di, self.df)
+
+    def scratch(self) -> np.ndarray:
+        """Scratch for ``kernel.rhs``."""
+        return np.zeros(work_size(len(self.line.spans), self.nodes.shape[0]))
+
+    def loop(self) -> Any:
+        """The compiled loop of this plan's structure (``kernel.compiled_advance``)."""
+        return compiled_advance(self.offsets, self.si, self.layers, self.webs, self.di,
+                                self.cells)
+
+    def run(self, x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
+            rec: np.ndarray, cmd: np.ndarray, tick0: int, n_ticks: int, substeps: int,
+            record_every: int, include_end: bool = True) -> tuple[int, int, float]:
+        """Advance ``x``, ``istate``, ``wound`` (wound-in tension per web), ``done`` (roll
+        changes made) and ``cmd`` in place by ``n_ticks`` controller periods from tick
+        ``tick0``, recording into ``rec`` (``kernel.advance``)."""
+        stages = np.empty((5, self.n_x))
+        return self.loop()(x, istate, wound, done, rec, stages, cmd, self.scratch(), tick0,
+                           n_ticks, self.dt, substeps, record_every, include_end,
+                           self.speed_max,
+                           self.nodes, self.sf, self.rolls, self.df, self.events, self.prof_t,
+                           self.prof_v, self.prof_off)
+
+    def profile(self, p: int, t: float) -> float:
+        a, b = self.prof_off[p], self.prof_off[p + 1]
+        return float(np.interp(t, self.prof_t[a:b], self.prof_v[a:b]))
+
+
+def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> BranchPlan:
+    """The plan of ``line``; gains are tuned at the initial radii (``control.pi.tune``)."""
+    spec = line.spec
+    n_n, n_s, n_r, n_d, n_w = (len(spec.rollers), len(line.spans), len(line.rolls),
+                               len(line.drives), len(spec.webs))
+    off_w = n_s
+    off_r = off_w + n_n
+    off_tq = off_r + n_r
+    off_q = off_tq + n_d
+    offsets = np.array([off_w, off_r, off_tq, off_q, off_q + 2 * n_w], dtype=np.int64)
+    nodes = np.zeros((n_n, B.N_COLS))
+    for i, r in enumerate(spec.rollers):
+        nodes[i, B.N_RADIUS] = r.radius
+        nodes[i, B.N_JCONST] = r.inertia  # type: ignore[assignment]  # (checked: a number)
+        nodes[i, B.N_VISCOUS], nodes[i, B.N_COULOMB] = r.friction, r.coulomb_friction
+        nodes[i, B.N_RATIO] = 1.0
+        nodes[i, B.N_DRIVE] = line.drives.index(i) if i in line.drives else -1
+        if not isinstance(r, IdleSpec):
+            n = r.drive.ratio
+            nodes[i, B.N_RATIO] = n
+            nodes[i, B.N_JCONST] += n * n * r.drive.motor_inertia
+            nodes[i, B.N_VISCOUS] += n * n * r.drive.motor_friction  # at the motor shaft
+        if isinstance(r, UnwindSpec | RewindSpec):
+            nodes[i, B.N_CORE] = r.core_radius
+    nodes[:, B.N_INVJ] = 1.0 / nodes[:, B.N_JCONST]
+    rolls = np.zeros((n_r, B.R_COLS))
+    for j, roll in enumerate(line.rolls):
+        nodes[roll.node, B.N_ROLLS] += 1
+        m = line.materials[roll.web]
+        rolls[j] = (roll.node, roll.web, roll.direction, m.thickness, m.width, m.density,
+                    nodes[roll.node, B.N_CORE])
+    si, sf, layers = _span_tables(line)
+    webs = np.array([[line.web_spans(w)[0], line.web_spans(w)[-1]] for w in range(n_w)],
+                    dtype=np.int64).reshape(n_w, B.WB_COLS)
+    profiles = [breakpoints(spec.speed)]
+    ref_of = {}
+    for k in range(n_s):
+        tension = line.span_tension_spec(k)
+        if tension is not None:
+            ref_of[k] = len(profiles)
+            profiles.append(breakpoints(tension))
+    wound = np.zeros(n_w)
+    for w, web in enumerate(spec.webs):
+        first = spec.rollers[line.node_index[web.path[0]]]
+        if isinstance(first, UnwindSpec):
+            wound[w] = first.wound_in_tension
+    di = np.zeros((n_d, B.DI_COLS), dtype=np.int64)
+    df = np.zeros((n_d, B.D_COLS))
+    cells: list[tuple[int, int]] = []
+    for d, i in enumerate(line.drives):
+        zone = line.zones.get(i)
+        di[d, B.DI_NODE] = i
+        di[d, B.DI_CELLS] = len(cells)
+        di[d, B.DI_NCELLS] = len(zone.loadcells) if zone else 0
+        cells += [(k, ref_of[k]) for k in (zone.loadcells if zone else ())]
+        di[d, B.DI_ROLL] = _speed_roll(line, i, zone.loadcells if zone else ())
+        df[d, B.D_SIGMA] = zone.sigma if zone else 0.0
+    events = np.zeros((0, B.E_COLS))
+    change = line.roll_change
+    if change is not None:
+        node = line.node_index[change.roller]
+        j = next(j for j, r in enumerate(line.rolls) if r.node == node)
+        w = line.rolls[j].web
+        new = wound[w] if change.wound_in_tension is None else change.wound_in_tension
+        events = np.array([[change.time, j, change.radius, new, w]])
+    offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
+    top = max(float(np.max(np.abs(v))) for v in [breakpoints(spec.speed)[1]])
+    rate = spec.control.sample_rate if sample_rate is None else sample_rate
+    plan = BranchPlan(line, offsets, nodes, si, sf, layers, rolls, webs, di, df,
+                      np.array(cells, dtype=np.int64).reshape(-1, 2), events, wound,
+                      np.concatenate([t for t, _ in profiles]),
+                      np.concatenate([v for _, v in profiles]), offs, 1.0 / rate,
+                      RUNAWAY_SPEED_FACTOR * top + RUNAWAY_SPEED_FLOOR)
+    _tune(plan)
+    return plan
+
+
+def _span_tables(line: BranchedLine) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    spec = line.spec
+    si = np.zeros((len(line.spans), B.S_COLS), dtype=np.int64)
+    sf = np.zeros((len(line.spans), B.SF_COLS))
+    layers: list[int] = []
+    for span in line.spans:
+        web = spec.webs[span.web]
+        k = span.index
+        si[k, B.S_A], si[k, B.S_B], si[k, B.S_WEB] = span.a, span.b, span.web
+        si[k, B.S_ARMA] = line.roll_of(span.a, span.web)
+        si[k, B.S_ARMB] = line.roll_of(span.b, span.web)
+        sf[k, B.SF_LENGTH] = span.length
+        sf[k, B.SF_EA] = line.materials[span.web].ea
+        sf[k, B.SF_INVEA] = 1.0 / sf[k, B.SF_EA]
+        if span.k > 0:
+            si[k, B.S_SRC], si[k, B.S_FROM] = B.SRC_PREVIOUS, k - 1
+        elif kind_of(web) == "laminate":
+            si[k, B.S_SRC], si[k, B.S_FROM] = B.SRC_LAYERS, len(layers)
+            names = web.layers or []
+            layers += [line.web_spans(line.web_index[n])[-1] for n in names]
+            si[k, B.S_COUNT] = len(names)
+        elif kind_of(web) == "lane":
+            base = line.web_index[web.slit_from or ""]
+            si[k, B.S_SRC], si[k, B.S_FROM] = B.SRC_SLIT, line.web_spans(base)[-1]
+            sf[k, B.SF_SHARE] = line.materials[span.web].ea / line.materials[base].ea
+        else:
+            si[k, B.S_SRC] = B.SRC_WOUND
+    return si, sf, np.array(layers, dtype=np.int64)
+
+
+def _speed_roll(line: BranchedLine, i: int, loadcells: tuple[int, ...]) -> int:
+    """The roll whose radius converts drive ``i``'s surface speed to ω: the first loadcell's
+    web's roll on this node, else its first roll; -1 for a roller."""
+    for k in loadcells:
+        j = line.roll_of(i, line.spans[k].web)
+        if j >= 0:
+            return j
+    return next((j for j, r in enumerate(line.rolls) if r.node == i), -1)
+
+
+def zone_compliance(line: BranchedLine, i: int) -> float:
+    """L/EA [m/N] the tension loop of drive ``i`` sees: 1 / sum over its loadcells of EA/L,
+    L the length of the zone's spans on that loadcell's web (one web: the chain's L/EA)."""
+    zone = line.zones[i]
+    stiffness = 0.0
+    for k in zone.loadcells:
+        web = line.spans[k].web
+        length = sum(line.spans[s].length for s in zone.spans if line.spans[s].web == web)
+        stiffness += line.materials[web].ea / length
+    return 1.0 / stiffness
+
+
+def _tune(plan: BranchPlan) -> None:
+    """PI gains of every drive (the chain's ``sim.core.drive_table._pi_columns`` rule)."""
+    line = plan.line
+    x = np.zeros(plan.n_x)
+    for j, roll in enumerate(line.rolls):
+        x[plan.offsets[B.O_RADIUS] + j] = roll.radius
+    for d, i in enumerate(line.drives):
+        roller = line.spec.rollers[i]
+        assert not isinstance(roller, IdleSpec) and isinstance(roller.controller, CascadedPISpec)
+        c, drive = roller.controller, roller.drive
+        j = plan.di[d, B.DI_ROLL]
+        radius = x[plan.offsets[B.O_RADIUS] + j] if j >= 0 else roller.radius
+        inertia = float(node_inertia(i, x, plan.offsets, plan.nodes, plan.rolls))
+        zone = i in line.zones
+        compliance = zone_compliance(line, i) if zone else 1.0
+        auto = tune(inertia, drive.ratio, radius, compliance, 1.0, c.speed_bandwidth,
+                    c.tension_bandwidth, c.damping)
+        limit = min(0.2 / drive.torque_lag, 2 * math.pi / plan.dt / 20)
+        scale = min(1.0, limit * inertia / (drive.ratio * radius) / auto.speed_kp)
+        row = plan.df[d]
+        row[B.D_RATIO] = drive.ratio
+        row[B.D_KPS] = scale * auto.speed_kp if c.speed_kp is None else c.speed_kp
+        row[B.D_KIS] = scale * auto.speed_ki if c.speed_ki is None else c.speed_ki
+        if zone:
+            row[B.D_KPT] = auto.tension_kp if c.tension_kp is None else c.tension_kp
+            row[B.D_KIT] = auto.tension_ki if c.tension_ki is None else c.tension_ki
+        row[B.D_LIMIT] = drive.torque_limit
+        row[B.D_INVLAG] = 1.0 / drive.torque_lag
+        row[B.D_GAINNORM] = inertia / (drive.ratio * radius)
+        row[B.D_ADAPTIVE] = 1.0 if isinstance(roller, UnwindSpec | RewindSpec) and (
+            c.inertia_adaptive) else 0.0

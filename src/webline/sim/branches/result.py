@@ -1,0 +1,182 @@
+"""The result of a branched line's run: an xarray Dataset of named signals and a verdict per
+web and lane computed from them."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+import xarray as xr
+
+from webline.sim.branches import layout as B
+from webline.spec.branched.check import kind_of
+from webline.verdict import Finding, Verdict
+from webline.version import __version__
+
+if TYPE_CHECKING:
+    from webline.sim.branches.plan import BranchPlan
+
+
+@dataclass(frozen=True, eq=False)
+class BranchResult:
+    """Records ``rec`` (rows [t, x..., torque command...]) of a run of ``plan``; ``failure``
+    says why it stopped early (None: it ran to its end)."""
+
+    plan: BranchPlan
+    rec: np.ndarray
+    failure: str | None
+    settings: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def time(self) -> np.ndarray:
+        return self.rec[:, 0]
+
+    @property
+    def states(self) -> np.ndarray:
+        return self.rec[:, 1:1 + self.plan.n_x]
+
+    @cached_property
+    def dataset(self) -> xr.Dataset:
+        """Signals with units (attrs ``units``): tension and strain per span, layer tensions of
+        laminate spans, node angular and surface speeds, roll radii, torques per drive, web
+        length in/out and stored per web."""
+        plan, line = self.plan, self.plan.line
+        x = self.states
+        n_s, n_n = len(line.spans), plan.nodes.shape[0]
+        o = plan.offsets
+        ea = plan.sf[:, B.SF_EA]
+        tension = np.maximum(x[:, :n_s], 0.0)
+        omega = x[:, o[B.O_OMEGA]:o[B.O_OMEGA] + n_n]
+        radius = x[:, o[B.O_RADIUS]:o[B.O_TORQUE]]
+        torque = x[:, o[B.O_TORQUE]:o[B.O_WEB]]
+        q = x[:, o[B.O_WEB]:o[B.O_N]]
+        stored = np.stack([np.sum(plan.sf[s, B.SF_LENGTH] * (1.0 - x[:, s] / ea[s]), axis=1)
+                           for s in (line.web_spans(w) for w in range(len(line.spec.webs)))],
+                          axis=1)
+        layer_names, layer_values = [], []
+        for span in line.spans:  # each layer's tension in the laminate: (EA_i / EA_L) x_L
+            web = line.spec.webs[span.web]
+            for name in web.layers or []:
+                share = line.materials[line.web_index[name]].ea / ea[span.index]
+                layer_names.append(f"{span.name}/{name}")
+                layer_values.append(share * tension[:, span.index])
+        roll_names = [f"{line.spec.rollers[r.node].name}/{line.spec.webs[r.web].name}"
+                      for r in line.rolls]
+        drives = [line.spec.rollers[i].name for i in line.drives]
+        arm = np.tile(plan.nodes[:, B.N_RADIUS], (len(x), 1))  # a roll: its first web's radius
+        for j in reversed(range(len(line.rolls))):
+            arm[:, line.rolls[j].node] = radius[:, j]
+        for d, i in enumerate(line.drives):  # a shaft: the lane its drive measures speed on
+            if plan.di[d, B.DI_ROLL] >= 0:
+                arm[:, i] = radius[:, plan.di[d, B.DI_ROLL]]
+        t = self.time
+
+        def var(dims: tuple[str, ...], values: np.ndarray, units: str, text: str) -> xr.Variable:
+            return xr.Variable(("time", *dims), values, {"units": units, "long_name": text})
+
+        data = {
+            "tension": var(("span",), tension, "N", "span tension"),
+            "strain": var(("span",), x[:, :n_s] / ea, "1", "span strain EA·ε / EA"),
+            "layer_tension": var(("layer_span",), np.array(layer_values).T.reshape(
+                len(t), len(layer_names)), "N", "layer tension in a laminate span"),
+            "omega": var(("node",), omega, "rad/s", "roller angular speed"),
+            "speed": var(("node",), arm * omega, "m/s", "surface speed of a roller (of a "
+                         "shaft: the lane its drive measures)"),
+            "radius": var(("roll",), radius, "m", "wound radius of a roll or lane"),
+            "torque": var(("drive",), torque, "N*m", "motor torque"),
+            "torque_cmd": var(("drive",), self.rec[:, 1 + plan.n_x:], "N*m", "torque command"),
+            "web_in": var(("web",), q[:, 0::2], "m", "unstrained web in at the path's start"),
+            "web_out": var(("web",), q[:, 1::2], "m", "unstrained web out at the path's end"),
+            "web_stored": var(("web",), stored, "m", "unstrained web in the path's spans"),
+        }
+        coords = {"time": ("time", t, {"units": "s"}),
+                  "span": [s.name for s in line.spans],
+                  "span_web": ("span", [line.spec.webs[s.web].name for s in line.spans]),
+                  "layer_span": layer_names, "node": [r.name for r in line.spec.rollers],
+                  "roll": roll_names, "drive": drives,
+                  "web": [w.name for w in line.spec.webs]}
+        return xr.Dataset(data, coords, attrs={
+            "line": line.name, "scenario": line.scenario or "", "webline_version": __version__,
+            "failure": self.failure or "", **{k: float(v) for k, v in self.settings.items()}})
+
+    def to_xarray(self) -> xr.Dataset:
+        return self.dataset
+
+    def to_dataframe(self) -> Any:
+        """Span tensions [N] as a pandas DataFrame: one row per record (index ``time`` [s]),
+        one column per span."""
+        return self.dataset["tension"].to_pandas()
+
+    @cached_property
+    def verdict(self) -> Verdict:
+        """Per web and lane: slack (tension 0 in a span) and tension above the web's
+        ``tension_limit`` are warnings; so is a drive's command at its torque limit; a run
+        stopped early is a failure."""
+        line = self.plan.line
+        ds = self.dataset
+        findings = []
+        if self.failure is not None:
+            kind = "nonfinite" if "finite" in self.failure else (
+                "unwind_empty" if "unwind" in self.failure else "interrupted"
+                if "interrupted" in self.failure else "diverged")
+            level: Literal["failed", "interrupted"] = (
+                "interrupted" if kind == "interrupted" else "failed")
+            findings.append(Finding(level, kind, line.name, f"the run stopped: "
+                                    f"{self.failure}", float(self.time[-1]) if len(
+                                        self.time) else 0.0))
+        for w, web in enumerate(line.spec.webs):
+            spans = line.web_spans(w)
+            tension = ds["tension"].values[:, spans]
+            label = f"{kind_of(web)} {web.name}"
+            slack = np.nonzero(np.any(tension <= 0.0, axis=1))[0]
+            if len(slack):
+                findings.append(Finding("warning", "slack", web.name, f"{label} goes slack at "
+                                        f"t = {self.time[slack[0]]:.4g} s", float(
+                                            self.time[slack[0]])))
+            material = web.web or (line.spec.web if kind_of(web) == "web" else None)
+            limit = material.tension_limit if material is not None else None
+            if limit is not None and np.max(tension) > limit:
+                first = int(np.nonzero(np.any(tension > limit, axis=1))[0][0])
+                findings.append(Finding("warning", "tension_limit", web.name,
+                                        f"{label} exceeds its tension limit {limit:.4g} N "
+                                        f"(max {np.max(tension):.4g} N)",
+                                        float(self.time[first])))
+        limits = self.plan.df[:, B.D_LIMIT]
+        for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit
+            at_limit = np.nonzero(np.abs(ds["torque_cmd"].values[:, d]) >= limits[d])[0]
+            if len(at_limit):
+                when = float(self.time[at_limit[0]])
+                findings.append(Finding(
+                    "warning", "torque_limit", str(name), f"drive {name} at its torque limit "
+                    f"{limits[d]:.4g} N·m in {len(at_limit)} of {len(self.time)} records, first "
+                    f"at t = {when:.4g} s", when, {"records": len(at_limit)}))
+        return Verdict.of(findings)
+
+    def web_summary(self) -> list[dict[str, object]]:
+        """Per web: its kind, tension min/max/final per span [N] (a loadcell's also its largest
+        deviation from its reference) and the drift of its length balance [m]."""
+        line = self.plan.line
+        ds = self.dataset
+        out = []
+        for w, web in enumerate(line.spec.webs):
+            spans = line.web_spans(w)
+            balance = (ds["web_stored"].values[:, w] + ds["web_out"].values[:, w]
+                       - ds["web_in"].values[:, w])
+            table: dict[str, dict[str, float]] = {}
+            for k in spans:
+                tension = ds["tension"].values[:, k]
+                row = {"min_N": float(tension.min()), "max_N": float(tension.max()),
+                       "final_N": float(tension[-1])}
+                cell = np.nonzero(self.plan.cells[:, 0] == k)[0]
+                if len(cell):  # a loadcell: its deviation from its reference over the run
+                    p = int(self.plan.cells[cell[0], 1])
+                    ref = np.array([self.plan.profile(p, t) for t in self.time])
+                    row["max_deviation_N"] = float(np.max(np.abs(tension - ref)))
+                table[line.spans[k].name] = row
+            out.append({
+                "web": web.name, "kind": kind_of(web), "spans": table,
+                "length_balance_drift_m": float(np.max(np.abs(balance - balance[0]))),
+            })
+        return out

@@ -1,0 +1,118 @@
+"""``simulate_branches``: run a branched line from its operating point (docs/branching.md)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from webline.errors import SimulationError
+from webline.model.web_graph import BranchedLine, load_branched
+from webline.sim.branches import layout as B
+from webline.sim.branches.equilibrium import BranchPoint, operating_point
+from webline.sim.branches.kernel import new_records, rhs
+from webline.sim.branches.plan import BranchPlan, compile_branches
+from webline.sim.branches.result import BranchResult
+from webline.spec.ranges import argument, whole_argument
+
+#: RK4 sub-steps keep h·|λ|max below this, as the chain's ``sim.simulate.STEP_LIMIT``
+STEP_LIMIT = 0.5
+#: most sub-steps per controller period before a line is refused as too stiff
+MAX_SUBSTEPS = 200
+#: default cap on stored records (longer runs are decimated, not the integration)
+MAX_RECORDS = 200_000
+#: controller ticks per call of the compiled loop (a run returns to Python between two)
+CHUNK = 20_000
+
+
+def fastest_rate(plan: BranchPlan, point: BranchPoint) -> float:
+    """Largest |eigenvalue| [1/s] of the plant at ``point`` (torques held), from a central
+    finite-difference Jacobian of ``kernel.rhs`` (step 1e-6 of each state's scale)."""
+    n = plan.n_x
+    jac = np.zeros((n, n))
+    up, down = np.zeros(n), np.zeros(n)
+    work = plan.scratch()
+    cmd = point.torque.copy()
+    for m in range(n):
+        h = 1e-6 * max(abs(point.x[m]), 1e-3)
+        x = point.x.copy()
+        x[m] += h
+        rhs(x, cmd, plan.wound, *plan.tables(), up, work)
+        x[m] -= 2 * h
+        rhs(x, cmd, plan.wound, *plan.tables(), down, work)
+        jac[:, m] = (up - down) / (2 * h)
+    return float(np.max(np.abs(np.linalg.eigvals(jac))))
+
+
+def simulate_branches(line: BranchedLine | str | Path, duration: float | str | None = None, *,
+                      scenario: str | None = None, sample_rate: float | str | None = None,
+                      substeps: int | None = None, record_interval: float | str | None = None,
+                      raise_on_failure: bool = True) -> BranchResult:
+    """Simulate a branched line for ``duration`` [s] from its operating point at t = 0.
+
+    Arguments as ``webline.simulate`` (``scenario`` applies a named scenario, whose duration
+    is the default; ``substeps`` RK4 steps per controller period, default from the plant's
+    fastest mode). A run that leaves physical validity (non-finite state, an empty unwind, a
+    runaway) raises ``SimulationError`` with the run so far as ``partial`` (or, with
+    ``raise_on_failure=False``, returns it with its ``failure`` set).
+    """
+    line = load_branched(line)
+    duration = None if duration is None else argument(duration, "time", "duration")
+    rate = None if sample_rate is None else argument(sample_rate, "frequency", "sample_rate")
+    every_s = None if record_interval is None else argument(record_interval, "time",
+                                                            "record_interval")
+    if scenario is not None:
+        line = line.with_scenario(scenario)
+        if duration is None:
+            duration = line.spec.scenarios[scenario].duration
+    duration = 10.0 if duration is None else duration
+    plan = compile_branches(line, rate)
+    point = operating_point(plan)
+    if substeps is None:
+        substeps = max(1, math.ceil(plan.dt * fastest_rate(plan, point) / STEP_LIMIT))
+        if substeps > MAX_SUBSTEPS:
+            raise SimulationError(f"{line.name}: the line's fastest mode needs {substeps} "
+                                  f"RK4 steps per controller period (at most {MAX_SUBSTEPS})")
+    else:
+        substeps = whole_argument(substeps, "substeps", 1, "expected a whole number")
+    n_ticks = max(1, round(duration / plan.dt))
+    every = (max(1, math.ceil((n_ticks + 1) / MAX_RECORDS)) if every_s is None
+             else max(1, round(every_s / plan.dt)))
+    plan.df[:, B.D_FF] = point.ratio
+    x = point.x.copy()
+    istate = np.zeros((plan.di.shape[0], B.I_COLS))
+    istate[:, B.I_SPEED] = point.torque  # the speed integrators hold the torques
+    n_d = plan.di.shape[0]
+    rec = new_records(n_ticks, every, plan.n_x, n_d)
+    wound, done, cmd = plan.wound.copy(), np.zeros(len(plan.events)), point.torque.copy()
+    status, t_fail, n_rec, tick = B.STATUS_OK, math.nan, 0, 0
+    interrupted = False
+    try:  # in chunks: Ctrl-C is seen between two, and the run keeps what it computed
+        while tick < n_ticks and status == B.STATUS_OK:
+            count = min(CHUNK, n_ticks - tick)
+            stored, status, t_fail = plan.run(x, istate, wound, done, rec[n_rec:], cmd, tick,
+                                              count, substeps, every, tick + count == n_ticks)
+            n_rec += stored
+            tick += count
+    except KeyboardInterrupt:
+        if not n_rec:
+            raise
+        interrupted = True
+    failure = None if status == B.STATUS_OK else _failure_text(status, t_fail)
+    if interrupted:
+        failure = f"interrupted by the user (Ctrl-C) at t = {rec[n_rec - 1, 0]:.4g} s"
+    result = BranchResult(plan, rec[:n_rec].copy(), failure,
+                          {"duration": duration, "dt": plan.dt, "substeps": substeps,
+                           "record_every": every})
+    if failure is not None and raise_on_failure:
+        raise SimulationError(f"{line.name}: {failure}", partial=result)
+    return result
+
+
+def _failure_text(status: int, t_fail: float) -> str:
+    what = {B.STATUS_NONFINITE: "the state stopped being finite",
+            B.STATUS_UNWIND_EMPTY: "an unwind roll ran out of web",
+            B.STATUS_RUNAWAY: "a runaway: a strain beyond 5 % or a speed beyond 3x the top "
+                              "reference"}[status]
+    return f"{what} at t = {t_fail:.4g} s"

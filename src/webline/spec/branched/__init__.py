@@ -1,0 +1,1 @@
+"""The line-file schema of a branched line (``[[webs]]``) and its checks (docs/branching.md)."""

@@ -1,0 +1,244 @@
+"""Checks of a branched line's topology and of what stage 1 of branched lines supports.
+
+Each problem is one ``LineFileError`` line naming the file, the key and the problem
+(docs/branching.md, docs/line-file.md "webs").
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import NoReturn
+
+from webline.errors import LineFileError
+from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
+from webline.spec.schema import (
+    CascadedPISpec,
+    DrivenSpec,
+    IdleSpec,
+    RewindSpec,
+    RollerSpec,
+    UnwindSpec,
+)
+
+Fail = Callable[[str, str], NoReturn]
+
+STAGE = "stage 1: {}"
+_ROLLER_FEATURES = "unwind, rewind, driven and idle rollers with a direct drive and cascaded PI"
+
+
+def unsupported(key: str, fail: Fail, what: str = _ROLLER_FEATURES) -> NoReturn:
+    fail(key, f"not yet supported on a branched line ({STAGE.format(what)})")
+
+
+def kind_of(web: WebPathSpec) -> str:
+    """'laminate', 'lane' or 'web' (a raw web from an unwind)."""
+    return "laminate" if web.layers is not None else "lane" if web.slit_from else "web"
+
+
+def check_branched(spec: BranchedLineSpec, file: str) -> None:
+    """Raise ``LineFileError`` for the first problem of ``spec``'s topology or features."""
+
+    def fail(key: str, problem: str) -> NoReturn:
+        raise LineFileError(file, key, problem)
+
+    _check_features(spec, fail)
+    rollers = {r.name: (k, r) for k, r in enumerate(spec.rollers)}
+    if len(rollers) != len(spec.rollers):
+        fail("rollers", "roller names must be unique")
+    webs = {w.name: w for w in spec.webs}
+    if len(webs) != len(spec.webs):
+        fail("webs", "web names must be unique")
+    masters = [r.name for r in spec.rollers if isinstance(r, DrivenSpec) and r.role == "master"]
+    if len(masters) != 1:
+        fail("rollers", f"a line needs exactly one master roller, found {len(masters)}")
+    for w, web in enumerate(spec.webs):
+        _check_web(spec, w, web, webs, rollers, fail)
+    _check_rollers_once(spec, fail)
+    _check_tree(spec, fail)
+
+
+def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
+    for i, roller in enumerate(spec.rollers):
+        key = f"rollers[{i}]"
+        if roller.type == "dancer":
+            unsupported(f"{key}.dancer", fail)
+        for name in ("nip", "wrap", "friction_table", "winder", "diameter", "taper"):
+            if getattr(roller, name, None) is not None:
+                unsupported(f"{key}.{name}", fail)
+        if roller.breakaway_torque > 0.0:
+            unsupported(f"{key}.breakaway_torque", fail)
+        contact = getattr(roller, "contact", None)
+        if contact is not None and contact.type != "adhered":
+            unsupported(f"{key}.contact", fail)
+        if isinstance(roller, UnwindSpec | RewindSpec) and not isinstance(roller.inertia, float):
+            unsupported(f"{key}.inertia", fail, "a roll's inertia as one number, without web")
+        drive = getattr(roller, "drive", None)
+        if drive is not None:
+            if drive.transmission.type != "direct":
+                unsupported(f"{key}.drive.transmission", fail)
+            if drive.brake is not None:
+                unsupported(f"{key}.drive.brake", fail)
+        controller = getattr(roller, "controller", None)
+        if controller is not None and not isinstance(controller, CascadedPISpec):
+            unsupported(f"{key}.controller.type", fail, "cascaded_pi controllers")
+    for w, web in enumerate(spec.webs):
+        material = [(f"webs[{w}].web", web.web)] if web.web is not None else []
+        for key, m in [*material, ("web", spec.web)]:
+            if m is None:
+                continue
+            for name in ("stress_strain", "strength"):
+                if getattr(m, name) is not None:
+                    unsupported(f"{key}.{name}", fail, "linear webs without a strength")
+        for k, s in enumerate(web.spans):
+            if s.model != "elastic":
+                unsupported(f"webs[{w}].spans[{k}].model", fail, "elastic spans")
+    for name, scenario in spec.scenarios.items():
+        change = scenario.roll_change
+        if change is not None and not isinstance(
+                next((r for r in spec.rollers if r.name == change.roller), None), UnwindSpec):
+            fail(f"scenarios.{name}.roll_change.roller",
+                 f"{change.roller!r} is no unwind roller of this line")
+
+
+def _check_web(spec: BranchedLineSpec, w: int, web: WebPathSpec, webs: dict[str, WebPathSpec],
+               rollers: dict[str, tuple[int, RollerSpec]], fail: Fail) -> None:
+    key = f"webs[{w}]"
+    kind = kind_of(web)
+    if web.layers is not None and web.slit_from is not None:
+        fail(f"{key}.slit_from", "a web is a laminate (layers) or a lane (slit_from), not both")
+    if kind != "web" and web.web is not None:
+        fail(f"{key}.web", f"a {kind} takes its material from its "
+             f"{'layers' if kind == 'laminate' else 'base web'}; give no 'web'")
+    if kind == "web" and web.web is None and spec.web is None:
+        fail(f"{key}.web", "required key is missing (the line gives no default [web])")
+    if kind != "lane":
+        for name in ("width", "thickness"):
+            if getattr(web, name) is not None:
+                fail(f"{key}.{name}", "only a lane (slit_from) gives its own width or thickness")
+    if len(web.spans) != len(web.path) - 1:
+        fail(f"{key}.spans", f"a path of {len(web.path)} rollers has {len(web.path) - 1} spans, "
+             f"got {len(web.spans)}")
+    for p, name in enumerate(web.path):
+        if name not in rollers:
+            fail(f"{key}.path[{p}]", f"no roller named {name!r}")
+    if len(set(web.path)) != len(web.path):
+        fail(f"{key}.path", "a roller appears twice in one path")
+    first = rollers[web.path[0]][1]
+    if kind == "laminate":
+        assert web.layers is not None
+        if len(set(web.layers)) < 2 or len(set(web.layers)) < len(web.layers):
+            fail(f"{key}.layers", "a laminate has at least two layers, each named once")
+        for layer in web.layers:
+            if layer not in webs or layer == web.name:
+                fail(f"{key}.layers", f"no other web named {layer!r}")
+            if webs[layer].path[-1] != web.path[0]:
+                fail(f"{key}.path[0]", f"a laminate starts at the roller where its layers end: "
+                     f"layer {layer!r} ends at {webs[layer].path[-1]!r}")
+    elif kind == "lane":
+        base = web.slit_from
+        if base not in webs or base == web.name:
+            fail(f"{key}.slit_from", f"no other web named {base!r}")
+        if webs[base].path[-1] != web.path[0]:
+            fail(f"{key}.path[0]", f"a lane starts at the slitter, where web {base!r} ends "
+                 f"({webs[base].path[-1]!r})")
+        if web.width is None:
+            fail(f"{key}.width", "required key is missing (a lane's share of its base web)")
+    elif not isinstance(first, UnwindSpec):
+        fail(f"{key}.path[0]", f"a web starts at an unwind roller; {first.name!r} is "
+             f"{first.type}")
+    if kind != "web" and not isinstance(first, DrivenSpec | IdleSpec):
+        fail(f"{key}.path[0]", f"a junction is a driven or idle roller; {first.name!r} is "
+             f"{first.type}")
+    for p, name in enumerate(web.path[1:-1], start=1):
+        if isinstance(rollers[name][1], UnwindSpec | RewindSpec):
+            fail(f"{key}.path[{p}]", f"a roll ({name!r}) can only start or end a path")
+    last = rollers[web.path[-1]][1]
+    consumers = [v for v in spec.webs if v.path[0] == web.path[-1]  # (or its laminate or
+                 or web.name in (v.layers or []) or v.slit_from == web.name]  # lanes: say so)
+    if isinstance(last, UnwindSpec):
+        fail(f"{key}.path[-1]", "a path ends at a rewind or a junction, not at an unwind")
+    if not isinstance(last, RewindSpec) and not consumers:
+        fail(f"{key}.path[-1]", f"{last.name!r} is no rewind and no web starts there: the web "
+             "would end in the air")
+    if not isinstance(last, RewindSpec) and not any(
+            web.name in (v.layers or []) or v.slit_from == web.name for v in consumers):
+        fail(f"{key}.path[-1]", f"web {web.name!r} ends at junction {last.name!r} but is "
+             "neither a layer of the laminate nor the base of the lanes that start there")
+    starting = [v for v in spec.webs if v.path[0] == web.path[0]]
+    if isinstance(first, UnwindSpec) and len(starting) > 1:
+        fail(f"{key}.path[0]", f"several webs start at unwind {first.name!r}: an unwind "
+             "unwinds one web")
+    if kind != "web" and (len({kind_of(v) for v in starting}) > 1 or (
+            kind == "laminate" and len(starting) > 1)):
+        fail(f"{key}.path[0]", f"junction {first.name!r} starts several kinds of web: a "
+             "junction is one lamination nip or one slitter")
+    if isinstance(last, RewindSpec) and kind != "lane" and sum(
+            v.path[-1] == last.name for v in spec.webs) > 1:
+        fail(f"{key}.path[-1]", f"several webs end on rewind {last.name!r}: only lanes may "
+             "share a shaft")
+    lanes = [v for v in spec.webs if v.slit_from == web.name]
+    if lanes:
+        width = _width(spec, web, webs)
+        total = sum(v.width or 0.0 for v in lanes)
+        if total > width * (1 + 1e-12):
+            fail(f"{key}", f"its lanes are {total * 1e3:.6g} mm wide together, wider than the "
+                 f"web ({width * 1e3:.6g} mm)")
+
+
+def _width(spec: BranchedLineSpec, web: WebPathSpec, webs: dict[str, WebPathSpec]) -> float:
+    """Width [m] of a web (a laminate: its narrowest layer)."""
+    if web.layers is not None:
+        return min(_width(spec, webs[n], webs) for n in web.layers)
+    if web.slit_from is not None:
+        assert web.width is not None
+        return web.width
+    material = web.web or spec.web
+    assert material is not None
+    return material.width
+
+
+def _check_rollers_once(spec: BranchedLineSpec, fail: Fail) -> None:
+    """Every roller on a path; an inner roller on exactly one; a junction where paths meet."""
+    seen: dict[str, int] = {}
+    for web in spec.webs:
+        for name in web.path:
+            seen[name] = seen.get(name, 0) + 1
+    ends = {w.path[-1] for w in spec.webs} | {w.path[0] for w in spec.webs}
+    for i, roller in enumerate(spec.rollers):
+        if roller.name not in seen:
+            fail(f"rollers[{i}]", f"roller {roller.name!r} is on no web's path")
+        if seen[roller.name] > 1 and roller.name not in ends:
+            fail(f"rollers[{i}]", f"roller {roller.name!r} is inside several paths; only a "
+                 "junction (a path's end and another's start) or a shared rewind may be")
+    for w, web in enumerate(spec.webs):
+        for p, name in enumerate(web.path[1:-1], start=1):
+            if name in ends:
+                fail(f"webs[{w}].path[{p}]", f"{name!r} starts or ends another path: a "
+                     "junction must end this path too")
+
+
+def _check_tree(spec: BranchedLineSpec, fail: Fail) -> None:
+    """Webs joined by laminations and slits form one connected tree."""
+    edges = [(w.name, layer) for w in spec.webs for layer in (w.layers or [])]
+    edges += [(w.name, w.slit_from) for w in spec.webs if w.slit_from is not None]
+    parents = [layer for w in spec.webs for layer in (w.layers or [])]
+    for name in set(parents):
+        if parents.count(name) > 1:
+            fail("webs", f"web {name!r} is a layer of several laminates")
+    bases = {w.slit_from for w in spec.webs if w.slit_from}
+    for name in bases & set(parents):
+        fail("webs", f"web {name!r} is both slit and laminated at its end")
+    group = {w.name: w.name for w in spec.webs}
+
+    def root(n: str) -> str:
+        while group[n] != n:
+            n = group[n]
+        return n
+
+    for a, b in edges:
+        ra, rb = root(a), root(b)
+        if ra == rb:
+            fail("webs", f"webs {a!r} and {b!r} close a loop: the webs must form a tree")
+        group[ra] = rb
+    if len({root(w.name) for w in spec.webs}) > 1:
+        fail("webs", "the webs are not all joined: a line is one connected tree of webs")

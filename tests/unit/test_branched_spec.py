@@ -1,0 +1,211 @@
+"""The [[webs]] line-file format of a branched line (docs/line-file.md "webs",
+docs/branching.md): topology checks and stage-1 feature checks, each one line naming the
+file, the key and the problem."""
+
+from __future__ import annotations
+
+import copy
+import tomllib
+from importlib import resources
+from typing import Any
+
+import pytest
+
+import webline
+from webline.errors import LineFileError
+from webline.model.web_graph import load_branched
+
+LAMINATOR = tomllib.loads(resources.files("webline.data.lines").joinpath("laminator.toml")
+                          .read_text("utf-8"))
+SLITTER = tomllib.loads(resources.files("webline.data.lines").joinpath("slitter.toml")
+                        .read_text("utf-8"))
+
+
+def changed(base: dict[str, Any], change) -> dict[str, Any]:
+    data = copy.deepcopy(base)
+    change(data)
+    return data
+
+
+def problem(data: dict[str, Any]) -> LineFileError:
+    with pytest.raises(LineFileError) as caught:
+        load_branched(data)
+    assert len(str(caught.value).splitlines()) == 1, str(caught.value)
+    return caught.value
+
+
+def test_builtin_branched_lines_load_with_their_topology():
+    laminator = load_branched("laminator")
+    assert [w.name for w in laminator.spec.webs] == ["film", "foil", "laminate"]
+    names = [r.name for r in laminator.spec.rollers]
+    zones = {names[i]: [laminator.spans[k].name for k in z.loadcells]
+             for i, z in laminator.zones.items()}
+    assert zones == {"unwind_film": ["film_zone"], "unwind_foil": ["foil_zone"],
+                     "rewind": ["laminate_zone"]}
+    # the laminate's material: EA and thickness summed, mass per length kept
+    film, foil, laminate = laminator.materials
+    assert laminate.ea == film.ea + foil.ea
+    assert laminate.thickness == pytest.approx(film.thickness + foil.thickness, rel=1e-15)
+    assert laminate.density * laminate.thickness * laminate.width == pytest.approx(
+        film.density * film.thickness * film.width + foil.density * foil.thickness * foil.width,
+        rel=1e-12)
+    slitter = load_branched("slitter")
+    shaft = slitter.node_index["rewind_shaft"]
+    assert [slitter.spans[k].name for k in slitter.zones[shaft].loadcells] == [
+        "lane_1_span", "lane_2_span"]  # lanes on one shaft: their sum is controlled
+    assert [r.radius for r in slitter.rolls if r.node == shaft] == [0.08, 0.08]
+    base, lane = slitter.materials[0], slitter.materials[1]
+    assert lane.ea == pytest.approx(base.ea * 0.4 / 1.25, rel=1e-15)
+
+
+def test_load_line_refuses_a_branched_line_in_one_line():
+    with pytest.raises(LineFileError, match="webs: a branched line"):
+        webline.load_line("laminator")
+
+
+def _set_dancer(d):
+    d["rollers"][1]["type"] = "dancer"
+    d["rollers"][1]["dancer"] = {"mass": "5 kg", "travel": "0.2 m", "position": "0.1 m"}
+
+
+CASES = [  # (base, change, key in the message, fragment of the problem)
+    (LAMINATOR, lambda d: d.__setitem__("spans", [{"length": "1 m"}]), "spans",
+     "in each of its [[webs]]"),
+    (LAMINATOR, lambda d: d["webs"][1].__setitem__("name", "film"), "webs",
+     "web names must be unique"),
+    (LAMINATOR, lambda d: d["webs"][0]["path"].__setitem__(1, "nowhere"), "webs[0].path[1]",
+     "no roller named 'nowhere'"),
+    (LAMINATOR, lambda d: d["webs"][0]["spans"].pop(), "webs[0].spans", "has 2 spans, got 1"),
+    (LAMINATOR, lambda d: d["webs"][0]["path"].__setitem__(0, "guide_foil"),
+     "webs[0].path[0]", "starts at an unwind"),
+    (LAMINATOR, lambda d: (d["webs"][2].__setitem__("path", ["guide_laminate", "rewind"]),
+                           d["webs"][2]["spans"].pop()),
+     "webs[2].path[0]", "starts at the roller where its layers end"),
+    (LAMINATOR, lambda d: d["rollers"][4].update(role="tension"), "rollers",
+     "exactly one master roller, found 0"),
+    (LAMINATOR, _set_dancer, "rollers[1].dancer",
+     "not yet supported on a branched line (stage 1: "),
+    (LAMINATOR, lambda d: d["rollers"][0].__setitem__("controller", {"type": "state_feedback"}),
+     "rollers[0].controller.type", "not yet supported on a branched line"),
+    (LAMINATOR, lambda d: d["webs"][0]["spans"][1].pop("tension"), "rollers[0]",
+     "no loadcell span"),
+    (LAMINATOR, lambda d: d["webs"][2]["spans"][1].__setitem__("tension", "180 N"),
+     "rollers[6]", "two loadcell spans in series"),
+    (LAMINATOR, lambda d: d.__setitem__("disturbances", []), "disturbances",
+     "not yet supported on a branched line"),
+    (LAMINATOR, lambda d: d["scenarios"]["start-up"].__setitem__("unwind_radius", "0.2 m"),
+     "scenarios.start-up.unwind_radius", "not yet supported on a branched line"),
+    (LAMINATOR, lambda d: d["control"].__setitem__("tension_ramp", {"time": "2 s"}),
+     "control.tension_ramp", "not yet supported on a branched line"),
+    (LAMINATOR, lambda d: d["webs"][2].__setitem__("layers", ["foil", "foil"]),
+     "webs[0].path[-1]", "neither a layer of the laminate"),
+    (SLITTER, lambda d: d["webs"].append({"name": "second", "path": ["unwind", "guide"],
+                                          "spans": [{"length": "1 m"}]}),
+     "webs[0].path[0]", "several webs start at unwind"),
+    (SLITTER, lambda d: d["webs"][1].__setitem__("width", "600 mm"), "webs[0]",
+     "wider than the web"),
+    (SLITTER, lambda d: d["webs"][1].pop("width"), "webs[1].width", "required"),
+    (SLITTER, lambda d: d["webs"][2]["path"].__setitem__(0, "pull"), "webs[2].path[0]",
+     "where web 'base' ends"),
+    (SLITTER, lambda d: d["rollers"].append({"name": "extra", "type": "idle", "radius": "1 cm",
+                                             "inertia": "1e-4 kg*m**2"}),
+     "rollers[6]", "is on no web's path"),
+    (SLITTER, lambda d: (d["webs"][3].__setitem__("path", ["slitter", "rewind_3", "pull"]),
+                         d["webs"][3]["spans"].append({"length": "1 m"})),
+     "webs[3].path[1]", "can only start or end a path"),
+]
+
+
+@pytest.mark.parametrize(("base", "change", "key", "fragment"), CASES,
+                         ids=[c[2] + ":" + c[3][:20] for c in CASES])
+def test_each_problem_is_one_line_naming_key_and_problem(base, change, key, fragment):
+    error = problem(changed(base, change))
+    assert error.key == key, str(error)
+    assert fragment in error.problem, str(error)
+
+
+def test_a_scenario_changes_a_web_by_its_path():
+    slitter = load_branched("slitter").with_scenario("thickness-profile")
+    assert slitter.materials[1].thickness == pytest.approx(50.5e-6, rel=1e-12)
+    assert slitter.materials[2].thickness == pytest.approx(50e-6, rel=1e-12)
+    change = load_branched("laminator").with_scenario("roll-change").roll_change
+    assert change is not None and change.radius == 0.3 and change.wound_in_tension == 45.0
+
+
+def _driven_guide(d):
+    """The slitter's guide roller driven in tension control, with a loadcell before it."""
+    d["rollers"][1] = {"name": "guide", "type": "driven", "role": "tension", "radius": "50 mm",
+                       "inertia": "0.01 kg*m**2",
+                       "drive": {"ratio": 1.0, "torque_limit": "20 N*m"}}
+    d["webs"][0]["spans"][0]["tension"] = "300 N"
+
+
+def test_a_driven_roller_controls_the_zone_towards_the_master():
+    line = load_branched(changed(SLITTER, _driven_guide))
+    names = {r.name: i for i, r in enumerate(line.spec.rollers)}
+    unwind, guide = line.zones[names["unwind"]], line.zones[names["guide"]]
+    # the unwind now holds only the span to the guide; the guide, upstream of the master,
+    # holds the span downstream of it, towards the master (it feeds its zone: sigma -1)
+    assert [line.spans[k].name for k in unwind.spans] == ["base[0]"]
+    assert [line.spans[k].name for k in guide.spans] == ["unwind_zone"] and guide.sigma == -1.0
+    # a rewind pulls its zone (upstream of it): sigma +1
+    assert line.zones[names["rewind_3"]].sigma == 1.0
+    result = webline.simulate(line, 1.0)
+    assert result.failure is None
+    tension = result.dataset["tension"].sel(span=["base[0]", "unwind_zone"])
+    assert float(abs(tension - 300.0).max()) < 0.5  # both zones held at their 300 N
+
+
+def _leaves(node: Any, path: tuple = ()):
+    if isinstance(node, dict):
+        for key, value in node.items():
+            yield from _leaves(value, (*path, key))
+    elif isinstance(node, list):
+        for i, value in enumerate(node):
+            yield from _leaves(value, (*path, i))
+    else:
+        yield path
+
+
+def _set(data: Any, path: tuple, value: object) -> None:
+    for part in path[:-1]:
+        data = data[part]
+    data[path[-1]] = value
+
+
+@pytest.mark.parametrize("base", [LAMINATOR, SLITTER], ids=["laminator", "slitter"])
+def test_no_mutation_of_a_branched_file_gives_a_traceback(base):
+    """Every value of the file replaced by a wrong one (wrong type, negative, a name of
+    nothing, empty): a LineFileError naming a key, or a line that still loads; never another
+    exception (the checks read names and indices the schema let through)."""
+    loaded = 0
+    for path in _leaves(base):
+        for value in (None, -1.0, "nowhere", [], "0 m"):
+            data = copy.deepcopy(base)
+            if value is None:
+                parent = data
+                for part in path[:-1]:
+                    parent = parent[part]
+                parent.pop(path[-1]) if isinstance(parent, dict) else parent.pop()
+            else:
+                _set(data, path, value)
+            try:
+                load_branched(data)
+                loaded += 1
+            except LineFileError as exc:
+                assert exc.key and exc.problem
+    assert loaded > 0  # some changes are harmless (a description, an optional name)
+
+
+def test_front_door_routes_each_kind_of_line_and_names_what_stage_1_lacks(tmp_path):
+    from importlib import resources as res
+
+    with pytest.raises(LineFileError, match="not a branched line"):
+        load_branched("hswl")
+    path = tmp_path / "mine.toml"
+    path.write_text(res.files("webline.data.lines").joinpath("slitter.toml").read_text("utf-8"),
+                    encoding="utf-8")
+    result = webline.simulate(path, 0.05)  # a file path: dispatched on its [[webs]]
+    assert type(result).__name__ == "BranchResult" and result.time[-1] == pytest.approx(0.05)
+    with pytest.raises(webline.ArgumentError, match="not yet supported for a branched line"):
+        webline.simulate(path, 0.05, controller=object())
