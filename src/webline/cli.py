@@ -242,13 +242,30 @@ def lines() -> None:
 @app.command()
 @handles_errors
 def show(line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None,
-         sets: SetOpt = None) -> None:
-    """Show a line: sections, rollers, spans, drives, controllers and scenarios."""
+         sets: SetOpt = None,
+         schematic: Annotated[Path | None, typer.Option(
+             "--schematic", help="Also draw the line's schematic into this file (.png, .svg "
+             "or .pdf).")] = None) -> None:
+    """Show a line: sections, rollers, spans, drives, controllers and scenarios (a branched
+    line: its webs, rollers, spans, drives and zones)."""
+    from webline.cli_branches import show_branched, write_schematic
+    from webline.model.web_graph import source_is_branched
     from webline.report.text.describe import line_tables
     from webline.report.text.display import Display
 
+    if source_is_branched(line):  # docs/branching.md, "Report"
+        if sets or units != Units.si:
+            raise BadInput("--set and --units: not yet supported for a branched line (its "
+                           "tables are in SI)")
+        print_tables(show_branched(line, scenario, schematic), _console())
+        if schematic is not None:
+            typer.echo(f"Schematic: {schematic}")
+        return
     loaded = _load(line, scenario, None, sets)
     print_tables(line_tables(loaded, Display(units.value, loaded.spec.web.width)), _console())
+    if schematic is not None:
+        write_schematic(loaded, schematic)
+        typer.echo(f"Schematic: {schematic}")
 
 
 app.command("analyze")(handles_errors(analyze))

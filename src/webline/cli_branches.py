@@ -1,5 +1,6 @@
-"""``webline run`` of a branched line (docs/branching.md): results.nc, summary.json and a
-tensions-per-web figure; the verdict per web and lane printed and in the exit status."""
+"""``webline run`` of a branched line (docs/branching.md): results.nc, summary.json, the
+figures and report.html; the verdict per web and lane printed and in the exit status.
+``webline show`` of a branched line: its tables, and its schematic on request."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ from webline.sim.branches.run import simulate_branches
 from webline.version import __version__
 
 FIGURE = "figures/tensions.png"
+REPORT = "report.html"
 
 
 def run_branched(source: str, seconds: float | None, scenario: str | None, out: Path | None,
@@ -24,17 +26,17 @@ def run_branched(source: str, seconds: float | None, scenario: str | None, out: 
     for option, given in unsupported.items():
         if given:
             raise BadInput(f"{option}: not yet supported for a branched line (stage 1: the "
-                           "file's cascaded PI drives; results.nc in SI, summary.json and the "
-                           "tensions figure)")
+                           "file's cascaded PI drives; results.nc in SI, summary.json, the "
+                           "figures and report.html, in SI units)")
     line = load_branched(source)
     if scenario:
         line = line.with_scenario(scenario)
     folder = open_output(out or Path("out") / (line.name + (f"-{scenario}" if scenario else "")),
-                         force, "run", ("results.nc", "summary.json", FIGURE))
+                         force, "run", ("results.nc", "summary.json", FIGURE, REPORT))
     if seconds is None and scenario:
         seconds = line.spec.scenarios[scenario].duration
     result = simulate_branches(line, seconds, raise_on_failure=False)
-    from webline.report.plots.branch_figures import tensions_figure
+    from webline.report.branch_report import write_branch_report
     from webline.spec.load import dump_spec
 
     results = folder.claim("results.nc")  # every output embeds its inputs: the line's spec
@@ -44,8 +46,7 @@ def run_branched(source: str, seconds: float | None, scenario: str | None, out: 
                "settings": result.settings, "verdict": result.verdict.as_dict(),
                "webs": result.web_summary(), "failure": result.failure}
     atomic_write_text(folder.claim("summary.json"), json.dumps(summary, indent=1) + "\n")
-    figure = tensions_figure(result)
-    atomic_write(folder.claim(FIGURE), lambda path: figure.savefig(path, format="png", dpi=110))
+    report, _ = write_branch_report(result, folder, results)
     folder.finish()
     if not quiet:
         for web in result.web_summary():
@@ -55,7 +56,39 @@ def run_branched(source: str, seconds: float | None, scenario: str | None, out: 
                               for name, v in table.items())
             typer.echo(f"{web['kind']} {web['web']}: {spans}")
         typer.echo(f"Results (SI): {results}\nSummary: {folder.path / 'summary.json'}\n"
-                   f"Figure: {folder.path / FIGURE}")
+                   f"Figures: {folder.path / 'figures'}\nReport: {report}")
     typer.echo(result.verdict.headline, err=True)
     if result.verdict.exit_code:
         raise typer.Exit(result.verdict.exit_code)
+
+
+def show_branched(source: str, scenario: str | None, schematic: Path | None) -> list:
+    """The tables of branched line ``source`` (``report.text.branch_tables``); with
+    ``schematic``, its schematic written there (PNG, or SVG/PDF by the file's suffix)."""
+    line = load_branched(source)
+    if scenario:
+        line = line.with_scenario(scenario)
+    from webline.report.text.branch_tables import line_tables
+
+    if schematic is not None:
+        write_schematic(line, schematic)
+    return line_tables(line)
+
+
+def write_schematic(line: object, path: Path) -> None:
+    """Save the schematic of ``line`` (a ``BranchedLine`` or a ``Line``) to ``path``: PNG,
+    SVG or PDF by its suffix."""
+    from webline.model.web_graph import BranchedLine
+
+    fmt = path.suffix.lower().lstrip(".")
+    if fmt not in ("png", "svg", "pdf"):
+        raise BadInput(f"--schematic {path}: give a .png, .svg or .pdf file")
+    if isinstance(line, BranchedLine):
+        from webline.report.plots.branch_schematic import branch_schematic
+
+        figure = branch_schematic(line)
+    else:
+        from webline.report.plots.schematic import schematic
+
+        figure = schematic(line)  # type: ignore[arg-type]
+    atomic_write(path, lambda target: figure.savefig(target, format=fmt, dpi=110))

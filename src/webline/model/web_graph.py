@@ -26,6 +26,10 @@ from webline.spec.load import (
 from webline.spec.paths import set_path
 from webline.spec.schema import DrivenSpec, IdleSpec, RewindSpec, UnwindSpec
 
+#: the notebook's view of a branched line, resolved by name when first displayed, as
+#: ``webline.line.HTML_VIEW`` is (this layer imports nothing of the report)
+HTML_VIEW = "webline.report.branch_report:branched_line_html"
+
 
 @dataclass(frozen=True)
 class Material:
@@ -239,6 +243,11 @@ class BranchedLine:
                     todo.append(m)
         return sorted(out)
 
+    def _repr_html_(self) -> str:
+        """A notebook's view: the schematic (SVG) and the line's tables, drawn by
+        ``HTML_VIEW``."""
+        return str(_view(HTML_VIEW)(self))
+
     def with_scenario(self, name: str) -> BranchedLine:
         """This line with scenario ``name`` applied (speed, ``set``, roll change)."""
         if name not in self.spec.scenarios:
@@ -291,3 +300,11 @@ def source_is_branched(source: object) -> bool:
 def _checked(line: BranchedLine) -> BranchedLine:
     _ = line.zones  # zones are checked when the line is loaded, not when it first runs
     return line
+
+
+def _view(hook: str) -> Any:
+    """The function a display hook ``"module:function"`` names."""
+    import importlib
+
+    module, _, function = hook.partition(":")
+    return getattr(importlib.import_module(module), function)

@@ -1,35 +1,214 @@
-"""Figures of a branched line's run (docs/branching.md): tensions per web."""
+"""Figures of a branched line's run (docs/branching.md): the schematic, tensions per web and
+lane against their references, the layers of each laminate, surface speeds, roll and lane
+radii, motor torques against their limits. Each figure comes with a caption computed from
+the numbers it draws (``branch_figure_jobs``)."""
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 import numpy as np
 from matplotlib.figure import Figure
 
+from webline.report.plots.branch_schematic import WEB_COLORS, branch_schematic
+from webline.report.plots.figures import FigureJob, ReportFigure
 from webline.report.plots.frame import framed_figure
+from webline.report.plots.mpl_text import legend_label, literal
+from webline.report.text.display import number_text
+from webline.sim.branches import layout as B
 from webline.sim.branches.result import BranchResult
+
+
+def references(result: BranchResult) -> dict[int, np.ndarray]:
+    """Span number -> its loadcell's tension reference [N] at every record."""
+    plan = result.plan
+    return {int(k): np.array([plan.profile(int(p), t) for t in result.time])
+            for k, p in plan.cells}
+
+
+def largest_deviation(result: BranchResult) -> tuple[float, str, float]:
+    """The largest |tension - reference| [N] over every loadcell span and record, the span's
+    name and the time [s] it occurs; (nan, '', nan) for a run without loadcells or records."""
+    tension = result.dataset["tension"].values
+    best = (float("nan"), "", float("nan"))
+    for k, ref in references(result).items():
+        error = np.abs(tension[:, k] - ref)
+        i = int(np.argmax(error)) if len(error) else -1
+        if i >= 0 and not error[i] <= best[0]:
+            best = (float(error[i]), result.plan.line.spans[k].name, float(result.time[i]))
+    return best
 
 
 def tensions_figure(result: BranchResult) -> Figure:
     """One axes per web (raw web, laminate, lane): the tension [N] of each of its spans
-    against time [s]; a laminate's axes also show its layers' tensions in its first span
-    (dashed). The title of each axes gives its span tensions' range over the run."""
+    against time [s], loadcell spans' references dotted (a laminate's layers: ``layers_figure``).
+    Each axes' title gives its span tensions' range over the run."""
     ds = result.dataset
+    refs = references(result)
     webs = list(ds["web"].values)
     fig = framed_figure(8.0, 1.0 + 1.9 * len(webs), rows=len(webs))
     axes = np.atleast_1d(fig.subplots(len(webs), 1, sharex=True))
     t = ds["time"].values
+    names = list(ds["span"].values)
     for ax, web in zip(axes, webs, strict=True):
         spans = ds["tension"].sel(span=ds["span_web"] == web)
         for name in spans["span"].values:
-            ax.plot(t, spans.sel(span=name).values, label=str(name))
-        for name in ds["layer_span"].values:
-            if str(name).split("/")[0] == str(spans["span"].values[0]):
-                ax.plot(t, ds["layer_tension"].sel(layer_span=name).values, "--",
-                        label=f"layer {str(name).split('/')[1]}")
+            line = ax.plot(t, spans.sel(span=name).values, label=legend_label(str(name)))
+            k = names.index(name)
+            if k in refs:
+                ax.plot(t, refs[k], ":", color=line[0].get_color(),
+                        label=legend_label(f"{name} reference"))
         low, high = float(spans.values.min()), float(spans.values.max())
-        ax.set_title(f"{web}: span tensions {low:.4g} to {high:.4g} N", fontsize=9)
+        ax.set_title(literal(f"{web}: span tensions {low:.4g} to {high:.4g} N"), fontsize=9)
         ax.set_ylabel("tension [N]")
         ax.legend(fontsize=7, loc="best")
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel("time [s]")
     return fig
+
+
+def tensions_caption(result: BranchResult) -> str:
+    error, span, when = largest_deviation(result)
+    text = "Tension of every span, one panel per web and lane; loadcell references dotted."
+    if span:
+        text += (f" Largest deviation from a reference: {number_text(error)} N in {span} at "
+                 f"t = {number_text(when)} s.")
+    return text
+
+
+def layers_figure(result: BranchResult) -> Figure:
+    """Per laminate span: each layer's tension [N] and the laminate's (their sum)."""
+    ds = result.dataset
+    spans = list(dict.fromkeys(str(n).split("/")[0] for n in ds["layer_span"].values))
+    fig = framed_figure(8.0, 1.0 + 1.9 * len(spans), rows=len(spans))
+    axes = np.atleast_1d(fig.subplots(len(spans), 1, sharex=True))
+    t = ds["time"].values
+    for ax, span in zip(axes, spans, strict=True):
+        ax.plot(t, ds["tension"].sel(span=span).values, color="#333333",
+                label=legend_label(f"{span} (laminate)"))
+        for name in ds["layer_span"].values:
+            if str(name).split("/")[0] == span:
+                ax.plot(t, ds["layer_tension"].sel(layer_span=name).values,
+                        label=legend_label(f"layer {str(name).split('/')[1]}"))
+        ax.set_title(literal(f"{span}: layer tensions (strains tied at the nip)"), fontsize=9)
+        ax.set_ylabel("tension [N]")
+        ax.legend(fontsize=7, loc="best")
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel("time [s]")
+    return fig
+
+
+def layers_caption(result: BranchResult) -> str:
+    ds = result.dataset
+    parts = []
+    for name in ds["layer_span"].values:
+        values = ds["layer_tension"].sel(layer_span=name).values
+        parts.append(f"{name} {number_text(values.min())} to {number_text(values.max())} N")
+    return ("Each layer's tension in a laminate span, (EA_layer / EA_laminate) × the "
+            "laminate's: " + ", ".join(parts) + ".")
+
+
+def speeds_figure(result: BranchResult) -> Figure:
+    """Surface speed [m/s] of every roller (a shaft: the lane its drive measures)."""
+    ds = result.dataset
+    fig = framed_figure(8.0, 3.4)
+    ax = fig.subplots()
+    for name in ds["node"].values:
+        ax.plot(ds["time"].values, ds["speed"].sel(node=name).values,
+                label=legend_label(str(name)))
+    ax.set_ylabel("surface speed [m/s]")
+    ax.set_xlabel("time [s]")
+    ax.legend(fontsize=7, loc="best", ncol=2)
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def speeds_caption(result: BranchResult) -> str:
+    speed = result.dataset["speed"].values
+    final = speed[-1]
+    return (f"Surface speed of every roller: {number_text(speed.min())} to "
+            f"{number_text(speed.max())} m/s over the run; at the end they span "
+            f"{number_text(final.min())} to {number_text(final.max())} m/s.")
+
+
+def radii_figure(result: BranchResult) -> Figure:
+    """Wound radius [mm] of every roll and lane, one panel per roll node."""
+    ds = result.dataset
+    nodes = list(dict.fromkeys(str(n).split("/")[0] for n in ds["roll"].values))
+    fig = framed_figure(8.0, 1.0 + 1.7 * len(nodes), rows=len(nodes))
+    axes = np.atleast_1d(fig.subplots(len(nodes), 1, sharex=True))
+    webs = list(ds["web"].values)
+    for ax, node in zip(axes, nodes, strict=True):
+        for name in ds["roll"].values:
+            if str(name).split("/")[0] == node:
+                web = str(name).split("/")[1]
+                ax.plot(ds["time"].values, 1e3 * ds["radius"].sel(roll=name).values,
+                        color=WEB_COLORS[webs.index(web) % len(WEB_COLORS)],
+                        label=legend_label(web))
+        ax.set_title(literal(node), fontsize=9)
+        ax.set_ylabel("radius [mm]")
+        ax.ticklabel_format(axis="y", useOffset=False)
+        ax.legend(fontsize=7, loc="best")
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel("time [s]")
+    return fig
+
+
+def radii_caption(result: BranchResult) -> str:
+    ds = result.dataset
+    parts = [f"{name} {number_text(1e3 * ds['radius'].sel(roll=name).values[0])} → "
+             f"{number_text(1e3 * ds['radius'].sel(roll=name).values[-1])} mm"
+             for name in ds["roll"].values]
+    return "Wound radius of every roll and lane (start → end): " + ", ".join(parts) + "."
+
+
+def torques_figure(result: BranchResult) -> Figure:
+    """Motor torque [N·m] of every drive with its limits ± (dashed), one panel per drive."""
+    ds = result.dataset
+    drives = list(ds["drive"].values)
+    limits = result.plan.df[:, B.D_LIMIT]
+    fig = framed_figure(8.0, 1.0 + 1.6 * len(drives), rows=len(drives))
+    axes = np.atleast_1d(fig.subplots(len(drives), 1, sharex=True))
+    t = ds["time"].values
+    for ax, name, limit in zip(axes, drives, limits, strict=True):
+        ax.plot(t, ds["torque"].sel(drive=name).values, label="torque")
+        ax.axhline(limit, color="#d62728", ls="--", lw=1, label="limit")
+        ax.axhline(-limit, color="#d62728", ls="--", lw=1)
+        ax.set_title(literal(str(name)), fontsize=9)
+        ax.set_ylabel("torque [N·m]")
+        ax.legend(fontsize=7, loc="best")
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel("time [s]")
+    return fig
+
+
+def torques_caption(result: BranchResult) -> str:
+    ds = result.dataset
+    limits = result.plan.df[:, B.D_LIMIT]
+    peak = np.max(np.abs(ds["torque"].values), axis=0)
+    share = peak / limits
+    d = int(np.argmax(share))
+    parts = [f"{name} {number_text(p)} N·m of {number_text(lim)}"
+             for name, p, lim in zip(ds["drive"].values, peak, limits, strict=True)]
+    return ("Motor torque of every drive against its limit (dashed); largest |torque|: "
+            + ", ".join(parts) + f". Closest to its limit: {ds['drive'].values[d]} at "
+            f"{number_text(100 * share[d], 3)} %.")
+
+
+def branch_figure_jobs(result: BranchResult) -> list[FigureJob]:
+    """The jobs that draw every figure of a branched run's report, in report order."""
+    def one(key: str, caption: Callable[[BranchResult], str],
+            make: Callable[[BranchResult], Figure]) -> FigureJob:
+        return lambda: [ReportFigure(key, caption(result), make(result))]
+
+    jobs = [one("schematic", lambda r: "The line as its webs run: one colour per web, "
+                "lamination nips and slitters marked, loadcells with their references.",
+                lambda r: branch_schematic(r.plan.line)),
+            one("tensions", tensions_caption, tensions_figure)]
+    if len(result.dataset["layer_span"]):
+        jobs.append(one("layers", layers_caption, layers_figure))
+    jobs.append(one("speeds", speeds_caption, speeds_figure))
+    if len(result.dataset["roll"]):
+        jobs.append(one("radii", radii_caption, radii_figure))
+    jobs.append(one("torques", torques_caption, torques_figure))
+    return jobs

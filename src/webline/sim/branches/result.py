@@ -15,6 +15,9 @@ from webline.spec.branched.check import kind_of
 from webline.verdict import Finding, Verdict
 from webline.version import __version__
 
+#: the notebook's view of a branched run, resolved by name (``webline.line.HTML_VIEW``)
+HTML_VIEW = "webline.report.branch_report:branch_result_html"
+
 if TYPE_CHECKING:
     from webline.sim.branches.plan import BranchPlan
 
@@ -100,6 +103,13 @@ class BranchResult:
         return xr.Dataset(data, coords, attrs={
             "line": line.name, "scenario": line.scenario or "", "webline_version": __version__,
             "failure": self.failure or "", **{k: float(v) for k, v in self.settings.items()}})
+
+    def _repr_html_(self) -> str:
+        """A notebook's view: headline, status and the verdict per web and lane, drawn by
+        ``HTML_VIEW``."""
+        from webline.model.web_graph import _view
+
+        return str(_view(HTML_VIEW)(self))
 
     def to_xarray(self) -> xr.Dataset:
         return self.dataset

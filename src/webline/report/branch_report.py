@@ -1,0 +1,122 @@
+"""The HTML report of a branched line's run (docs/branching.md, "Report"): the verdict per web
+and lane, the line's description, source and tables, every figure with its computed caption,
+the run's settings and the resolved line file; and the notebook view of a branched line and
+of its result."""
+
+from __future__ import annotations
+
+import io
+from datetime import UTC, datetime
+from pathlib import Path
+
+from webline.files import atomic_write_bytes, atomic_write_text
+from webline.model.web_graph import BranchedLine
+from webline.report.outputs import OutputFolder
+from webline.report.plots.branch_figures import branch_figure_jobs, largest_deviation
+from webline.report.render import render_figures
+from webline.report.text.branch_tables import drive_findings_table, line_tables, verdict_table
+from webline.report.text.display import number_text
+from webline.report.text.html import Image, Section, Text, render, table_html
+from webline.report.text.tables import make_table
+from webline.report.text.verdict_text import STATUS_CLASS
+from webline.sim.branches.result import BranchResult
+from webline.spec.load import dump_spec
+from webline.version import __version__
+
+#: Resolution of the PNG figures [dots per inch] (the chain report's)
+DPI = 110
+
+
+def write_branch_report(result: BranchResult, folder: OutputFolder,
+                        results_file: Path | None = None) -> tuple[Path, list[Path]]:
+    """Write ``figures/KEY.png`` for every figure and a self-contained ``report.html`` for
+    ``result`` into ``folder`` (each claimed in its manifest); returns the report's path and
+    the figures'."""
+    images: dict[str, Image] = {}
+    written = []
+    for fig in render_figures(branch_figure_jobs(result), DPI):
+        images[fig.key] = Image(fig.key, fig.caption, fig.png)
+        written.append(atomic_write_bytes(folder.claim(f"figures/{fig.key}.png"), fig.png))
+    html = report_html(result, images, results_file)
+    return atomic_write_text(folder.claim("report.html"), html), written
+
+
+def status_text(result: BranchResult) -> str:
+    """What was simulated and its largest deviation from a tension reference."""
+    duration = float(result.time[-1]) if len(result.time) else 0.0
+    if result.failure is not None:
+        return (f"The run stopped early: {result.failure}; everything computed until "
+                f"t = {duration:.4g} s is shown.")
+    text = f"Run completed: {duration:.4g} s simulated."
+    error, span, when = largest_deviation(result)
+    if span:
+        text += (f" Largest deviation from a tension reference: {number_text(error)} N in "
+                 f"{span} at t = {number_text(when)} s.")
+    return text
+
+
+def report_html(result: BranchResult, images: dict[str, Image],
+                results_file: Path | None = None) -> str:
+    """The report page of ``result`` with the rendered figures ``images`` (by key)."""
+    line = result.plan.line
+    spec = line.spec
+    scenario = line.scenario
+    settings = result.settings
+    run_rows = [("webline version", __version__), ("line file", line.source),
+                ("scenario", scenario or "(none)"),
+                *((key, number_text(float(value), 6)) for key, value in settings.items()),
+                ("records", str(len(result.time))),
+                ("results file (SI)", results_file.name if results_file else "(none)")]
+    about = [Text(spec.description)] if spec.description else []
+    if spec.source:
+        about.append(Text(f"Source: {spec.source}"))
+    tables = line_tables(line)
+    findings = drive_findings_table(result)
+    sections = [
+        Section("Verdict", [verdict_table(result), *([findings] if findings.rows else [
+            Text("No finding about a drive or the run: no drive's command reached its torque "
+                 "limit and the run went to its end.")])]),
+        Section("Line", [*about, *([images["schematic"]] if "schematic" in images else []),
+                         *tables]),
+        Section("Time plots", [image for key, image in images.items() if key != "schematic"]),
+        Section("Run", [make_table("run", "Settings", ["key", "value"], run_rows)]),
+        Section("Resolved line file", [Text(dump_spec(spec), pre=True, fold="The line as it "
+                                            "ran (scenario applied), every quantity in SI "
+                                            "units: show the TOML")]),
+    ]
+    return render(
+        title=f"webline report: {line.name}" + (f", scenario {scenario}" if scenario else ""),
+        subtitle=(spec.scenarios[scenario].description if scenario else spec.description),
+        status=status_text(result), status_class=STATUS_CLASS[result.verdict.status],
+        headline=result.verdict.headline, sections=sections,
+        footer=f"webline {__version__} · generated {datetime.now(UTC):%Y-%m-%d %H:%M} UTC · "
+               "units: si")
+
+
+def schematic_svg(line: BranchedLine) -> str:
+    """The branched schematic as an inline SVG element (no XML header, no date, fixed ids)."""
+    import matplotlib
+
+    from webline.report.plots.branch_schematic import branch_schematic
+
+    buffer = io.StringIO()
+    with matplotlib.rc_context({"svg.hashsalt": "webline", "svg.fonttype": "none"}):
+        branch_schematic(line).savefig(buffer, format="svg", metadata={"Date": None})
+    text = buffer.getvalue()
+    return text[text.index("<svg"):]
+
+
+def branched_line_html(line: BranchedLine) -> str:
+    """A branched line for a notebook: its schematic (SVG) and its tables (SI)."""
+    return ("<div class='webline-line'>"
+            f"<div style='max-width:100%;overflow-x:auto'>{schematic_svg(line)}</div>"
+            + "".join(table_html(t) for t in line_tables(line)) + "</div>")
+
+
+def branch_result_html(result: BranchResult) -> str:
+    """A branched run for a notebook: the verdict's headline, the run's status and the
+    verdict per web and lane."""
+    from html import escape
+
+    return (f"<div class='webline-result'><p><b>{escape(result.verdict.headline)}</b></p>"
+            f"<p>{escape(status_text(result))}</p>{table_html(verdict_table(result))}</div>")

@@ -1,0 +1,142 @@
+"""Tables of a branched line (docs/branching.md) and of its run, as text cells that both the
+terminal (``webline show``) and the HTML report show: the line, its webs, rollers, spans and
+drives with their zones; per web and lane the run's tensions and the verdict's findings."""
+
+from __future__ import annotations
+
+from webline.model.web_graph import BranchedLine
+from webline.report.text.display import Display, number_text, profile_text
+from webline.report.text.tables import Table, make_table
+from webline.sim.branches.result import BranchResult
+from webline.spec.branched.check import kind_of
+from webline.spec.roll_inertia import RollTotal, RollTotals
+from webline.spec.schema import DrivenSpec, IdleSpec, RewindSpec, UnwindSpec
+
+SI = Display("si")
+
+
+def roller_kind(line: BranchedLine, i: int) -> str:
+    """'unwind', 'rewind', 'idle', 'master' or 'tension'; a junction adds 'lamination nip'
+    (webs end there and a laminate starts) or 'slitter' (a web ends there and lanes start), a
+    shaft the lanes wound on it."""
+    roller = line.spec.rollers[i]
+    kind = roller.role if isinstance(roller, DrivenSpec) else roller.type
+    extra = [junction_kind(line, i)]
+    lanes = shaft_lanes(line).get(i)
+    if lanes:
+        extra.append("lanes on one shaft: " + " + ".join(line.spec.webs[w].name for w in lanes))
+    return ", ".join([kind, *(e for e in extra if e)])
+
+
+def junction_kind(line: BranchedLine, i: int) -> str:
+    """'lamination nip', 'slitter' or '' for node ``i`` (``BranchedLine.junctions``)."""
+    if i not in line.junctions:
+        return ""
+    name = line.spec.rollers[i].name
+    starting = [w for w in line.spec.webs if w.path[0] == name]
+    return "lamination nip" if any(kind_of(w) == "laminate" for w in starting) else "slitter"
+
+
+def shaft_lanes(line: BranchedLine) -> dict[int, list[int]]:
+    """Roll node -> the webs wound or unwound on it, for nodes holding more than one (lanes
+    on one shaft)."""
+    webs: dict[int, list[int]] = {}
+    for roll in line.rolls:
+        webs.setdefault(roll.node, []).append(roll.web)
+    return {node: ws for node, ws in webs.items() if len(ws) > 1}
+
+
+def inertia_text(inertia: object) -> str:
+    """A roller's inertia [kg·m²]: a number, or a roll's stated totals (``spec.roll_inertia``)."""
+    if isinstance(inertia, RollTotals):
+        return (f"empty {number_text(inertia.empty)}, full {number_text(inertia.full)} at "
+                f"⌀ {number_text(inertia.full_diameter)} m")
+    if isinstance(inertia, RollTotal):
+        return f"{number_text(inertia.total)} at ⌀ {number_text(inertia.diameter)} m"
+    return number_text(float(inertia))  # type: ignore[arg-type]
+
+
+def line_tables(line: BranchedLine) -> list[Table]:
+    """The line's tables (SI): line, webs, rollers, spans, drives and their zones."""
+    spec = line.spec
+    about = make_table("line", "Line", ["key", "value"], [
+        ("name", line.name), ("description", spec.description or "–"),
+        ("source", spec.source or "–"), ("file", line.source),
+        ("scenario", line.scenario or "(none)"), ("line speed", profile_text(
+            spec.speed, "speed", SI)),
+        ("size", f"{len(spec.webs)} webs, {len(spec.rollers)} rollers, {len(line.spans)} "
+                 f"spans, {len(line.drives)} drives")])
+    webs = []
+    for w, web in enumerate(spec.webs):
+        m = line.materials[w]
+        origin = (f"layers {' + '.join(web.layers or [])}" if web.layers else
+                  f"slit from {web.slit_from}" if web.slit_from else "unwind")
+        webs.append((web.name, kind_of(web), origin, " → ".join(web.path), number_text(m.ea),
+                     number_text(m.thickness * 1e6), number_text(m.width * 1e3)))
+    rollers = []
+    for i, roller in enumerate(spec.rollers):
+        core = (number_text(roller.core_radius * 1e3)
+                if isinstance(roller, UnwindSpec | RewindSpec) else "–")
+        rollers.append((roller.name, roller_kind(line, i), number_text(roller.radius * 1e3),
+                        core, inertia_text(roller.inertia), number_text(roller.friction)))
+    cells = {k for zone in line.zones.values() for k in zone.loadcells}
+    spans = []
+    for span in line.spans:
+        ref = line.span_tension_spec(span.index)
+        spans.append((span.name, spec.webs[span.web].name, spec.rollers[span.a].name,
+                       spec.rollers[span.b].name, number_text(span.length),
+                       profile_text(ref, "force", SI) if ref is not None else "–",
+                       "yes" if span.index in cells else "no"))
+    drives = []
+    for i in line.drives:
+        roller = spec.rollers[i]
+        assert not isinstance(roller, IdleSpec)
+        zone = line.zones.get(i)
+        what = ("line speed (master)" if zone is None else
+                ("sum of " if len(zone.loadcells) > 1 else "")
+                + " + ".join(line.spans[k].name for k in zone.loadcells))
+        span_names = ", ".join(line.spans[k].name for k in zone.spans) if zone else "–"
+        drives.append((roller.name, what, span_names, number_text(roller.drive.torque_limit),
+                       number_text(roller.drive.ratio)))
+    return [about,
+            make_table("webs", "Webs", ["web", "kind", "from", "path", "EA [N]",
+                                        "thickness [µm]", "width [mm]"], webs),
+            make_table("rollers", "Rollers", ["roller", "kind", "radius [mm]",
+                                              "core radius [mm]", "inertia [kg·m²]",
+                                              "viscous friction [N·m·s]"], rollers),
+            make_table("spans", "Spans", ["span", "web", "from", "to", "length [m]",
+                                          "tension reference", "loadcell"], spans),
+            make_table("drives", "Drives and their tension zones", [
+                "drive", "controls", "zone spans", "torque limit [N·m]", "ratio"], drives)]
+
+
+def verdict_table(result: BranchResult) -> Table:
+    """Per web and lane: its kind, span tension range and final value [N], its loadcells'
+    largest deviation from their reference [N], length-balance drift [m] and the verdict's
+    findings about it (``BranchResult.verdict``)."""
+    findings = result.verdict.findings
+    rows = []
+    for web in result.web_summary():
+        table = web["spans"]
+        assert isinstance(table, dict)
+        low = min(v["min_N"] for v in table.values())
+        high = max(v["max_N"] for v in table.values())
+        deviations = [f"{name} {number_text(v['max_deviation_N'])}"
+                      for name, v in table.items() if "max_deviation_N" in v]
+        about = [f"{f.level}: {f.message}" for f in findings if f.where == web["web"]]
+        rows.append((str(web["web"]), str(web["kind"]), f"{number_text(low)} to "
+                     f"{number_text(high)}", ", ".join(deviations) or "–",
+                     number_text(float(web["length_balance_drift_m"]), 2),  # type: ignore[arg-type]
+                     "; ".join(about) or "ok"))
+    return make_table("verdict", "Verdict per web and lane", [
+        "web", "kind", "span tensions [N]", "largest deviation from reference [N]",
+        "length balance drift [m]", "findings"], rows)
+
+
+def drive_findings_table(result: BranchResult) -> Table:
+    """The verdict's findings about drives and the run (torque limits, a stopped run)."""
+    webs = {w.name for w in result.plan.line.spec.webs}
+    rows = [(f.level, f.kind, f.where, f.message) for f in result.verdict.findings
+            if f.where not in webs]
+    return make_table("drive_findings", "Findings about drives and the run",
+                      ["level", "kind", "where", "finding"], rows)

@@ -1,0 +1,170 @@
+"""The report, schematic and show of a branched line (docs/branching.md, "Report"): the files
+a run writes hold the verdict and every web; the schematic draws one path per web through its
+rollers and marks the junctions where the topology has them; captions state the run's numbers."""
+
+from __future__ import annotations
+
+import json
+import re
+from html import unescape
+
+import numpy as np
+import pytest
+from matplotlib.lines import Line2D
+from matplotlib.patches import Circle, Rectangle
+from typer.testing import CliRunner
+
+import webline
+from webline.cli import app
+from webline.model.web_graph import load_branched
+from webline.report.plots.branch_figures import (
+    radii_caption,
+    tensions_caption,
+    torques_caption,
+)
+from webline.report.plots.branch_schematic import branch_schematic
+from webline.sim.branches import layout as B
+
+
+@pytest.fixture(scope="module")
+def upset():
+    return webline.simulate("laminator", 3.0, scenario="layer-upset")
+
+
+def _by_gid(fig, kind):
+    """Artists of ``fig``'s axes whose gid starts with ``kind:``, by the rest of the gid."""
+    ax = fig.axes[0]
+    found = {}
+    for artist in [*ax.lines, *ax.patches, *ax.texts]:
+        gid = artist.get_gid() or ""
+        if gid.startswith(kind + ":"):
+            found[gid[len(kind) + 1:]] = artist
+    return found
+
+
+@pytest.mark.parametrize("name", ["laminator", "slitter"])
+def test_the_schematic_draws_each_web_through_its_rollers_and_the_junctions_where_they_are(name):
+    line = load_branched(name)
+    fig = branch_schematic(line)
+    webs, rollers = _by_gid(fig, "web"), _by_gid(fig, "roller")
+    assert set(webs) == {w.name for w in line.spec.webs}  # one path per web, no more
+    assert all(isinstance(p, Line2D) for p in webs.values())
+    assert set(rollers) == {r.name for r in line.spec.rollers}
+    for web in line.spec.webs:
+        xs, ys = webs[web.name].get_data()
+        assert len(xs) == len(web.path)
+        for x, y, roller in zip(xs, ys, web.path, strict=True):
+            circle = rollers[roller]
+            assert isinstance(circle, Circle)
+            cx, cy = circle.center
+            # each point of the path lies on its roller: at its centre, or (lanes side by side
+            # on one shaft) within its drawn circle
+            assert x == pytest.approx(cx, abs=1e-12)
+            assert abs(y - cy) < circle.radius
+    # the junctions where the topology has them, each at its roller and named for its kind
+    junctions = _by_gid(fig, "junction")
+    expected = {line.spec.rollers[i].name for i in line.junctions}
+    assert set(junctions) == expected and expected
+    for roller, marker in junctions.items():
+        assert marker.get_xdata()[0] == pytest.approx(rollers[roller].center[0], abs=1e-12)
+    labels = [t.get_text() for t in fig.axes[0].texts]
+    kind = "lamination nip" if name == "laminator" else "slitter"
+    assert labels.count(kind) == 1
+    # every roller labelled with its name; every loadcell span marked
+    assert {n: t.get_text().split("\n")[0] for n, t in _by_gid(fig, "label").items()} == {
+        r.name: r.name for r in line.spec.rollers}
+    cells = {s.name for s in line.spans if line.span_tension_spec(s.index) is not None}
+    assert set(_by_gid(fig, "loadcell")) == cells
+
+
+def test_lanes_on_one_shaft_are_one_roll_with_its_lanes_stacked():
+    line = load_branched("slitter")
+    fig = branch_schematic(line)
+    lanes = _by_gid(fig, "lane")
+    assert set(lanes) == {"rewind_shaft:lane_1", "rewind_shaft:lane_2"}  # not lane_3's roll
+    assert all(isinstance(p, Rectangle) for p in lanes.values())
+    # one roll drawn for the shaft, the two lanes ending on it at distinct heights
+    webs = _by_gid(fig, "web")
+    ends = [webs[n].get_data()[1][-1] for n in ("lane_1", "lane_2")]
+    assert ends[0] != ends[1]
+    assert sum(1 for gid in _by_gid(fig, "roller") if gid == "rewind_shaft") == 1
+
+
+def test_the_tension_caption_states_the_runs_largest_deviation(upset):
+    ds = upset.dataset
+    t = ds["time"].values
+    # the references written in the line file: film 120 N stepping to 150 N at 2 s, foil
+    # 60 N, laminate 180 N (computed here from the file, not from the plan's tables)
+    refs = {"film_zone": np.where(t >= 2.0, 150.0, 120.0), "foil_zone": 60.0 + 0 * t,
+            "laminate_zone": 180.0 + 0 * t}
+    errors = {k: np.abs(ds["tension"].sel(span=k).values - r) for k, r in refs.items()}
+    span = max(errors, key=lambda k: errors[k].max())
+    i = int(np.argmax(errors[span]))
+    caption = tensions_caption(upset)
+    # the caption prints 4 significant digits: it must state exactly the dataset's to those
+    assert (f"Largest deviation from a reference: {errors[span][i]:.4g} N in {span} at "
+            f"t = {t[i]:.4g} s.") in caption
+
+
+def test_the_torque_and_radius_captions_state_the_runs_numbers(upset):
+    ds = upset.dataset
+    torque = np.abs(ds["torque"].values).max(axis=0)
+    limits = upset.plan.df[:, B.D_LIMIT]
+    caption = torques_caption(upset)
+    for name, peak, limit in zip(ds["drive"].values, torque, limits, strict=True):
+        assert f"{name} {peak:.4g} N·m of {limit:.4g}" in caption
+    share = torque / limits
+    assert f"{ds['drive'].values[np.argmax(share)]} at {100 * share.max():.3g} %" in caption
+    radius = ds["radius"].values * 1e3
+    caption = radii_caption(upset)
+    for j, name in enumerate(ds["roll"].values):
+        assert f"{name} {radius[0, j]:.4g} → {radius[-1, j]:.4g} mm" in caption
+
+
+def test_webline_run_writes_a_report_with_the_verdict_and_every_web(tmp_path):
+    out = tmp_path / "run"
+    result = CliRunner().invoke(app, ["run", "slitter", "-s", "thickness-profile", "-d", "2",
+                                      "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    summary = json.loads((out / "summary.json").read_text("utf-8"))
+    page = unescape((out / "report.html").read_text("utf-8"))
+    headline = summary["verdict"]["status"]
+    assert headline == "ok" and "ok: no instability, failure or warning found" in page
+    rows = re.findall(r'<table id="verdict">(.*?)</table>', page, re.S)[0]
+    for web in ("base", "lane_1", "lane_2", "lane_3"):
+        assert f'<td class="text">{web}</td>' in rows
+    for key in ("schematic", "tensions", "speeds", "radii", "torques"):
+        assert (out / "figures" / f"{key}.png").stat().st_size > 5_000
+        assert f'id="fig-{key}"' in page
+    assert "Source: generic slitter-rewinder" in page  # the line's description and source
+    # a lane's largest deviation in the verdict table is the summary's, to its 4 digits
+    lane = summary["webs"][1]["spans"]["lane_1_span"]["max_deviation_N"]
+    assert f"lane_1_span {lane:.4g}" in rows
+    assert "Report: " in result.output
+
+
+def test_webline_show_prints_a_branched_line_and_draws_its_schematic(tmp_path):
+    target = tmp_path / "laminator.svg"
+    result = CliRunner().invoke(app, ["show", "laminator", "--schematic", str(target)])
+    assert result.exit_code == 0, result.output
+    for text in ("film", "foil", "laminate", "lamination nip", "laminate_zone"):
+        assert text in result.output
+    assert target.read_text("utf-8").lstrip().startswith("<?xml")
+    bad = CliRunner().invoke(app, ["show", "laminator", "--schematic", str(tmp_path / "a.txt")])
+    assert bad.exit_code == 2 and "Traceback" not in bad.output
+    assert len(bad.stderr.strip().splitlines()) == 1
+
+
+def test_a_notebook_shows_a_branched_line_and_its_run(upset):
+    line_view = load_branched("slitter")._repr_html_()
+    assert "<svg" in line_view and "lanes on one shaft: lane_1 + lane_2" in line_view
+    run_view = upset._repr_html_()
+    assert upset.verdict.headline in unescape(run_view)
+    assert all(w in run_view for w in ("film", "foil", "laminate"))
+
+
+def test_webline_show_draws_a_single_path_lines_schematic_too(tmp_path):
+    target = tmp_path / "hswl.png"
+    result = CliRunner().invoke(app, ["show", "hswl", "--schematic", str(target)])
+    assert result.exit_code == 0, result.output
+    assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and target.stat().st_size > 10_000
