@@ -168,3 +168,39 @@ def test_webline_show_draws_a_single_path_lines_schematic_too(tmp_path):
     result = CliRunner().invoke(app, ["show", "hswl", "--schematic", str(target)])
     assert result.exit_code == 0, result.output
     assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and target.stat().st_size > 10_000
+
+
+def test_the_captions_of_lanes_on_one_shaft_state_their_sum_and_their_drift():
+    result = webline.simulate("slitter", 2.0, scenario="thickness-profile")
+    ds = result.dataset
+    lanes = ds["tension"].sel(span=["lane_1_span", "lane_2_span"]).values
+    # both lanes' references are 100 N: the shaft's drive holds their sum at 200 N
+    error = np.abs(lanes.sum(axis=1) - 200.0).max()
+    assert f"rewind_shaft holds the sum of lane_1_span + lane_2_span within {error:.4g} N" in (
+        tensions_caption(result))
+    # lane_1 is 1 % thicker: its roll grows faster; the caption gives the gap at the end
+    radius = ds["radius"].sel(roll=["rewind_shaft/lane_1", "rewind_shaft/lane_2"]).values
+    gap = 1e3 * (radius[-1].max() - radius[-1].min())
+    assert gap > 0 and f"The lanes on rewind_shaft end {gap:.3g} mm apart." in radii_caption(
+        result)
+
+
+def test_the_report_states_a_warning_and_the_drive_it_concerns():
+    from webline.report.branch_report import report_html
+
+    line = webline.load_branched("laminator")
+    data = line.spec.model_dump(exclude_none=True)
+    # the rewind needs 15.96 N·m steady at 2.5 m/s (test_branches' torque-limit test) and more
+    # to accelerate: a 16.2 N·m limit is reached during the ramp
+    data["rollers"][6]["drive"]["torque_limit"] = 16.2
+    data["speed"] = {"type": "ramp", "initial": 2.0, "final": 2.5, "start": 0.5,
+                     "duration": 0.5}
+    result = webline.simulate(webline.load_branched(data), 2.0, raise_on_failure=False)
+    page = unescape(report_html(result, {}))
+    finding = next(f for f in result.verdict.findings if f.kind == "torque_limit")
+    assert 'class="status warning"' in page and result.verdict.headline in page
+    table = re.findall(r'<table id="drive_findings">(.*?)</table>', page, re.S)[0]
+    assert finding.message in table and '<td class="text">rewind</td>' in table
+    # the torque caption names the drive at its limit: 100 % of it, to the printed digits
+    peak = np.abs(result.dataset["torque"].sel(drive="rewind").values).max()
+    assert f"rewind at {100 * peak / 16.2:.3g} %" in torques_caption(result)

@@ -73,7 +73,28 @@ def tensions_caption(result: BranchResult) -> str:
     if span:
         text += (f" Largest deviation from a reference: {number_text(error)} N in {span} at "
                  f"t = {number_text(when)} s.")
-    return text
+    return text + "".join(f" {sentence}." for sentence in shaft_sums(result))
+
+
+def shaft_sums(result: BranchResult) -> list[str]:
+    """Per drive that controls the sum of several lanes' tensions (lanes on one shaft): that
+    sum's largest deviation from the sum of their references [N], and each lane's range."""
+    line = result.plan.line
+    tension = result.dataset["tension"].values
+    refs = references(result)
+    out = []
+    for zone in line.zones.values():
+        if len(zone.loadcells) < 2:
+            continue
+        cells = list(zone.loadcells)
+        error = np.abs(tension[:, cells].sum(axis=1) - sum(refs[k] for k in cells))
+        lanes = ", ".join(f"{line.spans[k].name} {number_text(tension[:, k].min())} to "
+                          f"{number_text(tension[:, k].max())} N" for k in cells)
+        out.append(f"{line.spec.rollers[zone.node].name} holds the sum of "
+                   f"{' + '.join(line.spans[k].name for k in cells)} within "
+                   f"{number_text(float(error.max()) if len(error) else float('nan'))} N of its "
+                   f"reference; the lanes themselves: {lanes}")
+    return out
 
 
 def layers_figure(result: BranchResult) -> Figure:
@@ -159,7 +180,16 @@ def radii_caption(result: BranchResult) -> str:
     parts = [f"{name} {number_text(1e3 * ds['radius'].sel(roll=name).values[0])} → "
              f"{number_text(1e3 * ds['radius'].sel(roll=name).values[-1])} mm"
              for name in ds["roll"].values]
-    return "Wound radius of every roll and lane (start → end): " + ", ".join(parts) + "."
+    text = "Wound radius of every roll and lane (start → end): " + ", ".join(parts) + "."
+    line = result.plan.line
+    radius = ds["radius"].values
+    for node in dict.fromkeys(r.node for r in line.rolls):  # lanes on one shaft drift apart
+        rolls = [j for j, r in enumerate(line.rolls) if r.node == node]
+        if len(rolls) > 1:
+            spread = 1e3 * (radius[-1, rolls].max() - radius[-1, rolls].min())
+            text += (f" The lanes on {line.spec.rollers[node].name} end "
+                     f"{number_text(spread, 3)} mm apart.")
+    return text
 
 
 def torques_figure(result: BranchResult) -> Figure:
