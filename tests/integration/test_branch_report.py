@@ -204,3 +204,33 @@ def test_the_report_states_a_warning_and_the_drive_it_concerns():
     # the torque caption names the drive at its limit: 100 % of it, to the printed digits
     peak = np.abs(result.dataset["torque"].sel(drive="rewind").values).max()
     assert f"rewind at {100 * peak / 16.2:.3g} %" in torques_caption(result)
+
+
+def test_a_run_stopped_early_is_reported_as_such_and_marked_on_every_time_plot(upset):
+    import dataclasses
+
+    from webline.report.branch_report import report_html
+    from webline.report.plots.branch_figures import branch_figure_jobs
+
+    # the records of a run that stopped at 1 s (its first 1001 records), as the loop hands
+    # them over when the state runs away
+    stopped = dataclasses.replace(upset, rec=upset.rec[:1001],
+                                  failure="the state ran away at t = 1 s")
+    page = unescape(report_html(stopped, {}))
+    assert 'class="status failed"' in page
+    assert "The run stopped early: the state ran away at t = 1 s" in page
+    for job in branch_figure_jobs(stopped):
+        for fig in job():
+            if fig.key == "schematic":
+                continue
+            for ax in fig.figure.axes:  # a vertical line at the last record, t = 1 s
+                assert any(list(line.get_xdata()) == [1.0, 1.0] for line in ax.lines)
+
+
+def test_the_schematic_caption_names_the_junctions_and_shafts_the_topology_has():
+    from webline.report.plots.branch_figures import schematic_caption
+
+    caption = schematic_caption(webline.simulate("slitter", 0.01))
+    assert "slitter at slitter" in caption
+    assert "lane_1 and lane_2 on one shaft at rewind_shaft" in caption and "lane_3 on" not in (
+        caption)

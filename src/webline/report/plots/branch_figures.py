@@ -8,22 +8,32 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from webline.report.plots.branch_schematic import WEB_COLORS, branch_schematic
 from webline.report.plots.figures import FigureJob, ReportFigure
 from webline.report.plots.frame import framed_figure
 from webline.report.plots.mpl_text import legend_label, literal
+from webline.report.text.branch_tables import junction_kind, shaft_lanes
 from webline.report.text.display import number_text
 from webline.sim.branches import layout as B
 from webline.sim.branches.result import BranchResult
+from webline.sim.results.decimate import envelope
+
+
+def _plot(ax: Axes, time: np.ndarray, values: np.ndarray, *fmt: str, **style: object) -> list:
+    """Plot a signal at screen resolution: the min/max envelope of its pixel columns
+    (``sim.results.decimate.envelope``), so peaks stay visible in long runs."""
+    return ax.plot(*envelope(time, values), *fmt, **style)  # type: ignore[arg-type]
 
 
 def references(result: BranchResult) -> dict[int, np.ndarray]:
     """Span number -> its loadcell's tension reference [N] at every record."""
     plan = result.plan
-    return {int(k): np.array([plan.profile(int(p), t) for t in result.time])
-            for k, p in plan.cells}
+    off = plan.prof_off  # the profile plan.profile(p, t) interpolates, at every record
+    return {int(k): np.interp(result.time, plan.prof_t[off[p]:off[p + 1]],
+                              plan.prof_v[off[p]:off[p + 1]]) for k, p in plan.cells}
 
 
 def largest_deviation(result: BranchResult) -> tuple[float, str, float]:
@@ -53,10 +63,10 @@ def tensions_figure(result: BranchResult) -> Figure:
     for ax, web in zip(axes, webs, strict=True):
         spans = ds["tension"].sel(span=ds["span_web"] == web)
         for name in spans["span"].values:
-            line = ax.plot(t, spans.sel(span=name).values, label=legend_label(str(name)))
+            line = _plot(ax, t, spans.sel(span=name).values, label=legend_label(str(name)))
             k = names.index(name)
             if k in refs:
-                ax.plot(t, refs[k], ":", color=line[0].get_color(),
+                _plot(ax, t, refs[k], ":", color=line[0].get_color(),
                         label=legend_label(f"{name} reference"))
         low, high = float(spans.values.min()), float(spans.values.max())
         ax.set_title(literal(f"{web}: span tensions {low:.4g} to {high:.4g} N"), fontsize=9)
@@ -105,11 +115,11 @@ def layers_figure(result: BranchResult) -> Figure:
     axes = np.atleast_1d(fig.subplots(len(spans), 1, sharex=True))
     t = ds["time"].values
     for ax, span in zip(axes, spans, strict=True):
-        ax.plot(t, ds["tension"].sel(span=span).values, color="#333333",
+        _plot(ax, t, ds["tension"].sel(span=span).values, color="#333333",
                 label=legend_label(f"{span} (laminate)"))
         for name in ds["layer_span"].values:
             if str(name).split("/")[0] == span:
-                ax.plot(t, ds["layer_tension"].sel(layer_span=name).values,
+                _plot(ax, t, ds["layer_tension"].sel(layer_span=name).values,
                         label=legend_label(f"layer {str(name).split('/')[1]}"))
         ax.set_title(literal(f"{span}: layer tensions (strains tied at the nip)"), fontsize=9)
         ax.set_ylabel("tension [N]")
@@ -135,7 +145,7 @@ def speeds_figure(result: BranchResult) -> Figure:
     fig = framed_figure(8.0, 3.4)
     ax = fig.subplots()
     for name in ds["node"].values:
-        ax.plot(ds["time"].values, ds["speed"].sel(node=name).values,
+        _plot(ax, ds["time"].values, ds["speed"].sel(node=name).values,
                 label=legend_label(str(name)))
     ax.set_ylabel("surface speed [m/s]")
     ax.set_xlabel("time [s]")
@@ -163,7 +173,7 @@ def radii_figure(result: BranchResult) -> Figure:
         for name in ds["roll"].values:
             if str(name).split("/")[0] == node:
                 web = str(name).split("/")[1]
-                ax.plot(ds["time"].values, 1e3 * ds["radius"].sel(roll=name).values,
+                _plot(ax, ds["time"].values, 1e3 * ds["radius"].sel(roll=name).values,
                         color=WEB_COLORS[webs.index(web) % len(WEB_COLORS)],
                         label=legend_label(web))
         ax.set_title(literal(node), fontsize=9)
@@ -201,10 +211,12 @@ def torques_figure(result: BranchResult) -> Figure:
     axes = np.atleast_1d(fig.subplots(len(drives), 1, sharex=True))
     t = ds["time"].values
     for ax, name, limit in zip(axes, drives, limits, strict=True):
-        ax.plot(t, ds["torque"].sel(drive=name).values, label="torque")
+        _plot(ax, t, ds["torque"].sel(drive=name).values, label="torque")
         ax.axhline(limit, color="#d62728", ls="--", lw=1, label="limit")
         ax.axhline(-limit, color="#d62728", ls="--", lw=1)
-        ax.set_title(literal(str(name)), fontsize=9)
+        peak = float(np.max(np.abs(ds["torque"].sel(drive=name).values)))
+        ax.set_title(literal(f"{name}: largest |torque| {peak:.4g} of {limit:.4g} N·m "
+                             f"({100 * peak / limit:.3g} % of its limit)"), fontsize=9)
         ax.set_ylabel("torque [N·m]")
         ax.legend(fontsize=7, loc="best")
         ax.grid(alpha=0.3)
@@ -225,15 +237,36 @@ def torques_caption(result: BranchResult) -> str:
             f"{number_text(100 * share[d], 3)} %.")
 
 
+def schematic_caption(result: BranchResult) -> str:
+    """The schematic's caption: its webs, junctions and shafts, named from the topology."""
+    line = result.plan.line
+    junctions = [f"{junction_kind(line, i)} at {line.spec.rollers[i].name}"
+                 for i in sorted(line.junctions)]
+    shafts = [f"{' and '.join(line.spec.webs[w].name for w in webs)} on one shaft at "
+              f"{line.spec.rollers[node].name}" for node, webs in shaft_lanes(line).items()]
+    return ("The line as its webs run, one colour per web ("
+            + ", ".join(w.name for w in line.spec.webs) + "); "
+            + "; ".join([*junctions, *shafts, "loadcells marked with their references"]) + ".")
+
+
+def _marked(fig: Figure, result: BranchResult) -> Figure:
+    """Where a run stopped early, a red dotted line at its last record on every axes of a
+    time plot ``fig``."""
+    if result.failure is not None and len(result.time):
+        for ax in fig.axes:
+            ax.axvline(float(result.time[-1]), color="#d62728", ls=":", lw=1.2)
+    return fig
+
+
 def branch_figure_jobs(result: BranchResult) -> list[FigureJob]:
     """The jobs that draw every figure of a branched run's report, in report order."""
     def one(key: str, caption: Callable[[BranchResult], str],
             make: Callable[[BranchResult], Figure]) -> FigureJob:
-        return lambda: [ReportFigure(key, caption(result), make(result))]
+        return lambda: [ReportFigure(key, caption(result), _marked(make(result), result))]
 
-    jobs = [one("schematic", lambda r: "The line as its webs run: one colour per web, "
-                "lamination nips and slitters marked, loadcells with their references.",
-                lambda r: branch_schematic(r.plan.line)),
+    jobs: list[FigureJob] = [
+            lambda: [ReportFigure("schematic", schematic_caption(result),
+                                  branch_schematic(result.plan.line))],
             one("tensions", tensions_caption, tensions_figure)]
     if len(result.dataset["layer_span"]):
         jobs.append(one("layers", layers_caption, layers_figure))
