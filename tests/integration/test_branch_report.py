@@ -19,6 +19,7 @@ from webline.cli import app
 from webline.model.web_graph import load_branched
 from webline.report.plots.branch_figures import (
     radii_caption,
+    speeds_caption,
     tensions_caption,
     torques_caption,
 )
@@ -115,6 +116,10 @@ def test_the_torque_and_radius_captions_state_the_runs_numbers(upset):
         assert f"{name} {peak:.4g} N·m of {limit:.4g}" in caption
     share = torque / limits
     assert f"{ds['drive'].values[np.argmax(share)]} at {100 * share.max():.3g} %" in caption
+    # the master (the nip) against the line file's speed, 150 m/min = 2.5 m/s throughout
+    error = np.abs(ds["speed"].sel(node="nip").values - 2.5).max()
+    assert f"The master nip follows the reference within {error:.4g} m/s." in speeds_caption(
+        upset)
     radius = ds["radius"].values * 1e3
     caption = radii_caption(upset)
     for j, name in enumerate(ds["roll"].values):

@@ -30,10 +30,16 @@ def _plot(ax: Axes, time: np.ndarray, values: np.ndarray, *fmt: str, **style: ob
 
 def references(result: BranchResult) -> dict[int, np.ndarray]:
     """Span number -> its loadcell's tension reference [N] at every record."""
+    return {int(k): profile_values(result, int(p)) for k, p in result.plan.cells}
+
+
+def profile_values(result: BranchResult, p: int) -> np.ndarray:
+    """The plan's reference profile ``p`` (0: the line speed [m/s]; a loadcell's tension [N])
+    at every record: what ``plan.profile(p, t)`` interpolates."""
     plan = result.plan
-    off = plan.prof_off  # the profile plan.profile(p, t) interpolates, at every record
-    return {int(k): np.interp(result.time, plan.prof_t[off[p]:off[p + 1]],
-                              plan.prof_v[off[p]:off[p + 1]]) for k, p in plan.cells}
+    off = plan.prof_off
+    return np.interp(result.time, plan.prof_t[off[p]:off[p + 1]],
+                     plan.prof_v[off[p]:off[p + 1]])
 
 
 def largest_deviation(result: BranchResult) -> tuple[float, str, float]:
@@ -146,7 +152,9 @@ def speeds_figure(result: BranchResult) -> Figure:
     ax = fig.subplots()
     for name in ds["node"].values:
         _plot(ax, ds["time"].values, ds["speed"].sel(node=name).values,
-                label=legend_label(str(name)))
+              label=legend_label(str(name)))
+    _plot(ax, ds["time"].values, profile_values(result, 0), ":", color="black",
+          label="line speed reference")
     ax.set_ylabel("surface speed [m/s]")
     ax.set_xlabel("time [s]")
     ax.legend(fontsize=7, loc="best", ncol=2)
@@ -157,9 +165,18 @@ def speeds_figure(result: BranchResult) -> Figure:
 def speeds_caption(result: BranchResult) -> str:
     speed = result.dataset["speed"].values
     final = speed[-1]
-    return (f"Surface speed of every roller: {number_text(speed.min())} to "
-            f"{number_text(speed.max())} m/s over the run; at the end they span "
-            f"{number_text(final.min())} to {number_text(final.max())} m/s.")
+    master = result.plan.line.master
+    error = np.abs(speed[:, master] - profile_values(result, 0))
+    scale = float(np.max(np.abs(speed))) if speed.size else 0.0
+
+    def shown(v: float) -> str:  # round-off of a roller at rest (1e-16 m/s) shown as 0
+        return number_text(0.0 if abs(v) < 1e-9 * scale else float(v))
+
+    return (f"Surface speed of every roller against the line speed reference (dotted): "
+            f"{shown(speed.min())} to {shown(speed.max())} m/s over the run; at "
+            f"the end they span {shown(final.min())} to {shown(final.max())} m/s. "
+            f"The master {result.plan.line.spec.rollers[master].name} follows the reference "
+            f"within {number_text(float(error.max()) if len(error) else float('nan'))} m/s.")
 
 
 def radii_figure(result: BranchResult) -> Figure:

@@ -57,7 +57,8 @@ def inertia_text(inertia: object) -> str:
 
 
 def line_tables(line: BranchedLine) -> list[Table]:
-    """The line's tables (SI): line, webs, rollers, spans, drives and their zones."""
+    """The line's tables (SI): line, webs, rollers, spans, drives and their zones,
+    scenarios."""
     spec = line.spec
     about = make_table("line", "Line", ["key", "value"], [
         ("name", line.name), ("description", spec.description or "–"),
@@ -107,7 +108,10 @@ def line_tables(line: BranchedLine) -> list[Table]:
             make_table("spans", "Spans", ["span", "web", "from", "to", "length [m]",
                                           "tension reference", "loadcell"], spans),
             make_table("drives", "Drives and their tension zones", [
-                "drive", "controls", "zone spans", "torque limit [N·m]", "ratio"], drives)]
+                "drive", "controls", "zone spans", "torque limit [N·m]", "ratio"], drives),
+            make_table("scenarios", "Scenarios", ["scenario", "duration [s]", "description"],
+                       [(name, number_text(sc.duration), sc.description or "–")
+                        for name, sc in spec.scenarios.items()])]
 
 
 def verdict_table(result: BranchResult) -> Table:
