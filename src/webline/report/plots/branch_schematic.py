@@ -17,19 +17,18 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.patches import Circle, Rectangle
+from matplotlib.patches import Rectangle
 
 from webline.model.web_graph import BranchedLine
 from webline.report.plots.mpl_text import legend_label, literal
-from webline.report.plots.schematic import COLORS, drawn_radius
+from webline.report.plots.schematic import COLORS, _roller, drawn_radius
 from webline.report.text.branch_tables import SI, junction_kind, shaft_lanes
 from webline.report.text.display import number_text, profile_text
 from webline.spec.branched.check import kind_of
 from webline.spec.branched.schema import WebPathSpec
-from webline.spec.schema import IdleSpec, RewindSpec, UnwindSpec
+from webline.spec.schema import IdleSpec
 
 SPACING = 3.2  #: horizontal distance between roller depths in the drawing
 ROW = 3.4  #: vertical distance between neighbouring webs' rows
@@ -157,7 +156,7 @@ def branch_schematic(line: BranchedLine) -> Figure:
                         ha="center", va="bottom", fontsize=6.5, color=COLORS["loadcell"])
     for i, roller in enumerate(rollers):
         s = size[i]
-        _roller(ax, roller, x[i], y[i], s, i == line.master)
+        _roller(ax, roller, x[i], s, i == line.master, y[i]).set_gid(f"roller:{roller.name}")
         below = y[i] - s - 0.1
         if not isinstance(roller, IdleSpec):
             ax.add_patch(Rectangle((x[i] + s * 0.6, y[i] - s - 0.55), 0.7, 0.4,
@@ -200,19 +199,3 @@ def branch_schematic(line: BranchedLine) -> Figure:
 def _kind(web: WebPathSpec) -> str:
     return {"web": "raw web", "laminate": "laminate", "lane": "lane"}[kind_of(web)]
 
-
-def _roller(ax: Axes, roller: object, x: float, y: float, size: float, master: bool) -> None:
-    """A roller as the single-path schematic draws it (roll with its core, master orange,
-    driven blue, idle open), at height ``y``."""
-    if isinstance(roller, UnwindSpec | RewindSpec):
-        face = COLORS["roll"]
-    elif isinstance(roller, IdleSpec):
-        face = COLORS["idle"]
-    else:
-        face = COLORS["master" if master else "tension"]
-    name = getattr(roller, "name", "")
-    ax.add_patch(Circle((x, y), size, facecolor=face, edgecolor="#444444", lw=1.2, zorder=3,
-                        gid=f"roller:{name}"))
-    if isinstance(roller, UnwindSpec | RewindSpec):
-        ax.add_patch(Circle((x, y), size * roller.core_radius / roller.radius,
-                            facecolor=COLORS["core"], edgecolor="#444444", zorder=4))

@@ -166,20 +166,24 @@ def _along(x0: float, y0: float, x1: float, y1: float, f: float) -> tuple[float,
     return x0 + f * (x1 - x0), y0 + f * (y1 - y0)
 
 
-def _roller(ax: object, roller: object, x: float, size: float, master: bool) -> None:
+def _roller(ax: object, roller: object, x: float, size: float, master: bool,
+            y: float = 0.0) -> Circle:
+    """Draw a roller centred at (``x``, ``y``): a roll with its core, an idle roller open, a
+    driven one filled (the master orange); returns its outer circle."""
     if isinstance(roller, UnwindSpec | RewindSpec):
-        ax.add_patch(Circle((x, 0), size, facecolor=COLORS["roll"], edgecolor="#5a4a2a",  # type: ignore[attr-defined]
-                            lw=1.2, zorder=3))
+        outer = ax.add_patch(Circle((x, y), size, facecolor=COLORS["roll"],  # type: ignore[attr-defined]
+                                    edgecolor="#5a4a2a", lw=1.2, zorder=3))
         core = size * roller.core_radius / roller.radius
-        ax.add_patch(Circle((x, 0), core, facecolor=COLORS["core"], edgecolor="#444444",  # type: ignore[attr-defined]
+        ax.add_patch(Circle((x, y), core, facecolor=COLORS["core"], edgecolor="#444444",  # type: ignore[attr-defined]
                             zorder=4))
     elif isinstance(roller, IdleSpec):
-        ax.add_patch(Circle((x, 0), size, facecolor=COLORS["idle"], edgecolor="#555555",  # type: ignore[attr-defined]
-                            lw=1.2, zorder=3))
+        outer = ax.add_patch(Circle((x, y), size, facecolor=COLORS["idle"],  # type: ignore[attr-defined]
+                                    edgecolor="#555555", lw=1.2, zorder=3))
     else:
         color = COLORS["master" if master else "tension"]
-        ax.add_patch(Circle((x, 0), size, facecolor=color, edgecolor="#333333", lw=1.2,  # type: ignore[attr-defined]
-                            zorder=3))
+        outer = ax.add_patch(Circle((x, y), size, facecolor=color, edgecolor="#333333",  # type: ignore[attr-defined]
+                                    lw=1.2, zorder=3))
+    return outer
 
 
 def _legend(nips: bool = False) -> list[Line2D]:
