@@ -133,11 +133,11 @@ def branch_schematic(line: BranchedLine) -> Figure:
         last = spans[-1].b
         if last in shafts:  # a lane runs beside the other lanes of its shaft, to its place
             j, count = shafts[last].index(w), len(shafts[last])
-            shift = (j - (count - 1) / 2) * -0.45 * size[last]
+            shift = (j - (count - 1) / 2) * -0.8 * size[last] / max(1, count - 1)
             ys[-1] += shift
             if len(spans) == 1 and spans[0].a in line.junctions:
                 ys[0] += shift
-            at = 0.3 + 0.4 * j / (count - 1)
+            at = 0.25 + 0.35 * j / (count - 1)
         ax.plot(xs, ys, color=color, lw=2.2, zorder=2, gid=f"web:{web.name}",
                 label=legend_label(f"{web.name} ({_kind(web)})"))
         for k, span in enumerate(spans):
@@ -146,7 +146,7 @@ def branch_schematic(line: BranchedLine) -> Figure:
                         (xs[k] + 0.2 * (xs[k + 1] - xs[k]), ys[k] + 0.2 * (ys[k + 1] - ys[k])),
                         arrowprops={"arrowstyle": "-|>", "color": color, "lw": 0}, zorder=3)
             ax.text(xm, ym - 0.3, literal(f"{span.name}\n{number_text(span.length, 3)} m"),
-                    ha="center", va="top", fontsize=7, color=color)
+                    ha="center", va="top", fontsize=7, color=color, zorder=5)
             if span.index in cells:
                 ref = line.span_tension_spec(span.index)
                 ax.plot([xm], [ym + 0.15], marker="v", ms=9, color=COLORS["loadcell"],
