@@ -120,7 +120,7 @@ def run(
         run_branched(line, _duration(duration), scenario, out, force, quiet, {
             "--controller": controller is not None, "--set": bool(sets),
             "--format": data_format != DataFormat.netcdf, "--units": units != Units.si,
-            "--precision": precision != Precision.float64, "--svg": svg})
+            "--precision": precision != Precision.float64}, svg=svg)
         return
     from webline.report.early import Reporter
 

@@ -20,14 +20,16 @@ REPORT = "report.html"
 
 
 def run_branched(source: str, seconds: float | None, scenario: str | None, out: Path | None,
-                 force: bool, quiet: bool, unsupported: dict[str, bool]) -> None:
+                 force: bool, quiet: bool, unsupported: dict[str, bool],
+                 svg: bool = False) -> None:
     """Simulate branched line ``source`` and write its files into ``out`` (default
-    out/LINE[-SCENARIO]); ``unsupported``: options given that stage 1 does not support."""
+    out/LINE[-SCENARIO]), each figure also as SVG with ``svg``; ``unsupported``: options
+    given that branched lines do not support yet. ``quiet``: print only the report's path."""
     for option, given in unsupported.items():
         if given:
             raise BadInput(f"{option}: not yet supported for a branched line (stage 1: the "
-                           "file's cascaded PI drives; results.nc in SI, summary.json, the "
-                           "figures and report.html, in SI units)")
+                           "file's cascaded PI drives; results.nc, summary.json, the figures "
+                           "and report.html, in SI units)")
     line = load_branched(source)
     if scenario:
         line = line.with_scenario(scenario)
@@ -46,7 +48,7 @@ def run_branched(source: str, seconds: float | None, scenario: str | None, out: 
                "settings": result.settings, "verdict": result.verdict.as_dict(),
                "webs": result.web_summary(), "failure": result.failure}
     atomic_write_text(folder.claim("summary.json"), json.dumps(summary, indent=1) + "\n")
-    report, _ = write_branch_report(result, folder, results)
+    report, _ = write_branch_report(result, folder, results, svg=svg)
     folder.finish()
     if not quiet:
         for web in result.web_summary():
@@ -57,6 +59,8 @@ def run_branched(source: str, seconds: float | None, scenario: str | None, out: 
             typer.echo(f"{web['kind']} {web['web']}: {spans}")
         typer.echo(f"Results (SI): {results}\nSummary: {folder.path / 'summary.json'}\n"
                    f"Figures: {folder.path / 'figures'}\nReport: {report}")
+    else:
+        typer.echo(str(report))
     typer.echo(result.verdict.headline, err=True)
     if result.verdict.exit_code:
         raise typer.Exit(result.verdict.exit_code)

@@ -239,3 +239,15 @@ def test_the_schematic_caption_names_the_junctions_and_shafts_the_topology_has()
     assert "slitter at slitter" in caption
     assert "lane_1 and lane_2 on one shaft at rewind_shaft" in caption and "lane_3 on" not in (
         caption)
+
+
+def test_run_svg_writes_vector_figures_and_quiet_prints_only_the_report(tmp_path):
+    out = tmp_path / "run"
+    result = CliRunner().invoke(app, ["run", "laminator", "-d", "0.2", "--svg", "-q",
+                                      "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    assert result.stdout.strip() == str(out / "report.html")
+    for key in ("schematic", "tensions", "layers", "speeds", "radii", "torques"):
+        assert (out / "figures" / f"{key}.svg").read_text("utf-8").lstrip().startswith("<?xml")
+    manifest = (out / ".webline-manifest.json").read_text("utf-8")
+    assert "figures/torques.svg" in manifest and "report.html" in manifest

@@ -28,15 +28,18 @@ DPI = 110
 
 
 def write_branch_report(result: BranchResult, folder: OutputFolder,
-                        results_file: Path | None = None) -> tuple[Path, list[Path]]:
-    """Write ``figures/KEY.png`` for every figure and a self-contained ``report.html`` for
-    ``result`` into ``folder`` (each claimed in its manifest); returns the report's path and
-    the figures'."""
+                        results_file: Path | None = None,
+                        svg: bool = False) -> tuple[Path, list[Path]]:
+    """Write ``figures/KEY.png`` (and ``figures/KEY.svg`` with ``svg``) for every figure and a
+    self-contained ``report.html`` for ``result`` into ``folder`` (each claimed in its
+    manifest); returns the report's path and the figures'."""
     images: dict[str, Image] = {}
     written = []
-    for fig in render_figures(branch_figure_jobs(result), DPI):
+    for fig in render_figures(branch_figure_jobs(result), DPI, svg=svg):
         images[fig.key] = Image(fig.key, fig.caption, fig.png)
         written.append(atomic_write_bytes(folder.claim(f"figures/{fig.key}.png"), fig.png))
+        if fig.svg is not None:
+            written.append(atomic_write_bytes(folder.claim(f"figures/{fig.key}.svg"), fig.svg))
     html = report_html(result, images, results_file)
     return atomic_write_text(folder.claim("report.html"), html), written
 
