@@ -4,16 +4,14 @@ figures and report.html; the verdict per web and lane printed and in the exit st
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import typer
 
 from webline.cli_common import BadInput, open_output
-from webline.files import atomic_write, atomic_write_text
+from webline.files import atomic_write
 from webline.model.web_graph import load_branched
 from webline.sim.branches.run import simulate_branches
-from webline.version import __version__
 
 FIGURE = "figures/tensions.png"
 REPORT = "report.html"
@@ -44,11 +42,8 @@ def run_branched(source: str, seconds: float | None, scenario: str | None, out: 
     results = folder.claim("results.nc")  # every output embeds its inputs: the line's spec
     ds = result.dataset.assign_attrs(line_spec=dump_spec(line.spec))
     atomic_write(results, lambda path: ds.to_netcdf(path, engine="h5netcdf"))
-    summary = {"line": line.name, "scenario": scenario, "webline_version": __version__,
-               "settings": result.settings, "verdict": result.verdict.as_dict(),
-               "webs": result.web_summary(), "failure": result.failure}
-    atomic_write_text(folder.claim("summary.json"), json.dumps(summary, indent=1) + "\n")
-    report, _ = write_branch_report(result, folder, results, svg=svg)
+    report = write_branch_report(result, folder.path, folder=folder, results_file=results,
+                                 svg=svg).report
     folder.finish()
     if not quiet:
         for web in result.web_summary():

@@ -251,3 +251,16 @@ def test_run_svg_writes_vector_figures_and_quiet_prints_only_the_report(tmp_path
         assert (out / "figures" / f"{key}.svg").read_text("utf-8").lstrip().startswith("<?xml")
     manifest = (out / ".webline-manifest.json").read_text("utf-8")
     assert "figures/torques.svg" in manifest and "report.html" in manifest
+
+
+def test_write_report_writes_a_branched_runs_report_from_python(tmp_path, upset):
+    from webline.report import write_report
+
+    files = write_report(upset, tmp_path / "mine")
+    summary = json.loads(files.summary.read_text("utf-8"))
+    assert summary["scenario"] == "layer-upset" and summary["verdict"]["status"] == "ok"
+    assert upset.verdict.headline in unescape(files.report.read_text("utf-8"))
+    assert {p.name for p in files.figures} == {f"{k}.png" for k in (
+        "schematic", "tensions", "layers", "speeds", "radii", "torques")}
+    with pytest.raises(webline.ArgumentError, match="SI units"):
+        write_report(upset, tmp_path / "other", units="imperial")

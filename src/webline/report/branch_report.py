@@ -6,12 +6,13 @@ of its result."""
 from __future__ import annotations
 
 import io
+import json
 from datetime import UTC, datetime
 from pathlib import Path
 
 from webline.files import atomic_write_bytes, atomic_write_text
 from webline.model.web_graph import BranchedLine
-from webline.report.outputs import OutputFolder
+from webline.report.outputs import OutputFolder, ReportFiles
 from webline.report.plots.branch_figures import branch_figure_jobs, largest_deviation
 from webline.report.render import render_figures
 from webline.report.text.branch_tables import drive_findings_table, line_tables, verdict_table
@@ -27,21 +28,36 @@ from webline.version import __version__
 DPI = 110
 
 
-def write_branch_report(result: BranchResult, folder: OutputFolder,
-                        results_file: Path | None = None,
-                        svg: bool = False) -> tuple[Path, list[Path]]:
-    """Write ``figures/KEY.png`` (and ``figures/KEY.svg`` with ``svg``) for every figure and a
-    self-contained ``report.html`` for ``result`` into ``folder`` (each claimed in its
-    manifest); returns the report's path and the figures'."""
+def write_branch_report(result: BranchResult, out_dir: Path, *,
+                        folder: OutputFolder | None = None, results_file: Path | None = None,
+                        svg: bool = False) -> ReportFiles:
+    """Write ``figures/KEY.png`` (and ``figures/KEY.svg`` with ``svg``) for every figure,
+    ``summary.json`` (settings, verdict, per web its span tensions and length balance) and a
+    self-contained ``report.html`` for ``result`` into ``out_dir``, each atomically; with
+    ``folder`` (the ``OutputFolder`` of ``out_dir``) each joins its manifest."""
+    def target(relative: str) -> Path:
+        if folder is not None:
+            return folder.claim(relative)
+        path = out_dir / relative
+        path.parent.mkdir(parents=True, exist_ok=True)
+        return path
+
     images: dict[str, Image] = {}
     written = []
     for fig in render_figures(branch_figure_jobs(result), DPI, svg=svg):
         images[fig.key] = Image(fig.key, fig.caption, fig.png)
-        written.append(atomic_write_bytes(folder.claim(f"figures/{fig.key}.png"), fig.png))
+        written.append(atomic_write_bytes(target(f"figures/{fig.key}.png"), fig.png))
         if fig.svg is not None:
-            written.append(atomic_write_bytes(folder.claim(f"figures/{fig.key}.svg"), fig.svg))
-    html = report_html(result, images, results_file)
-    return atomic_write_text(folder.claim("report.html"), html), written
+            written.append(atomic_write_bytes(target(f"figures/{fig.key}.svg"), fig.svg))
+    line = result.plan.line
+    summary = {"line": line.name, "scenario": line.scenario, "webline_version": __version__,
+               "settings": result.settings, "verdict": result.verdict.as_dict(),
+               "webs": result.web_summary(), "failure": result.failure}
+    summary_path = atomic_write_text(target("summary.json"),
+                                     json.dumps(summary, indent=1) + "\n")
+    report = atomic_write_text(target("report.html"),
+                               report_html(result, images, results_file))
+    return ReportFiles(report, summary_path, tuple(written))
 
 
 def status_text(result: BranchResult) -> str:

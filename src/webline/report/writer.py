@@ -12,7 +12,7 @@ from pathlib import Path
 from webline.analysis.modes import Mode, closed_loop_modes
 from webline.analysis.zone_loops import ZoneLoop, speed_leaks, zone_loops
 from webline.control.zone_tuning import SpeedLoopLeak
-from webline.errors import WeblineError
+from webline.errors import ArgumentError, WeblineError
 from webline.files import atomic_write_bytes, atomic_write_text
 from webline.limits import MAX_EIGEN_STATES
 from webline.line import Line
@@ -40,6 +40,7 @@ from webline.report.text.zone_tables import (
     roll_modes_values,
     zone_loops_table,
 )
+from webline.sim.branches.result import BranchResult
 from webline.sim.results.result import Result
 from webline.spec.load import dump_spec
 
@@ -99,7 +100,7 @@ def _target(out_dir: Path, folder: OutputFolder | None, relative: str) -> Path:
     return target
 
 
-def write_report(result: Result, out_dir: Path, *, units: System = "si",
+def write_report(result: Result | BranchResult, out_dir: Path, *, units: System = "si",
                  scenario: str | None = None, results_file: Path | None = None,
                  analysis: Analysis | None = None,
                  folder: OutputFolder | None = None, svg: bool = False) -> ReportFiles:
@@ -107,9 +108,17 @@ def write_report(result: Result, out_dir: Path, *, units: System = "si",
     ``figures/*.svg`` with ``svg``) for ``result`` into ``out_dir``, every quantity in
     ``units`` ('si', 'imperial', or either per width of web). Each file is
     written atomically; with ``folder`` (the ``OutputFolder`` of ``out_dir``) each joins its
-    manifest."""
+    manifest. A branched line's ``BranchResult`` gets its own report (``branch_report``: SI
+    only; its scenario is the one its line ran)."""
     from webline import __version__
 
+    if isinstance(result, BranchResult):  # a branched line's run (docs/branching.md, Report)
+        if units != "si":
+            raise ArgumentError(f"units={units!r}: a branched line's report is in SI units")
+        from webline.report.branch_report import write_branch_report
+
+        return write_branch_report(result, out_dir, folder=folder, results_file=results_file,
+                                   svg=svg)
     display = Display(units, result.line.spec.web.width)
     line = result.line
     analysis = analysis or analyse(line)
