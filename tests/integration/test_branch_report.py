@@ -141,7 +141,11 @@ def test_webline_run_writes_a_report_with_the_verdict_and_every_web(tmp_path):
     for key in ("schematic", "tensions", "speeds", "radii", "torques"):
         assert (out / "figures" / f"{key}.png").stat().st_size > 5_000
         assert f'id="fig-{key}"' in page
-    assert "Source: generic slitter-rewinder" in page  # the line's description and source
+    line_table = re.findall(r'<table id="line">(.*?)</table>', page, re.S)[0]
+    # the line's description and source, as the file gives them
+    spec = load_branched("slitter").spec
+    assert f'<td class="text">{spec.description}</td>' in line_table
+    assert f'<td class="text">{spec.source}</td>' in line_table
     # a lane's largest deviation in the verdict table is the summary's, to its 4 digits
     lane = summary["webs"][1]["spans"]["lane_1_span"]["max_deviation_N"]
     assert f"lane_1_span {lane:.4g}" in rows

@@ -86,17 +86,14 @@ def report_html(result: BranchResult, images: dict[str, Image],
                 *((key, number_text(float(value), 6)) for key, value in settings.items()),
                 ("records", str(len(result.time))),
                 ("results file (SI)", results_file.name if results_file else "(none)")]
-    about = [Text(spec.description)] if spec.description else []
-    if spec.source:
-        about.append(Text(f"Source: {spec.source}"))
     tables = line_tables(line)
     findings = drive_findings_table(result)
     sections = [
         Section("Verdict", [verdict_table(result), *([findings] if findings.rows else [
             Text("No finding about a drive or the run: no drive's command reached its torque "
                  "limit and the run went to its end.")])]),
-        Section("Line", [*about, *([images["schematic"]] if "schematic" in images else []),
-                         *tables]),
+        Section("Line", [*tables[:1], *([images["schematic"]] if "schematic" in images else []),
+                         *tables[1:]]),
         Section("Time plots", [image for key, image in images.items() if key != "schematic"]),
         Section("Run", [make_table("run", "Settings", ["key", "value"], run_rows)]),
         Section("Resolved line file", [Text(dump_spec(spec), pre=True, fold="The line as it "
