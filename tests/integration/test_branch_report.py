@@ -268,3 +268,46 @@ def test_write_report_writes_a_branched_runs_report_from_python(tmp_path, upset)
         "schematic", "tensions", "layers", "speeds", "radii", "torques")}
     with pytest.raises(webline.ArgumentError, match="SI units"):
         write_report(upset, tmp_path / "other", units="imperial")
+
+
+def _laminated_then_slit():
+    """The laminator with its laminate slit at a knife into two lanes on the rewind's shaft:
+    a tree that merges and then splits."""
+    import tomllib
+    from importlib import resources
+
+    data = tomllib.loads(resources.files("webline.data.lines").joinpath(
+        "laminator.toml").read_text("utf-8"))
+    rewind = data["rollers"].pop()
+    data["rollers"] += [{"name": "knife", "type": "idle", "radius": "50 mm",
+                         "inertia": "0.002 kg*m**2", "friction": "1e-4 N*m*s"}, rewind]
+    data["webs"][2]["path"] = ["nip", "guide_laminate", "knife"]
+    data["webs"][2]["spans"] = [{"name": "laminate_zone", "length": "2 m"}, {"length": "1 m"}]
+    for lane in ("lane_a", "lane_b"):
+        data["webs"].append({"name": lane, "slit_from": "laminate", "width": "0.5 m",
+                             "path": ["knife", "rewind"],
+                             "spans": [{"name": f"{lane}_span", "length": "2 m",
+                                        "tension": "90 N"}]})
+    data["scenarios"] = {}
+    return load_branched(data)
+
+
+def test_a_tree_that_merges_then_splits_is_drawn_with_both_junctions_in_their_places():
+    from webline.report.plots.branch_schematic import web_rows
+
+    line = _laminated_then_slit()
+    fig = branch_schematic(line)
+    webs, rollers = _by_gid(fig, "web"), _by_gid(fig, "roller")
+    assert set(webs) == {"film", "foil", "laminate", "lane_a", "lane_b"}
+    junctions = _by_gid(fig, "junction")
+    assert set(junctions) == {"nip", "knife"}
+    labels = [t.get_text() for t in fig.axes[0].texts]
+    assert labels.count("lamination nip") == 1 and labels.count("slitter") == 1
+    # the layers on either side of the laminate's row, the two lanes on one row (one shaft)
+    rows = dict(zip([w.name for w in line.spec.webs], web_rows(line), strict=True))
+    assert rows["film"] > rows["laminate"] > rows["foil"]
+    assert rows["lane_a"] == rows["lane_b"]
+    assert set(_by_gid(fig, "lane")) == {"rewind:lane_a", "rewind:lane_b"}
+    # the nip left of the knife, the knife left of the rewind: the tree runs left to right
+    x = {name: rollers[name].center[0] for name in ("nip", "knife", "rewind")}
+    assert x["nip"] < x["knife"] < x["rewind"]

@@ -38,39 +38,47 @@ WEB_COLORS = ("#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf", 
 
 
 def web_rows(line: BranchedLine) -> list[float]:
-    """The row (y) of each web: the first web that is no layer and no lane at 0, a laminate's
-    layers and a base web's lanes spread around their laminate's or base web's row (first on
-    top), and so on along the tree."""
+    """The row (y) of each web: the first web at 0, then along the web tree a laminate's
+    layers spread around its row (first on top) and a base web's lanes likewise (lanes on one
+    shaft sharing a row); a laminate or base web reached from one of its layers or lanes gets
+    the row that puts that one in its place."""
     webs = line.spec.webs
     index = line.web_index
-    groups: dict[int, list[int]] = {}  # a web -> its layers or its lanes
-    parent: dict[int, int] = {}
+    layers = {w: [index[n] for n in web.layers or []] for w, web in enumerate(webs)}
+    lanes: dict[int, list[int]] = {w: [] for w in range(len(webs))}
     for w, web in enumerate(webs):
-        for name in web.layers or []:
-            groups.setdefault(w, []).append(index[name])
-            parent[index[name]] = w
         if web.slit_from:
-            groups.setdefault(index[web.slit_from], []).append(w)
-            parent[w] = index[web.slit_from]
+            lanes[index[web.slit_from]].append(w)
+
+    def slots(group: list[int]) -> dict[int, float]:
+        """Each web of a group's offset from its laminate's or base web's row."""
+        places = list(dict.fromkeys(_place(webs[c]) for c in group))
+        size = max([_leaves(c, list(webs), layers, lanes) for c in group], default=1)
+        return {c: -(places.index(_place(webs[c])) - (len(places) - 1) / 2) * ROW * size
+                for c in group}
+
     rows: dict[int, float] = {}
-    roots = [w for w in range(len(webs)) if w not in parent]
     offset = 0.0
-    for root in roots:
-        todo = [root]
-        rows[root] = offset
+    for start in range(len(webs)):  # one pass per unconnected tree (normally one)
+        if start in rows:
+            continue
+        rows[start] = offset
+        todo = [start]
         while todo:
             w = todo.pop()
-            children = groups.get(w, [])
-            places = list(dict.fromkeys(_place(webs[c]) for c in children))
-            for c in children:  # lanes on one shaft share a row: they run side by side
-                j = places.index(_place(webs[c]))
-                rows[c] = rows[w] - (j - (len(places) - 1) / 2) * ROW * _leaves(c, groups)
-                todo.append(c)
-            if w in parent and parent[w] not in rows:  # a layer reached first: its laminate
-                rows[parent[w]] = rows[w]
-                todo.append(parent[w])
+            for group in (layers[w], lanes[w]):  # its own layers and lanes around it
+                for c, dy in slots(group).items():
+                    if c not in rows:
+                        rows[c] = rows[w] + dy
+                        todo.append(c)
+            owners = [p for p in range(len(webs)) if w in layers[p] or w in lanes[p]]
+            for p in owners:  # its laminate or base web, placed to put it in its slot
+                if p not in rows:
+                    group = layers[p] if w in layers[p] else lanes[p]
+                    rows[p] = rows[w] - slots(group)[w]
+                    todo.append(p)
         offset = min(rows.values()) - 2 * ROW
-    return [rows.get(w, 0.0) for w in range(len(webs))]
+    return [rows[w] for w in range(len(webs))]
 
 
 def _place(web: WebPathSpec) -> str:
@@ -78,9 +86,18 @@ def _place(web: WebPathSpec) -> str:
     return f"shaft {web.path[-1]}" if web.slit_from else web.name
 
 
-def _leaves(w: int, groups: dict[int, list[int]]) -> int:
-    children = groups.get(w, [])
-    return max(1, sum(_leaves(c, groups) for c in children)) if children else 1
+def _leaves(w: int, webs: list[WebPathSpec], layers: dict[int, list[int]],
+            lanes: dict[int, list[int]]) -> int:
+    """How many rows web ``w``'s own layers, or its lanes, need (1 without any): per place
+    (a layer, a shaft's lanes) the most its webs need."""
+    def need(group: list[int]) -> int:
+        places: dict[str, int] = {}
+        for c in group:
+            place = _place(webs[c])
+            places[place] = max(places.get(place, 1), _leaves(c, webs, layers, lanes))
+        return sum(places.values())
+
+    return max(1, need(layers[w]), need(lanes[w]))
 
 
 def node_positions(line: BranchedLine) -> tuple[list[float], list[float]]:
