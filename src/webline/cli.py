@@ -262,9 +262,10 @@ def show(line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None
             typer.echo(f"Schematic: {schematic}")
         return
     loaded = _load(line, scenario, None, sets)
-    print_tables(line_tables(loaded, Display(units.value, loaded.spec.web.width)), _console())
+    display = Display(units.value, loaded.spec.web.width)
+    print_tables(line_tables(loaded, display), _console())
     if schematic is not None:
-        write_schematic(loaded, schematic)
+        write_schematic(loaded, schematic, display)
         typer.echo(f"Schematic: {schematic}")
 
 

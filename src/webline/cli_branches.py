@@ -74,9 +74,9 @@ def show_branched(source: str, scenario: str | None, schematic: Path | None) -> 
     return line_tables(line)
 
 
-def write_schematic(line: object, path: Path) -> None:
-    """Save the schematic of ``line`` (a ``BranchedLine`` or a ``Line``) to ``path``: PNG,
-    SVG or PDF by its suffix."""
+def write_schematic(line: object, path: Path, display: object = None) -> None:
+    """Save the schematic of ``line`` (a ``BranchedLine`` or a ``Line``, its lengths and
+    forces in ``display``'s units) to ``path``: PNG, SVG or PDF by its suffix."""
     from webline.model.web_graph import BranchedLine
 
     fmt = path.suffix.lower().lstrip(".")
@@ -89,5 +89,5 @@ def write_schematic(line: object, path: Path) -> None:
     else:
         from webline.report.plots.schematic import schematic
 
-        figure = schematic(line)  # type: ignore[arg-type]
+        figure = schematic(line, display)  # type: ignore[arg-type]
     atomic_write(path, lambda target: figure.savefig(target, format=fmt, dpi=110))

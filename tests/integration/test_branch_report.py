@@ -177,6 +177,14 @@ def test_webline_show_draws_a_single_path_lines_schematic_too(tmp_path):
     result = CliRunner().invoke(app, ["show", "hswl", "--schematic", str(target)])
     assert result.exit_code == 0, result.output
     assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and target.stat().st_size > 10_000
+    # in the units asked for: the loadcells' references in lbf (none in the SI drawing)
+    vector = tmp_path / "hswl.svg"
+    result = CliRunner().invoke(app, ["show", "hswl", "--units", "imperial", "--schematic",
+                                      str(vector)])
+    assert result.exit_code == 0 and " lbf" in vector.read_text("utf-8")
+    si = tmp_path / "hswl-si.svg"
+    assert CliRunner().invoke(app, ["show", "hswl", "--schematic", str(si)]).exit_code == 0
+    assert " lbf" not in si.read_text("utf-8")
 
 
 def test_the_captions_of_lanes_on_one_shaft_state_their_sum_and_their_drift():
