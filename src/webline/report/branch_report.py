@@ -83,7 +83,10 @@ def report_html(result: BranchResult, images: dict[str, Image],
     settings = result.settings
     run_rows = [("webline version", __version__), ("line file", line.source),
                 ("scenario", scenario or "(none)"),
-                *((key, number_text(float(value), 6)) for key, value in settings.items()),
+                ("duration", f"{settings.get('duration', float('nan')):g} s"),
+                ("controller period", f"{settings.get('dt', float('nan')) * 1e3:g} ms"),
+                ("RK4 sub-steps per period", f"{settings.get('substeps', 0):g}"),
+                ("recorded every", f"{settings.get('record_every', 0):g} periods"),
                 ("records", str(len(result.time))),
                 ("results file (SI)", results_file.name if results_file else "(none)")]
     tables = line_tables(line)
