@@ -23,7 +23,7 @@ from matplotlib.patches import Rectangle
 
 from webline.model.web_graph import BranchedLine
 from webline.report.plots.mpl_text import legend_label, literal
-from webline.report.plots.schematic import COLORS, _roller, drawn_radius
+from webline.report.plots.schematic import COLORS, draw_roller, drawn_radius
 from webline.report.text.branch_tables import SI, junction_kind, shaft_lanes
 from webline.report.text.display import number_text, profile_text
 from webline.spec.branched.check import kind_of
@@ -173,7 +173,7 @@ def branch_schematic(line: BranchedLine) -> Figure:
                         ha="center", va="bottom", fontsize=6.5, color=COLORS["loadcell"])
     for i, roller in enumerate(rollers):
         s = size[i]
-        _roller(ax, roller, x[i], s, i == line.master, y[i]).set_gid(f"roller:{roller.name}")
+        draw_roller(ax, roller, x[i], s, i == line.master, y[i]).set_gid(f"roller:{roller.name}")
         below = y[i] - s - 0.1
         if not isinstance(roller, IdleSpec):
             ax.add_patch(Rectangle((x[i] + s * 0.6, y[i] - s - 0.55), 0.7, 0.4,

@@ -88,7 +88,7 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
 
     _winder_marks(ax, line, x, size, display)
     for i, (roller, s) in enumerate(zip(rollers, size, strict=True)):
-        _roller(ax, roller, x[i], s, i == line.master)
+        draw_roller(ax, roller, x[i], s, i == line.master)
         nip = getattr(roller, "nip", None)
         if nip is not None:  # the pressure roller rides on the roller, the web between
             s_n = drawn_radius(nip.radius, largest)
@@ -166,7 +166,7 @@ def _along(x0: float, y0: float, x1: float, y1: float, f: float) -> tuple[float,
     return x0 + f * (x1 - x0), y0 + f * (y1 - y0)
 
 
-def _roller(ax: object, roller: object, x: float, size: float, master: bool,
+def draw_roller(ax: object, roller: object, x: float, size: float, master: bool,
             y: float = 0.0) -> Circle:
     """Draw a roller centred at (``x``, ``y``): a roll with its core, an idle roller open, a
     driven one filled (the master orange); returns its outer circle."""
