@@ -75,7 +75,8 @@ def tensions_figure(result: BranchResult) -> Figure:
                 _plot(ax, t, refs[k], ":", color=line[0].get_color(),
                         label=legend_label(f"{name} reference"))
         low, high = float(spans.values.min()), float(spans.values.max())
-        ax.set_title(literal(f"{web}: span tensions {low:.4g} to {high:.4g} N"), fontsize=9)
+        ax.set_title(literal(f"{web}: span tensions {low:.4g} to {high:.4g} N"), fontsize=9,
+                     color=WEB_COLORS[webs.index(web) % len(WEB_COLORS)])  # its schematic colour
         ax.set_ylabel("tension [N]")
         ax.legend(fontsize=7, loc="best")
         ax.grid(alpha=0.3)
