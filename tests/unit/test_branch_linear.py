@@ -74,7 +74,8 @@ def _hand_jacobian(plan, point) -> np.ndarray:
         inertia = node_inertia(i, x, o, plan.nodes, plan.rolls)
         omega = x[off_w + i]
         sech2 = 1.0 - math.tanh(omega / COULOMB_SMOOTHING) ** 2
-        damping = plan.nodes[i, B.N_VISCOUS] + plan.nodes[i, B.N_COULOMB] / COULOMB_SMOOTHING * sech2
+        coulomb = plan.nodes[i, B.N_COULOMB] / COULOMB_SMOOTHING * sech2
+        damping = plan.nodes[i, B.N_VISCOUS] + coulomb
         a[col[off_w + i], col[off_w + i]] = -damping / inertia
         d = int(plan.nodes[i, B.N_DRIVE])
         if d >= 0:

@@ -87,7 +87,8 @@ def plant_matrices(plan: BranchPlan, point: BranchPoint,
         return (up - f(*args)) / (2 * h)
 
     scales = _scales(point, keep)
-    a = np.column_stack([column(0, int(m), FD_STEP * s) for m, s in zip(keep, scales)])
+    a = np.column_stack([column(0, int(m), FD_STEP * s)
+                         for m, s in zip(keep, scales, strict=True)])
     # torque commands and wound-in tensions enter linearly: any step is exact
     b = np.column_stack([column(1, d, 1.0) for d in range(plan.di.shape[0])])
     webs = wound_webs(plan)
