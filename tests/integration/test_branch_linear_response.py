@@ -55,7 +55,7 @@ def responses():
 
 @pytest.mark.parametrize("zone", ZONES)
 def test_linear_step_response_matches_the_simulation(responses, zone):
-    time, simulated, linear = responses[zone]
+    _, simulated, linear = responses[zone]
     peak = np.max(np.abs(linear))
     assert peak > 0.05 * STEP  # each zone feels the film's step (the foil through the nip)
     # what differs: the controllers run sampled at 1 kHz with a held torque (a delay of
@@ -67,6 +67,6 @@ def test_linear_step_response_matches_the_simulation(responses, zone):
 
 
 def test_the_film_zone_settles_at_its_new_reference(responses):
-    time, simulated, linear = responses["film_zone"]
+    _, simulated, linear = responses["film_zone"]
     # both end within 2 % of the step 3 s after it: the slowest film-zone pole has |Re λ| 6.6
     assert abs(simulated[-1] - STEP) < 0.02 * STEP and abs(linear[-1] - STEP) < 0.02 * STEP

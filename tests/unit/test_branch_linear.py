@@ -219,3 +219,20 @@ def test_at_rest_the_slitter_idler_and_the_lanes_lose_their_transport_damping():
     assert np.min(np.abs(values)) < 1e-8
     idler = values[np.argmin(np.abs(np.abs(values) - 637.5))]
     assert abs(idler.real) < 1e-3 * abs(idler)
+
+
+def test_webline_linearize_takes_a_branched_line():
+    import webline
+    from webline.analysis.modes import modes
+
+    system = webline.linearize("laminator", "0 s")
+    model = branch_linear_model(*_at("laminator"))
+    assert system.nstates == len(model.states) and "film_zone_tension_ref" in system.input_labels
+    # the same matrix, so the same modes (modes: slowest first; the film zone's at |λ| 6.8)
+    assert np.allclose(system.A, model.a, rtol=0, atol=1e-9 * np.max(np.abs(model.a)))
+    assert [m.dominant for m in modes(system)][:3] == [
+        "rewind_tension_integral", "unwind_foil_tension_integral",
+        "unwind_film_tension_integral"]
+    with pytest.raises(webline.ArgumentError, match="unwind_radius"):
+        webline.linearize("laminator", unwind_radius=0.2)
+    assert webline.linearize("hswl").nstates > 0  # a single-path line as before

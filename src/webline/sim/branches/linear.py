@@ -15,7 +15,7 @@ drive with a zone; saturation and conditional integration are off at the operati
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
@@ -26,6 +26,11 @@ from webline.sim.branches.equilibrium import BranchPoint, operating_point
 from webline.sim.branches.kernel import node_inertia, rhs
 from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.linear.linearize import LinearModel
+from webline.sim.linear.stability import unstable_modes
+from webline.verdict import Finding
+
+if TYPE_CHECKING:
+    from webline.sim.linear.linear_system import LinearSystem
 
 #: central-difference step, relative to each state's scale (``_scales``). The right-hand
 #: side is affine or bilinear (T·v) in the kept states at a taut operating point, so the
@@ -208,3 +213,37 @@ def fastest_rate(plan: BranchPlan, point: BranchPoint) -> float:
     fixed RK4 step must resolve (as the chain's ``sim.linear.linearize.fastest_mode``)."""
     return max(float(np.max(np.abs(np.linalg.eigvals(branch_linear_model(plan, point, loop).a))))
                for loop in ("open", "closed"))
+
+
+def stability_findings(plan: BranchPlan, point: BranchPoint, t: float) -> list[Finding]:
+    """An ``unstable`` finding per closed-loop mode of ``plan`` at ``point`` (time ``t`` [s])
+    growing faster than ``sim.linear.stability.tolerance``, naming the states it lives in."""
+    model = branch_linear_model(plan, point, "closed")
+    out = []
+    for mode in unstable_modes(model.a, model.states):
+        states = ", ".join(f"{name} {share:.0%}" for name, share in mode.states)
+        out.append(Finding("unstable", "unstable_mode", mode.states[0][0] if mode.states else "",
+                           f"closed-loop mode λ = {mode.eigenvalue.real:.3g} ± "
+                           f"{abs(mode.eigenvalue.imag):.3g}j 1/s grows "
+                           f"({mode.frequency_hz:.3g} Hz, ζ = {mode.damping:.3g}) at t = {t:g} s, "
+                           f"in {states}", None, {
+                               "eigenvalue_real": mode.eigenvalue.real,
+                               "eigenvalue_imag": mode.eigenvalue.imag,
+                               "frequency_hz": mode.frequency_hz, "damping_ratio": mode.damping,
+                               "analysis_time_s": t, "states": [n for n, _ in mode.states],
+                               "participation": [s for _, s in mode.states]}))
+    return out
+
+
+def linearize_branched(line: BranchedLine | str, t: float = 0.0, *,
+                       loop: Literal["open", "closed"] = "closed") -> LinearSystem:
+    """``linear_model`` of branched ``line`` at time ``t`` [s] as a python-control
+    ``StateSpace`` (``LinearSystem``) with named signals, as ``webline.linearize`` returns."""
+    from webline.sim.linear.linear_system import LinearSystem  # python-control: on use
+
+    line = load_branched(line)
+    model = linear_model(line, t, loop=loop)
+    name = line.name.replace(".", "_") + ("-plant" if loop == "open" else "-closed-loop")
+    return LinearSystem(model.a, model.b, model.c,
+                        np.zeros((len(model.outputs), len(model.inputs))), states=model.states,
+                        inputs=model.inputs, outputs=model.outputs, name=name)
