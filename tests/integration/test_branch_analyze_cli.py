@@ -48,3 +48,30 @@ def test_analyze_branched_refuses_what_it_does_not_support_in_one_line():
     assert result.exit_code == 2
     assert "--across-roll: not yet supported for a branched line" in result.output
     assert "Traceback" not in result.output
+
+
+def test_analyze_finds_an_overtuned_tension_loop_unstable_as_the_run_does(tmp_path):
+    import tomllib
+    from pathlib import Path
+
+    import tomli_w
+
+    from webline.data import lines
+    from webline.sim.branches.run import simulate_branches
+
+    data = tomllib.loads((Path(lines.__file__).parent / "laminator.toml").read_text())
+    data.pop("scenarios")
+    rewind = next(r for r in data["rollers"] if r["name"] == "rewind")
+    rewind["controller"]["tension_kp"] = 3e-3  # [(m/s)/N], 40x the tuned 7.6e-5
+    path = tmp_path / "overtuned.toml"
+    path.write_bytes(tomli_w.dumps(data).encode())
+    result = _run("analyze", str(path))
+    assert result.exit_code == 3, result.output
+    # the model: a 38.6 Hz mode growing at +18.5 1/s, in the laminate zone's states
+    assert "verdict: unstable" in result.output and "38.6 Hz" in result.output
+    # the run agrees: from the operating point (deviations ~1e-4 N) the laminate zone's
+    # tension swings by more than 10 N within 0.4 s (the stock line: < 1e-3 N in 10 ms and a
+    # 0.022 N ramp over 2 s, tests/integration/test_branches.py)
+    ds = simulate_branches(data, 0.4, raise_on_failure=False).dataset
+    swing = np.ptp(ds["tension"].sel(span="laminate_zone").values)
+    assert swing > 10.0
