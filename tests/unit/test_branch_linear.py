@@ -236,3 +236,14 @@ def test_webline_linearize_takes_a_branched_line():
     with pytest.raises(webline.ArgumentError, match="unwind_radius"):
         webline.linearize("laminator", unwind_radius=0.2)
     assert webline.linearize("hswl").nstates > 0  # a single-path line as before
+
+
+def test_closed_loop_modes_takes_a_branched_line():
+    from webline.analysis.modes import closed_loop_modes
+
+    found = closed_loop_modes("slitter")
+    # slowest first: the lanes' difference (-v/L = -2.5 1/s) is the slowest mode at speed;
+    # v is the lane's own speed, the line's 5 m/s to the strains' draw (~1e-3)
+    assert found[0].eigenvalue == pytest.approx(-2.5, rel=1e-3)
+    assert found[0].dominant in ("lane_1_span_tension", "lane_2_span_tension")
+    assert all(m.damping > 0 for m in found)
