@@ -20,6 +20,8 @@ from webline.sim.branches.linear import (
     branch_linear_model,
     kept_states,
     plant_matrices,
+    sampled_closed_loop,
+    sampled_unstable_modes,
 )
 from webline.sim.branches.plan import compile_branches
 from webline.sim.linear.stability import tolerance
@@ -202,9 +204,22 @@ def test_every_mode_is_stable_at_every_operating_point(name, scenario):
     end = 0.0 if scenario is None else line.spec.scenarios[scenario].duration
     plan = compile_branches(line)
     for t in {analysis_time(line), end}:  # a start from rest: at the end of its ramp
-        values = np.linalg.eigvals(branch_linear_model(plan, operating_point(plan, t)).a)
+        point = operating_point(plan, t)
+        values = np.linalg.eigvals(branch_linear_model(plan, point).a)
         # stability's own tolerance (sim.linear.stability: round-off of exact zeros)
         assert np.max(values.real) < -tolerance(values), (t, np.max(values.real))
+        assert sampled_unstable_modes(plan, point) == []  # and the loop as sampled
+
+
+def test_sampled_loop_keeps_the_slow_modes_of_the_continuous_one():
+    plan, point = _at("laminator")
+    mu = np.linalg.eigvals(sampled_closed_loop(plan, point)).astype(complex)
+    sampled = np.log(mu) / plan.dt
+    values = np.linalg.eigvals(branch_linear_model(plan, point).a)
+    # the hold's half-period delay shifts a mode by ~|λ| dt/2 relative (5e-3 at 10 1/s):
+    # the tension modes (|λ| < 10 1/s) agree to 1 % of |λ|
+    for value in values[np.abs(values) < 10.0]:
+        assert np.min(np.abs(sampled - value)) < 0.01 * abs(value)
 
 
 def test_at_rest_the_slitter_idler_and_the_lanes_lose_their_transport_damping():

@@ -26,7 +26,7 @@ from webline.sim.branches.equilibrium import BranchPoint, operating_point
 from webline.sim.branches.kernel import node_inertia, rhs
 from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.linear.linearize import LinearModel
-from webline.sim.linear.stability import unstable_modes
+from webline.sim.linear.stability import SHARE, UnstableMode, tolerance, unstable_modes
 from webline.verdict import Finding
 
 if TYPE_CHECKING:
@@ -215,15 +215,44 @@ def fastest_rate(plan: BranchPlan, point: BranchPoint) -> float:
                for loop in ("open", "closed"))
 
 
+def sampled_unstable_modes(plan: BranchPlan, point: BranchPoint) -> list[UnstableMode]:
+    """The modes of ``sampled_closed_loop`` with Re λ = Re ln(μ) / dt above
+    ``sim.linear.stability.tolerance``, fastest-growing first, with the states they live in
+    (participation factors of the sampled loop's eigenvectors)."""
+    names = branch_linear_model(plan, point, "closed").states
+    mu, right = np.linalg.eig(sampled_closed_loop(plan, point))
+    values = np.log(mu.astype(complex)) / plan.dt
+    tol = tolerance(values)
+    if not np.any(values.real > tol):
+        return []
+    participation = np.abs(right * np.linalg.inv(right).T)
+    out = []
+    for j in np.argsort(-values.real):
+        if values[j].real <= tol or values[j].imag < 0.0:
+            continue
+        share = participation[:, j] / participation[:, j].sum()
+        order = [int(s) for s in np.argsort(-share) if share[s] >= SHARE][:4]
+        out.append(UnstableMode(complex(values[j]),
+                                tuple((names[s], float(share[s])) for s in order)))
+    return out
+
+
 def stability_findings(plan: BranchPlan, point: BranchPoint, t: float) -> list[Finding]:
     """An ``unstable`` finding per closed-loop mode of ``plan`` at ``point`` (time ``t`` [s])
-    growing faster than ``sim.linear.stability.tolerance``, naming the states it lives in."""
+    growing faster than ``sim.linear.stability.tolerance``, naming the states it lives in:
+    the continuous model's modes, or where none grows there, the sampled loop's
+    (``sampled_closed_loop``: the hold's delay can destabilize a fast mode)."""
     model = branch_linear_model(plan, point, "closed")
+    modes, what = unstable_modes(model.a, model.states), "closed-loop mode"
+    if not modes:
+        modes = sampled_unstable_modes(plan, point)
+        what = (f"closed-loop mode (controllers sampled at {1.0 / plan.dt:.4g} Hz, torque "
+                "held; the continuous model's modes all decay)")
     out = []
-    for mode in unstable_modes(model.a, model.states):
+    for mode in modes:
         states = ", ".join(f"{name} {share:.0%}" for name, share in mode.states)
         out.append(Finding("unstable", "unstable_mode", mode.states[0][0] if mode.states else "",
-                           f"closed-loop mode λ = {mode.eigenvalue.real:.3g} ± "
+                           f"{what} λ = {mode.eigenvalue.real:.3g} ± "
                            f"{abs(mode.eigenvalue.imag):.3g}j 1/s grows "
                            f"({mode.frequency_hz:.3g} Hz, ζ = {mode.damping:.3g}) at t = {t:g} s, "
                            f"in {states}", None, {
@@ -247,3 +276,23 @@ def linearize_branched(line: BranchedLine | str, t: float = 0.0, *,
     return LinearSystem(model.a, model.b, model.c,
                         np.zeros((len(model.outputs), len(model.inputs))), states=model.states,
                         inputs=model.inputs, outputs=model.outputs, name=name)
+
+
+def sampled_closed_loop(plan: BranchPlan, point: BranchPoint) -> np.ndarray:
+    """The closed loop as the run has it, one controller period ``plan.dt`` [s] per step:
+    z_{k+1} = M z_k, z = (plant states, integrators) at a tick. The plant over a period with
+    the torque command held, x+ = Φ x + Γ u (Φ = e^{A dt}, Γ = ∫ e^{As} ds B: exact, the
+    run's RK4 aside); the controllers as ``kernel.control_tick`` orders them: u from the
+    integrators before their update, then q+ = q + dt (Gx x + Gi q). Its eigenvalues μ are
+    the sampled loop's modes, λ = ln(μ) / dt [1/s]."""
+    from scipy.linalg import expm
+
+    a, b, _ = plant_matrices(plan, point)
+    kx, ki, _, gx, gi, _ = controller_matrices(plan, point)
+    n, m, dt = a.shape[0], b.shape[1], plan.dt
+    augmented = np.zeros((n + m, n + m))
+    augmented[:n, :n], augmented[:n, n:] = a, b
+    step = expm(augmented * dt)
+    phi, gamma = step[:n, :n], step[:n, n:]
+    return np.block([[phi + gamma @ kx, gamma @ ki],
+                     [dt * gx, np.eye(gi.shape[0]) + dt * gi]])
