@@ -136,3 +136,32 @@ def test_a_path_that_does_not_exist_is_one_line_exit_2(tmp_path) -> None:
     assert result.output.strip().count("\n") == 0
     assert "webs.flim" in result.output and "'film'" in result.output
     assert not (tmp_path / "sweep.nc").exists()
+
+
+def test_work_is_bounded_before_any_case_runs(tmp_path) -> None:
+    # 1000 cases of 1e6 s at 1 kHz and 3 sub-steps: 3e12 RK4 steps, beyond the 1e12 limit;
+    # refused in the time of its probes (seconds), not the 83 core-hours it asks for
+    result = CliRunner().invoke(app, [
+        "sweep", "laminator", "--set", "webs.film.web.ea=normal(103.5 kN, 5 %)", "--samples",
+        "1000", "-d", "1e6", "--out", str(tmp_path)])
+    assert result.exit_code == 2
+    assert "3e+12 steps" in result.output and "study limit" in result.output
+    assert not (tmp_path / "sweep.nc").exists()
+
+
+def test_per_width_units_are_refused_for_a_branched_line(tmp_path) -> None:
+    result = CliRunner().invoke(app, [
+        "sweep", "laminator", "--set", "webs.film.web.ea=50 kN", "--units", "si-per-width",
+        "--out", str(tmp_path)])
+    assert result.exit_code == 2 and result.output.strip().count("\n") == 0
+    assert "own widths" in result.output
+
+
+@pytest.mark.dask
+def test_dask_local_cluster_equals_the_local_study(monte_carlo) -> None:
+    # the cases run in two worker processes, chunk by chunk: the same numbers, bit for bit
+    pytest.importorskip("distributed")
+    ds = webline.monte_carlo("laminator", DISTS, 4, seed=7, duration=0.5, scheduler="local",
+                             workers=2)
+    for name in (*DISTS, "status", "web_status", "tension_peak_error", "tension_max"):
+        np.testing.assert_array_equal(ds[name].values, monte_carlo[name].values, err_msg=name)

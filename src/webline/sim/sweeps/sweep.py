@@ -162,7 +162,8 @@ def sweep(line: Line | BranchedLine | str | Path, values: Mapping[str, Sequence[
     of ``case``, named by the path, its values as coordinate (``sim.sweeps.study_grid.as_grid``;
     ``as_cases`` flattens it back).
     The study's work is bounded before it runs (``sim.sweeps.study_work``; ``work_limit=False``
-    lifts ``budget.MAX_STUDY_RK4_STEPS``)."""
+    lifts ``budget.MAX_STUDY_RK4_STEPS``). A branched line runs each case in the branch kernel
+    (``sim.sweeps.branch_study``; docs/branching.md)."""
     paths = list(values)
     columns = [list(values[p]) for p in paths]
     for path, column in zip(paths, columns, strict=True):
