@@ -126,6 +126,7 @@ def test_a_case_that_fails_is_one_row_and_the_rest_go_on(tmp_path) -> None:
     assert list(ds.web_status.values[1]) == ["ok", "ok", "ok"]
     assert np.isfinite(ds.tension_peak_error.sel(span="foil_zone").values[1])
     assert 'id="sweep-status"' in (tmp_path / "report.html").read_text()
+    assert "tension_final_error [foil_zone]" in result.output  # the summary's metric table
 
 
 def test_a_path_that_does_not_exist_is_one_line_exit_2(tmp_path) -> None:
@@ -165,3 +166,21 @@ def test_dask_local_cluster_equals_the_local_study(monte_carlo) -> None:
                              workers=2)
     for name in (*DISTS, "status", "web_status", "tension_peak_error", "tension_max"):
         np.testing.assert_array_equal(ds[name].values, monte_carlo[name].values, err_msg=name)
+
+
+def test_lane_thickness_grid_splits_the_shaft_lanes_in_proportion() -> None:
+    # lanes on one shaft (docs/branching.md, thickness profile): their rolls grow apart at a
+    # rate ∝ h_1 - h_2, so to first order d(T_1 - T_2)/dt ≈ EA v (h_1 - h_2) / (2π r²) and the
+    # split after the same time doubles with the thickness difference; the sum is the drive's
+    ds = webline.sweep("slitter", {"webs.lane_1.thickness": ["50 um", "50.5 um", "51 um"]},
+                       scenario="thickness-profile", duration=3)
+    final = ds.tension_final_error
+    split = (final.sel(span="lane_1_span") - final.sel(span="lane_2_span")).values
+    # equal lanes: no split (1e-3 N: the solver's tolerance at the operating point, 1e-4 N)
+    assert abs(split[0]) < 1e-3
+    # 2 % allows the second-order terms: (h_1 - h_2)/h (2 %) on the radii ratio, measured 0.4 %
+    assert split[2] / split[1] == pytest.approx(2.0, rel=0.02)
+    assert split[1] > 5.0  # ~5.3 N/s for 1 %, over 3 s less the span's 0.4 s lag
+    # lane_3 winds on its own shaft: untouched by lane_1's thickness
+    assert np.all(np.abs(final.sel(span="lane_3_span").values) < 1e-3)
+    assert final.span_web.sel(span="lane_1_span").item() == "lane_1"

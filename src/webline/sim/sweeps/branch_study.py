@@ -38,6 +38,9 @@ from webline.spec.paths import set_path, split_path
 from webline.spec.ranges import argument
 from webline.verdict import RANK
 
+#: metrics a branched study keeps beside the chain's ``METRICS``: (dimension, SI unit, text)
+FINAL_ERROR = {"tension_final_error": ("span", "N", "tension minus loadcell reference at the "
+                                                   "end")}
 #: a path with more distinct values than this is probed at its smallest and largest only
 CHECK_ALL_BELOW = 64
 
@@ -231,8 +234,7 @@ class _Collector:
         self.base, self.paths = base, paths
         sizes = {"span": len(base.spans), "drive": len(base.drives),
                  "node": len(base.spec.rollers)}
-        self.dims = {**{name: dim for name, (dim, _, _) in METRICS.items()},
-                     "tension_final_error": "span"}
+        self.dims = {name: dim for name, (dim, _, _) in {**METRICS, **FINAL_ERROR}.items()}
         self.data = {name: np.full((n_c, sizes[dim]), math.nan)
                      for name, dim in self.dims.items()}
         self.status = np.full(n_c, "failed", dtype=object)
@@ -270,12 +272,9 @@ class _Collector:
         import xarray as xr
 
         base = self.base
-        units = {**{name: u for name, (_, u, _) in METRICS.items()}, "tension_final_error": "N"}
-        texts = {**{name: t for name, (_, _, t) in METRICS.items()},
-                 "tension_final_error": "tension minus loadcell reference at the end"}
         variables = {name: xr.Variable(("case", dim), self.data[name],
-                                       attrs={"units": units[name], "long_name": texts[name]})
-                     for name, dim in self.dims.items()}
+                                       attrs={"units": unit, "long_name": text})
+                     for name, (dim, unit, text) in {**METRICS, **FINAL_ERROR}.items()}
         variables["status"] = xr.Variable(("case",), self.status.astype(str),
                                           attrs={"long_name": "verdict status of the run"})
         variables["headline"] = xr.Variable(("case",), self.headline.astype(str), attrs={
