@@ -184,3 +184,17 @@ def test_lane_thickness_grid_splits_the_shaft_lanes_in_proportion() -> None:
     # lane_3 winds on its own shaft: untouched by lane_1's thickness
     assert np.all(np.abs(final.sel(span="lane_3_span").values) < 1e-3)
     assert final.span_web.sel(span="lane_1_span").item() == "lane_1"
+
+
+def test_a_case_that_cannot_run_is_one_failed_row() -> None:
+    # a 1 mm span of a 100 MN web, a spring so stiff that its fastest mode needs 709 RK4 steps per
+    # controller period, beyond simulate_branches' 200; that case is refused, alone
+    ds = webline.sweep("laminator", {"webs.foil.spans.0.length": ["1 mm", "1.5 m"],
+                                     "webs.foil.web.ea": ["100 MN", "630 kN"]},
+                       mode="zip", duration=0.2)
+    assert list(ds.status.values) == ["failed", "ok"]
+    assert "RK4 steps per controller period" in str(ds.headline.values[0])
+    assert list(ds.web_status.values[0]) == ["failed"] * 3
+    assert np.all(np.isnan(ds.tension_max.values[0])) and np.all(
+        np.isfinite(ds.tension_max.values[1]))
+    np.testing.assert_allclose(ds["webs.foil.spans.0.length"].values, [1e-3, 1.5])

@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from webline.errors import ArgumentError, LineFileError, SimulationError, WeblineError
+from webline.errors import ArgumentError, LineFileError, WeblineError
 from webline.limits import CASE_BYTES
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches import layout as B
@@ -174,9 +174,13 @@ def run_branch_cases(line: Any, cases: Sequence[Mapping[str, object]], *,
     for c, changes in enumerate(cases):
         try:
             case = derive_branched(base, changes)
-            out.add(c, case, simulate_branches(case, seconds, raise_on_failure=False))
+            result = simulate_branches(case, seconds, raise_on_failure=False)
         except (WeblineError, ValueError, ArithmeticError) as exc:  # this case only
             out.fail(c, changes, exc)
+        else:
+            if result.failure is not None and result.failure.startswith("interrupted"):
+                raise KeyboardInterrupt  # Ctrl-C stops the study (its saved chunks stay)
+            out.add(c, case, result)
         if progress is not None:
             progress(c + 1, len(cases))
     return out.dataset(seconds)
@@ -265,7 +269,7 @@ class _Collector:
                 try:  # the value as the base line's field would read it
                     self.values[path][c] = case_value(derive_branched(self.base, {
                         path: changes[path]}), path)
-                except (LineFileError, SimulationError, ValueError):
+                except (WeblineError, ValueError):
                     self.values[path][c] = changes[path]
 
     def dataset(self, duration: float) -> Any:
