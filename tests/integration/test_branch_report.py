@@ -319,3 +319,17 @@ def test_a_tree_that_merges_then_splits_is_drawn_with_both_junctions_in_their_pl
     # the nip left of the knife, the knife left of the rewind: the tree runs left to right
     x = {name: rollers[name].center[0] for name in ("nip", "knife", "rewind")}
     assert x["nip"] < x["knife"] < x["rewind"]
+
+
+def test_the_report_lists_the_lines_closed_loop_modes_and_names_the_least_damped(upset):
+    from webline.analysis.modes import closed_loop_modes
+    from webline.report.branch_report import report_html
+
+    page = unescape(report_html(upset, {}))
+    table = re.findall(r'<table id="modes">(.*?)</table>', page, re.S)[0]
+    modes = closed_loop_modes(upset.plan.line, 0.0)  # at speed from t = 0: analysed there
+    assert table.count("<tr>") == len(modes) + 1  # a row per mode, and the header
+    oscillating = [m for m in modes if m.oscillatory]
+    weakest = min(oscillating, key=lambda m: m.damping)
+    assert (f"Least damped oscillating mode: ζ = {weakest.damping:.3g} at ωn = "
+            f"{weakest.natural_frequency:.4g} rad/s, mostly in {weakest.dominant}.") in page

@@ -10,6 +10,7 @@ import json
 from datetime import UTC, datetime
 from pathlib import Path
 
+from webline.errors import WeblineError
 from webline.files import atomic_write_bytes, atomic_write_text
 from webline.model.web_graph import BranchedLine
 from webline.report.outputs import OutputFolder, ReportFiles
@@ -18,7 +19,7 @@ from webline.report.render import render_figures
 from webline.report.text.branch_tables import drive_findings_table, line_tables, verdict_table
 from webline.report.text.display import number_text
 from webline.report.text.html import Image, Section, Text, render, table_html
-from webline.report.text.tables import make_table
+from webline.report.text.tables import Table, least_damped, make_table, modes_table
 from webline.report.text.verdict_text import STATUS_CLASS
 from webline.sim.branches.result import BranchResult
 from webline.spec.load import dump_spec
@@ -74,6 +75,29 @@ def status_text(result: BranchResult) -> str:
     return text
 
 
+def modes_parts(line: BranchedLine) -> list[Table | Text]:
+    """The closed-loop modes of ``line`` at its analysis time (docs/branching.md, "Linear
+    models"): what they are, their table and the least damped one; or why there are none."""
+    from webline.analysis.modes import closed_loop_modes
+    from webline.sim.branches.linear import analysis_time
+
+    t = analysis_time(line)
+    try:
+        modes = closed_loop_modes(line, t)
+    except (WeblineError, ValueError, ArithmeticError) as exc:
+        return [Text(f"No closed-loop modes: {exc}")]
+    parts: list[Table | Text] = [
+        Text(f"The line with its controllers (as continuous-time laws) linearized at its "
+             f"operating point at t = {t:g} s of its references, roll radii at their initial "
+             "values (docs/branching.md, Linear models)."), modes_table(modes)]
+    weakest = least_damped(modes)
+    if weakest is not None:
+        parts.append(Text(f"Least damped oscillating mode: ζ = {number_text(weakest.damping, 3)}"
+                          f" at ωn = {number_text(weakest.natural_frequency)} rad/s, mostly in "
+                          f"{weakest.dominant}."))
+    return parts
+
+
 def report_html(result: BranchResult, images: dict[str, Image],
                 results_file: Path | None = None) -> str:
     """The report page of ``result`` with the rendered figures ``images`` (by key)."""
@@ -98,6 +122,7 @@ def report_html(result: BranchResult, images: dict[str, Image],
         Section("Line", [*tables[:1], *([images["schematic"]] if "schematic" in images else []),
                          *tables[1:]]),
         Section("Time plots", [image for key, image in images.items() if key != "schematic"]),
+        Section("Closed-loop modes", modes_parts(line)),
         Section("Run", [make_table("run", "Settings", ["key", "value"], run_rows)]),
         Section("Resolved line file", [Text(dump_spec(spec), pre=True, fold="The line as it "
                                             "ran (scenario applied), every quantity in SI "
