@@ -333,3 +333,20 @@ def test_the_report_lists_the_lines_closed_loop_modes_and_names_the_least_damped
     weakest = min(oscillating, key=lambda m: m.damping)
     assert (f"Least damped oscillating mode: ζ = {weakest.damping:.3g} at ωn = "
             f"{weakest.natural_frequency:.4g} rad/s, mostly in {weakest.dominant}.") in page
+    # every mode of the built-in laminator decays (docs/branching.md, "Linear models")
+    assert all(m.eigenvalue.real < 0 for m in modes)
+    assert "No closed-loop mode grows, in the continuous model or in the loop as sampled " \
+        "(1000 Hz, torque held)." in page
+
+
+def test_the_report_names_a_growing_closed_loop_mode():
+    from webline.report.branch_report import report_html
+
+    data = webline.load_branched("laminator").spec.model_dump(exclude_none=True)
+    # the rewind's tension gain 40x its tuned 7.6e-5 (m/s)/N: a 38 Hz mode of the rewind and
+    # the laminate zone grows (docs/branching.md, "Linear models": +18.5 1/s continuous)
+    data["rollers"][6]["controller"]["tension_kp"] = 3e-3
+    result = webline.simulate(webline.load_branched(data), 0.2, raise_on_failure=False)
+    page = unescape(report_html(result, {}))
+    assert "Unstable: closed-loop mode λ = 18.5 ± " in page
+    assert "No closed-loop mode grows" not in page

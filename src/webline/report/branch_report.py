@@ -75,15 +75,19 @@ def status_text(result: BranchResult) -> str:
     return text
 
 
-def modes_parts(line: BranchedLine) -> list[Table | Text]:
-    """The closed-loop modes of ``line`` at its analysis time (docs/branching.md, "Linear
-    models"): what they are, their table and the least damped one; or why there are none."""
+def modes_parts(result: BranchResult) -> list[Table | Text]:
+    """The closed-loop modes of the run's line at its analysis time (docs/branching.md,
+    "Linear models"): what they are, their table, the least damped one and the stability
+    verdict (continuous model and the loop as sampled); or why there are none."""
     from webline.analysis.modes import closed_loop_modes
-    from webline.sim.branches.linear import analysis_time
+    from webline.sim.branches.equilibrium import operating_point
+    from webline.sim.branches.linear import analysis_time, stability_findings
 
+    line = result.plan.line
     t = analysis_time(line)
     try:
         modes = closed_loop_modes(line, t)
+        unstable = stability_findings(result.plan, operating_point(result.plan, t), t)
     except (WeblineError, ValueError, ArithmeticError) as exc:
         return [Text(f"No closed-loop modes: {exc}")]
     parts: list[Table | Text] = [
@@ -95,6 +99,9 @@ def modes_parts(line: BranchedLine) -> list[Table | Text]:
         parts.append(Text(f"Least damped oscillating mode: ζ = {number_text(weakest.damping, 3)}"
                           f" at ωn = {number_text(weakest.natural_frequency)} rad/s, mostly in "
                           f"{weakest.dominant}."))
+    parts += [Text(f"Unstable: {f.message}.") for f in unstable] or [Text(
+        "No closed-loop mode grows, in the continuous model or in the loop as sampled "
+        f"({1.0 / result.plan.dt:.4g} Hz, torque held).")]
     return parts
 
 
@@ -122,7 +129,7 @@ def report_html(result: BranchResult, images: dict[str, Image],
         Section("Line", [*tables[:1], *([images["schematic"]] if "schematic" in images else []),
                          *tables[1:]]),
         Section("Time plots", [image for key, image in images.items() if key != "schematic"]),
-        Section("Closed-loop modes", modes_parts(line)),
+        Section("Closed-loop modes", modes_parts(result)),
         Section("Run", [make_table("run", "Settings", ["key", "value"], run_rows)]),
         Section("Resolved line file", [Text(dump_spec(spec), pre=True, fold="The line as it "
                                             "ran (scenario applied), every quantity in SI "
