@@ -105,6 +105,9 @@ def check_spec(spec: LineSpec, file: str) -> None:
         if isinstance(roller, UnwindSpec | RewindSpec):
             check_roll_inertia(roller, web, f"rollers[{i}].inertia", fail)
         check_friction(roller, f"rollers[{i}]", fail)
+        if isinstance(roller, RewindSpec) and roller.shaft is not None:
+            fail(f"rollers[{i}].shaft", "a differential shaft holds lanes on one shaft: only "
+                 "on a branched line ([[webs]], docs/branching.md)")
         contact = getattr(roller, "contact", None)
         if contact is not None and contact.type == "traction":
             if roller.wrap is None:  # type: ignore[union-attr]

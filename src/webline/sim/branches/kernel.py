@@ -54,11 +54,12 @@ def carried_in(k: int, x: np.ndarray, tension: np.ndarray, wound: np.ndarray,
 @jit
 def node_inertia(i: int, x: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
                  rolls: np.ndarray) -> float:
-    """Inertia [kg·m²] of node ``i``: rotating parts plus every roll wound on it (6.1)."""
+    """Inertia [kg·m²] of node ``i``: rotating parts plus every roll wound on it (6.1), but
+    for the lanes on its clutch cores (a differential shaft: they turn on their own)."""
     inertia = nodes[i, B.N_JCONST]
     off_r = offsets[B.O_RADIUS]
     for j in range(rolls.shape[0]):
-        if int(rolls[j, B.R_NODE]) == i:
+        if int(rolls[j, B.R_NODE]) == i and rolls[j, B.R_CLUTCH] == 0.0:
             inertia += _roll_inertia(0.0, x[off_r + j], rolls[j, B.R_CORE],
                                      rolls[j, B.R_WIDTH], rolls[j, B.R_RHO])
     return inertia
@@ -68,13 +69,15 @@ def node_inertia(i: int, x: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
 def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         nodes: np.ndarray, si: np.ndarray, sf: np.ndarray, layers: np.ndarray,
         rolls: np.ndarray, webs: np.ndarray, di: np.ndarray, df: np.ndarray,
-        dx: np.ndarray, work: np.ndarray) -> None:
+        cores: np.ndarray, clutch: np.ndarray, dx: np.ndarray, work: np.ndarray) -> None:
     """dx/dt of a branched line into ``dx`` with held motor-torque commands ``cmd`` [N·m] and
     wound-in tensions ``wound`` [N] per web. ``work``: scratch of 4 x spans + 2 x nodes
-    (``work_size``)."""
+    (``work_size``). A lane on a differential shaft winds on its own core, which its slip
+    clutch drives from the shaft with the smoothed Coulomb torque of ``physics.roller``
+    (docs/branching.md, "Differential shafts")."""
     n_s, n_n = si.shape[0], nodes.shape[0]
     off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
-    off_tq, off_q = offsets[B.O_TORQUE], offsets[B.O_WEB]
+    off_tq, off_q, off_c = offsets[B.O_TORQUE], offsets[B.O_WEB], offsets[B.O_CORE]
     tension = work[:n_s]
     s_in = work[n_s:2 * n_s]
     v_a = work[2 * n_s:3 * n_s]
@@ -87,6 +90,8 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         torque[i] = 0.0
         inertia[i] = nodes[i, B.N_JCONST]
     for j in range(rolls.shape[0]):  # every roll wound on a node adds its web's inertia
+        if rolls[j, B.R_CLUTCH] != 0.0:  # (on its own core: below)
+            continue
         i = int(rolls[j, B.R_NODE])
         radius = x[off_r + j]
         inertia[i] += _roll_inertia(0.0, radius, rolls[j, B.R_CORE], rolls[j, B.R_WIDTH],
@@ -98,12 +103,24 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         arm_a = arm(si[k, B.S_ARMA], a, x, offsets, nodes)
         arm_b = arm(si[k, B.S_ARMB], b, x, offsets, nodes)
         v_a[k] = arm_a * x[off_w + a]
-        v_b[k] = arm_b * x[off_w + b]
+        core = si[k, B.S_CORE]
+        v_b[k] = arm_b * x[off_w + b] if core < 0 else arm_b * x[off_c + core]
         s_in[k] = carried_in(k, x, tension, wound, si, sf, layers)
         dx[k] = _stretch_rate(sf[k, B.SF_LENGTH], sf[k, B.SF_EA], v_a[k], v_b[k], s_in[k],
                               tension[k])
         torque[a] += arm_a * tension[k]  # the span pulls its upstream roller forward
-        torque[b] -= arm_b * tension[k]
+        if core < 0:  # (a lane on a clutch core pulls its core, below)
+            torque[b] -= arm_b * tension[k]
+    for c in range(cores.shape[0]):  # a lane's core: clutch torque in, the lane's r T out
+        j, i, k = cores[c, B.C_ROLL], cores[c, B.C_NODE], cores[c, B.C_SPAN]
+        radius, omega_core = x[off_r + j], x[off_c + c]
+        passed = _friction(x[off_w + i] - omega_core, 0.0, clutch[c, B.CF_SLIP])
+        torque[i] -= passed
+        inertia_core = clutch[c, B.CF_INERTIA] + _roll_inertia(
+            0.0, radius, rolls[j, B.R_CORE], rolls[j, B.R_WIDTH], rolls[j, B.R_RHO])
+        dx[off_c + c] = (passed - radius * tension[k]) / inertia_core
+        dx[off_r + j] = _radius_rate(radius * omega_core, radius, rolls[j, B.R_THICK],
+                                     rolls[j, B.R_DIR])
     for i in range(n_n):
         omega = x[off_w + i]
         total = torque[i] - nodes[i, B.N_VISCOUS] * omega
@@ -190,8 +207,8 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             include_end: bool, speed_max: float, offsets: np.ndarray, nodes: np.ndarray,
             si: np.ndarray,
             sf: np.ndarray, layers: np.ndarray, rolls: np.ndarray, webs: np.ndarray,
-            di: np.ndarray, df: np.ndarray, cells: np.ndarray, events: np.ndarray,
-            prof_t: np.ndarray, prof_v: np.ndarray,
+            di: np.ndarray, df: np.ndarray, cores: np.ndarray, clutch: np.ndarray,
+            cells: np.ndarray, events: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
             prof_off: np.ndarray) -> tuple[int, int, float]:
     """Advance ``n_ticks`` controller periods from tick ``tick0``, recording [t, x..., cmd...]
     every ``record_every`` ticks and, with ``include_end``, the state after the last (a
@@ -224,7 +241,7 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             for stage in range(4):
                 state = x if stage == 0 else tmp
                 rhs(state, cmd, wound, offsets, nodes, si, sf, layers, rolls, webs, di, df,
-                    stages[stage], work)
+                    cores, clutch, stages[stage], work)
                 if stage < 3:
                     c = h if stage == 2 else 0.5 * h
                     for m in range(n_x):
@@ -249,18 +266,19 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
 
 
 def compiled_advance(offsets: np.ndarray, si: np.ndarray, layers: np.ndarray,
-                     webs: np.ndarray, di: np.ndarray, cells: np.ndarray) -> Any:
+                     webs: np.ndarray, di: np.ndarray, cells: np.ndarray,
+                     cores: np.ndarray) -> Any:
     """``advance`` compiled for one line structure: its integer tables frozen into the loop
     as constants (as the chain's ``sim.core.kernel.compiled_loop``), so the loops over spans,
     nodes and drives have known trip counts and table look-ups fold away. Called with the
     remaining arguments of ``advance`` (the float tables stay run-time arrays)."""
     return _compiled(*((*np.asarray(a).ravel().tolist(), np.asarray(a).shape)
-                       for a in (offsets, si, layers, webs, di, cells)))
+                       for a in (offsets, si, layers, webs, di, cells, cores)))
 
 
 @functools.cache
 def _compiled(*tables: tuple[Any, ...]) -> Any:
-    offsets, si, layers, webs, di, cells = (
+    offsets, si, layers, webs, di, cells, cores = (
         np.array(t[:-1], dtype=np.int64).reshape(t[-1]) for t in tables)
 
     @loop_njit
@@ -268,11 +286,13 @@ def _compiled(*tables: tuple[Any, ...]) -> Any:
              rec: np.ndarray, stages: np.ndarray, cmd: np.ndarray, work: np.ndarray,
              tick0: int, n_ticks: int, dt: float, substeps: int, record_every: int,
              include_end: bool, speed_max: float, nodes: np.ndarray, sf: np.ndarray,
-             rolls: np.ndarray, df: np.ndarray, events: np.ndarray, prof_t: np.ndarray,
-             prof_v: np.ndarray, prof_off: np.ndarray) -> tuple[int, int, float]:
+             rolls: np.ndarray, df: np.ndarray, clutch: np.ndarray, events: np.ndarray,
+             prof_t: np.ndarray, prof_v: np.ndarray,
+             prof_off: np.ndarray) -> tuple[int, int, float]:
         return advance(x, istate, wound, done, rec, stages, cmd, work, tick0, n_ticks, dt,
                        substeps, record_every, include_end, speed_max, offsets, nodes, si, sf,
-                       layers, rolls, webs, di, df, cells, events, prof_t, prof_v, prof_off)
+                       layers, rolls, webs, di, df, cores, clutch, cells, events, prof_t,
+                       prof_v, prof_off)
 
     return loop
 

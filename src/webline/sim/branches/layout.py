@@ -2,28 +2,35 @@
 
 State vector: span stretches EA·ε [N] | node speeds ω [rad/s] | roll radii [m] | motor
 torques [N·m] | web length in and out [m] per web (unstrained web that entered the web's
-first span and left its last one).
+first span and left its last one) | lane core speeds ω [rad/s] on differential shafts.
 """
 
 from __future__ import annotations
 
 # offsets row
-O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_N = range(5)
+O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_CORE, O_N = range(6)
 
 # node table (float)
 (N_RADIUS, N_JCONST, N_VISCOUS, N_COULOMB, N_CORE, N_RATIO, N_DRIVE, N_INVJ, N_ROLLS,
  N_COLS) = range(10)
 
-# span table (int): nodes, web, where the carried-in stretch comes from, roll arms, layers
-S_A, S_B, S_WEB, S_SRC, S_FROM, S_ARMA, S_ARMB, S_COUNT, S_COLS = range(9)
+# span table (int): nodes, web, where the carried-in stretch comes from, roll arms, layers,
+# the clutch core its downstream end winds on (-1: the node itself)
+S_A, S_B, S_WEB, S_SRC, S_FROM, S_ARMA, S_ARMB, S_COUNT, S_CORE, S_COLS = range(10)
 # span table (float)
 SF_LENGTH, SF_EA, SF_SHARE, SF_INVEA, SF_COLS = range(5)
 #: S_SRC: the previous span of the path | the unwind's wound-in tension | the sum of the
 #: layers' last spans (a laminate's first span) | the base web's last span x share (a lane)
 SRC_PREVIOUS, SRC_WOUND, SRC_LAYERS, SRC_SLIT = range(4)
 
-# roll table (float): node, web, direction, thickness, width, density, core radius
-R_NODE, R_WEB, R_DIR, R_THICK, R_WIDTH, R_RHO, R_CORE, R_COLS = range(8)
+# roll table (float): node, web, direction, thickness, width, density, core radius, 1 where
+# the roll turns on its own clutch core (a differential shaft's lane), else 0
+R_NODE, R_WEB, R_DIR, R_THICK, R_WIDTH, R_RHO, R_CORE, R_CLUTCH, R_COLS = range(9)
+
+# clutch cores of differential shafts (int): the lane's roll, the shaft's node, the lane span
+C_ROLL, C_NODE, C_SPAN, C_COLS = range(4)
+# clutch cores (float): slip torque [N·m], core inertia [kg·m²], overspeed [-]
+CF_SLIP, CF_INERTIA, CF_OVERSPEED, CF_COLS = range(4)
 
 # web table (int): first span, last span
 WB_FIRST, WB_LAST, WB_COLS = range(3)

@@ -37,6 +37,8 @@ class BranchPlan:
     webs: np.ndarray
     di: np.ndarray
     df: np.ndarray
+    cores: np.ndarray
+    clutch: np.ndarray
     cells: np.ndarray
     events: np.ndarray
     wound: np.ndarray
@@ -53,7 +55,7 @@ class BranchPlan:
     def tables(self) -> tuple[np.ndarray, ...]:
         """The tables ``kernel.rhs`` takes after ``wound``, in order."""
         return (self.offsets, self.nodes, self.si, self.sf, self.layers, self.rolls, self.webs,
-                self.di, self.df)
+                self.di, self.df, self.cores, self.clutch)
 
     def scratch(self) -> np.ndarray:
         """Scratch for ``kernel.rhs``."""
@@ -62,7 +64,7 @@ class BranchPlan:
     def loop(self) -> Any:
         """The compiled loop of this plan's structure (``kernel.compiled_advance``)."""
         return compiled_advance(self.offsets, self.si, self.layers, self.webs, self.di,
-                                self.cells)
+                                self.cells, self.cores)
 
     def run(self, x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
             rec: np.ndarray, cmd: np.ndarray, tick0: int, n_ticks: int, substeps: int,
@@ -74,8 +76,8 @@ class BranchPlan:
         return self.loop()(x, istate, wound, done, rec, stages, cmd, self.scratch(), tick0,
                            n_ticks, self.dt, substeps, record_every, include_end,
                            self.speed_max,
-                           self.nodes, self.sf, self.rolls, self.df, self.events, self.prof_t,
-                           self.prof_v, self.prof_off)
+                           self.nodes, self.sf, self.rolls, self.df, self.clutch, self.events,
+                           self.prof_t, self.prof_v, self.prof_off)
 
     def profile(self, p: int, t: float) -> float:
         a, b = self.prof_off[p], self.prof_off[p + 1]
@@ -91,7 +93,9 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     off_r = off_w + n_n
     off_tq = off_r + n_r
     off_q = off_tq + n_d
-    offsets = np.array([off_w, off_r, off_tq, off_q, off_q + 2 * n_w], dtype=np.int64)
+    cores, clutch = _clutch_tables(line)
+    offsets = np.array([off_w, off_r, off_tq, off_q, off_q + 2 * n_w,
+                        off_q + 2 * n_w + len(cores)], dtype=np.int64)
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):
         nodes[i, B.N_RADIUS] = r.radius
@@ -109,11 +113,14 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     nodes[:, B.N_INVJ] = 1.0 / nodes[:, B.N_JCONST]
     rolls = np.zeros((n_r, B.R_COLS))
     for j, roll in enumerate(line.rolls):
-        nodes[roll.node, B.N_ROLLS] += 1
+        on_clutch = float(j in cores[:, B.C_ROLL])
+        nodes[roll.node, B.N_ROLLS] += 1 - on_clutch
         m = line.materials[roll.web]
         rolls[j] = (roll.node, roll.web, roll.direction, m.thickness, m.width, m.density,
-                    nodes[roll.node, B.N_CORE])
+                    nodes[roll.node, B.N_CORE], on_clutch)
     si, sf, layers = _span_tables(line)
+    for c, (_, _, k) in enumerate(cores):
+        si[k, B.S_CORE] = c
     webs = np.array([[line.web_spans(w)[0], line.web_spans(w)[-1]] for w in range(n_w)],
                     dtype=np.int64).reshape(n_w, B.WB_COLS)
     profiles = [breakpoints(spec.speed)]
@@ -138,7 +145,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         di[d, B.DI_NCELLS] = len(zone.loadcells) if zone else 0
         cells += [(k, ref_of[k]) for k in (zone.loadcells if zone else ())]
         di[d, B.DI_ROLL] = _speed_roll(line, i, zone.loadcells if zone else ())
-        df[d, B.D_SIGMA] = zone.sigma if zone else 0.0
+        df[d, B.D_SIGMA] = zone.sigma if zone and i not in cores[:, B.C_NODE] else 0.0
     events = np.zeros((0, B.E_COLS))
     change = line.roll_change
     if change is not None:
@@ -150,7 +157,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
     top = max(float(np.max(np.abs(v))) for v in [breakpoints(spec.speed)[1]])
     rate = spec.control.sample_rate if sample_rate is None else sample_rate
-    plan = BranchPlan(line, offsets, nodes, si, sf, layers, rolls, webs, di, df,
+    plan = BranchPlan(line, offsets, nodes, si, sf, layers, rolls, webs, di, df, cores, clutch,
                       np.array(cells, dtype=np.int64).reshape(-1, 2), events, wound,
                       np.concatenate([t for t, _ in profiles]),
                       np.concatenate([v for _, v in profiles]), offs, 1.0 / rate,
@@ -168,6 +175,7 @@ def _span_tables(line: BranchedLine) -> tuple[np.ndarray, np.ndarray, np.ndarray
         web = spec.webs[span.web]
         k = span.index
         si[k, B.S_A], si[k, B.S_B], si[k, B.S_WEB] = span.a, span.b, span.web
+        si[k, B.S_CORE] = -1
         si[k, B.S_ARMA] = line.roll_of(span.a, span.web)
         si[k, B.S_ARMB] = line.roll_of(span.b, span.web)
         sf[k, B.SF_LENGTH] = span.length
@@ -187,6 +195,20 @@ def _span_tables(line: BranchedLine) -> tuple[np.ndarray, np.ndarray, np.ndarray
         else:
             si[k, B.S_SRC] = B.SRC_WOUND
     return si, sf, np.array(layers, dtype=np.int64)
+
+
+def _clutch_tables(line: BranchedLine) -> tuple[np.ndarray, np.ndarray]:
+    """The clutch cores of every differential shaft, one per lane wound on it: int rows
+    (roll, shaft node, lane span), float rows (slip torque, core inertia, overspeed)."""
+    rows, values = [], []
+    for j, roll in enumerate(line.rolls):
+        roller = line.spec.rollers[roll.node]
+        shaft = getattr(roller, "shaft", None)
+        if isinstance(roller, RewindSpec) and shaft is not None:
+            rows.append((j, roll.node, line.web_spans(roll.web)[-1]))
+            values.append((shaft.slip_torque, shaft.core_inertia, shaft.overspeed))
+    return (np.array(rows, dtype=np.int64).reshape(-1, B.C_COLS),
+            np.array(values, dtype=float).reshape(-1, B.CF_COLS))
 
 
 def _speed_roll(line: BranchedLine, i: int, loadcells: tuple[int, ...]) -> int:
@@ -234,7 +256,7 @@ def _tune(plan: BranchPlan) -> None:
         row[B.D_RATIO] = drive.ratio
         row[B.D_KPS] = scale * auto.speed_kp if c.speed_kp is None else c.speed_kp
         row[B.D_KIS] = scale * auto.speed_ki if c.speed_ki is None else c.speed_ki
-        if zone:
+        if zone and i not in plan.cores[:, B.C_NODE]:  # (a differential shaft: speed only)
             row[B.D_KPT] = auto.tension_kp if c.tension_kp is None else c.tension_kp
             row[B.D_KIT] = auto.tension_ki if c.tension_ki is None else c.tension_ki
         row[B.D_LIMIT] = drive.torque_limit

@@ -51,7 +51,8 @@ class BranchResult:
         omega = x[:, o[B.O_OMEGA]:o[B.O_OMEGA] + n_n]
         radius = x[:, o[B.O_RADIUS]:o[B.O_TORQUE]]
         torque = x[:, o[B.O_TORQUE]:o[B.O_WEB]]
-        q = x[:, o[B.O_WEB]:o[B.O_N]]
+        q = x[:, o[B.O_WEB]:o[B.O_CORE]]
+        core_omega = x[:, o[B.O_CORE]:o[B.O_N]]
         stored = np.stack([np.sum(plan.sf[s, B.SF_LENGTH] * (1.0 - x[:, s] / ea[s]), axis=1)
                            for s in (line.web_spans(w) for w in range(len(line.spec.webs)))],
                           axis=1)
@@ -90,12 +91,15 @@ class BranchResult:
             "web_in": var(("web",), q[:, 0::2], "m", "unstrained web in at the path's start"),
             "web_out": var(("web",), q[:, 1::2], "m", "unstrained web out at the path's end"),
             "web_stored": var(("web",), stored, "m", "unstrained web in the path's spans"),
+            "core_omega": var(("core",), core_omega, "rad/s",
+                              "angular speed of a lane's core on a differential shaft"),
         }
         coords = {"time": ("time", t, {"units": "s"}),
                   "span": [s.name for s in line.spans],
                   "span_web": ("span", [line.spec.webs[s.web].name for s in line.spans]),
                   "layer_span": layer_names, "node": [r.name for r in line.spec.rollers],
                   "roll": roll_names, "drive": drives,
+                  "core": [roll_names[j] for j in plan.cores[:, B.C_ROLL]],
                   "web": [w.name for w in line.spec.webs]}
         return xr.Dataset(data, coords, attrs={
             "line": line.name, "scenario": line.scenario or "", "webline_version": __version__,
