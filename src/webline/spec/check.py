@@ -236,6 +236,8 @@ def _check_disturbances(items: list[DisturbanceSpec], spec: LineSpec, key: str,
                     fail(f"{here}.eccentricity", "must be below the roller radius")
             elif isinstance(roller, IdleSpec):
                 fail(f"{here}.roller", "a speed ripple needs a driven roller")
+        elif isinstance(item, WoundInRipple) and item.roller not in (None, spec.rollers[0].name):
+            fail(f"{here}.roller", f"the unwind of this line is {spec.rollers[0].name!r}")
         elif isinstance(item, WoundInRipple) and item.amplitude >= _wound_in(spec):
             fail(f"{here}.amplitude", "must be below the unwind's wound-in tension (a wound "
                  "web cannot be in compression)")

@@ -87,6 +87,7 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.nd
     c_scale = w_scale[plan.cores[:, B.C_NODE]]
     tq_scale = t_scale * plan.nodes[plan.di[:, B.DI_NODE], B.N_RADIUS]
     master = plan.line.master
+    held = plan.held(t)  # wound-in tensions and drags at t (ripples: their mean, 0)
 
     def state(z: np.ndarray) -> np.ndarray:
         x[:n_s] = z[:n_s] * t_scale
@@ -97,7 +98,7 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.nd
         return x
 
     def residual(z: np.ndarray) -> np.ndarray:
-        rhs(state(z), cmd, plan.wound, *tables, dx, work)
+        rhs(state(z), cmd, held, *tables, dx, work)
         out = np.empty(n_s + n_n + n_c + n_d)
         out[:n_s] = dx[:n_s] * plan.sf[:, B.SF_LENGTH] / (t_scale * max(speed, 1e-9))
         accel = dx[off_w:off_w + n_n].copy()
@@ -161,7 +162,7 @@ def operating_point(plan: BranchPlan, t: float = 0.0) -> BranchPoint:
         dx = np.zeros(plan.n_x)
         cmd = np.zeros(n_d)
         at[off_tq:off_tq + n_d] = 0.0
-        rhs(at, cmd, plan.wound, *plan.tables(), dx, plan.scratch())
+        rhs(at, cmd, plan.held(t), *plan.tables(), dx, plan.scratch())
         for d in range(n_d):  # J dω/dt = web torque + n τ = 0
             i = plan.di[d, B.DI_NODE]
             web_torque = dx[off_w + i] * node_inertia(i, at, plan.offsets, plan.nodes,

@@ -14,7 +14,8 @@ import numpy as np
 
 from webline.physics import motor, roll, roller, span
 from webline.sim.branches import layout as B
-from webline.sim.elements.signals import jit, loop_njit, profile_at
+from webline.sim.elements.measure import quantized
+from webline.sim.elements.signals import gaussian, jit, loop_njit, profile_at, sines
 
 _tension: Any = jit(span.tension)
 _stretch_rate: Any = jit(span.stretch_rate)
@@ -71,8 +72,9 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         rolls: np.ndarray, webs: np.ndarray, di: np.ndarray, df: np.ndarray,
         cores: np.ndarray, clutch: np.ndarray, dx: np.ndarray, work: np.ndarray) -> None:
     """dx/dt of a branched line into ``dx`` with held motor-torque commands ``cmd`` [N·m] and
-    wound-in tensions ``wound`` [N] per web. ``work``: scratch of 4 x spans + 2 x nodes
-    (``work_size``). A lane on a differential shaft winds on its own core, which its slip
+    held inputs ``wound``: the wound-in tension [N] per web, then the drag torque [N·m] per
+    node (``roller_drag``, added to its Coulomb friction). ``work``: scratch of 4 x spans +
+    2 x nodes (``work_size``). A lane on a differential shaft winds on its own core, which its slip
     clutch drives from the shaft with the smoothed Coulomb torque of ``physics.roller``
     (docs/branching.md, "Differential shafts")."""
     n_s, n_n = si.shape[0], nodes.shape[0]
@@ -121,11 +123,13 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         dx[off_c + c] = (passed - radius * tension[k]) / inertia_core
         dx[off_r + j] = _radius_rate(radius * omega_core, radius, rolls[j, B.R_THICK],
                                      rolls[j, B.R_DIR])
+    n_w = webs.shape[0]
     for i in range(n_n):
         omega = x[off_w + i]
         total = torque[i] - nodes[i, B.N_VISCOUS] * omega
-        if nodes[i, B.N_COULOMB] != 0.0:  # (a tanh costs more than the rest of the node)
-            total -= _friction(omega, 0.0, nodes[i, B.N_COULOMB])
+        coulomb = nodes[i, B.N_COULOMB] + wound[n_w + i]  # a drag acts as dry friction does
+        if coulomb != 0.0:  # (a tanh costs more than the rest of the node)
+            total -= _friction(omega, 0.0, coulomb)
         d = int(nodes[i, B.N_DRIVE])
         if d >= 0:
             total += nodes[i, B.N_RATIO] * x[off_tq + d]
@@ -148,27 +152,58 @@ def work_size(n_spans: int, n_nodes: int) -> int:
 
 
 @jit
-def control_tick(t: float, dt: float, x: np.ndarray, istate: np.ndarray, cmd: np.ndarray,
-                 offsets: np.ndarray, nodes: np.ndarray, rolls: np.ndarray, di: np.ndarray,
-                 df: np.ndarray, cells: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
-                 prof_off: np.ndarray) -> None:
-    """One sample of every drive's cascaded PI (thesis Fig. 4.3, as the chain's
+def held_inputs(t: float, wound: np.ndarray, held: np.ndarray, n_w: int, dist: np.ndarray,
+                prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray) -> None:
+    """The inputs ``rhs`` holds over a controller period from ``t`` [s]: each web's wound-in
+    tension ``wound`` plus its ripple, each node's drag torque profile (``layout`` DS_*)."""
+    for m in range(held.shape[0]):
+        held[m] = wound[m]
+    for r in range(dist.shape[0]):
+        kind, index = int(dist[r, B.DS_KIND]), int(dist[r, B.DS_INDEX])
+        if kind == B.DIST_WOUND_RIPPLE:
+            held[index] += sines(dist[r:r + 1, B.DS_A:B.DS_C + 1], t)
+        elif kind == B.DIST_DRAG:
+            held[n_w + index] += profile_at(int(dist[r, B.DS_A]), t, prof_t, prof_v, prof_off)
+
+
+@jit
+def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarray,
+                 cmd: np.ndarray, offsets: np.ndarray, nodes: np.ndarray, rolls: np.ndarray,
+                 di: np.ndarray, df: np.ndarray, cells: np.ndarray, dist: np.ndarray,
+                 prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray) -> None:
+    """One sample ``tick`` of every drive's cascaded PI (thesis Fig. 4.3, as the chain's
     ``sim.elements.controllers.pi_command``): line speed x draw is the speed feedforward, a
     tension PI on the zone's loadcell (or the sum of its loadcells) trims it, a speed PI gives
-    the torque, clipped, with conditional integration. ``cells`` rows: (span, profile)."""
+    the torque, clipped, with conditional integration. ``cells`` rows: (span, profile).
+    ``dist``: a drive's speed ripple adds to its speed reference; measurement noise to the
+    measured speed (channel 2 d, then rounded to the resolution) and each loadcell's tension
+    (channel 2 c + 1), as the chain's ``sim.elements.measure``."""
     v_line = profile_at(0, t, prof_t, prof_v, prof_off)
     off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
+    sigma_t, sigma_v, resolution, seed, noisy = 0.0, 0.0, 0.0, 0, False
+    for r in range(dist.shape[0]):
+        if int(dist[r, B.DS_KIND]) == B.DIST_NOISE:
+            seed, noisy = int(dist[r, B.DS_INDEX]), True
+            sigma_t, sigma_v, resolution = dist[r, B.DS_A], dist[r, B.DS_B], dist[r, B.DS_C]
     for d in range(di.shape[0]):
         i = di[d, B.DI_NODE]
         j = di[d, B.DI_ROLL]
         radius = x[off_r + j] if j >= 0 else nodes[i, B.N_RADIUS]  # true radius (stage 1)
         v_meas = radius * x[off_w + i]
+        if noisy:
+            v_meas = quantized(v_meas + sigma_v * gaussian(seed, tick, 2 * d), resolution)
         e_t = 0.0
         for c in range(di[d, B.DI_CELLS], di[d, B.DI_CELLS] + di[d, B.DI_NCELLS]):
-            e_t += profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - _tension(
-                x[cells[c, 0]])
+            measured = _tension(x[cells[c, 0]])
+            if noisy:
+                measured += sigma_t * gaussian(seed, tick, 2 * c + 1)
+            e_t += profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - measured
         trim = df[d, B.D_SIGMA] * (df[d, B.D_KPT] * e_t + istate[d, B.I_TENSION])
-        e_v = v_line * df[d, B.D_FF] + trim - v_meas
+        ripple = 0.0
+        for r in range(dist.shape[0]):
+            if int(dist[r, B.DS_KIND]) == B.DIST_SPEED_RIPPLE and int(dist[r, B.DS_INDEX]) == d:
+                ripple += sines(dist[r:r + 1, B.DS_A:B.DS_C + 1], t)
+        e_v = v_line * df[d, B.D_FF] + ripple + trim - v_meas
         gain = 1.0
         if df[d, B.D_ADAPTIVE] > 0.0:  # speed gains follow the roll's inertia
             gain = node_inertia(i, x, offsets, nodes, rolls) / (
@@ -203,17 +238,19 @@ def roll_change(t: float, x: np.ndarray, wound: np.ndarray, done: np.ndarray,
 @jit
 def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
             rec: np.ndarray, stages: np.ndarray, cmd: np.ndarray, work: np.ndarray,
+            held: np.ndarray,
             tick0: int, n_ticks: int, dt: float, substeps: int, record_every: int,
             include_end: bool, speed_max: float, offsets: np.ndarray, nodes: np.ndarray,
             si: np.ndarray,
             sf: np.ndarray, layers: np.ndarray, rolls: np.ndarray, webs: np.ndarray,
             di: np.ndarray, df: np.ndarray, cores: np.ndarray, clutch: np.ndarray,
-            cells: np.ndarray, events: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
-            prof_off: np.ndarray) -> tuple[int, int, float]:
+            cells: np.ndarray, events: np.ndarray, dist: np.ndarray, prof_t: np.ndarray,
+            prof_v: np.ndarray, prof_off: np.ndarray) -> tuple[int, int, float]:
     """Advance ``n_ticks`` controller periods from tick ``tick0``, recording [t, x..., cmd...]
     every ``record_every`` ticks and, with ``include_end``, the state after the last (a
     chunked run leaves that tick to the next chunk); returns (records, status, time of
-    failure). Stops at a non-finite state, an empty unwind or a runaway (``layout``)."""
+    failure). Stops at a non-finite state, an empty unwind or a runaway (``layout``).
+    ``held``: scratch for the inputs held over a period (``held_inputs``)."""
     n_x = x.shape[0]
     n_d = di.shape[0]
     n_s = si.shape[0]
@@ -226,8 +263,9 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
         if j == n_ticks and not include_end:  # the next chunk starts with this tick
             break
         roll_change(t, x, wound, done, offsets, rolls, events)
-        control_tick(t, dt, x, istate, cmd, offsets, nodes, rolls, di, df, cells, prof_t,
-                     prof_v, prof_off)
+        held_inputs(t, wound, held, webs.shape[0], dist, prof_t, prof_v, prof_off)
+        control_tick(t, tick0 + j, dt, x, istate, cmd, offsets, nodes, rolls, di, df, cells,
+                     dist, prof_t, prof_v, prof_off)
         if (tick0 + j) % record_every == 0 or j == n_ticks:
             rec[n_rec, 0] = t
             for m in range(n_x):
@@ -240,7 +278,7 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
         for _ in range(substeps):
             for stage in range(4):
                 state = x if stage == 0 else tmp
-                rhs(state, cmd, wound, offsets, nodes, si, sf, layers, rolls, webs, di, df,
+                rhs(state, cmd, held, offsets, nodes, si, sf, layers, rolls, webs, di, df,
                     cores, clutch, stages[stage], work)
                 if stage < 3:
                     c = h if stage == 2 else 0.5 * h
@@ -284,14 +322,15 @@ def _compiled(*tables: tuple[Any, ...]) -> Any:
     @loop_njit
     def loop(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
              rec: np.ndarray, stages: np.ndarray, cmd: np.ndarray, work: np.ndarray,
+             held: np.ndarray,
              tick0: int, n_ticks: int, dt: float, substeps: int, record_every: int,
              include_end: bool, speed_max: float, nodes: np.ndarray, sf: np.ndarray,
              rolls: np.ndarray, df: np.ndarray, clutch: np.ndarray, events: np.ndarray,
-             prof_t: np.ndarray, prof_v: np.ndarray,
+             dist: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
              prof_off: np.ndarray) -> tuple[int, int, float]:
-        return advance(x, istate, wound, done, rec, stages, cmd, work, tick0, n_ticks, dt,
+        return advance(x, istate, wound, done, rec, stages, cmd, work, held, tick0, n_ticks, dt,
                        substeps, record_every, include_end, speed_max, offsets, nodes, si, sf,
-                       layers, rolls, webs, di, df, cores, clutch, cells, events, prof_t,
+                       layers, rolls, webs, di, df, cores, clutch, cells, events, dist, prof_t,
                        prof_v, prof_off)
 
     return loop

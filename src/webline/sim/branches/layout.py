@@ -50,3 +50,9 @@ E_TIME, E_ROLL, E_RADIUS, E_WOUND, E_WEB, E_COLS = range(6)
 STATUS_OK, STATUS_NONFINITE, STATUS_UNWIND_EMPTY, STATUS_RUNAWAY = range(4)
 #: a strain beyond this, or a speed beyond 3x the top reference + 1 m/s, is a runaway [-]
 RUNAWAY_STRAIN = 0.05
+
+# disturbance table (float): kind, index (web, drive, node; a noise's seed), then per kind
+# ripple (amplitude, frequency [Hz], phase [rad]) | drag (profile number) | noise (tension
+# sigma [N], speed sigma [m/s], speed resolution [m/s])
+DS_KIND, DS_INDEX, DS_A, DS_B, DS_C, DS_COLS = range(6)
+DIST_WOUND_RIPPLE, DIST_SPEED_RIPPLE, DIST_DRAG, DIST_NOISE = range(4)

@@ -14,7 +14,8 @@ from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
 from webline.sim.branches import layout as B
-from webline.sim.branches.kernel import compiled_advance, node_inertia, work_size
+from webline.sim.branches.disturb import disturbance_table
+from webline.sim.branches.kernel import compiled_advance, held_inputs, node_inertia, work_size
 from webline.spec.branched.check import kind_of
 from webline.spec.schema import CascadedPISpec, IdleSpec, RewindSpec, UnwindSpec
 
@@ -25,7 +26,9 @@ RUNAWAY_SPEED_FACTOR, RUNAWAY_SPEED_FLOOR = 3.0, 1.0
 @dataclass(frozen=True, eq=False)
 class BranchPlan:
     """Flat tables of a branched line (columns: ``sim.branches.layout``). Profile 0 is the
-    line speed, profile 1 + k the tension reference of span k (where it has one)."""
+    line speed, then the tension references of the spans that have one, then the drag
+    torques. ``wound``: the held inputs, wound-in tension [N] per web then drag [N·m] per
+    node (``held`` gives them at a time)."""
 
     line: BranchedLine
     offsets: np.ndarray
@@ -41,6 +44,7 @@ class BranchPlan:
     clutch: np.ndarray
     cells: np.ndarray
     events: np.ndarray
+    dist: np.ndarray
     wound: np.ndarray
     prof_t: np.ndarray
     prof_v: np.ndarray
@@ -73,11 +77,21 @@ class BranchPlan:
         changes made) and ``cmd`` in place by ``n_ticks`` controller periods from tick
         ``tick0``, recording into ``rec`` (``kernel.advance``)."""
         stages = np.empty((5, self.n_x))
-        return self.loop()(x, istate, wound, done, rec, stages, cmd, self.scratch(), tick0,
+        return self.loop()(x, istate, wound, done, rec, stages, cmd, self.scratch(),
+                           np.empty_like(wound), tick0,
                            n_ticks, self.dt, substeps, record_every, include_end,
                            self.speed_max,
                            self.nodes, self.sf, self.rolls, self.df, self.clutch, self.events,
-                           self.prof_t, self.prof_v, self.prof_off)
+                           self.dist, self.prof_t, self.prof_v, self.prof_off)
+
+    def held(self, t: float) -> np.ndarray:
+        """The held inputs ``kernel.rhs`` takes at ``t`` [s] without the ripples (their mean):
+        wound-in tensions and drag torques (``kernel.held_inputs``)."""
+        out = np.empty_like(self.wound)
+        drags = self.dist[self.dist[:, B.DS_KIND] == B.DIST_DRAG]
+        held_inputs(t, self.wound, out, self.webs.shape[0], drags, self.prof_t, self.prof_v,
+                    self.prof_off)
+        return out
 
     def profile(self, p: int, t: float) -> float:
         a, b = self.prof_off[p], self.prof_off[p + 1]
@@ -130,7 +144,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         if tension is not None:
             ref_of[k] = len(profiles)
             profiles.append(breakpoints(tension))
-    wound = np.zeros(n_w)
+    wound = np.zeros(n_w + n_n)  # wound-in tension per web, drag per node (held_inputs)
     for w, web in enumerate(spec.webs):
         first = spec.rollers[line.node_index[web.path[0]]]
         if isinstance(first, UnwindSpec):
@@ -154,11 +168,12 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         w = line.rolls[j].web
         new = wound[w] if change.wound_in_tension is None else change.wound_in_tension
         events = np.array([[change.time, j, change.radius, new, w]])
+    dist = disturbance_table(line, profiles)
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
     top = max(float(np.max(np.abs(v))) for v in [breakpoints(spec.speed)[1]])
     rate = spec.control.sample_rate if sample_rate is None else sample_rate
     plan = BranchPlan(line, offsets, nodes, si, sf, layers, rolls, webs, di, df, cores, clutch,
-                      np.array(cells, dtype=np.int64).reshape(-1, 2), events, wound,
+                      np.array(cells, dtype=np.int64).reshape(-1, 2), events, dist, wound,
                       np.concatenate([t for t, _ in profiles]),
                       np.concatenate([v for _, v in profiles]), offs, 1.0 / rate,
                       RUNAWAY_SPEED_FACTOR * top + RUNAWAY_SPEED_FLOOR)

@@ -10,6 +10,7 @@ from collections.abc import Callable
 from typing import NoReturn
 
 from webline.errors import LineFileError
+from webline.spec.branched.disturbances import check_disturbances
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
 from webline.spec.schema import (
     CascadedPISpec,
@@ -55,6 +56,7 @@ def check_branched(spec: BranchedLineSpec, file: str) -> None:
         _check_web(spec, w, web, webs, rollers, fail)
     _check_rollers_once(spec, fail)
     _check_tree(spec, fail)
+    check_disturbances(spec, fail)
 
 
 def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
