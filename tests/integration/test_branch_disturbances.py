@@ -109,6 +109,24 @@ def test_a_speed_ripple_shows_in_the_rollers_speed_at_its_frequency():
     assert _peak_frequency(t[late], speed[late]) == pytest.approx(5.0, abs=0.7)
 
 
+def test_an_eccentric_roller_ripples_the_tension_at_its_rotation_frequency():
+    """The guide (r = 50 mm) 0.1 mm out of round at 5 m/s turns at 100 rad/s: its surface
+    arm r + e cos θ ripples at ω / 2π = 15.9 Hz (docs/winder.md E1), and so does the tension
+    of the span it feeds. An idle roller this light (J / r² = 0.8 kg) mostly turns faster and
+    slower under the web instead of moving it (measured 1.03 N peak to peak, where a driven
+    roller's e ω ripple would give ~28 N); the round guide's is steady (< 0.05 N)."""
+    eccentric = {"type": "eccentric_roller", "roller": "guide", "eccentricity": 1e-4}
+    ds = webline.simulate(load_branched(_slitter(eccentric)), 2.0).dataset
+    t = ds.time.values
+    late = t >= 0.5
+    zone = ds.tension.sel(span="unwind_zone").values[late]
+    omega = float(np.mean(ds.omega.sel(node="guide").values[late]))
+    assert _peak_frequency(t[late], zone) == pytest.approx(omega / (2 * np.pi), abs=0.7)
+    assert np.ptp(zone) > 0.5  # 20 times the round guide's
+    round_run = webline.simulate(load_branched(_slitter()), 2.0).dataset
+    assert np.ptp(round_run.tension.sel(span="unwind_zone").values[late]) < 0.05
+
+
 @pytest.mark.parametrize("item, key, problem", [
     ({"type": "roller_drag", "roller": "nowhere", "torque": 1.0}, "disturbances[0].roller",
      "no roller named"),
@@ -116,8 +134,10 @@ def test_a_speed_ripple_shows_in_the_rollers_speed_at_its_frequency():
      "disturbances[0].roller", "driven roller"),
     ({"type": "wound_in_ripple", "amplitude": 300.0, "frequency": 1.0},
      "disturbances[0].amplitude", "wound-in tension"),
-    ({"type": "eccentric_roller", "roller": "guide", "eccentricity": 1e-4},
+    ({"type": "web_break", "span": "unwind_zone", "at": 1.0},
      "disturbances[0].type", "not yet supported"),
+    ({"type": "eccentric_roller", "roller": "guide", "eccentricity": 0.05},
+     "disturbances[0].eccentricity", "below the roller radius"),
 ])
 def test_a_bad_disturbance_is_one_line_naming_its_key(item, key, problem):
     with pytest.raises(LineFileError, match=re.escape(key) + ".*" + problem):

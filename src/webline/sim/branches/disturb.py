@@ -9,8 +9,21 @@ import numpy as np
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
 from webline.sim.branches import layout as B
-from webline.spec.disturbances import MeasurementNoise, RollerDrag, SpeedRipple, WoundInRipple
+from webline.spec.disturbances import (
+    EccentricRoller,
+    MeasurementNoise,
+    RollerDrag,
+    SpeedRipple,
+    WoundInRipple,
+)
 from webline.spec.schema import UnwindSpec
+
+
+def eccentricities(line: BranchedLine) -> dict[int, float]:
+    """Node -> eccentricity [m] of every out-of-round roller or roll (``eccentric_roller``):
+    its lever arm and surface speed are r + e cos(angle), the angle a state (dθ/dt = ω)."""
+    return {line.node_index[item.roller]: item.eccentricity for item in line.spec.disturbances
+            if isinstance(item, EccentricRoller)}
 
 
 def disturbance_table(line: BranchedLine,

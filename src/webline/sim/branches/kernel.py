@@ -80,6 +80,7 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
     n_s, n_n = si.shape[0], nodes.shape[0]
     off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
     off_tq, off_q, off_c = offsets[B.O_TORQUE], offsets[B.O_WEB], offsets[B.O_CORE]
+    off_e = offsets[B.O_ANGLE]
     tension = work[:n_s]
     s_in = work[n_s:2 * n_s]
     v_a = work[2 * n_s:3 * n_s]
@@ -104,6 +105,10 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         a, b = si[k, B.S_A], si[k, B.S_B]
         arm_a = arm(si[k, B.S_ARMA], a, x, offsets, nodes)
         arm_b = arm(si[k, B.S_ARMB], b, x, offsets, nodes)
+        if si[k, B.S_ECCA] >= 0:  # an out-of-round roller: r + e cos(angle) (docs/winder.md E1)
+            arm_a += nodes[a, B.N_ECC] * math.cos(x[off_e + si[k, B.S_ECCA]])
+        if si[k, B.S_ECCB] >= 0:
+            arm_b += nodes[b, B.N_ECC] * math.cos(x[off_e + si[k, B.S_ECCB]])
         v_a[k] = arm_a * x[off_w + a]
         core = si[k, B.S_CORE]
         v_b[k] = arm_b * x[off_w + b] if core < 0 else arm_b * x[off_c + core]
@@ -133,6 +138,8 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         d = int(nodes[i, B.N_DRIVE])
         if d >= 0:
             total += nodes[i, B.N_RATIO] * x[off_tq + d]
+        if nodes[i, B.N_ANGLE] >= 0.0:
+            dx[off_e + int(nodes[i, B.N_ANGLE])] = omega
         if nodes[i, B.N_ROLLS] > 0.0:  # J(R) of the rolls on it (6.1)
             dx[off_w + i] = total / inertia[i]
         else:

@@ -2,21 +2,25 @@
 
 State vector: span stretches EA·ε [N] | node speeds ω [rad/s] | roll radii [m] | motor
 torques [N·m] | web length in and out [m] per web (unstrained web that entered the web's
-first span and left its last one) | lane core speeds ω [rad/s] on differential shafts.
+first span and left its last one) | lane core speeds ω [rad/s] on differential shafts |
+angles [rad] of eccentric rollers.
 """
 
 from __future__ import annotations
 
 # offsets row
-O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_CORE, O_N = range(6)
+O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_CORE, O_ANGLE, O_N = range(7)
 
 # node table (float)
-(N_RADIUS, N_JCONST, N_VISCOUS, N_COULOMB, N_CORE, N_RATIO, N_DRIVE, N_INVJ, N_ROLLS,
- N_COLS) = range(10)
+# (N_ECC: eccentricity [m]; N_ANGLE: its angle state's number, -1 where round)
+(N_RADIUS, N_JCONST, N_VISCOUS, N_COULOMB, N_CORE, N_RATIO, N_DRIVE, N_INVJ, N_ROLLS, N_ECC,
+ N_ANGLE, N_COLS) = range(12)
 
 # span table (int): nodes, web, where the carried-in stretch comes from, roll arms, layers,
-# the clutch core its downstream end winds on (-1: the node itself)
-S_A, S_B, S_WEB, S_SRC, S_FROM, S_ARMA, S_ARMB, S_COUNT, S_CORE, S_COLS = range(10)
+# the clutch core its downstream end winds on (-1: the node itself), the angle states of its
+# ends' nodes where they are eccentric (-1: round)
+(S_A, S_B, S_WEB, S_SRC, S_FROM, S_ARMA, S_ARMB, S_COUNT, S_CORE, S_ECCA, S_ECCB,
+ S_COLS) = range(12)
 # span table (float)
 SF_LENGTH, SF_EA, SF_SHARE, SF_INVEA, SF_COLS = range(5)
 #: S_SRC: the previous span of the path | the unwind's wound-in tension | the sum of the

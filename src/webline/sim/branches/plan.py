@@ -14,7 +14,7 @@ from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
 from webline.sim.branches import layout as B
-from webline.sim.branches.disturb import disturbance_table
+from webline.sim.branches.disturb import disturbance_table, eccentricities
 from webline.sim.branches.kernel import compiled_advance, held_inputs, node_inertia, work_size
 from webline.spec.branched.check import kind_of
 from webline.spec.schema import CascadedPISpec, IdleSpec, RewindSpec, UnwindSpec
@@ -108,8 +108,10 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     off_tq = off_r + n_r
     off_q = off_tq + n_d
     cores, clutch = _clutch_tables(line)
-    offsets = np.array([off_w, off_r, off_tq, off_q, off_q + 2 * n_w,
-                        off_q + 2 * n_w + len(cores)], dtype=np.int64)
+    eccentric = eccentricities(line)
+    off_c = off_q + 2 * n_w
+    offsets = np.array([off_w, off_r, off_tq, off_q, off_c, off_c + len(cores),
+                        off_c + len(cores) + len(eccentric)], dtype=np.int64)
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):
         nodes[i, B.N_RADIUS] = r.radius
@@ -125,6 +127,9 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         if isinstance(r, UnwindSpec | RewindSpec):
             nodes[i, B.N_CORE] = r.core_radius
     nodes[:, B.N_INVJ] = 1.0 / nodes[:, B.N_JCONST]
+    nodes[:, B.N_ANGLE] = -1.0
+    for e, (i, eccentricity) in enumerate(eccentric.items()):
+        nodes[i, B.N_ECC], nodes[i, B.N_ANGLE] = eccentricity, e
     rolls = np.zeros((n_r, B.R_COLS))
     for j, roll in enumerate(line.rolls):
         on_clutch = float(j in cores[:, B.C_ROLL])
@@ -135,6 +140,8 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     si, sf, layers = _span_tables(line)
     for c, (_, _, k) in enumerate(cores):
         si[k, B.S_CORE] = c
+    si[:, B.S_ECCA] = nodes[si[:, B.S_A], B.N_ANGLE]
+    si[:, B.S_ECCB] = nodes[si[:, B.S_B], B.N_ANGLE]
     webs = np.array([[line.web_spans(w)[0], line.web_spans(w)[-1]] for w in range(n_w)],
                     dtype=np.int64).reshape(n_w, B.WB_COLS)
     profiles = [breakpoints(spec.speed)]

@@ -52,7 +52,7 @@ class BranchResult:
         radius = x[:, o[B.O_RADIUS]:o[B.O_TORQUE]]
         torque = x[:, o[B.O_TORQUE]:o[B.O_WEB]]
         q = x[:, o[B.O_WEB]:o[B.O_CORE]]
-        core_omega = x[:, o[B.O_CORE]:o[B.O_N]]
+        core_omega = x[:, o[B.O_CORE]:o[B.O_ANGLE]]
         stored = np.stack([np.sum(plan.sf[s, B.SF_LENGTH] * (1.0 - x[:, s] / ea[s]), axis=1)
                            for s in (line.web_spans(w) for w in range(len(line.spec.webs)))],
                           axis=1)

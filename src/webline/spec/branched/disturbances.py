@@ -3,23 +3,25 @@ problem one ``LineFileError`` line naming the file, the key and the problem."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import NoReturn
 
 from webline.spec.branched.schema import BranchedLineSpec
 from webline.spec.disturbances import (
     DisturbanceSpec,
+    EccentricRoller,
     MeasurementNoise,
     RollerDrag,
     SpeedRipple,
     WoundInRipple,
 )
-from webline.spec.schema import IdleSpec, UnwindSpec
+from webline.spec.schema import IdleSpec, RewindSpec, UnwindSpec
 
 Fail = Callable[[str, str], NoReturn]
 
 #: what a branched line runs (the rest is refused naming its key)
-SUPPORTED = "roller_drag, speed_ripple, wound_in_ripple and measurement_noise disturbances"
+SUPPORTED = ("roller_drag, eccentric_roller, speed_ripple, wound_in_ripple and "
+             "measurement_noise disturbances")
 
 
 def check_disturbances(spec: BranchedLineSpec, fail: Fail) -> None:
@@ -36,12 +38,16 @@ def _check_list(spec: BranchedLineSpec, key: str, items: list[DisturbanceSpec],
     by_name = {r.name: r for r in spec.rollers}
     unwinds = [r.name for r in spec.rollers if isinstance(r, UnwindSpec)]
     dragged: set[str] = set()
+    eccentric: set[str] = set()
     noises = 0
     for j, item in enumerate(items):
         here = f"{key}[{j}]"
-        if not isinstance(item, RollerDrag | SpeedRipple | WoundInRipple | MeasurementNoise):
+        if not isinstance(item, RollerDrag | SpeedRipple | WoundInRipple | MeasurementNoise
+                          | EccentricRoller):
             fail(f"{here}.type", f"not yet supported on a branched line ({SUPPORTED})")
-        if isinstance(item, RollerDrag | SpeedRipple):
+        if isinstance(item, EccentricRoller):
+            _check_eccentric(item, here, by_name, eccentric, fail)
+        elif isinstance(item, RollerDrag | SpeedRipple):
             roller = by_name.get(item.roller)
             if roller is None:
                 fail(f"{here}.roller", f"no roller named {item.roller!r}")
@@ -67,3 +73,22 @@ def _check_list(spec: BranchedLineSpec, key: str, items: list[DisturbanceSpec],
             noises += 1
             if noises > 1:
                 fail(here, "one measurement_noise per line")
+
+
+def _check_eccentric(item: EccentricRoller, here: str, by_name: Mapping[str, object],
+                     eccentric: set[str], fail: Fail) -> None:
+    roller = by_name.get(item.roller)
+    if roller is None:
+        fail(f"{here}.roller", f"no roller named {item.roller!r}")
+    if item.roller in eccentric:
+        fail(f"{here}.roller", f"{item.roller!r} is already eccentric")
+    eccentric.add(item.roller)
+    if isinstance(roller, RewindSpec) and roller.shaft is not None:
+        fail(f"{here}.roller", "not yet supported on a differential shaft (its lanes turn on "
+             "their own cores)")
+    if isinstance(roller, UnwindSpec | RewindSpec):  # an out-of-round roll
+        if item.eccentricity >= roller.core_radius:
+            fail(f"{here}.eccentricity", f"must be below the roll's core radius "
+                 f"{roller.core_radius:g} m (the roll is never smaller)")
+    elif item.eccentricity >= getattr(roller, "radius", 0.0):
+        fail(f"{here}.eccentricity", "must be below the roller radius")
