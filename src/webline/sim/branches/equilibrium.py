@@ -23,7 +23,7 @@ from scipy.optimize import root
 
 from webline.errors import SimulationError
 from webline.sim.branches import layout as B
-from webline.sim.branches.kernel import node_inertia, rhs
+from webline.sim.branches.kernel import node_inertia, rhs, taper_at
 from webline.sim.branches.plan import BranchPlan
 
 #: the solver's relative tolerance on the scaled unknowns [-]
@@ -42,9 +42,16 @@ class BranchPoint:
 
 
 def _references(plan: BranchPlan, t: float) -> np.ndarray:
+    """Each loadcell span's reference [N] at ``t``, times its drive's taper at the roll's
+    starting radius."""
     refs = np.full(len(plan.line.spans), np.nan)
-    for k, p in plan.cells:
-        refs[k] = plan.profile(int(p), t)
+    for d in range(plan.di.shape[0]):
+        i, j = plan.di[d, B.DI_NODE], plan.di[d, B.DI_ROLL]
+        factor = 1.0 if j < 0 else taper_at(d, plan.line.rolls[j].radius, plan.nodes[i, B.N_CORE],
+                                            plan.df, plan.prof_t, plan.prof_v, plan.prof_off)
+        first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
+        for k, p in plan.cells[first:first + count]:
+            refs[k] = factor * plan.profile(int(p), t)
     return refs
 
 

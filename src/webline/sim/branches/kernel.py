@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from webline.physics import motor, roll, roller, span
+from webline.physics import motor, roll, roller, span, taper
 from webline.sim.branches import layout as B
 from webline.sim.elements.measure import quantized
 from webline.sim.elements.signals import gaussian, jit, loop_njit, profile_at, sines
@@ -23,6 +23,7 @@ _roll_inertia: Any = jit(roll.roll_inertia)
 _radius_rate: Any = jit(roll.radius_rate)
 _friction: Any = jit(roller.friction_torque)
 _saturate: Any = jit(motor.saturate)
+_taper_factor: Any = jit(taper.taper_factor)
 
 
 @jit
@@ -174,6 +175,20 @@ def held_inputs(t: float, wound: np.ndarray, held: np.ndarray, n_w: int, dist: n
 
 
 @jit
+def taper_at(d: int, radius: float, core_radius: float, df: np.ndarray, prof_t: np.ndarray,
+             prof_v: np.ndarray, prof_off: np.ndarray) -> float:
+    """Factor [-] on drive ``d``'s tension reference at its roll's ``radius`` [m] (a rewind's
+    taper, docs/winder.md W1; 1 without one): a table's profile is over the diameter."""
+    kind = int(df[d, B.D_TAPER_KIND])
+    if kind == 0:
+        return 1.0
+    if kind == taper.TABLE:
+        return profile_at(int(df[d, B.D_TAPER_PROF]), 2.0 * radius, prof_t, prof_v, prof_off)
+    return _taper_factor(kind, df[d, B.D_TAPER], 2.0 * core_radius, df[d, B.D_TAPER_DMAX],
+                         2.0 * radius)
+
+
+@jit
 def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarray,
                  cmd: np.ndarray, offsets: np.ndarray, nodes: np.ndarray, rolls: np.ndarray,
                  di: np.ndarray, df: np.ndarray, cells: np.ndarray, dist: np.ndarray,
@@ -200,11 +215,12 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
         if noisy:
             v_meas = quantized(v_meas + sigma_v * gaussian(seed, tick, 2 * d), resolution)
         e_t = 0.0
+        factor = taper_at(d, radius, nodes[i, B.N_CORE], df, prof_t, prof_v, prof_off)
         for c in range(di[d, B.DI_CELLS], di[d, B.DI_CELLS] + di[d, B.DI_NCELLS]):
             measured = _tension(x[cells[c, 0]])
             if noisy:
                 measured += sigma_t * gaussian(seed, tick, 2 * c + 1)
-            e_t += profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - measured
+            e_t += factor * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - measured
         trim = df[d, B.D_SIGMA] * (df[d, B.D_KPT] * e_t + istate[d, B.I_TENSION])
         ripple = 0.0
         for r in range(dist.shape[0]):

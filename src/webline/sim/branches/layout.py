@@ -42,8 +42,9 @@ WB_FIRST, WB_LAST, WB_COLS = range(3)
 # drive table (int)
 DI_NODE, DI_CELLS, DI_NCELLS, DI_ROLL, DI_COLS = range(5)
 # drive table (float)
+# (taper: kind of physics.taper, 0 none; taper; largest diameter [m]; a table's profile)
 (D_RATIO, D_KPS, D_KIS, D_KPT, D_KIT, D_LIMIT, D_INVLAG, D_SIGMA, D_GAINNORM, D_FF,
- D_ADAPTIVE, D_COLS) = range(12)
+ D_ADAPTIVE, D_TAPER_KIND, D_TAPER, D_TAPER_DMAX, D_TAPER_PROF, D_COLS) = range(16)
 
 # controller memory per drive
 I_SPEED, I_TENSION, I_COLS = range(3)

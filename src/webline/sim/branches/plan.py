@@ -16,6 +16,7 @@ from webline.profiles import breakpoints
 from webline.sim.branches import layout as B
 from webline.sim.branches.disturb import disturbance_table, eccentricities
 from webline.sim.branches.kernel import compiled_advance, held_inputs, node_inertia, work_size
+from webline.sim.branches.winder import taper_columns
 from webline.spec.branched.check import kind_of
 from webline.spec.schema import CascadedPISpec, IdleSpec, RewindSpec, UnwindSpec
 
@@ -176,6 +177,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         new = wound[w] if change.wound_in_tension is None else change.wound_in_tension
         events = np.array([[change.time, j, change.radius, new, w]])
     dist = disturbance_table(line, profiles)
+    taper_columns(line, df, profiles)
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
     top = max(float(np.max(np.abs(v))) for v in [breakpoints(spec.speed)[1]])
     rate = spec.control.sample_rate if sample_rate is None else sample_rate

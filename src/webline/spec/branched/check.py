@@ -20,6 +20,7 @@ from webline.spec.schema import (
     RollerSpec,
     UnwindSpec,
 )
+from webline.spec.winder import check_taper
 
 Fail = Callable[[str, str], NoReturn]
 
@@ -64,9 +65,14 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         key = f"rollers[{i}]"
         if roller.type == "dancer":
             unsupported(f"{key}.dancer", fail)
-        for name in ("nip", "wrap", "friction_table", "winder", "diameter", "taper"):
+        for name in ("nip", "wrap", "friction_table", "winder", "diameter"):
             if getattr(roller, name, None) is not None:
                 unsupported(f"{key}.{name}", fail)
+        if isinstance(roller, RewindSpec):
+            check_taper(roller.taper, f"{key}.taper", fail)
+            if roller.taper is not None and roller.shaft is not None:
+                fail(f"{key}.taper", "a differential shaft has no tension loop to taper (its "
+                     "lanes' tension is slip_torque / radius)")
         if roller.breakaway_torque > 0.0:
             unsupported(f"{key}.breakaway_torque", fail)
         contact = getattr(roller, "contact", None)
