@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from webline.physics import roll, roller, slip, span, web_law
+from webline.sim.core.plan import StructureKey, structure_arrays
 from webline.sim.elements import layout as L
 from webline.sim.elements.break_hold import brake_drag, brake_torque
 from webline.sim.elements.controllers import control_tick
@@ -245,19 +246,12 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
 
 def compiled_loop(plan: Plan) -> Any:
     """The simulation loop compiled for ``plan``'s structure (module docstring)."""
-    ns, ds, offsets = plan.structure()
-    return _compiled(tuple(map(tuple, ns.tolist())), tuple(map(tuple, ds.tolist())),
-                     tuple(offsets.tolist()))
+    return _compiled(plan.structure_key())
 
 
 @functools.cache
-def _compiled(node_rows: tuple[tuple[int, ...], ...], drive_rows: tuple[tuple[int, ...], ...],
-              offset_row: tuple[int, ...]) -> Any:
-    # numba freezes a closure's arrays into the machine code as constants, and its disk cache
-    # keys each compiled closure on their contents: one cached loop per structure
-    ns = np.array(node_rows, dtype=np.int64).reshape(len(node_rows), L.NS_COLS)
-    ds = np.array(drive_rows, dtype=np.int64).reshape(len(drive_rows), L.DS_COLS)
-    offsets = np.array(offset_row, dtype=np.int64)
+def _compiled(key: StructureKey) -> Any:
+    ns, ds, offsets = structure_arrays(key)  # frozen in: one cached loop per structure
 
     @loop_njit
     def loop(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.ndarray,

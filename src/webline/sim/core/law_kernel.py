@@ -25,6 +25,7 @@ import numba as nb
 import numpy as np
 
 from webline.sim.core.kernel import advance
+from webline.sim.core.plan import StructureKey, structure_arrays
 from webline.sim.elements import layout as L
 from webline.sim.elements.signals import _NO_NRT, FAST, loop_njit
 from webline.sim.elements.user_loop import (
@@ -148,19 +149,14 @@ def run(plan: Plan, x0: np.ndarray, istate0: np.ndarray, slip0: np.ndarray, tick
 def compiled_law_loop(plan: Plan) -> Any:
     """The loop with a hook, compiled for ``plan``'s structure (as ``kernel.compiled_loop``;
     a structure with user drives, ``layout.FAMILY_USER``)."""
-    ns, ds, offsets = plan.structure()
+    ds = plan.drive_structure
     assert (ds[:, L.DS_FAMILY] == L.FAMILY_USER).any()
-    return _compiled(tuple(map(tuple, ns.tolist())), tuple(map(tuple, ds.tolist())),
-                     tuple(offsets.tolist()))
+    return _compiled(plan.structure_key())
 
 
 @functools.cache
-def _compiled(node_rows: tuple[tuple[int, ...], ...], drive_rows: tuple[tuple[int, ...], ...],
-              offset_row: tuple[int, ...]) -> Any:
-    # as ``kernel._compiled``: the structure frozen in, one disk-cached loop per structure
-    ns = np.array(node_rows, dtype=np.int64).reshape(len(node_rows), L.NS_COLS)
-    ds = np.array(drive_rows, dtype=np.int64).reshape(len(drive_rows), L.DS_COLS)
-    offsets = np.array(offset_row, dtype=np.int64)
+def _compiled(key: StructureKey) -> Any:
+    ns, ds, offsets = structure_arrays(key)  # as ``kernel._compiled``: one loop per structure
 
     @loop_njit
     def loop(x: np.ndarray, istate: np.ndarray, slipping: np.ndarray, rec: np.ndarray,

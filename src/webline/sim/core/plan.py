@@ -45,6 +45,20 @@ RUNAWAY_SPEED_FACTOR = 10.0
 RUNAWAY_SPEED_FLOOR = 10.0  # [m/s]
 
 
+#: ``Plan.structure_key``: node rows, drive rows and the offsets, as tuples
+StructureKey = tuple[tuple[tuple[int, ...], ...], tuple[tuple[int, ...], ...], tuple[int, ...]]
+
+
+def structure_arrays(key: StructureKey) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The node structure, drive structure and offsets of ``key`` as the int64 arrays a loop
+    factory closes over (numba freezes a closure's arrays into the machine code, and its disk
+    cache keys each compiled closure on their contents: one cached loop per structure)."""
+    node_rows, drive_rows, offset_row = key
+    return (np.array(node_rows, dtype=np.int64).reshape(len(node_rows), L.NS_COLS),
+            np.array(drive_rows, dtype=np.int64).reshape(len(drive_rows), L.DS_COLS),
+            np.array(offset_row, dtype=np.int64))
+
+
 @dataclass(frozen=True)
 class Plan:
     """Arrays describing one line for the kernel, plus the names of what they hold.
@@ -84,6 +98,13 @@ class Plan:
         """The integer tables the kernel is compiled against: node structure, drive structure
         and offsets (``webline.sim.elements.layout``)."""
         return self.node_structure, self.drive_structure, self.offsets
+
+    def structure_key(self) -> StructureKey:
+        """The integer tables as nested tuples: hashable, the key of one compiled loop (each
+        loop factory is cached on it and rebuilds the arrays with ``structure_arrays``)."""
+        ns, ds, offsets = self.structure()
+        return (tuple(map(tuple, ns.tolist())), tuple(map(tuple, ds.tolist())),
+                tuple(offsets.tolist()))
 
     def params(self) -> tuple[np.ndarray, ...]:
         """Parameter arrays in the order the compiled loop takes them after its settings."""

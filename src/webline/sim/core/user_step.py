@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from webline.sim.core.kernel import advance
+from webline.sim.core.plan import StructureKey, structure_arrays
 from webline.sim.elements import layout as L
 from webline.sim.elements.signals import jit, loop_njit
 from webline.sim.elements.user_loop import (
@@ -98,17 +99,12 @@ def _copy(dst: np.ndarray, src: np.ndarray) -> None:
 def compiled_user_step(plan: Plan) -> Any:
     """The user run's step compiled for ``plan``'s structure (as ``kernel.compiled_loop``:
     one cached step per structure)."""
-    ns, ds, offsets = plan.structure()
-    return _compiled_step(tuple(map(tuple, ns.tolist())), tuple(map(tuple, ds.tolist())),
-                          tuple(offsets.tolist()))
+    return _compiled_step(plan.structure_key())
 
 
 @functools.cache
-def _compiled_step(node_rows: tuple[tuple[int, ...], ...],
-                   drive_rows: tuple[tuple[int, ...], ...], offset_row: tuple[int, ...]) -> Any:
-    ns = np.array(node_rows, dtype=np.int64).reshape(len(node_rows), L.NS_COLS)
-    ds = np.array(drive_rows, dtype=np.int64).reshape(len(drive_rows), L.DS_COLS)
-    offsets = np.array(offset_row, dtype=np.int64)
+def _compiled_step(key: StructureKey) -> Any:
+    ns, ds, offsets = structure_arrays(key)
     n_float = len(FLOAT_SEGMENTS)
 
     @loop_njit
