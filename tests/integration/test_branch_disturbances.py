@@ -68,6 +68,21 @@ def test_measurement_noise_is_reproducible_from_its_seed():
     assert np.max(np.abs(first - other)) > 0.01  # 2 N noise through 8 rad/s loops
 
 
+def test_noise_and_ripples_in_chunks_are_the_run_in_one_piece(monkeypatch):
+    """The noise is drawn per (seed, tick, channel) and the ripples at each tick's time, so a
+    run split into chunks of the compiled loop (``run.CHUNK``) is the same run bit for bit."""
+    from webline.sim.branches import run
+
+    line = load_branched(_slitter(
+        {"type": "measurement_noise", "tension": 2.0, "speed": 0.001, "seed": 5},
+        {"type": "wound_in_ripple", "amplitude": 20.0, "frequency": 2.0},
+        {"type": "speed_ripple", "roller": "pull", "amplitude": 0.01, "frequency": 5.0}))
+    whole = webline.simulate(line, 0.8)
+    monkeypatch.setattr(run, "CHUNK", 177)
+    chunked = webline.simulate(line, 0.8)
+    assert np.array_equal(whole.rec, chunked.rec)
+
+
 def test_a_wound_in_ripple_enters_the_unwinds_span_as_its_equation_says():
     """The unwind's first span (B1), L dT/dt = EA (v_b - v_a) + s_in v_a - T v_b, with the
     wound-in tension s_in = 280 N + 20 N sin(2π 2 Hz t) held over each 1 ms tick, integrated

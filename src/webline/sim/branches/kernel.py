@@ -75,9 +75,9 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
     """dx/dt of a branched line into ``dx`` with held motor-torque commands ``cmd`` [N·m] and
     held inputs ``wound``: the wound-in tension [N] per web, then the drag torque [N·m] per
     node (``roller_drag``, added to its Coulomb friction). ``work``: scratch of 4 x spans +
-    2 x nodes (``work_size``). A lane on a differential shaft winds on its own core, which its slip
-    clutch drives from the shaft with the smoothed Coulomb torque of ``physics.roller``
-    (docs/branching.md, "Differential shafts")."""
+    2 x nodes (``work_size``). A lane on a differential shaft winds on its own core, which
+    its slip clutch drives from the shaft with the smoothed Coulomb torque of
+    ``physics.roller`` (docs/branching.md, "Differential shafts")."""
     n_s, n_n = si.shape[0], nodes.shape[0]
     off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
     off_tq, off_q, off_c = offsets[B.O_TORQUE], offsets[B.O_WEB], offsets[B.O_CORE]
