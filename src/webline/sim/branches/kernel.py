@@ -175,6 +175,27 @@ def held_inputs(t: float, wound: np.ndarray, held: np.ndarray, n_w: int, dist: n
 
 
 @jit
+def calculated_radius(d: int, radius: float, omega: float, dt: float, v_line: float,
+                      x: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
+                      df: np.ndarray) -> float:
+    """Drive ``d``'s diameter calculator one tick ``dt`` [s] on (docs/winder.md W2, as the
+    chain's ``sim.elements.diameter.update_radius``): from ``radius`` [m] and the measured
+    spindle speed ``omega`` [rad/s]. Speed ratio: R_raw = v_line / ω through a first-order
+    filter, its step limited to rate_limit dt / 2, held while |v_line| < hold_below; v_line
+    the reference ``v_line`` [m/s] or the source roller's surface speed. Thickness: R grows
+    (winding) or shrinks by h |ω| dt / 2π."""
+    if df[d, B.D_DCALC] == B.DCALC_THICKNESS:
+        return radius + df[d, B.D_DDIR] * df[d, B.D_DTHICK] * abs(omega) * dt / (2.0 * math.pi)
+    src = int(df[d, B.D_DSOURCE])
+    v_src = v_line if src < 0 else nodes[src, B.N_RADIUS] * x[offsets[B.O_OMEGA] + src]
+    if abs(v_src) < df[d, B.D_DHOLD] or abs(omega) <= 1e-9:
+        return radius
+    step = (abs(v_src / omega) - radius) * min(dt / df[d, B.D_DFILTER], 1.0)
+    limit = 0.5 * df[d, B.D_DRATE] * dt
+    return radius + min(max(step, -limit), limit)
+
+
+@jit
 def taper_at(d: int, radius: float, core_radius: float, df: np.ndarray, prof_t: np.ndarray,
              prof_v: np.ndarray, prof_off: np.ndarray) -> float:
     """Factor [-] on drive ``d``'s tension reference at its roll's ``radius`` [m] (a rewind's
@@ -210,10 +231,18 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
     for d in range(di.shape[0]):
         i = di[d, B.DI_NODE]
         j = di[d, B.DI_ROLL]
-        radius = x[off_r + j] if j >= 0 else nodes[i, B.N_RADIUS]  # true radius (stage 1)
+        radius = x[off_r + j] if j >= 0 else nodes[i, B.N_RADIUS]  # true radius
+        if df[d, B.D_DCALC] != B.DCALC_NONE:
+            radius = istate[d, B.I_RADIUS]
         v_meas = radius * x[off_w + i]
         if noisy:
             v_meas = quantized(v_meas + sigma_v * gaussian(seed, tick, 2 * d), resolution)
+        if df[d, B.D_DCALC] != B.DCALC_NONE:  # W2: the radius the controllers use
+            omega_meas = v_meas / radius
+            radius = calculated_radius(d, radius, omega_meas, dt, v_line, x, offsets, nodes,
+                                       df)
+            istate[d, B.I_RADIUS] = radius
+            v_meas = radius * omega_meas
         e_t = 0.0
         factor = taper_at(d, radius, nodes[i, B.N_CORE], df, prof_t, prof_v, prof_off)
         for c in range(di[d, B.DI_CELLS], di[d, B.DI_CELLS] + di[d, B.DI_NCELLS]):
@@ -269,8 +298,8 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             di: np.ndarray, df: np.ndarray, cores: np.ndarray, clutch: np.ndarray,
             cells: np.ndarray, events: np.ndarray, dist: np.ndarray, prof_t: np.ndarray,
             prof_v: np.ndarray, prof_off: np.ndarray) -> tuple[int, int, float]:
-    """Advance ``n_ticks`` controller periods from tick ``tick0``, recording [t, x..., cmd...]
-    every ``record_every`` ticks and, with ``include_end``, the state after the last (a
+    """Advance ``n_ticks`` controller periods from tick ``tick0``, recording ``new_records``'
+    rows every ``record_every`` ticks and, with ``include_end``, the state after the last (a
     chunked run leaves that tick to the next chunk); returns (records, status, time of
     failure). Stops at a non-finite state, an empty unwind or a runaway (``layout``).
     ``held``: scratch for the inputs held over a period (``held_inputs``)."""
@@ -295,6 +324,7 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
                 rec[n_rec, 1 + m] = x[m]
             for d in range(n_d):
                 rec[n_rec, 1 + n_x + d] = cmd[d]
+                rec[n_rec, 1 + n_x + n_d + d] = istate[d, B.I_RADIUS]
             n_rec += 1
         if j == n_ticks:
             break
@@ -360,5 +390,6 @@ def _compiled(*tables: tuple[Any, ...]) -> Any:
 
 
 def new_records(n_ticks: int, record_every: int, n_x: int, n_d: int) -> np.ndarray:
-    """A record buffer for ``advance``."""
-    return np.empty((n_ticks // record_every + 2, 1 + n_x + n_d))
+    """A record buffer for ``advance``: rows [t, x..., torque commands..., calculated
+    radii...]."""
+    return np.empty((n_ticks // record_every + 2, 1 + n_x + 2 * n_d))

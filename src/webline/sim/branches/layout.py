@@ -42,12 +42,17 @@ WB_FIRST, WB_LAST, WB_COLS = range(3)
 # drive table (int)
 DI_NODE, DI_CELLS, DI_NCELLS, DI_ROLL, DI_COLS = range(5)
 # drive table (float)
-# (taper: kind of physics.taper, 0 none; taper; largest diameter [m]; a table's profile)
+# (taper: kind of physics.taper, 0 none; taper; largest diameter [m]; a table's profile.
+# diameter calculator: DCALC_*; filter [s]; rate limit [m/s]; hold below [m/s]; line-speed
+# source node, -1 the reference; thickness [m]; +1 winding, -1 unwinding)
 (D_RATIO, D_KPS, D_KIS, D_KPT, D_KIT, D_LIMIT, D_INVLAG, D_SIGMA, D_GAINNORM, D_FF,
- D_ADAPTIVE, D_TAPER_KIND, D_TAPER, D_TAPER_DMAX, D_TAPER_PROF, D_COLS) = range(16)
+ D_ADAPTIVE, D_TAPER_KIND, D_TAPER, D_TAPER_DMAX, D_TAPER_PROF, D_DCALC, D_DFILTER, D_DRATE,
+ D_DHOLD, D_DSOURCE, D_DTHICK, D_DDIR, D_COLS) = range(23)
+DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = range(3)
 
 # controller memory per drive
-I_SPEED, I_TENSION, I_COLS = range(3)
+# controller memory per drive (I_RADIUS: the diameter calculator's radius [m])
+I_SPEED, I_TENSION, I_RADIUS, I_COLS = range(4)
 
 # event table (roll change): time, roll, new radius, new wound-in tension, web
 E_TIME, E_ROLL, E_RADIUS, E_WOUND, E_WEB, E_COLS = range(6)

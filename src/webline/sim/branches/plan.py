@@ -16,7 +16,7 @@ from webline.profiles import breakpoints
 from webline.sim.branches import layout as B
 from webline.sim.branches.disturb import disturbance_table, eccentricities
 from webline.sim.branches.kernel import compiled_advance, held_inputs, node_inertia, work_size
-from webline.sim.branches.winder import taper_columns
+from webline.sim.branches.winder import diameter_columns, taper_columns
 from webline.spec.branched.check import kind_of
 from webline.spec.schema import CascadedPISpec, IdleSpec, RewindSpec, UnwindSpec
 
@@ -28,8 +28,9 @@ RUNAWAY_SPEED_FACTOR, RUNAWAY_SPEED_FLOOR = 3.0, 1.0
 class BranchPlan:
     """Flat tables of a branched line (columns: ``sim.branches.layout``). Profile 0 is the
     line speed, then the tension references of the spans that have one, then the drag
-    torques. ``wound``: the held inputs, wound-in tension [N] per web then drag [N·m] per
-    node (``held`` gives them at a time)."""
+    torques. ``radius0``: each drive's calculated radius at the start [m] (0 without a
+    diameter calculator). ``wound``: the held inputs, wound-in tension [N] per web then drag
+    [N·m] per node (``held`` gives them at a time)."""
 
     line: BranchedLine
     offsets: np.ndarray
@@ -46,6 +47,7 @@ class BranchPlan:
     cells: np.ndarray
     events: np.ndarray
     dist: np.ndarray
+    radius0: np.ndarray
     wound: np.ndarray
     prof_t: np.ndarray
     prof_v: np.ndarray
@@ -178,11 +180,13 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         events = np.array([[change.time, j, change.radius, new, w]])
     dist = disturbance_table(line, profiles)
     taper_columns(line, df, profiles)
+    radius0 = diameter_columns(line, df, di)
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
     top = max(float(np.max(np.abs(v))) for v in [breakpoints(spec.speed)[1]])
     rate = spec.control.sample_rate if sample_rate is None else sample_rate
     plan = BranchPlan(line, offsets, nodes, si, sf, layers, rolls, webs, di, df, cores, clutch,
-                      np.array(cells, dtype=np.int64).reshape(-1, 2), events, dist, wound,
+                      np.array(cells, dtype=np.int64).reshape(-1, 2), events, dist, radius0,
+                      wound,
                       np.concatenate([t for t, _ in profiles]),
                       np.concatenate([v for _, v in profiles]), offs, 1.0 / rate,
                       RUNAWAY_SPEED_FACTOR * top + RUNAWAY_SPEED_FLOOR)

@@ -44,7 +44,7 @@ class BranchResult:
         length in/out and stored per web."""
         plan, line = self.plan, self.plan.line
         x = self.states
-        n_s, n_n = len(line.spans), plan.nodes.shape[0]
+        n_s, n_n, n_d = len(line.spans), plan.nodes.shape[0], len(line.drives)
         o = plan.offsets
         ea = plan.sf[:, B.SF_EA]
         tension = np.maximum(x[:, :n_s], 0.0)
@@ -87,7 +87,10 @@ class BranchResult:
                          "shaft: the lane its drive measures)"),
             "radius": var(("roll",), radius, "m", "wound radius of a roll or lane"),
             "torque": var(("drive",), torque, "N*m", "motor torque"),
-            "torque_cmd": var(("drive",), self.rec[:, 1 + plan.n_x:], "N*m", "torque command"),
+            "torque_cmd": var(("drive",), self.rec[:, 1 + plan.n_x:1 + plan.n_x + n_d], "N*m",
+                              "torque command"),
+            "radius_calc": var(("drive",), self.rec[:, 1 + plan.n_x + n_d:], "m",
+                               "radius a diameter calculator gives its drive (0: none)"),
             "web_in": var(("web",), q[:, 0::2], "m", "unstrained web in at the path's start"),
             "web_out": var(("web",), q[:, 1::2], "m", "unstrained web out at the path's end"),
             "web_stored": var(("web",), stored, "m", "unstrained web in the path's spans"),

@@ -30,3 +30,29 @@ def taper_columns(line: BranchedLine, df: np.ndarray,
             df[d, B.D_TAPER_PROF] = len(profiles)
             profiles.append((np.array(spec.diameter, dtype=float),
                              np.array(spec.factor, dtype=float)))
+
+
+def diameter_columns(line: BranchedLine, df: np.ndarray, di: np.ndarray) -> np.ndarray:
+    """Fill the diameter-calculator columns of ``df`` (docs/winder.md W2) and return each
+    drive's starting calculated radius [m] (0 without a calculator): ``initial`` = "measured"
+    is the true radius of the lane the drive measures speed on."""
+    start = np.zeros(len(line.drives))
+    for d, i in enumerate(line.drives):
+        roller = line.spec.rollers[i]
+        spec = getattr(roller, "diameter", None)
+        j = di[d, B.DI_ROLL]
+        if spec is None or j < 0:
+            continue
+        roll = line.rolls[j]
+        df[d, B.D_DCALC] = (B.DCALC_THICKNESS if spec.method == "thickness"
+                            else B.DCALC_SPEED_RATIO)
+        df[d, B.D_DFILTER] = spec.filter
+        df[d, B.D_DRATE] = math.inf if spec.rate_limit is None else spec.rate_limit
+        df[d, B.D_DHOLD] = spec.hold_below
+        df[d, B.D_DSOURCE] = (-1 if spec.line_speed == "reference" else line.master
+                              if spec.line_speed == "master"
+                              else line.node_index[spec.line_speed])
+        df[d, B.D_DTHICK] = line.materials[roll.web].thickness
+        df[d, B.D_DDIR] = roll.direction
+        start[d] = roll.radius if spec.initial == "measured" else 0.5 * spec.initial
+    return start

@@ -65,9 +65,10 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         key = f"rollers[{i}]"
         if roller.type == "dancer":
             unsupported(f"{key}.dancer", fail)
-        for name in ("nip", "wrap", "friction_table", "winder", "diameter"):
+        for name in ("nip", "wrap", "friction_table", "winder"):
             if getattr(roller, name, None) is not None:
                 unsupported(f"{key}.{name}", fail)
+        _check_diameter(spec, i, roller, fail)
         if isinstance(roller, RewindSpec):
             check_taper(roller.taper, f"{key}.taper", fail)
             if roller.taper is not None and roller.shaft is not None:
@@ -106,6 +107,24 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
                 next((r for r in spec.rollers if r.name == change.roller), None), UnwindSpec):
             fail(f"scenarios.{name}.roll_change.roller",
                  f"{change.roller!r} is no unwind roller of this line")
+
+
+def _check_diameter(spec: BranchedLineSpec, i: int, roller: RollerSpec, fail: Fail) -> None:
+    """A roll's diameter calculator: its line-speed source is the master, the reference or
+    another roller that is no roll; no presets yet; not on a differential shaft."""
+    diameter = getattr(roller, "diameter", None)
+    if diameter is None:
+        return
+    key = f"rollers[{i}].diameter"
+    if diameter.preset:
+        unsupported(f"{key}.preset", fail, "a diameter calculator without presets")
+    if getattr(roller, "shaft", None) is not None:
+        fail(key, "a differential shaft has no speed-to-radius loop to calculate for")
+    source = next((r for r in spec.rollers if r.name == diameter.line_speed), None)
+    if diameter.line_speed not in ("master", "reference") and (
+            source is None or source is roller or isinstance(source, UnwindSpec | RewindSpec)):
+        fail(f"{key}.line_speed", "must be 'master', 'reference' or the name of another "
+             f"roller that is no roll, got {diameter.line_speed!r}")
 
 
 def _check_web(spec: BranchedLineSpec, w: int, web: WebPathSpec, webs: dict[str, WebPathSpec],
