@@ -94,8 +94,8 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         torque[i] = 0.0
         inertia[i] = nodes[i, B.N_JCONST]
     for j in range(rolls.shape[0]):  # every roll wound on a node adds its web's inertia
-        if rolls[j, B.R_CLUTCH] != 0.0:  # (on its own core: below)
-            continue
+        if cores.shape[0] > 0 and rolls[j, B.R_CLUTCH] != 0.0:  # on its own core: below
+            continue  # (cores is frozen into the loop: without clutches this folds away)
         i = int(rolls[j, B.R_NODE])
         radius = x[off_r + j]
         inertia[i] += _roll_inertia(0.0, radius, rolls[j, B.R_CORE], rolls[j, B.R_WIDTH],
@@ -108,8 +108,10 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         arm_b = arm(si[k, B.S_ARMB], b, x, offsets, nodes)
         if si[k, B.S_ECCA] >= 0:  # an out-of-round roller: r + e cos(angle) (docs/winder.md E1)
             arm_a += nodes[a, B.N_ECC] * math.cos(x[off_e + si[k, B.S_ECCA]])
+            dx[off_e + si[k, B.S_ECCA]] = x[off_w + a]  # dθ/dt = ω (set once per span end)
         if si[k, B.S_ECCB] >= 0:
             arm_b += nodes[b, B.N_ECC] * math.cos(x[off_e + si[k, B.S_ECCB]])
+            dx[off_e + si[k, B.S_ECCB]] = x[off_w + b]
         v_a[k] = arm_a * x[off_w + a]
         core = si[k, B.S_CORE]
         v_b[k] = arm_b * x[off_w + b] if core < 0 else arm_b * x[off_c + core]
@@ -139,8 +141,6 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         d = int(nodes[i, B.N_DRIVE])
         if d >= 0:
             total += nodes[i, B.N_RATIO] * x[off_tq + d]
-        if nodes[i, B.N_ANGLE] >= 0.0:
-            dx[off_e + int(nodes[i, B.N_ANGLE])] = omega
         if nodes[i, B.N_ROLLS] > 0.0:  # J(R) of the rolls on it (6.1)
             dx[off_w + i] = total / inertia[i]
         else:
