@@ -20,8 +20,9 @@ import webline
 from webline.sim.branches import layout as B
 from webline.sim.branches.equilibrium import operating_point
 from webline.sim.branches.kernel import new_records
+from webline.sim.branches.linear import fastest_rate
 from webline.sim.branches.plan import compile_branches
-from webline.sim.branches.run import STEP_LIMIT, fastest_rate
+from webline.sim.branches.run import STEP_LIMIT
 from webline.sim.core import kernel
 from webline.sim.core.plan import compile_plan, equilibrium_plan_state
 from webline.sim.simulate import choose_substeps

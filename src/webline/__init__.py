@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from webline.model.operating_point import OperatingPoint, operating_point
     from webline.model.web_graph import BranchedLine, load_branched
     from webline.sim.compiled_control import CompiledController
-    from webline.sim.linear.linearize import linearize
+    from webline.sim.linearize import linearize
     from webline.sim.reference import simulate_reference
     from webline.sim.results.result import Result
     from webline.sim.session import Session
@@ -45,7 +45,7 @@ _LAZY = {
     "load_branched": "webline.model.web_graph",
     "OperatingPoint": "webline.model.operating_point",
     "operating_point": "webline.model.operating_point",
-    "linearize": "webline.sim.linear.linearize",
+    "linearize": "webline.sim.linearize",
     "simulate_reference": "webline.sim.reference",
     "Result": "webline.sim.results.result",
     "simulate": "webline.sim.simulate",

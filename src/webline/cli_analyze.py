@@ -58,6 +58,14 @@ def analyze(
 
     Exit status: 0 ok (no closed-loop mode grows), 2 bad input, 3 unstable (one grows).
     """
+    from webline.model.web_graph import source_is_branched
+
+    if source_is_branched(line):  # docs/branching.md, "Linear models"
+        _analyze_branched(line, scenario, at, as_json, {
+            "--units": units != Units.si, "--certificate": certificate,
+            "--controller": controller is not None, "--set": bool(sets),
+            "--across-roll": across_roll, "--figure": figure is not None})
+        return
     from webline.analysis.modes import closed_loop_modes
     from webline.analysis.zone_loops import speed_leaks, zone_loops
     from webline.model.operating_point import analysis_time, operating_point
@@ -118,6 +126,84 @@ def analyze(
             _print_certificate(cert)
     if verdict.exit_code:
         raise typer.Exit(verdict.exit_code)
+
+
+def _analyze_branched(source: str, scenario: str | None, at: str | None, as_json: bool,
+                      unsupported: dict[str, bool]) -> None:
+    """``analyze`` of a branched line: operating point, closed-loop modes and the stability
+    verdict (``sim.branches.linear``); ``unsupported``: options given that it does not take."""
+    from webline.analysis.modes import modes_of
+    from webline.model.web_graph import load_branched
+    from webline.report.text.tables import modes_table
+    from webline.report.text.verdict_text import verdict_lines
+    from webline.sim.branches.equilibrium import operating_point
+    from webline.sim.branches.linear import (
+        analysis_time,
+        branch_linear_model,
+        stability_findings,
+    )
+    from webline.sim.branches.plan import compile_branches
+    from webline.verdict import Verdict
+
+    for option, given in unsupported.items():
+        if given:
+            raise BadInput(f"{option}: not yet supported for a branched line (analyze: the "
+                           "operating point, closed-loop modes and stability, in SI)")
+    line = load_branched(source)
+    if scenario:
+        line = line.with_scenario(scenario)
+    t = analysis_time(line) if at is None else time_option(at, "--time", zero=True)
+    plan = compile_branches(line)
+    point = operating_point(plan, t)
+    model = branch_linear_model(plan, point, "closed")
+    modes = modes_of(model.a, model.states)
+    verdict = Verdict.of(stability_findings(plan, point, t))
+    spans, nodes = _branch_point_rows(plan, point)
+    if as_json:
+        typer.echo(json.dumps({
+            "line": line.name, "scenario": scenario, "units": "si", "analysis_time_s": t,
+            "operating_point": {"spans": spans, "rollers": nodes},
+            "closed_loop_modes": [m.as_dict() for m in modes], "verdict": verdict.as_dict()},
+            indent=2, default=float))
+    else:
+        from webline.report.text.tables import make_table
+
+        tables = [
+            make_table("spans", f"Operating point at t = {t:g} s: spans",
+                       ["span", "web", "tension [N]"],
+                       [[r["span"], r["web"], f"{r['tension_N']:.4g}"] for r in spans]),
+            make_table("rollers", "Operating point: rollers",
+                       ["roller", "surface speed [m/s]", "ω [rad/s]", "torque [N·m]"],
+                       [[r["roller"], f"{r['speed_m_s']:.4g}", f"{r['omega_rad_s']:.4g}",
+                         "–" if r["torque_Nm"] is None else f"{r['torque_Nm']:.4g}"]
+                        for r in nodes]),
+            modes_table(modes)]
+        print_tables(tables, _console())
+        typer.echo("\n".join(verdict_lines(verdict)))
+    if verdict.exit_code:
+        raise typer.Exit(verdict.exit_code)
+
+
+def _branch_point_rows(plan: object, point: object) -> tuple[list[dict], list[dict]]:
+    """Rows of a branched operating point: per span its tension [N], per roller its surface
+    speed [m/s] (on a roll: its drive's lane), ω [rad/s] and motor torque [N·m] (None: idle)."""
+    from webline.sim.branches import layout as B
+    from webline.sim.branches.equilibrium import BranchPoint
+    from webline.sim.branches.linear import speed_arm
+    from webline.sim.branches.plan import BranchPlan
+
+    assert isinstance(plan, BranchPlan) and isinstance(point, BranchPoint)
+    line, x = plan.line, point.x
+    spans = [{"span": s.name, "web": line.spec.webs[s.web].name,
+              "tension_N": float(max(x[s.index], 0.0))} for s in line.spans]
+    nodes = []
+    for i, roller in enumerate(line.spec.rollers):
+        omega = float(x[plan.offsets[B.O_OMEGA] + i])
+        d = int(plan.nodes[i, B.N_DRIVE])
+        nodes.append({"roller": roller.name, "speed_m_s": speed_arm(plan, point, i) * omega,
+                      "omega_rad_s": omega,
+                      "torque_Nm": float(point.torque[d]) if d >= 0 else None})
+    return spans, nodes
 
 
 def _across_roll(line: Line, scenario: str | None, points: int, damping: float,

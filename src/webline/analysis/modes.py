@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from webline.line import Line, load_line
+from webline.model.web_graph import BranchedLine
 from webline.sim.linear.linearize import LinearModel
 
 if TYPE_CHECKING:
@@ -85,10 +86,18 @@ def modes_of(a: np.ndarray, names: Sequence[str]) -> list[Mode]:
     return sorted(out, key=lambda m: (m.natural_frequency, m.eigenvalue.imag))
 
 
-def closed_loop_modes(line: Line | str, t: float = 0.0) -> list[Mode]:
+def closed_loop_modes(line: Line | BranchedLine | str, t: float = 0.0) -> list[Mode]:
     """Modes of ``line`` with its controllers, linearized at time ``t`` [s] (the plan's cached
-    closed-loop model: no python-control needed)."""
+    closed-loop model: no python-control needed); a branched line's from
+    ``sim.branches.linear`` (docs/branching.md, "Linear models")."""
+    from webline.model.web_graph import source_is_branched
     from webline.sim.core.plan import compile_plan
     from webline.sim.linear.linearize import plan_linear_model
+
+    if isinstance(line, BranchedLine) or (not isinstance(line, Line)
+                                          and source_is_branched(line)):
+        from webline.sim.branches.linear import linear_model
+
+        return modes(linear_model(line, t, loop="closed"))
 
     return modes(plan_linear_model(compile_plan(load_line(line)), loop="closed", t=t))

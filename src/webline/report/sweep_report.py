@@ -19,6 +19,7 @@ from webline.report.text.display import Display, number_text
 from webline.report.text.html import Image, Section, Text, render
 from webline.report.text.tables import Table, make_table
 from webline.sim.results.metrics import METRICS
+from webline.sim.sweeps.branch_study import FINAL_ERROR
 from webline.sim.sweeps.distributions import proportion_interval
 from webline.sim.sweeps.study_grid import as_cases
 from webline.units import SI_UNITS
@@ -106,7 +107,8 @@ def metric_table(ds: Any, display: Display | None = None) -> Table:
     ds = as_cases(ds)  # a grid laid flat: one row per case
     display = display or Display()
     rows = []
-    for name, (dim, si_unit, _) in METRICS.items():
+    shown_metrics = {**METRICS, **{k: v for k, v in FINAL_ERROR.items() if k in ds}}
+    for name, (dim, si_unit, _) in shown_metrics.items():
         for j, element in enumerate(ds[dim].values):
             column, units = shown(display, ds[name].values[:, j], si_unit)
             finite = column[np.isfinite(column)]

@@ -160,8 +160,9 @@ def spec_from_dict(data: Any, file: str = "<dict>") -> LineSpec:
         raise LineFileError(file, "(top level)", "a line file must be a table of keys")
     if "webs" in data:
         raise LineFileError(file, "webs", "a branched line ([[webs]]): not yet supported "
-                            "here (stage 1: webline run and validate; in Python "
-                            "webline.load_branched and webline.simulate; docs/branching.md)")
+                            "here (webline run, validate and analyze; in Python "
+                            "webline.load_branched, webline.simulate and webline.linearize; "
+                            "docs/branching.md)")
     try:  # forces per width (pli, N/m) need the web's width: read it first
         spec = LineSpec.model_validate(data, context={WEB_WIDTH: _web_width(data)})
     except ValidationError as exc:

@@ -10,9 +10,10 @@ import numpy as np
 from webline.errors import SimulationError
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches import layout as B
-from webline.sim.branches.equilibrium import BranchPoint, operating_point
-from webline.sim.branches.kernel import new_records, rhs
-from webline.sim.branches.plan import BranchPlan, compile_branches
+from webline.sim.branches.equilibrium import operating_point
+from webline.sim.branches.kernel import new_records
+from webline.sim.branches.linear import fastest_rate
+from webline.sim.branches.plan import compile_branches
 from webline.sim.branches.result import BranchResult
 from webline.spec.ranges import argument, whole_argument
 
@@ -26,25 +27,6 @@ MAX_RECORDS = 200_000
 CHUNK = 20_000
 
 
-def fastest_rate(plan: BranchPlan, point: BranchPoint) -> float:
-    """Largest |eigenvalue| [1/s] of the plant at ``point`` (torques held), from a central
-    finite-difference Jacobian of ``kernel.rhs`` (step 1e-6 of each state's scale)."""
-    n = plan.n_x
-    jac = np.zeros((n, n))
-    up, down = np.zeros(n), np.zeros(n)
-    work = plan.scratch()
-    cmd = point.torque.copy()
-    for m in range(n):
-        h = 1e-6 * max(abs(point.x[m]), 1e-3)
-        x = point.x.copy()
-        x[m] += h
-        rhs(x, cmd, plan.wound, *plan.tables(), up, work)
-        x[m] -= 2 * h
-        rhs(x, cmd, plan.wound, *plan.tables(), down, work)
-        jac[:, m] = (up - down) / (2 * h)
-    return float(np.max(np.abs(np.linalg.eigvals(jac))))
-
-
 def simulate_branches(line: BranchedLine | str | Path, duration: float | str | None = None, *,
                       scenario: str | None = None, sample_rate: float | str | None = None,
                       substeps: int | None = None, record_interval: float | str | None = None,
@@ -52,9 +34,10 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     """Simulate a branched line for ``duration`` [s] from its operating point at t = 0.
 
     Arguments as ``webline.simulate`` (``scenario`` applies a named scenario, whose duration
-    is the default; ``substeps`` RK4 steps per controller period, default from the plant's
-    fastest mode). A run that leaves physical validity (non-finite state, an empty unwind, a
-    runaway) raises ``SimulationError`` with the run so far as ``partial`` (or, with
+    is the default; ``substeps`` RK4 steps per controller period, default from the fastest
+    mode of its open- and closed-loop linear models, ``sim.branches.linear``). A run that
+    leaves physical validity (non-finite state, an empty unwind, a runaway) raises
+    ``SimulationError`` with the run so far as ``partial`` (or, with
     ``raise_on_failure=False``, returns it with its ``failure`` set).
     """
     line = load_branched(line)

@@ -34,6 +34,7 @@ from pydantic import BaseModel, TypeAdapter, ValidationError
 
 from webline.errors import LineFileError
 from webline.line import Line
+from webline.model.web_graph import BranchedLine
 from webline.sim.core import kernel
 from webline.sim.core.plan import Plan, compile_plan, equilibrium_plan_state
 from webline.sim.linear import budget
@@ -116,7 +117,7 @@ def derive_line(base: Line, changes: Mapping[str, object]) -> Line:
     return Line(new, base.source)
 
 
-def case_value(line: Line, path: str) -> object:
+def case_value(line: Line | BranchedLine, path: str) -> object:
     """The value at ``path`` in ``line``'s validated spec [SI for quantities]."""
     node: Any = line.spec
     for part in split_path(path):
@@ -124,7 +125,7 @@ def case_value(line: Line, path: str) -> object:
     return node
 
 
-def path_unit(line: Line, path: str) -> str | None:
+def path_unit(line: Line | BranchedLine, path: str) -> str | None:
     """The SI unit of the quantity at ``path`` in ``line`` (``"rad/s"``, ``"N"``, ``"1"`` for
     a ratio, as CF conventions write it), from the range table of its field
     (``spec.ranges``); None where the field has none (a table, a name, a choice)."""

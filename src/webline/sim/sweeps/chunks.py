@@ -27,6 +27,7 @@ from typing import Any
 from webline.errors import ArgumentError, StudyError, StudyInterrupted
 from webline.files import atomic_write, atomic_write_text, write_failure
 from webline.line import Line, load_line
+from webline.model.web_graph import BranchedLine, load_branched, source_is_branched
 from webline.sim.simulate import deferred_interrupt
 from webline.sim.sweeps.study_record import check_resume, study_record, write_text
 
@@ -98,7 +99,7 @@ def store_files(store: Path) -> list[Path]:
     return sorted([*store.glob(STUDY_FILE), *store.glob("chunk-*.nc")])
 
 
-def _chunk_task(run: Callable[..., Any], line: Line, cases: list[dict[str, object]],
+def _chunk_task(run: Callable[..., Any], line: Line | BranchedLine, cases: list[dict[str, object]],
                 offset: int, options: dict[str, Any]) -> Any:
     """Run one chunk with ``run`` (``sweep.run_cases``; in a worker or here), its cases
     numbered from ``offset``. On a Dask worker the chunk uses the worker's threads, not every
@@ -132,7 +133,7 @@ def _client(scheduler: Any, workers: int | None) -> tuple[Any, Any]:
     return connect(str(scheduler)), None  # probed first: a silent port or a web server refused
 
 
-def run_chunked(run: Callable[..., Any], line: Line | str | Path,
+def run_chunked(run: Callable[..., Any], line: Line | BranchedLine | str | Path,
                 cases: Sequence[Mapping[str, object]], *, store: str | Path,
                 resume: bool = False, scheduler: Any = None, workers: int | None = None,
                 chunk: int | None = None,
@@ -143,7 +144,8 @@ def run_chunked(run: Callable[..., Any], line: Line | str | Path,
     ``scheduler`` the chunks run here on ``workers`` threads. Returns the merged Dataset."""
     import xarray as xr
 
-    line = load_line(line)
+    source: Any = line
+    line = load_branched(source) if source_is_branched(source) else load_line(source)
     chunk = chunk or CHUNK
     store = Path(store)
     store.mkdir(parents=True, exist_ok=True)
@@ -184,7 +186,8 @@ def run_chunked(run: Callable[..., Any], line: Line | str | Path,
         if progress is not None:
             progress(done, len(cases))
 
-    def task_args(k: int) -> tuple[Any, Line, list[dict[str, object]], int, dict[str, Any]]:
+    def task_args(k: int) -> tuple[Any, Line | BranchedLine, list[dict[str, object]], int,
+                                   dict[str, Any]]:
         lo = starts[k]
         return run, line, [dict(c) for c in cases[lo:lo + chunk]], lo, options
 

@@ -19,6 +19,7 @@ from typing import Any
 
 from webline.errors import ArgumentError
 from webline.line import Line
+from webline.model.web_graph import BranchedLine
 from webline.version import __version__
 
 #: differences named in a refusal, at most
@@ -35,7 +36,7 @@ def _plain(value: Any) -> Any:
     return json.loads(json.dumps(value, sort_keys=True, default=str))
 
 
-def line_values(line: Line) -> dict[str, Any]:
+def line_values(line: Line | BranchedLine) -> dict[str, Any]:
     """The resolved line's values as plain JSON data [SI]."""
     return _plain(line.spec.model_dump(mode="json", exclude_none=True))
 
@@ -46,7 +47,7 @@ def line_hash(values: Mapping[str, Any]) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
-def study_record(line: Line, cases: Sequence[Mapping[str, object]], chunk: int,
+def study_record(line: Line | BranchedLine, cases: Sequence[Mapping[str, object]], chunk: int,
                  options: Mapping[str, Any]) -> dict[str, Any]:
     """The record of a study of ``line`` (its scenario, if any, in ``options["scenario"]``,
     not yet applied) over ``cases`` in chunks of ``chunk`` with ``run_cases``'s ``options``."""

@@ -54,7 +54,7 @@ def study_text(ds: Any) -> str:
     verdicts = ", ".join(f"{counted[s]} {s}" for s in sorted(counted, key=lambda s: -RANK[s]))
     per: dict[str, list[str]] = {}
     for name, var in ds.data_vars.items():
-        element = next((d for d in var.dims if d in ("span", "drive", "node")), "case")
+        element = next((d for d in var.dims if d in ("span", "drive", "node", "web")), "case")
         per.setdefault(element, []).append(str(name))
     lines = [f"<webline study: {kind} of line {ds.attrs['line']}: {status.size} cases of "
              f"{float(ds.attrs['duration']):.4g} s>",

@@ -15,16 +15,23 @@ import time
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
 from webline.errors import ArgumentError, LineFileError
 from webline.limits import check_case_count
 from webline.line import Line, load_line
+from webline.model.web_graph import BranchedLine, source_is_branched
 from webline.sim.core.plan import compile_plan
 from webline.sim.simulate import MAX_RECORDS
 from webline.sim.sweeps.batch import BatchOutput, run_batch
+from webline.sim.sweeps.branch_study import (
+    branch_base,
+    branch_line_scale,
+    check_branch_study,
+    run_branch_cases,
+)
 from webline.sim.sweeps.cases import Built, build_cases, case_value, derive_line
 from webline.sim.sweeps.distributions import draw, values_written
 from webline.sim.sweeps.study_grid import as_grid
@@ -141,7 +148,7 @@ def _run_block(built: Built, trace_every: int, n_trace: int, workers: int | None
             for idx in groups.values()]
 
 
-def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
+def sweep(line: Line | BranchedLine | str | Path, values: Mapping[str, Sequence[object]], *,
           duration: float | str | None = None, scenario: str | None = None,
           record: float | str | None = None, mode: str = "grid",
           workers: int | None = None, progress: Callable[[int, int], None] | None = None,
@@ -155,7 +162,8 @@ def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
     of ``case``, named by the path, its values as coordinate (``sim.sweeps.study_grid.as_grid``;
     ``as_cases`` flattens it back).
     The study's work is bounded before it runs (``sim.sweeps.study_work``; ``work_limit=False``
-    lifts ``budget.MAX_STUDY_RK4_STEPS``)."""
+    lifts ``budget.MAX_STUDY_RK4_STEPS``). A branched line runs each case in the branch kernel
+    (``sim.sweeps.branch_study``; docs/branching.md)."""
     paths = list(values)
     columns = [list(values[p]) for p in paths]
     for path, column in zip(paths, columns, strict=True):
@@ -173,12 +181,18 @@ def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
     else:
         raise ArgumentError(f"mode must be 'grid' or 'zip', got {mode!r}")
     cases = [dict(zip(paths, combo, strict=True)) for combo in combos]
-    base = _base(line, scenario)
-    probes = _check_values(base, cases, {p: "the values" for p in paths})
     attrs: dict[str, Any] = {"mode": mode}
     if mode == "grid":
         attrs["shape"] = [len(c) for c in columns]
-    _check_work(base, probes, len(cases), len(paths), duration, scenario, record, work_limit)
+    what = {p: "the values" for p in paths}
+    if source_is_branched(line):  # docs/branching.md: each case in the branch kernel
+        check_branch_study(line, cases, what, duration=duration, scenario=scenario,
+                           record=record, limit=work_limit)
+    else:
+        base = _base(cast(Line | str | Path, line), scenario)
+        probes = _check_values(base, cases, what)
+        _check_work(base, probes, len(cases), len(paths), duration, scenario, record,
+                    work_limit)
     ds = _study(line, cases, attrs, duration=duration, scenario=scenario, record=record,
                 workers=workers, progress=progress, scheduler=scheduler, store=store,
                 resume=resume)
@@ -187,7 +201,7 @@ def sweep(line: Line | str | Path, values: Mapping[str, Sequence[object]], *,
     return as_study(as_grid(ds, paths, attrs["shape"]) if mode == "grid" else ds)
 
 
-def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: int, *,
+def monte_carlo(line: Line | BranchedLine | str | Path, distributions: Mapping[str, Any], n: int, *,
                 seed: int, duration: float | str | None = None, scenario: str | None = None,
                 record: float | str | None = None, workers: int | None = None,
                 progress: Callable[[int, int], None] | None = None, scheduler: Any = None,
@@ -206,15 +220,26 @@ def monte_carlo(line: Line | str | Path, distributions: Mapping[str, Any], n: in
         samples = draw(distributions, n, seed)
     except ValueError as exc:
         raise ArgumentError(str(exc)) from None
-    base = _base(line, scenario)
+    branched = source_is_branched(line)
+    if branched:
+        bbase = branch_base(line, scenario)
+    else:
+        base = _base(cast(Line | str | Path, line), scenario)
     for path, dist in distributions.items():
         if isinstance(dist, str):
-            samples[path] = samples[path] * _line_scale(base, path, dist)
+            samples[path] = samples[path] * (
+                branch_line_scale(bbase, path, values_written(dist)) if branched
+                else _line_scale(base, path, dist))
     cases: list[dict[str, object]] = [{p: float(samples[p][c]) for p in samples}
                                       for c in range(n)]
-    probes = _check_values(base, cases,
-                           {p: f"the samples of {distributions[p]}" for p in distributions})
-    _check_work(base, probes, n, len(distributions), duration, scenario, record, work_limit)
+    what = {p: f"the samples of {distributions[p]}" for p in distributions}
+    if branched:
+        check_branch_study(line, cases, what, duration=duration,
+                           scenario=scenario, record=record, limit=work_limit)
+    else:
+        probes = _check_values(base, cases, what)
+        _check_work(base, probes, n, len(distributions), duration, scenario, record,
+                    work_limit)
     from webline.sim.sweeps.study_view import as_study
 
     return as_study(_study(line, cases, {"mode": "monte_carlo", "seed": seed},
@@ -300,14 +325,16 @@ def check_workers(workers: object) -> None:
         whole_argument(workers, "workers", 1, note=" (or None for every core)")
 
 
-def _study(line: Line | str | Path, cases: list[dict[str, object]], attrs: dict[str, Any], *,
+def _study(line: Line | BranchedLine | str | Path, cases: list[dict[str, object]],
+           attrs: dict[str, Any], *,
            scheduler: Any, store: str | Path | None, resume: bool, workers: int | None,
            progress: Callable[[int, int], None] | None, **options: Any) -> Any:
     """Run the cases here at once, or chunk by chunk into ``store`` and/or on Dask
     (``webline.sim.sweeps.chunks``)."""
     check_workers(workers)
+    run: Callable[..., Any] = run_branch_cases if source_is_branched(line) else run_cases
     if scheduler is None and store is None:
-        ds = run_cases(line, cases, workers=workers, progress=progress, **options)
+        ds = run(line, cases, workers=workers, progress=progress, **options)
         ds.attrs.update(attrs)
         return ds
     from webline.sim.sweeps.chunks import run_chunked
@@ -316,7 +343,7 @@ def _study(line: Line | str | Path, cases: list[dict[str, object]], attrs: dict[
         import tempfile
 
         with tempfile.TemporaryDirectory(prefix="webline-study-") as folder:
-            return run_chunked(run_cases, line, cases, store=folder, scheduler=scheduler,
+            return run_chunked(run, line, cases, store=folder, scheduler=scheduler,
                                workers=workers, progress=progress, attrs=attrs, **options)
-    return run_chunked(run_cases, line, cases, store=store, resume=resume, scheduler=scheduler,
+    return run_chunked(run, line, cases, store=store, resume=resume, scheduler=scheduler,
                        workers=workers, progress=progress, attrs=attrs, **options)

@@ -50,6 +50,11 @@ def check_branched(spec: BranchedLineSpec, file: str) -> None:
     webs = {w.name: w for w in spec.webs}
     if len(webs) != len(spec.webs):
         fail("webs", "web names must be unique")
+    materials = [("web", spec.web)] + [(f"webs[{w}].web", web.web)
+                                       for w, web in enumerate(spec.webs)]
+    for key, material in materials:  # as a single-path line's [web]: E or EA, never both
+        if material is not None and (material.modulus is None) == (material.ea is None):
+            fail(key, "give exactly one of 'modulus' or 'ea'")
     masters = [r.name for r in spec.rollers if isinstance(r, DrivenSpec) and r.role == "master"]
     if len(masters) != 1:
         fail("rollers", f"a line needs exactly one master roller, found {len(masters)}")
