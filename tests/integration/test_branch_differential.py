@@ -97,3 +97,24 @@ def test_a_bad_differential_shaft_key_is_one_line(key, value, problem):
 def test_a_differential_shaft_refuses_a_start_from_rest():
     with pytest.raises(SimulationError, match="differential shaft"):
         webline.simulate(load_branched(_slitter()), 0.01, scenario="start-up")
+
+
+def test_the_linear_model_has_each_core_hanging_on_its_lane():
+    """With slipping clutches (no torque change with slip) each core is a mass on its lane's
+    span: J = J_c + (π/2) w ρ (r⁴ - r_c⁴) = 0.0113 kg·m², spring EA_lane / L = 45 kN/m at
+    r = 80 mm. Lanes 1 and 2 in opposite phase leave the slitter roller still: ω = r √(EA /
+    (L J)) = 159.4 rad/s, damped by the span's transport, σ = v / 2L = 1.25 1/s (to 0.5 %:
+    the tension-dependent terms of (B1) are 1e-3 of EA). In phase they swing the slitter
+    roller (J/r² = 0.8 kg on the knife span's 187 kN/m and lane_3's 45 kN/m): a three-mass
+    estimate gives 134 rad/s; the rest of the line moves it by a few %: within 5 %."""
+    from webline.sim.branches.linear import linear_model
+
+    model = linear_model(load_branched(_slitter()), loop="open")
+    assert "rewind_shaft/lane_1_core_omega" in model.states
+    modes = sorted((e for e in np.linalg.eigvals(model.a) if 100 < e.imag < 300),
+                   key=lambda e: e.imag)
+    j = CORE_INERTIA + np.pi / 2 * 0.4 * 1390 * (0.08**4 - 0.0762**4)
+    assert len(modes) == 2
+    assert modes[1].imag == pytest.approx(0.08 * np.sqrt(90e3 / (2.0 * j)), rel=5e-3)
+    assert -modes[1].real == pytest.approx(5.0 / (2 * 2.0), rel=1e-2)
+    assert modes[0].imag == pytest.approx(134.0, rel=0.05)
