@@ -48,9 +48,17 @@ def test_a_thickness_calculator_follows_the_roll_it_counts():
     assert true[-1] - true[0] > 2e-3  # the roll did grow
 
 
-def test_a_diameter_preset_is_refused_on_a_branched_line():
-    with pytest.raises(LineFileError, match=r"rollers\[5\]\.diameter\.preset"):
-        load_branched(_slitter({"method": "thickness", "preset": [{"at": 1.0}]}))
+def test_a_preset_sets_the_calculated_diameter_at_its_time():
+    """W2a: a "measured" preset at 0.5 s puts the true radius in, a given one (200 mm) at
+    1 s its half; the tick after, the calculator has moved one filter step from there
+    (|R_raw - R| dt / τ: 0.12 mm for the ~24 mm R_raw is off, 0.04 mm for 8 mm)."""
+    t, calc, true = _run({"method": "speed_ratio", "line_speed": "reference",
+                          "initial": "176 mm",
+                          "preset": [{"at": 0.5}, {"at": 1.0, "diameter": "200 mm"}]})
+    before, at = np.searchsorted(t, 0.499), np.searchsorted(t, 0.5)
+    assert abs(calc[before] - true[before]) > 1e-3  # still converging from the guess
+    assert abs(calc[at] - true[at]) < 5e-5
+    assert calc[np.searchsorted(t, 1.0)] == pytest.approx(0.1, abs=2e-4)
 
 
 def test_a_diameter_source_that_is_a_roll_is_one_line():

@@ -233,6 +233,10 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
         j = di[d, B.DI_ROLL]
         radius = x[off_r + j] if j >= 0 else nodes[i, B.N_RADIUS]  # true radius
         if df[d, B.D_DCALC] != B.DCALC_NONE:
+            for p in range(int(df[d, B.D_PRESETN])):  # W2a: set at the first tick at or after
+                if t - dt < df[d, B.D_PRESETT + p] <= t:
+                    preset = 0.5 * df[d, B.D_PRESETD + p]
+                    istate[d, B.I_RADIUS] = radius if preset <= 0.0 else preset
             radius = istate[d, B.I_RADIUS]
         v_meas = radius * x[off_w + i]
         if noisy:

@@ -8,6 +8,8 @@ angles [rad] of eccentric rollers.
 
 from __future__ import annotations
 
+from webline.spec.winder import MAX_PRESETS
+
 # offsets row
 O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_CORE, O_ANGLE, O_N = range(7)
 
@@ -44,10 +46,14 @@ DI_NODE, DI_CELLS, DI_NCELLS, DI_ROLL, DI_COLS = range(5)
 # drive table (float)
 # (taper: kind of physics.taper, 0 none; taper; largest diameter [m]; a table's profile.
 # diameter calculator: DCALC_*; filter [s]; rate limit [m/s]; hold below [m/s]; line-speed
-# source node, -1 the reference; thickness [m]; +1 winding, -1 unwinding)
+# source node, -1 the reference; thickness [m]; +1 winding, -1 unwinding; presets: their
+# number, then MAX_PRESETS times and MAX_PRESETS diameters [m], 0: the true one)
 (D_RATIO, D_KPS, D_KIS, D_KPT, D_KIT, D_LIMIT, D_INVLAG, D_SIGMA, D_GAINNORM, D_FF,
  D_ADAPTIVE, D_TAPER_KIND, D_TAPER, D_TAPER_DMAX, D_TAPER_PROF, D_DCALC, D_DFILTER, D_DRATE,
- D_DHOLD, D_DSOURCE, D_DTHICK, D_DDIR, D_COLS) = range(23)
+ D_DHOLD, D_DSOURCE, D_DTHICK, D_DDIR, D_PRESETN) = range(23)
+D_PRESETT = D_PRESETN + 1
+D_PRESETD = D_PRESETT + MAX_PRESETS
+D_COLS = D_PRESETD + MAX_PRESETS
 DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = range(3)
 
 # controller memory per drive

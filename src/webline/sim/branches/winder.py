@@ -55,4 +55,8 @@ def diameter_columns(line: BranchedLine, df: np.ndarray, di: np.ndarray) -> np.n
         df[d, B.D_DTHICK] = line.materials[roll.web].thickness
         df[d, B.D_DDIR] = roll.direction
         start[d] = roll.radius if spec.initial == "measured" else 0.5 * spec.initial
+        df[d, B.D_PRESETN] = len(spec.preset)
+        for p, preset in enumerate(spec.preset):
+            df[d, B.D_PRESETT + p] = preset.at
+            df[d, B.D_PRESETD + p] = 0.0 if preset.diameter == "measured" else preset.diameter
     return start

@@ -116,13 +116,11 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
 
 def _check_diameter(spec: BranchedLineSpec, i: int, roller: RollerSpec, fail: Fail) -> None:
     """A roll's diameter calculator: its line-speed source is the master, the reference or
-    another roller that is no roll; no presets yet; not on a differential shaft."""
+    another roller that is no roll; not on a differential shaft."""
     diameter = getattr(roller, "diameter", None)
     if diameter is None:
         return
     key = f"rollers[{i}].diameter"
-    if diameter.preset:
-        unsupported(f"{key}.preset", fail, "a diameter calculator without presets")
     if getattr(roller, "shaft", None) is not None:
         fail(key, "a differential shaft has no speed-to-radius loop to calculate for")
     source = next((r for r in spec.rollers if r.name == diameter.line_speed), None)
