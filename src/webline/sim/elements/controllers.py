@@ -27,6 +27,7 @@ from webline.sim.elements import layout as L
 from webline.sim.elements.break_hold import fade_trim, held_command, stop_acceleration
 from webline.sim.elements.dancer_loop import dancer_measurement
 from webline.sim.elements.diameter import preset_radius, update_radius
+from webline.sim.elements.envelope import node_radius
 from webline.sim.elements.feedforward import speed_feedforward
 from webline.sim.elements.friction_loop import table_torque
 from webline.sim.elements.measure import measured_speed
@@ -43,18 +44,6 @@ _friction: Any = jit(roller.friction_torque)
 _saturate: Any = jit(motor.saturate)
 _taper: Any = jit(taper.taper_factor)
 _TABLE = taper.TABLE
-
-
-@jit
-def node_radius(i: int, x: np.ndarray, ns: np.ndarray, offsets: np.ndarray,
-                nodes: np.ndarray) -> float:
-    """Radius [m] a drive works with: the roll radius state, or the nominal roller radius."""
-    kind = ns[i, L.NS_KIND]
-    if kind == L.KIND_UNWIND:
-        return x[offsets[L.O_RADIUS]]
-    if kind == L.KIND_REWIND:
-        return x[offsets[L.O_RADIUS] + 1]
-    return nodes[i, L.N_RADIUS]
 
 
 @jit
