@@ -14,7 +14,7 @@ import numpy as np
 
 from webline.physics import motor, roll, roller, span, taper
 from webline.sim.branches import layout as B
-from webline.sim.elements.measure import quantized
+from webline.sim.drives.measure import quantized
 from webline.sim.elements.signals import gaussian, jit, loop_njit, profile_at, sines
 
 _tension: Any = jit(span.tension)
@@ -179,7 +179,7 @@ def calculated_radius(d: int, radius: float, omega: float, dt: float, v_line: fl
                       x: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
                       df: np.ndarray) -> float:
     """Drive ``d``'s diameter calculator one tick ``dt`` [s] on (docs/winder.md W2, as the
-    chain's ``sim.elements.diameter.update_radius``): from ``radius`` [m] and the measured
+    chain's ``sim.drives.diameter.update_radius``): from ``radius`` [m] and the measured
     spindle speed ``omega`` [rad/s]. Speed ratio: R_raw = v_line / ω through a first-order
     filter, its step limited to rate_limit dt / 2, held while |v_line| < hold_below; v_line
     the reference ``v_line`` [m/s] or the source roller's surface speed. Thickness: R grows
@@ -215,12 +215,12 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
                  di: np.ndarray, df: np.ndarray, cells: np.ndarray, dist: np.ndarray,
                  prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray) -> None:
     """One sample ``tick`` of every drive's cascaded PI (thesis Fig. 4.3, as the chain's
-    ``sim.elements.controllers.pi_command``): line speed x draw is the speed feedforward, a
+    ``sim.drives.controllers.pi_command``): line speed x draw is the speed feedforward, a
     tension PI on the zone's loadcell (or the sum of its loadcells) trims it, a speed PI gives
     the torque, clipped, with conditional integration. ``cells`` rows: (span, profile).
     ``dist``: a drive's speed ripple adds to its speed reference; measurement noise to the
     measured speed (channel 2 d, then rounded to the resolution) and each loadcell's tension
-    (channel 2 c + 1), as the chain's ``sim.elements.measure``."""
+    (channel 2 c + 1), as the chain's ``sim.drives.measure``."""
     v_line = profile_at(0, t, prof_t, prof_v, prof_off)
     off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
     sigma_t, sigma_v, resolution, seed, noisy = 0.0, 0.0, 0.0, 0, False
