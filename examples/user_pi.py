@@ -2,7 +2,7 @@
 
 A user controller is an object with ``reset(context)`` and ``__call__(t, measurements,
 references) -> torques``. This one is webline's own cascaded PI (thesis Fig. 4.3; the code of
-``webline.sim.elements.controllers.pi_command``) in plain Python, with the gains webline tuned for
+``webline.sim.drives.controllers.pi_command``) in plain Python, with the gains webline tuned for
 each
 drive: run on a built-in line it reproduces the built-in run to round-off. Start from it to
 write your own.

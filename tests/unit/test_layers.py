@@ -25,6 +25,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline.model",),
     ("webline.control",),
     ("webline.sim.elements",),
+    ("webline.sim.drives",),
     ("webline.sim.core",),
     ("webline.sim.linear",),
     ("webline.sim.results",),

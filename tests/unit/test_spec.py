@@ -411,6 +411,14 @@ MALFORMED: dict[str, tuple[Callable[[dict[str, Any]], None], str, str]] = {
         _set("disturbances", [{"type": "wound_in_ripple", "amplitude": "12 lbf",
                                "frequency": 1.0}]),
         "disturbances[0].amplitude", "must be below the unwind's wound-in tension"),
+    "ripple on no unwind": (
+        _set("disturbances", [{"type": "wound_in_ripple", "amplitude": "1 lbf",
+                               "frequency": 1.0, "roller": "idler"}]),
+        "disturbances[0].roller", "the unwind of this line is"),
+    "differential shaft on a single path": (
+        _set("rollers.4.shaft", {"type": "differential", "slip_torque": 1.0,
+                                  "core_inertia": 0.01}),
+        "rollers[4].shaft", "only on a branched line"),
     "scenario radius below core": (_set("scenarios.roll-change.unwind_radius", "2 in"),
                                    "scenarios.roll-change.unwind_radius",
                                    "must be above the core radius 0.0762 m"),

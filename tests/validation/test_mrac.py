@@ -1,4 +1,4 @@
-"""The decentralized MRAC of thesis Sec. 6.3 (``type = "mrac"``, ``webline.sim.elements.mrac``).
+"""The decentralized MRAC of thesis Sec. 6.3 (``type = "mrac"``, ``webline.sim.drives.mrac``).
 
 The law is checked on a section in isolation through the compiled functions themselves: the
 Lyapunov function of the corrected proof (E-6.8) decreases along simulated trajectories with a
@@ -17,8 +17,8 @@ import webline
 from webline.control.sections import section_models
 from webline.control.select import with_controller
 from webline.sim.core.plan import compile_plan
+from webline.sim.drives.mrac import mrac_adapt, mrac_feedback
 from webline.sim.elements import layout as L
-from webline.sim.elements.mrac import mrac_adapt, mrac_feedback
 from webline.studies.hswl_controllers import disturbances
 
 REWIND = 3  #: drive index of the HSWL's rewind section (a tension and a speed state)

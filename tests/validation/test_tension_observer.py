@@ -1,4 +1,4 @@
-"""The section tension observer (``webline.sim.elements.observer``) and study
+"""The section tension observer (``webline.sim.drives.observer``) and study
 ``tension-observer``."""
 
 from __future__ import annotations

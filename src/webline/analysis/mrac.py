@@ -1,7 +1,7 @@
 """Theorem 6.3.1 for webline's MRAC: condition (6.69) and the reference model's K_m (6.67).
 
 The MRAC's reference models are the section closed loops of its design, A_mi = A_i - b_i k_iᵀ
-(6.63; ``webline.sim.elements.mrac``). (6.69) δs(A_mi) > √N ξ_i is (6.54) with Ā_i = A_mi once the
+(6.63; ``webline.sim.drives.mrac``). (6.69) δs(A_mi) > √N ξ_i is (6.54) with Ā_i = A_mi once the
 proof's coupling terms are corrected (E-6.8: ξ_i from the couplings A_ji *out of* section i,
 N the count of the sum over j ≠ i, E-6.12), so it is evaluated by
 ``webline.analysis.certificate.certificate`` with those matrices. The whole reference model

@@ -255,8 +255,10 @@ class BranchedLine:
             raise ArgumentError(f"{self.source}: no scenario {name!r} (scenarios: {known})")
         scenario = self.spec.scenarios[name]
         data = self.spec.model_dump(exclude_none=True)
-        if scenario.speed is not None:
-            data["speed"] = scenario.model_dump(exclude_none=True)["speed"]
+        dumped = scenario.model_dump(exclude_none=True)
+        for key in ("speed", "disturbances"):  # a scenario's replace the line's
+            if key in dumped:
+                data[key] = dumped[key]
         for path, value in scenario.set.items():
             set_path(data, path, value, self.source)
         spec = branched_from_dict(data, self.source)

@@ -37,8 +37,8 @@ from webline.errors import ArgumentError, ControllerError
 from webline.sim.core import law_kernel
 from webline.sim.core.law_kernel import buffer_layout, law_hook
 from webline.sim.core.plan import Plan
+from webline.sim.drives.user_loop import N_MEASURED, N_REFERENCES, STATUS_USER_NONFINITE
 from webline.sim.elements import layout as L
-from webline.sim.elements.user_loop import N_MEASURED, N_REFERENCES, STATUS_USER_NONFINITE
 from webline.sim.user_control import (
     ControllerContext,
     Group,

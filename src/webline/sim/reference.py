@@ -14,10 +14,10 @@ from scipy.integrate import solve_ivp
 from webline.line import Line, load_line
 from webline.sim.core import kernel
 from webline.sim.core.plan import compile_plan, equilibrium_plan_state
+from webline.sim.drives.controllers import control_tick
+from webline.sim.drives.dancer_taper import load_factor
 from webline.sim.elements import layout as L
 from webline.sim.elements.break_hold import brake_drag
-from webline.sim.elements.controllers import control_tick
-from webline.sim.elements.dancer_taper import load_factor
 from webline.sim.elements.signals import profile_at
 from webline.sim.elements.splice import apply_splices
 from webline.sim.results.result import Result

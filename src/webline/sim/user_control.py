@@ -39,8 +39,8 @@ from webline.sim.core.user_step import (
     compiled_user_step,
     packed_run,
 )
+from webline.sim.drives.user_loop import N_MEASURED, N_REFERENCES, STATUS_USER_NONFINITE
 from webline.sim.elements import layout as L
-from webline.sim.elements.user_loop import N_MEASURED, N_REFERENCES, STATUS_USER_NONFINITE
 
 MEASURED = ("speed", "tension", "radius", "inertia")  # in ``user_loop.U_*`` order
 REFERENCES = ("speed_reference", "tension_reference")

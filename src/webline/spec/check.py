@@ -105,6 +105,9 @@ def check_spec(spec: LineSpec, file: str) -> None:
         if isinstance(roller, UnwindSpec | RewindSpec):
             check_roll_inertia(roller, web, f"rollers[{i}].inertia", fail)
         check_friction(roller, f"rollers[{i}]", fail)
+        if isinstance(roller, RewindSpec) and roller.shaft is not None:
+            fail(f"rollers[{i}].shaft", "a differential shaft holds lanes on one shaft: only "
+                 "on a branched line ([[webs]], docs/branching.md)")
         contact = getattr(roller, "contact", None)
         if contact is not None and contact.type == "traction":
             if roller.wrap is None:  # type: ignore[union-attr]
@@ -233,6 +236,8 @@ def _check_disturbances(items: list[DisturbanceSpec], spec: LineSpec, key: str,
                     fail(f"{here}.eccentricity", "must be below the roller radius")
             elif isinstance(roller, IdleSpec):
                 fail(f"{here}.roller", "a speed ripple needs a driven roller")
+        elif isinstance(item, WoundInRipple) and item.roller not in (None, spec.rollers[0].name):
+            fail(f"{here}.roller", f"the unwind of this line is {spec.rollers[0].name!r}")
         elif isinstance(item, WoundInRipple) and item.amplitude >= _wound_in(spec):
             fail(f"{here}.amplitude", "must be below the unwind's wound-in tension (a wound "
                  "web cannot be in compression)")

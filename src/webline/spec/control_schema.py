@@ -52,7 +52,7 @@ class _DecentralizedSpec(Strict):
     ``speed_scale`` [m/s] and ``torque_scale`` [N·m] (default: 1 % of the tension reference,
     1 % of the line speed (at least 0.01 m/s), 10 % of the torque limit).
     ``friction_estimate`` [N·m·s] is the controller's model of the bearing friction (default:
-    the roller's true value). ``tension_feedback = "observer"``: ``webline.sim.elements.observer``.
+    the roller's true value). ``tension_feedback = "observer"``: ``webline.sim.drives.observer``.
     """
 
     tension_scale: Force | None = None
@@ -95,7 +95,7 @@ class AdaptiveSpec(_DecentralizedSpec):
 
 
 class MRACSpec(_DecentralizedSpec):
-    """Decentralized MRAC of Sec. 6.3 (``webline.sim.elements.mrac``; docs/line-file.md, E-6.14)."""
+    """Decentralized MRAC of Sec. 6.3 (``webline.sim.drives.mrac``; docs/line-file.md, E-6.14)."""
 
     type: Literal["mrac"]
     tension_gain: Signed | None = None

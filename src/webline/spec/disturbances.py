@@ -25,12 +25,14 @@ from webline.spec.winder import WebBreak
 Name = Annotated[str, Field(min_length=1, max_length=100)]
 
 class WoundInRipple(Strict):
-    """Sinusoidal component of the unwind's wound-in tension (thesis Ch. 4)."""
+    """Sinusoidal component of the unwind's wound-in tension (thesis Ch. 4); ``roller``: the
+    unwind (default: the line's only one)."""
 
     type: Literal["wound_in_ripple"]
     amplitude: Force
     frequency: Frequency
     phase: Angle = 0.0
+    roller: Name | None = None
 
 
 class EccentricRoller(Strict):

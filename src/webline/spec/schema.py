@@ -65,6 +65,7 @@ from webline.spec.web_law import StressStrainSpec
 from webline.spec.winder import (  # noqa: F401
     BreakEvent,
     DiameterSpec,
+    DifferentialShaftSpec,
     StartStopTension,
     StateChecksSpec,
     TaperSpec,
@@ -215,7 +216,8 @@ class UnwindSpec(_RollerBase):
 class RewindSpec(_RollerBase):
     """Rewind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web (or
     totals, ``webline.spec.roll_inertia``);
-    ``taper`` makes its zone's tension reference a function of its diameter."""
+    ``taper`` makes its zone's tension reference a function of its diameter; ``shaft`` a
+    differential (slip) shaft for lanes on one shaft (branched lines only)."""
 
     type: Literal["rewind"]
     inertia: Inertia | RollInertiaSpec  # type: ignore[assignment]
@@ -225,6 +227,7 @@ class RewindSpec(_RollerBase):
     taper: TaperSpec | None = None
     diameter: DiameterSpec | None = None
     winder: WinderSpec | None = None
+    shaft: DifferentialShaftSpec | None = None
 
 
 class DrivenSpec(_RollerBase):

@@ -9,9 +9,23 @@ from typing import Annotated, Any, Literal
 from pydantic import Field
 
 from webline.spec.friction import MeasuredFriction
-from webline.spec.quantities import Length, Strict, si
+from webline.spec.quantities import Inertia, Length, Strict, Torque, si
 
 Fraction = Annotated[float, Field(ge=0.0, le=1.0)]
+
+
+class DifferentialShaftSpec(Strict):
+    """How a rewind's lanes sit on its shaft (docs/branching.md, "Differential shafts"):
+    ``"differential"``: each lane's core is driven through its own slip clutch (a friction
+    ring), which passes at most ``slip_torque`` [N·m] while it slips; the shaft turns
+    ``overspeed`` [-] faster than the fastest lane's core so that every clutch slips and each
+    lane's tension is ≈ slip_torque / its radius. ``core_inertia`` [kg·m²]: one lane's core
+    with its clutch ring (its wound web is added)."""
+
+    type: Literal["differential"]
+    slip_torque: Torque
+    overspeed: Annotated[float, Field(gt=0.0, le=0.5)] = 0.02
+    core_inertia: Inertia
 
 
 class TaperSpec(Strict):

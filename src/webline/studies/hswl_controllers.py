@@ -18,7 +18,7 @@ measurement noise on every controller's tension (0.05 lbf) and speed (0.5 ft/min
   ``webline.analysis.certified.design_for_certificate``, redone at each speed on the lumped
   (idler-free) line, for which the decentralized certificate (6.54) holds;
 * ``mrac``, ``mrac_true_friction``: the decentralized MRAC of Sec. 6.3
-(``webline.sim.elements.mrac``)
+(``webline.sim.drives.mrac``)
   starting from the same design, with the 50 %-low and with the true friction model;
 * ``state_feedback_thesis_gains``, ``mrac_thesis_gains``: the thesis's own setup of Sec. 6.2-6.3,
   its closed loops C_ij (E-6.7; the MRAC's reference models A_mi), which the 2 ms torque lag

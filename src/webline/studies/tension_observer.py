@@ -1,5 +1,5 @@
 """Study ``tension-observer``: the HSWL with the process zone's loadcell replaced by a section
-observer (thesis Sec. 6.4, first item of future work; ``webline.sim.elements.observer``).
+observer (thesis Sec. 6.4, first item of future work; ``webline.sim.drives.observer``).
 
 Decentralized state feedback on every drive (webline's LQ design), the disturbances and noise of
 ``hswl-controllers`` (wound-in ripple 1 lbf at 1 Hz, eccentric idler, 0.05 lbf / 0.5 ft/min
@@ -20,9 +20,9 @@ import webline
 from webline.control.select import with_controller
 from webline.line import Line
 from webline.sim.core.plan import compile_plan
+from webline.sim.drives.controllers import drive_inertia
+from webline.sim.drives.observer import observe
 from webline.sim.elements import layout as L
-from webline.sim.elements.controllers import drive_inertia
-from webline.sim.elements.observer import observe
 from webline.sim.elements.signals import gaussian
 from webline.studies.hswl_controllers import disturbances
 from webline.studies.output import finish, pyplot, save

@@ -23,7 +23,7 @@ from scipy.optimize import root
 
 from webline.errors import SimulationError
 from webline.sim.branches import layout as B
-from webline.sim.branches.kernel import node_inertia, rhs
+from webline.sim.branches.kernel import node_inertia, rhs, taper_at
 from webline.sim.branches.plan import BranchPlan
 
 #: the solver's relative tolerance on the scaled unknowns [-]
@@ -42,9 +42,16 @@ class BranchPoint:
 
 
 def _references(plan: BranchPlan, t: float) -> np.ndarray:
+    """Each loadcell span's reference [N] at ``t``, times its drive's taper at the roll's
+    starting radius."""
     refs = np.full(len(plan.line.spans), np.nan)
-    for k, p in plan.cells:
-        refs[k] = plan.profile(int(p), t)
+    for d in range(plan.di.shape[0]):
+        i, j = plan.di[d, B.DI_NODE], plan.di[d, B.DI_ROLL]
+        factor = 1.0 if j < 0 else taper_at(d, plan.line.rolls[j].radius, plan.nodes[i, B.N_CORE],
+                                            plan.df, plan.prof_t, plan.prof_v, plan.prof_off)
+        first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
+        for k, p in plan.cells[first:first + count]:
+            refs[k] = factor * plan.profile(int(p), t)
     return refs
 
 
@@ -64,8 +71,11 @@ def _guess(plan: BranchPlan, refs: np.ndarray) -> np.ndarray:
 def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.ndarray:
     """Stretches, node speeds and torques (one vector) of the steady line at ``speed``."""
     n_s, n_n, n_d = len(plan.line.spans), plan.nodes.shape[0], plan.di.shape[0]
+    n_c = plan.cores.shape[0]
     off_w, off_r, off_tq = (plan.offsets[B.O_OMEGA], plan.offsets[B.O_RADIUS],
                             plan.offsets[B.O_TORQUE])
+    off_c = plan.offsets[B.O_CORE]
+    shafts = set(plan.cores[:, B.C_NODE].tolist())
     refs = _references(plan, t)
     t_scale = float(np.nanmean(np.abs(refs))) if np.any(np.isfinite(refs)) else 1.0
     x = np.zeros(plan.n_x)
@@ -81,19 +91,22 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.nd
     work = plan.scratch()
     cmd = np.zeros(n_d)
     w_scale = speed / arms
+    c_scale = w_scale[plan.cores[:, B.C_NODE]]
     tq_scale = t_scale * plan.nodes[plan.di[:, B.DI_NODE], B.N_RADIUS]
     master = plan.line.master
+    held = plan.held(t)  # wound-in tensions and drags at t (ripples: their mean, 0)
 
     def state(z: np.ndarray) -> np.ndarray:
         x[:n_s] = z[:n_s] * t_scale
         x[off_w:off_w + n_n] = z[n_s:n_s + n_n] * w_scale
-        cmd[:] = z[n_s + n_n:] * tq_scale
+        x[off_c:off_c + n_c] = z[n_s + n_n:n_s + n_n + n_c] * c_scale
+        cmd[:] = z[n_s + n_n + n_c:] * tq_scale
         x[off_tq:off_tq + n_d] = cmd
         return x
 
     def residual(z: np.ndarray) -> np.ndarray:
-        rhs(state(z), cmd, plan.wound, *tables, dx, work)
-        out = np.empty(n_s + n_n + n_d)
+        rhs(state(z), cmd, held, *tables, dx, work)
+        out = np.empty(n_s + n_n + n_c + n_d)
         out[:n_s] = dx[:n_s] * plan.sf[:, B.SF_LENGTH] / (t_scale * max(speed, 1e-9))
         accel = dx[off_w:off_w + n_n].copy()
         for d in range(n_d):  # a roll drive holds its surface speed as its radius changes
@@ -101,18 +114,29 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.nd
             if j >= 0:
                 accel[i] += x[off_w + i] * dx[off_r + j] / x[off_r + j]
         out[n_s:n_s + n_n] = accel / w_scale * 1e-3
+        for c in range(n_c):  # a clutch core holds its lane's surface speed as the lane grows
+            j = plan.cores[c, B.C_ROLL]
+            out[n_s + n_n + c] = (dx[off_c + c] + x[off_c + c] * dx[off_r + j] / x[off_r + j]
+                                  ) / c_scale[c] * 1e-3
         for d in range(n_d):
             i = plan.di[d, B.DI_NODE]
+            row = n_s + n_n + n_c + d
             if i == master:
-                out[n_s + n_n + d] = (arms[i] * x[off_w + i] - speed) / max(speed, 1e-9)
+                out[row] = (arms[i] * x[off_w + i] - speed) / max(speed, 1e-9)
+                continue
+            if i in shafts:  # a differential shaft overspeeds its fastest lane's core
+                on = plan.cores[:, B.C_NODE] == i
+                fastest = np.max(x[off_c:off_c + n_c][on] * (1.0 + plan.clutch[on, B.CF_OVERSPEED]))
+                out[row] = (x[off_w + i] - fastest) / w_scale[i]
                 continue
             first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
             cells = plan.cells[first:first + count, 0]
-            out[n_s + n_n + d] = (np.sum(np.maximum(x[cells], 0.0)) - np.sum(refs[cells])
+            out[row] = (np.sum(np.maximum(x[cells], 0.0)) - np.sum(refs[cells])
                                   ) / t_scale
         return out
 
-    z0 = np.concatenate([_guess(plan, refs) / t_scale, np.ones(n_n), np.zeros(n_d)])
+    z0 = np.concatenate([_guess(plan, refs) / t_scale, np.ones(n_n), np.ones(n_c),
+                         np.zeros(n_d)])
     found = root(residual, z0, method="hybr", options={"xtol": XTOL})
     if not found.success or np.max(np.abs(residual(found.x))) > 1e-9:
         raise SimulationError(f"{plan.line.name}: no steady operating point found at "
@@ -126,6 +150,10 @@ def operating_point(plan: BranchPlan, t: float = 0.0) -> BranchPoint:
     off_w, off_r, off_tq = (plan.offsets[B.O_OMEGA], plan.offsets[B.O_RADIUS],
                             plan.offsets[B.O_TORQUE])
     speed = plan.profile(0, t)
+    if speed <= 0.0 and plan.cores.shape[0]:
+        raise SimulationError(f"{plan.line.name}: a differential shaft's lanes need the line "
+                              f"running at t = {t:g} s (a start from rest with slip clutches is "
+                              "not modelled: their clutches would not slip)")
     top = float(np.max(np.abs(plan.prof_v[plan.prof_off[0]:plan.prof_off[1]])))
     at = _solve(plan, speed if speed > 0.0 else max(top, 1.0), plan.nodes, t)
     ratio = np.empty(n_d)
@@ -141,7 +169,7 @@ def operating_point(plan: BranchPlan, t: float = 0.0) -> BranchPoint:
         dx = np.zeros(plan.n_x)
         cmd = np.zeros(n_d)
         at[off_tq:off_tq + n_d] = 0.0
-        rhs(at, cmd, plan.wound, *plan.tables(), dx, plan.scratch())
+        rhs(at, cmd, plan.held(t), *plan.tables(), dx, plan.scratch())
         for d in range(n_d):  # J dω/dt = web torque + n τ = 0
             i = plan.di[d, B.DI_NODE]
             web_torque = dx[off_w + i] * node_inertia(i, at, plan.offsets, plan.nodes,

@@ -2,28 +2,41 @@
 
 State vector: span stretches EA·ε [N] | node speeds ω [rad/s] | roll radii [m] | motor
 torques [N·m] | web length in and out [m] per web (unstrained web that entered the web's
-first span and left its last one).
+first span and left its last one) | lane core speeds ω [rad/s] on differential shafts |
+angles [rad] of eccentric rollers.
 """
 
 from __future__ import annotations
 
+from webline.spec.winder import MAX_PRESETS
+
 # offsets row
-O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_N = range(5)
+O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_CORE, O_ANGLE, O_N = range(7)
 
 # node table (float)
-(N_RADIUS, N_JCONST, N_VISCOUS, N_COULOMB, N_CORE, N_RATIO, N_DRIVE, N_INVJ, N_ROLLS,
- N_COLS) = range(10)
+# (N_ECC: eccentricity [m]; N_ANGLE: its angle state's number, -1 where round)
+(N_RADIUS, N_JCONST, N_VISCOUS, N_COULOMB, N_CORE, N_RATIO, N_DRIVE, N_INVJ, N_ROLLS, N_ECC,
+ N_ANGLE, N_COLS) = range(12)
 
-# span table (int): nodes, web, where the carried-in stretch comes from, roll arms, layers
-S_A, S_B, S_WEB, S_SRC, S_FROM, S_ARMA, S_ARMB, S_COUNT, S_COLS = range(9)
+# span table (int): nodes, web, where the carried-in stretch comes from, roll arms, layers,
+# the clutch core its downstream end winds on (-1: the node itself), the angle states of its
+# ends' nodes where they are eccentric (-1: round)
+(S_A, S_B, S_WEB, S_SRC, S_FROM, S_ARMA, S_ARMB, S_COUNT, S_CORE, S_ECCA, S_ECCB,
+ S_COLS) = range(12)
 # span table (float)
 SF_LENGTH, SF_EA, SF_SHARE, SF_INVEA, SF_COLS = range(5)
 #: S_SRC: the previous span of the path | the unwind's wound-in tension | the sum of the
 #: layers' last spans (a laminate's first span) | the base web's last span x share (a lane)
 SRC_PREVIOUS, SRC_WOUND, SRC_LAYERS, SRC_SLIT = range(4)
 
-# roll table (float): node, web, direction, thickness, width, density, core radius
-R_NODE, R_WEB, R_DIR, R_THICK, R_WIDTH, R_RHO, R_CORE, R_COLS = range(8)
+# roll table (float): node, web, direction, thickness, width, density, core radius, 1 where
+# the roll turns on its own clutch core (a differential shaft's lane), else 0
+R_NODE, R_WEB, R_DIR, R_THICK, R_WIDTH, R_RHO, R_CORE, R_CLUTCH, R_COLS = range(9)
+
+# clutch cores of differential shafts (int): the lane's roll, the shaft's node, the lane span
+C_ROLL, C_NODE, C_SPAN, C_COLS = range(4)
+# clutch cores (float): slip torque [N·m], core inertia [kg·m²], overspeed [-]
+CF_SLIP, CF_INERTIA, CF_OVERSPEED, CF_COLS = range(4)
 
 # web table (int): first span, last span
 WB_FIRST, WB_LAST, WB_COLS = range(3)
@@ -31,11 +44,21 @@ WB_FIRST, WB_LAST, WB_COLS = range(3)
 # drive table (int)
 DI_NODE, DI_CELLS, DI_NCELLS, DI_ROLL, DI_COLS = range(5)
 # drive table (float)
+# (taper: kind of physics.taper, 0 none; taper; largest diameter [m]; a table's profile.
+# diameter calculator: DCALC_*; filter [s]; rate limit [m/s]; hold below [m/s]; line-speed
+# source node, -1 the reference; thickness [m]; +1 winding, -1 unwinding; presets: their
+# number, then MAX_PRESETS times and MAX_PRESETS diameters [m], 0: the true one)
 (D_RATIO, D_KPS, D_KIS, D_KPT, D_KIT, D_LIMIT, D_INVLAG, D_SIGMA, D_GAINNORM, D_FF,
- D_ADAPTIVE, D_COLS) = range(12)
+ D_ADAPTIVE, D_TAPER_KIND, D_TAPER, D_TAPER_DMAX, D_TAPER_PROF, D_DCALC, D_DFILTER, D_DRATE,
+ D_DHOLD, D_DSOURCE, D_DTHICK, D_DDIR, D_PRESETN) = range(23)
+D_PRESETT = D_PRESETN + 1
+D_PRESETD = D_PRESETT + MAX_PRESETS
+D_COLS = D_PRESETD + MAX_PRESETS
+DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = range(3)
 
 # controller memory per drive
-I_SPEED, I_TENSION, I_COLS = range(3)
+# controller memory per drive (I_RADIUS: the diameter calculator's radius [m])
+I_SPEED, I_TENSION, I_RADIUS, I_COLS = range(4)
 
 # event table (roll change): time, roll, new radius, new wound-in tension, web
 E_TIME, E_ROLL, E_RADIUS, E_WOUND, E_WEB, E_COLS = range(6)
@@ -43,3 +66,9 @@ E_TIME, E_ROLL, E_RADIUS, E_WOUND, E_WEB, E_COLS = range(6)
 STATUS_OK, STATUS_NONFINITE, STATUS_UNWIND_EMPTY, STATUS_RUNAWAY = range(4)
 #: a strain beyond this, or a speed beyond 3x the top reference + 1 m/s, is a runaway [-]
 RUNAWAY_STRAIN = 0.05
+
+# disturbance table (float): kind, index (web, drive, node; a noise's seed), then per kind
+# ripple (amplitude, frequency [Hz], phase [rad]) | drag (profile number) | noise (tension
+# sigma [N], speed sigma [m/s], speed resolution [m/s])
+DS_KIND, DS_INDEX, DS_A, DS_B, DS_C, DS_COLS = range(6)
+DIST_WOUND_RIPPLE, DIST_SPEED_RIPPLE, DIST_DRAG, DIST_NOISE = range(4)

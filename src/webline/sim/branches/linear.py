@@ -41,11 +41,13 @@ FD_STEP = 1e-5
 
 def kept_states(plan: BranchPlan, radii: bool = False) -> np.ndarray:
     """Indices into the kernel's state of the linear model's states: stretches, ω, (with
-    ``radii`` the roll radii,) torques."""
+    ``radii`` the roll radii,) torques, the core speeds of a differential shaft's lanes."""
     off_r, off_tq, off_q = (plan.offsets[B.O_RADIUS], plan.offsets[B.O_TORQUE],
                             plan.offsets[B.O_WEB])
     return np.concatenate([np.arange(off_tq if radii else off_r),
-                           np.arange(off_tq, off_q)]).astype(np.int64)
+                           np.arange(off_tq, off_q),
+                           np.arange(plan.offsets[B.O_CORE], plan.offsets[B.O_ANGLE])]
+                          ).astype(np.int64)
 
 
 def state_names(plan: BranchPlan, radii: bool = False) -> list[str]:
@@ -54,9 +56,11 @@ def state_names(plan: BranchPlan, radii: bool = False) -> list[str]:
     line = plan.line
     rolls = ([f"{line.spec.rollers[r.node].name}/{line.spec.webs[r.web].name}_radius"
               for r in line.rolls] if radii else [])
+    cores = [f"{line.spec.rollers[line.rolls[j].node].name}/"
+             f"{line.spec.webs[line.rolls[j].web].name}_core_omega" for j in plan.cores[:, 0]]
     return ([f"{s.name}_tension" for s in line.spans]
             + [f"{r.name}_omega" for r in line.spec.rollers] + rolls
-            + [f"{line.spec.rollers[i].name}_torque" for i in line.drives])
+            + [f"{line.spec.rollers[i].name}_torque" for i in line.drives] + cores)
 
 
 def wound_webs(plan: BranchPlan) -> list[int]:

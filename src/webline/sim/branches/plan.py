@@ -14,7 +14,9 @@ from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
 from webline.sim.branches import layout as B
-from webline.sim.branches.kernel import compiled_advance, node_inertia, work_size
+from webline.sim.branches.disturb import disturbance_table, eccentricities
+from webline.sim.branches.kernel import compiled_advance, held_inputs, node_inertia, work_size
+from webline.sim.branches.winder import diameter_columns, taper_columns
 from webline.spec.branched.check import kind_of
 from webline.spec.schema import CascadedPISpec, IdleSpec, RewindSpec, UnwindSpec
 
@@ -25,7 +27,10 @@ RUNAWAY_SPEED_FACTOR, RUNAWAY_SPEED_FLOOR = 3.0, 1.0
 @dataclass(frozen=True, eq=False)
 class BranchPlan:
     """Flat tables of a branched line (columns: ``sim.branches.layout``). Profile 0 is the
-    line speed, profile 1 + k the tension reference of span k (where it has one)."""
+    line speed, then the tension references of the spans that have one, then the drag
+    torques. ``radius0``: each drive's calculated radius at the start [m] (0 without a
+    diameter calculator). ``wound``: the held inputs, wound-in tension [N] per web then drag
+    [N·m] per node (``held`` gives them at a time)."""
 
     line: BranchedLine
     offsets: np.ndarray
@@ -37,8 +42,12 @@ class BranchPlan:
     webs: np.ndarray
     di: np.ndarray
     df: np.ndarray
+    cores: np.ndarray
+    clutch: np.ndarray
     cells: np.ndarray
     events: np.ndarray
+    dist: np.ndarray
+    radius0: np.ndarray
     wound: np.ndarray
     prof_t: np.ndarray
     prof_v: np.ndarray
@@ -53,7 +62,7 @@ class BranchPlan:
     def tables(self) -> tuple[np.ndarray, ...]:
         """The tables ``kernel.rhs`` takes after ``wound``, in order."""
         return (self.offsets, self.nodes, self.si, self.sf, self.layers, self.rolls, self.webs,
-                self.di, self.df)
+                self.di, self.df, self.cores, self.clutch)
 
     def scratch(self) -> np.ndarray:
         """Scratch for ``kernel.rhs``."""
@@ -62,7 +71,7 @@ class BranchPlan:
     def loop(self) -> Any:
         """The compiled loop of this plan's structure (``kernel.compiled_advance``)."""
         return compiled_advance(self.offsets, self.si, self.layers, self.webs, self.di,
-                                self.cells)
+                                self.cells, self.cores)
 
     def run(self, x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
             rec: np.ndarray, cmd: np.ndarray, tick0: int, n_ticks: int, substeps: int,
@@ -71,11 +80,21 @@ class BranchPlan:
         changes made) and ``cmd`` in place by ``n_ticks`` controller periods from tick
         ``tick0``, recording into ``rec`` (``kernel.advance``)."""
         stages = np.empty((5, self.n_x))
-        return self.loop()(x, istate, wound, done, rec, stages, cmd, self.scratch(), tick0,
+        return self.loop()(x, istate, wound, done, rec, stages, cmd, self.scratch(),
+                           np.empty_like(wound), tick0,
                            n_ticks, self.dt, substeps, record_every, include_end,
                            self.speed_max,
-                           self.nodes, self.sf, self.rolls, self.df, self.events, self.prof_t,
-                           self.prof_v, self.prof_off)
+                           self.nodes, self.sf, self.rolls, self.df, self.clutch, self.events,
+                           self.dist, self.prof_t, self.prof_v, self.prof_off)
+
+    def held(self, t: float) -> np.ndarray:
+        """The held inputs ``kernel.rhs`` takes at ``t`` [s] without the ripples (their mean):
+        wound-in tensions and drag torques (``kernel.held_inputs``)."""
+        out = np.empty_like(self.wound)
+        drags = self.dist[self.dist[:, B.DS_KIND] == B.DIST_DRAG]
+        held_inputs(t, self.wound, out, self.webs.shape[0], drags, self.prof_t, self.prof_v,
+                    self.prof_off)
+        return out
 
     def profile(self, p: int, t: float) -> float:
         a, b = self.prof_off[p], self.prof_off[p + 1]
@@ -91,7 +110,11 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     off_r = off_w + n_n
     off_tq = off_r + n_r
     off_q = off_tq + n_d
-    offsets = np.array([off_w, off_r, off_tq, off_q, off_q + 2 * n_w], dtype=np.int64)
+    cores, clutch = _clutch_tables(line)
+    eccentric = eccentricities(line)
+    off_c = off_q + 2 * n_w
+    offsets = np.array([off_w, off_r, off_tq, off_q, off_c, off_c + len(cores),
+                        off_c + len(cores) + len(eccentric)], dtype=np.int64)
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):
         nodes[i, B.N_RADIUS] = r.radius
@@ -107,13 +130,21 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         if isinstance(r, UnwindSpec | RewindSpec):
             nodes[i, B.N_CORE] = r.core_radius
     nodes[:, B.N_INVJ] = 1.0 / nodes[:, B.N_JCONST]
+    nodes[:, B.N_ANGLE] = -1.0
+    for e, (i, eccentricity) in enumerate(eccentric.items()):
+        nodes[i, B.N_ECC], nodes[i, B.N_ANGLE] = eccentricity, e
     rolls = np.zeros((n_r, B.R_COLS))
     for j, roll in enumerate(line.rolls):
-        nodes[roll.node, B.N_ROLLS] += 1
+        on_clutch = float(j in cores[:, B.C_ROLL])
+        nodes[roll.node, B.N_ROLLS] += 1 - on_clutch
         m = line.materials[roll.web]
         rolls[j] = (roll.node, roll.web, roll.direction, m.thickness, m.width, m.density,
-                    nodes[roll.node, B.N_CORE])
+                    nodes[roll.node, B.N_CORE], on_clutch)
     si, sf, layers = _span_tables(line)
+    for c, (_, _, k) in enumerate(cores):
+        si[k, B.S_CORE] = c
+    si[:, B.S_ECCA] = nodes[si[:, B.S_A], B.N_ANGLE]
+    si[:, B.S_ECCB] = nodes[si[:, B.S_B], B.N_ANGLE]
     webs = np.array([[line.web_spans(w)[0], line.web_spans(w)[-1]] for w in range(n_w)],
                     dtype=np.int64).reshape(n_w, B.WB_COLS)
     profiles = [breakpoints(spec.speed)]
@@ -123,7 +154,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         if tension is not None:
             ref_of[k] = len(profiles)
             profiles.append(breakpoints(tension))
-    wound = np.zeros(n_w)
+    wound = np.zeros(n_w + n_n)  # wound-in tension per web, drag per node (held_inputs)
     for w, web in enumerate(spec.webs):
         first = spec.rollers[line.node_index[web.path[0]]]
         if isinstance(first, UnwindSpec):
@@ -138,7 +169,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         di[d, B.DI_NCELLS] = len(zone.loadcells) if zone else 0
         cells += [(k, ref_of[k]) for k in (zone.loadcells if zone else ())]
         di[d, B.DI_ROLL] = _speed_roll(line, i, zone.loadcells if zone else ())
-        df[d, B.D_SIGMA] = zone.sigma if zone else 0.0
+        df[d, B.D_SIGMA] = zone.sigma if zone and i not in cores[:, B.C_NODE] else 0.0
     events = np.zeros((0, B.E_COLS))
     change = line.roll_change
     if change is not None:
@@ -147,11 +178,15 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         w = line.rolls[j].web
         new = wound[w] if change.wound_in_tension is None else change.wound_in_tension
         events = np.array([[change.time, j, change.radius, new, w]])
+    dist = disturbance_table(line, profiles)
+    taper_columns(line, df, profiles)
+    radius0 = diameter_columns(line, df, di)
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
     top = max(float(np.max(np.abs(v))) for v in [breakpoints(spec.speed)[1]])
     rate = spec.control.sample_rate if sample_rate is None else sample_rate
-    plan = BranchPlan(line, offsets, nodes, si, sf, layers, rolls, webs, di, df,
-                      np.array(cells, dtype=np.int64).reshape(-1, 2), events, wound,
+    plan = BranchPlan(line, offsets, nodes, si, sf, layers, rolls, webs, di, df, cores, clutch,
+                      np.array(cells, dtype=np.int64).reshape(-1, 2), events, dist, radius0,
+                      wound,
                       np.concatenate([t for t, _ in profiles]),
                       np.concatenate([v for _, v in profiles]), offs, 1.0 / rate,
                       RUNAWAY_SPEED_FACTOR * top + RUNAWAY_SPEED_FLOOR)
@@ -168,6 +203,7 @@ def _span_tables(line: BranchedLine) -> tuple[np.ndarray, np.ndarray, np.ndarray
         web = spec.webs[span.web]
         k = span.index
         si[k, B.S_A], si[k, B.S_B], si[k, B.S_WEB] = span.a, span.b, span.web
+        si[k, B.S_CORE] = -1
         si[k, B.S_ARMA] = line.roll_of(span.a, span.web)
         si[k, B.S_ARMB] = line.roll_of(span.b, span.web)
         sf[k, B.SF_LENGTH] = span.length
@@ -187,6 +223,20 @@ def _span_tables(line: BranchedLine) -> tuple[np.ndarray, np.ndarray, np.ndarray
         else:
             si[k, B.S_SRC] = B.SRC_WOUND
     return si, sf, np.array(layers, dtype=np.int64)
+
+
+def _clutch_tables(line: BranchedLine) -> tuple[np.ndarray, np.ndarray]:
+    """The clutch cores of every differential shaft, one per lane wound on it: int rows
+    (roll, shaft node, lane span), float rows (slip torque, core inertia, overspeed)."""
+    rows, values = [], []
+    for j, roll in enumerate(line.rolls):
+        roller = line.spec.rollers[roll.node]
+        shaft = getattr(roller, "shaft", None)
+        if isinstance(roller, RewindSpec) and shaft is not None:
+            rows.append((j, roll.node, line.web_spans(roll.web)[-1]))
+            values.append((shaft.slip_torque, shaft.core_inertia, shaft.overspeed))
+    return (np.array(rows, dtype=np.int64).reshape(-1, B.C_COLS),
+            np.array(values, dtype=float).reshape(-1, B.CF_COLS))
 
 
 def _speed_roll(line: BranchedLine, i: int, loadcells: tuple[int, ...]) -> int:
@@ -234,7 +284,7 @@ def _tune(plan: BranchPlan) -> None:
         row[B.D_RATIO] = drive.ratio
         row[B.D_KPS] = scale * auto.speed_kp if c.speed_kp is None else c.speed_kp
         row[B.D_KIS] = scale * auto.speed_ki if c.speed_ki is None else c.speed_ki
-        if zone:
+        if zone and i not in plan.cores[:, B.C_NODE]:  # (a differential shaft: speed only)
             row[B.D_KPT] = auto.tension_kp if c.tension_kp is None else c.tension_kp
             row[B.D_KIT] = auto.tension_ki if c.tension_ki is None else c.tension_ki
         row[B.D_LIMIT] = drive.torque_limit

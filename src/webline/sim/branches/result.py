@@ -47,14 +47,15 @@ class BranchResult:
         length in/out and stored per web."""
         plan, line = self.plan, self.plan.line
         x = self.states
-        n_s, n_n = len(line.spans), plan.nodes.shape[0]
+        n_s, n_n, n_d = len(line.spans), plan.nodes.shape[0], len(line.drives)
         o = plan.offsets
         ea = plan.sf[:, B.SF_EA]
         tension = np.maximum(x[:, :n_s], 0.0)
         omega = x[:, o[B.O_OMEGA]:o[B.O_OMEGA] + n_n]
         radius = x[:, o[B.O_RADIUS]:o[B.O_TORQUE]]
         torque = x[:, o[B.O_TORQUE]:o[B.O_WEB]]
-        q = x[:, o[B.O_WEB]:o[B.O_N]]
+        q = x[:, o[B.O_WEB]:o[B.O_CORE]]
+        core_omega = x[:, o[B.O_CORE]:o[B.O_ANGLE]]
         stored = np.stack([np.sum(plan.sf[s, B.SF_LENGTH] * (1.0 - x[:, s] / ea[s]), axis=1)
                            for s in (line.web_spans(w) for w in range(len(line.spec.webs)))],
                           axis=1)
@@ -89,16 +90,22 @@ class BranchResult:
                          "shaft: the lane its drive measures)"),
             "radius": var(("roll",), radius, "m", "wound radius of a roll or lane"),
             "torque": var(("drive",), torque, "N*m", "motor torque"),
-            "torque_cmd": var(("drive",), self.rec[:, 1 + plan.n_x:], "N*m", "torque command"),
+            "torque_cmd": var(("drive",), self.rec[:, 1 + plan.n_x:1 + plan.n_x + n_d], "N*m",
+                              "torque command"),
+            "radius_calc": var(("drive",), self.rec[:, 1 + plan.n_x + n_d:], "m",
+                               "radius a diameter calculator gives its drive (0: none)"),
             "web_in": var(("web",), q[:, 0::2], "m", "unstrained web in at the path's start"),
             "web_out": var(("web",), q[:, 1::2], "m", "unstrained web out at the path's end"),
             "web_stored": var(("web",), stored, "m", "unstrained web in the path's spans"),
+            "core_omega": var(("core",), core_omega, "rad/s",
+                              "angular speed of a lane's core on a differential shaft"),
         }
         coords = {"time": ("time", t, {"units": "s"}),
                   "span": [s.name for s in line.spans],
                   "span_web": ("span", [line.spec.webs[s.web].name for s in line.spans]),
                   "layer_span": layer_names, "node": [r.name for r in line.spec.rollers],
                   "roll": roll_names, "drive": drives,
+                  "core": [roll_names[j] for j in plan.cores[:, B.C_ROLL]],
                   "web": [w.name for w in line.spec.webs]}
         return xr.Dataset(data, coords, attrs={
             "line": line.name, "scenario": line.scenario or "", "webline_version": __version__,

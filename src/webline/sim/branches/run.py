@@ -66,6 +66,7 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     x = point.x.copy()
     istate = np.zeros((plan.di.shape[0], B.I_COLS))
     istate[:, B.I_SPEED] = point.torque  # the speed integrators hold the torques
+    istate[:, B.I_RADIUS] = plan.radius0
     n_d = plan.di.shape[0]
     rec = new_records(n_ticks, every, plan.n_x, n_d)
     wound, done, cmd = plan.wound.copy(), np.zeros(len(plan.events)), point.torque.copy()

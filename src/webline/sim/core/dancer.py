@@ -129,7 +129,7 @@ def _point_at_dancer(drives: np.ndarray, line: Line, z: int, d: int) -> int | No
 
 def load_taper(line: Line, drives: np.ndarray, i: int, radius: float) -> float:
     """Factor [-] on the load of the dancer on node ``i`` at the controller's roll radius
-    ``radius`` [m] (``sim.elements.dancer_taper.load_factor``, in Python): the rewind's taper where
+    ``radius`` [m] (``sim.drives.dancer_taper.load_factor``, in Python): the rewind's taper where
     its drive runs this dancer in position control, else 1."""
     d = line.drives.index(line.n_nodes - 1)
     rewind = line.rewind

@@ -154,7 +154,7 @@ def _decentralized_columns(row: np.ndarray, line: Line, d: int, line_speed: floa
 
 def observer_columns(row: np.ndarray, line: Line, d: int, model: SectionModel,
                      bandwidth: float) -> None:
-    """The tension observer of drive ``d`` (``sim.elements.observer``): its zone must be one span
+    """The tension observer of drive ``d`` (``sim.drives.observer``): its zone must be one span
     next
     to its roller, its drive rigid. Gains from the section model at the operating point:
     error matrix [[-v/L, -l_T], [s r/J, -β - l_ω]] (s = +1 if the roller is the span's

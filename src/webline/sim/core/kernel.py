@@ -2,7 +2,7 @@
 
 Between controller ticks the torque commands are held (zero-order hold) and the plant is
 integrated with fixed-step RK4 sub-steps; at each tick every controller samples the state
-and issues a saturated torque command (``webline.sim.elements.controllers``).
+and issues a saturated torque command (``webline.sim.drives.controllers``).
 
 The loop is compiled once per line *structure* (``compiled_loop``): the integer tables of
 ``webline.sim.elements.layout`` are frozen into it as constants, so its loops over nodes and drives
@@ -25,17 +25,17 @@ import numpy as np
 
 from webline.physics import roll, roller, slip, span, web_law
 from webline.sim.core.plan import StructureKey, structure_arrays
+from webline.sim.drives.controllers import control_tick
+from webline.sim.drives.dancer_taper import load_factor
+from webline.sim.drives.user_loop import STATUS_USER_NONFINITE, user_nonfinite
 from webline.sim.elements import layout as L
 from webline.sim.elements.break_hold import brake_drag, brake_torque
-from webline.sim.elements.controllers import control_tick
 from webline.sim.elements.dancer_loop import dancer_rate, span_motion
-from webline.sim.elements.dancer_taper import load_factor
 from webline.sim.elements.envelope import envelope, node_arm
 from webline.sim.elements.friction_loop import STICK_SPEED, breakaway, table_torque
 from webline.sim.elements.signals import jit, loop_njit, njit, profile_at
 from webline.sim.elements.splice import apply_splices
 from webline.sim.elements.transmission_loop import compliant_torque
-from webline.sim.elements.user_loop import STATUS_USER_NONFINITE, user_nonfinite
 from webline.sim.elements.web_state import (
     record_width,
     update_slip,

@@ -26,9 +26,7 @@ import numpy as np
 
 from webline.sim.core.kernel import advance
 from webline.sim.core.plan import StructureKey, structure_arrays
-from webline.sim.elements import layout as L
-from webline.sim.elements.signals import _NO_NRT, FAST, loop_njit
-from webline.sim.elements.user_loop import (
+from webline.sim.drives.user_loop import (
     N_MEASURED,
     N_REFERENCES,
     U_CMD,
@@ -36,6 +34,8 @@ from webline.sim.elements.user_loop import (
     U_SPEED,
     U_VREF,
 )
+from webline.sim.elements import layout as L
+from webline.sim.elements.signals import _NO_NRT, FAST, loop_njit
 from webline.sim.elements.web_state import record_width
 
 if TYPE_CHECKING:

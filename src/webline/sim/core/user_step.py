@@ -1,5 +1,5 @@
 """The step of a user run (``sim.user_control``): one live tick of the compiled loop, then
-the next tick's controller sample on a scratch copy (``sim.elements.user_loop``), in one compiled
+the next tick's controller sample on a scratch copy (``sim.drives.user_loop``), in one compiled
 call
 so that a tick costs Python one dispatch.
 
@@ -21,9 +21,7 @@ import numpy as np
 
 from webline.sim.core.kernel import advance
 from webline.sim.core.plan import StructureKey, structure_arrays
-from webline.sim.elements import layout as L
-from webline.sim.elements.signals import jit, loop_njit
-from webline.sim.elements.user_loop import (
+from webline.sim.drives.user_loop import (
     N_MEASURED,
     N_REFERENCES,
     STATUS_USER_NONFINITE,
@@ -32,6 +30,8 @@ from webline.sim.elements.user_loop import (
     U_SPEED,
     U_VREF,
 )
+from webline.sim.elements import layout as L
+from webline.sim.elements.signals import jit, loop_njit
 
 if TYPE_CHECKING:
     from webline.sim.core.plan import Plan

@@ -93,7 +93,7 @@ def top_speed(line: Line) -> float:
 
 def compensation_torque(row: np.ndarray, inertia: float, radius: float, omega: float,
                         a_line: float) -> float:
-    """Motor torque [N·m] of a drive's compensations (``sim.elements.winder_loop.compensation``, the
+    """Motor torque [N·m] of a drive's compensations (``sim.drives.winder_loop.compensation``, the
     same formula) at shaft inertia ``inertia`` [kg·m²], radius [m], speed [rad/s] and line
     acceleration [m/s²]."""
     torque = row[L.D_COMPJ] * inertia * a_line / radius

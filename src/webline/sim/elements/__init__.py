@@ -1,3 +1,4 @@
-"""The compiled loop's elements: the column layout of the plan's tables and one numba-jitted
-function family per module (measurements, diameter calculators, controllers, dancers, splices,
-brakes), called every tick or every right-hand side."""
+"""The plant's pieces in the compiled loop: the column layout of the plan's tables, signal
+sources, the envelope a run must stay in, dancers, splices, brakes after a break, friction and
+compliant transmissions; one numba-jitted function family per module, called every
+right-hand side or every tick."""

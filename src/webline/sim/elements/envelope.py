@@ -8,8 +8,19 @@ import math
 import numpy as np
 
 from webline.sim.elements import layout as L
-from webline.sim.elements.controllers import node_radius
 from webline.sim.elements.signals import jit
+
+
+@jit
+def node_radius(i: int, x: np.ndarray, ns: np.ndarray, offsets: np.ndarray,
+                nodes: np.ndarray) -> float:
+    """Radius [m] a drive works with: the roll radius state, or the nominal roller radius."""
+    kind = ns[i, L.NS_KIND]
+    if kind == L.KIND_UNWIND:
+        return x[offsets[L.O_RADIUS]]
+    if kind == L.KIND_REWIND:
+        return x[offsets[L.O_RADIUS] + 1]
+    return nodes[i, L.N_RADIUS]
 
 
 @jit

@@ -71,7 +71,7 @@ KIND_UNWIND, KIND_DRIVEN, KIND_IDLE, KIND_REWIND = 0, 1, 2, 3
  # rates of k̂_T, k̂_V [N·m/N², N·m·s²/m²] and of the bias [N·m], projection half-widths
  # of k̂_T, k̂_V [N·m/N, N·m·s/m] and of the bias [N·m]
  D_PBT, D_PBV, D_GKT, D_GKV, D_GBIAS, D_KBT, D_KBV, D_CBOUND,
- # ... and the tension observer (sim/elements/observer.py): 1 if used, its gains on the speed
+ # ... and the tension observer (sim/drives/observer.py): 1 if used, its gains on the speed
  # residual
  # [N·s/rad, 1/s], the node on the other side of the observed span, its length [m] and the
  # EA the observer assumes [N]
@@ -112,7 +112,7 @@ DRIVE_STRUCTURE = (D_NODE, D_ROLE, D_LOADCELL, D_REF, D_UPREF, D_TSTATE, D_FAMIL
                    D_ADAPTIVE, D_ZFIRST, D_ZLAST, D_DANCER, D_DUSE)
 FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE, FAMILY_MRAC = 0, 1, 2, 3
 FAMILY_OPEN_LOOP = 4  # indirect tension control of a centre winder (docs/winder.md W4)
-# a user's controller: its held command is written between ticks (sim.elements.user_loop)
+# a user's controller: its held command is written between ticks (sim.drives.user_loop)
 FAMILY_USER = 5
 
 # controller memory per drive: PI integrators, adaptive friction estimate [N·m·s], the MRAC's

@@ -33,8 +33,8 @@ from webline.errors import LineFileError
 from webline.sim.core.kernel import advance
 from webline.sim.core.plan import Plan
 from webline.sim.core.viscoelastic import felt_records
+from webline.sim.drives.controllers import taper_at
 from webline.sim.elements import layout as L
-from webline.sim.elements.controllers import taper_at
 from webline.sim.elements.signals import _NO_NRT, FAST, jit, profile_at
 from webline.sim.elements.web_state import compiled_slip_column, record_width
 from webline.sim.results.metrics import SETTLE_BAND

@@ -22,8 +22,8 @@ import math
 import numpy as np
 
 from webline.sim.core.plan import Plan
+from webline.sim.drives.controllers import taper_at
 from webline.sim.elements import layout as L
-from webline.sim.elements.controllers import taper_at
 from webline.sim.elements.envelope import node_arm
 from webline.sim.elements.signals import jit, profile_at
 from webline.sim.results.winder_findings import AfterStop, AfterStopReader, rest_limits

@@ -140,7 +140,8 @@ def _case_work(line: BranchedLine, seconds: float) -> budget.Work | None:
     ticks = max(1, round(seconds / plan.dt))
     substeps = max(1, math.ceil(plan.dt * rate / STEP_LIMIT))
     every = max(1, math.ceil((ticks + 1) / MAX_RECORDS))
-    return budget.estimate(ticks, substeps, every, 1 + plan.n_x + plan.di.shape[0])
+    return budget.estimate(ticks, substeps, every,  # a record: t, x, commands, radii
+                           1 + plan.n_x + 2 * plan.di.shape[0])
 
 
 def branch_line_scale(base: BranchedLine, path: str,

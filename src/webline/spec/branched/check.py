@@ -10,6 +10,7 @@ from collections.abc import Callable
 from typing import NoReturn
 
 from webline.errors import LineFileError
+from webline.spec.branched.disturbances import check_disturbances
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
 from webline.spec.schema import (
     CascadedPISpec,
@@ -19,6 +20,7 @@ from webline.spec.schema import (
     RollerSpec,
     UnwindSpec,
 )
+from webline.spec.winder import check_taper
 
 Fail = Callable[[str, str], NoReturn]
 
@@ -60,6 +62,7 @@ def check_branched(spec: BranchedLineSpec, file: str) -> None:
         _check_web(spec, w, web, webs, rollers, fail)
     _check_rollers_once(spec, fail)
     _check_tree(spec, fail)
+    check_disturbances(spec, fail)
 
 
 def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
@@ -67,9 +70,15 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         key = f"rollers[{i}]"
         if roller.type == "dancer":
             unsupported(f"{key}.dancer", fail)
-        for name in ("nip", "wrap", "friction_table", "winder", "diameter", "taper"):
+        for name in ("nip", "wrap", "friction_table", "winder"):
             if getattr(roller, name, None) is not None:
                 unsupported(f"{key}.{name}", fail)
+        _check_diameter(spec, i, roller, fail)
+        if isinstance(roller, RewindSpec):
+            check_taper(roller.taper, f"{key}.taper", fail)
+            if roller.taper is not None and roller.shaft is not None:
+                fail(f"{key}.taper", "a differential shaft has no tension loop to taper (its "
+                     "lanes' tension is slip_torque / radius)")
         if roller.breakaway_torque > 0.0:
             unsupported(f"{key}.breakaway_torque", fail)
         contact = getattr(roller, "contact", None)
@@ -103,6 +112,22 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
                 next((r for r in spec.rollers if r.name == change.roller), None), UnwindSpec):
             fail(f"scenarios.{name}.roll_change.roller",
                  f"{change.roller!r} is no unwind roller of this line")
+
+
+def _check_diameter(spec: BranchedLineSpec, i: int, roller: RollerSpec, fail: Fail) -> None:
+    """A roll's diameter calculator: its line-speed source is the master, the reference or
+    another roller that is no roll; not on a differential shaft."""
+    diameter = getattr(roller, "diameter", None)
+    if diameter is None:
+        return
+    key = f"rollers[{i}].diameter"
+    if getattr(roller, "shaft", None) is not None:
+        fail(key, "a differential shaft has no speed-to-radius loop to calculate for")
+    source = next((r for r in spec.rollers if r.name == diameter.line_speed), None)
+    if diameter.line_speed not in ("master", "reference") and (
+            source is None or source is roller or isinstance(source, UnwindSpec | RewindSpec)):
+        fail(f"{key}.line_speed", "must be 'master', 'reference' or the name of another "
+             f"roller that is no roll, got {diameter.line_speed!r}")
 
 
 def _check_web(spec: BranchedLineSpec, w: int, web: WebPathSpec, webs: dict[str, WebPathSpec],

@@ -15,7 +15,7 @@ from typing import Any
 from pydantic import ConfigDict, Field
 
 from webline.spec.control_schema import ControllerSpec  # noqa: F401 - used by RollerSpec
-from webline.spec.disturbances import Name
+from webline.spec.disturbances import DisturbanceSpec, Name
 from webline.spec.quantities import Force, Length, SpeedProfile, Strict, Time, TimeNonNeg
 from webline.spec.schema import ControlSpec, RollerSpec, SpanSpec, Text, WebSpec
 
@@ -54,13 +54,15 @@ class RollChangeSpec(Strict):
 class BranchedScenarioSpec(Strict):
     """A named run of a branched line: speed reference, values changed by nested path
     (``set``: ``"webs.film.spans.film_zone.tension"``, ``"webs.lane_1.thickness"``) and an
-    unwind's ``roll_change``; ``duration`` the default run length [s]."""
+    unwind's ``roll_change``; ``disturbances`` replace the line's; ``duration`` the default
+    run length [s]."""
 
     description: Text = ""
     duration: Time
     set: dict[str, Any] = Field(default_factory=dict)
     speed: SpeedProfile | None = None
     roll_change: RollChangeSpec | None = None
+    disturbances: list[DisturbanceSpec] | None = None
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 
@@ -77,3 +79,4 @@ class BranchedLineSpec(Strict):
     speed: SpeedProfile
     control: ControlSpec = ControlSpec()
     scenarios: dict[str, BranchedScenarioSpec] = Field(default_factory=dict)
+    disturbances: list[DisturbanceSpec] = Field(default_factory=list)

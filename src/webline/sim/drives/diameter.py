@@ -7,8 +7,8 @@ import math
 
 import numpy as np
 
+from webline.sim.drives.measure import measured_omega, roller_speed
 from webline.sim.elements import layout as L
-from webline.sim.elements.measure import measured_omega, roller_speed
 from webline.sim.elements.signals import jit
 
 
@@ -35,7 +35,7 @@ def update_radius(d: int, i: int, tick: int, dt: float, true_radius: float, x: n
     """Advance drive ``d``'s calculated radius [m] by one tick ``dt`` [s] and return it; a
     drive without a calculator uses ``true_radius``.
 
-    Both speeds are measured as the controllers measure them (``sim.elements.measure``: noise,
+    Both speeds are measured as the controllers measure them (``sim.drives.measure``: noise,
     resolution, the spindle's encoder): ω of the spindle with the radius known so far, and
     v_line from the master roller, a measuring roller or the line-speed reference
     ``refs[0]`` (``D_DSOURCE``). Speed ratio: R_raw = v_line / ω; R follows R_raw through a

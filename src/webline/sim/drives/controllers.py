@@ -23,18 +23,19 @@ from typing import Any
 import numpy as np
 
 from webline.physics import motor, roll, roller, span, taper
+from webline.sim.drives.diameter import preset_radius, update_radius
+from webline.sim.drives.feedforward import speed_feedforward
+from webline.sim.drives.measure import measured_speed
+from webline.sim.drives.mrac import mrac_adapt, mrac_feedback
+from webline.sim.drives.observer import observe
+from webline.sim.drives.user_loop import U_COMP, user_command, user_law_commands
+from webline.sim.drives.winder_loop import break_monitor, compensation, open_loop_command
 from webline.sim.elements import layout as L
 from webline.sim.elements.break_hold import fade_trim, held_command, stop_acceleration
 from webline.sim.elements.dancer_loop import dancer_measurement
-from webline.sim.elements.diameter import preset_radius, update_radius
-from webline.sim.elements.feedforward import speed_feedforward
+from webline.sim.elements.envelope import node_radius
 from webline.sim.elements.friction_loop import table_torque
-from webline.sim.elements.measure import measured_speed
-from webline.sim.elements.mrac import mrac_adapt, mrac_feedback
-from webline.sim.elements.observer import observe
 from webline.sim.elements.signals import gaussian, jit, profile_at, profile_slope_at
-from webline.sim.elements.user_loop import U_COMP, user_command, user_law_commands
-from webline.sim.elements.winder_loop import break_monitor, compensation, open_loop_command
 
 _tension: Any = jit(span.tension)
 _roll_inertia: Any = jit(roll.roll_inertia)
@@ -43,18 +44,6 @@ _friction: Any = jit(roller.friction_torque)
 _saturate: Any = jit(motor.saturate)
 _taper: Any = jit(taper.taper_factor)
 _TABLE = taper.TABLE
-
-
-@jit
-def node_radius(i: int, x: np.ndarray, ns: np.ndarray, offsets: np.ndarray,
-                nodes: np.ndarray) -> float:
-    """Radius [m] a drive works with: the roll radius state, or the nominal roller radius."""
-    kind = ns[i, L.NS_KIND]
-    if kind == L.KIND_UNWIND:
-        return x[offsets[L.O_RADIUS]]
-    if kind == L.KIND_REWIND:
-        return x[offsets[L.O_RADIUS] + 1]
-    return nodes[i, L.N_RADIUS]
 
 
 @jit
@@ -184,11 +173,11 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
     """One sample of every drive's controller at tick ``tick`` (t = tick·dt [s]).
 
     ``istate`` (drive x I_COLS) holds PI integrators, adaptive estimates and the radius each
-    drive's controller uses (``sim.elements.diameter``, updated first); ``out`` (4 x
+    drive's controller uses (``sim.drives.diameter``, updated first); ``out`` (4 x
     drives) receives the torque command [N·m], the speed reference [m/s], the PI trim [m/s]
     and the equilibrium input [N·m]; ``refs`` (one per profile), ``span_ref`` (spans),
     ``v_ref`` and ``a_ref`` (nodes) are scratch for the references. ``law``: None, or the
-    compiled user laws of the user drives (``sim.elements.user_loop.user_law_commands``),
+    compiled user laws of the user drives (``sim.drives.user_loop.user_law_commands``),
     called once all drives are measured, with their scratch ``law_buf``; None folds away.
     """
     t = tick * dt
@@ -330,7 +319,7 @@ def decentralized_command(d: int, i: int, dt: float, radius: float, v_meas: floa
                           ds: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
                           drives: np.ndarray, web: np.ndarray, span_ref: np.ndarray,
                           v_ref: np.ndarray, a_ref: np.ndarray, out: np.ndarray) -> None:
-    """State feedback, adaptive control or MRAC (``sim.elements.mrac``) of drive ``d`` on node ``i``
+    """State feedback, adaptive control or MRAC (``sim.drives.mrac``) of drive ``d`` on node ``i``
     (module docstring)."""
     if offsets[L.O_OWNRHO]:  # a roll given by its totals (J1)
         inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)

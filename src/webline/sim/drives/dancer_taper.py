@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from webline.sim.drives.controllers import taper_at
 from webline.sim.elements import layout as L
-from webline.sim.elements.controllers import taper_at
 from webline.sim.elements.signals import jit
 
 

@@ -25,8 +25,8 @@ from typing import Any
 import numpy as np
 
 from webline.physics import motor
+from webline.sim.drives.feedforward import speed_feedforward
 from webline.sim.elements import layout as L
-from webline.sim.elements.feedforward import speed_feedforward
 from webline.sim.elements.signals import jit
 
 _saturate: Any = jit(motor.saturate)
