@@ -31,7 +31,7 @@ from webline.sim.branches.result import BranchResult
 from webline.sim.branches.run import MAX_RECORDS, STEP_LIMIT, fastest_rate, simulate_branches
 from webline.sim.linear import budget
 from webline.sim.results.metrics import METRICS, run_metrics
-from webline.sim.sweeps.cases import case_value, path_unit
+from webline.sim.sweeps.cases import case_value, path_unit, probe_values
 from webline.sim.sweeps.sweep_dataset import _coordinate
 from webline.spec.load import branched_from_dict
 from webline.spec.paths import set_path, split_path
@@ -41,10 +41,6 @@ from webline.verdict import RANK
 #: metrics a branched study keeps beside the chain's ``METRICS``: (dimension, SI unit, text)
 FINAL_ERROR = {"tension_final_error": ("span", "N", "tension minus loadcell reference at the "
                                                    "end")}
-#: a path with more distinct values than this is probed at its smallest and largest only
-CHECK_ALL_BELOW = 64
-
-
 def branch_base(line: Any, scenario: str | None) -> BranchedLine:
     """The branched line ``line`` (a ``BranchedLine``, a file or a built-in name) with
     ``scenario`` applied."""
@@ -105,17 +101,7 @@ def check_branch_study(line: Any, cases: Sequence[Mapping[str, object]],
                             "branched line (its metrics per span are)")
     base = branch_base(line, scenario)
     seconds = _seconds(base, duration, scenario)
-    probes = [base]
-    for path, source in what.items():
-        values = [case[path] for case in cases if path in case]
-        if len(values) > CHECK_ALL_BELOW and all(isinstance(v, float | int) for v in values):
-            values = [min(values), max(values)]  # type: ignore[type-var]
-        for value in values[:CHECK_ALL_BELOW]:
-            try:
-                probes.append(derive_branched(base, {path: value}))
-            except LineFileError as exc:
-                raise ArgumentError(f"{path}: {source} include {value!r}, which the line "
-                                    f"refuses ({exc}); no case was run") from None
+    probes = [base, *probe_values(base, cases, what, derive_branched)]
     worst = budget.Work(0, 0, 0, 0)
     for probe in probes:
         work = _case_work(probe, seconds)

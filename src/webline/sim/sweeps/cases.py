@@ -25,14 +25,14 @@ from __future__ import annotations
 import functools
 import math
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, Literal, get_args
+from typing import Any, Literal, TypeVar, get_args
 
 import numpy as np
 from pydantic import BaseModel, TypeAdapter, ValidationError
 
-from webline.errors import LineFileError
+from webline.errors import ArgumentError, LineFileError
 from webline.line import Line
 from webline.model.web_graph import BranchedLine
 from webline.sim.core import kernel
@@ -73,6 +73,35 @@ def _element(items: Sequence[Any], part: str | int) -> int:
         if getattr(item, "name", None) == part:
             return i
     raise _Unplaced
+
+
+#: a path with more values than this is checked at its extremes only (ranges are intervals)
+CHECK_ALL_BELOW = 64
+AnyLine = TypeVar("AnyLine", Line, BranchedLine)
+
+
+def probe_values(base: AnyLine, cases: Sequence[Mapping[str, object]],
+                 what: Mapping[str, str],
+                 derive: Callable[[AnyLine, Mapping[str, object]], AnyLine]) -> list[AnyLine]:
+    """Refuse a study before any case runs when a path's values leave what the line accepts
+    (ranges, cross-key checks): every value of a path with few of them, else its smallest and
+    largest. Raises ``ArgumentError`` naming the path, what produced the values
+    (``what[path]``: "the values", "the samples of normal(...)") and the line's message; a
+    value that only fails in combination still fails when its case is built. ``derive``
+    makes ``base`` with one change (``derive_line`` or the branched one). Returns the lines
+    checked (the probes of the work estimate)."""
+    probes: list[AnyLine] = []
+    for path, source in what.items():
+        values = [case[path] for case in cases if path in case]
+        if len(values) > CHECK_ALL_BELOW and all(isinstance(v, float | int) for v in values):
+            values = [min(values), max(values)]  # type: ignore[type-var]
+        for value in values[:CHECK_ALL_BELOW]:
+            try:
+                probes.append(derive(base, {path: value}))
+            except LineFileError as exc:
+                raise ArgumentError(f"{path}: {source} include {value!r}, which the line "
+                                    f"refuses ({exc}); no case was run") from None
+    return probes
 
 
 def derive_line(base: Line, changes: Mapping[str, object]) -> Line:

@@ -2,7 +2,7 @@
 
 Each case costs what its run would: ``ticks x sub-steps`` RK4 steps, its sub-steps set by its
 own fastest mode. Building every case to learn its sub-steps would cost what the study is
-meant to bound, so the cases probed by ``sweep._check_values`` (every value of a path with
+meant to bound, so the cases probed by ``cases.probe_values`` (every value of a path with
 few, else its smallest and largest, each applied alone to the base line) stand for them: each
 is checked as a run is (``budget.check_work``: a case ``run`` would refuse is refused), and
 the study is estimated as its number of cases times the costliest probe. A case that only

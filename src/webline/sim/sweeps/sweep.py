@@ -32,7 +32,13 @@ from webline.sim.sweeps.branch_study import (
     check_branch_study,
     run_branch_cases,
 )
-from webline.sim.sweeps.cases import Built, build_cases, case_value, derive_line
+from webline.sim.sweeps.cases import (
+    Built,
+    build_cases,
+    case_value,
+    derive_line,
+    probe_values,
+)
 from webline.sim.sweeps.distributions import draw, values_written
 from webline.sim.sweeps.study_grid import as_grid
 from webline.sim.sweeps.study_work import check_study_work
@@ -190,7 +196,7 @@ def sweep(line: Line | BranchedLine | str | Path, values: Mapping[str, Sequence[
                            record=record, limit=work_limit)
     else:
         base = _base(cast(Line | str | Path, line), scenario)
-        probes = _check_values(base, cases, what)
+        probes = probe_values(base, cases, what, derive_line)
         _check_work(base, probes, len(cases), len(paths), duration, scenario, record,
                     work_limit)
     ds = _study(line, cases, attrs, duration=duration, scenario=scenario, record=record,
@@ -237,7 +243,7 @@ def monte_carlo(line: Line | BranchedLine | str | Path, distributions: Mapping[s
         check_branch_study(line, cases, what, duration=duration,
                            scenario=scenario, record=record, limit=work_limit)
     else:
-        probes = _check_values(base, cases, what)
+        probes = probe_values(base, cases, what, derive_line)
         _check_work(base, probes, n, len(distributions), duration, scenario, record,
                     work_limit)
     from webline.sim.sweeps.study_view import as_study
@@ -276,30 +282,6 @@ def _line_scale(base: Line, path: str, dist: str) -> float:
 
 
 #: a path with more distinct values than this is checked at its smallest and largest only
-CHECK_ALL_BELOW = 64
-
-
-def _check_values(base: Line, cases: Sequence[Mapping[str, object]],
-                  what: Mapping[str, str]) -> list[Line]:
-    """Refuse a study before any case runs when a path's values leave what the line accepts
-    (ranges, cross-key checks): every value of a path with few of them, else its smallest and
-    largest (ranges are intervals). Raises ``ArgumentError`` naming the path, what produced the
-    values (``what[path]``: "the values", "the samples of normal(...)") and the line's
-    message; a value that only fails in combination still fails when its case is built.
-    ``base``: the line with its scenario applied (``_base``). Returns the lines checked (the
-    probes of ``sim.sweeps.study_work``)."""
-    probes: list[Line] = []
-    for path, source in what.items():
-        values = [case[path] for case in cases if path in case]
-        if len(values) > CHECK_ALL_BELOW and all(isinstance(v, float | int) for v in values):
-            values = [min(values), max(values)]  # type: ignore[type-var]
-        for value in values[:CHECK_ALL_BELOW]:
-            try:
-                probes.append(derive_line(base, {path: value}))
-            except LineFileError as exc:
-                raise ArgumentError(f"{path}: {source} include {value!r}, which the line "
-                                    f"refuses ({exc}); no case was run") from None
-    return probes
 
 
 def _check_work(base: Line, probes: Sequence[Line], n_cases: int, n_paths: int,
