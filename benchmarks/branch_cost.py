@@ -17,10 +17,10 @@ import time
 import numpy as np
 
 import webline
-from webline.sim.branches import layout as B
 from webline.sim.branches.equilibrium import operating_point
-from webline.sim.branches.kernel import new_records
 from webline.sim.branches.linear import fastest_rate
+from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.kernel import new_records
 from webline.sim.branches.plan import compile_branches
 from webline.sim.branches.run import STEP_LIMIT
 from webline.sim.core import kernel

@@ -5,7 +5,8 @@ check that a refactor leaves the physics bit for bit as it was.
     python benchmarks/trajectories.py save after.npz       # on the new one
     python benchmarks/trajectories.py compare before.npz after.npz
 
-Each run is 6 s of a built-in line (its default run and every scenario) and of ``hswl`` under
+Each run is 6 s of a built-in line, branched ones included (its default run and every
+scenario), and of ``hswl`` under
 the state-feedback, adaptive and MRAC controllers. ``compare`` prints the largest absolute
 difference per run and exits 1 if any differs or is missing.
 """
@@ -22,6 +23,7 @@ from webline.control.select import with_controller
 
 SECONDS = 6.0
 LINES = ("hswl", "rockwell", "converter")
+BRANCHED = ("laminator", "slitter")
 CONTROLLERS = ("state_feedback", "adaptive", "mrac")
 
 
@@ -32,6 +34,12 @@ def save(path: str) -> None:
         runs[name] = webline.simulate(line, SECONDS).states
         for scenario in line.spec.scenarios:
             runs[f"{name}-{scenario}"] = webline.simulate(line, SECONDS, scenario=scenario).states
+    for name in BRANCHED:
+        branched = webline.load_branched(name)
+        runs[name] = webline.simulate(branched, SECONDS).states
+        for scenario in branched.spec.scenarios:
+            runs[f"{name}-{scenario}"] = webline.simulate(branched, SECONDS,
+                                                          scenario=scenario).states
     for family in CONTROLLERS:
         line = with_controller(webline.load_line("hswl"), family)  # type: ignore[arg-type]
         runs[f"hswl-{family}"] = webline.simulate(line, SECONDS).states

@@ -187,9 +187,9 @@ def _analyze_branched(source: str, scenario: str | None, at: str | None, as_json
 def _branch_point_rows(plan: object, point: object) -> tuple[list[dict], list[dict]]:
     """Rows of a branched operating point: per span its tension [N], per roller its surface
     speed [m/s] (on a roll: its drive's lane), ω [rad/s] and motor torque [N·m] (None: idle)."""
-    from webline.sim.branches import layout as B
     from webline.sim.branches.equilibrium import BranchPoint
     from webline.sim.branches.linear import speed_arm
+    from webline.sim.branches.loop import layout as B
     from webline.sim.branches.plan import BranchPlan
 
     assert isinstance(plan, BranchPlan) and isinstance(point, BranchPoint)

@@ -77,9 +77,9 @@ def _free_response(name: str, kick: dict[str, float], seconds: float):
     in ``kick`` moved by their values (the loop of ``simulate_branches``, started off its
     equilibrium), and the closed-loop model there."""
     from webline.model.web_graph import load_branched
-    from webline.sim.branches import layout as B
-    from webline.sim.branches.kernel import new_records
     from webline.sim.branches.linear import fastest_rate, kept_states
+    from webline.sim.branches.loop import layout as B
+    from webline.sim.branches.loop.kernel import new_records
 
     plan = compile_branches(load_branched(name))
     point = operating_point(plan)

@@ -24,7 +24,7 @@ from webline.report.plots.branch_figures import (
     torques_caption,
 )
 from webline.report.plots.branch_schematic import branch_schematic
-from webline.sim.branches import layout as B
+from webline.sim.branches.loop import layout as B
 
 
 @pytest.fixture(scope="module")

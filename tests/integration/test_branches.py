@@ -130,8 +130,8 @@ def test_web_length_is_conserved_per_web_and_lane(line, scenario):
 
 
 def test_the_operating_point_is_steady_on_the_kernels_rhs():
-    from webline.sim.branches import layout as B
-    from webline.sim.branches.kernel import rhs
+    from webline.sim.branches.loop import layout as B
+    from webline.sim.branches.loop.plant import rhs
 
     for name in ("laminator", "slitter"):
         plan = compile_branches(webline.load_branched(name))

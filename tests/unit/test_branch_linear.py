@@ -12,9 +12,7 @@ import pytest
 
 from webline.model.web_graph import load_branched
 from webline.physics.roller import COULOMB_SMOOTHING
-from webline.sim.branches import layout as B
 from webline.sim.branches.equilibrium import operating_point
-from webline.sim.branches.kernel import node_inertia
 from webline.sim.branches.linear import (
     analysis_time,
     branch_linear_model,
@@ -23,6 +21,8 @@ from webline.sim.branches.linear import (
     sampled_closed_loop,
     sampled_unstable_modes,
 )
+from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.plan import compile_branches
 from webline.sim.linear.stability import tolerance
 

@@ -29,6 +29,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline.sim.core",),
     ("webline.sim.linear",),
     ("webline.sim.results",),
+    ("webline.sim.branches.loop",),
     ("webline.sim.branches",),
     ("webline.sim",),
     ("webline.sim.sweeps",),

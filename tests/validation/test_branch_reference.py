@@ -9,7 +9,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 import webline
-from webline.sim.branches.kernel import rhs
+from webline.sim.branches.loop.plant import rhs
 
 
 def test_rk4_sub_steps_match_an_adaptive_reference_through_a_layer_upset():

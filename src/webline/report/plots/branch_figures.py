@@ -17,7 +17,7 @@ from webline.report.plots.frame import framed_figure
 from webline.report.plots.mpl_text import legend_label, literal
 from webline.report.text.branch_tables import junction_kind, shaft_lanes
 from webline.report.text.display import number_text
-from webline.sim.branches import layout as B
+from webline.sim.branches.loop import layout as B
 from webline.sim.branches.result import BranchResult
 from webline.sim.results.decimate import envelope
 

@@ -8,7 +8,7 @@ import numpy as np
 
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
-from webline.sim.branches import layout as B
+from webline.sim.branches.loop import layout as B
 from webline.spec.disturbances import (
     EccentricRoller,
     MeasurementNoise,

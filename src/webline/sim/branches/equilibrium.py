@@ -1,6 +1,6 @@
 """The operating point of a branched line: the state its simulation starts at.
 
-Solved on the kernel's own right-hand side (``sim.branches.kernel.rhs``), so a run started
+Solved on the kernel's own right-hand side (``sim.branches.loop.plant.rhs``), so a run started
 there stays put to the solver's tolerance: unknowns are the span stretches, node speeds and
 motor torques; equations are every span's and node's balance (a roll node turning at the
 rate that holds its surface speed while its radius changes), the master at the line speed
@@ -22,8 +22,9 @@ import numpy as np
 from scipy.optimize import root
 
 from webline.errors import SimulationError
-from webline.sim.branches import layout as B
-from webline.sim.branches.kernel import node_inertia, rhs, taper_at
+from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.control import taper_at
+from webline.sim.branches.loop.plant import node_inertia, rhs
 from webline.sim.branches.plan import BranchPlan
 
 #: the solver's relative tolerance on the scaled unknowns [-]

@@ -1,6 +1,6 @@
 """Linear models of a branched line at its operating point (docs/branching.md, "Linear models").
 
-The plant is the compiled right-hand side ``sim.branches.kernel.rhs`` itself, differentiated
+The plant is the compiled right-hand side ``sim.branches.loop.plant.rhs`` itself, differentiated
 by central finite differences at the operating point (``sim.branches.equilibrium``), so the
 model follows the kernel wherever it changes; a test checks it against the Jacobian derived
 by hand from (B1)-(B4). States kept: span stretches [N] (= tensions on a taut span), node
@@ -21,9 +21,9 @@ import numpy as np
 
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.profiles import breakpoints
-from webline.sim.branches import layout as B
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
-from webline.sim.branches.kernel import node_inertia, rhs
+from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.plant import node_inertia, rhs
 from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.linear.linearize import LinearModel
 from webline.sim.linear.stability import SHARE, UnstableMode, tolerance, unstable_modes

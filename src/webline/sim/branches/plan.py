@@ -1,5 +1,5 @@
 """The plan of a branched line: its topology (``model.web_graph``) as flat arrays for the
-compiled loop (``sim.branches.kernel``), with the PI gains of every drive.
+compiled loop (``sim.branches.loop``), with the PI gains of every drive.
 """
 
 from __future__ import annotations
@@ -13,9 +13,11 @@ import numpy as np
 from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
-from webline.sim.branches import layout as B
 from webline.sim.branches.disturb import disturbance_table, eccentricities
-from webline.sim.branches.kernel import compiled_advance, held_inputs, node_inertia, work_size
+from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.control import held_inputs
+from webline.sim.branches.loop.kernel import compiled_advance
+from webline.sim.branches.loop.plant import node_inertia, work_size
 from webline.sim.branches.winder import diameter_columns, taper_columns
 from webline.spec.branched.check import kind_of
 from webline.spec.schema import CascadedPISpec, IdleSpec, RewindSpec, UnwindSpec
@@ -26,7 +28,7 @@ RUNAWAY_SPEED_FACTOR, RUNAWAY_SPEED_FLOOR = 3.0, 1.0
 
 @dataclass(frozen=True, eq=False)
 class BranchPlan:
-    """Flat tables of a branched line (columns: ``sim.branches.layout``). Profile 0 is the
+    """Flat tables of a branched line (columns: ``sim.branches.loop.layout``). Profile 0 is the
     line speed, then the tension references of the spans that have one, then the drag
     torques. ``radius0``: each drive's calculated radius at the start [m] (0 without a
     diameter calculator). ``wound``: the held inputs, wound-in tension [N] per web then drag

@@ -9,10 +9,10 @@ import numpy as np
 
 from webline.errors import SimulationError
 from webline.model.web_graph import BranchedLine, load_branched
-from webline.sim.branches import layout as B
 from webline.sim.branches.equilibrium import operating_point
-from webline.sim.branches.kernel import new_records
 from webline.sim.branches.linear import fastest_rate
+from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.kernel import new_records
 from webline.sim.branches.plan import compile_branches
 from webline.sim.branches.result import BranchResult
 from webline.spec.ranges import argument, whole_argument

@@ -10,7 +10,7 @@ import numpy as np
 
 from webline.model.web_graph import BranchedLine
 from webline.physics.taper import KINDS, TABLE
-from webline.sim.branches import layout as B
+from webline.sim.branches.loop import layout as B
 from webline.spec.schema import RewindSpec
 
 

@@ -24,8 +24,8 @@ import numpy as np
 from webline.errors import ArgumentError, LineFileError, WeblineError
 from webline.limits import CASE_BYTES
 from webline.model.web_graph import BranchedLine, load_branched
-from webline.sim.branches import layout as B
 from webline.sim.branches.equilibrium import operating_point
+from webline.sim.branches.loop import layout as B
 from webline.sim.branches.plan import compile_branches
 from webline.sim.branches.result import BranchResult
 from webline.sim.branches.run import MAX_RECORDS, STEP_LIMIT, fastest_rate, simulate_branches

@@ -1,0 +1,136 @@
+"""What a branched line's drives do each controller tick: the inputs held over the period,
+the diameter calculator, taper and the sampled cascaded PI (thesis Fig. 4.3, as the chain's
+``sim.drives``); tables in ``sim.branches.loop.layout``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from webline.physics import motor, span, taper
+from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.plant import node_inertia
+from webline.sim.drives.measure import quantized
+from webline.sim.elements.signals import gaussian, jit, profile_at, sines
+
+_tension: Any = jit(span.tension)
+_saturate: Any = jit(motor.saturate)
+_taper_factor: Any = jit(taper.taper_factor)
+
+
+@jit
+def held_inputs(t: float, wound: np.ndarray, held: np.ndarray, n_w: int, dist: np.ndarray,
+                prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray) -> None:
+    """The inputs ``rhs`` holds over a controller period from ``t`` [s]: each web's wound-in
+    tension ``wound`` plus its ripple, each node's drag torque profile (``layout`` DS_*)."""
+    for m in range(held.shape[0]):
+        held[m] = wound[m]
+    for r in range(dist.shape[0]):
+        kind, index = int(dist[r, B.DS_KIND]), int(dist[r, B.DS_INDEX])
+        if kind == B.DIST_WOUND_RIPPLE:
+            held[index] += sines(dist[r:r + 1, B.DS_A:B.DS_C + 1], t)
+        elif kind == B.DIST_DRAG:
+            held[n_w + index] += profile_at(int(dist[r, B.DS_A]), t, prof_t, prof_v, prof_off)
+
+
+@jit
+def calculated_radius(d: int, radius: float, omega: float, dt: float, v_line: float,
+                      x: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
+                      df: np.ndarray) -> float:
+    """Drive ``d``'s diameter calculator one tick ``dt`` [s] on (docs/winder.md W2, as the
+    chain's ``sim.drives.diameter.update_radius``): from ``radius`` [m] and the measured
+    spindle speed ``omega`` [rad/s]. Speed ratio: R_raw = v_line / ω through a first-order
+    filter, its step limited to rate_limit dt / 2, held while |v_line| < hold_below; v_line
+    the reference ``v_line`` [m/s] or the source roller's surface speed. Thickness: R grows
+    (winding) or shrinks by h |ω| dt / 2π."""
+    if df[d, B.D_DCALC] == B.DCALC_THICKNESS:
+        return radius + df[d, B.D_DDIR] * df[d, B.D_DTHICK] * abs(omega) * dt / (2.0 * math.pi)
+    src = int(df[d, B.D_DSOURCE])
+    v_src = v_line if src < 0 else nodes[src, B.N_RADIUS] * x[offsets[B.O_OMEGA] + src]
+    if abs(v_src) < df[d, B.D_DHOLD] or abs(omega) <= 1e-9:
+        return radius
+    step = (abs(v_src / omega) - radius) * min(dt / df[d, B.D_DFILTER], 1.0)
+    limit = 0.5 * df[d, B.D_DRATE] * dt
+    return radius + min(max(step, -limit), limit)
+
+
+@jit
+def taper_at(d: int, radius: float, core_radius: float, df: np.ndarray, prof_t: np.ndarray,
+             prof_v: np.ndarray, prof_off: np.ndarray) -> float:
+    """Factor [-] on drive ``d``'s tension reference at its roll's ``radius`` [m] (a rewind's
+    taper, docs/winder.md W1; 1 without one): a table's profile is over the diameter."""
+    kind = int(df[d, B.D_TAPER_KIND])
+    if kind == 0:
+        return 1.0
+    if kind == taper.TABLE:
+        return profile_at(int(df[d, B.D_TAPER_PROF]), 2.0 * radius, prof_t, prof_v, prof_off)
+    return _taper_factor(kind, df[d, B.D_TAPER], 2.0 * core_radius, df[d, B.D_TAPER_DMAX],
+                         2.0 * radius)
+
+
+@jit
+def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarray,
+                 cmd: np.ndarray, offsets: np.ndarray, nodes: np.ndarray, rolls: np.ndarray,
+                 di: np.ndarray, df: np.ndarray, cells: np.ndarray, dist: np.ndarray,
+                 prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray) -> None:
+    """One sample ``tick`` of every drive's cascaded PI (thesis Fig. 4.3, as the chain's
+    ``sim.drives.controllers.pi_command``): line speed x draw is the speed feedforward, a
+    tension PI on the zone's loadcell (or the sum of its loadcells) trims it, a speed PI gives
+    the torque, clipped, with conditional integration. ``cells`` rows: (span, profile).
+    ``dist``: a drive's speed ripple adds to its speed reference; measurement noise to the
+    measured speed (channel 2 d, then rounded to the resolution) and each loadcell's tension
+    (channel 2 c + 1), as the chain's ``sim.drives.measure``."""
+    v_line = profile_at(0, t, prof_t, prof_v, prof_off)
+    off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
+    sigma_t, sigma_v, resolution, seed, noisy = 0.0, 0.0, 0.0, 0, False
+    for r in range(dist.shape[0]):
+        if int(dist[r, B.DS_KIND]) == B.DIST_NOISE:
+            seed, noisy = int(dist[r, B.DS_INDEX]), True
+            sigma_t, sigma_v, resolution = dist[r, B.DS_A], dist[r, B.DS_B], dist[r, B.DS_C]
+    for d in range(di.shape[0]):
+        i = di[d, B.DI_NODE]
+        j = di[d, B.DI_ROLL]
+        radius = x[off_r + j] if j >= 0 else nodes[i, B.N_RADIUS]  # true radius
+        if df[d, B.D_DCALC] != B.DCALC_NONE:
+            for p in range(int(df[d, B.D_PRESETN])):  # W2a: set at the first tick at or after
+                if t - dt < df[d, B.D_PRESETT + p] <= t:
+                    preset = 0.5 * df[d, B.D_PRESETD + p]
+                    istate[d, B.I_RADIUS] = radius if preset <= 0.0 else preset
+            radius = istate[d, B.I_RADIUS]
+        v_meas = radius * x[off_w + i]
+        if noisy:
+            v_meas = quantized(v_meas + sigma_v * gaussian(seed, tick, 2 * d), resolution)
+        if df[d, B.D_DCALC] != B.DCALC_NONE:  # W2: the radius the controllers use
+            omega_meas = v_meas / radius
+            radius = calculated_radius(d, radius, omega_meas, dt, v_line, x, offsets, nodes,
+                                       df)
+            istate[d, B.I_RADIUS] = radius
+            v_meas = radius * omega_meas
+        e_t = 0.0
+        factor = taper_at(d, radius, nodes[i, B.N_CORE], df, prof_t, prof_v, prof_off)
+        for c in range(di[d, B.DI_CELLS], di[d, B.DI_CELLS] + di[d, B.DI_NCELLS]):
+            measured = _tension(x[cells[c, 0]])
+            if noisy:
+                measured += sigma_t * gaussian(seed, tick, 2 * c + 1)
+            e_t += factor * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - measured
+        trim = df[d, B.D_SIGMA] * (df[d, B.D_KPT] * e_t + istate[d, B.I_TENSION])
+        ripple = 0.0
+        for r in range(dist.shape[0]):
+            if int(dist[r, B.DS_KIND]) == B.DIST_SPEED_RIPPLE and int(dist[r, B.DS_INDEX]) == d:
+                ripple += sines(dist[r:r + 1, B.DS_A:B.DS_C + 1], t)
+        e_v = v_line * df[d, B.D_FF] + ripple + trim - v_meas
+        gain = 1.0
+        if df[d, B.D_ADAPTIVE] > 0.0:  # speed gains follow the roll's inertia
+            gain = node_inertia(i, x, offsets, nodes, rolls) / (
+                df[d, B.D_RATIO] * radius) / df[d, B.D_GAINNORM]
+        raw = df[d, B.D_KPS] * gain * e_v + istate[d, B.I_SPEED]
+        u = _saturate(raw, df[d, B.D_LIMIT])
+        saturated = raw != u
+        if not (saturated and e_v * raw > 0.0):
+            istate[d, B.I_SPEED] += df[d, B.D_KIS] * gain * e_v * dt
+        if not (saturated and df[d, B.D_SIGMA] * e_t * raw > 0.0):
+            istate[d, B.I_TENSION] += df[d, B.D_KIT] * e_t * dt
+        cmd[d] = u

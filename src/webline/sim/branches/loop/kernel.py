@@ -1,0 +1,142 @@
+"""The compiled loop of a branched line: events, sampled controller ticks
+(``loop.control``) and RK4 sub-steps of the plant (``loop.plant``) between them, as the chain
+kernel (``sim.core.kernel``) does; compiled once per line structure.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from typing import Any
+
+import numpy as np
+
+from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.control import control_tick, held_inputs
+from webline.sim.branches.loop.plant import rhs
+from webline.sim.elements.signals import jit, loop_njit
+
+
+@jit
+def roll_change(t: float, x: np.ndarray, wound: np.ndarray, done: np.ndarray,
+                offsets: np.ndarray, rolls: np.ndarray, events: np.ndarray) -> None:
+    """A new roll takes over at its event's time: new radius and wound-in tension, brought
+    to the old roll's surface speed first (a flying splice)."""
+    for e in range(events.shape[0]):
+        if done[e] == 0.0 and t >= events[e, B.E_TIME]:
+            done[e] = 1.0
+            j = int(events[e, B.E_ROLL])
+            i = int(rolls[j, B.R_NODE])
+            w_i = offsets[B.O_OMEGA] + i
+            r_i = offsets[B.O_RADIUS] + j
+            x[w_i] = x[w_i] * x[r_i] / events[e, B.E_RADIUS]
+            x[r_i] = events[e, B.E_RADIUS]
+            wound[int(events[e, B.E_WEB])] = events[e, B.E_WOUND]
+
+
+@jit
+def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
+            rec: np.ndarray, stages: np.ndarray, cmd: np.ndarray, work: np.ndarray,
+            held: np.ndarray,
+            tick0: int, n_ticks: int, dt: float, substeps: int, record_every: int,
+            include_end: bool, speed_max: float, offsets: np.ndarray, nodes: np.ndarray,
+            si: np.ndarray,
+            sf: np.ndarray, layers: np.ndarray, rolls: np.ndarray, webs: np.ndarray,
+            di: np.ndarray, df: np.ndarray, cores: np.ndarray, clutch: np.ndarray,
+            cells: np.ndarray, events: np.ndarray, dist: np.ndarray, prof_t: np.ndarray,
+            prof_v: np.ndarray, prof_off: np.ndarray) -> tuple[int, int, float]:
+    """Advance ``n_ticks`` controller periods from tick ``tick0``, recording ``new_records``'
+    rows every ``record_every`` ticks and, with ``include_end``, the state after the last (a
+    chunked run leaves that tick to the next chunk); returns (records, status, time of
+    failure). Stops at a non-finite state, an empty unwind or a runaway (``layout``).
+    ``held``: scratch for the inputs held over a period (``held_inputs``)."""
+    n_x = x.shape[0]
+    n_d = di.shape[0]
+    n_s = si.shape[0]
+    tmp = stages[4]
+    h = dt / substeps
+    n_rec = 0
+    off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
+    for j in range(n_ticks + 1):
+        t = (tick0 + j) * dt
+        if j == n_ticks and not include_end:  # the next chunk starts with this tick
+            break
+        roll_change(t, x, wound, done, offsets, rolls, events)
+        held_inputs(t, wound, held, webs.shape[0], dist, prof_t, prof_v, prof_off)
+        control_tick(t, tick0 + j, dt, x, istate, cmd, offsets, nodes, rolls, di, df, cells,
+                     dist, prof_t, prof_v, prof_off)
+        if (tick0 + j) % record_every == 0 or j == n_ticks:
+            rec[n_rec, 0] = t
+            for m in range(n_x):
+                rec[n_rec, 1 + m] = x[m]
+            for d in range(n_d):
+                rec[n_rec, 1 + n_x + d] = cmd[d]
+                rec[n_rec, 1 + n_x + n_d + d] = istate[d, B.I_RADIUS]
+            n_rec += 1
+        if j == n_ticks:
+            break
+        for _ in range(substeps):
+            for stage in range(4):
+                state = x if stage == 0 else tmp
+                rhs(state, cmd, held, offsets, nodes, si, sf, layers, rolls, webs, di, df,
+                    cores, clutch, stages[stage], work)
+                if stage < 3:
+                    c = h if stage == 2 else 0.5 * h
+                    for m in range(n_x):
+                        tmp[m] = x[m] + c * stages[stage, m]
+            for m in range(n_x):
+                x[m] += h / 6.0 * (stages[0, m] + 2.0 * stages[1, m] + 2.0 * stages[2, m]
+                                   + stages[3, m])
+        for m in range(n_x):
+            if not math.isfinite(x[m]):
+                return n_rec, B.STATUS_NONFINITE, t + dt
+        for r in range(rolls.shape[0]):
+            if rolls[r, B.R_DIR] < 0.0 and x[off_r + r] <= rolls[r, B.R_CORE]:
+                return n_rec, B.STATUS_UNWIND_EMPTY, t + dt
+        for k in range(n_s):
+            if x[k] > B.RUNAWAY_STRAIN * sf[k, B.SF_EA]:
+                return n_rec, B.STATUS_RUNAWAY, t + dt
+        for i in range(nodes.shape[0]):
+            r_i = nodes[i, B.N_RADIUS]
+            if abs(x[off_w + i]) * r_i > speed_max:
+                return n_rec, B.STATUS_RUNAWAY, t + dt
+    return n_rec, B.STATUS_OK, math.nan
+
+
+def compiled_advance(offsets: np.ndarray, si: np.ndarray, layers: np.ndarray,
+                     webs: np.ndarray, di: np.ndarray, cells: np.ndarray,
+                     cores: np.ndarray) -> Any:
+    """``advance`` compiled for one line structure: its integer tables frozen into the loop
+    as constants (as the chain's ``sim.core.kernel.compiled_loop``), so the loops over spans,
+    nodes and drives have known trip counts and table look-ups fold away. Called with the
+    remaining arguments of ``advance`` (the float tables stay run-time arrays)."""
+    return _compiled(*((*np.asarray(a).ravel().tolist(), np.asarray(a).shape)
+                       for a in (offsets, si, layers, webs, di, cells, cores)))
+
+
+@functools.cache
+def _compiled(*tables: tuple[Any, ...]) -> Any:
+    offsets, si, layers, webs, di, cells, cores = (
+        np.array(t[:-1], dtype=np.int64).reshape(t[-1]) for t in tables)
+
+    @loop_njit
+    def loop(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
+             rec: np.ndarray, stages: np.ndarray, cmd: np.ndarray, work: np.ndarray,
+             held: np.ndarray,
+             tick0: int, n_ticks: int, dt: float, substeps: int, record_every: int,
+             include_end: bool, speed_max: float, nodes: np.ndarray, sf: np.ndarray,
+             rolls: np.ndarray, df: np.ndarray, clutch: np.ndarray, events: np.ndarray,
+             dist: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
+             prof_off: np.ndarray) -> tuple[int, int, float]:
+        return advance(x, istate, wound, done, rec, stages, cmd, work, held, tick0, n_ticks, dt,
+                       substeps, record_every, include_end, speed_max, offsets, nodes, si, sf,
+                       layers, rolls, webs, di, df, cores, clutch, cells, events, dist, prof_t,
+                       prof_v, prof_off)
+
+    return loop
+
+
+def new_records(n_ticks: int, record_every: int, n_x: int, n_d: int) -> np.ndarray:
+    """A record buffer for ``advance``: rows [t, x..., torque commands..., calculated
+    radii...]."""
+    return np.empty((n_ticks // record_every + 2, 1 + n_x + 2 * n_d))

@@ -1,0 +1,155 @@
+"""The plant of a branched line as the compiled loop integrates it (docs/branching.md,
+"Physics"): dx/dt of span stretches, node speeds, roll radii, motor torques, web lengths and
+clutch cores. Physics from ``webline.physics`` (span 6.8, rolls 6.1-6.6, rollers 6.9/6.11);
+tables in ``sim.branches.loop.layout``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from webline.physics import roll, roller, span
+from webline.sim.branches.loop import layout as B
+from webline.sim.elements.signals import jit
+
+_tension: Any = jit(span.tension)
+_stretch_rate: Any = jit(span.stretch_rate)
+_roll_inertia: Any = jit(roll.roll_inertia)
+_radius_rate: Any = jit(roll.radius_rate)
+_friction: Any = jit(roller.friction_torque)
+
+
+@jit
+def arm(end_roll: int, node: int, x: np.ndarray, offsets: np.ndarray,
+        nodes: np.ndarray) -> float:
+    """Lever arm [m] of a span's end on ``node``: its web's roll radius, or the roller's."""
+    if end_roll >= 0:
+        return x[offsets[B.O_RADIUS] + end_roll]
+    return nodes[node, B.N_RADIUS]
+
+
+@jit
+def carried_in(k: int, x: np.ndarray, tension: np.ndarray, wound: np.ndarray,
+               si: np.ndarray, sf: np.ndarray, layers: np.ndarray) -> float:
+    """Stretch [N] the web carries into span ``k`` (docs/branching.md, s_in)."""
+    src = si[k, B.S_SRC]
+    frm = si[k, B.S_FROM]
+    if src == B.SRC_PREVIOUS:
+        return tension[frm]
+    if src == B.SRC_WOUND:
+        return wound[si[k, B.S_WEB]]
+    if src == B.SRC_LAYERS:  # force continuity at the nip: the layers' tensions add up
+        total = 0.0
+        for j in range(si[k, B.S_COUNT]):
+            total += tension[layers[frm + j]]
+        return total
+    return sf[k, B.SF_SHARE] * tension[frm]  # a lane: the base web's strain at the knife
+
+
+@jit
+def node_inertia(i: int, x: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
+                 rolls: np.ndarray) -> float:
+    """Inertia [kg·m²] of node ``i``: rotating parts plus every roll wound on it (6.1), but
+    for the lanes on its clutch cores (a differential shaft: they turn on their own)."""
+    inertia = nodes[i, B.N_JCONST]
+    off_r = offsets[B.O_RADIUS]
+    for j in range(rolls.shape[0]):
+        if int(rolls[j, B.R_NODE]) == i and rolls[j, B.R_CLUTCH] == 0.0:
+            inertia += _roll_inertia(0.0, x[off_r + j], rolls[j, B.R_CORE],
+                                     rolls[j, B.R_WIDTH], rolls[j, B.R_RHO])
+    return inertia
+
+
+@jit
+def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
+        nodes: np.ndarray, si: np.ndarray, sf: np.ndarray, layers: np.ndarray,
+        rolls: np.ndarray, webs: np.ndarray, di: np.ndarray, df: np.ndarray,
+        cores: np.ndarray, clutch: np.ndarray, dx: np.ndarray, work: np.ndarray) -> None:
+    """dx/dt of a branched line into ``dx`` with held motor-torque commands ``cmd`` [N·m] and
+    held inputs ``wound``: the wound-in tension [N] per web, then the drag torque [N·m] per
+    node (``roller_drag``, added to its Coulomb friction). ``work``: scratch of 4 x spans +
+    2 x nodes (``work_size``). A lane on a differential shaft winds on its own core, which
+    its slip clutch drives from the shaft with the smoothed Coulomb torque of
+    ``physics.roller`` (docs/branching.md, "Differential shafts")."""
+    n_s, n_n = si.shape[0], nodes.shape[0]
+    off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
+    off_tq, off_q, off_c = offsets[B.O_TORQUE], offsets[B.O_WEB], offsets[B.O_CORE]
+    off_e = offsets[B.O_ANGLE]
+    tension = work[:n_s]
+    s_in = work[n_s:2 * n_s]
+    v_a = work[2 * n_s:3 * n_s]
+    v_b = work[3 * n_s:4 * n_s]
+    torque = work[4 * n_s:4 * n_s + n_n]
+    inertia = work[4 * n_s + n_n:4 * n_s + 2 * n_n]
+    for k in range(n_s):
+        tension[k] = _tension(x[k])
+    for i in range(n_n):
+        torque[i] = 0.0
+        inertia[i] = nodes[i, B.N_JCONST]
+    for j in range(rolls.shape[0]):  # every roll wound on a node adds its web's inertia
+        if cores.shape[0] > 0 and rolls[j, B.R_CLUTCH] != 0.0:  # on its own core: below
+            continue  # (cores is frozen into the loop: without clutches this folds away)
+        i = int(rolls[j, B.R_NODE])
+        radius = x[off_r + j]
+        inertia[i] += _roll_inertia(0.0, radius, rolls[j, B.R_CORE], rolls[j, B.R_WIDTH],
+                                    rolls[j, B.R_RHO])
+        dx[off_r + j] = _radius_rate(radius * x[off_w + i], radius, rolls[j, B.R_THICK],
+                                     rolls[j, B.R_DIR])
+    for k in range(n_s):
+        a, b = si[k, B.S_A], si[k, B.S_B]
+        arm_a = arm(si[k, B.S_ARMA], a, x, offsets, nodes)
+        arm_b = arm(si[k, B.S_ARMB], b, x, offsets, nodes)
+        if si[k, B.S_ECCA] >= 0:  # an out-of-round roller: r + e cos(angle) (docs/winder.md E1)
+            arm_a += nodes[a, B.N_ECC] * math.cos(x[off_e + si[k, B.S_ECCA]])
+            dx[off_e + si[k, B.S_ECCA]] = x[off_w + a]  # dθ/dt = ω (set once per span end)
+        if si[k, B.S_ECCB] >= 0:
+            arm_b += nodes[b, B.N_ECC] * math.cos(x[off_e + si[k, B.S_ECCB]])
+            dx[off_e + si[k, B.S_ECCB]] = x[off_w + b]
+        v_a[k] = arm_a * x[off_w + a]
+        core = si[k, B.S_CORE]
+        v_b[k] = arm_b * x[off_w + b] if core < 0 else arm_b * x[off_c + core]
+        s_in[k] = carried_in(k, x, tension, wound, si, sf, layers)
+        dx[k] = _stretch_rate(sf[k, B.SF_LENGTH], sf[k, B.SF_EA], v_a[k], v_b[k], s_in[k],
+                              tension[k])
+        torque[a] += arm_a * tension[k]  # the span pulls its upstream roller forward
+        if core < 0:  # (a lane on a clutch core pulls its core, below)
+            torque[b] -= arm_b * tension[k]
+    for c in range(cores.shape[0]):  # a lane's core: clutch torque in, the lane's r T out
+        j, i, k = cores[c, B.C_ROLL], cores[c, B.C_NODE], cores[c, B.C_SPAN]
+        radius, omega_core = x[off_r + j], x[off_c + c]
+        passed = _friction(x[off_w + i] - omega_core, 0.0, clutch[c, B.CF_SLIP])
+        torque[i] -= passed
+        inertia_core = clutch[c, B.CF_INERTIA] + _roll_inertia(
+            0.0, radius, rolls[j, B.R_CORE], rolls[j, B.R_WIDTH], rolls[j, B.R_RHO])
+        dx[off_c + c] = (passed - radius * tension[k]) / inertia_core
+        dx[off_r + j] = _radius_rate(radius * omega_core, radius, rolls[j, B.R_THICK],
+                                     rolls[j, B.R_DIR])
+    n_w = webs.shape[0]
+    for i in range(n_n):
+        omega = x[off_w + i]
+        total = torque[i] - nodes[i, B.N_VISCOUS] * omega
+        coulomb = nodes[i, B.N_COULOMB] + wound[n_w + i]  # a drag acts as dry friction does
+        if coulomb != 0.0:  # (a tanh costs more than the rest of the node)
+            total -= _friction(omega, 0.0, coulomb)
+        d = int(nodes[i, B.N_DRIVE])
+        if d >= 0:
+            total += nodes[i, B.N_RATIO] * x[off_tq + d]
+        if nodes[i, B.N_ROLLS] > 0.0:  # J(R) of the rolls on it (6.1)
+            dx[off_w + i] = total / inertia[i]
+        else:
+            dx[off_w + i] = total * nodes[i, B.N_INVJ]
+    for d in range(di.shape[0]):
+        dx[off_tq + d] = (cmd[d] - x[off_tq + d]) * df[d, B.D_INVLAG]
+    for w in range(webs.shape[0]):  # unstrained web in and out: v (1 - ε) at each end
+        first, last = webs[w, B.WB_FIRST], webs[w, B.WB_LAST]
+        inv_ea = sf[first, B.SF_INVEA]
+        dx[off_q + 2 * w] = v_a[first] * (1.0 - s_in[first] * inv_ea)
+        dx[off_q + 2 * w + 1] = v_b[last] * (1.0 - tension[last] * inv_ea)
+
+
+def work_size(n_spans: int, n_nodes: int) -> int:
+    """Length of ``rhs``'s scratch array."""
+    return 4 * n_spans + 2 * n_nodes
