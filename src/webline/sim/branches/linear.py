@@ -25,6 +25,7 @@ from webline.sim.branches.equilibrium import BranchPoint, operating_point
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import node_inertia, rhs
 from webline.sim.branches.plan import BranchPlan, compile_branches
+from webline.sim.branches.web_laws import felt_rows
 from webline.sim.linear.linearize import LinearModel
 from webline.sim.linear.stability import SHARE, UnstableMode, tolerance, unstable_modes
 from webline.verdict import Finding
@@ -106,6 +107,13 @@ def plant_matrices(plan: BranchPlan, point: BranchPoint,
     return a, b, e
 
 
+def felt_tension_rows(plan: BranchPlan, point: BranchPoint, radii: bool = False) -> np.ndarray:
+    """Rows [N per state unit] of the span tensions the rollers and loadcells feel over the
+    kept states (``sim.branches.web_laws.felt_rows``; [I 0] for linear elastic webs)."""
+    keep = kept_states(plan, radii)
+    return felt_rows(plan, point.x, keep, FD_STEP * _scales(point, keep))
+
+
 def speed_arm(plan: BranchPlan, point: BranchPoint, i: int) -> float:
     """Radius [m] converting node ``i``'s ω to the surface speed its drive measures (its roll's
     at the operating point), or the roller's radius."""
@@ -128,6 +136,7 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
     kx, ki, kr = np.zeros((n_d, n_x)), np.zeros((n_d, n_q)), np.zeros((n_d, n_r))
     gx, gi, gr = np.zeros((n_q, n_x)), np.zeros((n_q, n_q)), np.zeros((n_q, n_r))
     off_w = plan.offsets[B.O_OMEGA]
+    felt = felt_tension_rows(plan, point, radii)
     for d in range(n_d):
         i, row = int(plan.di[d, B.DI_NODE]), plan.df[d]
         # e_v = v_line ff + σ (kp_t e_t + q_t) - r ω,  e_t = Σ (ref_c - T_c)
@@ -142,9 +151,9 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
             first = int(plan.di[d, B.DI_CELLS])
             for c in range(first, first + int(plan.di[d, B.DI_NCELLS])):
                 k = int(plan.cells[c, 0])
-                ev_x[k] -= row[B.D_SIGMA] * row[B.D_KPT]
+                ev_x -= row[B.D_SIGMA] * row[B.D_KPT] * felt[k]  # the loadcell reads T
                 ev_r[1 + c] += row[B.D_SIGMA] * row[B.D_KPT]
-                gx[q_t, k] = -row[B.D_KIT]
+                gx[q_t] -= row[B.D_KIT] * felt[k]
                 gr[q_t, 1 + c] = row[B.D_KIT]
         gain = 1.0
         if row[B.D_ADAPTIVE] > 0.0:  # the speed gains follow the roll's inertia
@@ -170,7 +179,7 @@ def branch_linear_model(plan: BranchPlan, point: BranchPoint,
     names = state_names(plan, radii)
     n_s, n_n, n_x = len(line.spans), plan.nodes.shape[0], a.shape[0]
     c = np.zeros((n_s + n_n, n_x))
-    c[:n_s, :n_s] = np.eye(n_s)
+    c[:n_s] = felt_tension_rows(plan, point, radii)  # (web laws: F'(s), a damper's τ ds/dt)
     for i in range(n_n):
         c[n_s + i, n_s + i] = speed_arm(plan, point, i)
         d = int(plan.nodes[i, B.N_DRIVE])
