@@ -25,7 +25,7 @@ from webline.sim.branches.equilibrium import BranchPoint, operating_point
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import node_inertia, rhs
 from webline.sim.branches.plan import BranchPlan, compile_branches
-from webline.sim.branches.web_laws import felt_rows
+from webline.sim.branches.web_findings import felt_rows
 from webline.sim.linear.linearize import LinearModel
 from webline.sim.linear.stability import SHARE, UnstableMode, tolerance, unstable_modes
 from webline.verdict import Finding

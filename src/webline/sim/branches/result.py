@@ -11,8 +11,7 @@ import numpy as np
 import xarray as xr
 
 from webline.sim.branches.loop import layout as B
-from webline.sim.branches.web_findings import yield_findings
-from webline.sim.branches.web_laws import felt_records, layer_tension
+from webline.sim.branches.web_findings import felt_records, layer_tension, yield_findings
 from webline.spec.branched.check import kind_of
 from webline.verdict import Finding, Verdict
 from webline.version import __version__

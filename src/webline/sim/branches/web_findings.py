@@ -1,5 +1,6 @@
-"""What a branched run's verdict says about its web laws (docs/branching.md, "Web laws"):
-strain beyond a web's yield, per web and lane (the chain's ``sim.results.yield_findings``,
+"""What a branched run's records and verdict make of its web laws (docs/branching.md, "Web
+laws"): the tensions the rollers feel and each layer's, their rows in the linear model,
+strain beyond a web's yield per web and lane (the chain's ``sim.results.yield_findings``,
 N4), and the stop at a web's strength."""
 
 from __future__ import annotations
@@ -9,6 +10,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.plant import rhs
+from webline.sim.branches.loop.web_law import felt_view
 from webline.sim.branches.web_laws import raw_law, raw_material, web_tension, web_terms
 from webline.spec.branched.check import kind_of
 from webline.spec.web_law import stretch_at
@@ -69,9 +72,9 @@ def strength_failure(plan: BranchPlan, x: np.ndarray, t_fail: float) -> str:
     span = line.spans[k]
     web = line.spec.webs[span.web]
     terms = web_terms(line, span.web)
-    limits = [np.inf if raw_material(line, r).strength is None else
-              stretch_at(raw_law(line, r), raw_material(line, r).strength) / a
-              for r, a, _ in terms]
+    strengths = [raw_material(line, r).strength for r, _, _ in terms]
+    limits = [np.inf if s is None else stretch_at(raw_law(line, r), s) / a
+              for s, (r, a, _) in zip(strengths, terms, strict=True)]
     j = int(np.argmin(limits))  # the weakest raw web sets the span's limit (SF_STRENGTH)
     r = terms[j][0]
     raw = line.spec.webs[r].name
@@ -79,5 +82,68 @@ def strength_failure(plan: BranchPlan, x: np.ndarray, t_fail: float) -> str:
              else f"{kind_of(web)} {web.name}")
     breaking = float(web_tension(line, span.web, np.array([limits[j]]))[0])
     return (f"{whose} broke: span {span.name} reached {breaking:.4g} N, the strain at which "
-            f"web {raw} reaches its strength ({raw_material(line, r).strength:.4g} N), at "
+            f"web {raw} reaches its strength ({strengths[j]:.4g} N), at "
             f"t = {t_fail:.4g} s")
+
+
+def has_laws(plan: BranchPlan) -> bool:
+    """Whether the line's spans feel anything other than their clipped stretch."""
+    return plan.lawi.shape[0] > 0 or plan.kv.shape[0] > 0
+
+
+def felt_records(plan: BranchPlan, time: np.ndarray, states: np.ndarray) -> np.ndarray:
+    """Tension [N] the rollers feel in each span at each record (records x spans): the
+    clipped stretch of a linear elastic line, else evaluated by the kernel's own
+    right-hand side (F(s) + τ ds/dt, the held wound-in tensions at each record's time)."""
+    n_s, n_n = len(plan.line.spans), plan.nodes.shape[0]
+    if not has_laws(plan):
+        return np.maximum(states[:, :n_s], 0.0)
+    dx, work = np.zeros(plan.n_x), plan.scratch()
+    cmd = np.zeros(plan.di.shape[0])
+    out = np.empty((len(time), n_s))
+    held = plan.held(0.0)
+    for r, t in enumerate(time):
+        if plan.kv.shape[0]:  # the first spans' rates see the wound-in tension
+            held = plan.held(float(t))
+        rhs(np.ascontiguousarray(states[r]), cmd, held, *plan.tables(), dx, work)
+        out[r] = felt_view(work, n_s, n_n, plan.lawi.shape[0] > 0, plan.kv.shape[0] > 0)
+    return out
+
+
+def layer_tension(plan: BranchPlan, layer: int, k: int, stretch: np.ndarray,
+                  felt: np.ndarray) -> np.ndarray:
+    """Tension [N] layer web ``layer`` carries in laminate span ``k`` at its records
+    (``stretch``, ``felt`` [N]): its own law at the laminate's strain plus its stiffness
+    share of a damper's force; (EA_i / EA_L) x T_L on a linear elastic line."""
+    line = plan.line
+    share = line.materials[layer].ea / plan.sf[k, B.SF_EA]
+    if not has_laws(plan):
+        return share * felt
+    elastic = web_tension(line, line.spans[k].web, stretch)
+    return web_tension(line, layer, share * stretch) + share * (felt - elastic)
+
+
+def felt_rows(plan: BranchPlan, x0: np.ndarray, keep: np.ndarray,
+              steps: np.ndarray) -> np.ndarray:
+    """Rows M [N per state unit] of the felt tensions δT = M δx over the kept states ``keep``
+    at the state ``x0``, central differences of ``plant.rhs`` with ``steps`` (the plant's):
+    F'(s) on the diagonal, plus τ times the span rows of A on a Kelvin-Voigt span. [I 0] on
+    a linear elastic line, whose loadcells read the stretch itself."""
+    n_s, n_n = len(plan.line.spans), plan.nodes.shape[0]
+    if not has_laws(plan):
+        return np.eye(n_s, len(keep))
+    dx, work = np.zeros(plan.n_x), plan.scratch()
+    cmd = np.zeros(plan.di.shape[0])  # (the span rates and tensions do not read it)
+
+    def felt(x: np.ndarray) -> np.ndarray:
+        rhs(x, cmd, plan.wound, *plan.tables(), dx, work)
+        return felt_view(work, n_s, n_n, plan.lawi.shape[0] > 0, plan.kv.shape[0] > 0).copy()
+
+    rows = np.empty((n_s, len(keep)))
+    for col, (m, h) in enumerate(zip(keep, steps, strict=True)):
+        x = x0.copy()
+        x[m] += h
+        up = felt(x)
+        x[m] -= 2 * h
+        rows[:, col] = (up - felt(x)) / (2 * h)
+    return rows

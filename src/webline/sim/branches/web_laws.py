@@ -1,7 +1,7 @@
 """Web laws on a branched line (docs/branching.md, "Web laws"): each raw web's
 ``stress_strain`` law, ``strength`` and its spans' Kelvin-Voigt dampers as the compiled loop's
-tables (``sim.branches.loop.web_law``), and what a run's records and verdict make of them:
-felt and layer tensions, the failure at a web's strength, strain beyond yield.
+tables (``sim.branches.loop.web_law``); what a run's records and verdict make of them is
+``sim.branches.web_findings``'s.
 
 A span's law is a sum of terms over the raw webs it is made of, T(s) = Σ c F_w(a s)
 (``web_terms``); a web whose raw webs are all linear has none (T = max(s, 0), as before).
@@ -9,23 +9,15 @@ A span's law is a sum of terms over the raw webs it is made of, T(s) = Σ c F_w(
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 
 from webline.model.web_graph import BranchedLine
 from webline.physics.web_law import law_slope, law_tension
 from webline.sim.branches.loop import layout as B
-from webline.sim.branches.loop.plant import rhs
-from webline.sim.branches.loop.web_law import felt_view
 from webline.spec.branched.check import kind_of
 from webline.spec.schema import WebSpec
 from webline.spec.web_law import stretch_at
 from webline.spec.web_law_checks import law_array
-from webline.verdict import Finding
-
-if TYPE_CHECKING:
-    from webline.sim.branches.plan import BranchPlan
 
 #: a term: (raw web, scale a on the span's stretch, factor c on its law's tension)
 Term = tuple[int, float, float]
@@ -71,9 +63,10 @@ def law_tables(line: BranchedLine, si: np.ndarray,
     Every table is empty on a line of linear elastic webs."""
     raw = [w for w, web in enumerate(line.spec.webs) if kind_of(web) == "web"]
     laws = {w: raw_law(line, w) for w in raw}
-    starts, flat = {}, []
+    starts: dict[int, int] = {}
+    flat: list[np.ndarray] = []
     for w in raw:
-        starts[w] = sum(len(a) for a in flat)
+        starts[w] = int(sum(len(a) for a in flat))
         flat.append(laws[w])
     rows_i: list[tuple[int, int]] = []
     rows_f: list[tuple[float, float]] = []
@@ -119,66 +112,3 @@ def web_slope(line: BranchedLine, w: int, stretch: float) -> float:
     the tangent stiffness dT/dε [N]."""
     return float(sum(c * a * law_slope(a * stretch, raw_law(line, r))
                      for r, a, c in web_terms(line, w)))
-
-
-def has_laws(plan: BranchPlan) -> bool:
-    """Whether the line's spans feel anything other than their clipped stretch."""
-    return plan.lawi.shape[0] > 0 or plan.kv.shape[0] > 0
-
-
-def felt_records(plan: BranchPlan, time: np.ndarray, states: np.ndarray) -> np.ndarray:
-    """Tension [N] the rollers feel in each span at each record (records x spans): the
-    clipped stretch of a linear elastic line, else evaluated by the kernel's own
-    right-hand side (F(s) + τ ds/dt, the held wound-in tensions at each record's time)."""
-    n_s, n_n = len(plan.line.spans), plan.nodes.shape[0]
-    if not has_laws(plan):
-        return np.maximum(states[:, :n_s], 0.0)
-    dx, work = np.zeros(plan.n_x), plan.scratch()
-    cmd = np.zeros(plan.di.shape[0])
-    out = np.empty((len(time), n_s))
-    held = plan.held(0.0)
-    for r, t in enumerate(time):
-        if plan.kv.shape[0]:  # the first spans' rates see the wound-in tension
-            held = plan.held(float(t))
-        rhs(np.ascontiguousarray(states[r]), cmd, held, *plan.tables(), dx, work)
-        out[r] = felt_view(work, n_s, n_n, plan.lawi.shape[0] > 0, plan.kv.shape[0] > 0)
-    return out
-
-
-def layer_tension(plan: BranchPlan, layer: int, k: int, stretch: np.ndarray,
-                  felt: np.ndarray) -> np.ndarray:
-    """Tension [N] layer web ``layer`` carries in laminate span ``k`` at its records
-    (``stretch``, ``felt`` [N]): its own law at the laminate's strain plus its stiffness
-    share of a damper's force; (EA_i / EA_L) x T_L on a linear elastic line."""
-    line = plan.line
-    share = line.materials[layer].ea / plan.sf[k, B.SF_EA]
-    if not has_laws(plan):
-        return share * felt
-    elastic = web_tension(line, line.spans[k].web, stretch)
-    return web_tension(line, layer, share * stretch) + share * (felt - elastic)
-
-
-def felt_rows(plan: BranchPlan, x0: np.ndarray, keep: np.ndarray,
-              steps: np.ndarray) -> np.ndarray:
-    """Rows M [N per state unit] of the felt tensions δT = M δx over the kept states ``keep``
-    at the state ``x0``, central differences of ``plant.rhs`` with ``steps`` (the plant's):
-    F'(s) on the diagonal, plus τ times the span rows of A on a Kelvin-Voigt span. [I 0] on
-    a linear elastic line, whose loadcells read the stretch itself."""
-    n_s, n_n = len(plan.line.spans), plan.nodes.shape[0]
-    if not has_laws(plan):
-        return np.eye(n_s, len(keep))
-    dx, work = np.zeros(plan.n_x), plan.scratch()
-    cmd = np.zeros(plan.di.shape[0])  # (the span rates and tensions do not read it)
-
-    def felt(x: np.ndarray) -> np.ndarray:
-        rhs(x, cmd, plan.wound, *plan.tables(), dx, work)
-        return felt_view(work, n_s, n_n, plan.lawi.shape[0] > 0, plan.kv.shape[0] > 0).copy()
-
-    rows = np.empty((n_s, len(keep)))
-    for col, (m, h) in enumerate(zip(keep, steps, strict=True)):
-        x = x0.copy()
-        x[m] += h
-        up = felt(x)
-        x[m] -= 2 * h
-        rows[:, col] = (up - felt(x)) / (2 * h)
-    return rows

@@ -79,9 +79,10 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
     node (``roller_drag``, added to its Coulomb friction). ``work``: scratch of 6 x spans +
     2 x nodes (``work_size``). Web laws (``lawi``, ``lawf``, ``laws``: the terms of
     ``loop.web_law``) and Kelvin-Voigt spans (``kv``: their numbers) set the tension the
-    rollers feel; without them (empty tables, frozen into the loop) that code folds away. A lane on a differential shaft winds on its own core, which
-    its slip clutch drives from the shaft with the smoothed Coulomb torque of
-    ``physics.roller`` (docs/branching.md, "Differential shafts")."""
+    rollers feel; without them (empty tables, frozen into the loop) that code folds away.
+    A lane on a differential shaft winds on its own core, which its slip clutch drives from
+    the shaft with the smoothed Coulomb torque of ``physics.roller`` (docs/branching.md,
+    "Differential shafts")."""
     n_s, n_n = si.shape[0], nodes.shape[0]
     off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
     off_tq, off_q, off_c = offsets[B.O_TORQUE], offsets[B.O_WEB], offsets[B.O_CORE]
