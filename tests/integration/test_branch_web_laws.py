@@ -133,6 +133,9 @@ def test_a_bilinear_foil_past_its_yield_is_a_yield_finding_naming_the_foil():
     assert found[0].details["first_s"] == 0.0
     assert result.verdict.status == "warning"
     assert float(ds.strain.sel(span="foil_zone").max()) < 2e-4
+    from webline.report.plots.branch_figures import layers_caption  # says what it draws
+
+    assert "its own law at the laminate's strain" in layers_caption(result)
 
 
 def test_a_foil_layer_at_its_strength_stops_the_run_naming_it():

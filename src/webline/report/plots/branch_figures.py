@@ -19,6 +19,7 @@ from webline.report.text.branch_tables import junction_kind, shaft_lanes
 from webline.report.text.display import number_text
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.result import BranchResult
+from webline.sim.branches.web_findings import has_laws
 from webline.sim.results.decimate import envelope
 
 
@@ -142,8 +143,9 @@ def layers_caption(result: BranchResult) -> str:
     for name in ds["layer_span"].values:
         values = ds["layer_tension"].sel(layer_span=name).values
         parts.append(f"{name} {number_text(values.min())} to {number_text(values.max())} N")
-    return ("Each layer's tension in a laminate span, (EA_layer / EA_laminate) × the "
-            "laminate's: " + ", ".join(parts) + ".")
+    how = ("its own law at the laminate's strain" if has_laws(result.plan)
+           else "(EA_layer / EA_laminate) × the laminate's")  # (web laws: docs/branching.md)
+    return f"Each layer's tension in a laminate span, {how}: " + ", ".join(parts) + "."
 
 
 def speeds_figure(result: BranchResult) -> Figure:
