@@ -217,3 +217,85 @@ def test_bad_web_laws_are_one_line_naming_the_key(change, key, problem):
     with pytest.raises(LineFileError, match=key) as error:
         load_branched(data)
     assert problem in str(error.value) and "\n" not in str(error.value)
+
+
+@pytest.mark.parametrize("damper", [None, 5e-4])
+def test_the_closed_loop_model_with_web_laws_is_the_runs(damper):
+    """A 2 N step of the laminate zone's reference at 1 s on the laminator with the power-law
+    foil (and, second case, dampers of τ = 0.5 ms in both laminate spans): the run minus the
+    same run without the step against the closed-loop linear model's step response, whose
+    loadcell rows and tension outputs are the felt tension's, F'(s) (+ τ ds/dt). As in
+    test_branch_linear_response (same tolerance, same reasons: the 1 kHz sampling's held
+    torque, second-order terms), 5 % of each response's peak; a loadcell reading the stretch
+    instead of F(s) (F' = 1.9 here) moves the responses by tens of %."""
+    from scipy.linalg import expm
+
+    from webline.sim.branches.linear import branch_linear_model
+
+    def line(step: float):
+        data = _laminator(foil={"stress_strain": POWER})
+        data.pop("scenarios")
+        data["webs"][2]["spans"][0]["tension"] = {
+            "type": "steps", "initial": 180.0, "steps": [{"time": 1.0, "value": 180.0 + step}]}
+        if damper is not None:
+            for span in data["webs"][2]["spans"]:
+                span.update(model="kelvin-voigt", retardation=damper)
+        return load_branched(data)
+
+    runs = [webline.simulate(line(step), duration=3.0).dataset for step in (0.0, 2.0)]
+    plan = compile_branches(line(2.0))
+    model = branch_linear_model(plan, operating_point(plan), "closed")
+    n = model.a.shape[0]
+    augmented = np.zeros((n + 1, n + 1))
+    augmented[:n, :n] = model.a
+    augmented[:n, n] = model.b[:, model.inputs.index("laminate_zone_tension_ref")] * 2.0
+    time = runs[1].time.values
+    after = time >= 1.0
+    steps = [expm(augmented * (t - 1.0))[:n, n] for t in time[after][::10]]
+    for zone in ("laminate_zone", "foil_zone", "film_zone"):
+        simulated = (runs[1].tension.sel(span=zone) - runs[0].tension.sel(span=zone)).values
+        row = model.c[model.outputs.index(f"{zone}_tension")]
+        linear = np.array([row @ x for x in steps])
+        peak = np.max(np.abs(linear))
+        assert peak > 0.05  # N: each zone feels the step (the layers through the nip)
+        assert np.max(np.abs(simulated[after][::10] - linear)) < 0.05 * peak, zone
+
+
+def test_a_lane_of_a_laminate_carries_its_share_of_the_layers_laws():
+    """The laminator's laminate slit at a knife into two 0.5 m lanes (φ = 0.5 each: the
+    laminate is 1 m wide) on one shaft, the foil on its power law: at the operating point
+    each lane's tension, the 90 N its loadcell holds, is φ (T_film(ε) + T_foil(ε)) at the
+    lane's strain ε = s / (φ EA_L), the laws evaluated here from their formulas (1e-9 N:
+    the solver's tolerance); the knife span carries the lanes' strain's law, not their
+    stretch's linear sum."""
+    import tomllib
+    from importlib import resources
+
+    data = tomllib.loads(resources.files("webline.data.lines").joinpath(
+        "laminator.toml").read_text("utf-8"))
+    rewind = data["rollers"].pop()
+    data["rollers"] += [{"name": "knife", "type": "idle", "radius": "50 mm",
+                         "inertia": "0.002 kg*m**2", "friction": "1e-4 N*m*s"}, rewind]
+    data["webs"][1]["web"]["stress_strain"] = POWER
+    data["webs"][2]["path"] = ["nip", "guide_laminate", "knife"]
+    data["webs"][2]["spans"] = [{"name": "laminate_zone", "length": "2 m"}, {"length": "1 m"}]
+    for lane in ("lane_a", "lane_b"):
+        data["webs"].append({"name": lane, "slit_from": "laminate", "width": "0.5 m",
+                             "path": ["knife", "rewind"],
+                             "spans": [{"name": f"{lane}_span", "length": "2 m",
+                                        "tension": "90 N"}]})
+    data["scenarios"] = {}
+    line = load_branched(data)
+    point = operating_point(compile_branches(line))
+
+    def laminate(strain: float) -> float:
+        return EA_FILM * strain + EA_FOIL * 1e-4 * (strain / 1e-4) ** 1.5
+
+    for lane in ("lane_a_span", "lane_b_span"):
+        strain = point.x[_span(line, lane)] / (0.5 * (EA_FILM + EA_FOIL))
+        assert 0.5 * laminate(strain) == pytest.approx(90.0, abs=1e-9)
+    ds = webline.simulate(line, duration=0.1).dataset
+    knife = _span(line, "laminate[1]")
+    strain = float(ds.strain.isel(time=0, span=knife))
+    assert float(ds.tension.isel(time=0, span=knife)) == pytest.approx(laminate(strain),
+                                                                       rel=1e-12)
