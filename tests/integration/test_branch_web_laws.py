@@ -299,3 +299,14 @@ def test_a_lane_of_a_laminate_carries_its_share_of_the_layers_laws():
     strain = float(ds.strain.isel(time=0, span=knife))
     assert float(ds.tension.isel(time=0, span=knife)) == pytest.approx(laminate(strain),
                                                                        rel=1e-12)
+
+
+def test_a_study_judges_each_case_on_its_foils_yield():
+    """A sweep of the bilinear foil's yield strain: at 0.02 % the laminate (0.028 %) is past
+    it, a warning on the foil web (``web_status``); at 0.05 % nothing yields."""
+    law = {"law": "bilinear", "yield_strain": 2e-4, "hardening": 0.5}
+    ds = webline.sweep(load_branched(_laminator(foil={"stress_strain": law})),
+                       {"webs.foil.web.stress_strain.yield_strain": [2e-4, 5e-4]}, duration=0.2)
+    assert list(ds.status.values) == ["warning", "ok"]
+    assert list(ds.web_status.sel(web="foil").values) == ["warning", "ok"]
+    assert list(ds.web_status.sel(web="laminate").values) == ["ok", "ok"]
