@@ -310,3 +310,29 @@ def test_a_study_judges_each_case_on_its_foils_yield():
     assert list(ds.status.values) == ["warning", "ok"]
     assert list(ds.web_status.sel(web="foil").values) == ["warning", "ok"]
     assert list(ds.web_status.sel(web="laminate").values) == ["ok", "ok"]
+
+
+def test_a_damped_first_span_feels_the_wound_in_tension_through_its_rate():
+    """A Kelvin-Voigt first span (the film unwind's, τ = 5 ms) with the film's loadcell on it:
+    T = s + τ ds/dt and (B1) L ds/dt = ... + s_in v_a with s_in the wound-in tension, so
+    ∂T/∂T0 = τ v_a / L (v_a the unwind's surface speed 2.5 m/s, L 1.5 m): 8.33e-3, which the
+    closed loop's loadcell reads (Kw, Gw) and no elastic span has. Central differences of
+    1 N on rates affine in T0: exact to rounding (1e-9)."""
+    from webline.sim.branches.linear import wound_gains, wound_webs
+    from webline.sim.branches.web_findings import felt_wound_rows
+
+    data = _laminator()
+    spans = data["webs"][0]["spans"]
+    spans[0].update(model="kelvin-voigt", retardation=5e-3, tension=spans[1].pop("tension"))
+    line = load_branched(data)
+    plan = compile_branches(line)
+    point = operating_point(plan)
+    felt = felt_wound_rows(plan, point.x, wound_webs(plan))
+    film = wound_webs(plan).index(0)
+    from webline.sim.branches.loop import layout as B
+
+    v_a = point.x[plan.offsets[B.O_OMEGA] + 0] * line.rolls[0].radius  # unwind ω x radius
+    assert felt[0, film] == pytest.approx(5e-3 * v_a / 1.5, rel=1e-9)
+    assert np.count_nonzero(felt) == 1  # no other span feels it directly
+    kw, gw = wound_gains(plan, point)
+    assert kw[0, film] != 0.0 and gw[len(line.drives), film] != 0.0  # the unwind's PI

@@ -147,3 +147,25 @@ def felt_rows(plan: BranchPlan, x0: np.ndarray, keep: np.ndarray,
         x[m] -= 2 * h
         rows[:, col] = (up - felt(x)) / (2 * h)
     return rows
+
+
+def felt_wound_rows(plan: BranchPlan, x0: np.ndarray, webs: list[int]) -> np.ndarray:
+    """Columns [N/N] of the felt tensions over the wound-in tensions of ``webs`` at the state
+    ``x0``: τ times a first span's (B1) input on a Kelvin-Voigt span, zero elsewhere; central
+    differences of 1 N (exact for a linear web, whose rates are affine in the input)."""
+    n_s, n_n = len(plan.line.spans), plan.nodes.shape[0]
+    dx, work = np.zeros(plan.n_x), plan.scratch()
+    cmd = np.zeros(plan.di.shape[0])
+    x = np.ascontiguousarray(x0)
+    out = np.zeros((n_s, len(webs)))
+    if not plan.kv.shape[0]:
+        return out
+    for col, w in enumerate(webs):
+        felt = []
+        for step in (1.0, -1.0):
+            wound = plan.wound.copy()
+            wound[w] += step
+            rhs(x, cmd, wound, *plan.tables(), dx, work)
+            felt.append(felt_view(work, n_s, n_n, False, True).copy())
+        out[:, col] = (felt[0] - felt[1]) / 2.0
+    return out
