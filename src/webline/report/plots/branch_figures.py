@@ -31,7 +31,7 @@ def _plot(ax: Axes, time: np.ndarray, values: np.ndarray, *fmt: str, **style: ob
 
 def references(result: BranchResult) -> dict[int, np.ndarray]:
     """Span number -> its loadcell's tension reference [N] at every record."""
-    return {int(k): profile_values(result, int(p)) for k, p in result.plan.cells}
+    return {int(k): profile_values(result, int(p)) for k, p, *_ in result.plan.cells}
 
 
 def profile_values(result: BranchResult, p: int) -> np.ndarray:

@@ -22,6 +22,7 @@ import numpy as np
 from scipy.optimize import root
 
 from webline.errors import SimulationError
+from webline.sim.branches.dancer_views import place_carriages
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import taper_at
 from webline.sim.branches.loop.plant import node_inertia, rhs
@@ -52,7 +53,7 @@ def _references(plan: BranchPlan, t: float) -> np.ndarray:
         factor = 1.0 if j < 0 else taper_at(d, plan.line.rolls[j].radius, plan.nodes[i, B.N_CORE],
                                             plan.df, plan.prof_t, plan.prof_v, plan.prof_off)
         first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
-        for k, p in plan.cells[first:first + count]:
+        for k, p, _ in plan.cells[first:first + count]:
             refs[k] = factor * plan.profile(int(p), t)
     return refs
 
@@ -85,6 +86,7 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.nd
     x = np.zeros(plan.n_x)
     for j, roll in enumerate(plan.line.rolls):
         x[off_r + j] = roll.radius
+    place_carriages(plan, x)  # a position loop holds each carriage at its set position
     arms = plan.nodes[:, B.N_RADIUS].copy()
     for d in range(n_d):
         j = plan.di[d, B.DI_ROLL]
@@ -134,6 +136,11 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.nd
                 out[row] = (x[off_w + i] - fastest) / w_scale[i]
                 continue
             first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
+            dancer = plan.cells[first, B.CELL_DANCER]
+            if dancer >= 0:  # position control: the carriage's forces balance there (D2)
+                carriage = int(plan.nodes[dancer, B.N_DSTATE])
+                out[row] = dx[carriage + 1] / plan.nodes[dancer, B.N_DINVM] / t_scale
+                continue
             cells = plan.cells[first:first + count, 0]
             felt = felt_view(work, n_s, n_n, plan.lawi.shape[0] > 0, plan.kv.shape[0] > 0)
             out[row] = (np.sum(felt[cells]) - np.sum(refs[cells])) / t_scale  # (web laws: F(s))

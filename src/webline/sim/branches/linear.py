@@ -21,6 +21,8 @@ import numpy as np
 
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.profiles import breakpoints
+from webline.sim.branches.dancer_views import linear_states as dancer_linear_states
+from webline.sim.branches.dancer_views import load_column, position_row
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import node_inertia, rhs
@@ -47,8 +49,8 @@ def kept_states(plan: BranchPlan, radii: bool = False) -> np.ndarray:
                             plan.offsets[B.O_WEB])
     return np.concatenate([np.arange(off_tq if radii else off_r),
                            np.arange(off_tq, off_q),
-                           np.arange(plan.offsets[B.O_CORE], plan.offsets[B.O_ANGLE])]
-                          ).astype(np.int64)
+                           np.arange(plan.offsets[B.O_CORE], plan.offsets[B.O_ANGLE]),
+                           dancer_linear_states(plan)[0]]).astype(np.int64)
 
 
 def state_names(plan: BranchPlan, radii: bool = False) -> list[str]:
@@ -61,7 +63,8 @@ def state_names(plan: BranchPlan, radii: bool = False) -> list[str]:
              f"{line.spec.webs[line.rolls[j].web].name}_core_omega" for j in plan.cores[:, 0]]
     return ([f"{s.name}_tension" for s in line.spans]
             + [f"{r.name}_omega" for r in line.spec.rollers] + rolls
-            + [f"{line.spec.rollers[i].name}_torque" for i in line.drives] + cores)
+            + [f"{line.spec.rollers[i].name}_torque" for i in line.drives] + cores
+            + dancer_linear_states(plan)[1])
 
 
 def wound_webs(plan: BranchPlan) -> list[int]:
@@ -137,6 +140,7 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
     gx, gi, gr = np.zeros((n_q, n_x)), np.zeros((n_q, n_q)), np.zeros((n_q, n_r))
     off_w = plan.offsets[B.O_OMEGA]
     felt = felt_tension_rows(plan, point, radii)
+    keep = kept_states(plan, radii)
     for d in range(n_d):
         i, row = int(plan.di[d, B.DI_NODE]), plan.df[d]
         # e_v = v_line ff + σ (kp_t e_t + q_t) - r ω,  e_t = Σ (ref_c - T_c)
@@ -151,6 +155,11 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
             first = int(plan.di[d, B.DI_CELLS])
             for c in range(first, first + int(plan.di[d, B.DI_NCELLS])):
                 k = int(plan.cells[c, 0])
+                position = position_row(plan, c, keep)
+                if position is not None:  # a dancer in position control: e_t = y - y_set
+                    ev_x += row[B.D_SIGMA] * row[B.D_KPT] * position
+                    gx[q_t] += row[B.D_KIT] * position
+                    continue
                 ev_x -= row[B.D_SIGMA] * row[B.D_KPT] * felt[k]  # the loadcell reads T
                 ev_r[1 + c] += row[B.D_SIGMA] * row[B.D_KPT]
                 gx[q_t] -= row[B.D_KIT] * felt[k]
@@ -183,6 +192,8 @@ def wound_gains(plan: BranchPlan, point: BranchPoint,
         ev_w = np.zeros(len(webs))
         for c in range(first, first + int(plan.di[d, B.DI_NCELLS])):
             k = int(plan.cells[c, 0])
+            if plan.cells[c, B.CELL_DANCER] >= 0:  # a dancer's position: no loadcell
+                continue
             ev_w -= row[B.D_SIGMA] * row[B.D_KPT] * felt[k]
             gw[n_d + zoned.index(d)] -= row[B.D_KIT] * felt[k]
         gain = 1.0
@@ -227,6 +238,9 @@ def branch_linear_model(plan: BranchPlan, point: BranchPoint,
         kw, gw = wound_gains(plan, point, radii)
         b_cl[:n_x, -e.shape[1]:] += b @ kw
         b_cl[n_x:, -e.shape[1]:] = gw
+    keep = kept_states(plan, radii)
+    for cell in range(plan.cells.shape[0]):  # a dancer's default load follows its reference
+        b_cl[:n_x, 1 + cell] += load_column(plan, cell, keep)
     c_cl = np.hstack([c, np.zeros((c.shape[0], n_q))])
     zoned = [d for d in range(len(drives)) if plan.di[d, B.DI_NCELLS] > 0]
     names = (names + [f"{n}_speed_integral" for n in drives]

@@ -13,6 +13,13 @@ import numpy as np
 from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
+from webline.sim.branches.dancers import (
+    dancer_columns,
+    dancer_nodes,
+    load_rows,
+    position_gains,
+    zone_cells,
+)
 from webline.sim.branches.disturb import disturbance_table, eccentricities
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import held_inputs
@@ -101,7 +108,7 @@ class BranchPlan:
         """The held inputs ``kernel.rhs`` takes at ``t`` [s] without the ripples (their mean):
         wound-in tensions and drag torques (``kernel.held_inputs``)."""
         out = np.empty_like(self.wound)
-        drags = self.dist[self.dist[:, B.DS_KIND] == B.DIST_DRAG]
+        drags = self.dist[np.isin(self.dist[:, B.DS_KIND], (B.DIST_DRAG, B.DIST_DANCER_LOAD))]
         held_inputs(t, self.wound, out, self.webs.shape[0], drags, self.prof_t, self.prof_v,
                     self.prof_off)
         return out
@@ -123,8 +130,10 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     cores, clutch = _clutch_tables(line)
     eccentric = eccentricities(line)
     off_c = off_q + 2 * n_w
+    off_dn = off_c + len(cores) + len(eccentric)  # dancers: 2 states each (docs/branching.md)
+    n_dn = len(dancer_nodes(line))
     offsets = np.array([off_w, off_r, off_tq, off_q, off_c, off_c + len(cores),
-                        off_c + len(cores) + len(eccentric)], dtype=np.int64)
+                        off_dn + 2 * n_dn, off_dn], dtype=np.int64)
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):
         nodes[i, B.N_RADIUS] = r.radius
@@ -156,6 +165,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         si[k, B.S_CORE] = c
     si[:, B.S_ECCA] = nodes[si[:, B.S_A], B.N_ANGLE]
     si[:, B.S_ECCB] = nodes[si[:, B.S_B], B.N_ANGLE]
+    dancer_columns(line, offsets, nodes, si, sf)
     webs = np.array([[line.web_spans(w)[0], line.web_spans(w)[-1]] for w in range(n_w)],
                     dtype=np.int64).reshape(n_w, B.WB_COLS)
     profiles = [breakpoints(spec.speed)]
@@ -165,20 +175,21 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         if tension is not None:
             ref_of[k] = len(profiles)
             profiles.append(breakpoints(tension))
-    wound = np.zeros(n_w + n_n)  # wound-in tension per web, drag per node (held_inputs)
+    wound = np.zeros(n_w + n_n + n_dn)  # wound-in tension per web, drag per node, dancer load
     for w, web in enumerate(spec.webs):
         first = spec.rollers[line.node_index[web.path[0]]]
         if isinstance(first, UnwindSpec):
             wound[w] = first.wound_in_tension
     di = np.zeros((n_d, B.DI_COLS), dtype=np.int64)
     df = np.zeros((n_d, B.D_COLS))
-    cells: list[tuple[int, int]] = []
+    cells: list[tuple[int, int, int]] = []
     for d, i in enumerate(line.drives):
         zone = line.zones.get(i)
         di[d, B.DI_NODE] = i
         di[d, B.DI_CELLS] = len(cells)
-        di[d, B.DI_NCELLS] = len(zone.loadcells) if zone else 0
-        cells += [(k, ref_of[k]) for k in (zone.loadcells if zone else ())]
+        zone_rows = zone_cells(line, zone, ref_of)  # loadcells, or its dancer's position
+        di[d, B.DI_NCELLS] = len(zone_rows)
+        cells += zone_rows
         di[d, B.DI_ROLL] = _speed_roll(line, i, zone.loadcells if zone else ())
         df[d, B.D_SIGMA] = zone.sigma if zone and i not in cores[:, B.C_NODE] else 0.0
     events = np.zeros((0, B.E_COLS))
@@ -189,19 +200,21 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         w = line.rolls[j].web
         new = wound[w] if change.wound_in_tension is None else change.wound_in_tension
         events = np.array([[change.time, j, change.radius, new, w]])
-    dist = disturbance_table(line, profiles)
+    dist = np.vstack([disturbance_table(line, profiles),
+                      load_rows(line, n_w + n_n, profiles, ref_of)])
     taper_columns(line, df, profiles)
     radius0 = diameter_columns(line, df, di)
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
     top = max(float(np.max(np.abs(v))) for v in [breakpoints(spec.speed)[1]])
     rate = spec.control.sample_rate if sample_rate is None else sample_rate
     plan = BranchPlan(line, offsets, nodes, si, sf, layers, rolls, webs, di, df, cores, clutch,
-                      np.array(cells, dtype=np.int64).reshape(-1, 2), events, dist, radius0,
-                      wound,
+                      np.array(cells, dtype=np.int64).reshape(-1, B.CELL_COLS), events, dist,
+                      radius0, wound,
                       np.concatenate([t for t, _ in profiles]),
                       np.concatenate([v for _, v in profiles]), offs, 1.0 / rate,
                       RUNAWAY_SPEED_FACTOR * top + RUNAWAY_SPEED_FLOOR, lawi, lawf, laws, kv)
     _tune(plan)
+    position_gains(line, plan.di, plan.df, plan.cells, zone_compliance)
     return plan
 
 

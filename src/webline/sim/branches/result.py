@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
+from webline.sim.branches.dancer_views import end_stop_findings, span_lengths
+from webline.sim.branches.dancers import dancer_nodes
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.web_findings import felt_records, layer_tension, yield_findings
 from webline.spec.branched.check import kind_of
@@ -60,7 +62,8 @@ class BranchResult:
         torque = x[:, o[B.O_TORQUE]:o[B.O_WEB]]
         q = x[:, o[B.O_WEB]:o[B.O_CORE]]
         core_omega = x[:, o[B.O_CORE]:o[B.O_ANGLE]]
-        stored = np.stack([np.sum(plan.sf[s, B.SF_LENGTH] * (1.0 - x[:, s] / ea[s]), axis=1)
+        lengths = span_lengths(plan, x)  # beside a dancer: L + g (y - y_set)
+        stored = np.stack([np.sum(lengths[:, s] * (1.0 - x[:, s] / ea[s]), axis=1)
                            for s in (line.web_spans(w) for w in range(len(line.spec.webs)))],
                           axis=1)
         layer_names, layer_values = [], []
@@ -111,6 +114,11 @@ class BranchResult:
                   "roll": roll_names, "drive": drives,
                   "core": [roll_names[j] for j in plan.cores[:, B.C_ROLL]],
                   "web": [w.name for w in line.spec.webs]}
+        dancers = dancer_nodes(line)
+        if dancers:  # (only where there are: the built-in lines' records stay as they were)
+            data["dancer_position"] = var(("dancer",), x[:, o[B.O_DANCER]:o[B.O_N]:2], "m",
+                                          "dancer carriage position y (0 .. travel)")
+            coords["dancer"] = [line.spec.rollers[i].name for i in dancers]
         return xr.Dataset(data, coords, attrs={
             "line": line.name, "scenario": line.scenario or "", "webline_version": __version__,
             "failure": self.failure or "", **{k: float(v) for k, v in self.settings.items()}})
@@ -166,6 +174,7 @@ class BranchResult:
                                         f"(max {np.max(tension):.4g} N)",
                                         float(self.time[first])))
         findings += yield_findings(self.plan, self.time, self.states)
+        findings += end_stop_findings(self.plan, self.time, self.states)
         limits = self.plan.df[:, B.D_LIMIT]
         for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit
             at_limit = np.nonzero(np.abs(ds["torque_cmd"].values[:, d]) >= limits[d])[0]

@@ -6,6 +6,7 @@ Each problem is one ``LineFileError`` line naming the file, the key and the prob
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import NoReturn
 
@@ -13,6 +14,7 @@ from webline.errors import LineFileError
 from webline.spec.branched.disturbances import check_disturbances
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
 from webline.spec.branched.web_law import check_web_laws
+from webline.spec.dancer import DancerCarriage
 from webline.spec.schema import (
     CascadedPISpec,
     DrivenSpec,
@@ -70,8 +72,9 @@ def check_branched(spec: BranchedLineSpec, file: str) -> None:
 def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
     for i, roller in enumerate(spec.rollers):
         key = f"rollers[{i}]"
-        if roller.type == "dancer":
-            unsupported(f"{key}.dancer", fail)
+        dancer = getattr(roller, "dancer", None)
+        if dancer is not None:
+            _check_dancer(dancer, f"{key}.dancer", fail)
         for name in ("nip", "wrap", "friction_table", "winder"):
             if getattr(roller, name, None) is not None:
                 unsupported(f"{key}.{name}", fail)
@@ -104,6 +107,21 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
                 next((r for r in spec.rollers if r.name == change.roller), None), UnwindSpec):
             fail(f"scenarios.{name}.roll_change.roller",
                  f"{change.roller!r} is no unwind roller of this line")
+
+
+def _check_dancer(carriage: DancerCarriage, key: str, fail: Fail) -> None:
+    """A dancer on a branched line: in position control (docs/branching.md, "Dancers"), a
+    straight angle below 90 deg, a pivoting arm with both its keys."""
+    if carriage.use != "position":
+        unsupported(f"{key}.use", fail, "dancers in position control (use = 'position')")
+    if carriage.position > carriage.travel:
+        fail(f"{key}.position", f"must lie within the travel {carriage.travel:g} m")
+    for name in ("angle_in", "angle_out"):
+        if getattr(carriage, name) >= 0.5 * math.pi:
+            fail(f"{key}.{name}", "a span at 90 deg or more to the travel does not pull the "
+                 "carriage back (must be below 90 deg)")
+    if (carriage.arm_length is None) != (carriage.arm_inertia is None):
+        fail(f"{key}.arm_inertia", "a pivoting arm needs both arm_length and arm_inertia")
 
 
 def _check_diameter(spec: BranchedLineSpec, i: int, roller: RollerSpec, fail: Fail) -> None:

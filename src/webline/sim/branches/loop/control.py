@@ -12,6 +12,7 @@ import numpy as np
 
 from webline.physics import motor, span, taper
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.dancer import position_error
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.drives.measure import quantized
 from webline.sim.elements.signals import gaussian, jit, profile_at, sines
@@ -34,6 +35,9 @@ def held_inputs(t: float, wound: np.ndarray, held: np.ndarray, n_w: int, dist: n
             held[index] += sines(dist[r:r + 1, B.DS_A:B.DS_C + 1], t)
         elif kind == B.DIST_DRAG:
             held[n_w + index] += profile_at(int(dist[r, B.DS_A]), t, prof_t, prof_v, prof_off)
+        elif kind == B.DIST_DANCER_LOAD:  # a dancer's load: slot index (docs/branching.md)
+            held[index] = dist[r, B.DS_B] * profile_at(int(dist[r, B.DS_A]), t, prof_t, prof_v,
+                                                        prof_off)
 
 
 @jit
@@ -112,6 +116,9 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
         e_t = 0.0
         factor = taper_at(d, radius, nodes[i, B.N_CORE], df, prof_t, prof_v, prof_off)
         for c in range(di[d, B.DI_CELLS], di[d, B.DI_CELLS] + di[d, B.DI_NCELLS]):
+            if cells.shape[1] > B.CELL_DANCER and cells[c, B.CELL_DANCER] >= 0:
+                e_t += position_error(cells[c, B.CELL_DANCER], x, nodes)  # dancer position
+                continue
             measured = _tension(x[cells[c, 0]])
             if noisy:
                 measured += sigma_t * gaussian(seed, tick, 2 * c + 1)

@@ -86,3 +86,22 @@ RUNAWAY_STRAIN = 0.05
 # sigma [N], speed sigma [m/s], speed resolution [m/s])
 DS_KIND, DS_INDEX, DS_A, DS_B, DS_C, DS_COLS = range(6)
 DIST_WOUND_RIPPLE, DIST_SPEED_RIPPLE, DIST_DRAG, DIST_NOISE = range(4)
+
+# dancers (docs/branching.md, "Dancers"): the offsets row's last entry, the first dancer
+# state (carriage position y [m] and speed [m/s] per dancer, ending at O_N); span table (int):
+# the dancer state at the span's end a / end b (-1: a fixed roller), the other span of the
+# dancer at end b (-1); span table (float): the span's strand gain g at end a / end b (it
+# lengthens by g (y - y_set)); node table (float): the carriage's state (-1: no dancer) and
+# parameters; held inputs: after the drags, the load [N] per dancer (DIST_DANCER_LOAD rows);
+# cells (int): a third column, the dancer node whose position the drive's loop reads (-1: a
+# loadcell)
+O_DANCER = O_N + 1
+S_DANCEA, S_DANCEB, S_DOUT = S_COLS, S_COLS + 1, S_COLS + 2
+S_COLS += 3
+SF_GAINA, SF_GAINB = SF_COLS, SF_COLS + 1
+SF_COLS += 2
+(N_DSTATE, N_DINVM, N_DK, N_DC, N_DSET, N_DTRAVEL, N_DSTOP,
+ N_DSTOPC) = range(N_COLS, N_COLS + 8)
+N_COLS += 8
+CELL_DANCER, CELL_COLS = 2, 3
+DIST_DANCER_LOAD = DIST_NOISE + 1

@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from webline.physics import roll, roller, span
+from webline.sim.branches.loop import dancer as D
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop import web_law as W
 from webline.sim.elements.signals import jit
@@ -94,6 +95,7 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
     torque = work[4 * n_s:4 * n_s + n_n]
     inertia = work[4 * n_s + n_n:4 * n_s + 2 * n_n]
     has_law, has_kv = lawi.shape[0] > 0, kv.shape[0] > 0
+    has_dancer = offsets[B.O_DANCER] < offsets[B.O_N]  # (frozen: folds away without one)
     for k in range(n_s):
         tension[k] = _tension(x[k])
     elastic = work[4 * n_s + 2 * n_n:5 * n_s + 2 * n_n] if has_law else tension
@@ -130,6 +132,8 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
             s_in[k] = W.law_stretch(k, s_in[k], si, lawi, lawf, laws)  # a tension in: F⁻¹
         dx[k] = _stretch_rate(sf[k, B.SF_LENGTH], sf[k, B.SF_EA], v_a[k], v_b[k], s_in[k],
                               tension[k])
+        if has_dancer and (si[k, B.S_DANCEA] >= 0 or si[k, B.S_DANCEB] >= 0):
+            dx[k] = D.moving_span_rate(k, x, dx[k], nodes, si, sf)  # its length moves (D1)
         if has_kv:
             felt[k] = W.felt(k, x, dx, elastic, sf)
         torque[a] += arm_a * felt[k]  # the span pulls its upstream roller forward
@@ -146,6 +150,8 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         dx[off_r + j] = _radius_rate(radius * omega_core, radius, rolls[j, B.R_THICK],
                                      rolls[j, B.R_DIR])
     n_w = webs.shape[0]
+    if has_dancer:  # the carriages (D2), loads held after the drags
+        D.carriage_rates(x, felt, wound, n_w + n_n, offsets, nodes, si, sf, dx)
     for i in range(n_n):
         omega = x[off_w + i]
         total = torque[i] - nodes[i, B.N_VISCOUS] * omega

@@ -1,0 +1,107 @@
+"""A dancer's part in what is made of a branched plan (docs/branching.md, "Dancers"): the
+carriages' place at the operating point, the spans' lengths in the records, the end-stop
+findings and the linear model's dancer rows (the plan's tables: ``sim.branches.dancers``)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from webline.sim.branches.dancers import dancer_nodes, dancer_spans
+from webline.sim.branches.loop import layout as B
+from webline.sim.results.winder_states import interval_stats
+from webline.spec.branched.check import kind_of
+from webline.spec.winder import StateChecksSpec
+from webline.verdict import Finding
+
+if TYPE_CHECKING:
+    from webline.sim.branches.plan import BranchPlan
+
+
+def place_carriages(plan: BranchPlan, x: np.ndarray) -> None:
+    """Every carriage at its set position, at rest, in the state ``x``."""
+    for i in dancer_nodes(plan.line):
+        state = int(plan.nodes[i, B.N_DSTATE])
+        x[state], x[state + 1] = plan.nodes[i, B.N_DSET], 0.0
+
+
+def span_lengths(plan: BranchPlan, states: np.ndarray) -> np.ndarray:
+    """Length [m] of every span per record of ``states`` (rows: records): the file length,
+    plus g (y - y_set) beside a dancer (D0)."""
+    lengths = np.tile(plan.sf[:, B.SF_LENGTH], (states.shape[0], 1))
+    for k in range(plan.si.shape[0]):
+        for end, col, gain in ((B.S_A, B.S_DANCEA, B.SF_GAINA), (B.S_B, B.S_DANCEB, B.SF_GAINB)):
+            state = plan.si[k, col]
+            if state >= 0:
+                lengths[:, k] += plan.sf[k, gain] * (
+                    states[:, state] - plan.nodes[plan.si[k, end], B.N_DSET])
+    return lengths
+
+
+def end_stop_findings(plan: BranchPlan, time: np.ndarray, states: np.ndarray) -> list[Finding]:
+    """A ``warning`` ``dancer_end_stop`` per dancer whose carriage rested on an end stop (y
+    <= 0 or >= its travel) in the records ``time`` [s], ``states`` (the chain's check, with
+    its default ``checks.end_stop_time``: any touch), named by the web or lane it rides on:
+    when, how long, which stop."""
+    line = plan.line
+    if len(time) < 2:
+        return []
+    duration = float(time[-1] - time[0])
+    out = []
+    for i in dancer_nodes(line):
+        y = states[:, int(plan.nodes[i, B.N_DSTATE])]
+        travel = float(plan.nodes[i, B.N_DTRAVEL])
+        stats = interval_stats(time, (y <= 0.0) | (y >= travel), StateChecksSpec().end_stop_time)
+        if stats is None:
+            continue
+        web = line.spec.webs[line.spans[dancer_spans(line, i)[0]].web]
+        low = bool(np.any(y <= 0.0))
+        times = "once" if stats.count == 1 else f"{stats.count} times"
+        out.append(Finding(
+            "warning", "dancer_end_stop", web.name,
+            f"dancer {line.spec.rollers[i].name} on {kind_of(web)} {web.name} rested on its "
+            f"{'low' if low else 'high'} end stop {times}, first from t = {stats.first:.4g} s "
+            f"to {stats.first_end:.4g} s, {stats.total:.3g} s in all "
+            f"({stats.total / duration:.1%} of the run)", stats.first,
+            {"dancer": line.spec.rollers[i].name, "first_s": stats.first,
+             "total_s": stats.total, "longest_s": stats.longest, "count": stats.count,
+             "travel_m": travel, "low_stop": low}))
+    return out
+
+
+def linear_states(plan: BranchPlan) -> tuple[np.ndarray, list[str]]:
+    """The dancer states of the linear model (after the others) and their names:
+    ``<dancer>_position`` [m], ``<dancer>_velocity`` [m/s]."""
+    names = [f"{plan.line.spec.rollers[i].name}_{part}" for i in dancer_nodes(plan.line)
+             for part in ("position", "velocity")]
+    return np.arange(plan.offsets[B.O_DANCER], plan.offsets[B.O_N], dtype=np.int64), names
+
+
+def position_row(plan: BranchPlan, c: int, keep: np.ndarray) -> np.ndarray | None:
+    """Row over the kept states ``keep`` of what cell ``c``'s drive reads from its dancer
+    in position control, y - y_set (its loop's error, in place of T_ref - T); None for a
+    loadcell."""
+    node = int(plan.cells[c, B.CELL_DANCER])
+    if node < 0:
+        return None
+    row = np.zeros(len(keep))
+    row[int(np.flatnonzero(keep == int(plan.nodes[node, B.N_DSTATE]))[0])] = 1.0
+    return row
+
+
+def load_column(plan: BranchPlan, c: int, keep: np.ndarray) -> np.ndarray:
+    """d(dx/dt)/d(reference of cell ``c``) over the kept states through a dancer's default
+    load, (g_in + g_out) x the zone's reference (``load_rows``): (g_in + g_out) / M on its
+    carriage's speed; zeros for a loadcell or a load given in the file."""
+    column = np.zeros(len(keep))
+    node = int(plan.cells[c, B.CELL_DANCER])
+    if node < 0:
+        return column
+    rows = plan.dist[plan.dist[:, B.DS_KIND] == B.DIST_DANCER_LOAD]
+    slot = plan.webs.shape[0] + plan.nodes.shape[0] + dancer_nodes(plan.line).index(node)
+    row = rows[rows[:, B.DS_INDEX] == slot][0]
+    if int(row[B.DS_A]) == int(plan.cells[c, 1]):  # the default load follows the reference
+        speed = int(plan.nodes[node, B.N_DSTATE]) + 1
+        column[int(np.flatnonzero(keep == speed)[0])] = row[B.DS_B] * plan.nodes[node, B.N_DINVM]
+    return column

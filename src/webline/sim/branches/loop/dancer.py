@@ -1,0 +1,73 @@
+"""Dancers in a branched line's compiled loop (docs/branching.md, "Dancers"; the chain's
+``sim.elements.dancer_loop``, docs/winder.md D0-D2): the spans a carriage joins lengthen with
+its excursion, and the carriage moves under its load, the spans' pull, its spring, damper and
+end stops. Tables in ``sim.branches.loop.layout``."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from webline.sim.branches.loop import layout as B
+from webline.sim.elements.signals import jit
+
+
+@jit
+def span_motion(k: int, x: np.ndarray, nodes: np.ndarray, si: np.ndarray,
+                sf: np.ndarray) -> tuple[float, float]:
+    """(length [m], rate of lengthening [m/s]) of span ``k``: its file length plus
+    g (y - y_set) of a dancer at either end (D0, g = (strands/2) cos(angle))."""
+    length, rate = sf[k, B.SF_LENGTH], 0.0
+    state = si[k, B.S_DANCEA]
+    if state >= 0:
+        gain = sf[k, B.SF_GAINA]
+        length += gain * (x[state] - nodes[si[k, B.S_A], B.N_DSET])
+        rate += gain * x[state + 1]
+    state = si[k, B.S_DANCEB]
+    if state >= 0:
+        gain = sf[k, B.SF_GAINB]
+        length += gain * (x[state] - nodes[si[k, B.S_B], B.N_DSET])
+        rate += gain * x[state + 1]
+    return length, rate
+
+
+@jit
+def moving_span_rate(k: int, x: np.ndarray, fixed_rate: float, nodes: np.ndarray,
+                     si: np.ndarray, sf: np.ndarray) -> float:
+    """d(stretch)/dt [N/s] of span ``k`` beside a dancer from ``fixed_rate``, the rate
+    ``physics.span.stretch_rate`` gives at its file length: L ds/dt = EA (v_b - v_a) +
+    T_in v_a - T v_b + (EA - s) dL/dt (docs/winder.md D1: d/dt[L (1 - s/EA)] is the web
+    in less the web out)."""
+    length, rate = span_motion(k, x, nodes, si, sf)
+    return (fixed_rate * sf[k, B.SF_LENGTH] + (sf[k, B.SF_EA] - x[k]) * rate) / length
+
+
+@jit
+def carriage_rates(x: np.ndarray, felt: np.ndarray, held: np.ndarray, first_load: int,
+                   offsets: np.ndarray, nodes: np.ndarray, si: np.ndarray, sf: np.ndarray,
+                   dx: np.ndarray) -> None:
+    """dy/dt and dv/dt of every carriage into ``dx`` (D2): M dv/dt = load - g_in T_in -
+    g_out T_out - k (y - y_set) - c v, plus an end-stop spring-damper beyond 0 and the
+    travel; T the tensions the roller feels ``felt`` [N], the load ``held[first_load + n]``
+    [N] of dancer n held over the tick."""
+    first = offsets[B.O_DANCER]
+    for k in range(si.shape[0]):
+        state = si[k, B.S_DANCEB]
+        if state < 0:
+            continue
+        i, out = si[k, B.S_B], si[k, B.S_DOUT]
+        y, vy = x[state], x[state + 1]
+        force = (held[first_load + (state - first) // 2] - sf[k, B.SF_GAINB] * felt[k]
+                 - sf[out, B.SF_GAINA] * felt[out] - nodes[i, B.N_DK] * (y - nodes[i, B.N_DSET])
+                 - nodes[i, B.N_DC] * vy)
+        beyond = min(y, 0.0) + max(y - nodes[i, B.N_DTRAVEL], 0.0)
+        if beyond != 0.0:
+            force -= nodes[i, B.N_DSTOP] * beyond + nodes[i, B.N_DSTOPC] * vy
+        dx[state] = vy
+        dx[state + 1] = force * nodes[i, B.N_DINVM]
+
+
+@jit
+def position_error(node: int, x: np.ndarray, nodes: np.ndarray) -> float:
+    """What a drive's tension loop reads from the dancer on ``node`` in position control
+    (D3): y - y_set [m], in place of T_ref - T (gains in (m/s)/m)."""
+    return x[int(nodes[node, B.N_DSTATE])] - nodes[node, B.N_DSET]
