@@ -159,3 +159,56 @@ def test_a_span_too_short_for_the_set_position_is_one_line():
     with pytest.raises(LineFileError) as caught:
         compile_branches(load_branched(data))
     assert caught.value.key == "webs[0].spans[0].length"
+
+
+SLITTER = tomllib.loads(resources.files("webline.data.lines").joinpath("slitter.toml")
+                        .read_text("utf-8"))
+
+
+def laminate_dancer() -> dict:
+    """The laminator with its laminate guide a dancer (the rewind's zone)."""
+    data = copy.deepcopy(LAMINATOR)
+    data["rollers"][5]["type"] = "dancer"
+    data["rollers"][5]["dancer"] = {"mass": "5 kg", "travel": "0.2 m", "position": "0.1 m"}
+    return data
+
+
+def lane_dancer() -> dict:
+    """The slitter with a dancer on lane 3, ahead of its own rewind (that rewind's zone)."""
+    data = copy.deepcopy(SLITTER)
+    data["rollers"].append({"name": "dancer_3", "type": "dancer", "radius": "50 mm",
+                            "inertia": "0.002 kg*m**2", "dancer": {
+                                "mass": "3 kg", "travel": "0.2 m", "position": "0.1 m"}})
+    data["webs"][3]["path"] = ["slitter", "dancer_3", "rewind_3"]
+    data["webs"][3]["spans"] = [{"name": "lane_3_span", "length": "2 m", "tension": "100 N"},
+                                {"length": "1.5 m"}]
+    return data
+
+
+@pytest.mark.parametrize(("data", "scenario", "duration", "spans", "load"), [
+    (laminate_dancer(), "start-up", 13.0, ("laminate_zone", "laminate[1]"), 360.0),
+    (lane_dancer(), None, 3.0, ("lane_3_span", "lane_3[1]"), 200.0),
+])
+def test_a_dancer_on_the_laminate_or_a_lane_sets_its_tension(data, scenario, duration, spans,
+                                                             load):
+    result = webline.simulate(load_branched(data), duration, scenario=scenario)
+    ds = result.dataset
+    assert result.failure is None
+    tension = [ds["tension"].sel(span=s).isel(time=-1).item() for s in spans]
+    # D2 at rest: T_in + T_out = load = 2 T_ref; the laminator has just finished its ramp
+    # (11 s) and its rolls keep changing radius: 1e-3 N of hundreds
+    assert sum(tension) == pytest.approx(load, abs=1e-3)
+    balance = ds["web_stored"] + ds["web_out"] - ds["web_in"]
+    assert float(np.max(np.abs(balance - balance.isel(time=0)))) < 1e-7
+
+
+def test_a_dancer_on_its_end_stop_is_a_finding_of_its_web():
+    # set 0.5 mm below the end of its travel: the layer upset runs it out by ~1 mm
+    result = webline.simulate(load_branched(dancer_laminator(position="0.1995 m")), 4.0,
+                              scenario="layer-upset")
+    found = [f for f in result.verdict.findings if f.kind == "dancer_end_stop"]
+    assert [f.where for f in found] == ["film"]
+    assert found[0].time > 2.0 and found[0].details["low_stop"] is False
+    y = result.dataset["dancer_position"].values[:, 0]
+    # the stop (1e6 N/m) holds it: 60 N of extra load compresses it by < 0.1 mm
+    assert 0.2 < float(np.max(y)) < 0.2 + 1e-4
