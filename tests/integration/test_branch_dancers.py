@@ -212,3 +212,21 @@ def test_a_dancer_on_its_end_stop_is_a_finding_of_its_web():
     y = result.dataset["dancer_position"].values[:, 0]
     # the stop (1e6 N/m) holds it: 60 N of extra load compresses it by < 0.1 mm
     assert 0.2 < float(np.max(y)) < 0.2 + 1e-4
+
+
+def test_a_rewinds_taper_acts_through_its_dancers_load():
+    # the laminate dancer in the rewind's zone, the rewind tapered: hyperbolic f = 1 - 0.5
+    # (1 - D_c / D) (docs/winder.md W1). In position control the tension is the load over
+    # the strands, so the taper scales the load: T_in + T_out = 2 x 180 N x f(D(t))
+    data = laminate_dancer()
+    data["rollers"][6]["taper"] = {"type": "hyperbolic", "taper": 0.5}
+    data["rollers"][6]["radius"] = "0.2 m"  # (f = 0.69 at the start: the taper shows)
+    ds = webline.simulate(load_branched(data), 3.0).dataset
+    diameter = 2 * ds["radius"].sel(roll="rewind/laminate").values
+    factor = 1 - 0.5 * (1 - 2 * 0.0762 / diameter)
+    total = (ds["tension"].sel(span="laminate_zone") + ds["tension"].sel(span="laminate[1]"))
+    assert factor[0] < 0.9
+    # the load follows the controller's diameter each tick and the carriage follows the
+    # load within its position loop's lag on a reference falling ~0.03 N/s: 1e-3 N
+    assert np.max(np.abs(total.values - 360.0 * factor)) < 1e-3, np.max(
+        np.abs(total.values - 360.0 * factor))

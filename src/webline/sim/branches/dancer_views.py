@@ -92,8 +92,9 @@ def position_row(plan: BranchPlan, c: int, keep: np.ndarray) -> np.ndarray | Non
 
 def load_column(plan: BranchPlan, c: int, keep: np.ndarray) -> np.ndarray:
     """d(dx/dt)/d(reference of cell ``c``) over the kept states through a dancer's default
-    load, (g_in + g_out) x the zone's reference (``load_rows``): (g_in + g_out) / M on its
-    carriage's speed; zeros for a loadcell or a load given in the file."""
+    load, (g_in + g_out) x the zone's reference (``load_rows``; through a taper, x f(D) at
+    the rolls' starting radii): (g_in + g_out) f / M on its carriage's speed; zeros for a
+    loadcell or a load given in the file."""
     column = np.zeros(len(keep))
     node = int(plan.cells[c, B.CELL_DANCER])
     if node < 0:
@@ -103,5 +104,8 @@ def load_column(plan: BranchPlan, c: int, keep: np.ndarray) -> np.ndarray:
     row = rows[rows[:, B.DS_INDEX] == slot][0]
     if int(row[B.DS_A]) == int(plan.cells[c, 1]):  # the default load follows the reference
         speed = int(plan.nodes[node, B.N_DSTATE]) + 1
-        column[int(np.flatnonzero(keep == speed)[0])] = row[B.DS_B] * plan.nodes[node, B.N_DINVM]
+        reference = plan.profile(int(row[B.DS_A]), 0.0)
+        taper = plan.held(0.0)[slot] / (row[B.DS_B] * reference) if reference else 1.0
+        column[int(np.flatnonzero(keep == speed)[0])] = (
+            taper * row[B.DS_B] * plan.nodes[node, B.N_DINVM])
     return column

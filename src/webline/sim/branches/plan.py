@@ -23,6 +23,7 @@ from webline.sim.branches.dancers import (
 from webline.sim.branches.disturb import disturbance_table, eccentricities
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import held_inputs
+from webline.sim.branches.loop.dancer_taper import taper_loads
 from webline.sim.branches.loop.kernel import compiled_advance
 from webline.sim.branches.loop.plant import node_inertia, work_size
 from webline.sim.branches.web_laws import law_tables
@@ -106,11 +107,22 @@ class BranchPlan:
 
     def held(self, t: float) -> np.ndarray:
         """The held inputs ``kernel.rhs`` takes at ``t`` [s] without the ripples (their mean):
-        wound-in tensions and drag torques (``kernel.held_inputs``)."""
+        wound-in tensions, drag torques and dancers' loads (``kernel.held_inputs``; a load
+        through a taper at the rolls' starting radii, ``loop.dancer_taper``)."""
         out = np.empty_like(self.wound)
         drags = self.dist[np.isin(self.dist[:, B.DS_KIND], (B.DIST_DRAG, B.DIST_DANCER_LOAD))]
         held_inputs(t, self.wound, out, self.webs.shape[0], drags, self.prof_t, self.prof_v,
                     self.prof_off)
+        if self.offsets[B.O_DANCER] < self.offsets[B.O_N]:  # tapered loads at the start
+            x = np.zeros(self.n_x)
+            x[self.offsets[B.O_RADIUS]:self.offsets[B.O_TORQUE]] = [r.radius for r in
+                                                                    self.line.rolls]
+            istate = np.zeros((self.di.shape[0], B.I_COLS))
+            istate[:, B.I_RADIUS] = [x[self.offsets[B.O_RADIUS] + j] if j >= 0 else 0.0
+                                     for j in self.di[:, B.DI_ROLL]]
+            taper_loads(out, istate, x, self.webs.shape[0] + self.nodes.shape[0],
+                        self.offsets, self.nodes, self.di, self.df, self.cells, self.prof_t,
+                        self.prof_v, self.prof_off)
         return out
 
     def profile(self, p: int, t: float) -> float:

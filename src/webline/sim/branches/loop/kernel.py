@@ -13,6 +13,7 @@ import numpy as np
 
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import control_tick, held_inputs
+from webline.sim.branches.loop.dancer_taper import taper_loads
 from webline.sim.branches.loop.plant import rhs
 from webline.sim.branches.loop.web_law import felt_start_jit
 from webline.sim.elements.signals import jit, loop_njit
@@ -77,6 +78,9 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
                 measured[m] = work[start + m] if m < n_s else x[m]
         control_tick(t, tick0 + j, dt, measured, istate, cmd, offsets, nodes, rolls, di, df,
                      cells, dist, prof_t, prof_v, prof_off)
+        if offsets[B.O_DANCER] < offsets[B.O_N]:  # taper through a dancer (frozen: folds)
+            taper_loads(held, istate, x, webs.shape[0] + nodes.shape[0], offsets, nodes, di,
+                        df, cells, prof_t, prof_v, prof_off)
         if (tick0 + j) % record_every == 0 or j == n_ticks:
             rec[n_rec, 0] = t
             for m in range(n_x):
