@@ -99,7 +99,7 @@ CASES = [  # (base, change, key in the message, fragment of the problem)
     (LAMINATOR, lambda d: d["scenarios"]["start-up"].__setitem__("unwind_radius", "0.2 m"),
      "scenarios.start-up.unwind_radius", "not yet supported on a branched line"),
     (LAMINATOR, lambda d: d["control"].__setitem__("tension_ramp", {"time": "2 s"}),
-     "control.tension_ramp", "not yet supported on a branched line"),
+     "control.tension_ramp.standstill", "required key is missing"),
     (LAMINATOR, lambda d: d["webs"][2].__setitem__("layers", ["foil", "foil"]),
      "webs[0].path[-1]", "neither a layer of the laminate"),
     (LAMINATOR, lambda d: d["webs"][0]["web"].__setitem__("modulus", "4.5 GPa"),

@@ -259,6 +259,8 @@ class BranchedLine:
         for key in ("speed", "disturbances"):  # a scenario's replace the line's
             if key in dumped:
                 data[key] = dumped[key]
+        if "splice" in dumped:  # a flying_splice disturbance (docs/winder.md, Flying splice)
+            data["disturbances"] = [*data.get("disturbances", []), dumped["splice"]]
         for path, value in scenario.set.items():
             set_path(data, path, value, self.source)
         spec = branched_from_dict(data, self.source)

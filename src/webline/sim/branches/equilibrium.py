@@ -44,12 +44,14 @@ class BranchPoint:
 
 def _references(plan: BranchPlan, t: float) -> np.ndarray:
     """Each loadcell span's reference [N] at ``t``, times its drive's taper at the roll's
-    starting radius."""
+    starting radius and the tension ramp's factor."""
     refs = np.full(len(plan.line.spans), np.nan)
     for d in range(plan.di.shape[0]):
         i, j = plan.di[d, B.DI_NODE], plan.di[d, B.DI_ROLL]
         factor = 1.0 if j < 0 else taper_at(d, plan.line.rolls[j].radius, plan.nodes[i, B.N_CORE],
                                             plan.df, plan.prof_t, plan.prof_v, plan.prof_off)
+        if plan.offsets[B.O_RAMP] >= 0:  # the tension ramp at start and stop (R1)
+            factor *= plan.profile(int(plan.offsets[B.O_RAMP]), t)
         first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
         for k, p in plan.cells[first:first + count]:
             refs[k] = factor * plan.profile(int(p), t)

@@ -13,6 +13,7 @@ import numpy as np
 from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
+from webline.sim.branches.centre_winder import ramp_column, splice_rows, winder_columns
 from webline.sim.branches.disturb import disturbance_table, eccentricities
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import held_inputs
@@ -116,7 +117,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     eccentric = eccentricities(line)
     off_c = off_q + 2 * n_w
     offsets = np.array([off_w, off_r, off_tq, off_q, off_c, off_c + len(cores),
-                        off_c + len(cores) + len(eccentric)], dtype=np.int64)
+                        off_c + len(cores) + len(eccentric), -1], dtype=np.int64)
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):
         nodes[i, B.N_RADIUS] = r.radius
@@ -179,10 +180,15 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         j = next(j for j, r in enumerate(line.rolls) if r.node == node)
         w = line.rolls[j].web
         new = wound[w] if change.wound_in_tension is None else change.wound_in_tension
-        events = np.array([[change.time, j, change.radius, new, w]])
+        events = np.array([[change.time, j, change.radius, new, w, B.EVENT_ROLL_CHANGE, 1.0,
+                            0.0]])
     dist = disturbance_table(line, profiles)
     taper_columns(line, df, profiles)
     radius0 = diameter_columns(line, df, di)
+    winder_columns(line, di, df, profiles)  # centre winders: compensation, open loop, ramp
+    offsets[B.O_RAMP] = ramp_column(line, profiles)
+    events = np.vstack([events, np.reshape(splice_rows(line, 1.0 / (
+        spec.control.sample_rate if sample_rate is None else sample_rate)), (-1, B.E_COLS))])
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
     top = max(float(np.max(np.abs(v))) for v in [breakpoints(spec.speed)[1]])
     rate = spec.control.sample_rate if sample_rate is None else sample_rate

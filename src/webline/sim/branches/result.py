@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 import xarray as xr
 
+from webline.sim.branches.centre_winder import splice_findings
 from webline.sim.branches.loop import layout as B
 from webline.spec.branched.check import kind_of
 from webline.verdict import Finding, Verdict
@@ -160,6 +161,7 @@ class BranchResult:
                                         f"{label} exceeds its tension limit {limit:.4g} N "
                                         f"(max {np.max(tension):.4g} N)",
                                         float(self.time[first])))
+        findings += splice_findings(line, self.plan.dt, self.time, ds["tension"].values)
         limits = self.plan.df[:, B.D_LIMIT]
         for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit
             at_limit = np.nonzero(np.abs(ds["torque_cmd"].values[:, d]) >= limits[d])[0]

@@ -12,6 +12,7 @@ from typing import NoReturn
 from webline.errors import LineFileError
 from webline.spec.branched.disturbances import check_disturbances
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
+from webline.spec.branched.winder import check_splices, check_winders
 from webline.spec.schema import (
     CascadedPISpec,
     DrivenSpec,
@@ -63,6 +64,8 @@ def check_branched(spec: BranchedLineSpec, file: str) -> None:
     _check_rollers_once(spec, fail)
     _check_tree(spec, fail)
     check_disturbances(spec, fail)
+    check_winders(spec, fail)
+    check_splices(spec, fail)
 
 
 def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
@@ -70,7 +73,7 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         key = f"rollers[{i}]"
         if roller.type == "dancer":
             unsupported(f"{key}.dancer", fail)
-        for name in ("nip", "wrap", "friction_table", "winder"):
+        for name in ("nip", "wrap", "friction_table"):
             if getattr(roller, name, None) is not None:
                 unsupported(f"{key}.{name}", fail)
         _check_diameter(spec, i, roller, fail)

@@ -14,6 +14,7 @@ import numpy as np
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import control_tick, held_inputs
 from webline.sim.branches.loop.plant import rhs
+from webline.sim.branches.loop.winder import splices
 from webline.sim.elements.signals import jit, loop_njit
 
 
@@ -23,7 +24,8 @@ def roll_change(t: float, x: np.ndarray, wound: np.ndarray, done: np.ndarray,
     """A new roll takes over at its event's time: new radius and wound-in tension, brought
     to the old roll's surface speed first (a flying splice)."""
     for e in range(events.shape[0]):
-        if done[e] == 0.0 and t >= events[e, B.E_TIME]:
+        if done[e] == 0.0 and t >= events[e, B.E_TIME] and (
+                events[e, B.E_KIND] == B.EVENT_ROLL_CHANGE):
             done[e] = 1.0
             j = int(events[e, B.E_ROLL])
             i = int(rolls[j, B.R_NODE])
@@ -62,6 +64,7 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
         if j == n_ticks and not include_end:  # the next chunk starts with this tick
             break
         roll_change(t, x, wound, done, offsets, rolls, events)
+        splices(t, dt, x, istate, done, offsets, nodes, sf, rolls, webs, df, events)
         held_inputs(t, wound, held, webs.shape[0], dist, prof_t, prof_v, prof_off)
         control_tick(t, tick0 + j, dt, x, istate, cmd, offsets, nodes, rolls, di, df, cells,
                      dist, prof_t, prof_v, prof_off)

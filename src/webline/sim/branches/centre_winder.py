@@ -1,0 +1,135 @@
+"""Centre-winder functions of a branched line in the plan (docs/branching.md, "Centre winders
+and flying splices"): a roll's ``winder`` table (compensation, open-loop tension control,
+docs/winder.md W3, W4, W7), the tension ramp at start and stop (R1) and the flying splices
+of its unwinds (S1), as columns and rows of the compiled loop's tables (``loop.layout``)."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from webline.model.tension_ramp import ramp_profile
+from webline.model.web_graph import BranchedLine
+from webline.profiles import breakpoints
+from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.winder import compensation
+from webline.sim.elements.signals import profile_slope_at
+from webline.spec.schema import UnwindSpec
+from webline.spec.splice import FlyingSplice
+from webline.verdict import Finding
+
+if TYPE_CHECKING:
+    from webline.sim.branches.equilibrium import BranchPoint
+    from webline.sim.branches.plan import BranchPlan
+
+Profiles = list[tuple[np.ndarray, np.ndarray]]
+
+
+def winder_columns(line: BranchedLine, di: np.ndarray, df: np.ndarray,
+                   profiles: Profiles) -> None:
+    """Fill each roll drive's ``winder`` columns (``layout`` D_COMP*, D_SPEEDLIM, D_DIR and
+    DI_WINDER); a friction table is appended to ``profiles`` as a profile over |ω| [rad/s]."""
+    top = float(np.max(np.abs(breakpoints(line.spec.speed)[1])))
+    for d, i in enumerate(line.drives):
+        roller = line.spec.rollers[i]
+        spec = getattr(roller, "winder", None)
+        df[d, B.D_COMPFP] = -1.0
+        if spec is None:
+            continue
+        df[d, B.D_DIR] = -1.0 if isinstance(roller, UnwindSpec) else 1.0
+        df[d, B.D_COMPJ] = 1.0 if spec.inertia_compensation else 0.0
+        df[d, B.D_COMPCS], df[d, B.D_COMPB] = spec.static_friction, spec.viscous_friction
+        if spec.friction_table is not None:
+            df[d, B.D_COMPFP] = len(profiles)
+            profiles.append(spec.friction_table.arrays())
+        df[d, B.D_SPEEDLIM] = spec.speed_limit_offset * top
+        di[d, B.DI_WINDER] = B.WINDER_OPEN if spec.mode == "open_loop" else B.WINDER_COMP
+
+
+def ramp_column(line: BranchedLine, profiles: Profiles) -> int:
+    """The tension ramp's profile (its factor on every zone's reference over time, R1),
+    appended to ``profiles``; its index, -1 without a ramp."""
+    ramp = line.spec.control.tension_ramp
+    if ramp is None:
+        return -1
+    profiles.append(ramp_profile(line.spec.speed, ramp))
+    return len(profiles) - 1
+
+
+def splices(line: BranchedLine) -> list[FlyingSplice]:
+    """The flying splices of ``line``'s run, in time order."""
+    return sorted((d for d in line.spec.disturbances if isinstance(d, FlyingSplice)),
+                  key=lambda s: s.at)
+
+
+def splice_tick(at: float, dt: float) -> int:
+    """The first controller tick at or after ``at`` [s] (period ``dt`` [s]), the splice's
+    instant (1e-9 of a tick absorbs the rounding of at/dt), as the chain's."""
+    return math.ceil(at / dt - 1e-9)
+
+
+def splice_rows(line: BranchedLine, dt: float) -> list[list[float]]:
+    """Event rows (``layout`` E_*) of ``line``'s flying splices, at their ticks' times."""
+    rows = []
+    for item in splices(line):
+        node = line.node_index[item.roll]
+        j = next(j for j, r in enumerate(line.rolls) if r.node == node)
+        rows.append([splice_tick(item.at, dt) * dt, j, item.new_diameter / 2.0, math.nan,
+                     line.rolls[j].web, B.EVENT_SPLICE, 1.0 + item.speed_mismatch,
+                     item.slack])
+    return rows
+
+
+def initial_compensation(plan: BranchPlan, point: BranchPoint) -> np.ndarray:
+    """Each drive's compensation torque [N·m] at t = 0 (0 without a ``winder``): the run's
+    speed integrators start that much lower, so that the run starts at its operating
+    point (as on a chain, docs/winder.md W3)."""
+    out = np.zeros(plan.di.shape[0])
+    a_line = profile_slope_at(0, 0.0, plan.prof_t, plan.prof_v, plan.prof_off)
+    for d in range(plan.di.shape[0]):
+        if plan.di[d, B.DI_WINDER] == B.WINDER_NONE:
+            continue
+        i, j = plan.di[d, B.DI_NODE], plan.di[d, B.DI_ROLL]
+        radius = plan.radius0[d] if plan.df[d, B.D_DCALC] != B.DCALC_NONE else (
+            point.x[plan.offsets[B.O_RADIUS] + j])
+        omega = point.x[plan.offsets[B.O_OMEGA] + i]
+        out[d] = compensation(d, i, radius, omega, a_line, plan.nodes, plan.rolls, plan.df,
+                              plan.prof_t, plan.prof_v, plan.prof_off)
+    return out
+
+
+
+def splice_findings(line: BranchedLine, dt: float, time: np.ndarray,
+                    tension: np.ndarray) -> list[Finding]:
+    """A ``warning`` ``splice_slack`` for each flying splice after which a span of the
+    spliced unwind's tension zone went slack (tension <= 0 N) before the next splice or the
+    end of the run (the chain's ``sim.results.splice_findings``): where, when (the first slack
+    record [s]) and how long (the records' time slack, summed [s]). ``time`` [s] and
+    ``tension`` [N] (records x spans) are the run's records."""
+    out: list[Finding] = []
+    if len(time) < 2:
+        return out
+    step = np.diff(time, append=time[-1])
+    items = splices(line)
+    for n, item in enumerate(items):
+        start = splice_tick(item.at, dt) * dt
+        until = items[n + 1].at if n + 1 < len(items) else float(time[-1])
+        if start > time[-1]:
+            continue
+        inside = (time >= start) & (time <= until)
+        for k in line.zones[line.node_index[item.roll]].spans:
+            slack = inside & (tension[:, k] <= 0.0)
+            if not slack.any():
+                continue
+            first, span = float(time[np.argmax(slack)]), line.spans[k].name
+            duration = float(step[slack].sum())
+            out.append(Finding(
+                "warning", "splice_slack", span,
+                f"the flying splice of {item.roll} at t = {start:.4g} s slackened {span}: "
+                f"slack from t = {first:.4g} s, {1000 * duration:.4g} ms in all", first,
+                {"roll": item.roll, "splice_s": start, "first_slack_s": first,
+                 "slack_duration_s": duration, "speed_mismatch": item.speed_mismatch,
+                 "slack_m": item.slack}))
+    return out
