@@ -233,3 +233,25 @@ def test_a_splice_that_slackens_its_zone_is_a_verdict_warning():
     assert found and found[0].where == "film[0]"
     assert found[0].time == pytest.approx(2.0, abs=1e-9)
     assert result.verdict.status == "warning"
+
+
+def test_the_linear_model_of_an_open_loop_rewind_sets_its_zone_by_torque():
+    """In the closed-loop linear model an open-loop rewind's torque is R/n T_ref + b_c ω / n
+    (its limiter's and tension integrators frozen: rows and columns of zeros, dropped here).
+    With the friction compensated (b_c = b) the steady laminate tension is T_ref: DC gain 1
+    (the Jacobian's central differences: ~1e-7), and 0 on the layers' zones (the master
+    holds the nip's speed). The rest of the loop stays stable."""
+    from webline.sim.branches.linear import linear_model
+
+    model = linear_model(laminator(_winder(mode="open_loop", viscous_friction="0.05 N*m*s")))
+    a, b, c = model.a, model.b, model.c
+    keep = np.any(a != 0, axis=0) | np.any(a != 0, axis=1)
+    assert [n for n, k in zip(model.states, keep, strict=True) if not k] == [
+        "rewind_speed_integral", "rewind_tension_integral"]
+    a, b, c = a[np.ix_(keep, keep)], b[keep], c[:, keep]
+    gain = -c @ np.linalg.solve(a, b)
+    ref = model.inputs.index("laminate_zone_tension_ref")
+    assert gain[model.outputs.index("laminate_zone_tension"), ref] == pytest.approx(1, abs=1e-6)
+    for zone in ("film_zone_tension", "foil_zone_tension"):
+        assert abs(gain[model.outputs.index(zone), ref]) < 1e-9
+    assert np.max(np.linalg.eigvals(a).real) < -1.0  # the slowest: -1.16 1/s

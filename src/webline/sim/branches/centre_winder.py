@@ -133,3 +133,24 @@ def splice_findings(line: BranchedLine, dt: float, time: np.ndarray,
                  "slack_duration_s": duration, "speed_mismatch": item.speed_mismatch,
                  "slack_m": item.slack}))
     return out
+
+
+def linear_winder_rows(plan: BranchPlan, d: int, radius: float, q_t: int | None,
+                       kx: np.ndarray, ki: np.ndarray, kr: np.ndarray, gx: np.ndarray,
+                       gi: np.ndarray, gr: np.ndarray) -> None:
+    """Drive ``d``'s winder in the linear closed loop (``linear.controller_matrices``), as the
+    chain's ``sim.core.winder.linear_rows``: its viscous compensation b_c ω / n (static
+    friction and the line's acceleration are constant at an operating point); an open-loop
+    drive's torque is ±R/n on each of its loadcells' references (``radius`` [m] at the
+    point) plus that, its speed integrator (the limiter's, clamped while the web holds the
+    roll) and tension integrator ``q_t`` (none) frozen."""
+    row = plan.df[d]
+    omega_state = plan.offsets[B.O_OMEGA] + plan.di[d, B.DI_NODE]
+    if plan.di[d, B.DI_WINDER] == B.WINDER_OPEN:
+        kx[d], ki[d], kr[d] = 0.0, 0.0, 0.0
+        first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
+        kr[d, 1 + first:1 + first + count] = row[B.D_DIR] * radius / row[B.D_RATIO]
+        for q in (d, q_t):
+            if q is not None:
+                gx[q], gi[q], gr[q] = 0.0, 0.0, 0.0
+    kx[d, omega_state] += row[B.D_COMPB] / row[B.D_RATIO]
