@@ -255,3 +255,31 @@ def test_the_linear_model_of_an_open_loop_rewind_sets_its_zone_by_torque():
     for zone in ("film_zone_tension", "foil_zone_tension"):
         assert abs(gain[model.outputs.index(zone), ref]) < 1e-9
     assert np.max(np.linalg.eigvals(a).real) < -1.0  # the slowest: -1.16 1/s
+
+
+def test_a_rolls_inertia_from_totals_is_the_plants_at_the_stated_diameters():
+    """A roll's ``inertia`` as totals (J1): the laminator's rewind set up with 0.4 kg·m²
+    empty (at the core) and 9 kg·m² full at 0.6 m (a wound density below the laminate's:
+    air wound in); the plant's J(R) at both diameters is the total given (the rewind's motor
+    has no inertia here); a run with it starts at its operating point and runs clean."""
+    from webline.sim.branches.loop import layout as B
+    from webline.sim.branches.loop.plant import node_inertia
+    from webline.sim.branches.plan import compile_branches
+
+    def change(d: dict[str, Any]) -> None:
+        d["rollers"][REWIND]["inertia"] = {"type": "totals", "empty": "0.4 kg*m**2",
+                                           "full": "9 kg*m**2", "full_diameter": "0.6 m"}
+    plan = compile_branches(laminator(change))
+    x = np.zeros(plan.n_x)
+    j = next(j for j, r in enumerate(plan.line.rolls) if r.node == REWIND)
+    for radius, total in ((CORE, 0.4), (0.3, 9.0)):
+        x[plan.offsets[B.O_RADIUS] + j] = radius
+        # J1 solved for the core and the density, then 6.1 again: rounding only
+        assert node_inertia(REWIND, x, plan.offsets, plan.nodes, plan.rolls) == pytest.approx(
+            total, rel=1e-12)
+    density = plan.rolls[j, B.R_RHO]
+    assert density == pytest.approx((9.0 - 0.4) * 32 / (math.pi * (0.6 ** 4 - 0.1524 ** 4)),
+                                    rel=1e-12)
+    assert density < RHO_LAMINATE  # 1542 kg/m³ against the laminate's 1758
+    result = webline.simulate(plan.line, 3.0)
+    assert result.verdict.status == "ok"

@@ -50,6 +50,13 @@ CASES = [
     (LAMINATOR, lambda d: d["rollers"][REWIND].__setitem__("winder", {
         "static_friction": "-1 N*m"}), f"rollers[{REWIND}].winder.static_friction", ""),
     (SLITTER, _differential_winder, "rollers[4].winder", "differential shaft"),
+    (LAMINATOR, lambda d: d["rollers"][REWIND].__setitem__("inertia", {
+        "type": "totals", "empty": "2 kg*m**2", "full": "1 kg*m**2", "full_diameter": "0.6 m"}),
+     f"rollers[{REWIND}].inertia.full", "must be heavier than the empty one"),
+    (SLITTER, lambda d: (_differential_winder(d), d["rollers"][4].pop("winder"),
+                         d["rollers"][4].__setitem__("inertia", {
+                             "type": "total", "total": "5 kg*m**2", "diameter": "0.3 m"})),
+     "rollers[4].inertia", "a differential shaft's lanes turn on their own cores"),
     (LAMINATOR, lambda d: d["control"].__setitem__("tension_ramp", {
         "standstill": 1.5, "time": "2 s"}), "control.tension_ramp.standstill", ""),
     (LAMINATOR, _scenario_splice(roll="rewind"), "scenarios.splice.splice.roll",

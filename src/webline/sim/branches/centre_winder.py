@@ -6,7 +6,7 @@ of its unwinds (S1), as columns and rows of the compiled loop's tables (``loop.l
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
@@ -16,13 +16,10 @@ from webline.profiles import breakpoints
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.winder import compensation
 from webline.sim.elements.signals import profile_slope_at
+from webline.spec.roll_inertia import roll_constants
 from webline.spec.schema import UnwindSpec
 from webline.spec.splice import FlyingSplice
 from webline.verdict import Finding
-
-if TYPE_CHECKING:
-    from webline.sim.branches.equilibrium import BranchPoint
-    from webline.sim.branches.plan import BranchPlan
 
 Profiles = list[tuple[np.ndarray, np.ndarray]]
 
@@ -82,10 +79,11 @@ def splice_rows(line: BranchedLine, dt: float) -> list[list[float]]:
     return rows
 
 
-def initial_compensation(plan: BranchPlan, point: BranchPoint) -> np.ndarray:
+def initial_compensation(plan: Any, point: Any) -> np.ndarray:
     """Each drive's compensation torque [N·m] at t = 0 (0 without a ``winder``): the run's
-    speed integrators start that much lower, so that the run starts at its operating
-    point (as on a chain, docs/winder.md W3)."""
+    speed integrators start that much lower, so that the run starts at its operating point
+    (as on a chain, docs/winder.md W3). ``plan``: a ``plan.BranchPlan``, ``point``: an
+    ``equilibrium.BranchPoint`` (not imported: they import this module)."""
     out = np.zeros(plan.di.shape[0])
     a_line = profile_slope_at(0, 0.0, plan.prof_t, plan.prof_v, plan.prof_off)
     for d in range(plan.di.shape[0]):
@@ -135,7 +133,7 @@ def splice_findings(line: BranchedLine, dt: float, time: np.ndarray,
     return out
 
 
-def linear_winder_rows(plan: BranchPlan, d: int, radius: float, q_t: int | None,
+def linear_winder_rows(plan: Any, d: int, radius: float, q_t: int | None,
                        kx: np.ndarray, ki: np.ndarray, kr: np.ndarray, gx: np.ndarray,
                        gi: np.ndarray, gr: np.ndarray) -> None:
     """Drive ``d``'s winder in the linear closed loop (``linear.controller_matrices``), as the
@@ -154,3 +152,23 @@ def linear_winder_rows(plan: BranchPlan, d: int, radius: float, q_t: int | None,
             if q is not None:
                 gx[q], gi[q], gr[q] = 0.0, 0.0, 0.0
     kx[d, omega_state] += row[B.D_COMPB] / row[B.D_RATIO]
+
+
+def rotating_inertia(line: BranchedLine, i: int) -> float:
+    """Inertia [kg·m²] of roller ``i``'s rotating parts without web and motor: its
+    ``inertia``, or on a roll given as totals the core's they give (J1,
+    ``spec.roll_inertia``; the web wound on it: ``BranchedLine.wound_web``)."""
+    roller = line.spec.rollers[i]
+    if isinstance(roller.inertia, float):
+        return roller.inertia
+    return roll_constants(roller, line.wound_web(i))[0]
+
+
+def wound_density(line: BranchedLine, j: int) -> float:
+    """Density [kg/m³] of roll ``j``'s wound web: its web's, or the one its roll's totals
+    give (J1; every web wound on that roll takes it)."""
+    roll = line.rolls[j]
+    roller = line.spec.rollers[roll.node]
+    if isinstance(roller.inertia, float):
+        return line.materials[roll.web].density
+    return roll_constants(roller, line.wound_web(roll.node))[1]

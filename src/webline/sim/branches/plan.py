@@ -13,7 +13,13 @@ import numpy as np
 from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
-from webline.sim.branches.centre_winder import ramp_column, splice_rows, winder_columns
+from webline.sim.branches.centre_winder import (
+    ramp_column,
+    rotating_inertia,
+    splice_rows,
+    winder_columns,
+    wound_density,
+)
 from webline.sim.branches.disturb import disturbance_table, eccentricities
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import held_inputs
@@ -121,7 +127,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):
         nodes[i, B.N_RADIUS] = r.radius
-        nodes[i, B.N_JCONST] = r.inertia  # type: ignore[assignment]  # (checked: a number)
+        nodes[i, B.N_JCONST] = rotating_inertia(line, i)  # (a roll's totals: J1)
         nodes[i, B.N_VISCOUS], nodes[i, B.N_COULOMB] = r.friction, r.coulomb_friction
         nodes[i, B.N_RATIO] = 1.0
         nodes[i, B.N_DRIVE] = line.drives.index(i) if i in line.drives else -1
@@ -141,8 +147,8 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         on_clutch = float(j in cores[:, B.C_ROLL])
         nodes[roll.node, B.N_ROLLS] += 1 - on_clutch
         m = line.materials[roll.web]
-        rolls[j] = (roll.node, roll.web, roll.direction, m.thickness, m.width, m.density,
-                    nodes[roll.node, B.N_CORE], on_clutch)
+        rolls[j] = (roll.node, roll.web, roll.direction, m.thickness, m.width,
+                    wound_density(line, j), nodes[roll.node, B.N_CORE], on_clutch)
     si, sf, layers = _span_tables(line)
     for c, (_, _, k) in enumerate(cores):
         si[k, B.S_CORE] = c

@@ -87,8 +87,6 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         contact = getattr(roller, "contact", None)
         if contact is not None and contact.type != "adhered":
             unsupported(f"{key}.contact", fail)
-        if isinstance(roller, UnwindSpec | RewindSpec) and not isinstance(roller.inertia, float):
-            unsupported(f"{key}.inertia", fail, "a roll's inertia as one number, without web")
         drive = getattr(roller, "drive", None)
         if drive is not None:
             if drive.transmission.type != "direct":

@@ -1,15 +1,18 @@
 """Checks of a branched line's centre-winder keys (docs/branching.md, "Centre winders and
-flying splices"): a roll's ``winder`` table and the flying splices of its unwinds, each
+flying splices"): a roll's ``winder`` table, its ``inertia`` as totals and the flying
+splices of its unwinds, each
 problem one ``LineFileError`` line naming the key."""
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from types import SimpleNamespace
 from typing import Any, NoReturn
 
 from webline.spec.branched.schema import BranchedLineSpec
 from webline.spec.friction import check_friction_table
-from webline.spec.schema import UnwindSpec
+from webline.spec.roll_inertia import check_roll_inertia
+from webline.spec.schema import RewindSpec, UnwindSpec
 from webline.spec.splice import FlyingSplice
 
 Fail = Callable[[str, str], NoReturn]
@@ -60,3 +63,27 @@ def check_splices(spec: BranchedLineSpec, fail: Fail) -> None:
             if item.new_diameter <= 2.0 * roll.core_radius:
                 fail(f"{here}.new_diameter", f"must exceed the core's diameter "
                      f"{2.0 * roll.core_radius:g} m, got {item.new_diameter:g} m")
+
+
+def wound_web(widths_densities: Sequence[tuple[float, float]]) -> SimpleNamespace:
+    """The web a roll's inertia totals describe (J1), as ``spec.roll_inertia`` takes it: the
+    webs wound on the roll side by side (a shaft's lanes; (width [m], density [kg/m³]) of
+    each), ``width`` their widths' sum, ``density`` their densities weighted by width."""
+    width = sum(w for w, _ in widths_densities)
+    return SimpleNamespace(width=width, density=sum(w * rho for w, rho in widths_densities)
+                           / width)
+
+
+def check_roll_inertias(spec: BranchedLineSpec, wound: dict[int, SimpleNamespace],
+                        fail: Fail) -> None:
+    """A roll's ``inertia`` given as totals (J1, ``spec.roll_inertia``): checked against the
+    web wound on it (``wound``: node -> ``wound_web``); not on a differential shaft (each
+    lane turns on its own core there)."""
+    for i, roller in enumerate(spec.rollers):
+        if not isinstance(roller, UnwindSpec | RewindSpec) or isinstance(roller.inertia, float):
+            continue
+        key = f"rollers[{i}].inertia"
+        if getattr(roller, "shaft", None) is not None:
+            fail(key, "totals describe a roll turning with its shaft; a differential shaft's "
+                 "lanes turn on their own cores (give the shaft's inertia as a number)")
+        check_roll_inertia(roller, wound[i], key, fail)
