@@ -157,7 +157,9 @@ def _spliced(**keys: Any) -> webline.BranchedLine:
 
 @pytest.fixture(scope="module")
 def spliced():
-    return webline.simulate(_spliced())
+    result = webline.simulate("laminator", scenario="flying-splice")  # SPLICE, built in
+    assert result.plan.events.tolist() == webline.simulate(_spliced(), 0.01).plan.events.tolist()
+    return result
 
 
 def test_a_flying_splice_puts_the_new_roll_in_place_at_its_tick(spliced):
@@ -283,3 +285,26 @@ def test_a_rolls_inertia_from_totals_is_the_plants_at_the_stated_diameters():
     assert density < RHO_LAMINATE  # 1542 kg/m³ against the laminate's 1758
     result = webline.simulate(plan.line, 3.0)
     assert result.verdict.status == "ok"
+
+
+def test_the_splice_summary_gives_the_old_rolls_stop_and_the_new_rolls_run_up(spliced):
+    """S4 as the chain's report: the old roll as it left the web and the least times its
+    drive needs to stop it, and the new roll's to run up, at the torque limit (150 N·m):
+    J(R) ω / (n τ_max), J(R) = 0.5 + π ρ w (R⁴ - R_c⁴) / 2 by hand."""
+    from webline.sim.branches.centre_winder import splice_summary
+
+    (item,) = splice_summary(spliced)
+    ds = spliced.dataset
+    last = ds.sel(time=1.999, method="nearest")
+    r_old = float(last["radius"].sel(roll="unwind_film/film"))
+    w_old = float(last["omega"].sel(node="unwind_film"))
+    assert (item["roll"], item["time_s"], item["old_radius_m"]) == ("unwind_film", 2.0, r_old)
+
+    def inertia(r: float) -> float:
+        return 0.5 + math.pi * 1390 * 1.0 * (r ** 4 - CORE ** 4) / 2
+
+    assert item["old_stop_s"] == pytest.approx(inertia(r_old) * w_old / 150.0, rel=1e-9)
+    w_new = w_old * r_old * 1.01 / 0.3
+    assert item["new_run_up_s"] == pytest.approx(inertia(0.3) * w_new / 150.0, rel=1e-9)
+    assert item["largest_change_span"] in ("film[0]", "film_zone")
+    assert float(item["largest_change_N"]) > 34.0  # at least the slack's step

@@ -14,6 +14,7 @@ from webline.model.tension_ramp import ramp_profile
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.loop.winder import compensation
 from webline.sim.elements.signals import profile_slope_at
 from webline.spec.roll_inertia import roll_constants
@@ -73,7 +74,7 @@ def splice_rows(line: BranchedLine, dt: float) -> list[list[float]]:
     for item in splices(line):
         node = line.node_index[item.roll]
         j = next(j for j, r in enumerate(line.rolls) if r.node == node)
-        rows.append([splice_tick(item.at, dt) * dt, j, item.new_diameter / 2.0, math.nan,
+        rows.append([splice_tick(item.at, dt) * dt, j, item.new_diameter / 2.0, 0.0,
                      line.rolls[j].web, B.EVENT_SPLICE, 1.0 + item.speed_mismatch,
                      item.slack])
     return rows
@@ -172,3 +173,55 @@ def wound_density(line: BranchedLine, j: int) -> float:
     if isinstance(roller.inertia, float):
         return line.materials[roll.web].density
     return roll_constants(roller, line.wound_web(roll.node))[1]
+
+
+def splice_summary(result: Any) -> list[dict[str, object]]:
+    """What each flying splice of a run (``result``: a ``BranchResult``) did, as the chain's
+    report says it (docs/winder.md S4): its instant [s], the largest tension change [N] in the
+    unwind's zone after it (against the last record before it, up to the next splice or the
+    end) with its span and delay [s]; the old roll as it left the web (radius [m], speed
+    [rad/s], inertia [kg·m²]) and the least time its drive needs to stop it at its torque
+    limit, J ω / (n τ_max) [s]; the least time the new roll's drive needs to bring it to its
+    speed from rest, the same formula at the new roll (the run-up and the stop are not
+    simulated: before the splice the new roll carries no web, after it the old one none)."""
+    plan = result.plan
+    line, time = plan.line, result.time
+    tension = result.dataset["tension"].values
+    states = result.states
+    items = splices(line)
+    out: list[dict[str, object]] = []
+    for n, item in enumerate(items):
+        start = splice_tick(item.at, plan.dt) * plan.dt
+        if len(time) < 2 or start > time[-1] or start <= time[0]:
+            continue
+        before = int(np.searchsorted(time, start - 0.5 * plan.dt)) - 1
+        until = items[n + 1].at if n + 1 < len(items) else float(time[-1])
+        inside = (time >= start - 0.5 * plan.dt) & (time <= until)
+        node = line.node_index[item.roll]
+        spans = list(line.zones[node].spans)
+        change = np.abs(tension[inside][:, spans] - tension[before, spans])
+        row, col = np.unravel_index(int(np.argmax(change)), change.shape)
+        j = next(j for j, r in enumerate(line.rolls) if r.node == node)
+        d = line.drives.index(node)
+        stop = plan.df[d, B.D_RATIO] * plan.df[d, B.D_LIMIT]
+        r_old = float(states[before, plan.offsets[B.O_RADIUS] + j])
+        w_old = float(states[before, plan.offsets[B.O_OMEGA] + node])
+        r_new = item.new_diameter / 2.0
+        j_old, j_new = (_inertia_at(plan, states[before], node, j, r) for r in (r_old, r_new))
+        w_new = abs(w_old) * r_old * (1.0 + item.speed_mismatch) / r_new
+        out.append({
+            "roll": item.roll, "time_s": start, "new_diameter_m": item.new_diameter,
+            "speed_mismatch": item.speed_mismatch, "slack_m": item.slack,
+            "largest_change_N": float(change[row, col]),
+            "largest_change_span": line.spans[spans[col]].name,
+            "largest_change_after_s": float(time[inside][row] - start),
+            "old_radius_m": r_old, "old_omega_rad_s": w_old, "old_inertia_kg_m2": j_old,
+            "old_stop_s": j_old * abs(w_old) / stop, "new_run_up_s": j_new * w_new / stop})
+    return out
+
+
+def _inertia_at(plan: Any, state: np.ndarray, node: int, j: int, radius: float) -> float:
+    """Inertia [kg·m²] of ``node`` in ``state`` with its roll ``j`` at ``radius`` [m]."""
+    x = state.copy()
+    x[plan.offsets[B.O_RADIUS] + j] = radius
+    return float(node_inertia(node, x, plan.offsets, plan.nodes, plan.rolls))
