@@ -61,39 +61,74 @@ def test_the_inertia_compensation_torque_is_j_a_over_r_n_at_a_sampled_tick():
     assert float(row["torque_cmd"].sel(drive="rewind")) == pytest.approx(hand, rel=1e-9)
 
 
-def _laminate_error(bandwidth: str, compensated: bool) -> tuple[float, float]:
+ACCELERATION = {"type": "ramp", "initial": "125 m/min", "final": "150 m/min", "start": "0.5 s",
+                "duration": "2 s"}
+
+
+def _acceleration(bandwidth: str, compensated: bool) -> tuple[float, float]:
+    """(peak laminate-zone error [N] of the run, the closed-loop linear model's prediction)
+    when the laminator accelerates from 125 to 150 m/min in 2 s, its rewind's speed loop at
+    ``bandwidth``, with or without inertia compensation. The prediction: the linear closed
+    loop at 150 m/min (``branch_linear_model``) driven by the line-speed ramp and, where
+    compensated, by the compensation J a / (R n) added to the rewind's torque command during
+    the ramp (its plant input column): the loop's rejection of J dω/dt against the torque
+    that takes it away."""
+    from scipy.signal import lsim
+
+    from webline.sim.branches.equilibrium import operating_point
+    from webline.sim.branches.linear import branch_linear_model, plant_matrices
+    from webline.sim.branches.loop import layout as B
+    from webline.sim.branches.loop.plant import node_inertia
+    from webline.sim.branches.plan import compile_branches
+
     def change(d: dict[str, Any]) -> None:
+        d["speed"] = ACCELERATION
         d["rollers"][REWIND]["controller"]["speed_bandwidth"] = bandwidth
         if compensated:
             _winder(inertia_compensation=True)(d)
-    ds = webline.simulate(laminator(change), 11.5, scenario="start-up").dataset
-    t = ds["time"].values
-    error = ds["tension"].sel(span="laminate_zone").values - 180.0
-    ramp = (t > 1.0) & (t < 11.5)
-    return float(np.max(np.abs(error[ramp]))), float(np.sqrt(np.mean(error[ramp] ** 2)))
+    line = laminator(change)
+    ds = webline.simulate(line, 5.0).dataset
+    measured = float(np.max(np.abs(ds["tension"].sel(span="laminate_zone").values - 180.0)))
+    plan = compile_branches(line)
+    point = operating_point(plan, 5.0)
+    model = branch_linear_model(plan, point, "closed")
+    torque_column = plant_matrices(plan, point)[1][:, plan.line.drives.index(REWIND)]
+    inputs = np.column_stack([model.b[:, model.inputs.index("line_speed_ref")], np.concatenate(
+        [torque_column, np.zeros(model.a.shape[0] - len(torque_column))])])
+    t = np.linspace(0.0, 5.0, 5001)
+    a_line = (2.5 - 125 / 60) / 2.0
+    speed = np.interp(t, [0.0, 0.5, 2.5, 5.0], [0.0, 0.0, 2.5 - 125 / 60, 2.5 - 125 / 60])
+    d = plan.line.drives.index(REWIND)
+    radius = point.x[plan.offsets[B.O_RADIUS] + plan.di[d, B.DI_ROLL]]
+    inertia = node_inertia(REWIND, point.x, plan.offsets, plan.nodes, plan.rolls)
+    torque = np.where((t > 0.5) & (t < 2.5), inertia * a_line / radius, 0.0) * compensated
+    out = model.outputs.index("laminate_zone_tension")
+    response = lsim((model.a, inputs, model.c[out:out + 1], np.zeros((1, 2))),
+                    np.column_stack([speed, torque]), t)[1]
+    return measured, float(np.max(np.abs(response)))
 
 
-def test_inertia_compensation_removes_the_rewinds_lag_not_the_masters():
+def test_inertia_compensation_cuts_the_error_by_the_factor_the_linear_loop_predicts():
     """The laminate zone lies between the nip (the master, no winder) and the rewind. Each
-    speed PI is tuned on its own inertia to one bandwidth ω_s, so under a ramp a both lag
-    their references by the same surface-speed error (~a/(e ω_s) at its peak): their
-    difference, which the zone's tension integrates, is small. Inertia compensation takes
-    the rewind's disturbance J a / R away: the rewind follows its reference and the zone
-    sees the master's lag alone, whatever the rewind's own tuning. So: at equal bandwidths
-    (40 rad/s, as built) compensating the rewind alone makes the error larger; with a slow
-    rewind loop (10 rad/s: 4 x the master's lag, a mismatch of 3 lags against 1 after
-    compensation) it makes it smaller; compensated, both errors are the master's."""
-    matched = _laminate_error("40 rad/s", False)
-    matched_comp = _laminate_error("40 rad/s", True)
-    slow = _laminate_error("10 rad/s", False)
-    slow_comp = _laminate_error("10 rad/s", True)
-    torque_as_tension = 0.3 * 0.25 / 0.08 / 0.08  # J a / R², ~12 N: what the loops reject
-    assert matched[0] < 0.02 * torque_as_tension  # lags matched: 0.13 N measured
-    assert matched_comp[0] > 10 * matched[0]  # 6.2 N: the master's lag alone
-    assert slow[0] > 2 * slow_comp[0]  # 13.4 N -> 5.1 N (the lag mismatch 3 -> 1)
-    assert slow[1] > 4 * slow_comp[1]  # rms 3.1 -> 0.54 N
-    # compensated, the rewind's tuning hardly matters (the master's lag sets the error)
-    assert slow_comp[0] == pytest.approx(matched_comp[0], rel=0.25)
+    speed PI is tuned on its own inertia, so at equal bandwidths (40 rad/s, as built) both lag
+    their references alike under a ramp and the zone sees only their small difference:
+    compensating the rewind alone leaves the master's lag, and the error grows (~40 x). With
+    a slow rewind loop (10 rad/s) its own lag dominates and compensation cuts the error ~3 x.
+    Both factors are those the closed-loop linear model predicts (the rewind's rejection of
+    J dω/dt against the compensation torque J a / (R n) as an input)."""
+    slow, slow_comp = _acceleration("10 rad/s", False), _acceleration("10 rad/s", True)
+    # the model is linear at 150 m/min; the ramp starts at 125 m/min (transport v/L 17 %
+    # slower): the peaks agree to 1 % here, 5 % allowed
+    for run, model in (slow, slow_comp):
+        assert run == pytest.approx(model, rel=0.05)
+    factor = slow[0] / slow_comp[0]  # 14.5 N -> 5.0 N
+    assert factor == pytest.approx(slow[1] / slow_comp[1], rel=0.05)
+    assert factor > 2.5
+    matched, matched_comp = _acceleration("40 rad/s", False), _acceleration("40 rad/s", True)
+    assert matched_comp[0] == pytest.approx(matched_comp[1], rel=0.05)  # 5.1 N
+    # 0.13 N, the difference of two nearly equal lags: second-order terms (13 % here) count
+    assert matched[0] == pytest.approx(matched[1], rel=0.25)
+    assert matched_comp[0] > 20 * matched[0]
 
 
 def test_open_loop_holds_the_zone_within_the_friction_it_leaves_uncompensated():
