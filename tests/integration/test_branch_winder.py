@@ -343,3 +343,32 @@ def test_the_splice_summary_gives_the_old_rolls_stop_and_the_new_rolls_run_up(sp
     assert item["new_run_up_s"] == pytest.approx(inertia(0.3) * w_new / 150.0, rel=1e-9)
     assert item["largest_change_span"] in ("film[0]", "film_zone")
     assert float(item["largest_change_N"]) > 34.0  # at least the slack's step
+
+
+def test_an_open_loop_shaft_with_two_lanes_pulls_the_sum_of_their_tapered_references():
+    """On a shaft with several lanes T_ref is the sum of the lanes' references (its one
+    torque sees all its lanes), the taper's f(D) on it (docs/branching.md): the slitter's
+    shaft, open loop with its friction compensated and a hyperbolic taper of 0.5, ends with
+    T_1 + T_2 = f(D) (100 + 100 N) - J dω/dt / R (the balance of its B4)."""
+    from webline.physics.taper import spec_factor
+
+    slitter = tomllib.loads(resources.files("webline.data.lines").joinpath("slitter.toml")
+                            .read_text("utf-8"))
+    shaft = slitter["rollers"][4]
+    shaft["winder"] = {"mode": "open_loop", "viscous_friction": "0.05 N*m*s"}
+    shaft["taper"] = {"type": "hyperbolic", "taper": 0.5}
+    line = load_branched(slitter)
+    ds = webline.simulate(line, 10.0).dataset
+    t = ds["time"].values
+    total = (ds["tension"].sel(span="lane_1_span") + ds["tension"].sel(span="lane_2_span")).values
+    radius = ds["radius"].sel(roll="rewind_shaft/lane_1").values
+    omega = ds["omega"].sel(node="rewind_shaft").values
+    inertia = 0.3 + 2 * math.pi * line.materials[1].density * 0.4 * (radius ** 4 - CORE ** 4) / 2
+    spin = np.gradient(omega, t)
+    taper = line.spec.rollers[4].taper
+    balance = spec_factor(taper, CORE, radius[-1]) * 200.0 - inertia[-1] * spin[-1] / radius[-1]
+    assert spec_factor(taper, CORE, radius[-1]) < 0.96  # the taper does act (0.949 at the end)
+    assert total[0] == pytest.approx(spec_factor(taper, CORE, 0.08) * 200.0, rel=1e-9)
+    # quasi-static: the lanes' transport lag L/v (0.4 s) on a total falling ~0.4 N/s
+    # (measured 1e-3 N)
+    assert total[-1] == pytest.approx(balance, abs=0.01)
