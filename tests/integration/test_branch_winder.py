@@ -137,7 +137,8 @@ def test_open_loop_holds_the_zone_within_the_friction_it_leaves_uncompensated():
     gives the web tension at the rewind T = T_ref + ((b_c - b) ω - J dω/dt) / R; the
     loadcell before the idle guide reads b_g ω_g / r_g less (its friction). So the zone
     stays within |b_c - b| ω / R + b_g ω_g / r_g + J |dω/dt| / R (3.9 + 0.1 + 0.25 N) of its
-    reference, and settles on the balance itself."""
+    reference; the operating point is that balance (an open-loop zone's tension is what its
+    torque sets), and the run stays on it."""
     line = laminator(_winder(mode="open_loop", viscous_friction="0.04 N*m*s"))
     result = webline.simulate(line, 10.0)
     ds = result.dataset
@@ -150,11 +151,10 @@ def test_open_loop_holds_the_zone_within_the_friction_it_leaves_uncompensated():
     spin = np.gradient(omega, t)
     balance = 180.0 + ((0.04 - 0.05) * omega - inertia * spin) / radius - guide
     bound = 0.01 * omega / radius + guide + inertia * np.abs(spin) / radius
-    settled = t >= 1.0  # the step from the PI's torque at t = 0 rings for ~0.5 s
-    assert np.all(np.abs(zone[settled] - 180.0) <= bound[settled] + 0.01)
+    assert np.all(np.abs(zone - 180.0) <= bound + 0.01)
     assert 180.0 - zone[-1] > 3.5  # the friction it leaves is seen: 3.6 N below
     # quasi-static: the span's transport lag L/v leaves ~1e-3 N
-    assert zone[-1] == pytest.approx(balance[-1], abs=0.01)
+    np.testing.assert_allclose(zone, balance, atol=0.01)
     assert result.verdict.status == "ok"
 
 
@@ -348,8 +348,9 @@ def test_the_splice_summary_gives_the_old_rolls_stop_and_the_new_rolls_run_up(sp
 def test_an_open_loop_shaft_with_two_lanes_pulls_the_sum_of_their_tapered_references():
     """On a shaft with several lanes T_ref is the sum of the lanes' references (its one
     torque sees all its lanes), the taper's f(D) on it (docs/branching.md): the slitter's
-    shaft, open loop with its friction compensated and a hyperbolic taper of 0.5, ends with
-    T_1 + T_2 = f(D) (100 + 100 N) - J dω/dt / R (the balance of its B4)."""
+    shaft, open loop with its friction compensated and a hyperbolic taper of 0.5, runs on
+    T_1 + T_2 = f(D) (100 + 100 N) - J dω/dt / R (the balance of its B4; its spindle slows
+    as the lanes' rolls grow)."""
     from webline.physics.taper import spec_factor
 
     slitter = tomllib.loads(resources.files("webline.data.lines").joinpath("slitter.toml")
@@ -366,9 +367,10 @@ def test_an_open_loop_shaft_with_two_lanes_pulls_the_sum_of_their_tapered_refere
     inertia = 0.3 + 2 * math.pi * line.materials[1].density * 0.4 * (radius ** 4 - CORE ** 4) / 2
     spin = np.gradient(omega, t)
     taper = line.spec.rollers[4].taper
-    balance = spec_factor(taper, CORE, radius[-1]) * 200.0 - inertia[-1] * spin[-1] / radius[-1]
-    assert spec_factor(taper, CORE, radius[-1]) < 0.96  # the taper does act (0.949 at the end)
-    assert total[0] == pytest.approx(spec_factor(taper, CORE, 0.08) * 200.0, rel=1e-9)
+    factor = np.array([spec_factor(taper, CORE, r) for r in radius])
+    balance = factor * 200.0 - inertia * spin / radius
+    assert factor[-1] < 0.96  # the taper does act (0.949 at the end)
+    assert inertia[0] * spin[0] / radius[0] < -1.0  # the spindle slows as the rolls grow
     # quasi-static: the lanes' transport lag L/v (0.4 s) on a total falling ~0.4 N/s
-    # (measured 1e-3 N)
-    assert total[-1] == pytest.approx(balance, abs=0.01)
+    # (measured 1e-3 N); the run starts on the balance (its operating point)
+    np.testing.assert_allclose(total, balance, atol=0.01)

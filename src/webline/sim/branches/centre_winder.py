@@ -225,3 +225,29 @@ def _inertia_at(plan: Any, state: np.ndarray, node: int, j: int, radius: float) 
     x = state.copy()
     x[plan.offsets[B.O_RADIUS] + j] = radius
     return float(node_inertia(node, x, plan.offsets, plan.nodes, plan.rolls))
+
+
+def open_loop_torque(plan: Any, d: int, x: np.ndarray, refs: np.ndarray, t: float,
+                     friction: bool = True) -> float:
+    """The torque command [N·m] open-loop drive ``d`` holds in steady running (W4, its
+    limiter idle) in state ``x`` at time ``t`` [s]: ±Σ T_ref R / n + the compensation, R its
+    radius at the start (calculated or true), ``refs`` [N] each loadcell span's reference at
+    ``t`` (taper and ramp applied); without ``friction`` (the operating point at rest, taken
+    frictionless) the compensation's friction terms are left out."""
+    i, j = plan.di[d, B.DI_NODE], plan.di[d, B.DI_ROLL]
+    radius = plan.radius0[d] if plan.df[d, B.D_DCALC] != B.DCALC_NONE else (
+        x[plan.offsets[B.O_RADIUS] + j])
+    first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
+    reference = float(np.sum(refs[plan.cells[first:first + count, 0]]))
+    df = plan.df if friction else _frictionless(plan.df, d)
+    comp = compensation(d, i, radius, x[plan.offsets[B.O_OMEGA] + i],
+                        profile_slope_at(0, t, plan.prof_t, plan.prof_v, plan.prof_off),
+                        plan.nodes, plan.rolls, df, plan.prof_t, plan.prof_v, plan.prof_off)
+    return float(plan.df[d, B.D_DIR] * reference * radius / plan.df[d, B.D_RATIO] + comp)
+
+
+def _frictionless(df: np.ndarray, d: int) -> np.ndarray:
+    out = df.copy()
+    out[d, B.D_COMPCS] = out[d, B.D_COMPB] = 0.0
+    out[d, B.D_COMPFP] = -1.0
+    return out

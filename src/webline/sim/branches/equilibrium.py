@@ -22,6 +22,7 @@ import numpy as np
 from scipy.optimize import root
 
 from webline.errors import SimulationError
+from webline.sim.branches.centre_winder import open_loop_torque
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import taper_at
 from webline.sim.branches.loop.plant import node_inertia, rhs
@@ -131,6 +132,10 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.nd
                 on = plan.cores[:, B.C_NODE] == i
                 fastest = np.max(x[off_c:off_c + n_c][on] * (1.0 + plan.clutch[on, B.CF_OVERSPEED]))
                 out[row] = (x[off_w + i] - fastest) / w_scale[i]
+                continue
+            if plan.di[d, B.DI_WINDER] == B.WINDER_OPEN:  # its torque, not its zone (W4)
+                out[row] = (cmd[d] - open_loop_torque(plan, d, x, refs, t, nodes is plan.nodes)
+                            ) / tq_scale[d]
                 continue
             first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
             cells = plan.cells[first:first + count, 0]
