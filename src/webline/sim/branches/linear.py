@@ -21,6 +21,7 @@ import numpy as np
 
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.profiles import breakpoints
+from webline.sim.branches.decentral import linear_rows
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import node_inertia, rhs
@@ -123,13 +124,16 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
     speed [m/s], then each loadcell's reference [N] in ``plan.cells`` order). With
     ``radii`` the measured speed r ω also varies with the roll's radius."""
     n_x, n_d = len(kept_states(plan, radii)), plan.di.shape[0]
-    zoned = [d for d in range(n_d) if plan.di[d, B.DI_NCELLS] > 0]
+    zoned = _zoned(plan)
     n_q, n_r = n_d + len(zoned), 1 + plan.cells.shape[0]
     kx, ki, kr = np.zeros((n_d, n_x)), np.zeros((n_d, n_q)), np.zeros((n_d, n_r))
     gx, gi, gr = np.zeros((n_q, n_x)), np.zeros((n_q, n_q)), np.zeros((n_q, n_r))
     off_w = plan.offsets[B.O_OMEGA]
     for d in range(n_d):
         i, row = int(plan.di[d, B.DI_NODE]), plan.df[d]
+        if plan.di[d, B.DI_FAMILY] != B.FAMILY_PI:  # state feedback, adaptive
+            kx[d], ki[d], kr[d], gx[d], gi[d], gr[d] = linear_rows(plan, point, d, n_x, n_q)
+            continue
         # e_v = v_line ff + σ (kp_t e_t + q_t) - r ω,  e_t = Σ (ref_c - T_c)
         ev_x, ev_q, ev_r = np.zeros(n_x), np.zeros(n_q), np.zeros(n_r)
         ev_r[0] = point.ratio[d]
@@ -154,7 +158,31 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
         kx[d], ki[d], kr[d] = kps * ev_x, kps * ev_q, kps * ev_r
         ki[d, d] += 1.0
         gx[d], gi[d], gr[d] = kis * ev_x, kis * ev_q, kis * ev_r
-    return kx, ki, kr, gx, gi, gr
+    keep = _integrators(plan)  # a state-feedback drive has none
+    return kx, ki[:, keep], kr, gx[keep], gi[np.ix_(keep, keep)], gr[keep]
+
+
+def _zoned(plan: BranchPlan) -> list[int]:
+    """The PI drives with a tension loop (a tension integrator each)."""
+    return [d for d in range(plan.di.shape[0])
+            if plan.di[d, B.DI_NCELLS] > 0 and plan.di[d, B.DI_FAMILY] == B.FAMILY_PI]
+
+
+def _integrators(plan: BranchPlan) -> list[int]:
+    """The controller states kept: each drive's speed integrator (an adaptive drive's: its
+    friction estimate; none for state feedback), then the tension integrators."""
+    n_d = plan.di.shape[0]
+    return ([d for d in range(n_d) if plan.di[d, B.DI_FAMILY] != B.FAMILY_STATE_FEEDBACK]
+            + list(range(n_d, n_d + len(_zoned(plan)))))
+
+
+def integrator_names(plan: BranchPlan) -> list[str]:
+    """Names of the closed loop's controller states (``_integrators``)."""
+    drives = [plan.line.spec.rollers[i].name for i in plan.line.drives]
+    names = [f"{n}_friction_estimate" if plan.di[d, B.DI_FAMILY] == B.FAMILY_ADAPTIVE
+             else f"{n}_speed_integral" for d, n in enumerate(drives)]
+    names += [f"{drives[d]}_tension_integral" for d in _zoned(plan)]
+    return [names[q] for q in _integrators(plan)]
 
 
 def branch_linear_model(plan: BranchPlan, point: BranchPoint,
@@ -188,9 +216,7 @@ def branch_linear_model(plan: BranchPlan, point: BranchPoint,
     a_cl = np.block([[a + b @ kx, b @ ki], [gx, gi]])
     b_cl = np.block([[b @ kr, e], [gr, np.zeros((n_q, e.shape[1]))]])
     c_cl = np.hstack([c, np.zeros((c.shape[0], n_q))])
-    zoned = [d for d in range(len(drives)) if plan.di[d, B.DI_NCELLS] > 0]
-    names = (names + [f"{n}_speed_integral" for n in drives]
-             + [f"{drives[d]}_tension_integral" for d in zoned])
+    names = names + integrator_names(plan)
     inputs = (["line_speed_ref"]
               + [f"{line.spans[int(k)].name}_tension_ref" for k in plan.cells[:, 0]] + wound)
     return LinearModel(a_cl, b_cl, c_cl, names, inputs, outputs)

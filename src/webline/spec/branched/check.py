@@ -10,10 +10,10 @@ from collections.abc import Callable
 from typing import NoReturn
 
 from webline.errors import LineFileError
+from webline.spec.branched.controllers import check_controller
 from webline.spec.branched.disturbances import check_disturbances
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
 from webline.spec.schema import (
-    CascadedPISpec,
     DrivenSpec,
     IdleSpec,
     RewindSpec,
@@ -92,9 +92,7 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
                 unsupported(f"{key}.drive.transmission", fail)
             if drive.brake is not None:
                 unsupported(f"{key}.drive.brake", fail)
-        controller = getattr(roller, "controller", None)
-        if controller is not None and not isinstance(controller, CascadedPISpec):
-            unsupported(f"{key}.controller.type", fail, "cascaded_pi controllers")
+        check_controller(key, roller, fail, unsupported)
     for w, web in enumerate(spec.webs):
         material = [(f"webs[{w}].web", web.web)] if web.web is not None else []
         for key, m in [*material, ("web", spec.web)]:
