@@ -215,7 +215,7 @@ def linear_rows(plan: BranchPlan, point: BranchPoint, d: int, n_x: int,
     from webline.sim.branches.loop.plant import node_inertia
 
     row, i = plan.fb[d], int(plan.di[d, B.DI_NODE])
-    n_s, n_d, n_c = len(plan.line.spans), plan.di.shape[0], plan.cells.shape[0]
+    n_s, _n_d, n_c = len(plan.line.spans), plan.di.shape[0], plan.cells.shape[0]
     kx, ki, kr = np.zeros(n_x), np.zeros(n_q), np.zeros(1 + n_c)
     gx, gi, gr = np.zeros(n_x), np.zeros(n_q), np.zeros(1 + n_c)
     r = speed_arm(plan, point, i)
