@@ -26,8 +26,10 @@ import numpy as np
 
 from webline.control.decentralized import SectionDesign, design_section
 from webline.control.sections import SectionModel
-from webline.sim.branches.equilibrium import BranchPoint, operating_point
+from webline.sim.branches.equilibrium import BranchPoint, analysis_time, operating_point
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.control import taper_at
+from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.plan import BranchPlan
 from webline.spec.schema import AdaptiveSpec, IdleSpec, StateFeedbackSpec
 
@@ -55,13 +57,10 @@ def _carried_in(plan: BranchPlan, x: np.ndarray, k: int) -> float:
 
 def section_model(plan: BranchPlan, point: BranchPoint, d: int) -> SectionModel:
     """Drive ``d``'s section model at ``point`` (module docstring), SI."""
-    from webline.sim.branches.linear import speed_arm  # (linear imports this module)
-    from webline.sim.branches.loop.plant import node_inertia
-
     line, x = plan.line, point.x
     i = int(plan.di[d, B.DI_NODE])
     off_w = plan.offsets[B.O_OMEGA]
-    r = speed_arm(plan, point, i)
+    r = _arm(plan, x, int(plan.di[d, B.DI_ROLL]), i)
     inertia = float(node_inertia(i, x, plan.offsets, plan.nodes, plan.rolls))
     n = plan.nodes[i, B.N_RATIO]
     b = plan.nodes[i, B.N_VISCOUS]
@@ -124,10 +123,14 @@ def design(plan: BranchPlan, point: BranchPoint, d: int) -> SectionDesign:
 
 def design_time(plan: BranchPlan) -> float:
     """The time [s] the sections are designed at: 0, or the end of the speed ramp where the
-    line starts from rest (``linear.analysis_time``)."""
-    from webline.sim.branches.linear import analysis_time
-
+    line starts from rest (``equilibrium.analysis_time``)."""
     return analysis_time(plan.line)
+
+
+def ensure_prepared(plan: BranchPlan) -> None:
+    """``prepare`` a plan with decentralized drives whose tables are still empty."""
+    if has_decentral(plan) and plan.refs[-2, 0] == 0.0:
+        prepare(plan)
 
 
 def prepare(plan: BranchPlan) -> list[SectionDesign | None]:
@@ -191,8 +194,6 @@ def _columns(plan: BranchPlan, point: BranchPoint, d: int, out: SectionDesign) -
 def start_memory(plan: BranchPlan, istate: np.ndarray) -> None:
     """The decentralized families' controller memory at the start: the friction estimate at
     its model value (the initial guess), each drive's taper factor at its starting radius."""
-    from webline.sim.branches.loop.control import taper_at
-
     istate[:, B.I_FRICTION] = plan.fb[:, B.FB_BMODEL]
     for d in range(plan.di.shape[0]):
         i, j = plan.di[d, B.DI_NODE], plan.di[d, B.DI_ROLL]
@@ -211,14 +212,11 @@ def linear_rows(plan: BranchPlan, point: BranchPoint, d: int, n_x: int,
     ``d``), r = (line speed [m/s], each loadcell's reference [N]). The reference motion's
     torque u_eq moves with r through the tables' sensitivities; at the point itself the
     feedback sees x_T = ΣT - Σref and x_V = r ω - v_ref."""
-    from webline.sim.branches.linear import speed_arm
-    from webline.sim.branches.loop.plant import node_inertia
-
     row, i = plan.fb[d], int(plan.di[d, B.DI_NODE])
     n_s, _n_d, n_c = len(plan.line.spans), plan.di.shape[0], plan.cells.shape[0]
     kx, ki, kr = np.zeros(n_x), np.zeros(n_q), np.zeros(1 + n_c)
     gx, gi, gr = np.zeros(n_x), np.zeros(n_q), np.zeros(1 + n_c)
-    r = speed_arm(plan, point, i)
+    r = _arm(plan, point.x, int(plan.di[d, B.DI_ROLL]), i)
     n = plan.nodes[i, B.N_RATIO]
     inertia = float(node_inertia(i, point.x, plan.offsets, plan.nodes, plan.rolls))
     off_w = plan.offsets[B.O_OMEGA]

@@ -20,9 +20,9 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 
 from webline.model.web_graph import BranchedLine, load_branched
-from webline.profiles import breakpoints
-from webline.sim.branches.decentral import linear_rows
+from webline.sim.branches.decentral import ensure_prepared, linear_rows
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
+from webline.sim.branches.equilibrium import analysis_time as analysis_time  # (its home was here)
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import node_inertia, rhs
 from webline.sim.branches.plan import BranchPlan, compile_branches
@@ -123,6 +123,7 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
     [N·m] of every drive, then tension integrator [m/s] of every drive with a zone), r = (line
     speed [m/s], then each loadcell's reference [N] in ``plan.cells`` order). With
     ``radii`` the measured speed r ω also varies with the roll's radius."""
+    ensure_prepared(plan)
     n_x, n_d = len(kept_states(plan, radii)), plan.di.shape[0]
     zoned = _zoned(plan)
     n_q, n_r = n_d + len(zoned), 1 + plan.cells.shape[0]
@@ -228,14 +229,6 @@ def linear_model(line: BranchedLine | str, t: float = 0.0, *,
     references (``branch_linear_model``)."""
     plan = compile_branches(load_branched(line))
     return branch_linear_model(plan, operating_point(plan, t), loop)
-
-
-def analysis_time(line: BranchedLine) -> float:
-    """Time [s] at which to analyse ``line``: 0, or for a start from rest the end of the
-    speed ramp (the chain's rule, ``model.operating_point.analysis_time``: a line standing
-    still has no web transport, so its span modes lose their damping)."""
-    times, values = breakpoints(line.spec.speed)
-    return 0.0 if values[0] > 0.01 * float(np.max(values)) else float(times[-1])
 
 
 def fastest_rate(plan: BranchPlan, point: BranchPoint) -> float:

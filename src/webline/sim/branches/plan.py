@@ -201,9 +201,6 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
                       np.zeros((n_d, B.FB_COLS)),
                       np.zeros((n_s + n_d + 2, 1 + len(cells))))
     _tune(plan)
-    from webline.sim.branches.decentral import prepare  # (it solves operating points)
-
-    prepare(plan)
     return plan
 
 

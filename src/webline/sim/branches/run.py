@@ -9,7 +9,7 @@ import numpy as np
 
 from webline.errors import SimulationError
 from webline.model.web_graph import BranchedLine, load_branched
-from webline.sim.branches.decentral import start_memory
+from webline.sim.branches.decentral import prepare, start_memory
 from webline.sim.branches.equilibrium import operating_point
 from webline.sim.branches.linear import fastest_rate
 from webline.sim.branches.loop import layout as B
@@ -52,6 +52,7 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
             duration = line.spec.scenarios[scenario].duration
     duration = 10.0 if duration is None else duration
     plan = compile_branches(line, rate)
+    prepare(plan)  # the decentralized drives' designs and references (none: nothing)
     point = operating_point(plan)
     if substeps is None:
         substeps = max(1, math.ceil(plan.dt * fastest_rate(plan, point) / STEP_LIMIT))
