@@ -6,6 +6,7 @@ adaptive friction estimate finds the true friction on a junction's drive."""
 from __future__ import annotations
 
 import copy
+import re
 import tomllib
 from importlib import resources
 
@@ -254,3 +255,53 @@ def test_the_sampled_loop_check_sees_a_state_feedback_too_fast_for_its_sampling(
     peaks = [deviation[(time >= a) & (time < a + 0.02)].max() for a in windows]
     rate = np.polyfit(windows, np.log(peaks), 1)[0]
     assert rate == pytest.approx(growth, rel=0.25)
+
+
+def test_a_taper_moves_a_state_feedback_rewinds_reference_and_its_u_eq():
+    """rewind_3 of the slitter on state feedback with a hyperbolic taper of 0.5: its lane
+    starts at 100 N x f(160 mm) = 97.6 N and follows 100 N x f(D(t)) as the roll grows, the
+    taper's factor entering the reference and u_eq both (no integrator: a reference that
+    entered only x_T would leave the lane K_T-proportional off). Tolerance 0.02 N: the
+    state feedback follows a reference falling 0.25 N/s with |λ| ~ 100 1/s, ~3e-3 N of lag
+    (measured 0.005 N; the PI's on the same taper: 0.03 N).
+    (With the thickness profile the lanes on the shaft part, the knife span's tension leaves
+    its reference, the master's u_eq misses it and its speed, without an integrator, stays
+    off: rewind_3's lane then drifts 0.3 N in 20 s, taper or not.)"""
+    data = _with("slitter")
+    core = 2 * 76.2e-3
+    for r in data["rollers"]:
+        if r["name"] == "rewind_3":
+            r["taper"] = {"type": "hyperbolic", "taper": 0.5}
+    ds = simulate_branches(data, 20.0).dataset
+    tension = ds["tension"].sel(span="lane_3_span").values
+    diameter = 2 * ds["radius"].sel(roll="rewind_3/lane_3").values
+    wanted = 100.0 * (1 - 0.5 * (1 - core / diameter))
+    assert tension[0] == pytest.approx(wanted[0], abs=1e-6)
+    assert np.max(np.abs(tension - wanted)) < 0.02, np.max(np.abs(tension - wanted))
+    assert wanted[-1] < wanted[0] - 4.0
+
+
+def test_analyze_prints_a_state_feedback_lines_modes_and_names_a_sampled_instability(tmp_path):
+    """``webline analyze`` of the laminator with state feedback: its closed-loop modes (the
+    film section at -66.6 ± 68.1j) and an ok verdict; with the rewind's speed gain at 10 000
+    the sampled-loop finding and exit 3."""
+    from typer.testing import CliRunner
+
+    from webline.cli import app
+
+    text = resources.files("webline.data.lines").joinpath("laminator.toml").read_text("utf-8")
+    text = re.sub(r'controller = \{ type = "cascaded_pi"[^}]*\}',
+                  'controller = { type = "state_feedback" }', text)
+    path = tmp_path / "laminator_sf.toml"
+    path.write_text(text)
+    result = CliRunner().invoke(app, ["analyze", str(path)])
+    assert result.exit_code == 0, result.output
+    assert "-66.56 ± 68.08j" in result.output and "verdict: ok" in result.output
+    fast = text.replace('controller = { type = "state_feedback" }\n\n[[webs]]',
+                        'controller = { type = "state_feedback", speed_gain = 10000.0 }\n\n'
+                        '[[webs]]')  # the rewind's, the last roller's
+    assert fast != text
+    path.write_text(fast)
+    result = CliRunner().invoke(app, ["analyze", str(path)])
+    assert result.exit_code == 3, result.output
+    assert "controllers sampled" in result.output
