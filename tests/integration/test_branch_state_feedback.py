@@ -305,3 +305,37 @@ def test_analyze_prints_a_state_feedback_lines_modes_and_names_a_sampled_instabi
     result = CliRunner().invoke(app, ["analyze", str(path)])
     assert result.exit_code == 3, result.output
     assert "controllers sampled" in result.output
+
+
+def test_the_mrac_bias_takes_up_a_wrong_friction_model_on_the_nip():
+    """The nip on MRAC (Sec. 6.3, the chain's law, E-6.14) with its friction model 50 % low
+    and no leakage, the other drives on state feedback: the missing friction torque
+    (b - b_model) ω / n = 0.025 N·m·s x 25 rad/s = 0.625 N·m is what the bias ĉ must take up
+    (u = u_eq + f - k̂ᵀx - ĉ: ĉ → -0.625 N·m). After 60 s to 1e-3 (measured 3e-5 after 52 s),
+    and between 10 and 30 s the error decays at the closed loop's slowest mode, the bias's
+    own (the linear model's -0.217 1/s; measured within 5 %, asserted 20 %: the faster
+    modes are gone by 10 s; later the error nears the 3e-5 the gains' own adaptation leaves
+    and the ratio no longer measures the mode)."""
+    data = _with("laminator")
+    data["rollers"][4]["controller"] = {"type": "mrac", "friction_estimate": "0.025 N*m*s",
+                                        "leakage": 0.0}
+    biases = {}
+    for seconds in (10.0, 30.0, 60.0):
+        plan, point = _planned(data)
+        x = point.x.copy()
+        istate = np.zeros((plan.di.shape[0], B.I_COLS))
+        istate[:, B.I_RADIUS] = plan.radius0
+        decentral.start_memory(plan, istate)
+        n = round(seconds / plan.dt)
+        plan.run(x, istate, plan.wound.copy(), np.zeros(0),
+                 new_records(n, n, plan.n_x, plan.di.shape[0]), point.torque.copy(), 0, n, 3, n,
+                 False)
+        biases[seconds] = istate[2, B.I_BIAS]
+    missing = -(0.05 - 0.025) * point.x[plan.offsets[B.O_OMEGA] + 4]
+    assert missing == pytest.approx(-0.625, rel=1e-3)
+    assert biases[60.0] == pytest.approx(missing, rel=1e-3)
+    model = branch_linear_model(plan, point)
+    assert "nip_mrac_bias" in model.states
+    slowest = np.max(np.linalg.eigvals(model.a).real)
+    ratio = (biases[30.0] - missing) / (biases[10.0] - missing)
+    assert ratio == pytest.approx(np.exp(20.0 * slowest), rel=0.2), (ratio, slowest)

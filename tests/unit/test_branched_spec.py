@@ -85,7 +85,8 @@ CASES = [  # (base, change, key in the message, fragment of the problem)
      "exactly one master roller, found 0"),
     (LAMINATOR, _set_dancer, "rollers[1].dancer",
      "not yet supported on a branched line (stage 1: "),
-    (LAMINATOR, lambda d: d["rollers"][0].__setitem__("controller", {"type": "mrac"}),
+    (LAMINATOR, lambda d: d["rollers"][0].__setitem__("controller", {
+        "type": "python", "function": "m:f"}),
      "rollers[0].controller.type", "not yet supported on a branched line"),
     (LAMINATOR, lambda d: d["rollers"][0].__setitem__("controller", {
         "type": "state_feedback", "tension_feedback": "observer"}),

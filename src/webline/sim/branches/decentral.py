@@ -31,7 +31,7 @@ from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import taper_at
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.plan import BranchPlan
-from webline.spec.schema import AdaptiveSpec, IdleSpec, StateFeedbackSpec
+from webline.spec.schema import AdaptiveSpec, IdleSpec, MRACSpec, StateFeedbackSpec
 
 
 def has_decentral(plan: BranchPlan) -> bool:
@@ -103,7 +103,7 @@ def design(plan: BranchPlan, point: BranchPoint, d: int) -> SectionDesign:
     roller = plan.line.spec.rollers[int(plan.di[d, B.DI_NODE])]
     assert not isinstance(roller, IdleSpec)
     c = roller.controller
-    assert isinstance(c, StateFeedbackSpec | AdaptiveSpec)
+    assert isinstance(c, StateFeedbackSpec | AdaptiveSpec | MRACSpec)
     model = section_model(plan, point, d)
     first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
     reference = float(np.sum(point.x[plan.cells[first:first + count, 0]]))
@@ -112,6 +112,15 @@ def design(plan: BranchPlan, point: BranchPoint, d: int) -> SectionDesign:
     u_scale = c.torque_scale or 0.1 * roller.drive.torque_limit
     cap = min(0.2 / roller.drive.torque_lag, 2 * np.pi / plan.dt / 20)
     out = design_section(model, t_scale, v_scale, u_scale, cap)
+    if isinstance(c, MRACSpec):  # its law's columns (the chain's drive_table._mrac_columns)
+        scales = np.array([t_scale, v_scale])
+        row = plan.fb[d]
+        row[B.FB_PBT], row[B.FB_PBV] = out.pb_scaled / scales
+        row[B.FB_GKT], row[B.FB_GKV] = c.adaptation_gain * u_scale / scales**2
+        row[B.FB_GBIAS] = c.adaptation_gain * u_scale
+        row[B.FB_KBT], row[B.FB_KBV] = c.parameter_bound * u_scale / scales
+        row[B.FB_CBOUND] = c.parameter_bound * u_scale
+        row[B.FB_GAMMA], row[B.FB_LEAK] = c.adaptation_gain, c.leakage
     if c.tension_gain is not None or c.speed_gain is not None:
         gain = out.gain.copy()
         gain[0] = gain[0] if c.tension_gain is None else c.tension_gain
@@ -171,7 +180,7 @@ def _columns(plan: BranchPlan, point: BranchPoint, d: int, out: SectionDesign) -
     roller = plan.line.spec.rollers[i]
     assert not isinstance(roller, IdleSpec)
     c = roller.controller
-    assert isinstance(c, StateFeedbackSpec | AdaptiveSpec)
+    assert isinstance(c, StateFeedbackSpec | AdaptiveSpec | MRACSpec)
     row = plan.fb[d]
     row[B.FB_KT], row[B.FB_KV] = out.gain
     n = roller.drive.ratio
@@ -195,6 +204,7 @@ def start_memory(plan: BranchPlan, istate: np.ndarray) -> None:
     """The decentralized families' controller memory at the start: the friction estimate at
     its model value (the initial guess), each drive's taper factor at its starting radius."""
     istate[:, B.I_FRICTION] = plan.fb[:, B.FB_BMODEL]
+    istate[:, B.I_KT], istate[:, B.I_KV] = plan.fb[:, B.FB_KT], plan.fb[:, B.FB_KV]
     for d in range(plan.di.shape[0]):
         i, j = plan.di[d, B.DI_NODE], plan.di[d, B.DI_ROLL]
         radius = plan.line.rolls[j].radius if j >= 0 else plan.nodes[i, B.N_RADIUS]
@@ -227,7 +237,8 @@ def linear_rows(plan: BranchPlan, point: BranchPoint, d: int, n_x: int,
     dv = -gain * row[B.FB_KV]
     if row[B.FB_DIR] != 0.0:
         dv -= row[B.FB_DIR] * inertia * row[B.FB_THICK] / (np.pi * r**3 * n) * v
-    adaptive = row[B.FB_GAMMA] > 0.0
+    family = plan.di[d, B.DI_FAMILY]
+    adaptive = family == B.FAMILY_ADAPTIVE
     if adaptive:
         dv += row[B.FB_BMODEL] / (r * n)
     kx[off_w + i] = dv * r
@@ -249,6 +260,17 @@ def linear_rows(plan: BranchPlan, point: BranchPoint, d: int, n_x: int,
     for c in range(n_c):
         dv_ref = plan.refs[n_s + d, 1 + c] * point.line_speed / plan.refs[-2, 0]
         kr[1 + c] += -arms @ plan.refs[:n_s, 1 + c] / n + (friction / (r * n) - dv) * dv_ref
+    if family == B.FAMILY_MRAC:  # q: the bias ĉ; dĉ/dt = γ_c (P_bT x_T + P_bV x_V) - σγ ĉ
+        ki[d] = -1.0
+        s_t, s_v = row[B.FB_GBIAS] * row[B.FB_PBT], row[B.FB_GBIAS] * row[B.FB_PBV]
+        for c in range(first, first + count):
+            gx[int(plan.cells[c, 0])] += s_t
+            gr[1 + c] -= s_t
+        gx[off_w + i] += s_v * r
+        gr[0] -= s_v * v_per
+        for c in range(n_c):
+            gr[1 + c] -= s_v * plan.refs[n_s + d, 1 + c] * point.line_speed / plan.refs[-2, 0]
+        gi[d] = -row[B.FB_LEAK] * row[B.FB_GAMMA]
     if adaptive:  # q: b̂ - b; u_eq's b̂ ω_ref, and db̂/dt = -γ' ω_ref x_V - σ γ (b̂ - b)
         omega = v / r
         ki[d] = omega / n

@@ -171,7 +171,8 @@ def _zoned(plan: BranchPlan) -> list[int]:
 
 def _integrators(plan: BranchPlan) -> list[int]:
     """The controller states kept: each drive's speed integrator (an adaptive drive's: its
-    friction estimate; none for state feedback), then the tension integrators."""
+    friction estimate; an MRAC's: its bias, its gains' changes being second order at the
+    operating point; none for state feedback), then the tension integrators."""
     n_d = plan.di.shape[0]
     return ([d for d in range(n_d) if plan.di[d, B.DI_FAMILY] != B.FAMILY_STATE_FEEDBACK]
             + list(range(n_d, n_d + len(_zoned(plan)))))
@@ -180,8 +181,9 @@ def _integrators(plan: BranchPlan) -> list[int]:
 def integrator_names(plan: BranchPlan) -> list[str]:
     """Names of the closed loop's controller states (``_integrators``)."""
     drives = [plan.line.spec.rollers[i].name for i in plan.line.drives]
-    names = [f"{n}_friction_estimate" if plan.di[d, B.DI_FAMILY] == B.FAMILY_ADAPTIVE
-             else f"{n}_speed_integral" for d, n in enumerate(drives)]
+    kind = {B.FAMILY_ADAPTIVE: "friction_estimate", B.FAMILY_MRAC: "mrac_bias"}
+    names = [f"{n}_{kind.get(int(plan.di[d, B.DI_FAMILY]), 'speed_integral')}"
+             for d, n in enumerate(drives)]
     names += [f"{drives[d]}_tension_integral" for d in _zoned(plan)]
     return [names[q] for q in _integrators(plan)]
 

@@ -1,6 +1,6 @@
 """Checks of a branched line's controller families (docs/branching.md, "State feedback"):
-the cascaded PI, decentralized state feedback and adaptive control run on any drive but a
-differential shaft's (speed control only); MRAC, the section observer and a user's Python
+the cascaded PI, decentralized state feedback, adaptive control and MRAC run on any drive
+but a differential shaft's (speed control only); the section observer and a user's Python
 controller not yet."""
 
 from __future__ import annotations
@@ -8,13 +8,19 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import NoReturn
 
-from webline.spec.schema import AdaptiveSpec, CascadedPISpec, RewindSpec, StateFeedbackSpec
+from webline.spec.schema import (
+    AdaptiveSpec,
+    CascadedPISpec,
+    MRACSpec,
+    RewindSpec,
+    StateFeedbackSpec,
+)
 
 Fail = Callable[[str, str], NoReturn]
 Unsupported = Callable[[str, Fail, str], NoReturn]
 
 #: the families a branched line runs
-FAMILIES = "cascaded_pi, state_feedback and adaptive controllers"
+FAMILIES = "cascaded_pi, state_feedback, adaptive and mrac controllers"
 
 
 def check_controller(key: str, roller: object, fail: Fail, unsupported: Unsupported) -> None:
@@ -23,7 +29,7 @@ def check_controller(key: str, roller: object, fail: Fail, unsupported: Unsuppor
     controller = getattr(roller, "controller", None)
     if controller is None or isinstance(controller, CascadedPISpec):
         return
-    if not isinstance(controller, StateFeedbackSpec | AdaptiveSpec):
+    if not isinstance(controller, StateFeedbackSpec | AdaptiveSpec | MRACSpec):
         unsupported(f"{key}.controller.type", fail, FAMILIES)
     if controller.tension_feedback != "loadcell":
         unsupported(f"{key}.controller.tension_feedback", fail,

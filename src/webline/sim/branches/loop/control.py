@@ -124,11 +124,11 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             if noisy:
                 measured += sigma_t * gaussian(seed, tick, 2 * c + 1)
             e_t += factor * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - measured
-        if di[d, B.DI_FAMILY] != B.FAMILY_PI:  # state feedback, adaptive (loop.decentral)
+        if di[d, B.DI_FAMILY] != B.FAMILY_PI:  # state feedback, adaptive, MRAC
             istate[d, B.I_FACTOR] = factor
-            cmd[d] = decentral_command(d, i, t, dt, radius, v_meas, -e_t, x, istate,
-                                       offsets, nodes, rolls, si, df, fb, refs, prof_t, prof_v,
-                                       prof_off)
+            cmd[d] = decentral_command(d, di[d, B.DI_FAMILY], i, t, dt, radius, v_meas, -e_t,
+                                       x, istate, offsets, nodes, rolls, si, df, fb, refs,
+                                       prof_t, prof_v, prof_off)
             continue
         trim = df[d, B.D_SIGMA] * (df[d, B.D_KPT] * e_t + istate[d, B.I_TENSION])
         ripple = 0.0

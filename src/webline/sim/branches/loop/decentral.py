@@ -42,13 +42,14 @@ def reference_changes(t: float, istate: np.ndarray, di: np.ndarray, cells: np.nd
 
 
 @jit
-def decentral_command(d: int, i: int, t: float, dt: float, radius: float, v_meas: float,
-                      x_t: float, x: np.ndarray, istate: np.ndarray,
+def decentral_command(d: int, family: int, i: int, t: float, dt: float, radius: float,
+                      v_meas: float, x_t: float, x: np.ndarray, istate: np.ndarray,
                       offsets: np.ndarray, nodes: np.ndarray, rolls: np.ndarray,
                       si: np.ndarray, df: np.ndarray, fb: np.ndarray,
                       refs: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
                       prof_off: np.ndarray) -> float:
-    """Torque command [N·m] of decentralized drive ``d`` on node ``i`` (module docstring):
+    """Torque command [N·m] of decentralized drive ``d`` (``layout.FAMILY_*`` ``family``) on
+    node ``i`` (module docstring):
     ``radius`` [m] the one it converts speeds with, ``v_meas`` [m/s] its measured surface
     speed, ``x_t`` [N] its zone's tension error (measured minus reference); each loadcell's
     reference change this tick in ``refs``' last row (``reference_changes``)."""
@@ -76,7 +77,7 @@ def decentral_command(d: int, i: int, t: float, dt: float, radius: float, v_meas
     omega_ref = v_ref / radius
     r_dot = _radius_rate(v_ref, radius, fb[d, B.FB_THICK], fb[d, B.FB_DIR])
     omega_dot = a_ref / radius - v_ref * r_dot / (radius * radius)
-    adaptive = fb[d, B.FB_GAMMA] > 0.0
+    adaptive = family == B.FAMILY_ADAPTIVE
     friction = istate[d, B.I_FRICTION] if adaptive else fb[d, B.FB_BMODEL]
     u_eq = (inertia * omega_dot - web_torque + fb[d, B.FB_BMOTOR] * omega_ref
             + _friction(omega_ref, friction, nodes[i, B.N_COULOMB])) / ratio
@@ -86,13 +87,20 @@ def decentral_command(d: int, i: int, t: float, dt: float, radius: float, v_meas
         comp = -fb[d, B.FB_DIR] * inertia * fb[d, B.FB_THICK] / (
             2.0 * math.pi * radius**3) * (v_meas * v_meas - v_ref * v_ref) / ratio
     gain = inertia / (ratio * radius) / df[d, B.D_GAINNORM]
-    feedback = -gain * (fb[d, B.FB_KT] * x_t + fb[d, B.FB_KV] * x_v)
+    mrac = family == B.FAMILY_MRAC
+    if mrac:  # adapted gains and a bias (the chain's sim.drives.mrac)
+        feedback = -gain * (istate[d, B.I_KT] * x_t + istate[d, B.I_KV] * x_v) - istate[
+            d, B.I_BIAS]
+    else:
+        feedback = -gain * (fb[d, B.FB_KT] * x_t + fb[d, B.FB_KV] * x_v)
     if adaptive:  # friction felt at the measured speed, not only at the reference
         feedback += friction * x_v / (radius * ratio)
     raw = u_eq + comp + feedback
     u = _saturate(raw, df[d, B.D_LIMIT])
     if adaptive and u == raw:
         adapt(d, dt, x_v, omega_ref, gain, ratio, istate, fb)
+    if mrac and u == raw:
+        mrac_adapt(d, dt, x_t, x_v, istate, fb)
     return u
 
 
@@ -107,3 +115,26 @@ def adapt(d: int, dt: float, x_v: float, omega_ref: float, gain: float, ratio: f
     b_hat += dt * (-rate * omega_ref * x_v - fb[d, B.FB_LEAK] * fb[d, B.FB_GAMMA]
                    * (b_hat - fb[d, B.FB_BMODEL]))
     istate[d, B.I_FRICTION] = min(max(b_hat, 0.0), fb[d, B.FB_BMAX])
+
+
+@jit
+def mrac_adapt(d: int, dt: float, x_t: float, x_v: float, istate: np.ndarray,
+               fb: np.ndarray) -> None:
+    """One Euler step [s] of the MRAC's law (the chain's ``sim.drives.mrac.mrac_adapt``, Sec.
+    6.3 with E-6.8 and E-6.14): s = eᵀPb, dk̂_j/dt = Γ_j s x_j, dĉ/dt = γ_c s, σ-modification
+    towards the design and projection onto the box of ``parameter_bound`` around it."""
+    s = fb[d, B.FB_PBT] * x_t + fb[d, B.FB_PBV] * x_v
+    leak = fb[d, B.FB_LEAK] * fb[d, B.FB_GAMMA]
+    k_t = istate[d, B.I_KT] + dt * (fb[d, B.FB_GKT] * s * x_t
+                                    - leak * (istate[d, B.I_KT] - fb[d, B.FB_KT]))
+    k_v = istate[d, B.I_KV] + dt * (fb[d, B.FB_GKV] * s * x_v
+                                    - leak * (istate[d, B.I_KV] - fb[d, B.FB_KV]))
+    bias = istate[d, B.I_BIAS] + dt * (fb[d, B.FB_GBIAS] * s - leak * istate[d, B.I_BIAS])
+    istate[d, B.I_KT] = _clip(k_t, fb[d, B.FB_KT], fb[d, B.FB_KBT])
+    istate[d, B.I_KV] = _clip(k_v, fb[d, B.FB_KV], fb[d, B.FB_KBV])
+    istate[d, B.I_BIAS] = _clip(bias, 0.0, fb[d, B.FB_CBOUND])
+
+
+@jit
+def _clip(value: float, centre: float, half_width: float) -> float:
+    return min(max(value, centre - half_width), centre + half_width)
