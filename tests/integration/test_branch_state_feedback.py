@@ -339,3 +339,24 @@ def test_the_mrac_bias_takes_up_a_wrong_friction_model_on_the_nip():
     slowest = np.max(np.linalg.eigvals(model.a).real)
     ratio = (biases[30.0] - missing) / (biases[10.0] - missing)
     assert ratio == pytest.approx(np.exp(20.0 * slowest), rel=0.2), (ratio, slowest)
+
+
+def test_a_pi_drives_taper_reaches_the_state_feedback_drives_references():
+    """The slitter on state feedback but rewind_3, a PI with a hyperbolic taper of 0.5: its
+    lane's reference falls 5 N in 20 s, and with it the knife span's tension (the lanes'
+    sum). The master and the unwind must see that change in their references (u_eq, v_ref)
+    through the sensitivities with the PI drive's taper factor: then the unwind zone stays
+    on 300 N and lanes 1 and 2 on 100 N (measured 0.004 N and 0.001 N; with the factor
+    frozen at its start the unwind zone drifted 1.5 N and the lanes 0.6 N). Tolerances 0.02
+    and 0.01 N: the references' first-order sensitivities to a 5 N change, (ΔT/EA)²."""
+    data = _with("slitter")
+    for r in data["rollers"]:
+        if r["name"] == "rewind_3":
+            r["taper"] = {"type": "hyperbolic", "taper": 0.5}
+            r["controller"] = {"type": "cascaded_pi"}
+    tension = simulate_branches(data, 20.0).dataset["tension"]
+    lane_3 = tension.sel(span="lane_3_span").values
+    assert lane_3[0] - lane_3[-1] > 4.5  # the taper did act
+    assert np.max(np.abs(tension.sel(span="unwind_zone").values - 300.0)) < 0.02
+    for lane in ("lane_1_span", "lane_2_span"):
+        assert np.max(np.abs(tension.sel(span=lane).values - 100.0)) < 0.01, lane

@@ -124,8 +124,8 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             if noisy:
                 measured += sigma_t * gaussian(seed, tick, 2 * c + 1)
             e_t += factor * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - measured
+        istate[d, B.I_FACTOR] = factor  # (the decentralized drives' references read it)
         if di[d, B.DI_FAMILY] != B.FAMILY_PI:  # state feedback, adaptive, MRAC
-            istate[d, B.I_FACTOR] = factor
             cmd[d] = decentral_command(d, di[d, B.DI_FAMILY], i, t, dt, radius, v_meas, -e_t,
                                        x, istate, offsets, nodes, rolls, si, df, fb, refs,
                                        prof_t, prof_v, prof_off)
