@@ -360,3 +360,28 @@ def test_a_pi_drives_taper_reaches_the_state_feedback_drives_references():
     assert np.max(np.abs(tension.sel(span="unwind_zone").values - 300.0)) < 0.02
     for lane in ("lane_1_span", "lane_2_span"):
         assert np.max(np.abs(tension.sel(span=lane).values - 100.0)) < 0.01, lane
+
+
+def test_the_verdict_names_an_mrac_that_its_torque_lag_destabilizes():
+    """The laminator's rewind on MRAC with the chain's default law (γ = 1, in scaled units a
+    speed-gain rate of γ u_s / v_s² = 16 000 (N·m·s/m)/(m/s)² per s) and the built-in 2 ms
+    torque lag: the linear closed loop, with the MRAC's bias as a state, grows at +32.9 1/s
+    at 35 Hz in the rewind's speed; with the lag at 0.01 ms and massless guides, as the
+    design assumes, the same loop is stable (slowest: the bias, -4.1 1/s). The verdict names
+    the growing mode, and the run leaves its tension: the adaptation, fed by that mode, runs
+    its gains to their projection bounds (the laminate zone above 1000 N within 1 s)."""
+    from webline.sim.branches.linear import stability_findings
+
+    data = _with("laminator")
+    data.pop("scenarios")
+    data["rollers"][6]["controller"] = {"type": "mrac"}
+    plan, point = _planned(data)
+    findings = stability_findings(plan, point, 0.0)
+    assert findings and findings[0].details["eigenvalue_real"] == pytest.approx(32.9, abs=0.1)
+    assert "rewind_omega" in findings[0].details["states"]
+    ds = simulate_branches(data, 1.0, raise_on_failure=False).dataset
+    assert np.max(ds["tension"].sel(span="laminate_zone").values) > 1000.0
+    quick = _with("laminator", lag="0.01 ms", idle_inertia="1e-6 kg*m**2")
+    quick["rollers"][6]["controller"] = {"type": "mrac"}
+    plan, point = _planned(quick)
+    assert not stability_findings(plan, point, 0.0)
