@@ -21,7 +21,7 @@ from webline.errors import LineFileError
 from webline.model.web_graph import BranchedLine, Zone
 from webline.profiles import breakpoints
 from webline.sim.branches.loop import layout as B
-from webline.spec.schema import DancerSpec
+from webline.spec.schema import CascadedPISpec, DancerSpec
 
 #: damping ratio of an end stop while the carriage presses on it (the chain's
 #: ``sim.core.dancer.STOP_DAMPING_RATIO``: a rubber buffer)
@@ -102,6 +102,13 @@ def zone_cells(line: BranchedLine, zone: Zone | None,
                             "holds one dancer's position")
     if dancers:
         i = dancers[0]
+        drive = line.spec.rollers[zone.node]
+        winder = getattr(drive, "winder", None)
+        if not isinstance(getattr(drive, "controller", None), CascadedPISpec) or (
+                winder is not None and winder.mode == "open_loop"):
+            raise LineFileError(line.source, f"rollers[{i}].dancer.use", "position control "
+                                f"trims the speed of a cascaded PI; {drive.name!r} runs "
+                                "another controller or open-loop tension")
         k = _zone_loadcell(line, zone, i)  # (its reference: the default load's, D2)
         return [(k, ref_of[k], i)]
     return [(k, ref_of[k], -1) for k in zone.loadcells]

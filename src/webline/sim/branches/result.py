@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
+from webline.sim.branches.centre_winder import splice_findings
 from webline.sim.branches.dancer_views import end_stop_findings, span_lengths
 from webline.sim.branches.dancers import dancer_nodes
 from webline.sim.branches.loop import layout as B
@@ -173,6 +174,7 @@ class BranchResult:
                                         f"{label} exceeds its tension limit {limit:.4g} N "
                                         f"(max {np.max(tension):.4g} N)",
                                         float(self.time[first])))
+        findings += splice_findings(line, self.plan.dt, self.time, ds["tension"].values)
         findings += yield_findings(self.plan, self.time, self.states)
         findings += end_stop_findings(self.plan, self.time, self.states)
         limits = self.plan.df[:, B.D_LIMIT]

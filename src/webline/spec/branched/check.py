@@ -11,12 +11,13 @@ from collections.abc import Callable
 from typing import NoReturn
 
 from webline.errors import LineFileError
+from webline.spec.branched.controllers import check_controller
 from webline.spec.branched.disturbances import check_disturbances
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
 from webline.spec.branched.web_law import check_web_laws
+from webline.spec.branched.winder import check_splices, check_winders
 from webline.spec.dancer import DancerCarriage
 from webline.spec.schema import (
-    CascadedPISpec,
     DrivenSpec,
     IdleSpec,
     RewindSpec,
@@ -67,6 +68,8 @@ def check_branched(spec: BranchedLineSpec, file: str) -> None:
     _check_rollers_once(spec, fail)
     _check_tree(spec, fail)
     check_disturbances(spec, fail)
+    check_winders(spec, fail)
+    check_splices(spec, fail)
 
 
 def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
@@ -75,7 +78,7 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         dancer = getattr(roller, "dancer", None)
         if dancer is not None:
             _check_dancer(dancer, f"{key}.dancer", fail)
-        for name in ("nip", "wrap", "friction_table", "winder"):
+        for name in ("nip", "wrap", "friction_table"):
             if getattr(roller, name, None) is not None:
                 unsupported(f"{key}.{name}", fail)
         _check_diameter(spec, i, roller, fail)
@@ -89,17 +92,13 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         contact = getattr(roller, "contact", None)
         if contact is not None and contact.type != "adhered":
             unsupported(f"{key}.contact", fail)
-        if isinstance(roller, UnwindSpec | RewindSpec) and not isinstance(roller.inertia, float):
-            unsupported(f"{key}.inertia", fail, "a roll's inertia as one number, without web")
         drive = getattr(roller, "drive", None)
         if drive is not None:
             if drive.transmission.type != "direct":
                 unsupported(f"{key}.drive.transmission", fail)
             if drive.brake is not None:
                 unsupported(f"{key}.drive.brake", fail)
-        controller = getattr(roller, "controller", None)
-        if controller is not None and not isinstance(controller, CascadedPISpec):
-            unsupported(f"{key}.controller.type", fail, "cascaded_pi controllers")
+        check_controller(key, roller, fail, unsupported)
     check_web_laws(spec, fail)
     for name, scenario in spec.scenarios.items():
         change = scenario.roll_change
