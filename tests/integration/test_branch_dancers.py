@@ -230,3 +230,12 @@ def test_a_rewinds_taper_acts_through_its_dancers_load():
     # load within its position loop's lag on a reference falling ~0.03 N/s: 1e-3 N
     assert np.max(np.abs(total.values - 360.0 * factor)) < 1e-3, np.max(
         np.abs(total.values - 360.0 * factor))
+
+
+def test_position_control_on_a_drive_that_is_no_cascaded_pi_is_one_line():
+    data = dancer_laminator()
+    data["rollers"][0]["controller"] = {"type": "state_feedback"}
+    with pytest.raises(LineFileError) as caught:
+        compile_branches(load_branched(data))
+    assert caught.value.key == "rollers[1].dancer.use"
+    assert "cascaded PI" in caught.value.problem and len(str(caught.value).splitlines()) == 1
