@@ -186,7 +186,7 @@ def branched_from_dict(data: Any, file: str = "<dict>") -> BranchedLineSpec:
         raise LineFileError(file, "spans", "a branched line gives its spans in each of its "
                             "[[webs]], not at the top level")
     for key in not_yet_branched(data):
-        raise LineFileError(file, key, "not yet supported on a branched line (speed, set, "
+        raise LineFileError(file, key, "not yet supported on a branched line (speed, set, break, "
                             "roll_change and disturbances scenarios)")
     try:
         spec = BranchedLineSpec.model_validate(data, context={WEB_WIDTH: _web_width(data)})
@@ -200,7 +200,7 @@ def branched_from_dict(data: Any, file: str = "<dict>") -> BranchedLineSpec:
 
 #: keys of a single-path line file that a branched line does not take yet (stage 1)
 _NOT_YET_TOP = ("checks",)
-_NOT_YET_SCENARIO = ("unwind_radius", "rewind_radius", "break", "splice")
+_NOT_YET_SCENARIO = ("unwind_radius", "rewind_radius", "splice")
 
 
 def not_yet_branched(data: dict[str, Any]) -> list[str]:

@@ -13,6 +13,7 @@ import numpy as np
 from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
+from webline.sim.branches.breaks import break_columns
 from webline.sim.branches.disturb import disturbance_table, eccentricities
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import held_inputs
@@ -116,7 +117,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     eccentric = eccentricities(line)
     off_c = off_q + 2 * n_w
     offsets = np.array([off_w, off_r, off_tq, off_q, off_c, off_c + len(cores),
-                        off_c + len(cores) + len(eccentric)], dtype=np.int64)
+                        off_c + len(cores) + len(eccentric), 0], dtype=np.int64)
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):
         nodes[i, B.N_RADIUS] = r.radius
@@ -181,6 +182,9 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         new = wound[w] if change.wound_in_tension is None else change.wound_in_tension
         events = np.array([[change.time, j, change.radius, new, w]])
     dist = disturbance_table(line, profiles)
+    if break_columns(line, sf, df):  # a web break: each span's broken flag after the drags
+        offsets[B.O_BREAK] = 1
+        wound = np.concatenate([wound, np.zeros(n_s)])
     taper_columns(line, df, profiles)
     radius0 = diameter_columns(line, df, di)
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 import xarray as xr
 
+from webline.sim.branches.break_verdict import break_findings, intact
 from webline.sim.branches.loop import layout as B
 from webline.spec.branched.check import kind_of
 from webline.verdict import Finding, Verdict
@@ -146,8 +147,9 @@ class BranchResult:
         for w, web in enumerate(line.spec.webs):
             spans = line.web_spans(w)
             tension = ds["tension"].values[:, spans]
-            label = f"{kind_of(web)} {web.name}"
-            slack = np.nonzero(np.any(tension <= 0.0, axis=1))[0]
+            taut = np.where(intact(self.plan, self.time)[:, spans], tension, np.inf)
+            label = f"{kind_of(web)} {web.name}"  # (a broken span: the break's finding)
+            slack = np.nonzero(np.any(taut <= 0.0, axis=1))[0]
             if len(slack):
                 findings.append(Finding("warning", "slack", web.name, f"{label} goes slack at "
                                         f"t = {self.time[slack[0]]:.4g} s", float(
@@ -160,6 +162,7 @@ class BranchResult:
                                         f"{label} exceeds its tension limit {limit:.4g} N "
                                         f"(max {np.max(tension):.4g} N)",
                                         float(self.time[first])))
+        findings += break_findings(self.plan, self.time, ds["speed"].values, self.settings)
         limits = self.plan.df[:, B.D_LIMIT]
         for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit
             at_limit = np.nonzero(np.abs(ds["torque_cmd"].values[:, d]) >= limits[d])[0]

@@ -18,6 +18,7 @@ from webline.spec.control_schema import ControllerSpec  # noqa: F401 - used by R
 from webline.spec.disturbances import DisturbanceSpec, Name
 from webline.spec.quantities import Force, Length, SpeedProfile, Strict, Time, TimeNonNeg
 from webline.spec.schema import ControlSpec, RollerSpec, SpanSpec, Text, WebSpec
+from webline.spec.winder import BreakEvent
 
 
 class WebPathSpec(Strict):
@@ -54,8 +55,9 @@ class RollChangeSpec(Strict):
 class BranchedScenarioSpec(Strict):
     """A named run of a branched line: speed reference, values changed by nested path
     (``set``: ``"webs.film.spans.film_zone.tension"``, ``"webs.lane_1.thickness"``) and an
-    unwind's ``roll_change``; ``disturbances`` replace the line's; ``duration`` the default
-    run length [s]."""
+    unwind's ``roll_change``; ``disturbances`` replace the line's; ``break``: a web break
+    (the chain's keys, docs/branching.md "Web breaks"), added to the disturbances as a
+    ``web_break``; ``duration`` the default run length [s]."""
 
     description: Text = ""
     duration: Time
@@ -63,7 +65,9 @@ class BranchedScenarioSpec(Strict):
     speed: SpeedProfile | None = None
     roll_change: RollChangeSpec | None = None
     disturbances: list[DisturbanceSpec] | None = None
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    # ``break`` in the file (a Python keyword); a dump writes break_, which reads back too
+    break_: BreakEvent | None = Field(None, alias="break")
+    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
 
 
 class BranchedLineSpec(Strict):

@@ -12,6 +12,7 @@ import numpy as np
 
 from webline.physics import motor, span, taper
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.breaks import break_monitor, fade_trim, held_command
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.drives.measure import quantized
 from webline.sim.elements.signals import gaussian, jit, profile_at, sines
@@ -84,6 +85,10 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
     measured speed (channel 2 d, then rounded to the resolution) and each loadcell's tension
     (channel 2 c + 1), as the chain's ``sim.drives.measure``."""
     v_line = profile_at(0, t, prof_t, prof_v, prof_off)
+    stopping = 1.0  # the line-speed factor of the ramp to a stop after a web break (W5)
+    if offsets[B.O_BREAK]:
+        stopping = break_monitor(t, x, istate, di, df, cells, prof_t, prof_v, prof_off)
+        v_line *= stopping
     off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
     sigma_t, sigma_v, resolution, seed, noisy = 0.0, 0.0, 0.0, 0, False
     for r in range(dist.shape[0]):
@@ -116,6 +121,9 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             if noisy:
                 measured += sigma_t * gaussian(seed, tick, 2 * c + 1)
             e_t += factor * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - measured
+        if offsets[B.O_BREAK] and stopping < 1.0:  # tension loops frozen, trims faded
+            e_t = 0.0
+            fade_trim(d, dt, stopping, istate, df)
         trim = df[d, B.D_SIGMA] * (df[d, B.D_KPT] * e_t + istate[d, B.I_TENSION])
         ripple = 0.0
         for r in range(dist.shape[0]):
@@ -126,6 +134,9 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
         if df[d, B.D_ADAPTIVE] > 0.0:  # speed gains follow the roll's inertia
             gain = node_inertia(i, x, offsets, nodes, rolls) / (
                 df[d, B.D_RATIO] * radius) / df[d, B.D_GAINNORM]
+        if offsets[B.O_BREAK] and stopping == 0.0:  # stopped: the drives hold (W8)
+            cmd[d] = held_command(d, dt, v_meas, gain, istate, df)
+            continue
         raw = df[d, B.D_KPS] * gain * e_v + istate[d, B.I_SPEED]
         u = _saturate(raw, df[d, B.D_LIMIT])
         saturated = raw != u

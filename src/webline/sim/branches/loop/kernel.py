@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.breaks import cut
 from webline.sim.branches.loop.control import control_tick, held_inputs
 from webline.sim.branches.loop.plant import rhs
 from webline.sim.elements.signals import jit, loop_njit
@@ -62,6 +63,8 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
         if j == n_ticks and not include_end:  # the next chunk starts with this tick
             break
         roll_change(t, x, wound, done, offsets, rolls, events)
+        if offsets[B.O_BREAK]:  # a web break: its spans carry nothing from their time on
+            cut(t, x, wound, sf, webs.shape[0], nodes.shape[0])
         held_inputs(t, wound, held, webs.shape[0], dist, prof_t, prof_v, prof_off)
         control_tick(t, tick0 + j, dt, x, istate, cmd, offsets, nodes, rolls, di, df, cells,
                      dist, prof_t, prof_v, prof_off)

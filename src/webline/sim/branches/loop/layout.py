@@ -12,6 +12,9 @@ from webline.spec.winder import MAX_PRESETS
 
 # offsets row
 O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_CORE, O_ANGLE, O_N = range(7)
+# web break (sim.branches.breaks): 1 where the line has a break in this run (a flag frozen
+# into the compiled loop, so that a line without one folds the monitor and the cut away)
+O_BREAK = 7
 
 # node table (float)
 # (N_ECC: eccentricity [m]; N_ANGLE: its angle state's number, -1 where round)
@@ -24,7 +27,10 @@ O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_CORE, O_ANGLE, O_N = range(7)
 (S_A, S_B, S_WEB, S_SRC, S_FROM, S_ARMA, S_ARMB, S_COUNT, S_CORE, S_ECCA, S_ECCB,
  S_COLS) = range(12)
 # span table (float)
-SF_LENGTH, SF_EA, SF_SHARE, SF_INVEA, SF_COLS = range(5)
+SF_LENGTH, SF_EA, SF_SHARE, SF_INVEA = range(4)
+# web break: the time [s] the span breaks (inf: never; every span of the broken segment)
+SF_BREAK = 4
+SF_COLS = 5
 #: S_SRC: the previous span of the path | the unwind's wound-in tension | the sum of the
 #: layers' last spans (a laminate's first span) | the base web's last span x share (a lane)
 SRC_PREVIOUS, SRC_WOUND, SRC_LAYERS, SRC_SLIT = range(4)
@@ -53,12 +59,24 @@ DI_NODE, DI_CELLS, DI_NCELLS, DI_ROLL, DI_COLS = range(5)
  D_DHOLD, D_DSOURCE, D_DTHICK, D_DDIR, D_PRESETN) = range(23)
 D_PRESETT = D_PRESETN + 1
 D_PRESETD = D_PRESETT + MAX_PRESETS
-D_COLS = D_PRESETD + MAX_PRESETS
+D_BREAK = D_PRESETD + MAX_PRESETS
+# web break (sim.branches.breaks), the same on every drive's row: the monitor's threshold
+# (x each loadcell's reference), stop time [s], hold after the stop (HOLD_*), diameter
+# threshold [m] (0: off)
+D_BTHRESH, D_BSTOP, D_BHOLD, D_BDIAM = range(D_BREAK, D_BREAK + 4)
+D_COLS = D_BREAK + 4
+HOLD_ZERO_SPEED, HOLD_OFF = range(2)
 DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = range(3)
 
 # controller memory per drive
 # controller memory per drive (I_RADIUS: the diameter calculator's radius [m])
-I_SPEED, I_TENSION, I_RADIUS, I_COLS = range(4)
+I_SPEED, I_TENSION, I_RADIUS = range(3)
+# web break (sim.branches.breaks), on every drive's row: the time it was detected [s] (-1:
+# not yet), the method (BREAK_*), where (the loadcell's span, or the drive), the extreme of
+# the drive's calculated radius so far [m]
+I_DETECT, I_METHOD, I_WHERE, I_REXTREME = range(3, 7)
+I_COLS = 7
+BREAK_TENSION, BREAK_DIAMETER = range(1, 3)
 
 # event table (roll change): time, roll, new radius, new wound-in tension, web
 E_TIME, E_ROLL, E_RADIUS, E_WOUND, E_WEB, E_COLS = range(6)

@@ -13,6 +13,7 @@ import numpy as np
 
 from webline.physics import roll, roller, span
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.breaks import web_flows
 from webline.sim.elements.signals import jit
 
 _tension: Any = jit(span.tension)
@@ -84,8 +85,11 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
     v_b = work[3 * n_s:4 * n_s]
     torque = work[4 * n_s:4 * n_s + n_n]
     inertia = work[4 * n_s + n_n:4 * n_s + 2 * n_n]
+    n_w = webs.shape[0]
     for k in range(n_s):
         tension[k] = _tension(x[k])
+        if offsets[B.O_BREAK] and wound[n_w + n_n + k] != 0.0:  # broken: carries nothing
+            tension[k] = 0.0
     for i in range(n_n):
         torque[i] = 0.0
         inertia[i] = nodes[i, B.N_JCONST]
@@ -114,6 +118,8 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         s_in[k] = carried_in(k, x, tension, wound, si, sf, layers)
         dx[k] = _stretch_rate(sf[k, B.SF_LENGTH], sf[k, B.SF_EA], v_a[k], v_b[k], s_in[k],
                               tension[k])
+        if offsets[B.O_BREAK] and wound[n_w + n_n + k] != 0.0:  # its stretch stays frozen
+            dx[k] = 0.0
         torque[a] += arm_a * tension[k]  # the span pulls its upstream roller forward
         if core < 0:  # (a lane on a clutch core pulls its core, below)
             torque[b] -= arm_b * tension[k]
@@ -127,7 +133,6 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         dx[off_c + c] = (passed - radius * tension[k]) / inertia_core
         dx[off_r + j] = _radius_rate(radius * omega_core, radius, rolls[j, B.R_THICK],
                                      rolls[j, B.R_DIR])
-    n_w = webs.shape[0]
     for i in range(n_n):
         omega = x[off_w + i]
         total = torque[i] - nodes[i, B.N_VISCOUS] * omega
@@ -143,6 +148,9 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
             dx[off_w + i] = total * nodes[i, B.N_INVJ]
     for d in range(di.shape[0]):
         dx[off_tq + d] = (cmd[d] - x[off_tq + d]) * df[d, B.D_INVLAG]
+    if offsets[B.O_BREAK]:  # a cut web: its intact spans' ends (sim.branches.breaks)
+        web_flows(dx, off_q, webs, sf, wound[n_w + n_n:], v_a, v_b, s_in, tension)
+        return
     for w in range(webs.shape[0]):  # unstrained web in and out: v (1 - ε) at each end
         first, last = webs[w, B.WB_FIRST], webs[w, B.WB_LAST]
         inv_ea = sf[first, B.SF_INVEA]
