@@ -129,6 +129,9 @@ def test_the_web_length_balance_holds_across_the_cut(lane_break):
     balance = ds.web_stored.values + ds.web_out.values - ds.web_in.values
     assert np.all(np.ptp(balance[t < AT], axis=0) < 1e-9)
     assert np.all(np.ptp(balance[t > AT], axis=0) < 1e-9)  # (measured 3e-13 m over 8 s)
+    jump = 2.0 * 100.0 / 90e3  # lane_1's L ε let go: 2.2 mm, which is no drift
+    assert np.ptp(balance[:, 1]) == pytest.approx(jump, rel=1e-3)
+    assert all(row["length_balance_drift_m"] < 1e-9 for row in lane_break.web_summary())
 
 
 def test_the_verdict_says_what_the_run_shows(lane_break):

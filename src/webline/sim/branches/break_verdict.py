@@ -116,3 +116,18 @@ def _kind(plan: BranchPlan, w: int) -> str:
     spans = [s.name for s in line.spans if s.web == w and math.isfinite(
         plan.sf[s.index, B.SF_BREAK])]
     return f"{kind_of(web)} {web.name} ({', '.join(spans)})"
+
+
+def without_cut_jump(plan: BranchPlan, time: np.ndarray, balance: np.ndarray,
+                     w: int) -> np.ndarray:
+    """Web ``w``'s length balance [m] over ``time`` [s] without its jump at the break: the
+    cut spans' stretch let go (L ε, the frozen span counting L), which is no drift. The
+    balance is conserved on either side (``sim.branches.loop.breaks.web_flows``)."""
+    at = plan.sf[plan.line.web_spans(w), B.SF_BREAK]
+    if not np.any(np.isfinite(at)):
+        return balance
+    i = int(np.searchsorted(time, np.min(at)))
+    out = balance.copy()
+    if 0 < i < len(out):
+        out[i:] -= out[i] - out[i - 1]
+    return out

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 import xarray as xr
 
-from webline.sim.branches.break_verdict import break_findings, intact
+from webline.sim.branches.break_verdict import break_findings, intact, without_cut_jump
 from webline.sim.branches.loop import layout as B
 from webline.spec.branched.check import kind_of
 from webline.verdict import Finding, Verdict
@@ -176,14 +176,16 @@ class BranchResult:
 
     def web_summary(self) -> list[dict[str, object]]:
         """Per web: its kind, tension min/max/final per span [N] (a loadcell's also its largest
-        deviation from its reference) and the drift of its length balance [m]."""
+        deviation from its reference) and the drift of its length balance [m] (a cut web's
+        without its jump at the break: ``break_verdict.without_cut_jump``)."""
         line = self.plan.line
         ds = self.dataset
         out = []
         for w, web in enumerate(line.spec.webs):
             spans = line.web_spans(w)
-            balance = (ds["web_stored"].values[:, w] + ds["web_out"].values[:, w]
-                       - ds["web_in"].values[:, w])
+            balance = without_cut_jump(self.plan, self.time, ds["web_stored"].values[:, w]
+                                       + ds["web_out"].values[:, w]
+                                       - ds["web_in"].values[:, w], w)
             table: dict[str, dict[str, float]] = {}
             for k in spans:
                 tension = ds["tension"].values[:, k]
