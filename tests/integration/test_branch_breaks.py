@@ -195,6 +195,37 @@ def test_a_base_web_break_cuts_every_lane():
     assert np.min(result.dataset.tension.sel(span="unwind_zone").values) > 100.0
 
 
+def test_a_freed_rewind_is_found_by_its_diameter_running_the_wrong_way():
+    """lane_3's rewind with a speed-ratio calculator (R = v_line / ω, 0.2 s filter), the
+    tension monitor off (threshold 0), lane_3 broken at 1 s. Its loadcell reads 0, so its
+    tension PI speeds it up by k_p,T T_ref = 0.036 m/s at once and k_i,T T_ref = 0.14 m/s
+    per second; R_raw = R v / (v + Δv) shrinks, and 5 mm of diameter (Δv / v = 3.1 %,
+    0.155 m/s) is reached by the PI alone within (0.155 - 0.036) / 0.14 = 0.84 s, plus the
+    filter's 0.2 s: within 1.04 s (measured 485 ms: the freed roll's lost load r T = 8 N·m
+    speeds it up too). The drives then switch off at the stop (``hold = "off"``)."""
+    line = load_branched(_slitter_with([]))
+    data = line.spec.model_dump(exclude_none=True)
+    for roller in data["rollers"]:
+        if roller["name"] == "rewind_3":
+            roller["diameter"] = {"method": "speed_ratio", "line_speed": "reference"}
+    data["scenarios"] = {"b": {"duration": 7.0, "break": {
+        "span": "lane_3_span", "at": AT, "threshold": 0.0, "stop_time": STOP,
+        "hold": "off"}}}
+    result = webline.simulate(load_branched(data), scenario="b")
+    settings = result.settings
+    assert settings["break_method"] == B.BREAK_DIAMETER
+    drives = list(result.dataset.drive.values)
+    assert drives[int(settings["break_where"])] == "rewind_3"
+    assert 0.05 < settings["break_detected_s"] - AT < 1.04
+    t = result.time
+    stopped = t >= settings["break_detected_s"] + STOP + result.plan.dt
+    assert np.all(result.dataset.torque_cmd.values[stopped] == 0.0)
+    message = next(f.message for f in result.verdict.findings if f.kind == "web_break")
+    assert "detected by the calculated diameter running the wrong way (drive rewind_3)" in (
+        message)
+    assert "the drives with their torque off" in message
+
+
 def _slitter_with(disturbances: list[dict], scenario: dict | None = None) -> dict:
     data = load_branched("slitter").spec.model_dump(exclude_none=True)
     data["disturbances"] = disturbances
