@@ -226,6 +226,15 @@ def test_a_freed_rewind_is_found_by_its_diameter_running_the_wrong_way():
     assert "the drives with their torque off" in message
 
 
+def test_a_web_break_disturbance_is_the_scenarios_break():
+    brk = {"span": "lane_1_span", "at": 0.2, "stop_time": 1.0}
+    by_scenario = webline.simulate(_with_break("slitter", brk, 0.5), scenario="b")
+    line = load_branched(_slitter_with([{"type": "web_break", **brk}]))
+    by_disturbance = webline.simulate(line, 0.5)
+    assert np.array_equal(by_scenario.rec, by_disturbance.rec)
+    assert by_scenario.verdict.headline == by_disturbance.verdict.headline
+
+
 def _slitter_with(disturbances: list[dict], scenario: dict | None = None) -> dict:
     data = load_branched("slitter").spec.model_dump(exclude_none=True)
     data["disturbances"] = disturbances
