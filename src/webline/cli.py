@@ -112,9 +112,9 @@ def run(
     (diverged), 130 interrupted by Ctrl-C, 143 by SIGTERM (what was computed is written, status
     interrupted).
     """
-    from webline.model.web_graph import source_is_branched
+    from webline.spec.load import file_is_branched
 
-    if source_is_branched(line):  # stage 1 of branched lines: its own files (docs/branching.md)
+    if file_is_branched(line):  # stage 1 of branched lines: its own files (docs/branching.md)
         from webline.cli_branches import run_branched
 
         run_branched(line, _duration(duration), scenario, out, force, quiet, {
@@ -193,9 +193,10 @@ def validate(line: LineArg) -> None:
     TOML line and exit 2, or print 'ok' and any warnings (unusual values, winder settings that
     cannot act, speed loops soft against the web) and exit 0."""
     from webline.line import load_line
-    from webline.model.web_graph import load_branched, source_is_branched
+    from webline.model.web_graph import load_branched
+    from webline.spec.load import file_is_branched
 
-    if source_is_branched(line):  # docs/branching.md
+    if file_is_branched(line):  # docs/branching.md
         branched = load_branched(line)
         for name in branched.spec.scenarios:
             branched.with_scenario(name)
@@ -249,11 +250,11 @@ def show(line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None
     """Show a line: sections, rollers, spans, drives, controllers and scenarios (a branched
     line: its webs, rollers, spans, drives and zones)."""
     from webline.cli_branches import show_branched, write_schematic
-    from webline.model.web_graph import source_is_branched
     from webline.report.text.describe import line_tables
     from webline.report.text.display import Display
+    from webline.spec.load import file_is_branched
 
-    if source_is_branched(line):  # docs/branching.md, "Report"
+    if file_is_branched(line):  # docs/branching.md, "Report"
         if sets or units != Units.si:
             raise BadInput("--set and --units: not yet supported for a branched line (its "
                            "tables are in SI)")

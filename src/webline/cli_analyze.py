@@ -58,9 +58,9 @@ def analyze(
 
     Exit status: 0 ok (no closed-loop mode grows), 2 bad input, 3 unstable (one grows).
     """
-    from webline.model.web_graph import source_is_branched
+    from webline.spec.load import file_is_branched
 
-    if source_is_branched(line):  # docs/branching.md, "Linear models"
+    if file_is_branched(line):  # docs/branching.md, "Linear models"
         _analyze_branched(line, scenario, at, as_json, {
             "--units": units != Units.si, "--certificate": certificate,
             "--controller": controller is not None, "--set": bool(sets),

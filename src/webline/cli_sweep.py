@@ -158,9 +158,9 @@ def _display(line: str, system: str, spec: dict[str, Any]) -> Display:
 
     if not system.endswith("per-width"):
         return Display(system)  # type: ignore[arg-type]
-    from webline.model.web_graph import source_is_branched
+    from webline.spec.load import file_is_branched
 
-    if source_is_branched(line):  # film, foil, laminate, lanes: each its own width
+    if file_is_branched(line):  # film, foil, laminate, lanes: each its own width
         raise ArgumentError(f"--units {system}: a branched line's webs and lanes have their "
                             "own widths, so its tensions have no one width to be shown per; "
                             "choose si or imperial")

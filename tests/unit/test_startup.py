@@ -38,3 +38,20 @@ def test_the_cli_ends_as_system_exit_would_with_exit_handlers_and_buffers() -> N
         assert done.returncode == status
         assert done.stdout == "bufferedhandler ran\n"
         assert done.stderr.strip() == stderr
+
+
+def test_a_single_path_run_imports_neither_xarray_nor_the_branched_line() -> None:
+    """The main job's steps for a single-path line (load, simulate, results file, report)
+    leave xarray/pandas (0.5 s of CPU: the report's process imported them through the
+    branched result until session 9) and the branched line's schema and modules unloaded."""
+    code = ("import sys, tempfile, pathlib; from webline.cli_common import _load; "
+            "from webline.sim.simulate import simulate; "
+            "from webline.report.results_file import write_results; "
+            "import webline.report.writer; "
+            "r = simulate(_load('hswl', None), 0.05); "
+            "write_results(r, pathlib.Path(tempfile.mkdtemp())); "
+            "print(','.join(m for m in sys.modules if m in ('xarray', 'pandas') or m.startswith("
+            "('webline.spec.branched', 'webline.model.web_graph', 'webline.sim.branches'))))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True)
+    assert done.stdout.strip() == ""

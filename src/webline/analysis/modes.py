@@ -11,16 +11,17 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
 from webline.line import Line, load_line
-from webline.model.web_graph import BranchedLine
 from webline.sim.linear.linearize import LinearModel
 
 if TYPE_CHECKING:
     import control
+
+    from webline.model.web_graph import BranchedLine
 
 
 @dataclass(frozen=True)
@@ -90,14 +91,14 @@ def closed_loop_modes(line: Line | BranchedLine | str, t: float = 0.0) -> list[M
     """Modes of ``line`` with its controllers, linearized at time ``t`` [s] (the plan's cached
     closed-loop model: no python-control needed); a branched line's from
     ``sim.branches.linear`` (docs/branching.md, "Linear models")."""
-    from webline.model.web_graph import source_is_branched
     from webline.sim.core.plan import compile_plan
     from webline.sim.linear.linearize import plan_linear_model
+    from webline.sim.simulate import is_branched_line
 
-    if isinstance(line, BranchedLine) or (not isinstance(line, Line)
-                                          and source_is_branched(line)):
+    if is_branched_line(line):
         from webline.sim.branches.linear import linear_model
 
-        return modes(linear_model(line, t, loop="closed"))
+        return modes(linear_model(cast("BranchedLine | str", line), t, loop="closed"))
 
-    return modes(plan_linear_model(compile_plan(load_line(line)), loop="closed", t=t))
+    return modes(plan_linear_model(compile_plan(load_line(cast("Line | str", line))),
+                                   loop="closed", t=t))

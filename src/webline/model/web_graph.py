@@ -19,6 +19,7 @@ from webline.spec.branched.schema import BranchedLineSpec, RollChangeSpec, WebPa
 from webline.spec.check import web_ea
 from webline.spec.load import (
     branched_from_dict,
+    file_is_branched,
     is_branched,
     parse_branched,
     read_any,
@@ -295,12 +296,7 @@ def source_is_branched(source: object) -> bool:
         return True
     if isinstance(source, dict):
         return is_branched(source)
-    if not isinstance(source, str | Path):
-        return False
-    try:
-        return is_branched(read_any(source)[0])
-    except LineFileError:
-        return False
+    return isinstance(source, str | Path) and file_is_branched(source)
 
 
 def _checked(line: BranchedLine) -> BranchedLine:

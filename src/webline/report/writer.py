@@ -8,6 +8,7 @@ import math
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from webline.analysis.modes import Mode, closed_loop_modes
 from webline.analysis.zone_loops import ZoneLoop, speed_leaks, zone_loops
@@ -40,9 +41,11 @@ from webline.report.text.zone_tables import (
     roll_modes_values,
     zone_loops_table,
 )
-from webline.sim.branches.result import BranchResult
 from webline.sim.results.result import Result
 from webline.spec.load import dump_spec
+
+if TYPE_CHECKING:  # imported where a branched run's report is written
+    from webline.sim.branches.result import BranchResult
 
 #: Resolution of the PNG figures [dots per inch].
 DPI = 110
@@ -112,7 +115,7 @@ def write_report(result: Result | BranchResult, out_dir: Path, *, units: System 
     only; its scenario is the one its line ran)."""
     from webline import __version__
 
-    if isinstance(result, BranchResult):  # a branched line's run (docs/branching.md, Report)
+    if not isinstance(result, Result):  # a BranchResult (docs/branching.md, Report)
         if units != "si":
             raise ArgumentError(f"units={units!r}: a branched line's report is in SI units")
         from webline.report.branch_report import write_branch_report

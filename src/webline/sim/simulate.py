@@ -9,7 +9,7 @@ import time
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
-from typing import TYPE_CHECKING, overload
+from typing import TYPE_CHECKING, cast, overload
 
 import numpy as np
 
@@ -21,7 +21,6 @@ from webline.errors import (
     SimulationInterrupted,
 )
 from webline.line import Line, load_line
-from webline.model.web_graph import BranchedLine, source_is_branched
 from webline.sim.compiled_control import CompiledController, run_compiled
 from webline.sim.core import kernel
 from webline.sim.core.plan import Plan, compile_plan, equilibrium_plan_state
@@ -34,9 +33,11 @@ from webline.sim.results.failure import Failure, kernel_failure
 from webline.sim.results.result import Result
 from webline.sim.user_control import Group, builtin_stand_in, run_user, user_groups, user_plan
 from webline.sim.user_objects import file_controllers
+from webline.spec.load import file_is_branched
 from webline.spec.ranges import argument, whole_argument
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # a single-path run does not import the branched line's modules
+    from webline.model.web_graph import BranchedLine
     from webline.sim.branches.result import BranchResult
 
 #: RK4 sub-steps are chosen so that h·|λ|max stays below this (RK4 is accurate to ~1e-4 per
@@ -120,6 +121,18 @@ def interrupt_text(signum: int, end: float) -> str:
     return f"interrupted by the user (Ctrl-C) at t = {end:.4g} s"
 
 
+def is_branched_line(line: object) -> bool:
+    """Whether ``line`` is a branched line, importing its modules only where it is not a
+    ``Line`` or a file (a single-path run's import time stays as it was)."""
+    if isinstance(line, Line):
+        return False
+    if isinstance(line, str | Path):
+        return file_is_branched(line)
+    from webline.model.web_graph import source_is_branched
+
+    return source_is_branched(line)
+
+
 @overload
 def simulate(line: BranchedLine, duration: float | str | None = None, *,
              scenario: str | None = None, sample_rate: float | str | None = None,
@@ -180,19 +193,17 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
     ``sim.branches`` and returns a ``BranchResult`` (an xarray Dataset and a verdict per web
     and lane); ``progress`` and ``controller`` are not yet supported there (stage 1).
     """
-    if isinstance(line, BranchedLine) or (not isinstance(line, Line)
-                                          and source_is_branched(line)):
+    if is_branched_line(line):
         if progress is not None or controller is not None:
             raise ArgumentError("progress, controller: not yet supported for a branched line "
                                 "(stage 1: built-in cascaded PI, one run at a time)")
         from webline.sim.branches.run import simulate_branches  # scipy: only when needed
 
-        return simulate_branches(line, duration, scenario=scenario,
+        return simulate_branches(cast("BranchedLine", line), duration, scenario=scenario,
                                  sample_rate=sample_rate, substeps=substeps,
                                  record_interval=record_interval,
                                  raise_on_failure=raise_on_failure)
-    assert not isinstance(line, BranchedLine)
-    line = load_line(line)
+    line = load_line(cast("Line | str | Path", line))
     duration, sample_rate, record_interval = (  # units and checks as the CLI's
         None if value is None else argument(value, kind, name, within=key)
         for value, kind, name, key in ((duration, "time", "duration", "scenario.duration"),

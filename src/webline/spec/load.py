@@ -8,19 +8,20 @@ import re
 import tomllib
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import tomli_w
 from pydantic import BaseModel, ValidationError
 
 from webline.errors import LineFileError, Problem
-from webline.spec.branched.check import check_branched
-from webline.spec.branched.schema import BranchedLineSpec
 from webline.spec.check import check_spec
 from webline.spec.locate import key_lines, locate
 from webline.spec.quantities import WEB_WIDTH
 from webline.spec.schema import LineSpec
 from webline.units import clip, short, to_si
+
+if TYPE_CHECKING:  # imported where a branched line is read: a single-path run never pays it
+    from webline.spec.branched.schema import BranchedLineSpec
 
 BUILTIN_PACKAGE = "webline.data.lines"
 
@@ -180,6 +181,9 @@ def is_branched(data: Any) -> bool:
 
 def branched_from_dict(data: Any, file: str = "<dict>") -> BranchedLineSpec:
     """Validate a plain dict into a checked ``BranchedLineSpec`` (``LineFileError`` else)."""
+    from webline.spec.branched.check import check_branched
+    from webline.spec.branched.schema import BranchedLineSpec
+
     if not isinstance(data, dict):
         raise LineFileError(file, "(top level)", "a line file must be a table of keys")
     if "spans" in data:
@@ -214,6 +218,16 @@ def not_yet_branched(data: dict[str, Any]) -> list[str]:
     if isinstance(control, dict) and "tension_ramp" in control:
         keys.append("control.tension_ramp")
     return keys
+
+
+def file_is_branched(source: str | Path) -> bool:
+    """Whether the line file at ``source`` (a path or a built-in line's name) is a branched
+    line; False where it cannot be read (loading it then says why). Reads the file's keys
+    only: a single-path line's run does not import the branched schema."""
+    try:
+        return is_branched(read_any(source)[0])
+    except LineFileError:
+        return False
 
 
 def read_any(source: str | Path) -> tuple[dict[str, Any], str, str]:

@@ -8,7 +8,6 @@ from functools import cached_property
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
-import xarray as xr
 
 from webline.sim.branches.break_verdict import break_findings, intact, without_cut_jump
 from webline.sim.branches.loop import layout as B
@@ -20,6 +19,8 @@ from webline.version import __version__
 HTML_VIEW = "webline.report.branch_report:branch_result_html"
 
 if TYPE_CHECKING:
+    import xarray as xr
+
     from webline.sim.branches.plan import BranchPlan
 
 
@@ -46,6 +47,8 @@ class BranchResult:
         """Signals with units (attrs ``units``): tension and strain per span, layer tensions of
         laminate spans, node angular and surface speeds, roll radii, torques per drive, web
         length in/out and stored per web."""
+        import xarray as xr  # here: a single-path run's report imports this module, not xarray
+
         plan, line = self.plan, self.plan.line
         x = self.states
         n_s, n_n, n_d = len(line.spans), plan.nodes.shape[0], len(line.drives)
