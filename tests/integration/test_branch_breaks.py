@@ -145,6 +145,20 @@ def test_the_verdict_says_what_the_run_shows(lane_break):
     assert not [f for f in lane_break.verdict.findings if f.kind == "slack"]  # (cut, not slack)
 
 
+def test_the_report_draws_the_reference_the_drives_had(lane_break):
+    """After the detection the line-speed reference is the stop ramp, not the profile: the
+    report's speed caption measures the master against that (0.0102 m/s; against the 5 m/s
+    profile it would say 5 m/s)."""
+    from webline.report.plots.branch_figures import profile_values, speeds_caption
+
+    reference = profile_values(lane_break, 0)
+    t = lane_break.time
+    assert reference[-1] == 0.0 and reference[np.searchsorted(t, AT) - 1] == 5.0
+    within = float(re.search(r"follows the reference within ([0-9.e-]+) m/s",
+                             speeds_caption(lane_break)).group(1))
+    assert within < 0.05  # the ramp-following bound a·2/ω_s above
+
+
 def test_a_foil_break_drops_the_laminate_by_the_foils_share():
     """The foil breaks before the nip; the monitor is off (threshold 0, no diameter check)
     and the rewind holds speed only (tension gains 0), so the laminate zone settles where

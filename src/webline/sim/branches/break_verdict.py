@@ -131,3 +131,12 @@ def without_cut_jump(plan: BranchPlan, time: np.ndarray, balance: np.ndarray,
     if 0 < i < len(out):
         out[i:] -= out[i] - out[i - 1]
     return out
+
+
+def stop_factor(plan: BranchPlan, time: np.ndarray, settings: dict[str, float]) -> np.ndarray:
+    """The factor [-] on the line-speed reference at ``time`` [s]: 1, and after a detected
+    break the stop ramp, 1 - (t - t_detected) / stop time down to 0 (``loop.breaks``)."""
+    detected = settings.get("break_detected_s", math.nan)
+    if not math.isfinite(detected):
+        return np.ones(len(time))
+    return np.clip(1.0 - (time - detected) / plan.df[0, B.D_BSTOP], 0.0, 1.0)
