@@ -94,7 +94,8 @@ def _after_stop(plan: BranchPlan, time: np.ndarray, speed: np.ndarray, item: Web
     moving = np.nonzero(np.any(speed > rest, axis=1) & after)[0]
     details.update({"largest_driven_speed_after_stop_m_per_s": peak,
                     "fastest_after_stop": name, "rest_m_per_s": rest})
-    hold = "holding zero speed" if item.hold == "zero_speed" else "with their torque off"
+    hold = {"zero_speed": "holding zero speed", "off": "with their torque off",
+            "brakes": "with their torque off and brakes set"}[item.hold]
     if not len(moving):
         return (f"stopped by t = {stop:.4g} s, the drives {hold}: every driven roller "
                 f"stayed below {100 * REST_FRACTION:.3g}% of line speed after it (largest "

@@ -14,7 +14,7 @@ from webline.sim.branches.loop import layout as B
 from webline.spec.schema import IdleSpec
 from webline.spec.winder import WebBreak
 
-HOLDS = {"zero_speed": B.HOLD_ZERO_SPEED, "off": B.HOLD_OFF}
+HOLDS = {"zero_speed": B.HOLD_ZERO_SPEED, "off": B.HOLD_OFF, "brakes": B.HOLD_BRAKES}
 
 
 def web_break(line: BranchedLine) -> WebBreak | None:
@@ -80,4 +80,5 @@ def break_columns(line: BranchedLine, sf: np.ndarray, df: np.ndarray) -> bool:
     sf[broken_segment(line, k), B.SF_BREAK] = item.at
     df[:, B.D_BTHRESH], df[:, B.D_BSTOP] = item.threshold, item.stop_time
     df[:, B.D_BHOLD], df[:, B.D_BDIAM] = HOLDS[item.hold], item.diameter_threshold
+    df[:, B.D_BBRAKE] = item.brake_torque_fraction
     return True

@@ -182,9 +182,9 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         new = wound[w] if change.wound_in_tension is None else change.wound_in_tension
         events = np.array([[change.time, j, change.radius, new, w]])
     dist = disturbance_table(line, profiles)
-    if break_columns(line, sf, df):  # a web break: each span's broken flag after the drags
-        offsets[B.O_BREAK] = 1
-        wound = np.concatenate([wound, np.zeros(n_s)])
+    if break_columns(line, sf, df):  # a web break: after the drags each span's broken flag,
+        offsets[B.O_BREAK] = 1  # then each node's holding brake [N·m]
+        wound = np.concatenate([wound, np.zeros(n_s + n_n)])
     taper_columns(line, df, profiles)
     radius0 = diameter_columns(line, df, di)
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)

@@ -19,13 +19,10 @@ def span_names(spec: BranchedLineSpec) -> list[str]:
 
 
 def check_break(spec: BranchedLineSpec, item: WebBreak, key: str, fail: Fail) -> None:
-    """A break's span exists; its hold is one a branched line runs (no brakes yet)."""
+    """A break's span exists."""
     names = span_names(spec)
     if item.span not in names:
         fail(f"{key}.span", f"no span named {item.span!r} (spans: {', '.join(names)})")
-    if item.hold == "brakes":
-        fail(f"{key}.hold", "'brakes' not yet supported on a branched line (its drives hold "
-             "'zero_speed' or switch 'off')")
 
 
 def check_breaks(spec: BranchedLineSpec, fail: Fail) -> None:

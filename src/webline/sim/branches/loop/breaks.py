@@ -7,22 +7,47 @@ winder.md W5-W8). Tables in ``sim.branches.loop.layout`` (SF_BREAK, D_B*, I_DETE
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from webline.sim.branches.loop import layout as B
 from webline.sim.elements.signals import jit, profile_at
 
+#: a set brake is Coulomb friction smoothed over at least the speed its load would give the
+#: roller in this time [s], as the chain's ``sim.elements.break_hold`` (docs/winder.md W8):
+#: the explicit RK4 step stays stable on a light roller under a strong brake
+BRAKE_SMOOTHING_TIME = 2e-3
+
 
 @jit
-def cut(t: float, x: np.ndarray, wound: np.ndarray, sf: np.ndarray, n_w: int,
-        n_n: int) -> None:
+def cut(t: float, x: np.ndarray, wound: np.ndarray, sf: np.ndarray, n_w: int, n_n: int,
+        istate: np.ndarray, di: np.ndarray, df: np.ndarray) -> None:
     """Break every span whose break time is at or before ``t`` [s] and not yet broken: its
     flag (``wound[n_w + n_n + k]``, held over the period into ``rhs``) set to 1 and its
-    stretch to 0: from then on it carries no tension and its stretch stays frozen (W5)."""
-    for k in range(sf.shape[0]):
+    stretch to 0: from then on it carries no tension and its stretch stays frozen (W5).
+    Once stopped with ``hold = "brakes"``, set every drive's holding brake on its roller
+    (``wound[n_w + n_n + n_s + node]`` [N·m], W8)."""
+    n_s = sf.shape[0]
+    for k in range(n_s):
         if t >= sf[k, B.SF_BREAK] and wound[n_w + n_n + k] == 0.0:
             wound[n_w + n_n + k] = 1.0
             x[k] = 0.0
+    detected = istate[0, B.I_DETECT]
+    if df[0, B.D_BHOLD] == B.HOLD_BRAKES and detected >= 0.0 and (
+            t - detected >= df[0, B.D_BSTOP]):
+        for d in range(di.shape[0]):
+            wound[n_w + n_n + n_s + di[d, B.DI_NODE]] = (
+                df[d, B.D_BBRAKE] * df[d, B.D_LIMIT] * df[d, B.D_RATIO])
+
+
+@jit
+def brake_torque(brake: float, omega: float, inertia: float) -> float:
+    """Torque [N·m] of a set brake ``brake`` [N·m] on a roller of ``inertia`` [kg·m²]
+    turning at ``omega`` [rad/s]: Coulomb friction, tanh-smoothed over
+    max(0.1 rad/s, ``BRAKE_SMOOTHING_TIME`` x brake / inertia)."""
+    smoothing = max(0.1, BRAKE_SMOOTHING_TIME * brake / inertia)
+    return brake * math.tanh(omega / smoothing)
 
 
 @jit
@@ -80,8 +105,8 @@ def held_command(d: int, dt: float, v_meas: float, gain: float, istate: np.ndarr
     """Drive ``d``'s torque command [N·m] once the line has stopped (W8): ``zero_speed``: its
     speed PI on 0 - ``v_meas`` [m/s] (trim and feed-forward off, the integrator carrying on
     from the torque of the stop, conditional integration as running, ``gain`` the adaptive
-    factor); ``off``: no torque."""
-    if df[d, B.D_BHOLD] == B.HOLD_OFF:
+    factor); ``off`` and ``brakes``: no torque (the brake acts in the plant)."""
+    if df[d, B.D_BHOLD] != B.HOLD_ZERO_SPEED:
         return 0.0
     limit = df[d, B.D_LIMIT]
     error = -v_meas

@@ -64,7 +64,7 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             break
         roll_change(t, x, wound, done, offsets, rolls, events)
         if offsets[B.O_BREAK]:  # a web break: its spans carry nothing from their time on
-            cut(t, x, wound, sf, webs.shape[0], nodes.shape[0])
+            cut(t, x, wound, sf, webs.shape[0], nodes.shape[0], istate, di, df)
         held_inputs(t, wound, held, webs.shape[0], dist, prof_t, prof_v, prof_off)
         control_tick(t, tick0 + j, dt, x, istate, cmd, offsets, nodes, rolls, di, df, cells,
                      dist, prof_t, prof_v, prof_off)

@@ -62,10 +62,11 @@ D_PRESETD = D_PRESETT + MAX_PRESETS
 D_BREAK = D_PRESETD + MAX_PRESETS
 # web break (sim.branches.breaks), the same on every drive's row: the monitor's threshold
 # (x each loadcell's reference), stop time [s], hold after the stop (HOLD_*), diameter
-# threshold [m] (0: off)
-D_BTHRESH, D_BSTOP, D_BHOLD, D_BDIAM = range(D_BREAK, D_BREAK + 4)
-D_COLS = D_BREAK + 4
-HOLD_ZERO_SPEED, HOLD_OFF = range(2)
+# threshold [m] (0: off), the holding brake as a fraction of the torque limit (hold
+# "brakes": fraction x limit x ratio at the roller)
+D_BTHRESH, D_BSTOP, D_BHOLD, D_BDIAM, D_BBRAKE = range(D_BREAK, D_BREAK + 5)
+D_COLS = D_BREAK + 5
+HOLD_ZERO_SPEED, HOLD_OFF, HOLD_BRAKES = range(3)
 DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = range(3)
 
 # controller memory per drive

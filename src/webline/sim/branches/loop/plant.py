@@ -13,7 +13,7 @@ import numpy as np
 
 from webline.physics import roll, roller, span
 from webline.sim.branches.loop import layout as B
-from webline.sim.branches.loop.breaks import web_flows
+from webline.sim.branches.loop.breaks import brake_torque, web_flows
 from webline.sim.elements.signals import jit
 
 _tension: Any = jit(span.tension)
@@ -142,6 +142,9 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         d = int(nodes[i, B.N_DRIVE])
         if d >= 0:
             total += nodes[i, B.N_RATIO] * x[off_tq + d]
+            if offsets[B.O_BREAK] and wound[n_w + n_n + n_s + i] != 0.0:  # a holding brake
+                total -= brake_torque(wound[n_w + n_n + n_s + i], omega, inertia[i] if
+                                      nodes[i, B.N_ROLLS] > 0.0 else nodes[i, B.N_JCONST])
         if nodes[i, B.N_ROLLS] > 0.0:  # J(R) of the rolls on it (6.1)
             dx[off_w + i] = total / inertia[i]
         else:
