@@ -49,6 +49,24 @@ def test_a_break_cuts_the_spans_between_the_rollers_that_grip_the_web():
     assert names("slitter", "base[0]") == ["base[0]", "unwind_zone"]  # through the guide
     assert names("laminator", "foil_zone") == ["foil[0]", "foil_zone"]
     assert names("laminator", "laminate[1]") == ["laminate_zone", "laminate[1]"]
+    # an idle nip (the roller after it the master): the laminate's free end runs back
+    # through it into both layers; a layer's still stops at the nip
+    data = load_branched("laminator").spec.model_dump(exclude_none=True)
+    rollers = {r["name"]: r for r in data["rollers"]}
+    data["rollers"] = [
+        {"name": "nip", "type": "idle", "radius": 0.1, "inertia": 0.01} if r["name"] == "nip"
+        else {**rollers["nip"], "name": "guide_laminate", "radius": 0.05}
+        if r["name"] == "guide_laminate" else r for r in data["rollers"]]
+    data["webs"][2]["spans"][0].pop("tension")
+    data["webs"][2]["spans"][1]["tension"] = "180 N"
+    assert names(data, "laminate_zone") == ["film[0]", "film_zone", "foil[0]", "foil_zone",
+                                            "laminate_zone"]
+    assert names(data, "foil_zone") == ["foil[0]", "foil_zone"]
+    # a base web's only lane: its free end runs back through the idle slitter
+    data = load_branched("slitter").spec.model_dump(exclude_none=True)
+    data["webs"] = data["webs"][:2]
+    data["rollers"] = [r for r in data["rollers"] if r["name"] != "rewind_3"]
+    assert names(data, "lane_1_span") == ["knife_span", "lane_1_span"]
 
 
 def test_a_lane_break_is_detected_in_the_sample_it_happens(lane_break):
