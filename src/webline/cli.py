@@ -119,8 +119,8 @@ def run(
 
         run_branched(line, _duration(duration), scenario, out, force, quiet, {
             "--controller": controller is not None, "--set": bool(sets),
-            "--format": data_format != DataFormat.netcdf, "--units": units != Units.si,
-            "--precision": precision != Precision.float64}, svg=svg)
+            "--format": data_format != DataFormat.netcdf,
+            "--precision": precision != Precision.float64}, svg=svg, units=units.value)
         return
     from webline.report.early import Reporter
 
@@ -255,10 +255,9 @@ def show(line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None
     from webline.spec.load import file_is_branched
 
     if file_is_branched(line):  # docs/branching.md, "Report"
-        if sets or units != Units.si:
-            raise BadInput("--set and --units: not yet supported for a branched line (its "
-                           "tables are in SI)")
-        print_tables(show_branched(line, scenario, schematic), _console())
+        if sets:
+            raise BadInput("--set: not yet supported for a branched line")
+        print_tables(show_branched(line, scenario, schematic, units.value), _console())
         if schematic is not None:
             typer.echo(f"Schematic: {schematic}")
         return

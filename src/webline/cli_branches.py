@@ -11,6 +11,7 @@ import typer
 from webline.cli_common import BadInput, open_output
 from webline.files import atomic_write
 from webline.model.web_graph import load_branched
+from webline.report.text.display import Display
 from webline.sim.branches.run import simulate_branches
 
 FIGURE = "figures/tensions.png"
@@ -19,15 +20,17 @@ REPORT = "report.html"
 
 def run_branched(source: str, seconds: float | None, scenario: str | None, out: Path | None,
                  force: bool, quiet: bool, unsupported: dict[str, bool],
-                 svg: bool = False) -> None:
+                 svg: bool = False, units: str = "si") -> None:
     """Simulate branched line ``source`` and write its files into ``out`` (default
-    out/LINE[-SCENARIO]), each figure also as SVG with ``svg``; ``unsupported``: options
-    given that branched lines do not support yet. ``quiet``: print only the report's path."""
+    out/LINE[-SCENARIO]), each figure also as SVG with ``svg``, the report in ``units`` ('si'
+    or 'imperial'); ``unsupported``: options given that branched lines do not support yet.
+    ``quiet``: print only the report's path."""
     for option, given in unsupported.items():
         if given:
             raise BadInput(f"{option}: not yet supported for a branched line (stage 1: the "
                            "file's cascaded PI drives; results.nc, summary.json, the figures "
-                           "and report.html, in SI units)")
+                           "and report.html)")
+    display = branch_units(units)
     line = load_branched(source)
     if scenario:
         line = line.with_scenario(scenario)
@@ -43,13 +46,14 @@ def run_branched(source: str, seconds: float | None, scenario: str | None, out: 
     ds = result.dataset.assign_attrs(line_spec=dump_spec(line.spec))
     atomic_write(results, lambda path: ds.to_netcdf(path, engine="h5netcdf"))
     report = write_branch_report(result, folder.path, folder=folder, results_file=results,
-                                 svg=svg).report
+                                 svg=svg, display=display).report
     folder.finish()
     if not quiet:
         for web in result.web_summary():
             table = web["spans"]
             assert isinstance(table, dict)
-            spans = ", ".join(f"{name} {v['min_N']:.4g}-{v['max_N']:.4g} N"
+            f, unit = display.factor("force"), display.unit("force")
+            spans = ", ".join(f"{name} {f * v['min_N']:.4g}-{f * v['max_N']:.4g} {unit}"
                               for name, v in table.items())
             typer.echo(f"{web['kind']} {web['web']}: {spans}")
         typer.echo(f"Results (SI): {results}\nSummary: {folder.path / 'summary.json'}\n"
@@ -61,9 +65,20 @@ def run_branched(source: str, seconds: float | None, scenario: str | None, out: 
         raise typer.Exit(result.verdict.exit_code)
 
 
-def show_branched(source: str, scenario: str | None, schematic: Path | None) -> list:
-    """The tables of branched line ``source`` (``report.text.branch_tables``); with
-    ``schematic``, its schematic written there (PNG, or SVG/PDF by the file's suffix)."""
+def branch_units(units: str) -> Display:
+    """The ``Display`` of ``--units`` for a branched line: 'si' or 'imperial'; a per-width
+    system is bad input (each web and lane has its own width)."""
+    if units not in ("si", "imperial"):
+        raise BadInput(f"--units {units}: a branched line is shown in 'si' or 'imperial' units "
+                       "(not per width: each web and lane has its own width)")
+    return Display(units)  # type: ignore[arg-type]
+
+
+def show_branched(source: str, scenario: str | None, schematic: Path | None,
+                  units: str = "si") -> list:
+    """The tables of branched line ``source`` (``report.text.branch_tables``) in ``units``;
+    with ``schematic``, its schematic written there (PNG, or SVG/PDF by the file's suffix)."""
+    display = branch_units(units)
     line = load_branched(source)
     if scenario:
         line = line.with_scenario(scenario)
@@ -71,7 +86,7 @@ def show_branched(source: str, scenario: str | None, schematic: Path | None) -> 
 
     if schematic is not None:
         write_schematic(line, schematic)
-    return line_tables(line)
+    return line_tables(line, display)
 
 
 def write_schematic(line: object, path: Path, display: object = None) -> None:

@@ -18,6 +18,7 @@ import webline
 from webline.cli import app
 from webline.model.web_graph import load_branched
 from webline.report.plots.branch_figures import (
+    largest_deviation,
     radii_caption,
     speeds_caption,
     tensions_caption,
@@ -274,8 +275,48 @@ def test_write_report_writes_a_branched_runs_report_from_python(tmp_path, upset)
     assert upset.verdict.headline in unescape(files.report.read_text("utf-8"))
     assert {p.name for p in files.figures} == {f"{k}.png" for k in (
         "schematic", "tensions", "layers", "speeds", "radii", "torques")}
-    with pytest.raises(webline.ArgumentError, match="SI units"):
-        write_report(upset, tmp_path / "other", units="imperial")
+    with pytest.raises(webline.ArgumentError, match="not per width"):
+        write_report(upset, tmp_path / "other", units="si-per-width")
+
+
+def test_the_report_in_imperial_units_shows_the_runs_numbers_converted(upset):
+    """``--units imperial`` (docs/branching.md, "Report"): every drawn tension is the run's
+    [N] times 1/4.4482216 lbf/N (exactly: pint's factor), the caption's largest deviation
+    the SI one converted, the tables' forces in lbf, torques in lbf·ft, radii in inches."""
+    from webline.report.plots.branch_figures import tensions_figure
+    from webline.report.text.branch_tables import line_tables
+    from webline.report.text.display import Display
+
+    imperial = Display("imperial")
+    lbf = 1.0 / 4.4482216152605
+    fig = tensions_figure(upset, imperial)
+    drawn = np.concatenate([ln.get_ydata() for ax in fig.axes for ln in ax.get_lines()])
+    si = np.concatenate([ln.get_ydata() for ax in tensions_figure(upset).axes
+                         for ln in ax.get_lines()])
+    assert np.allclose(drawn, si * lbf, rtol=1e-12, atol=0.0)
+    assert fig.axes[0].get_ylabel() == "tension [lbf]"
+    error, _, _ = largest_deviation(upset)
+    assert f"{error * lbf:.4g} lbf" in tensions_caption(upset, imperial)
+    webs, rollers, drives = (next(t for t in line_tables(upset.plan.line, imperial)
+                                  if t.key == key) for key in ("webs", "rollers", "drives"))
+    assert "EA [lbf]" in webs.columns and "radius [in]" in rollers.columns
+    assert "torque limit [lbf·ft]" in drives.columns
+    nip = next(r for r in rollers.rows if r[0] == "nip")
+    assert float(nip[2]) == pytest.approx(100 / 25.4, rel=1e-3)  # 100 mm, 4 digits shown
+
+
+def test_run_and_show_take_units_for_a_branched_line(tmp_path):
+    result = CliRunner().invoke(app, ["run", "laminator", "-d", "0.2", "--out",
+                                      str(tmp_path / "run"), "--units", "imperial"])
+    assert result.exit_code == 0, result.output
+    assert "lbf" in result.output and "units: imperial" in (
+        tmp_path / "run" / "report.html").read_text("utf-8")
+    bad = CliRunner().invoke(app, ["run", "laminator", "-d", "0.2", "--out",
+                                   str(tmp_path / "bad"), "--units", "imperial-per-width"])
+    assert bad.exit_code == 2
+    assert "--units imperial-per-width" in bad.output and "own width" in bad.output
+    shown = CliRunner().invoke(app, ["show", "slitter", "--units", "imperial"])
+    assert shown.exit_code == 0 and "EA [lbf]" in shown.output
 
 
 def _laminated_then_slit():

@@ -16,8 +16,13 @@ from webline.model.web_graph import BranchedLine
 from webline.report.outputs import OutputFolder, ReportFiles
 from webline.report.plots.branch_figures import branch_figure_jobs, largest_deviation
 from webline.report.render import render_figures
-from webline.report.text.branch_tables import drive_findings_table, line_tables, verdict_table
-from webline.report.text.display import number_text
+from webline.report.text.branch_tables import (
+    SI,
+    drive_findings_table,
+    line_tables,
+    verdict_table,
+)
+from webline.report.text.display import Display, number_text
 from webline.report.text.html import Image, Section, Text, render, table_html
 from webline.report.text.tables import Table, least_damped, make_table, modes_table
 from webline.report.text.verdict_text import STATUS_CLASS
@@ -31,11 +36,13 @@ DPI = 110
 
 def write_branch_report(result: BranchResult, out_dir: Path, *,
                         folder: OutputFolder | None = None, results_file: Path | None = None,
-                        svg: bool = False) -> ReportFiles:
+                        svg: bool = False, display: Display = SI) -> ReportFiles:
     """Write ``figures/KEY.png`` (and ``figures/KEY.svg`` with ``svg``) for every figure,
     ``summary.json`` (settings, verdict, per web its span tensions and length balance) and a
     self-contained ``report.html`` for ``result`` into ``out_dir``, each atomically; with
-    ``folder`` (the ``OutputFolder`` of ``out_dir``) each joins its manifest."""
+    ``folder`` (the ``OutputFolder`` of ``out_dir``) each joins its manifest. The figures and
+    the report's tables and captions are in ``display``'s units ('si' or 'imperial');
+    ``summary.json`` stays SI (its keys name their units), as ``results.nc`` does."""
     def target(relative: str) -> Path:
         if folder is not None:
             return folder.claim(relative)
@@ -45,7 +52,7 @@ def write_branch_report(result: BranchResult, out_dir: Path, *,
 
     images: dict[str, Image] = {}
     written = []
-    for fig in render_figures(branch_figure_jobs(result), DPI, svg=svg):
+    for fig in render_figures(branch_figure_jobs(result, display), DPI, svg=svg):
         images[fig.key] = Image(fig.key, fig.caption, fig.png)
         written.append(atomic_write_bytes(target(f"figures/{fig.key}.png"), fig.png))
         if fig.svg is not None:
@@ -57,11 +64,11 @@ def write_branch_report(result: BranchResult, out_dir: Path, *,
     summary_path = atomic_write_text(target("summary.json"),
                                      json.dumps(summary, indent=1) + "\n")
     report = atomic_write_text(target("report.html"),
-                               report_html(result, images, results_file))
+                               report_html(result, images, results_file, display))
     return ReportFiles(report, summary_path, tuple(written))
 
 
-def status_text(result: BranchResult) -> str:
+def status_text(result: BranchResult, display: Display = SI) -> str:
     """What was simulated and its largest deviation from a tension reference."""
     duration = float(result.time[-1]) if len(result.time) else 0.0
     if result.failure is not None:
@@ -70,8 +77,8 @@ def status_text(result: BranchResult) -> str:
     text = f"Run completed: {duration:.4g} s simulated."
     error, span, when = largest_deviation(result)
     if span:
-        text += (f" Largest deviation from a tension reference: {number_text(error)} N in "
-                 f"{span} at t = {number_text(when)} s.")
+        text += (f" Largest deviation from a tension reference: "
+                 f"{display.text(error, 'force')} in {span} at t = {number_text(when)} s.")
     return text
 
 
@@ -106,8 +113,9 @@ def modes_parts(result: BranchResult) -> list[Table | Text]:
 
 
 def report_html(result: BranchResult, images: dict[str, Image],
-                results_file: Path | None = None) -> str:
-    """The report page of ``result`` with the rendered figures ``images`` (by key)."""
+                results_file: Path | None = None, display: Display = SI) -> str:
+    """The report page of ``result`` with the rendered figures ``images`` (by key), its
+    numbers in ``display``'s units."""
     line = result.plan.line
     spec = line.spec
     scenario = line.scenario
@@ -120,10 +128,10 @@ def report_html(result: BranchResult, images: dict[str, Image],
                 ("recorded every", f"{settings.get('record_every', 0):g} periods"),
                 ("records", str(len(result.time))),
                 ("results file (SI)", results_file.name if results_file else "(none)")]
-    tables = line_tables(line)
+    tables = line_tables(line, display)
     findings = drive_findings_table(result)
     sections = [
-        Section("Verdict", [verdict_table(result), *([findings] if findings.rows else [
+        Section("Verdict", [verdict_table(result, display), *([findings] if findings.rows else [
             Text("No finding about a drive or the run: no drive's command reached its torque "
                  "limit and the run went to its end.")])]),
         Section("Line", [*tables[:1], *([images["schematic"]] if "schematic" in images else []),
@@ -138,10 +146,11 @@ def report_html(result: BranchResult, images: dict[str, Image],
     return render(
         title=f"webline report: {line.name}" + (f", scenario {scenario}" if scenario else ""),
         subtitle=(spec.scenarios[scenario].description if scenario else spec.description),
-        status=status_text(result), status_class=STATUS_CLASS[result.verdict.status],
+        status=status_text(result, display), status_class=STATUS_CLASS[result.verdict.status],
         headline=result.verdict.headline, sections=sections,
         footer=f"webline {__version__} · generated {datetime.now(UTC):%Y-%m-%d %H:%M} UTC · "
-               "units: si")
+               f"units: {display.system} (the verdict's findings and the resolved line file: "
+               "SI)")
 
 
 def schematic_svg(line: BranchedLine) -> str:

@@ -103,6 +103,16 @@ def _target(out_dir: Path, folder: OutputFolder | None, relative: str) -> Path:
     return target
 
 
+def branch_display(units: str) -> Display:
+    """The ``Display`` of a branched line's report: 'si' or 'imperial' (a per-width system is
+    refused: each web and lane has its own width)."""
+    if units not in ("si", "imperial"):
+        raise ArgumentError(f"units={units!r}: a branched line's report is in 'si' or "
+                            "'imperial' units (not per width: each web and lane has its own "
+                            "width)")
+    return Display(units)  # type: ignore[arg-type]
+
+
 def write_report(result: Result | BranchResult, out_dir: Path, *, units: System = "si",
                  scenario: str | None = None, results_file: Path | None = None,
                  analysis: Analysis | None = None,
@@ -111,17 +121,16 @@ def write_report(result: Result | BranchResult, out_dir: Path, *, units: System 
     ``figures/*.svg`` with ``svg``) for ``result`` into ``out_dir``, every quantity in
     ``units`` ('si', 'imperial', or either per width of web). Each file is
     written atomically; with ``folder`` (the ``OutputFolder`` of ``out_dir``) each joins its
-    manifest. A branched line's ``BranchResult`` gets its own report (``branch_report``: SI
-    only; its scenario is the one its line ran)."""
+    manifest. A branched line's ``BranchResult`` gets its own report (``branch_report``: 'si'
+    or 'imperial', each web and lane having its own width; its scenario the one its line
+    ran)."""
     from webline import __version__
 
     if not isinstance(result, Result):  # a BranchResult (docs/branching.md, Report)
-        if units != "si":
-            raise ArgumentError(f"units={units!r}: a branched line's report is in SI units")
         from webline.report.branch_report import write_branch_report
 
         return write_branch_report(result, out_dir, folder=folder, results_file=results_file,
-                                   svg=svg)
+                                   svg=svg, display=branch_display(units))
     display = Display(units, result.line.spec.web.width)
     line = result.line
     analysis = analysis or analyse(line)

@@ -15,11 +15,12 @@ from webline.report.plots.branch_schematic import WEB_COLORS, branch_schematic
 from webline.report.plots.figures import FigureJob, ReportFigure
 from webline.report.plots.frame import framed_figure
 from webline.report.plots.mpl_text import legend_label, literal
-from webline.report.text.branch_tables import junction_kind, shaft_lanes
-from webline.report.text.display import number_text
+from webline.report.text.branch_tables import SI, junction_kind, shaft_lanes, small_length
+from webline.report.text.display import Display, number_text
 from webline.sim.branches.break_verdict import stop_factor
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.result import BranchResult
+from webline.sim.branches.web_findings import has_laws
 from webline.sim.results.decimate import envelope
 
 
@@ -58,7 +59,7 @@ def largest_deviation(result: BranchResult) -> tuple[float, str, float]:
     return best
 
 
-def tensions_figure(result: BranchResult) -> Figure:
+def tensions_figure(result: BranchResult, display: Display = SI) -> Figure:
     """One axes per web (raw web, laminate, lane): the tension [N] of each of its spans
     against time [s], loadcell spans' references dotted (a laminate's layers: ``layers_figure``).
     Each axes' title gives its span tensions' range over the run."""
@@ -69,136 +70,145 @@ def tensions_figure(result: BranchResult) -> Figure:
     axes = np.atleast_1d(fig.subplots(len(webs), 1, sharex=True))
     t = ds["time"].values
     names = list(ds["span"].values)
+    f = display.factor("force")
     for ax, web in zip(axes, webs, strict=True):
         spans = ds["tension"].sel(span=ds["span_web"] == web)
         for name in spans["span"].values:
-            line = _plot(ax, t, spans.sel(span=name).values, label=legend_label(str(name)))
+            line = _plot(ax, t, f * spans.sel(span=name).values, label=legend_label(str(name)))
             k = names.index(name)
             if k in refs:
-                _plot(ax, t, refs[k], ":", color=line[0].get_color(),
+                _plot(ax, t, f * refs[k], ":", color=line[0].get_color(),
                         label=legend_label(f"{name} reference"))
-        low, high = float(spans.values.min()), float(spans.values.max())
-        ax.set_title(literal(f"{web}: span tensions {low:.4g} to {high:.4g} N"), fontsize=9,
+        low, high = f * float(spans.values.min()), f * float(spans.values.max())
+        ax.set_title(literal(f"{web}: span tensions {low:.4g} to {high:.4g} "
+                             f"{display.unit('force')}"), fontsize=9,
                      color=WEB_COLORS[webs.index(web) % len(WEB_COLORS)])  # its schematic colour
-        ax.set_ylabel("tension [N]")
+        ax.set_ylabel(display.label("tension", "force"))
         ax.legend(fontsize=7, loc="best")
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel("time [s]")
     return fig
 
 
-def tensions_caption(result: BranchResult) -> str:
+def tensions_caption(result: BranchResult, display: Display = SI) -> str:
     error, span, when = largest_deviation(result)
     text = "Tension of every span, one panel per web and lane; loadcell references dotted."
     if span:
-        text += (f" Largest deviation from a reference: {number_text(error)} N in {span} at "
-                 f"t = {number_text(when)} s.")
-    return text + "".join(f" {sentence}." for sentence in shaft_sums(result))
+        text += (f" Largest deviation from a reference: {display.text(error, 'force')} in "
+                 f"{span} at t = {number_text(when)} s.")
+    return text + "".join(f" {sentence}." for sentence in shaft_sums(result, display))
 
 
-def shaft_sums(result: BranchResult) -> list[str]:
+def shaft_sums(result: BranchResult, display: Display = SI) -> list[str]:
     """Per drive that controls the sum of several lanes' tensions (lanes on one shaft): that
     sum's largest deviation from the sum of their references [N], and each lane's range."""
     line = result.plan.line
     tension = result.dataset["tension"].values
     refs = references(result)
     out = []
+    f, unit = display.factor("force"), display.unit("force")
     for zone in line.zones.values():
         if len(zone.loadcells) < 2:
             continue
         cells = list(zone.loadcells)
         error = np.abs(tension[:, cells].sum(axis=1) - sum(refs[k] for k in cells))
-        lanes = ", ".join(f"{line.spans[k].name} {number_text(tension[:, k].min())} to "
-                          f"{number_text(tension[:, k].max())} N" for k in cells)
+        lanes = ", ".join(f"{line.spans[k].name} {number_text(f * tension[:, k].min())} to "
+                          f"{number_text(f * tension[:, k].max())} {unit}" for k in cells)
         out.append(f"{line.spec.rollers[zone.node].name} holds the sum of "
                    f"{' + '.join(line.spans[k].name for k in cells)} within "
-                   f"{number_text(float(error.max()) if len(error) else float('nan'))} N of its "
-                   f"reference; the lanes themselves: {lanes}")
+                   f"{number_text(f * float(error.max()) if len(error) else float('nan'))} "
+                   f"{unit} of its reference; the lanes themselves: {lanes}")
     return out
 
 
-def layers_figure(result: BranchResult) -> Figure:
+def layers_figure(result: BranchResult, display: Display = SI) -> Figure:
     """Per laminate span: each layer's tension [N] and the laminate's (their sum)."""
     ds = result.dataset
     spans = list(dict.fromkeys(str(n).split("/")[0] for n in ds["layer_span"].values))
     fig = framed_figure(8.0, 1.0 + 1.9 * len(spans), rows=len(spans))
     axes = np.atleast_1d(fig.subplots(len(spans), 1, sharex=True))
     t = ds["time"].values
+    f = display.factor("force")
     for ax, span in zip(axes, spans, strict=True):
-        _plot(ax, t, ds["tension"].sel(span=span).values, color="#333333",
+        _plot(ax, t, f * ds["tension"].sel(span=span).values, color="#333333",
                 label=legend_label(f"{span} (laminate)"))
         for name in ds["layer_span"].values:
             if str(name).split("/")[0] == span:
-                _plot(ax, t, ds["layer_tension"].sel(layer_span=name).values,
+                _plot(ax, t, f * ds["layer_tension"].sel(layer_span=name).values,
                         label=legend_label(f"layer {str(name).split('/')[1]}"))
         ax.set_title(literal(f"{span}: layer tensions (strains tied at the nip)"), fontsize=9)
-        ax.set_ylabel("tension [N]")
+        ax.set_ylabel(display.label("tension", "force"))
         ax.legend(fontsize=7, loc="best")
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel("time [s]")
     return fig
 
 
-def layers_caption(result: BranchResult) -> str:
+def layers_caption(result: BranchResult, display: Display = SI) -> str:
     ds = result.dataset
     parts = []
+    f, unit = display.factor("force"), display.unit("force")
     for name in ds["layer_span"].values:
-        values = ds["layer_tension"].sel(layer_span=name).values
-        parts.append(f"{name} {number_text(values.min())} to {number_text(values.max())} N")
-    return ("Each layer's tension in a laminate span, (EA_layer / EA_laminate) × the "
-            "laminate's: " + ", ".join(parts) + ".")
+        values = f * ds["layer_tension"].sel(layer_span=name).values
+        parts.append(f"{name} {number_text(values.min())} to {number_text(values.max())} {unit}")
+    how = ("its own law at the laminate's strain" if has_laws(result.plan)
+           else "(EA_layer / EA_laminate) × the laminate's")  # (web laws: docs/branching.md)
+    return f"Each layer's tension in a laminate span, {how}: " + ", ".join(parts) + "."
 
 
-def speeds_figure(result: BranchResult) -> Figure:
+def speeds_figure(result: BranchResult, display: Display = SI) -> Figure:
     """Surface speed [m/s] of every roller (a shaft: the lane its drive measures)."""
     ds = result.dataset
     fig = framed_figure(8.0, 3.4)
     ax = fig.subplots()
+    f = display.factor("speed")
     for name in ds["node"].values:
-        _plot(ax, ds["time"].values, ds["speed"].sel(node=name).values,
+        _plot(ax, ds["time"].values, f * ds["speed"].sel(node=name).values,
               label=legend_label(str(name)))
-    _plot(ax, ds["time"].values, profile_values(result, 0), ":", color="black",
+    _plot(ax, ds["time"].values, f * profile_values(result, 0), ":", color="black",
           label="line speed reference")
-    ax.set_ylabel("surface speed [m/s]")
+    ax.set_ylabel(display.label("surface speed", "speed"))
     ax.set_xlabel("time [s]")
     ax.legend(fontsize=7, loc="best", ncol=2)
     ax.grid(alpha=0.3)
     return fig
 
 
-def speeds_caption(result: BranchResult) -> str:
-    speed = result.dataset["speed"].values
+def speeds_caption(result: BranchResult, display: Display = SI) -> str:
+    f, unit = display.factor("speed"), display.unit("speed")
+    speed = f * result.dataset["speed"].values
     final = speed[-1]
     master = result.plan.line.master
-    error = np.abs(speed[:, master] - profile_values(result, 0))
+    error = np.abs(speed[:, master] - f * profile_values(result, 0))
     scale = float(np.max(np.abs(speed))) if speed.size else 0.0
 
     def shown(v: float) -> str:  # round-off of a roller at rest (1e-16 m/s) shown as 0
         return number_text(0.0 if abs(v) < 1e-9 * scale else float(v))
 
     return (f"Surface speed of every roller against the line speed reference (dotted): "
-            f"{shown(speed.min())} to {shown(speed.max())} m/s over the run; at "
-            f"the end they span {shown(final.min())} to {shown(final.max())} m/s. "
+            f"{shown(speed.min())} to {shown(speed.max())} {unit} over the run; at "
+            f"the end they span {shown(final.min())} to {shown(final.max())} {unit}. "
             f"The master {result.plan.line.spec.rollers[master].name} follows the reference "
-            f"within {number_text(float(error.max()) if len(error) else float('nan'))} m/s.")
+            f"within {number_text(float(error.max()) if len(error) else float('nan'))} {unit}.")
 
 
-def radii_figure(result: BranchResult) -> Figure:
+def radii_figure(result: BranchResult, display: Display = SI) -> Figure:
     """Wound radius [mm] of every roll and lane, one panel per roll node."""
     ds = result.dataset
     nodes = list(dict.fromkeys(str(n).split("/")[0] for n in ds["roll"].values))
     fig = framed_figure(8.0, 1.0 + 1.7 * len(nodes), rows=len(nodes))
     axes = np.atleast_1d(fig.subplots(len(nodes), 1, sharex=True))
     webs = list(ds["web"].values)
+    small, unit = small_length(display)
     for ax, node in zip(axes, nodes, strict=True):
         for name in ds["roll"].values:
             if str(name).split("/")[0] == node:
                 web = str(name).split("/")[1]
-                _plot(ax, ds["time"].values, 1e3 * ds["radius"].sel(roll=name).values,
+                _plot(ax, ds["time"].values, small * ds["radius"].sel(roll=name).values,
                         color=WEB_COLORS[webs.index(web) % len(WEB_COLORS)],
                         label=legend_label(web))
         ax.set_title(literal(node), fontsize=9)
-        ax.set_ylabel("radius [mm]")
+        ax.set_ylabel(f"radius [{unit}]")
         ax.ticklabel_format(axis="y", useOffset=False)
         ax.legend(fontsize=7, loc="best")
         ax.grid(alpha=0.3)
@@ -206,10 +216,11 @@ def radii_figure(result: BranchResult) -> Figure:
     return fig
 
 
-def radii_caption(result: BranchResult) -> str:
+def radii_caption(result: BranchResult, display: Display = SI) -> str:
     ds = result.dataset
-    parts = [f"{name} {number_text(1e3 * ds['radius'].sel(roll=name).values[0])} → "
-             f"{number_text(1e3 * ds['radius'].sel(roll=name).values[-1])} mm"
+    small, unit = small_length(display)
+    parts = [f"{name} {number_text(small * ds['radius'].sel(roll=name).values[0])} → "
+             f"{number_text(small * ds['radius'].sel(roll=name).values[-1])} {unit}"
              for name in ds["roll"].values]
     text = "Wound radius of every roll and lane (start → end): " + ", ".join(parts) + "."
     line = result.plan.line
@@ -217,41 +228,43 @@ def radii_caption(result: BranchResult) -> str:
     for node in dict.fromkeys(r.node for r in line.rolls):  # lanes on one shaft drift apart
         rolls = [j for j, r in enumerate(line.rolls) if r.node == node]
         if len(rolls) > 1:
-            spread = 1e3 * (radius[-1, rolls].max() - radius[-1, rolls].min())
+            spread = small * (radius[-1, rolls].max() - radius[-1, rolls].min())
             text += (f" The lanes on {line.spec.rollers[node].name} end "
-                     f"{number_text(spread, 3)} mm apart.")
+                     f"{number_text(spread, 3)} {unit} apart.")
     return text
 
 
-def torques_figure(result: BranchResult) -> Figure:
+def torques_figure(result: BranchResult, display: Display = SI) -> Figure:
     """Motor torque [N·m] of every drive with its limits ± (dashed), one panel per drive."""
     ds = result.dataset
     drives = list(ds["drive"].values)
-    limits = result.plan.df[:, B.D_LIMIT]
+    f, unit = display.factor("torque"), display.unit("torque")
+    limits = f * result.plan.df[:, B.D_LIMIT]
     fig = framed_figure(8.0, 1.0 + 1.6 * len(drives), rows=len(drives))
     axes = np.atleast_1d(fig.subplots(len(drives), 1, sharex=True))
     t = ds["time"].values
     for ax, name, limit in zip(axes, drives, limits, strict=True):
-        _plot(ax, t, ds["torque"].sel(drive=name).values, label="torque")
+        _plot(ax, t, f * ds["torque"].sel(drive=name).values, label="torque")
         ax.axhline(limit, color="#d62728", ls="--", lw=1, label="limit")
         ax.axhline(-limit, color="#d62728", ls="--", lw=1)
-        peak = float(np.max(np.abs(ds["torque"].sel(drive=name).values)))
-        ax.set_title(literal(f"{name}: largest |torque| {peak:.4g} of {limit:.4g} N·m "
+        peak = f * float(np.max(np.abs(ds["torque"].sel(drive=name).values)))
+        ax.set_title(literal(f"{name}: largest |torque| {peak:.4g} of {limit:.4g} {unit} "
                              f"({100 * peak / limit:.3g} % of its limit)"), fontsize=9)
-        ax.set_ylabel("torque [N·m]")
+        ax.set_ylabel(display.label("torque", "torque"))
         ax.legend(fontsize=7, loc="best")
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel("time [s]")
     return fig
 
 
-def torques_caption(result: BranchResult) -> str:
+def torques_caption(result: BranchResult, display: Display = SI) -> str:
     ds = result.dataset
-    limits = result.plan.df[:, B.D_LIMIT]
-    peak = np.max(np.abs(ds["torque"].values), axis=0)
+    f, unit = display.factor("torque"), display.unit("torque")
+    limits = f * result.plan.df[:, B.D_LIMIT]
+    peak = f * np.max(np.abs(ds["torque"].values), axis=0)
     share = peak / limits
     d = int(np.argmax(share))
-    parts = [f"{name} {number_text(p)} N·m of {number_text(lim)}"
+    parts = [f"{name} {number_text(p)} {unit} of {number_text(lim)}"
              for name, p, lim in zip(ds["drive"].values, peak, limits, strict=True)]
     return ("Motor torque of every drive against its limit (dashed); largest |torque|: "
             + ", ".join(parts) + f". Closest to its limit: {ds['drive'].values[d]} at "
@@ -279,11 +292,13 @@ def _marked(fig: Figure, result: BranchResult) -> Figure:
     return fig
 
 
-def branch_figure_jobs(result: BranchResult) -> list[FigureJob]:
-    """The jobs that draw every figure of a branched run's report, in report order."""
-    def one(key: str, caption: Callable[[BranchResult], str],
-            make: Callable[[BranchResult], Figure]) -> FigureJob:
-        return lambda: [ReportFigure(key, caption(result), _marked(make(result), result))]
+def branch_figure_jobs(result: BranchResult, display: Display = SI) -> list[FigureJob]:
+    """The jobs that draw every figure of a branched run's report, in report order, its
+    numbers in ``display``'s units ('si' or 'imperial')."""
+    def one(key: str, caption: Callable[[BranchResult, Display], str],
+            make: Callable[[BranchResult, Display], Figure]) -> FigureJob:
+        return lambda: [ReportFigure(key, caption(result, display),
+                                     _marked(make(result, display), result))]
 
     jobs: list[FigureJob] = [
             lambda: [ReportFigure("schematic", schematic_caption(result),

@@ -13,6 +13,19 @@ from webline.spec.roll_inertia import RollTotal, RollTotals
 from webline.spec.schema import DrivenSpec, IdleSpec, RewindSpec, UnwindSpec
 
 SI = Display("si")
+#: small lengths (radii, widths) and thicknesses: (factor from m, unit) per unit system
+SMALL = {"si": (1e3, "mm"), "imperial": (1.0 / 0.0254, "in")}
+THIN = {"si": (1e6, "µm"), "imperial": (1.0 / 25.4e-6, "mil")}
+
+
+def small_length(display: Display) -> tuple[float, str]:
+    """(factor from m, unit) of radii and widths in ``display``'s system: mm or in."""
+    return SMALL["imperial" if display.system.startswith("imperial") else "si"]
+
+
+def thin_length(display: Display) -> tuple[float, str]:
+    """(factor from m, unit) of thicknesses in ``display``'s system: µm or mil."""
+    return THIN["imperial" if display.system.startswith("imperial") else "si"]
 
 
 def roller_kind(line: BranchedLine, i: int) -> str:
@@ -46,25 +59,32 @@ def shaft_lanes(line: BranchedLine) -> dict[int, list[int]]:
     return {node: ws for node, ws in webs.items() if len(ws) > 1}
 
 
-def inertia_text(inertia: object) -> str:
-    """A roller's inertia [kg·m²]: a number, or a roll's stated totals (``spec.roll_inertia``)."""
+def inertia_text(inertia: object, display: Display = SI) -> str:
+    """A roller's inertia in ``display``'s unit: a number, or a roll's stated totals
+    (``spec.roll_inertia``)."""
+    j, m = display.factor("inertia"), display.factor("length")
+    unit = display.unit("length")
     if isinstance(inertia, RollTotals):
-        return (f"empty {number_text(inertia.empty)}, full {number_text(inertia.full)} at "
-                f"⌀ {number_text(inertia.full_diameter)} m")
+        return (f"empty {number_text(j * inertia.empty)}, full {number_text(j * inertia.full)} "
+                f"at ⌀ {number_text(m * inertia.full_diameter)} {unit}")
     if isinstance(inertia, RollTotal):
-        return f"{number_text(inertia.total)} at ⌀ {number_text(inertia.diameter)} m"
-    return number_text(float(inertia))  # type: ignore[arg-type]
+        return (f"{number_text(j * inertia.total)} at ⌀ {number_text(m * inertia.diameter)} "
+                f"{unit}")
+    return number_text(j * float(inertia))  # type: ignore[arg-type]
 
 
-def line_tables(line: BranchedLine) -> list[Table]:
-    """The line's tables (SI): line, webs, rollers, spans, drives and their zones,
-    scenarios."""
+def line_tables(line: BranchedLine, display: Display = SI) -> list[Table]:
+    """The line's tables in ``display``'s units ('si' or 'imperial'): line, webs, rollers,
+    spans, drives and their zones, scenarios."""
     spec = line.spec
+    small, small_unit = small_length(display)
+    thin, thin_unit = thin_length(display)
+    force, length = display.factor("force"), display.factor("length")
     about = make_table("line", "Line", ["key", "value"], [
         ("name", line.name), ("description", spec.description or "–"),
         ("source", spec.source or "–"), ("file", line.source),
         ("scenario", line.scenario or "(none)"), ("line speed", profile_text(
-            spec.speed, "speed", SI)),
+            spec.speed, "speed", display)),
         ("size", f"{len(spec.webs)} webs, {len(spec.rollers)} rollers, {len(line.spans)} "
                  f"spans, {len(line.drives)} drives")])
     webs = []
@@ -72,21 +92,23 @@ def line_tables(line: BranchedLine) -> list[Table]:
         m = line.materials[w]
         origin = (f"layers {' + '.join(web.layers or [])}" if web.layers else
                   f"slit from {web.slit_from}" if web.slit_from else "unwind")
-        webs.append((web.name, kind_of(web), origin, " → ".join(web.path), number_text(m.ea),
-                     number_text(m.thickness * 1e6), number_text(m.width * 1e3)))
+        webs.append((web.name, kind_of(web), origin, " → ".join(web.path),
+                     number_text(m.ea * force), number_text(m.thickness * thin),
+                     number_text(m.width * small)))
     rollers = []
     for i, roller in enumerate(spec.rollers):
-        core = (number_text(roller.core_radius * 1e3)
+        core = (number_text(roller.core_radius * small)
                 if isinstance(roller, UnwindSpec | RewindSpec) else "–")
-        rollers.append((roller.name, roller_kind(line, i), number_text(roller.radius * 1e3),
-                        core, inertia_text(roller.inertia), number_text(roller.friction)))
+        rollers.append((roller.name, roller_kind(line, i), number_text(roller.radius * small),
+                        core, inertia_text(roller.inertia, display),
+                        number_text(roller.friction * display.factor("rot_damping"))))
     cells = {k for zone in line.zones.values() for k in zone.loadcells}
     spans = []
     for span in line.spans:
         ref = line.span_tension_spec(span.index)
         spans.append((span.name, spec.webs[span.web].name, spec.rollers[span.a].name,
-                       spec.rollers[span.b].name, number_text(span.length),
-                       profile_text(ref, "force", SI) if ref is not None else "–",
+                       spec.rollers[span.b].name, number_text(span.length * length),
+                       profile_text(ref, "force", display) if ref is not None else "–",
                        "yes" if span.index in cells else "no"))
     drives = []
     for i in line.drives:
@@ -97,44 +119,51 @@ def line_tables(line: BranchedLine) -> list[Table]:
                 ("sum of " if len(zone.loadcells) > 1 else "")
                 + " + ".join(line.spans[k].name for k in zone.loadcells))
         span_names = ", ".join(line.spans[k].name for k in zone.spans) if zone else "–"
-        drives.append((roller.name, what, span_names, number_text(roller.drive.torque_limit),
+        drives.append((roller.name, what, span_names,
+                       number_text(roller.drive.torque_limit * display.factor("torque")),
                        number_text(roller.drive.ratio)))
     return [about,
-            make_table("webs", "Webs", ["web", "kind", "from", "path", "EA [N]",
-                                        "thickness [µm]", "width [mm]"], webs),
-            make_table("rollers", "Rollers", ["roller", "kind", "radius [mm]",
-                                              "core radius [mm]", "inertia [kg·m²]",
-                                              "viscous friction [N·m·s]"], rollers),
-            make_table("spans", "Spans", ["span", "web", "from", "to", "length [m]",
+            make_table("webs", "Webs", ["web", "kind", "from", "path", display.label("EA", "force"),
+                                        f"thickness [{thin_unit}]", f"width [{small_unit}]"],
+                       webs),
+            make_table("rollers", "Rollers", [
+                "roller", "kind", f"radius [{small_unit}]", f"core radius [{small_unit}]",
+                display.label("inertia", "inertia"),
+                display.label("viscous friction", "rot_damping")], rollers),
+            make_table("spans", "Spans", ["span", "web", "from", "to",
+                                          display.label("length", "length"),
                                           "tension reference", "loadcell"], spans),
             make_table("drives", "Drives and their tension zones", [
-                "drive", "controls", "zone spans", "torque limit [N·m]", "ratio"], drives),
+                "drive", "controls", "zone spans", display.label("torque limit", "torque"),
+                "ratio"], drives),
             make_table("scenarios", "Scenarios", ["scenario", "duration [s]", "description"],
                        [(name, number_text(sc.duration), sc.description or "–")
                         for name, sc in spec.scenarios.items()])]
 
 
-def verdict_table(result: BranchResult) -> Table:
-    """Per web and lane: its kind, span tension range and final value [N], its loadcells'
-    largest deviation from their reference [N], length-balance drift [m] and the verdict's
-    findings about it (``BranchResult.verdict``)."""
+def verdict_table(result: BranchResult, display: Display = SI) -> Table:
+    """Per web and lane: its kind, span tension range and final value, its loadcells'
+    largest deviation from their reference, length-balance drift (in ``display``'s units) and
+    the verdict's findings about it (``BranchResult.verdict``, whose messages are SI)."""
     findings = result.verdict.findings
+    force, length = display.factor("force"), display.factor("length")
     rows = []
     for web in result.web_summary():
         table = web["spans"]
         assert isinstance(table, dict)
         low = min(v["min_N"] for v in table.values())
         high = max(v["max_N"] for v in table.values())
-        deviations = [f"{name} {number_text(v['max_deviation_N'])}"
+        deviations = [f"{name} {number_text(v['max_deviation_N'] * force)}"
                       for name, v in table.items() if "max_deviation_N" in v]
         about = [f"{f.level}: {f.message}" for f in findings if f.where == web["web"]]
-        rows.append((str(web["web"]), str(web["kind"]), f"{number_text(low)} to "
-                     f"{number_text(high)}", ", ".join(deviations) or "–",
-                     number_text(float(web["length_balance_drift_m"]), 2),  # type: ignore[arg-type]
+        rows.append((str(web["web"]), str(web["kind"]), f"{number_text(low * force)} to "
+                     f"{number_text(high * force)}", ", ".join(deviations) or "–",
+                     number_text(length * float(web["length_balance_drift_m"]), 2),  # type: ignore[arg-type]
                      "; ".join(about) or "ok"))
     return make_table("verdict", "Verdict per web and lane", [
-        "web", "kind", "span tensions [N]", "largest deviation from reference [N]",
-        "length balance drift [m]", "findings"], rows)
+        "web", "kind", display.label("span tensions", "force"),
+        display.label("largest deviation from reference", "force"),
+        display.label("length balance drift", "length"), "findings"], rows)
 
 
 def drive_findings_table(result: BranchResult) -> Table:

@@ -25,6 +25,7 @@ from webline.errors import SimulationError
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import taper_at
 from webline.sim.branches.loop.plant import node_inertia, rhs
+from webline.sim.branches.loop.web_law import felt_view, law_stretch
 from webline.sim.branches.plan import BranchPlan
 
 #: the solver's relative tolerance on the scaled unknowns [-]
@@ -66,6 +67,8 @@ def _guess(plan: BranchPlan, refs: np.ndarray) -> np.ndarray:
         known = [refs[k] for k in spans if np.isfinite(refs[k])]
         for k in spans:
             guess[k] = refs[k] if np.isfinite(refs[k]) else (known[0] if known else mean)
+    for k in range(len(refs) if plan.lawi.shape[0] else 0):  # web laws: the stretch of it
+        guess[k] = law_stretch(k, guess[k], plan.si, plan.lawi, plan.lawf, plan.laws)
     return guess
 
 
@@ -132,8 +135,8 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.nd
                 continue
             first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
             cells = plan.cells[first:first + count, 0]
-            out[row] = (np.sum(np.maximum(x[cells], 0.0)) - np.sum(refs[cells])
-                                  ) / t_scale
+            felt = felt_view(work, n_s, n_n, plan.lawi.shape[0] > 0, plan.kv.shape[0] > 0)
+            out[row] = (np.sum(felt[cells]) - np.sum(refs[cells])) / t_scale  # (web laws: F(s))
         return out
 
     z0 = np.concatenate([_guess(plan, refs) / t_scale, np.ones(n_n), np.ones(n_c),

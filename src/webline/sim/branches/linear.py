@@ -25,6 +25,7 @@ from webline.sim.branches.equilibrium import BranchPoint, operating_point
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import node_inertia, rhs
 from webline.sim.branches.plan import BranchPlan, compile_branches
+from webline.sim.branches.web_findings import felt_rows, felt_wound_rows
 from webline.sim.linear.linearize import LinearModel
 from webline.sim.linear.stability import SHARE, UnstableMode, tolerance, unstable_modes
 from webline.verdict import Finding
@@ -106,6 +107,13 @@ def plant_matrices(plan: BranchPlan, point: BranchPoint,
     return a, b, e
 
 
+def felt_tension_rows(plan: BranchPlan, point: BranchPoint, radii: bool = False) -> np.ndarray:
+    """Rows [N per state unit] of the span tensions the rollers and loadcells feel over the
+    kept states (``sim.branches.web_laws.felt_rows``; [I 0] for linear elastic webs)."""
+    keep = kept_states(plan, radii)
+    return felt_rows(plan, point.x, keep, FD_STEP * _scales(point, keep))
+
+
 def speed_arm(plan: BranchPlan, point: BranchPoint, i: int) -> float:
     """Radius [m] converting node ``i``'s ω to the surface speed its drive measures (its roll's
     at the operating point), or the roller's radius."""
@@ -128,6 +136,7 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
     kx, ki, kr = np.zeros((n_d, n_x)), np.zeros((n_d, n_q)), np.zeros((n_d, n_r))
     gx, gi, gr = np.zeros((n_q, n_x)), np.zeros((n_q, n_q)), np.zeros((n_q, n_r))
     off_w = plan.offsets[B.O_OMEGA]
+    felt = felt_tension_rows(plan, point, radii)
     for d in range(n_d):
         i, row = int(plan.di[d, B.DI_NODE]), plan.df[d]
         # e_v = v_line ff + σ (kp_t e_t + q_t) - r ω,  e_t = Σ (ref_c - T_c)
@@ -142,9 +151,9 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
             first = int(plan.di[d, B.DI_CELLS])
             for c in range(first, first + int(plan.di[d, B.DI_NCELLS])):
                 k = int(plan.cells[c, 0])
-                ev_x[k] -= row[B.D_SIGMA] * row[B.D_KPT]
+                ev_x -= row[B.D_SIGMA] * row[B.D_KPT] * felt[k]  # the loadcell reads T
                 ev_r[1 + c] += row[B.D_SIGMA] * row[B.D_KPT]
-                gx[q_t, k] = -row[B.D_KIT]
+                gx[q_t] -= row[B.D_KIT] * felt[k]
                 gr[q_t, 1 + c] = row[B.D_KIT]
         gain = 1.0
         if row[B.D_ADAPTIVE] > 0.0:  # the speed gains follow the roll's inertia
@@ -155,6 +164,33 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
         ki[d, d] += 1.0
         gx[d], gi[d], gr[d] = kis * ev_x, kis * ev_q, kis * ev_r
     return kx, ki, kr, gx, gi, gr
+
+
+def wound_gains(plan: BranchPlan, point: BranchPoint,
+                radii: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """(Kw, Gw): what the wound-in tensions of ``wound_webs`` add to the torque commands and
+    integrators through the loadcells (u += Kw w, dq/dt += Gw w): a Kelvin-Voigt loadcell
+    span feels τ ds/dt, which reads the tension its web carries in (``felt_wound_rows``);
+    zero for elastic spans."""
+    webs = wound_webs(plan)
+    felt = felt_wound_rows(plan, point.x, webs)
+    n_d = plan.di.shape[0]
+    zoned = [d for d in range(n_d) if plan.di[d, B.DI_NCELLS] > 0]
+    kw, gw = np.zeros((n_d, len(webs))), np.zeros((n_d + len(zoned), len(webs)))
+    for d in zoned:
+        i, row = int(plan.di[d, B.DI_NODE]), plan.df[d]
+        first = int(plan.di[d, B.DI_CELLS])
+        ev_w = np.zeros(len(webs))
+        for c in range(first, first + int(plan.di[d, B.DI_NCELLS])):
+            k = int(plan.cells[c, 0])
+            ev_w -= row[B.D_SIGMA] * row[B.D_KPT] * felt[k]
+            gw[n_d + zoned.index(d)] -= row[B.D_KIT] * felt[k]
+        gain = 1.0
+        if row[B.D_ADAPTIVE] > 0.0:  # as controller_matrices
+            inertia = node_inertia(i, point.x, plan.offsets, plan.nodes, plan.rolls)
+            gain = inertia / (row[B.D_RATIO] * speed_arm(plan, point, i)) / row[B.D_GAINNORM]
+        kw[d], gw[d] = row[B.D_KPS] * gain * ev_w, row[B.D_KIS] * gain * ev_w
+    return kw, gw
 
 
 def branch_linear_model(plan: BranchPlan, point: BranchPoint,
@@ -170,7 +206,7 @@ def branch_linear_model(plan: BranchPlan, point: BranchPoint,
     names = state_names(plan, radii)
     n_s, n_n, n_x = len(line.spans), plan.nodes.shape[0], a.shape[0]
     c = np.zeros((n_s + n_n, n_x))
-    c[:n_s, :n_s] = np.eye(n_s)
+    c[:n_s] = felt_tension_rows(plan, point, radii)  # (web laws: F'(s), a damper's τ ds/dt)
     for i in range(n_n):
         c[n_s + i, n_s + i] = speed_arm(plan, point, i)
         d = int(plan.nodes[i, B.N_DRIVE])
@@ -187,6 +223,10 @@ def branch_linear_model(plan: BranchPlan, point: BranchPoint,
     n_q = gi.shape[0]
     a_cl = np.block([[a + b @ kx, b @ ki], [gx, gi]])
     b_cl = np.block([[b @ kr, e], [gr, np.zeros((n_q, e.shape[1]))]])
+    if plan.kv.shape[0] and e.shape[1]:  # a damper's loadcell reads τ ds/dt: the wound-in too
+        kw, gw = wound_gains(plan, point, radii)
+        b_cl[:n_x, -e.shape[1]:] += b @ kw
+        b_cl[n_x:, -e.shape[1]:] = gw
     c_cl = np.hstack([c, np.zeros((c.shape[0], n_q))])
     zoned = [d for d in range(len(drives)) if plan.di[d, B.DI_NCELLS] > 0]
     names = (names + [f"{n}_speed_integral" for n in drives]

@@ -19,6 +19,7 @@ from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import held_inputs
 from webline.sim.branches.loop.kernel import compiled_advance
 from webline.sim.branches.loop.plant import node_inertia, work_size
+from webline.sim.branches.web_laws import law_tables
 from webline.sim.branches.winder import diameter_columns, taper_columns
 from webline.spec.branched.check import kind_of
 from webline.spec.schema import CascadedPISpec, IdleSpec, RewindSpec, UnwindSpec
@@ -33,7 +34,8 @@ class BranchPlan:
     line speed, then the tension references of the spans that have one, then the drag
     torques. ``radius0``: each drive's calculated radius at the start [m] (0 without a
     diameter calculator). ``wound``: the held inputs, wound-in tension [N] per web then drag
-    [N·m] per node (``held`` gives them at a time)."""
+    [N·m] per node (``held`` gives them at a time). ``lawi``, ``lawf``, ``laws``, ``kv``: the
+    web laws' terms and Kelvin-Voigt spans (``sim.branches.web_laws``; empty: linear elastic)."""
 
     line: BranchedLine
     offsets: np.ndarray
@@ -57,6 +59,10 @@ class BranchPlan:
     prof_off: np.ndarray
     dt: float
     speed_max: float
+    lawi: np.ndarray
+    lawf: np.ndarray
+    laws: np.ndarray
+    kv: np.ndarray
 
     @property
     def n_x(self) -> int:
@@ -65,7 +71,8 @@ class BranchPlan:
     def tables(self) -> tuple[np.ndarray, ...]:
         """The tables ``kernel.rhs`` takes after ``wound``, in order."""
         return (self.offsets, self.nodes, self.si, self.sf, self.layers, self.rolls, self.webs,
-                self.di, self.df, self.cores, self.clutch)
+                self.di, self.df, self.cores, self.clutch, self.lawi, self.lawf, self.laws,
+                self.kv)
 
     def scratch(self) -> np.ndarray:
         """Scratch for ``kernel.rhs``."""
@@ -74,7 +81,7 @@ class BranchPlan:
     def loop(self) -> Any:
         """The compiled loop of this plan's structure (``kernel.compiled_advance``)."""
         return compiled_advance(self.offsets, self.si, self.layers, self.webs, self.di,
-                                self.cells, self.cores)
+                                self.cells, self.cores, self.lawi, self.kv)
 
     def run(self, x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
             rec: np.ndarray, cmd: np.ndarray, tick0: int, n_ticks: int, substeps: int,
@@ -88,7 +95,8 @@ class BranchPlan:
                            n_ticks, self.dt, substeps, record_every, include_end,
                            self.speed_max,
                            self.nodes, self.sf, self.rolls, self.df, self.clutch, self.events,
-                           self.dist, self.prof_t, self.prof_v, self.prof_off)
+                           self.dist, self.prof_t, self.prof_v, self.prof_off, self.lawf,
+                           self.laws)
 
     def held(self, t: float) -> np.ndarray:
         """The held inputs ``kernel.rhs`` takes at ``t`` [s] without the ripples (their mean):
@@ -144,6 +152,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         rolls[j] = (roll.node, roll.web, roll.direction, m.thickness, m.width, m.density,
                     nodes[roll.node, B.N_CORE], on_clutch)
     si, sf, layers = _span_tables(line)
+    lawi, lawf, laws, kv = law_tables(line, si, sf)
     for c, (_, _, k) in enumerate(cores):
         si[k, B.S_CORE] = c
     si[:, B.S_ECCA] = nodes[si[:, B.S_A], B.N_ANGLE]
@@ -195,7 +204,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
                       wound,
                       np.concatenate([t for t, _ in profiles]),
                       np.concatenate([v for _, v in profiles]), offs, 1.0 / rate,
-                      RUNAWAY_SPEED_FACTOR * top + RUNAWAY_SPEED_FLOOR)
+                      RUNAWAY_SPEED_FACTOR * top + RUNAWAY_SPEED_FLOOR, lawi, lawf, laws, kv)
     _tune(plan)
     return plan
 

@@ -11,6 +11,7 @@ import numpy as np
 
 from webline.sim.branches.break_verdict import break_findings, intact, without_cut_jump
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.web_findings import felt_records, layer_tension, yield_findings
 from webline.spec.branched.check import kind_of
 from webline.verdict import Finding, Verdict
 from webline.version import __version__
@@ -54,7 +55,7 @@ class BranchResult:
         n_s, n_n, n_d = len(line.spans), plan.nodes.shape[0], len(line.drives)
         o = plan.offsets
         ea = plan.sf[:, B.SF_EA]
-        tension = np.maximum(x[:, :n_s], 0.0)
+        tension = felt_records(plan, self.time, x)  # (the clipped stretch of linear webs)
         omega = x[:, o[B.O_OMEGA]:o[B.O_OMEGA] + n_n]
         radius = x[:, o[B.O_RADIUS]:o[B.O_TORQUE]]
         torque = x[:, o[B.O_TORQUE]:o[B.O_WEB]]
@@ -64,12 +65,12 @@ class BranchResult:
                            for s in (line.web_spans(w) for w in range(len(line.spec.webs)))],
                           axis=1)
         layer_names, layer_values = [], []
-        for span in line.spans:  # each layer's tension in the laminate: (EA_i / EA_L) x_L
+        for span in line.spans:  # each layer's tension in the laminate at its strain
             web = line.spec.webs[span.web]
             for name in web.layers or []:
-                share = line.materials[line.web_index[name]].ea / ea[span.index]
                 layer_names.append(f"{span.name}/{name}")
-                layer_values.append(share * tension[:, span.index])
+                layer_values.append(layer_tension(plan, line.web_index[name], span.index,
+                                                  x[:, span.index], tension[:, span.index]))
         roll_names = [f"{line.spec.rollers[r.node].name}/{line.spec.webs[r.web].name}"
                       for r in line.rolls]
         drives = [line.spec.rollers[i].name for i in line.drives]
@@ -141,7 +142,8 @@ class BranchResult:
         if self.failure is not None:
             kind = "nonfinite" if "finite" in self.failure else (
                 "unwind_empty" if "unwind" in self.failure else "interrupted"
-                if "interrupted" in self.failure else "diverged")
+                if "interrupted" in self.failure else "strength_exceeded"
+                if "strength" in self.failure else "diverged")
             level: Literal["failed", "interrupted"] = (
                 "interrupted" if kind == "interrupted" else "failed")
             findings.append(Finding(level, kind, line.name, f"the run stopped: "
@@ -165,6 +167,7 @@ class BranchResult:
                                         f"{label} exceeds its tension limit {limit:.4g} N "
                                         f"(max {np.max(tension):.4g} N)",
                                         float(self.time[first])))
+        findings += yield_findings(self.plan, self.time, self.states)
         findings += break_findings(self.plan, self.time, ds["speed"].values, self.settings)
         limits = self.plan.df[:, B.D_LIMIT]
         for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit

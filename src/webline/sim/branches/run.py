@@ -16,6 +16,7 @@ from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.kernel import new_records
 from webline.sim.branches.plan import compile_branches
 from webline.sim.branches.result import BranchResult
+from webline.sim.branches.web_findings import strength_failure
 from webline.spec.ranges import argument, whole_argument
 
 #: RK4 sub-steps keep h·|λ|max below this, as the chain's ``sim.simulate.STEP_LIMIT``
@@ -85,7 +86,8 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
         if not n_rec:
             raise
         interrupted = True
-    failure = None if status == B.STATUS_OK else _failure_text(status, t_fail)
+    failure = (strength_failure(plan, x, t_fail) if status == B.STATUS_STRENGTH
+               else None if status == B.STATUS_OK else _failure_text(status, t_fail))
     if interrupted:
         failure = f"interrupted by the user (Ctrl-C) at t = {rec[n_rec - 1, 0]:.4g} s"
     result = BranchResult(plan, rec[:n_rec].copy(), failure,

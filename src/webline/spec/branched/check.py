@@ -12,6 +12,7 @@ from typing import NoReturn
 from webline.errors import LineFileError
 from webline.spec.branched.disturbances import check_disturbances
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
+from webline.spec.branched.web_law import check_web_laws
 from webline.spec.schema import (
     CascadedPISpec,
     DrivenSpec,
@@ -53,7 +54,8 @@ def check_branched(spec: BranchedLineSpec, file: str) -> None:
     materials = [("web", spec.web)] + [(f"webs[{w}].web", web.web)
                                        for w, web in enumerate(spec.webs)]
     for key, material in materials:  # as a single-path line's [web]: E or EA, never both
-        if material is not None and (material.modulus is None) == (material.ea is None):
+        if material is not None and material.stress_strain is None and (
+                material.modulus is None) == (material.ea is None):  # (a law: its checks)
             fail(key, "give exactly one of 'modulus' or 'ea'")
     masters = [r.name for r in spec.rollers if isinstance(r, DrivenSpec) and r.role == "master"]
     if len(masters) != 1:
@@ -95,17 +97,7 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         controller = getattr(roller, "controller", None)
         if controller is not None and not isinstance(controller, CascadedPISpec):
             unsupported(f"{key}.controller.type", fail, "cascaded_pi controllers")
-    for w, web in enumerate(spec.webs):
-        material = [(f"webs[{w}].web", web.web)] if web.web is not None else []
-        for key, m in [*material, ("web", spec.web)]:
-            if m is None:
-                continue
-            for name in ("stress_strain", "strength"):
-                if getattr(m, name) is not None:
-                    unsupported(f"{key}.{name}", fail, "linear webs without a strength")
-        for k, s in enumerate(web.spans):
-            if s.model != "elastic":
-                unsupported(f"webs[{w}].spans[{k}].model", fail, "elastic spans")
+    check_web_laws(spec, fail)
     for name, scenario in spec.scenarios.items():
         change = scenario.roll_change
         if change is not None and not isinstance(

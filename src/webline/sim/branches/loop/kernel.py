@@ -15,6 +15,7 @@ from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.breaks import cut
 from webline.sim.branches.loop.control import control_tick, held_inputs
 from webline.sim.branches.loop.plant import rhs
+from webline.sim.branches.loop.web_law import felt_start_jit
 from webline.sim.elements.signals import jit, loop_njit
 
 
@@ -45,11 +46,14 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             sf: np.ndarray, layers: np.ndarray, rolls: np.ndarray, webs: np.ndarray,
             di: np.ndarray, df: np.ndarray, cores: np.ndarray, clutch: np.ndarray,
             cells: np.ndarray, events: np.ndarray, dist: np.ndarray, prof_t: np.ndarray,
-            prof_v: np.ndarray, prof_off: np.ndarray) -> tuple[int, int, float]:
+            prof_v: np.ndarray, prof_off: np.ndarray, lawi: np.ndarray, lawf: np.ndarray,
+            laws: np.ndarray, kv: np.ndarray) -> tuple[int, int, float]:
     """Advance ``n_ticks`` controller periods from tick ``tick0``, recording ``new_records``'
     rows every ``record_every`` ticks and, with ``include_end``, the state after the last (a
     chunked run leaves that tick to the next chunk); returns (records, status, time of
-    failure). Stops at a non-finite state, an empty unwind or a runaway (``layout``).
+    failure). Stops at a non-finite state, an empty unwind, a runaway or a span beyond its
+    web's strength (``layout``). With web laws or Kelvin-Voigt spans the loadcells read the
+    tension the rollers feel (``loop.web_law``).
     ``held``: scratch for the inputs held over a period (``held_inputs``)."""
     n_x = x.shape[0]
     n_d = di.shape[0]
@@ -66,8 +70,16 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
         if offsets[B.O_BREAK]:  # a web break: its spans carry nothing from their time on
             cut(t, x, wound, sf, webs.shape[0], nodes.shape[0], istate, di, df)
         held_inputs(t, wound, held, webs.shape[0], dist, prof_t, prof_v, prof_off)
-        control_tick(t, tick0 + j, dt, x, istate, cmd, offsets, nodes, rolls, di, df, cells,
-                     dist, prof_t, prof_v, prof_off)
+        measured = x
+        if lawi.shape[0] > 0 or kv.shape[0] > 0:  # the loadcells feel F(s) + τ ds/dt
+            rhs(x, cmd, held, offsets, nodes, si, sf, layers, rolls, webs, di, df, cores,
+                clutch, lawi, lawf, laws, kv, stages[0], work)
+            measured = tmp
+            start = felt_start_jit(n_s, nodes.shape[0], lawi.shape[0] > 0, kv.shape[0] > 0)
+            for m in range(n_x):
+                measured[m] = work[start + m] if m < n_s else x[m]
+        control_tick(t, tick0 + j, dt, measured, istate, cmd, offsets, nodes, rolls, di, df,
+                     cells, dist, prof_t, prof_v, prof_off)
         if (tick0 + j) % record_every == 0 or j == n_ticks:
             rec[n_rec, 0] = t
             for m in range(n_x):
@@ -82,7 +94,7 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             for stage in range(4):
                 state = x if stage == 0 else tmp
                 rhs(state, cmd, held, offsets, nodes, si, sf, layers, rolls, webs, di, df,
-                    cores, clutch, stages[stage], work)
+                    cores, clutch, lawi, lawf, laws, kv, stages[stage], work)
                 if stage < 3:
                     c = h if stage == 2 else 0.5 * h
                     for m in range(n_x):
@@ -99,6 +111,8 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
         for k in range(n_s):
             if x[k] > B.RUNAWAY_STRAIN * sf[k, B.SF_EA]:
                 return n_rec, B.STATUS_RUNAWAY, t + dt
+            if x[k] > sf[k, B.SF_STRENGTH]:  # (inf where the web gives no strength)
+                return n_rec, B.STATUS_STRENGTH, t + dt
         for i in range(nodes.shape[0]):
             r_i = nodes[i, B.N_RADIUS]
             if abs(x[off_w + i]) * r_i > speed_max:
@@ -108,18 +122,18 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
 
 def compiled_advance(offsets: np.ndarray, si: np.ndarray, layers: np.ndarray,
                      webs: np.ndarray, di: np.ndarray, cells: np.ndarray,
-                     cores: np.ndarray) -> Any:
+                     cores: np.ndarray, lawi: np.ndarray, kv: np.ndarray) -> Any:
     """``advance`` compiled for one line structure: its integer tables frozen into the loop
     as constants (as the chain's ``sim.core.kernel.compiled_loop``), so the loops over spans,
     nodes and drives have known trip counts and table look-ups fold away. Called with the
     remaining arguments of ``advance`` (the float tables stay run-time arrays)."""
     return _compiled(*((*np.asarray(a).ravel().tolist(), np.asarray(a).shape)
-                       for a in (offsets, si, layers, webs, di, cells, cores)))
+                       for a in (offsets, si, layers, webs, di, cells, cores, lawi, kv)))
 
 
 @functools.cache
 def _compiled(*tables: tuple[Any, ...]) -> Any:
-    offsets, si, layers, webs, di, cells, cores = (
+    offsets, si, layers, webs, di, cells, cores, lawi, kv = (
         np.array(t[:-1], dtype=np.int64).reshape(t[-1]) for t in tables)
 
     @loop_njit
@@ -130,11 +144,11 @@ def _compiled(*tables: tuple[Any, ...]) -> Any:
              include_end: bool, speed_max: float, nodes: np.ndarray, sf: np.ndarray,
              rolls: np.ndarray, df: np.ndarray, clutch: np.ndarray, events: np.ndarray,
              dist: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
-             prof_off: np.ndarray) -> tuple[int, int, float]:
+             prof_off: np.ndarray, lawf: np.ndarray, laws: np.ndarray) -> tuple[int, int, float]:
         return advance(x, istate, wound, done, rec, stages, cmd, work, held, tick0, n_ticks, dt,
                        substeps, record_every, include_end, speed_max, offsets, nodes, si, sf,
                        layers, rolls, webs, di, df, cores, clutch, cells, events, dist, prof_t,
-                       prof_v, prof_off)
+                       prof_v, prof_off, lawi, lawf, laws, kv)
 
     return loop
 

@@ -34,6 +34,18 @@ SF_COLS = 5
 #: S_SRC: the previous span of the path | the unwind's wound-in tension | the sum of the
 #: layers' last spans (a laminate's first span) | the base web's last span x share (a lane)
 SRC_PREVIOUS, SRC_WOUND, SRC_LAYERS, SRC_SLIT = range(4)
+# web laws (docs/branching.md, "Web laws"): span table (int) columns at its end, the first
+# of the span's law terms and their number (0: the span's web is linear, T = max(s, 0));
+# span table (float): Kelvin-Voigt retardation time [s] (0: elastic), the stretch [N] at
+# which the span's weakest web breaks (inf: no strength)
+S_LAW0, S_NLAW = S_COLS, S_COLS + 1
+SF_TAU, SF_STRENGTH = SF_COLS, SF_COLS + 1
+S_COLS, SF_COLS = S_COLS + 2, SF_COLS + 2
+# law terms (int): the raw web whose law it is, its law's start in the flat law array;
+# (float): the scale a on the span's stretch and the factor c on the law's tension,
+# T = sum over the span's terms of c F_web(a s)
+LI_WEB, LI_START, LI_COLS = range(3)
+LF_SCALE, LF_FACTOR, LF_COLS = range(3)
 
 # roll table (float): node, web, direction, thickness, width, density, core radius, 1 where
 # the roll turns on its own clutch core (a differential shaft's lane), else 0
@@ -83,6 +95,8 @@ BREAK_TENSION, BREAK_DIAMETER = range(1, 3)
 E_TIME, E_ROLL, E_RADIUS, E_WOUND, E_WEB, E_COLS = range(6)
 
 STATUS_OK, STATUS_NONFINITE, STATUS_UNWIND_EMPTY, STATUS_RUNAWAY = range(4)
+#: web laws: a span's stretch beyond its web's strength (``SF_STRENGTH``)
+STATUS_STRENGTH = 4
 #: a strain beyond this, or a speed beyond 3x the top reference + 1 m/s, is a runaway [-]
 RUNAWAY_STRAIN = 0.05
 

@@ -13,6 +13,7 @@ import numpy as np
 
 from webline.physics import roll, roller, span
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop import web_law as W
 from webline.sim.branches.loop.breaks import brake_torque, web_flows
 from webline.sim.elements.signals import jit
 
@@ -34,8 +35,12 @@ def arm(end_roll: int, node: int, x: np.ndarray, offsets: np.ndarray,
 
 @jit
 def carried_in(k: int, x: np.ndarray, tension: np.ndarray, wound: np.ndarray,
-               si: np.ndarray, sf: np.ndarray, layers: np.ndarray) -> float:
-    """Stretch [N] the web carries into span ``k`` (docs/branching.md, s_in)."""
+               si: np.ndarray, sf: np.ndarray, layers: np.ndarray,
+               elastic: np.ndarray) -> float:
+    """Stretch [N] the web carries into span ``k`` (docs/branching.md, s_in); a nip sums
+    its layers' ``elastic`` tensions (without a law: their clipped stretches). With web laws
+    the wound-in tension and the layers' sum are tensions, turned into the span's stretch by
+    ``web_law.law_stretch`` in ``rhs``."""
     src = si[k, B.S_SRC]
     frm = si[k, B.S_FROM]
     if src == B.SRC_PREVIOUS:
@@ -45,7 +50,7 @@ def carried_in(k: int, x: np.ndarray, tension: np.ndarray, wound: np.ndarray,
     if src == B.SRC_LAYERS:  # force continuity at the nip: the layers' tensions add up
         total = 0.0
         for j in range(si[k, B.S_COUNT]):
-            total += tension[layers[frm + j]]
+            total += elastic[layers[frm + j]]
         return total
     return sf[k, B.SF_SHARE] * tension[frm]  # a lane: the base web's strain at the knife
 
@@ -68,13 +73,17 @@ def node_inertia(i: int, x: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
 def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         nodes: np.ndarray, si: np.ndarray, sf: np.ndarray, layers: np.ndarray,
         rolls: np.ndarray, webs: np.ndarray, di: np.ndarray, df: np.ndarray,
-        cores: np.ndarray, clutch: np.ndarray, dx: np.ndarray, work: np.ndarray) -> None:
+        cores: np.ndarray, clutch: np.ndarray, lawi: np.ndarray, lawf: np.ndarray,
+        laws: np.ndarray, kv: np.ndarray, dx: np.ndarray, work: np.ndarray) -> None:
     """dx/dt of a branched line into ``dx`` with held motor-torque commands ``cmd`` [N·m] and
     held inputs ``wound``: the wound-in tension [N] per web, then the drag torque [N·m] per
-    node (``roller_drag``, added to its Coulomb friction). ``work``: scratch of 4 x spans +
-    2 x nodes (``work_size``). A lane on a differential shaft winds on its own core, which
-    its slip clutch drives from the shaft with the smoothed Coulomb torque of
-    ``physics.roller`` (docs/branching.md, "Differential shafts")."""
+    node (``roller_drag``, added to its Coulomb friction). ``work``: scratch of 6 x spans +
+    2 x nodes (``work_size``). Web laws (``lawi``, ``lawf``, ``laws``: the terms of
+    ``loop.web_law``) and Kelvin-Voigt spans (``kv``: their numbers) set the tension the
+    rollers feel; without them (empty tables, frozen into the loop) that code folds away.
+    A lane on a differential shaft winds on its own core, which its slip clutch drives from
+    the shaft with the smoothed Coulomb torque of ``physics.roller`` (docs/branching.md,
+    "Differential shafts")."""
     n_s, n_n = si.shape[0], nodes.shape[0]
     off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
     off_tq, off_q, off_c = offsets[B.O_TORQUE], offsets[B.O_WEB], offsets[B.O_CORE]
@@ -85,11 +94,16 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
     v_b = work[3 * n_s:4 * n_s]
     torque = work[4 * n_s:4 * n_s + n_n]
     inertia = work[4 * n_s + n_n:4 * n_s + 2 * n_n]
+    has_law, has_kv = lawi.shape[0] > 0, kv.shape[0] > 0
     n_w = webs.shape[0]
     for k in range(n_s):
         tension[k] = _tension(x[k])
         if offsets[B.O_BREAK] and wound[n_w + n_n + k] != 0.0:  # broken: carries nothing
             tension[k] = 0.0
+    elastic = work[4 * n_s + 2 * n_n:5 * n_s + 2 * n_n] if has_law else tension
+    felt = work[5 * n_s + 2 * n_n:6 * n_s + 2 * n_n] if has_kv else elastic
+    if has_law:  # the web laws' tensions F(s) (docs/branching.md, "Web laws")
+        W.law_tensions(x, elastic, si, lawi, lawf, laws)
     for i in range(n_n):
         torque[i] = 0.0
         inertia[i] = nodes[i, B.N_JCONST]
@@ -115,14 +129,19 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         v_a[k] = arm_a * x[off_w + a]
         core = si[k, B.S_CORE]
         v_b[k] = arm_b * x[off_w + b] if core < 0 else arm_b * x[off_c + core]
-        s_in[k] = carried_in(k, x, tension, wound, si, sf, layers)
+        s_in[k] = carried_in(k, x, tension, wound, si, sf, layers, elastic)
+        if has_law and (si[k, B.S_SRC] == B.SRC_WOUND or si[k, B.S_SRC] == B.SRC_LAYERS):
+            s_in[k] = W.law_stretch(k, s_in[k], si, lawi, lawf, laws)  # a tension in: F⁻¹
         dx[k] = _stretch_rate(sf[k, B.SF_LENGTH], sf[k, B.SF_EA], v_a[k], v_b[k], s_in[k],
                               tension[k])
-        if offsets[B.O_BREAK] and wound[n_w + n_n + k] != 0.0:  # its stretch stays frozen
+        if has_kv:
+            felt[k] = W.felt(k, x, dx, elastic, sf)
+        if offsets[B.O_BREAK] and wound[n_w + n_n + k] != 0.0:  # cut: frozen, carries nothing
             dx[k] = 0.0
-        torque[a] += arm_a * tension[k]  # the span pulls its upstream roller forward
+            felt[k] = 0.0  # (its stretch is 0 from the cut on: so are F(0) and the damper's)
+        torque[a] += arm_a * felt[k]  # the span pulls its upstream roller forward
         if core < 0:  # (a lane on a clutch core pulls its core, below)
-            torque[b] -= arm_b * tension[k]
+            torque[b] -= arm_b * felt[k]
     for c in range(cores.shape[0]):  # a lane's core: clutch torque in, the lane's r T out
         j, i, k = cores[c, B.C_ROLL], cores[c, B.C_NODE], cores[c, B.C_SPAN]
         radius, omega_core = x[off_r + j], x[off_c + c]
@@ -130,7 +149,7 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         torque[i] -= passed
         inertia_core = clutch[c, B.CF_INERTIA] + _roll_inertia(
             0.0, radius, rolls[j, B.R_CORE], rolls[j, B.R_WIDTH], rolls[j, B.R_RHO])
-        dx[off_c + c] = (passed - radius * tension[k]) / inertia_core
+        dx[off_c + c] = (passed - radius * felt[k]) / inertia_core
         dx[off_r + j] = _radius_rate(radius * omega_core, radius, rolls[j, B.R_THICK],
                                      rolls[j, B.R_DIR])
     for i in range(n_n):
@@ -162,5 +181,5 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
 
 
 def work_size(n_spans: int, n_nodes: int) -> int:
-    """Length of ``rhs``'s scratch array."""
-    return 4 * n_spans + 2 * n_nodes
+    """Length of ``rhs``'s scratch array (the last 2 x spans: web laws' tensions)."""
+    return 6 * n_spans + 2 * n_nodes

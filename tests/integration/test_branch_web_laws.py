@@ -1,0 +1,338 @@
+"""Web laws on a branched line (docs/branching.md, "Web laws"): each raw web's
+``stress_strain``, a laminate's law the sum of its layers' at their shared strain, a lane its
+share of its base web's; ``strength`` per web and lane; yield in the verdict; Kelvin-Voigt
+spans."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import webline
+from webline.errors import LineFileError
+from webline.model.web_graph import load_branched
+from webline.sim.branches.equilibrium import operating_point
+from webline.sim.branches.linear import linear_model
+from webline.sim.branches.plan import compile_branches
+
+EA_FILM, EA_FOIL = 103.5e3, 630e3  # N: the laminator's layers
+POWER = {"law": "power", "exponent": 1.5, "reference_strain": 1e-4}
+
+
+def _laminator(foil: dict | None = None, film: dict | None = None) -> dict:
+    data = load_branched("laminator").spec.model_dump(exclude_none=True)
+    for w, change in ((0, film), (1, foil)):
+        if change is not None:
+            data["webs"][w]["web"].update(change)
+    return data
+
+
+def _span(line, name: str) -> int:
+    return next(s.index for s in line.spans if s.name == name)
+
+
+def _film_by_modulus(table: bool, third: float | None = None) -> dict:
+    """The film as E h w (E = 4.5 GPa, 23 um x 1 m: EA 103.5 kN), or the same as a table of
+    stress; strains powers of two so that E ε and σ/ε are exact (the table's EA then has the
+    modulus path's bits). ``third``: the third point's stress over E ε (1: on the line)."""
+    film: dict = {"ea": None, "modulus": 4.5e9}
+    if table:
+        strain = [0.0, 2.0 ** -7, 2.0 ** -6]
+        stress = [0.0, 4.5e9 * strain[1], 4.5e9 * strain[2] * (third or 1.0)]
+        film = {"ea": None, "modulus": None,
+                "stress_strain": {"law": "table", "strain": strain, "stress": stress}}
+    return film
+
+
+def _without_none(data: dict) -> dict:
+    for web in data["webs"]:
+        if "web" in web:
+            web["web"] = {k: v for k, v in web["web"].items() if v is not None}
+    return data
+
+
+def test_a_table_equal_to_the_linear_law_gives_the_linear_run_bit_for_bit():
+    """A table on T = EA ε is the linear law (its array is [LINEAR]): the layer upset's
+    tensions are bit-identical to the film given by its modulus. A third point off the line
+    (strain 1.6 %, far beyond the run's 0.15 %) makes the law nonlinear, so the kernel's law
+    path runs (tensions F(s), the nip's F_L⁻¹ of the layers' sum, the unwind's F⁻¹ of its
+    wound-in tension): it gives the same run to rounding, 1e-9 of 180 N being ~1e7 times
+    the double's resolution of a piecewise-linear evaluation."""
+    runs = [webline.simulate(load_branched(_without_none(_laminator(film=_film_by_modulus(t, x)))),
+                             scenario="layer-upset", duration=3.0).dataset
+            for t, x in ((False, None), (True, None), (True, 1.5))]
+    assert np.array_equal(runs[0].tension.values, runs[1].tension.values)
+    assert np.array_equal(runs[0].omega.values, runs[1].omega.values)
+    assert np.max(np.abs(runs[2].tension.values - runs[0].tension.values)) < 1e-9 * 180.0
+
+
+def test_the_laminate_carries_the_sum_of_its_layers_laws_at_its_strain():
+    """A stiffening foil (power law, n = 1.5, ε_r = 1e-4): at the operating point the
+    laminate zone's tension, its reference 180 N, is T_film(ε_L) + T_foil(ε_L) at the shared
+    strain ε_L = s_L / EA_L, each law evaluated here from its formula, to 1e-9 (the solver's
+    XTOL 1e-13 on the scaled unknowns); the run's layer tensions are those laws too."""
+    line = load_branched(_laminator(foil={"stress_strain": POWER}))
+    plan = compile_branches(line)
+    point = operating_point(plan)
+    k = _span(line, "laminate_zone")
+    strain = point.x[k] / (EA_FILM + EA_FOIL)
+    film = EA_FILM * strain
+    foil = EA_FOIL * 1e-4 * (strain / 1e-4) ** 1.5
+    assert film + foil == pytest.approx(180.0, abs=1e-9)
+    assert strain < 180.0 / (EA_FILM + EA_FOIL) * 0.8  # the stiff foil: far less strain
+    ds = webline.simulate(line, duration=0.2).dataset
+    assert ds.tension.sel(span="laminate_zone").values[0] == pytest.approx(180.0, abs=1e-9)
+    layers = ds.layer_tension.isel(time=0)
+    assert float(layers.sel(layer_span="laminate_zone/film")) == pytest.approx(film, rel=1e-12)
+    assert float(layers.sel(layer_span="laminate_zone/foil")) == pytest.approx(foil, rel=1e-12)
+    # the foil's own zone holds its 60 N: its law's stretch, F⁻¹(60 N), is the state
+    k_foil = _span(line, "foil_zone")
+    assert EA_FOIL * 1e-4 * (point.x[k_foil] / EA_FOIL / 1e-4) ** 1.5 == pytest.approx(60.0,
+                                                                                  abs=1e-9)
+    # each web's unstrained length balance (B1 in strain) still closes
+    for row in webline.simulate(line, scenario="layer-upset", duration=3.0).web_summary():
+        assert row["length_balance_drift_m"] < 1e-7
+
+
+def test_a_stiffening_foil_raises_the_laminate_mode_by_its_tangent_stiffness():
+    """The laminate guide's span mode (1038 rad/s) is the guide's inertia on the two
+    laminate spans: ω² ≈ (E_t A)(1/L_1 + 1/L_2) r²/J, both spans at one strain, so the power
+    foil scales it by √(Σ dT_i/dε / EA_L), the tangent stiffness at the new operating strain
+    from first principles: EA_film + n EA_foil (ε/ε_r)^(n-1). The neighbours' inertia terms
+    (nip, rewind: ~2 % of the guide's r²/J) scale alike; the spans' strains differ by the
+    guide's friction (0.05 N of 180 N); tolerance 1e-3 (measured 7e-5)."""
+    def guide_mode(line) -> float:  # the line's fastest oscillation (docs: 1038 rad/s)
+        return float(np.max(np.linalg.eigvals(linear_model(line, loop="open").a).imag))
+
+    linear = load_branched("laminator")
+    stiff = load_branched(_laminator(foil={"stress_strain": POWER}))
+    strain = operating_point(compile_branches(stiff)).x[_span(stiff, "laminate_zone")] / (
+        EA_FILM + EA_FOIL)
+    tangent = EA_FILM + 1.5 * EA_FOIL * (strain / 1e-4) ** 0.5
+    predicted = np.sqrt(tangent / (EA_FILM + EA_FOIL))
+    ratio = guide_mode(stiff) / guide_mode(linear)
+    assert predicted > 1.3  # the foil is twice as stiff (tangent) at its operating strain
+    assert ratio == pytest.approx(predicted, rel=1e-3)
+
+
+def test_a_bilinear_foil_past_its_yield_is_a_yield_finding_naming_the_foil():
+    """Yield at 0.02 % strain, 0.5 E beyond: the foil's own zone (60 N: 0.0095 %) stays
+    below, the laminate (at 0.028 %) is beyond it from t = 0; the finding names the foil web
+    (a layer of the laminate), its spans and the peak strain, which is the laminate spans'
+    largest strain in the records."""
+    law = {"law": "bilinear", "yield_strain": 2e-4, "hardening": 0.5}
+    result = webline.simulate(load_branched(_laminator(foil={"stress_strain": law})),
+                              scenario="layer-upset", duration=3.0)
+    found = [f for f in result.verdict.findings if f.kind == "yield"]
+    assert [f.where for f in found] == ["foil"]
+    assert "laminate laminate" in found[0].message and "laminate_zone" in found[0].message
+    ds = result.dataset
+    strain = ds.strain.values[:, [_span(result.plan.line, n) for n in
+                                  ("laminate_zone", "laminate[1]")]]
+    assert found[0].details["peak_strain"] == pytest.approx(float(strain.max()), rel=1e-12)
+    assert found[0].details["first_s"] == 0.0
+    assert result.verdict.status == "warning"
+    assert float(ds.strain.sel(span="foil_zone").max()) < 2e-4
+    from webline.report.plots.branch_figures import layers_caption  # says what it draws
+
+    assert "its own law at the laminate's strain" in layers_caption(result)
+
+
+def test_a_foil_layer_at_its_strength_stops_the_run_naming_it():
+    """Foil strength 170 N; the laminate reference steps 180 -> 220 N at 1 s. The foil
+    carries EA_foil/EA_L of the laminate's 180 N (154.6 N) before and 189 N after: the run
+    stops, failed, when the laminate zone's foil layer reaches 170 N, naming the foil and
+    its laminate."""
+    data = _laminator(foil={"strength": 170.0})
+    data["webs"][2]["spans"][0]["tension"] = {
+        "type": "steps", "initial": 180.0, "steps": [{"time": 1.0, "value": 220.0}]}
+    result = webline.simulate(load_branched(data), duration=3.0, raise_on_failure=False)
+    assert result.failure is not None
+    assert "web foil (a layer of laminate laminate) broke" in result.failure
+    assert result.verdict.status == "failed"
+    assert [f.kind for f in result.verdict.findings if f.level == "failed"] == [
+        "strength_exceeded"]
+    foil = result.dataset.layer_tension.sel(layer_span="laminate_zone/foil").values
+    # records every tick (1 ms): the last is below 170 N, within one tick's rise of it
+    assert foil[-1] < 170.0 < foil[-1] + 2.0 * np.max(np.diff(foil))
+    assert float(result.time[-1]) > 1.0
+
+
+def test_a_lane_at_its_share_of_the_base_webs_strength_stops_the_run_naming_it():
+    """Slitter, thickness profile: lane_1 (400 mm, 1 % thicker: φ = 0.3232 of the base web)
+    rises towards 147 N. The base web's strength 433.17 N is 140 N for lane_1 (its area
+    share, same breaking strain): the run stops there, naming lane_1."""
+    data = load_branched("slitter").spec.model_dump(exclude_none=True)
+    phi = 0.4 / 1.25 * 1.01
+    data["web"]["strength"] = 140.0 / phi
+    result = webline.simulate(load_branched(data), scenario="thickness-profile",
+                              raise_on_failure=False)
+    assert result.failure is not None and result.failure.startswith("lane lane_1 broke")
+    lane = result.dataset.tension.sel(span="lane_1_span").values
+    assert lane[-1] < 140.0 < lane[-1] + 2.0 * np.max(np.abs(np.diff(lane[-100:])))
+
+
+def test_kelvin_voigt_laminate_spans_damp_the_guide_mode_by_tau_omega_over_two():
+    """A damper in both laminate spans: the guide's mode (ω_n 1038 rad/s) gains
+    ζ = τ ω_n / 2 (docs/winder.md's hand formula: a damper τ k on the spring k): τ = 0.1 ms
+    adds 0.0519. Tolerance 3 % of the added damping (the transport term and the nip's and
+    rewind's share of the mode); τ = 1 ns gives the elastic run to 1e-6 N."""
+    def damped(tau: float | None) -> tuple[float, object]:
+        data = _laminator()
+        if tau is not None:
+            for span in data["webs"][2]["spans"]:
+                span.update(model="kelvin-voigt", retardation=tau)
+        line = load_branched(data)
+        values = np.linalg.eigvals(linear_model(line, loop="open").a)
+        mode = max((v for v in values if 1000 < v.imag < 1100), key=lambda v: v.imag)
+        return -mode.real / abs(mode), line
+
+    zeta_0, elastic = damped(None)
+    zeta_1, _ = damped(1e-4)
+    assert zeta_1 - zeta_0 == pytest.approx(1e-4 * 1038.4 / 2, rel=0.03)
+    _, tiny = damped(1e-9)
+    a = webline.simulate(elastic, scenario="layer-upset", duration=2.5).dataset.tension.values
+    b = webline.simulate(tiny, scenario="layer-upset", duration=2.5).dataset.tension.values
+    assert np.max(np.abs(a - b)) < 1e-6
+
+
+@pytest.mark.parametrize(("change", "key", "problem"), [
+    (lambda d: d["webs"][1]["web"].update(stress_strain={"law": "power", "exponent": 1.5}),
+     r"webs\[1\]\.web\.stress_strain\.reference_strain", "needs its reference_strain"),
+    (lambda d: d["webs"][0]["web"].update(stress_strain={
+        "law": "table", "strain": [0.0, 0.01], "stress": [0.0, 4.5e7]}),
+     r"webs\[0\]\.web\.modulus", "gives the web's stiffness itself"),
+    (lambda d: d["webs"][1]["web"].update(stress_strain={
+        "law": "bilinear", "yield_strain": 0.003, "hardening": 0.0}),
+     r"webs\[1\]\.web\.stress_strain\.hardening", "must be > 0"),
+    (lambda d: d["webs"][2]["spans"][0].update(model="kelvin-voigt"),
+     r"webs\[2\]\.spans\[0\]\.retardation", "needs its retardation time"),
+    (lambda d: d["webs"][2]["spans"][0].update(retardation=1e-3),
+     r"webs\[2\]\.spans\[0\]\.retardation", "only a span with model = 'kelvin-voigt'"),
+    (lambda d: d["webs"][1]["web"].update(strength=-5.0), r"webs\[1\]\.web\.strength", ""),
+])
+def test_bad_web_laws_are_one_line_naming_the_key(change, key, problem):
+    data = _laminator()
+    change(data)
+    with pytest.raises(LineFileError, match=key) as error:
+        load_branched(data)
+    assert problem in str(error.value) and "\n" not in str(error.value)
+
+
+@pytest.mark.parametrize("damper", [None, 5e-4])
+def test_the_closed_loop_model_with_web_laws_is_the_runs(damper):
+    """A 2 N step of the laminate zone's reference at 1 s on the laminator with the power-law
+    foil (and, second case, dampers of τ = 0.5 ms in both laminate spans): the run minus the
+    same run without the step against the closed-loop linear model's step response, whose
+    loadcell rows and tension outputs are the felt tension's, F'(s) (+ τ ds/dt). As in
+    test_branch_linear_response (same tolerance, same reasons: the 1 kHz sampling's held
+    torque, second-order terms), 5 % of each response's peak; a loadcell reading the stretch
+    instead of F(s) (F' = 1.9 here) moves the responses by tens of %."""
+    from scipy.linalg import expm
+
+    from webline.sim.branches.linear import branch_linear_model
+
+    def line(step: float):
+        data = _laminator(foil={"stress_strain": POWER})
+        data.pop("scenarios")
+        data["webs"][2]["spans"][0]["tension"] = {
+            "type": "steps", "initial": 180.0, "steps": [{"time": 1.0, "value": 180.0 + step}]}
+        if damper is not None:
+            for span in data["webs"][2]["spans"]:
+                span.update(model="kelvin-voigt", retardation=damper)
+        return load_branched(data)
+
+    runs = [webline.simulate(line(step), duration=3.0).dataset for step in (0.0, 2.0)]
+    plan = compile_branches(line(2.0))
+    model = branch_linear_model(plan, operating_point(plan), "closed")
+    n = model.a.shape[0]
+    augmented = np.zeros((n + 1, n + 1))
+    augmented[:n, :n] = model.a
+    augmented[:n, n] = model.b[:, model.inputs.index("laminate_zone_tension_ref")] * 2.0
+    time = runs[1].time.values
+    after = time >= 1.0
+    steps = [expm(augmented * (t - 1.0))[:n, n] for t in time[after][::10]]
+    for zone in ("laminate_zone", "foil_zone", "film_zone"):
+        simulated = (runs[1].tension.sel(span=zone) - runs[0].tension.sel(span=zone)).values
+        row = model.c[model.outputs.index(f"{zone}_tension")]
+        linear = np.array([row @ x for x in steps])
+        peak = np.max(np.abs(linear))
+        assert peak > 0.05  # N: each zone feels the step (the layers through the nip)
+        assert np.max(np.abs(simulated[after][::10] - linear)) < 0.05 * peak, zone
+
+
+def test_a_lane_of_a_laminate_carries_its_share_of_the_layers_laws():
+    """The laminator's laminate slit at a knife into two 0.5 m lanes (φ = 0.5 each: the
+    laminate is 1 m wide) on one shaft, the foil on its power law: at the operating point
+    each lane's tension, the 90 N its loadcell holds, is φ (T_film(ε) + T_foil(ε)) at the
+    lane's strain ε = s / (φ EA_L), the laws evaluated here from their formulas (1e-9 N:
+    the solver's tolerance); the knife span carries the lanes' strain's law, not their
+    stretch's linear sum."""
+    import tomllib
+    from importlib import resources
+
+    data = tomllib.loads(resources.files("webline.data.lines").joinpath(
+        "laminator.toml").read_text("utf-8"))
+    rewind = data["rollers"].pop()
+    data["rollers"] += [{"name": "knife", "type": "idle", "radius": "50 mm",
+                         "inertia": "0.002 kg*m**2", "friction": "1e-4 N*m*s"}, rewind]
+    data["webs"][1]["web"]["stress_strain"] = POWER
+    data["webs"][2]["path"] = ["nip", "guide_laminate", "knife"]
+    data["webs"][2]["spans"] = [{"name": "laminate_zone", "length": "2 m"}, {"length": "1 m"}]
+    for lane in ("lane_a", "lane_b"):
+        data["webs"].append({"name": lane, "slit_from": "laminate", "width": "0.5 m",
+                             "path": ["knife", "rewind"],
+                             "spans": [{"name": f"{lane}_span", "length": "2 m",
+                                        "tension": "90 N"}]})
+    data["scenarios"] = {}
+    line = load_branched(data)
+    point = operating_point(compile_branches(line))
+
+    def laminate(strain: float) -> float:
+        return EA_FILM * strain + EA_FOIL * 1e-4 * (strain / 1e-4) ** 1.5
+
+    for lane in ("lane_a_span", "lane_b_span"):
+        strain = point.x[_span(line, lane)] / (0.5 * (EA_FILM + EA_FOIL))
+        assert 0.5 * laminate(strain) == pytest.approx(90.0, abs=1e-9)
+    ds = webline.simulate(line, duration=0.1).dataset
+    knife = _span(line, "laminate[1]")
+    strain = float(ds.strain.isel(time=0, span=knife))
+    assert float(ds.tension.isel(time=0, span=knife)) == pytest.approx(laminate(strain),
+                                                                       rel=1e-12)
+
+
+def test_a_study_judges_each_case_on_its_foils_yield():
+    """A sweep of the bilinear foil's yield strain: at 0.02 % the laminate (0.028 %) is past
+    it, a warning on the foil web (``web_status``); at 0.05 % nothing yields."""
+    law = {"law": "bilinear", "yield_strain": 2e-4, "hardening": 0.5}
+    ds = webline.sweep(load_branched(_laminator(foil={"stress_strain": law})),
+                       {"webs.foil.web.stress_strain.yield_strain": [2e-4, 5e-4]}, duration=0.2)
+    assert list(ds.status.values) == ["warning", "ok"]
+    assert list(ds.web_status.sel(web="foil").values) == ["warning", "ok"]
+    assert list(ds.web_status.sel(web="laminate").values) == ["ok", "ok"]
+
+
+def test_a_damped_first_span_feels_the_wound_in_tension_through_its_rate():
+    """A Kelvin-Voigt first span (the film unwind's, τ = 5 ms) with the film's loadcell on it:
+    T = s + τ ds/dt and (B1) L ds/dt = ... + s_in v_a with s_in the wound-in tension, so
+    ∂T/∂T0 = τ v_a / L (v_a the unwind's surface speed 2.5 m/s, L 1.5 m): 8.33e-3, which the
+    closed loop's loadcell reads (Kw, Gw) and no elastic span has. Central differences of
+    1 N on rates affine in T0: exact to rounding (1e-9)."""
+    from webline.sim.branches.linear import wound_gains, wound_webs
+    from webline.sim.branches.web_findings import felt_wound_rows
+
+    data = _laminator()
+    spans = data["webs"][0]["spans"]
+    spans[0].update(model="kelvin-voigt", retardation=5e-3, tension=spans[1].pop("tension"))
+    line = load_branched(data)
+    plan = compile_branches(line)
+    point = operating_point(plan)
+    felt = felt_wound_rows(plan, point.x, wound_webs(plan))
+    film = wound_webs(plan).index(0)
+    from webline.sim.branches.loop import layout as B
+
+    v_a = point.x[plan.offsets[B.O_OMEGA] + 0] * line.rolls[0].radius  # unwind ω x radius
+    assert felt[0, film] == pytest.approx(5e-3 * v_a / 1.5, rel=1e-9)
+    assert np.count_nonzero(felt) == 1  # no other span feels it directly
+    kw, gw = wound_gains(plan, point)
+    assert kw[0, film] != 0.0 and gw[len(line.drives), film] != 0.0  # the unwind's PI
