@@ -204,6 +204,12 @@ def test_a_foil_break_drops_the_laminate_by_the_foils_share():
                                  t[late], drop[late], p0=(-foil, 20.0, 8.0))
     assert end == pytest.approx(-foil, rel=0.01)
     assert 2.0 < tau < 20.0  # slow, as the speed loops' integrators make it
+    # the foil's guide, idle in the cut, turns free: it coasts down on its bearing friction
+    # alone, v = v_0 e^(-(t - at) b / J) (b = 1e-4 N·m·s, J = 0.002 kg·m²: 20 s)
+    guide = broken.dataset.speed.sel(node="guide_foil").values
+    at = np.searchsorted(t, AT)
+    coast = guide[at] * np.exp(-(t[at:] - t[at]) * 1e-4 / 0.002)
+    assert np.max(np.abs(guide[at:] / coast - 1.0)) < 1e-6  # (measured 7e-15)
     film = broken.dataset.tension.sel(span="film_zone").values
     assert np.max(np.abs(film[t > 5.0] - 120.0)) < 0.5  # the film zone is held on
     verdict = broken.verdict
