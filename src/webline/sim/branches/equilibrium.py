@@ -22,6 +22,7 @@ import numpy as np
 from scipy.optimize import root
 
 from webline.errors import SimulationError
+from webline.sim.branches.centre_winder import open_loop_torque
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import taper_at
 from webline.sim.branches.loop.plant import node_inertia, rhs
@@ -45,12 +46,14 @@ class BranchPoint:
 
 def _references(plan: BranchPlan, t: float) -> np.ndarray:
     """Each loadcell span's reference [N] at ``t``, times its drive's taper at the roll's
-    starting radius."""
+    starting radius and the tension ramp's factor."""
     refs = np.full(len(plan.line.spans), np.nan)
     for d in range(plan.di.shape[0]):
         i, j = plan.di[d, B.DI_NODE], plan.di[d, B.DI_ROLL]
         factor = 1.0 if j < 0 else taper_at(d, plan.line.rolls[j].radius, plan.nodes[i, B.N_CORE],
                                             plan.df, plan.prof_t, plan.prof_v, plan.prof_off)
+        if plan.offsets[B.O_RAMP] >= 0:  # the tension ramp at start and stop (R1)
+            factor *= plan.profile(int(plan.offsets[B.O_RAMP]), t)
         first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
         for k, p in plan.cells[first:first + count]:
             refs[k] = factor * plan.profile(int(p), t)
@@ -132,6 +135,10 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.nd
                 on = plan.cores[:, B.C_NODE] == i
                 fastest = np.max(x[off_c:off_c + n_c][on] * (1.0 + plan.clutch[on, B.CF_OVERSPEED]))
                 out[row] = (x[off_w + i] - fastest) / w_scale[i]
+                continue
+            if plan.di[d, B.DI_WINDER] == B.WINDER_OPEN:  # its torque, not its zone (W4)
+                out[row] = (cmd[d] - open_loop_torque(plan, d, x, refs, t, nodes is plan.nodes)
+                            ) / tq_scale[d]
                 continue
             first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
             cells = plan.cells[first:first + count, 0]

@@ -21,6 +21,7 @@ import numpy as np
 
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.profiles import breakpoints
+from webline.sim.branches.centre_winder import linear_winder_rows
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import node_inertia, rhs
@@ -163,6 +164,10 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
         kx[d], ki[d], kr[d] = kps * ev_x, kps * ev_q, kps * ev_r
         ki[d, d] += 1.0
         gx[d], gi[d], gr[d] = kis * ev_x, kis * ev_q, kis * ev_r
+        if plan.di[d, B.DI_WINDER] != B.WINDER_NONE:  # a centre winder (docs/winder.md W3-W4)
+            linear_winder_rows(plan, d, speed_arm(plan, point, i),
+                               n_d + zoned.index(d) if d in zoned else None, kx, ki, kr, gx,
+                               gi, gr)
     return kx, ki, kr, gx, gi, gr
 
 

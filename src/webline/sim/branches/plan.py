@@ -14,6 +14,13 @@ from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
 from webline.sim.branches.breaks import break_columns
+from webline.sim.branches.centre_winder import (
+    ramp_column,
+    rotating_inertia,
+    splice_rows,
+    winder_columns,
+    wound_density,
+)
 from webline.sim.branches.disturb import disturbance_table, eccentricities
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import held_inputs
@@ -125,11 +132,11 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     eccentric = eccentricities(line)
     off_c = off_q + 2 * n_w
     offsets = np.array([off_w, off_r, off_tq, off_q, off_c, off_c + len(cores),
-                        off_c + len(cores) + len(eccentric), 0], dtype=np.int64)
+                        off_c + len(cores) + len(eccentric), -1, 0], dtype=np.int64)
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):
         nodes[i, B.N_RADIUS] = r.radius
-        nodes[i, B.N_JCONST] = r.inertia  # type: ignore[assignment]  # (checked: a number)
+        nodes[i, B.N_JCONST] = rotating_inertia(line, i)  # (a roll's totals: J1)
         nodes[i, B.N_VISCOUS], nodes[i, B.N_COULOMB] = r.friction, r.coulomb_friction
         nodes[i, B.N_RATIO] = 1.0
         nodes[i, B.N_DRIVE] = line.drives.index(i) if i in line.drives else -1
@@ -149,8 +156,8 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         on_clutch = float(j in cores[:, B.C_ROLL])
         nodes[roll.node, B.N_ROLLS] += 1 - on_clutch
         m = line.materials[roll.web]
-        rolls[j] = (roll.node, roll.web, roll.direction, m.thickness, m.width, m.density,
-                    nodes[roll.node, B.N_CORE], on_clutch)
+        rolls[j] = (roll.node, roll.web, roll.direction, m.thickness, m.width,
+                    wound_density(line, j), nodes[roll.node, B.N_CORE], on_clutch)
     si, sf, layers = _span_tables(line)
     lawi, lawf, laws, kv = law_tables(line, si, sf)
     for c, (_, _, k) in enumerate(cores):
@@ -189,13 +196,18 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         j = next(j for j, r in enumerate(line.rolls) if r.node == node)
         w = line.rolls[j].web
         new = wound[w] if change.wound_in_tension is None else change.wound_in_tension
-        events = np.array([[change.time, j, change.radius, new, w]])
+        events = np.array([[change.time, j, change.radius, new, w, B.EVENT_ROLL_CHANGE, 1.0,
+                            0.0]])
     dist = disturbance_table(line, profiles)
     if break_columns(line, sf, df):  # a web break: after the drags each span's broken flag,
         offsets[B.O_BREAK] = 1  # then each node's holding brake [N·m]
         wound = np.concatenate([wound, np.zeros(n_s + n_n)])
     taper_columns(line, df, profiles)
     radius0 = diameter_columns(line, df, di)
+    winder_columns(line, di, df, profiles)  # centre winders: compensation, open loop, ramp
+    offsets[B.O_RAMP] = ramp_column(line, profiles)
+    events = np.vstack([events, np.reshape(splice_rows(line, 1.0 / (
+        spec.control.sample_rate if sample_rate is None else sample_rate)), (-1, B.E_COLS))])
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
     top = max(float(np.max(np.abs(v))) for v in [breakpoints(spec.speed)[1]])
     rate = spec.control.sample_rate if sample_rate is None else sample_rate

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from webline.sim.branches.break_verdict import break_findings, intact, without_cut_jump
+from webline.sim.branches.centre_winder import splice_findings
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.web_findings import felt_records, layer_tension, yield_findings
 from webline.spec.branched.check import kind_of
@@ -167,6 +168,7 @@ class BranchResult:
                                         f"{label} exceeds its tension limit {limit:.4g} N "
                                         f"(max {np.max(tension):.4g} N)",
                                         float(self.time[first])))
+        findings += splice_findings(line, self.plan.dt, self.time, ds["tension"].values)
         findings += yield_findings(self.plan, self.time, self.states)
         findings += break_findings(self.plan, self.time, ds["speed"].values, self.settings)
         limits = self.plan.df[:, B.D_LIMIT]

@@ -10,6 +10,7 @@ import numpy as np
 from webline.errors import SimulationError
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches.break_verdict import detection
+from webline.sim.branches.centre_winder import initial_compensation
 from webline.sim.branches.equilibrium import operating_point
 from webline.sim.branches.linear import fastest_rate
 from webline.sim.branches.loop import layout as B
@@ -68,6 +69,7 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     x = point.x.copy()
     istate = np.zeros((plan.di.shape[0], B.I_COLS))
     istate[:, B.I_SPEED] = point.torque  # the speed integrators hold the torques
+    istate[:, B.I_SPEED] -= initial_compensation(plan, point)  # (less a winder's, W3)
     istate[:, B.I_RADIUS] = plan.radius0
     istate[:, B.I_DETECT] = -1.0  # no web break detected yet
     n_d = plan.di.shape[0]

@@ -13,6 +13,7 @@ from webline.errors import LineFileError
 from webline.spec.branched.disturbances import check_disturbances
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
 from webline.spec.branched.web_law import check_web_laws
+from webline.spec.branched.winder import check_splices, check_winders
 from webline.spec.schema import (
     CascadedPISpec,
     DrivenSpec,
@@ -65,6 +66,8 @@ def check_branched(spec: BranchedLineSpec, file: str) -> None:
     _check_rollers_once(spec, fail)
     _check_tree(spec, fail)
     check_disturbances(spec, fail)
+    check_winders(spec, fail)
+    check_splices(spec, fail)
 
 
 def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
@@ -72,7 +75,7 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         key = f"rollers[{i}]"
         if roller.type == "dancer":
             unsupported(f"{key}.dancer", fail)
-        for name in ("nip", "wrap", "friction_table", "winder"):
+        for name in ("nip", "wrap", "friction_table"):
             if getattr(roller, name, None) is not None:
                 unsupported(f"{key}.{name}", fail)
         _check_diameter(spec, i, roller, fail)
@@ -86,8 +89,6 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         contact = getattr(roller, "contact", None)
         if contact is not None and contact.type != "adhered":
             unsupported(f"{key}.contact", fail)
-        if isinstance(roller, UnwindSpec | RewindSpec) and not isinstance(roller.inertia, float):
-            unsupported(f"{key}.inertia", fail, "a roll's inertia as one number, without web")
         drive = getattr(roller, "drive", None)
         if drive is not None:
             if drive.transmission.type != "direct":

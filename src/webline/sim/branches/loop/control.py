@@ -14,8 +14,9 @@ from webline.physics import motor, span, taper
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.breaks import break_monitor, fade_trim, held_command
 from webline.sim.branches.loop.plant import node_inertia
+from webline.sim.branches.loop.winder import compensation, open_loop, zone_reference
 from webline.sim.drives.measure import quantized
-from webline.sim.elements.signals import gaussian, jit, profile_at, sines
+from webline.sim.elements.signals import gaussian, jit, profile_at, profile_slope_at, sines
 
 _tension: Any = jit(span.tension)
 _saturate: Any = jit(motor.saturate)
@@ -116,6 +117,8 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             v_meas = radius * omega_meas
         e_t = 0.0
         factor = taper_at(d, radius, nodes[i, B.N_CORE], df, prof_t, prof_v, prof_off)
+        if offsets[B.O_RAMP] >= 0:  # the tension ramp at start and stop (docs/winder.md R1)
+            factor *= profile_at(offsets[B.O_RAMP], t, prof_t, prof_v, prof_off)
         for c in range(di[d, B.DI_CELLS], di[d, B.DI_CELLS] + di[d, B.DI_NCELLS]):
             measured = _tension(x[cells[c, 0]])
             if noisy:
@@ -137,6 +140,16 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
         if offsets[B.O_BREAK] and stopping == 0.0:  # stopped: the drives hold (W8)
             cmd[d] = held_command(d, dt, v_meas, gain, istate, df)
             continue
+        comp = 0.0
+        if di[d, B.DI_WINDER] != B.WINDER_NONE:  # a centre winder (docs/winder.md W3, W4)
+            comp = compensation(d, i, radius, v_meas / radius,
+                                profile_slope_at(0, t, prof_t, prof_v, prof_off), nodes, rolls,
+                                df, prof_t, prof_v, prof_off)
+            if di[d, B.DI_WINDER] == B.WINDER_OPEN:
+                cmd[d] = open_loop(d, dt, radius, zone_reference(d, t, factor, di, cells, prof_t,
+                                                                 prof_v, prof_off),
+                                   comp, v_meas, v_line, gain, istate, df)
+                continue
         raw = df[d, B.D_KPS] * gain * e_v + istate[d, B.I_SPEED]
         u = _saturate(raw, df[d, B.D_LIMIT])
         saturated = raw != u
@@ -144,4 +157,4 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             istate[d, B.I_SPEED] += df[d, B.D_KIS] * gain * e_v * dt
         if not (saturated and df[d, B.D_SIGMA] * e_t * raw > 0.0):
             istate[d, B.I_TENSION] += df[d, B.D_KIT] * e_t * dt
-        cmd[d] = u
+        cmd[d] = u if comp == 0.0 else _saturate(u + comp, df[d, B.D_LIMIT])

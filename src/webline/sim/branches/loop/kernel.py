@@ -16,6 +16,7 @@ from webline.sim.branches.loop.breaks import cut
 from webline.sim.branches.loop.control import control_tick, held_inputs
 from webline.sim.branches.loop.plant import rhs
 from webline.sim.branches.loop.web_law import felt_start_jit
+from webline.sim.branches.loop.winder import splices
 from webline.sim.elements.signals import jit, loop_njit
 
 
@@ -25,7 +26,8 @@ def roll_change(t: float, x: np.ndarray, wound: np.ndarray, done: np.ndarray,
     """A new roll takes over at its event's time: new radius and wound-in tension, brought
     to the old roll's surface speed first (a flying splice)."""
     for e in range(events.shape[0]):
-        if done[e] == 0.0 and t >= events[e, B.E_TIME]:
+        if done[e] == 0.0 and t >= events[e, B.E_TIME] and (
+                events[e, B.E_KIND] == B.EVENT_ROLL_CHANGE):
             done[e] = 1.0
             j = int(events[e, B.E_ROLL])
             i = int(rolls[j, B.R_NODE])
@@ -67,6 +69,7 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
         if j == n_ticks and not include_end:  # the next chunk starts with this tick
             break
         roll_change(t, x, wound, done, offsets, rolls, events)
+        splices(t, dt, x, istate, done, offsets, nodes, sf, rolls, webs, df, events)
         if offsets[B.O_BREAK]:  # a web break: its spans carry nothing from their time on
             cut(t, x, wound, sf, webs.shape[0], nodes.shape[0], istate, di, df)
         held_inputs(t, wound, held, webs.shape[0], dist, prof_t, prof_v, prof_off)

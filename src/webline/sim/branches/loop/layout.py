@@ -12,9 +12,12 @@ from webline.spec.winder import MAX_PRESETS
 
 # offsets row
 O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_CORE, O_ANGLE, O_N = range(7)
+# (tension ramp, docs/winder.md R1: the profile of its factor on every zone's reference, -1
+# without a ramp)
+O_RAMP = 7
 # web break (sim.branches.breaks): 1 where the line has a break in this run (a flag frozen
 # into the compiled loop, so that a line without one folds the monitor and the cut away)
-O_BREAK = 7
+O_BREAK = 8
 
 # node table (float)
 # (N_ECC: eccentricity [m]; N_ANGLE: its angle state's number, -1 where round)
@@ -60,7 +63,9 @@ CF_SLIP, CF_INERTIA, CF_OVERSPEED, CF_COLS = range(4)
 WB_FIRST, WB_LAST, WB_COLS = range(3)
 
 # drive table (int)
-DI_NODE, DI_CELLS, DI_NCELLS, DI_ROLL, DI_COLS = range(5)
+# (DI_WINDER: centre-winder compensation, docs/winder.md W3-W4: WINDER_*)
+DI_NODE, DI_CELLS, DI_NCELLS, DI_ROLL, DI_WINDER, DI_COLS = range(6)
+WINDER_NONE, WINDER_COMP, WINDER_OPEN = range(3)
 # drive table (float)
 # (taper: kind of physics.taper, 0 none; taper; largest diameter [m]; a table's profile.
 # diameter calculator: DCALC_*; filter [s]; rate limit [m/s]; hold below [m/s]; line-speed
@@ -71,7 +76,13 @@ DI_NODE, DI_CELLS, DI_NCELLS, DI_ROLL, DI_COLS = range(5)
  D_DHOLD, D_DSOURCE, D_DTHICK, D_DDIR, D_PRESETN) = range(23)
 D_PRESETT = D_PRESETN + 1
 D_PRESETD = D_PRESETT + MAX_PRESETS
-D_BREAK = D_PRESETD + MAX_PRESETS
+# centre-winder compensation and open-loop tension control (docs/winder.md W3-W4, W7): 1 with
+# inertia compensation; static friction [N·m]; viscous friction [N·m·s]; the friction
+# table's profile (over |ω| [rad/s]), -1 none; the open-loop speed limiter's offset [m/s];
+# +1 a rewind (the web pulls it back), -1 an unwind
+(D_COMPJ, D_COMPCS, D_COMPB, D_COMPFP, D_SPEEDLIM,
+ D_DIR) = range(D_PRESETD + MAX_PRESETS, D_PRESETD + MAX_PRESETS + 6)
+D_BREAK = D_DIR + 1
 # web break (sim.branches.breaks), the same on every drive's row: the monitor's threshold
 # (x each loadcell's reference), stop time [s], hold after the stop (HOLD_*), diameter
 # threshold [m] (0: off), the holding brake as a fraction of the torque limit (hold
@@ -92,7 +103,10 @@ I_COLS = 7
 BREAK_TENSION, BREAK_DIAMETER = range(1, 3)
 
 # event table (roll change): time, roll, new radius, new wound-in tension, web
-E_TIME, E_ROLL, E_RADIUS, E_WOUND, E_WEB, E_COLS = range(6)
+# (flying splice, docs/winder.md S1: E_KIND an EVENT_*; the new roll's surface speed over the
+# web's, 1 + mismatch; slack [m] put into the roll's span)
+E_TIME, E_ROLL, E_RADIUS, E_WOUND, E_WEB, E_KIND, E_GAIN, E_SLACK, E_COLS = range(9)
+EVENT_ROLL_CHANGE, EVENT_SPLICE = range(2)
 
 STATUS_OK, STATUS_NONFINITE, STATUS_UNWIND_EMPTY, STATUS_RUNAWAY = range(4)
 #: web laws: a span's stretch beyond its web's strength (``SF_STRENGTH``)
