@@ -100,7 +100,8 @@ def load_column(plan: BranchPlan, c: int, keep: np.ndarray) -> np.ndarray:
     if node < 0:
         return column
     rows = plan.dist[plan.dist[:, B.DS_KIND] == B.DIST_DANCER_LOAD]
-    slot = plan.webs.shape[0] + plan.nodes.shape[0] + dancer_nodes(plan.line).index(node)
+    dancers = dancer_nodes(plan.line)
+    slot = len(plan.wound) - len(dancers) + dancers.index(node)  # the loads come last
     row = rows[rows[:, B.DS_INDEX] == slot][0]
     if int(row[B.DS_A]) == int(plan.cells[c, 1]):  # the default load follows the reference
         speed = int(plan.nodes[node, B.N_DSTATE]) + 1

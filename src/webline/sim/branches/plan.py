@@ -13,6 +13,7 @@ import numpy as np
 from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
+from webline.sim.branches.breaks import break_columns
 from webline.sim.branches.centre_winder import (
     ramp_column,
     rotating_inertia,
@@ -131,9 +132,8 @@ class BranchPlan:
             istate = np.zeros((self.di.shape[0], B.I_COLS))
             istate[:, B.I_RADIUS] = [x[self.offsets[B.O_RADIUS] + j] if j >= 0 else 0.0
                                      for j in self.di[:, B.DI_ROLL]]
-            taper_loads(out, istate, x, self.webs.shape[0] + self.nodes.shape[0],
-                        self.offsets, self.nodes, self.di, self.df, self.cells, self.prof_t,
-                        self.prof_v, self.prof_off)
+            taper_loads(out, istate, x, self.offsets, self.nodes, self.di, self.df,
+                        self.cells, self.prof_t, self.prof_v, self.prof_off)
         return out
 
     def profile(self, p: int, t: float) -> float:
@@ -156,7 +156,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     off_dn = off_c + len(cores) + len(eccentric)  # dancers: 2 states each (docs/branching.md)
     n_dn = len(dancer_nodes(line))
     offsets = np.array([off_w, off_r, off_tq, off_q, off_c, off_c + len(cores),
-                        off_dn + 2 * n_dn, -1, off_dn], dtype=np.int64)
+                        off_dn + 2 * n_dn, -1, 0, off_dn], dtype=np.int64)
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):
         nodes[i, B.N_RADIUS] = r.radius
@@ -198,7 +198,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         if tension is not None:
             ref_of[k] = len(profiles)
             profiles.append(breakpoints(tension))
-    wound = np.zeros(n_w + n_n + n_dn)  # wound-in tension per web, drag per node, dancer load
+    wound = np.zeros(n_w + n_n)  # wound-in tension per web, drag per node (held_inputs)
     for w, web in enumerate(spec.webs):
         first = spec.rollers[line.node_index[web.path[0]]]
         if isinstance(first, UnwindSpec):
@@ -226,8 +226,13 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         new = wound[w] if change.wound_in_tension is None else change.wound_in_tension
         events = np.array([[change.time, j, change.radius, new, w, B.EVENT_ROLL_CHANGE, 1.0,
                             0.0]])
-    dist = np.vstack([disturbance_table(line, profiles),
-                      load_rows(line, n_w + n_n, profiles, ref_of)])
+    dist = disturbance_table(line, profiles)
+    if break_columns(line, sf, df):  # a web break: after the drags each span's broken flag,
+        offsets[B.O_BREAK] = 1  # then each node's holding brake [N·m]
+        wound = np.concatenate([wound, np.zeros(n_s + n_n)])
+    first_load = len(wound)  # dancers' loads: the last held inputs
+    wound = np.concatenate([wound, np.zeros(n_dn)])
+    dist = np.vstack([dist, load_rows(line, first_load, profiles, ref_of)])
     taper_columns(line, df, profiles)
     radius0 = diameter_columns(line, df, di)
     winder_columns(line, di, df, profiles)  # centre winders: compensation, open loop, ramp

@@ -42,14 +42,14 @@ def moving_span_rate(k: int, x: np.ndarray, fixed_rate: float, nodes: np.ndarray
 
 
 @jit
-def carriage_rates(x: np.ndarray, felt: np.ndarray, held: np.ndarray, first_load: int,
-                   offsets: np.ndarray, nodes: np.ndarray, si: np.ndarray, sf: np.ndarray,
-                   dx: np.ndarray) -> None:
+def carriage_rates(x: np.ndarray, felt: np.ndarray, held: np.ndarray, offsets: np.ndarray,
+                   nodes: np.ndarray, si: np.ndarray, sf: np.ndarray, dx: np.ndarray) -> None:
     """dy/dt and dv/dt of every carriage into ``dx`` (D2): M dv/dt = load - g_in T_in -
     g_out T_out - k (y - y_set) - c v, plus an end-stop spring-damper beyond 0 and the
-    travel; T the tensions the roller feels ``felt`` [N], the load ``held[first_load + n]``
-    [N] of dancer n held over the tick."""
+    travel; T the tensions the roller feels ``felt`` [N], the load [N] of dancer n held over
+    the tick in ``held``, whose last entries are the dancers' loads."""
     first = offsets[B.O_DANCER]
+    first_load = held.shape[0] - (offsets[B.O_N] - first) // 2
     for k in range(si.shape[0]):
         state = si[k, B.S_DANCEB]
         if state < 0:

@@ -13,13 +13,14 @@ from webline.sim.elements.signals import jit
 
 
 @jit
-def taper_loads(held: np.ndarray, istate: np.ndarray, x: np.ndarray, first_load: int,
-                offsets: np.ndarray, nodes: np.ndarray, di: np.ndarray, df: np.ndarray,
-                cells: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
-                prof_off: np.ndarray) -> None:
+def taper_loads(held: np.ndarray, istate: np.ndarray, x: np.ndarray, offsets: np.ndarray,
+                nodes: np.ndarray, di: np.ndarray, df: np.ndarray, cells: np.ndarray,
+                prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray) -> None:
     """Multiply the held load [N] of each dancer a tapered drive holds in position control
     by that drive's taper factor f(D) (``control.taper_at``), D from the radius its
-    controller knows: the calculated one with a diameter calculator, else the true one."""
+    controller knows: the calculated one with a diameter calculator, else the true one.
+    The dancers' loads are the last entries of ``held``."""
+    first_load = held.shape[0] - (offsets[B.O_N] - offsets[B.O_DANCER]) // 2
     for d in range(di.shape[0]):
         if df[d, B.D_TAPER_KIND] == 0.0:
             continue

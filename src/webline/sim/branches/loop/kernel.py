@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.breaks import cut
 from webline.sim.branches.loop.control import control_tick, held_inputs
 from webline.sim.branches.loop.dancer_taper import taper_loads
 from webline.sim.branches.loop.plant import rhs
@@ -72,6 +73,8 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             break
         roll_change(t, x, wound, done, offsets, rolls, events)
         splices(t, dt, x, istate, done, offsets, nodes, sf, rolls, webs, df, events)
+        if offsets[B.O_BREAK]:  # a web break: its spans carry nothing from their time on
+            cut(t, x, wound, sf, webs.shape[0], nodes.shape[0], istate, di, df)
         held_inputs(t, wound, held, webs.shape[0], dist, prof_t, prof_v, prof_off)
         measured = x
         if lawi.shape[0] > 0 or kv.shape[0] > 0:  # the loadcells feel F(s) + τ ds/dt
@@ -84,8 +87,8 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
         control_tick(t, tick0 + j, dt, measured, istate, cmd, offsets, nodes, rolls, di, df,
                      cells, dist, prof_t, prof_v, prof_off, si, fb, refs)
         if offsets[B.O_DANCER] < offsets[B.O_N]:  # taper through a dancer (frozen: folds)
-            taper_loads(held, istate, x, webs.shape[0] + nodes.shape[0], offsets, nodes, di,
-                        df, cells, prof_t, prof_v, prof_off)
+            taper_loads(held, istate, x, offsets, nodes, di, df, cells, prof_t, prof_v,
+                        prof_off)
         if (tick0 + j) % record_every == 0 or j == n_ticks:
             rec[n_rec, 0] = t
             for m in range(n_x):
