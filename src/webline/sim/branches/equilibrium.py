@@ -22,6 +22,7 @@ import numpy as np
 from scipy.optimize import root
 
 from webline.errors import SimulationError
+from webline.sim.branches.drive_trains import steady_trains
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import taper_at
 from webline.sim.branches.loop.plant import node_inertia, rhs
@@ -106,6 +107,7 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.nd
         x[off_c:off_c + n_c] = z[n_s + n_n:n_s + n_n + n_c] * c_scale
         cmd[:] = z[n_s + n_n + n_c:] * tq_scale
         x[off_tq:off_tq + n_d] = cmd
+        steady_trains(plan, x)  # a compliant drive's twist carries its torque
         return x
 
     def residual(z: np.ndarray) -> np.ndarray:
@@ -173,10 +175,12 @@ def operating_point(plan: BranchPlan, t: float = 0.0) -> BranchPoint:
         dx = np.zeros(plan.n_x)
         cmd = np.zeros(n_d)
         at[off_tq:off_tq + n_d] = 0.0
+        steady_trains(plan, at)
         rhs(at, cmd, plan.held(t), *plan.tables(), dx, plan.scratch())
         for d in range(n_d):  # J dω/dt = web torque + n τ = 0
             i = plan.di[d, B.DI_NODE]
             web_torque = dx[off_w + i] * node_inertia(i, at, plan.offsets, plan.nodes,
                                                       plan.rolls)
-            at[off_tq + d] = -web_torque / plan.nodes[i, B.N_RATIO]
+            at[off_tq + d] = -web_torque / plan.df[d, B.D_RATIO]
+        steady_trains(plan, at)
     return BranchPoint(at, at[off_tq:off_tq + n_d].copy(), ratio, speed)

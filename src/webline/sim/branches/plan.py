@@ -14,6 +14,7 @@ from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
 from webline.sim.branches.disturb import disturbance_table, eccentricities
+from webline.sim.branches.drive_trains import brake_rows, train_columns, tuning_inertia
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import held_inputs
 from webline.sim.branches.loop.kernel import compiled_advance
@@ -189,7 +190,8 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         w = line.rolls[j].web
         new = wound[w] if change.wound_in_tension is None else change.wound_in_tension
         events = np.array([[change.time, j, change.radius, new, w]])
-    dist = disturbance_table(line, profiles)
+    dist = np.vstack([disturbance_table(line, profiles), brake_rows(line, profiles)])
+    train_columns(line, offsets, nodes, di, df)  # compliant transmissions (drive_trains)
     taper_columns(line, df, profiles)
     radius0 = diameter_columns(line, df, di)
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
@@ -284,13 +286,14 @@ def _tune(plan: BranchPlan) -> None:
         c, drive = roller.controller, roller.drive
         j = plan.di[d, B.DI_ROLL]
         radius = x[plan.offsets[B.O_RADIUS] + j] if j >= 0 else roller.radius
-        inertia = float(node_inertia(i, x, plan.offsets, plan.nodes, plan.rolls))
+        inertia, seen = tuning_inertia(plan, d, float(node_inertia(i, x, plan.offsets,
+                                                                   plan.nodes, plan.rolls)))
         zone = i in line.zones
         compliance = zone_compliance(line, i) if zone else 1.0
         auto = tune(inertia, drive.ratio, radius, compliance, 1.0, c.speed_bandwidth,
                     c.tension_bandwidth, c.damping)
         limit = min(0.2 / drive.torque_lag, 2 * math.pi / plan.dt / 20)
-        scale = min(1.0, limit * inertia / (drive.ratio * radius) / auto.speed_kp)
+        scale = min(1.0, limit * seen / (drive.ratio * radius) / auto.speed_kp)
         row = plan.df[d]
         row[B.D_RATIO] = drive.ratio
         row[B.D_KPS] = scale * auto.speed_kp if c.speed_kp is None else c.speed_kp

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
+from webline.sim.branches.drive_trains import train_signals
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.web_findings import felt_records, layer_tension, yield_findings
 from webline.spec.branched.check import kind_of
@@ -104,6 +105,8 @@ class BranchResult:
             "core_omega": var(("core",), core_omega, "rad/s",
                               "angular speed of a lane's core on a differential shaft"),
         }
+        if np.any(plan.di[:, B.DI_TSTATE] >= 0):  # compliant transmissions (drive_trains)
+            data.update(train_signals(plan, x, var))
         coords = {"time": ("time", t, {"units": "s"}),
                   "span": [s.name for s in line.spans],
                   "span_web": ("span", [line.spec.webs[s.web].name for s in line.spans]),

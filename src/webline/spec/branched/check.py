@@ -11,6 +11,7 @@ from typing import NoReturn
 
 from webline.errors import LineFileError
 from webline.spec.branched.disturbances import check_disturbances
+from webline.spec.branched.drive_train import check_drive_train
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
 from webline.spec.branched.web_law import check_web_laws
 from webline.spec.schema import (
@@ -90,10 +91,7 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
             unsupported(f"{key}.inertia", fail, "a roll's inertia as one number, without web")
         drive = getattr(roller, "drive", None)
         if drive is not None:
-            if drive.transmission.type != "direct":
-                unsupported(f"{key}.drive.transmission", fail)
-            if drive.brake is not None:
-                unsupported(f"{key}.drive.brake", fail)
+            check_drive_train(spec, key, roller.name, drive, fail)
         controller = getattr(roller, "controller", None)
         if controller is not None and not isinstance(controller, CascadedPISpec):
             unsupported(f"{key}.controller.type", fail, "cascaded_pi controllers")
