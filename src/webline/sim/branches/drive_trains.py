@@ -8,7 +8,7 @@ linear model's rows.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
@@ -17,9 +17,6 @@ from webline.physics import roll
 from webline.profiles import breakpoints
 from webline.sim.branches.loop import layout as B
 from webline.spec.schema import BeltSpec, DirectSpec, IdleSpec, ShaftSpec
-
-if TYPE_CHECKING:
-    from webline.sim.branches.plan import BranchPlan
 
 
 def compliant_drives(line: BranchedLine) -> list[int]:
@@ -79,25 +76,25 @@ def brake_rows(line: BranchedLine, profiles: list[tuple[np.ndarray, np.ndarray]]
     return np.array(rows, dtype=float).reshape(-1, B.DS_COLS)
 
 
-def steady_trains(plan: BranchPlan, x: np.ndarray) -> None:
+def steady_trains(x: np.ndarray, offsets: np.ndarray, di: np.ndarray, df: np.ndarray,
+                  rolls: np.ndarray) -> None:
     """Set each compliant drive's motor speed n ω and the twist that passes the load-side
     torque n τ - n² (b_m ω + J_m dω/dt) (the chain's ``Plan._transmission_state``) in ``x``,
     the torques ``x``'s own; dω/dt of a roll drive = -ω dR/dt / R (it holds its surface
     speed as the radius changes), else 0. A twist past the dead zone on the loaded side."""
-    off_w, off_r, off_tq = (plan.offsets[B.O_OMEGA], plan.offsets[B.O_RADIUS],
-                            plan.offsets[B.O_TORQUE])
-    for d in range(plan.di.shape[0]):
-        state = int(plan.di[d, B.DI_TSTATE])
+    off_w, off_r, off_tq = offsets[B.O_OMEGA], offsets[B.O_RADIUS], offsets[B.O_TORQUE]
+    for d in range(di.shape[0]):
+        state = int(di[d, B.DI_TSTATE])
         if state < 0:
             continue
-        row = plan.df[d]
-        i, j = int(plan.di[d, B.DI_NODE]), int(plan.di[d, B.DI_ROLL])
+        row = df[d]
+        i, j = int(di[d, B.DI_NODE]), int(di[d, B.DI_ROLL])
         n, omega = row[B.D_RATIO], x[off_w + i]
         accel = 0.0
         if j >= 0:
             radius = x[off_r + j]
-            rate = roll.radius_rate(radius * omega, radius, plan.rolls[j, B.R_THICK],
-                                    plan.rolls[j, B.R_DIR])
+            rate = roll.radius_rate(radius * omega, radius, rolls[j, B.R_THICK],
+                                    rolls[j, B.R_DIR])
             accel = -omega * rate / radius
         x[state] = n * omega
         load = n * x[off_tq + d] - n * n * (row[B.D_JMOTOR] * accel + row[B.D_BMOTOR] * omega)
@@ -105,42 +102,44 @@ def steady_trains(plan: BranchPlan, x: np.ndarray) -> None:
         x[state + 1] = load / row[B.D_KTRANS] + gap
 
 
-def train_states(plan: BranchPlan) -> list[tuple[int, str]]:
+def train_states(line: BranchedLine, di: np.ndarray) -> list[tuple[int, str]]:
     """(state number, name) of each compliant drive's motor speed and twist."""
     out = []
-    for d, i in enumerate(plan.line.drives):
-        state = int(plan.di[d, B.DI_TSTATE])
+    for d, i in enumerate(line.drives):
+        state = int(di[d, B.DI_TSTATE])
         if state >= 0:
-            name = plan.line.spec.rollers[i].name
+            name = line.spec.rollers[i].name
             out += [(state, f"{name}_motor_omega"), (state + 1, f"{name}_twist")]
     return out
 
 
-def tuning_inertia(plan: BranchPlan, d: int, inertia: float) -> tuple[float, float]:
+def tuning_inertia(di: np.ndarray, df: np.ndarray, d: int,
+                   inertia: float) -> tuple[float, float]:
     """(inertia the speed PI is tuned for, inertia its crossover sees above the transmission's
     resonance) [kg·m²] of drive ``d`` given its node's ``inertia``: the chain's rule
     (``drive_table._pi_columns``): the reflected motor n² J_m adds across a compliant
     transmission, and a motor-side loop sees only it."""
-    row = plan.df[d]
-    if plan.di[d, B.DI_TSTATE] < 0:
+    row = df[d]
+    if di[d, B.DI_TSTATE] < 0:
         return inertia, inertia
     motor = row[B.D_RATIO] ** 2 * row[B.D_JMOTOR]
     return inertia + motor, motor if row[B.D_FEEDBACK] > 0 else inertia + motor
 
 
-def train_signals(plan: BranchPlan, x: np.ndarray, var: Callable[..., Any]) -> dict[str, Any]:
+def train_signals(offsets: np.ndarray, di: np.ndarray, df: np.ndarray, x: np.ndarray,
+                  var: Callable[..., Any]) -> dict[str, Any]:
     """A run's ``motor_omega`` [rad/s] (the motor's speed / n: the roller's for a direct
     drive) and ``twist`` [rad] (θ_m/n - θ_L at the load shaft, 0 for a direct drive) per
     drive, from the records ``x``; ``var`` makes a variable (dims, values, units, text)."""
-    n_d = plan.di.shape[0]
+    n_d = di.shape[0]
     omega = np.empty((len(x), n_d))
     twist = np.zeros((len(x), n_d))
     for d in range(n_d):
-        state, i = int(plan.di[d, B.DI_TSTATE]), int(plan.di[d, B.DI_NODE])
+        state, i = int(di[d, B.DI_TSTATE]), int(di[d, B.DI_NODE])
         if state < 0:
-            omega[:, d] = x[:, plan.offsets[B.O_OMEGA] + i]
+            omega[:, d] = x[:, offsets[B.O_OMEGA] + i]
         else:
-            omega[:, d] = x[:, state] / plan.df[d, B.D_RATIO]
+            omega[:, d] = x[:, state] / df[d, B.D_RATIO]
             twist[:, d] = x[:, state + 1]
     return {"motor_omega": var(("drive",), omega, "rad/s", "motor speed / ratio"),
             "twist": var(("drive",), twist, "rad", "transmission twist θm/n - θL at the load "

@@ -50,7 +50,7 @@ def kept_states(plan: BranchPlan, radii: bool = False) -> np.ndarray:
     return np.concatenate([np.arange(off_tq if radii else off_r),
                            np.arange(off_tq, off_q),
                            np.arange(plan.offsets[B.O_CORE], plan.offsets[B.O_ANGLE]),
-                           [state for state, _ in train_states(plan)]]  # motor ω, twist
+                           [s for s, _ in train_states(plan.line, plan.di)]]  # motor ω, twist
                           ).astype(np.int64)
 
 
@@ -65,7 +65,7 @@ def state_names(plan: BranchPlan, radii: bool = False) -> list[str]:
     return ([f"{s.name}_tension" for s in line.spans]
             + [f"{r.name}_omega" for r in line.spec.rollers] + rolls
             + [f"{line.spec.rollers[i].name}_torque" for i in line.drives] + cores
-            + [name for _, name in train_states(plan)])
+            + [name for _, name in train_states(plan.line, plan.di)])
 
 
 def wound_webs(plan: BranchPlan) -> list[int]:

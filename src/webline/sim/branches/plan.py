@@ -286,8 +286,8 @@ def _tune(plan: BranchPlan) -> None:
         c, drive = roller.controller, roller.drive
         j = plan.di[d, B.DI_ROLL]
         radius = x[plan.offsets[B.O_RADIUS] + j] if j >= 0 else roller.radius
-        inertia, seen = tuning_inertia(plan, d, float(node_inertia(i, x, plan.offsets,
-                                                                   plan.nodes, plan.rolls)))
+        inertia, seen = tuning_inertia(plan.di, plan.df, d, float(
+            node_inertia(i, x, plan.offsets, plan.nodes, plan.rolls)))
         zone = i in line.zones
         compliance = zone_compliance(line, i) if zone else 1.0
         auto = tune(inertia, drive.ratio, radius, compliance, 1.0, c.speed_bandwidth,

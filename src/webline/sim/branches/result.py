@@ -106,7 +106,7 @@ class BranchResult:
                               "angular speed of a lane's core on a differential shaft"),
         }
         if np.any(plan.di[:, B.DI_TSTATE] >= 0):  # compliant transmissions (drive_trains)
-            data.update(train_signals(plan, x, var))
+            data.update(train_signals(plan.offsets, plan.di, plan.df, x, var))
         coords = {"time": ("time", t, {"units": "s"}),
                   "span": [s.name for s in line.spans],
                   "span_web": ("span", [line.spec.webs[s.web].name for s in line.spans]),
