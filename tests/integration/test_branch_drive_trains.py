@@ -15,6 +15,7 @@ from webline.errors import LineFileError
 from webline.model.web_graph import load_branched
 from webline.sim.branches.equilibrium import operating_point
 from webline.sim.branches.linear import branch_linear_model
+from webline.sim.branches.loop.layout import DI_TSTATE
 from webline.sim.branches.plan import compile_branches
 
 J_MOTOR = 0.02  # kg·m²: the nip's motor rotor (the nip keeps 0.48 of its 0.5 kg·m²)
@@ -210,3 +211,38 @@ def test_the_cli_names_the_key_of_a_transmission_without_a_motor_inertia(tmp_pat
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and "rollers[4].drive.motor_inertia" in lines[0]
     assert "Traceback" not in result.output
+
+
+def test_a_shaft_with_backlash_drives_the_slitters_three_lanes():
+    """The slitter's rewind shaft (three lanes on one shaft) through a compliant shaft with
+    backlash: at the operating point the twist carries the drive's steady torque less what
+    the motor's deceleration takes (the lanes grow: at a held surface speed the shaft slows,
+    dω/dt = -ω dR/dt / R = -h ω² / (2π R), 0.39 rad/s² here): twist = (n τ - n² J_m dω/dt) / k
+    + Δ (to 1e-12 rad: the operating point's solver); a run from there holds each lane at
+    its 100 N (to 0.5 N) with the teeth touching throughout. (Measured on the load, the
+    auto-tuned speed PI destabilises the shaft's mode, as on a chain: thesis Sec. 2.4.)"""
+    data = load_branched("slitter").spec.model_dump(exclude_none=True)
+    shaft = next(r for r in data["rollers"] if r["name"] == "rewind_shaft")
+    stiffness, gap = 2000.0, 0.002
+    shaft["drive"].update(motor_inertia=0.05, feedback="motor", transmission={
+        "type": "shaft", "stiffness": stiffness, "backlash": {"gap": gap}})
+    line = load_branched(data)
+    plan = compile_branches(line)
+    point = operating_point(plan)
+    d = line.drives.index(line.node_index["rewind_shaft"])
+    twist = point.x[int(plan.di[d, DI_TSTATE]) + 1]
+    i = line.node_index["rewind_shaft"]
+    j = next(j for j, r in enumerate(line.rolls) if r.node == i)
+    omega, radius = point.x[plan.offsets[0] + i], line.rolls[j].radius
+    accel = -line.materials[line.rolls[j].web].thickness * omega**2 / (2 * np.pi * radius)
+    assert twist == pytest.approx((point.torque[d] - 0.05 * accel) / stiffness + gap, abs=1e-12)
+    modes = np.linalg.eigvals(branch_linear_model(plan, point, "closed").a)
+    assert np.max(modes.real) < 0.0
+    shaft["drive"]["feedback"] = "load"
+    on_load = compile_branches(load_branched(data))
+    modes = np.linalg.eigvals(branch_linear_model(on_load, operating_point(on_load)).a)
+    assert np.max(modes.real) > 1.0
+    ds = webline.simulate(line, 1.0).dataset
+    lanes = ds.tension.sel(span=["lane_1_span", "lane_2_span", "lane_3_span"]).values
+    assert np.max(np.abs(lanes - 100.0)) < 0.5
+    assert np.all(ds.twist.sel(drive="rewind_shaft").values > gap)
