@@ -246,3 +246,21 @@ def test_a_shaft_with_backlash_drives_the_slitters_three_lanes():
     lanes = ds.tension.sel(span=["lane_1_span", "lane_2_span", "lane_3_span"]).values
     assert np.max(np.abs(lanes - 100.0)) < 0.5
     assert np.all(ds.twist.sel(drive="rewind_shaft").values > gap)
+
+
+def test_show_lists_a_branched_drives_transmission_and_brake():
+    """The drives table of ``webline show`` and the report words a compliant drive as the
+    chain's does; a line of direct drives keeps its table as it was."""
+    from webline.report.text.branch_tables import line_tables
+
+    def drives(data: dict) -> object:
+        return next(t for t in line_tables(load_branched(data)) if t.key == "drives")
+
+    plain = drives(_laminator())
+    assert "transmission" not in plain.columns
+    table = drives(_laminator(_belt(backlash={"gap": GAP}), brake="2 N*m"))
+    row = dict(zip(table.columns, next(r for r in table.rows if r[0] == "nip"), strict=True))
+    assert row["transmission"].startswith("belt") and row["speed measured on"] == "motor"
+    assert row["backlash"] != "none" and row["brake"].startswith("2")
+    other = dict(zip(table.columns, table.rows[0], strict=True))
+    assert other["transmission"] == "direct" and other["brake"] == "none"
