@@ -12,6 +12,7 @@ from webline.cli_common import BadInput, open_output
 from webline.files import atomic_write
 from webline.model.web_graph import load_branched
 from webline.report.text.display import Display
+from webline.sim.branches.centre_winder import splice_summary
 from webline.sim.branches.run import simulate_branches
 
 FIGURE = "figures/tensions.png"
@@ -56,6 +57,12 @@ def run_branched(source: str, seconds: float | None, scenario: str | None, out: 
             spans = ", ".join(f"{name} {f * v['min_N']:.4g}-{f * v['max_N']:.4g} {unit}"
                               for name, v in table.items())
             typer.echo(f"{web['kind']} {web['web']}: {spans}")
+        for item in splice_summary(result):  # docs/branching.md, flying splice
+            typer.echo(f"flying splice of {item['roll']} at t = {item['time_s']:.4g} s: "
+                       f"largest change {item['largest_change_N']:.4g} N in "
+                       f"{item['largest_change_span']}; old roll stops in >= "
+                       f"{item['old_stop_s']:.3g} s, new roll runs up in >= "
+                       f"{item['new_run_up_s']:.3g} s at the torque limit")
         typer.echo(f"Results (SI): {results}\nSummary: {folder.path / 'summary.json'}\n"
                    f"Figures: {folder.path / 'figures'}\nReport: {report}")
     else:

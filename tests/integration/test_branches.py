@@ -220,7 +220,7 @@ def test_the_slitter_knife_carries_the_sum_of_its_lanes():
 
 @pytest.mark.parametrize(("line", "scenario"), [
     ("laminator", "start-up"), ("laminator", "roll-change"), ("laminator", "layer-upset"),
-    ("slitter", "start-up"), ("slitter", "thickness-profile")])
+    ("laminator", "flying-splice"), ("slitter", "start-up"), ("slitter", "thickness-profile")])
 def test_every_scenario_of_the_branched_lines_runs_to_its_end(line, scenario):
     result = webline.simulate(line, scenario=scenario)
     duration = webline.load_branched(line).spec.scenarios[scenario].duration

@@ -196,7 +196,8 @@ def test_film_zone_pole_near_the_bandwidth_its_pi_was_tuned_for():
 
 @pytest.mark.parametrize(("name", "scenario"), [
     ("laminator", None), ("laminator", "start-up"), ("laminator", "roll-change"),
-    ("laminator", "layer-upset"), ("slitter", None), ("slitter", "start-up"),
+    ("laminator", "layer-upset"), ("laminator", "flying-splice"), ("slitter", None),
+    ("slitter", "start-up"),
     ("slitter", "thickness-profile")])
 def test_every_mode_is_stable_at_every_operating_point(name, scenario):
     line = load_branched(name)

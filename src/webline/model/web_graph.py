@@ -11,11 +11,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 from webline.errors import ArgumentError, LineFileError
 from webline.spec.branched.check import kind_of
 from webline.spec.branched.schema import BranchedLineSpec, RollChangeSpec, WebPathSpec
+from webline.spec.branched.winder import check_roll_inertias, wound_web
 from webline.spec.check import web_ea
 from webline.spec.load import (
     branched_from_dict,
@@ -155,6 +156,12 @@ class BranchedLine:
                 out.append(Roll(self.node_index[last.name], w, 1.0, last.radius))
         return tuple(out)
 
+    def wound_web(self, node: int) -> Any:
+        """The web wound on roll ``node`` as its inertia totals see it (width [m] of its webs
+        side by side, density [kg/m³] by width: ``spec.branched.winder.wound_web``)."""
+        return wound_web([(self.materials[r.web].width, self.materials[r.web].density)
+                          for r in self.rolls if r.node == node])
+
     def roll_of(self, node: int, web: int) -> int:
         """Index of web ``web``'s roll on ``node``, or -1 where ``node`` is no roll of it."""
         return next((j for j, r in enumerate(self.rolls) if r.node == node and r.web == web), -1)
@@ -260,6 +267,8 @@ class BranchedLine:
         for key in ("speed", "disturbances"):  # a scenario's replace the line's
             if key in dumped:
                 data[key] = dumped[key]
+        if "splice" in dumped:  # a flying_splice disturbance (docs/winder.md, Flying splice)
+            data["disturbances"] = [*data.get("disturbances", []), dumped["splice"]]
         for path, value in scenario.set.items():
             set_path(data, path, value, self.source)
         spec = branched_from_dict(data, self.source)
@@ -297,6 +306,12 @@ def source_is_branched(source: object) -> bool:
 
 def _checked(line: BranchedLine) -> BranchedLine:
     _ = line.zones  # zones are checked when the line is loaded, not when it first runs
+
+    def fail(key: str, problem: str) -> NoReturn:
+        raise LineFileError(line.source, key, problem)
+
+    check_roll_inertias(line.spec, {i: line.wound_web(i) for i in {r.node for r in line.rolls}},
+                        fail)  # (totals need the webs' materials: J1)
     return line
 
 

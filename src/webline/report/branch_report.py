@@ -26,6 +26,7 @@ from webline.report.text.display import Display, number_text
 from webline.report.text.html import Image, Section, Text, render, table_html
 from webline.report.text.tables import Table, least_damped, make_table, modes_table
 from webline.report.text.verdict_text import STATUS_CLASS
+from webline.sim.branches.centre_winder import splice_summary
 from webline.sim.branches.result import BranchResult
 from webline.spec.load import dump_spec
 from webline.version import __version__
@@ -60,7 +61,8 @@ def write_branch_report(result: BranchResult, out_dir: Path, *,
     line = result.plan.line
     summary = {"line": line.name, "scenario": line.scenario, "webline_version": __version__,
                "settings": result.settings, "verdict": result.verdict.as_dict(),
-               "webs": result.web_summary(), "failure": result.failure}
+               "webs": result.web_summary(), "splices": splice_summary(result),
+               "failure": result.failure}
     summary_path = atomic_write_text(target("summary.json"),
                                      json.dumps(summary, indent=1) + "\n")
     report = atomic_write_text(target("report.html"),

@@ -204,7 +204,7 @@ def branched_from_dict(data: Any, file: str = "<dict>") -> BranchedLineSpec:
 
 #: keys of a single-path line file that a branched line does not take yet (stage 1)
 _NOT_YET_TOP = ("checks",)
-_NOT_YET_SCENARIO = ("unwind_radius", "rewind_radius", "break", "splice")
+_NOT_YET_SCENARIO = ("unwind_radius", "rewind_radius", "break")
 
 
 def not_yet_branched(data: dict[str, Any]) -> list[str]:
@@ -214,9 +214,6 @@ def not_yet_branched(data: dict[str, Any]) -> list[str]:
     for name, scenario in (scenarios.items() if isinstance(scenarios, dict) else ()):
         if isinstance(scenario, dict):
             keys += [f"scenarios.{name}.{key}" for key in _NOT_YET_SCENARIO if key in scenario]
-    control = data.get("control")
-    if isinstance(control, dict) and "tension_ramp" in control:
-        keys.append("control.tension_ramp")
     return keys
 
 

@@ -22,6 +22,9 @@ import numpy as np
 from scipy.optimize import root
 
 from webline.errors import SimulationError
+from webline.model.web_graph import BranchedLine
+from webline.profiles import breakpoints
+from webline.sim.branches.centre_winder import open_loop_torque
 from webline.sim.branches.drive_trains import steady_trains
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import taper_at
@@ -46,12 +49,14 @@ class BranchPoint:
 
 def _references(plan: BranchPlan, t: float) -> np.ndarray:
     """Each loadcell span's reference [N] at ``t``, times its drive's taper at the roll's
-    starting radius."""
+    starting radius and the tension ramp's factor."""
     refs = np.full(len(plan.line.spans), np.nan)
     for d in range(plan.di.shape[0]):
         i, j = plan.di[d, B.DI_NODE], plan.di[d, B.DI_ROLL]
         factor = 1.0 if j < 0 else taper_at(d, plan.line.rolls[j].radius, plan.nodes[i, B.N_CORE],
                                             plan.df, plan.prof_t, plan.prof_v, plan.prof_off)
+        if plan.offsets[B.O_RAMP] >= 0:  # the tension ramp at start and stop (R1)
+            factor *= plan.profile(int(plan.offsets[B.O_RAMP]), t)
         first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
         for k, p in plan.cells[first:first + count]:
             refs[k] = factor * plan.profile(int(p), t)
@@ -135,6 +140,10 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.nd
                 fastest = np.max(x[off_c:off_c + n_c][on] * (1.0 + plan.clutch[on, B.CF_OVERSPEED]))
                 out[row] = (x[off_w + i] - fastest) / w_scale[i]
                 continue
+            if plan.di[d, B.DI_WINDER] == B.WINDER_OPEN:  # its torque, not its zone (W4)
+                out[row] = (cmd[d] - open_loop_torque(plan, d, x, refs, t, nodes is plan.nodes)
+                            ) / tq_scale[d]
+                continue
             first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
             cells = plan.cells[first:first + count, 0]
             felt = felt_view(work, n_s, n_n, plan.lawi.shape[0] > 0, plan.kv.shape[0] > 0)
@@ -184,3 +193,11 @@ def operating_point(plan: BranchPlan, t: float = 0.0) -> BranchPoint:
             at[off_tq + d] = -web_torque / plan.df[d, B.D_RATIO]
         steady_trains(at, plan.offsets, plan.di, plan.df, plan.rolls)
     return BranchPoint(at, at[off_tq:off_tq + n_d].copy(), ratio, speed)
+
+
+def analysis_time(line: BranchedLine) -> float:
+    """Time [s] at which to analyse ``line``: 0, or for a start from rest the end of the
+    speed ramp (the chain's rule, ``model.operating_point.analysis_time``: a line standing
+    still has no web transport, so its span modes lose their damping)."""
+    times, values = breakpoints(line.spec.speed)
+    return 0.0 if values[0] > 0.01 * float(np.max(values)) else float(times[-1])

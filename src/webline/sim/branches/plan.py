@@ -13,6 +13,13 @@ import numpy as np
 from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
+from webline.sim.branches.centre_winder import (
+    ramp_column,
+    rotating_inertia,
+    splice_rows,
+    winder_columns,
+    wound_density,
+)
 from webline.sim.branches.disturb import disturbance_table, eccentricities
 from webline.sim.branches.drive_trains import brake_rows, train_columns, tuning_inertia
 from webline.sim.branches.loop import layout as B
@@ -35,7 +42,9 @@ class BranchPlan:
     torques. ``radius0``: each drive's calculated radius at the start [m] (0 without a
     diameter calculator). ``wound``: the held inputs, wound-in tension [N] per web then drag
     [N·m] per node (``held`` gives them at a time). ``lawi``, ``lawf``, ``laws``, ``kv``: the
-    web laws' terms and Kelvin-Voigt spans (``sim.branches.web_laws``; empty: linear elastic)."""
+    web laws' terms and Kelvin-Voigt spans (``sim.branches.web_laws``; empty: linear elastic).
+    ``fb``, ``refs``: the decentralized families' gains and references (``layout`` FB_*,
+    filled by ``decentral.prepare``)."""
 
     line: BranchedLine
     offsets: np.ndarray
@@ -63,6 +72,8 @@ class BranchPlan:
     lawf: np.ndarray
     laws: np.ndarray
     kv: np.ndarray
+    fb: np.ndarray
+    refs: np.ndarray
 
     @property
     def n_x(self) -> int:
@@ -96,7 +107,7 @@ class BranchPlan:
                            self.speed_max,
                            self.nodes, self.sf, self.rolls, self.df, self.clutch, self.events,
                            self.dist, self.prof_t, self.prof_v, self.prof_off, self.lawf,
-                           self.laws)
+                           self.laws, self.fb, self.refs)
 
     def held(self, t: float) -> np.ndarray:
         """The held inputs ``kernel.rhs`` takes at ``t`` [s] without the ripples (their mean):
@@ -125,11 +136,11 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     eccentric = eccentricities(line)
     off_c = off_q + 2 * n_w
     offsets = np.array([off_w, off_r, off_tq, off_q, off_c, off_c + len(cores),
-                        off_c + len(cores) + len(eccentric)], dtype=np.int64)
+                        off_c + len(cores) + len(eccentric), -1], dtype=np.int64)
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):
         nodes[i, B.N_RADIUS] = r.radius
-        nodes[i, B.N_JCONST] = r.inertia  # type: ignore[assignment]  # (checked: a number)
+        nodes[i, B.N_JCONST] = rotating_inertia(line, i)  # (a roll's totals: J1)
         nodes[i, B.N_VISCOUS], nodes[i, B.N_COULOMB] = r.friction, r.coulomb_friction
         nodes[i, B.N_RATIO] = 1.0
         nodes[i, B.N_DRIVE] = line.drives.index(i) if i in line.drives else -1
@@ -149,8 +160,8 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         on_clutch = float(j in cores[:, B.C_ROLL])
         nodes[roll.node, B.N_ROLLS] += 1 - on_clutch
         m = line.materials[roll.web]
-        rolls[j] = (roll.node, roll.web, roll.direction, m.thickness, m.width, m.density,
-                    nodes[roll.node, B.N_CORE], on_clutch)
+        rolls[j] = (roll.node, roll.web, roll.direction, m.thickness, m.width,
+                    wound_density(line, j), nodes[roll.node, B.N_CORE], on_clutch)
     si, sf, layers = _span_tables(line)
     lawi, lawf, laws, kv = law_tables(line, si, sf)
     for c, (_, _, k) in enumerate(cores):
@@ -181,6 +192,8 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         di[d, B.DI_NCELLS] = len(zone.loadcells) if zone else 0
         cells += [(k, ref_of[k]) for k in (zone.loadcells if zone else ())]
         di[d, B.DI_ROLL] = _speed_roll(line, i, zone.loadcells if zone else ())
+        di[d, B.DI_FAMILY] = B.FAMILIES.get(getattr(spec.rollers[i], "controller", None)
+                                            .type, B.FAMILY_PI)  # type: ignore[union-attr]
         df[d, B.D_SIGMA] = zone.sigma if zone and i not in cores[:, B.C_NODE] else 0.0
     events = np.zeros((0, B.E_COLS))
     change = line.roll_change
@@ -189,11 +202,16 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         j = next(j for j, r in enumerate(line.rolls) if r.node == node)
         w = line.rolls[j].web
         new = wound[w] if change.wound_in_tension is None else change.wound_in_tension
-        events = np.array([[change.time, j, change.radius, new, w]])
+        events = np.array([[change.time, j, change.radius, new, w, B.EVENT_ROLL_CHANGE, 1.0,
+                            0.0]])
     dist = np.vstack([disturbance_table(line, profiles), brake_rows(line, profiles)])
     train_columns(line, offsets, nodes, di, df)  # compliant transmissions (drive_trains)
     taper_columns(line, df, profiles)
     radius0 = diameter_columns(line, df, di)
+    winder_columns(line, di, df, profiles)  # centre winders: compensation, open loop, ramp
+    offsets[B.O_RAMP] = ramp_column(line, profiles)
+    events = np.vstack([events, np.reshape(splice_rows(line, 1.0 / (
+        spec.control.sample_rate if sample_rate is None else sample_rate)), (-1, B.E_COLS))])
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
     top = max(float(np.max(np.abs(v))) for v in [breakpoints(spec.speed)[1]])
     rate = spec.control.sample_rate if sample_rate is None else sample_rate
@@ -202,7 +220,9 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
                       wound,
                       np.concatenate([t for t, _ in profiles]),
                       np.concatenate([v for _, v in profiles]), offs, 1.0 / rate,
-                      RUNAWAY_SPEED_FACTOR * top + RUNAWAY_SPEED_FLOOR, lawi, lawf, laws, kv)
+                      RUNAWAY_SPEED_FACTOR * top + RUNAWAY_SPEED_FLOOR, lawi, lawf, laws, kv,
+                      np.zeros((n_d, B.FB_COLS)),
+                      np.zeros((n_s + n_d + 2, 1 + len(cells))))
     _tune(plan)
     return plan
 
@@ -282,8 +302,10 @@ def _tune(plan: BranchPlan) -> None:
         x[plan.offsets[B.O_RADIUS] + j] = roll.radius
     for d, i in enumerate(line.drives):
         roller = line.spec.rollers[i]
-        assert not isinstance(roller, IdleSpec) and isinstance(roller.controller, CascadedPISpec)
-        c, drive = roller.controller, roller.drive
+        assert not isinstance(roller, IdleSpec)
+        pi = roller.controller if isinstance(roller.controller, CascadedPISpec) else (
+            CascadedPISpec())  # a decentralized drive: its PI columns stay unused
+        c, drive = pi, roller.drive
         j = plan.di[d, B.DI_ROLL]
         radius = x[plan.offsets[B.O_RADIUS] + j] if j >= 0 else roller.radius
         inertia, seen = tuning_inertia(plan.di, plan.df, d, float(

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
+from webline.sim.branches.centre_winder import splice_findings
 from webline.sim.branches.drive_trains import train_signals
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.web_findings import felt_records, layer_tension, yield_findings
@@ -168,6 +169,7 @@ class BranchResult:
                                         f"{label} exceeds its tension limit {limit:.4g} N "
                                         f"(max {np.max(tension):.4g} N)",
                                         float(self.time[first])))
+        findings += splice_findings(line, self.plan.dt, self.time, ds["tension"].values)
         findings += yield_findings(self.plan, self.time, self.states)
         limits = self.plan.df[:, B.D_LIMIT]
         for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit

@@ -10,12 +10,13 @@ from collections.abc import Callable
 from typing import NoReturn
 
 from webline.errors import LineFileError
+from webline.spec.branched.controllers import check_controller
 from webline.spec.branched.disturbances import check_disturbances
 from webline.spec.branched.drive_train import check_drive_train
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
 from webline.spec.branched.web_law import check_web_laws
+from webline.spec.branched.winder import check_splices, check_winders
 from webline.spec.schema import (
-    CascadedPISpec,
     DrivenSpec,
     IdleSpec,
     RewindSpec,
@@ -66,6 +67,8 @@ def check_branched(spec: BranchedLineSpec, file: str) -> None:
     _check_rollers_once(spec, fail)
     _check_tree(spec, fail)
     check_disturbances(spec, fail)
+    check_winders(spec, fail)
+    check_splices(spec, fail)
 
 
 def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
@@ -73,7 +76,7 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         key = f"rollers[{i}]"
         if roller.type == "dancer":
             unsupported(f"{key}.dancer", fail)
-        for name in ("nip", "wrap", "friction_table", "winder"):
+        for name in ("nip", "wrap", "friction_table"):
             if getattr(roller, name, None) is not None:
                 unsupported(f"{key}.{name}", fail)
         _check_diameter(spec, i, roller, fail)
@@ -87,14 +90,11 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         contact = getattr(roller, "contact", None)
         if contact is not None and contact.type != "adhered":
             unsupported(f"{key}.contact", fail)
-        if isinstance(roller, UnwindSpec | RewindSpec) and not isinstance(roller.inertia, float):
-            unsupported(f"{key}.inertia", fail, "a roll's inertia as one number, without web")
         drive = getattr(roller, "drive", None)
         if drive is not None:
-            check_drive_train(spec, key, roller.name, drive, fail)
-        controller = getattr(roller, "controller", None)
-        if controller is not None and not isinstance(controller, CascadedPISpec):
-            unsupported(f"{key}.controller.type", fail, "cascaded_pi controllers")
+            check_drive_train(spec, key, roller.name, drive, getattr(roller, "controller", None),
+                              fail)
+        check_controller(key, roller, fail, unsupported)
     check_web_laws(spec, fail)
     for name, scenario in spec.scenarios.items():
         change = scenario.roll_change

@@ -16,12 +16,13 @@ from webline.spec.disturbances import (
     WoundInRipple,
 )
 from webline.spec.schema import IdleSpec, RewindSpec, UnwindSpec
+from webline.spec.splice import FlyingSplice
 
 Fail = Callable[[str, str], NoReturn]
 
 #: what a branched line runs (the rest is refused naming its key)
-SUPPORTED = ("roller_drag, eccentric_roller, speed_ripple, wound_in_ripple and "
-             "measurement_noise disturbances")
+SUPPORTED = ("roller_drag, eccentric_roller, speed_ripple, wound_in_ripple, "
+             "measurement_noise and flying_splice disturbances")
 
 
 def check_disturbances(spec: BranchedLineSpec, fail: Fail) -> None:
@@ -43,7 +44,7 @@ def _check_list(spec: BranchedLineSpec, key: str, items: list[DisturbanceSpec],
     for j, item in enumerate(items):
         here = f"{key}[{j}]"
         if not isinstance(item, RollerDrag | SpeedRipple | WoundInRipple | MeasurementNoise
-                          | EccentricRoller):
+                          | EccentricRoller | FlyingSplice):  # (splices: spec.branched.winder)
             fail(f"{here}.type", f"not yet supported on a branched line ({SUPPORTED})")
         if isinstance(item, EccentricRoller):
             _check_eccentric(item, here, by_name, eccentric, fail)
@@ -70,7 +71,7 @@ def _check_list(spec: BranchedLineSpec, key: str, items: list[DisturbanceSpec],
             if item.amplitude >= unwind.wound_in_tension:
                 fail(f"{here}.amplitude", f"must be below {name!r}'s wound-in tension (a wound "
                      "web cannot be in compression)")
-        else:
+        elif isinstance(item, MeasurementNoise):
             noises += 1
             if noises > 1:
                 fail(here, "one measurement_noise per line")

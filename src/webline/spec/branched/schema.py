@@ -18,6 +18,7 @@ from webline.spec.control_schema import ControllerSpec  # noqa: F401 - used by R
 from webline.spec.disturbances import DisturbanceSpec, Name
 from webline.spec.quantities import Force, Length, SpeedProfile, Strict, Time, TimeNonNeg
 from webline.spec.schema import ControlSpec, RollerSpec, SpanSpec, Text, WebSpec
+from webline.spec.splice import SpliceEvent
 
 
 class WebPathSpec(Strict):
@@ -54,7 +55,8 @@ class RollChangeSpec(Strict):
 class BranchedScenarioSpec(Strict):
     """A named run of a branched line: speed reference, values changed by nested path
     (``set``: ``"webs.film.spans.film_zone.tension"``, ``"webs.lane_1.thickness"``) and an
-    unwind's ``roll_change``; ``disturbances`` replace the line's; ``duration`` the default
+    unwind's ``roll_change`` or ``splice`` (a ``flying_splice`` added to its disturbances);
+    ``disturbances`` replace the line's; ``duration`` the default
     run length [s]."""
 
     description: Text = ""
@@ -62,6 +64,7 @@ class BranchedScenarioSpec(Strict):
     set: dict[str, Any] = Field(default_factory=dict)
     speed: SpeedProfile | None = None
     roll_change: RollChangeSpec | None = None
+    splice: SpliceEvent | None = None  # docs/winder.md, Flying splice (an unwind's)
     disturbances: list[DisturbanceSpec] | None = None
     model_config = ConfigDict(extra="forbid", frozen=True)
 

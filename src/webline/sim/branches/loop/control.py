@@ -13,9 +13,11 @@ import numpy as np
 from webline.physics import motor, span, taper
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop import transmission as TR
+from webline.sim.branches.loop.decentral import decentral_command, reference_changes
 from webline.sim.branches.loop.plant import node_inertia
+from webline.sim.branches.loop.winder import compensation, open_loop, zone_reference
 from webline.sim.drives.measure import quantized
-from webline.sim.elements.signals import gaussian, jit, profile_at, sines
+from webline.sim.elements.signals import gaussian, jit, profile_at, profile_slope_at, sines
 
 _tension: Any = jit(span.tension)
 _saturate: Any = jit(motor.saturate)
@@ -76,14 +78,16 @@ def taper_at(d: int, radius: float, core_radius: float, df: np.ndarray, prof_t: 
 def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarray,
                  cmd: np.ndarray, offsets: np.ndarray, nodes: np.ndarray, rolls: np.ndarray,
                  di: np.ndarray, df: np.ndarray, cells: np.ndarray, dist: np.ndarray,
-                 prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray) -> None:
+                 prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray,
+                 si: np.ndarray, fb: np.ndarray, refs: np.ndarray) -> None:
     """One sample ``tick`` of every drive's cascaded PI (thesis Fig. 4.3, as the chain's
     ``sim.drives.controllers.pi_command``): line speed x draw is the speed feedforward, a
     tension PI on the zone's loadcell (or the sum of its loadcells) trims it, a speed PI gives
     the torque, clipped, with conditional integration. ``cells`` rows: (span, profile).
     ``dist``: a drive's speed ripple adds to its speed reference; measurement noise to the
     measured speed (channel 2 d, then rounded to the resolution) and each loadcell's tension
-    (channel 2 c + 1), as the chain's ``sim.drives.measure``."""
+    (channel 2 c + 1), as the chain's ``sim.drives.measure``. A decentralized drive
+    (``DI_FAMILY``) takes ``loop.decentral``'s command instead of the PI's (``fb``, ``refs``)."""
     v_line = profile_at(0, t, prof_t, prof_v, prof_off)
     off_r = offsets[B.O_RADIUS]
     sigma_t, sigma_v, resolution, seed, noisy = 0.0, 0.0, 0.0, 0, False
@@ -91,6 +95,11 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
         if int(dist[r, B.DS_KIND]) == B.DIST_NOISE:
             seed, noisy = int(dist[r, B.DS_INDEX]), True
             sigma_t, sigma_v, resolution = dist[r, B.DS_A], dist[r, B.DS_B], dist[r, B.DS_C]
+    decentral = False
+    for d in range(di.shape[0]):  # (frozen table: folds away on a line of PI drives)
+        decentral = decentral or di[d, B.DI_FAMILY] != B.FAMILY_PI
+    if decentral:
+        reference_changes(t, istate, di, cells, refs, prof_t, prof_v, prof_off)
     for d in range(di.shape[0]):
         i = di[d, B.DI_NODE]
         j = di[d, B.DI_ROLL]
@@ -112,11 +121,19 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             v_meas = radius * omega_meas
         e_t = 0.0
         factor = taper_at(d, radius, nodes[i, B.N_CORE], df, prof_t, prof_v, prof_off)
+        if offsets[B.O_RAMP] >= 0:  # the tension ramp at start and stop (docs/winder.md R1)
+            factor *= profile_at(offsets[B.O_RAMP], t, prof_t, prof_v, prof_off)
         for c in range(di[d, B.DI_CELLS], di[d, B.DI_CELLS] + di[d, B.DI_NCELLS]):
             measured = _tension(x[cells[c, 0]])
             if noisy:
                 measured += sigma_t * gaussian(seed, tick, 2 * c + 1)
             e_t += factor * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - measured
+        istate[d, B.I_FACTOR] = factor  # (the decentralized drives' references read it)
+        if di[d, B.DI_FAMILY] != B.FAMILY_PI:  # state feedback, adaptive, MRAC
+            cmd[d] = decentral_command(d, di[d, B.DI_FAMILY], i, t, dt, radius, v_meas, -e_t,
+                                       x, istate, offsets, nodes, rolls, si, df, fb, refs,
+                                       prof_t, prof_v, prof_off)
+            continue
         trim = df[d, B.D_SIGMA] * (df[d, B.D_KPT] * e_t + istate[d, B.I_TENSION])
         ripple = 0.0
         for r in range(dist.shape[0]):
@@ -128,6 +145,16 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             inertia = node_inertia(i, x, offsets, nodes, rolls) + TR.reflected_motor(d, di, df)
             gain = inertia / (
                 df[d, B.D_RATIO] * radius) / df[d, B.D_GAINNORM]
+        comp = 0.0
+        if di[d, B.DI_WINDER] != B.WINDER_NONE:  # a centre winder (docs/winder.md W3, W4)
+            comp = compensation(d, i, radius, v_meas / radius,
+                                profile_slope_at(0, t, prof_t, prof_v, prof_off), nodes, rolls,
+                                df, prof_t, prof_v, prof_off)
+            if di[d, B.DI_WINDER] == B.WINDER_OPEN:
+                cmd[d] = open_loop(d, dt, radius, zone_reference(d, t, factor, di, cells, prof_t,
+                                                                 prof_v, prof_off),
+                                   comp, v_meas, v_line, gain, istate, df)
+                continue
         raw = df[d, B.D_KPS] * gain * e_v + istate[d, B.I_SPEED]
         u = _saturate(raw, df[d, B.D_LIMIT])
         saturated = raw != u
@@ -135,4 +162,4 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             istate[d, B.I_SPEED] += df[d, B.D_KIS] * gain * e_v * dt
         if not (saturated and df[d, B.D_SIGMA] * e_t * raw > 0.0):
             istate[d, B.I_TENSION] += df[d, B.D_KIT] * e_t * dt
-        cmd[d] = u
+        cmd[d] = u if comp == 0.0 else _saturate(u + comp, df[d, B.D_LIMIT])

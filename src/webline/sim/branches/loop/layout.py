@@ -12,6 +12,9 @@ from webline.spec.winder import MAX_PRESETS
 
 # offsets row
 O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_CORE, O_ANGLE, O_N = range(7)
+# (tension ramp, docs/winder.md R1: the profile of its factor on every zone's reference, -1
+# without a ramp)
+O_RAMP = 7
 
 # node table (float)
 # (N_ECC: eccentricity [m]; N_ANGLE: its angle state's number, -1 where round)
@@ -54,7 +57,15 @@ CF_SLIP, CF_INERTIA, CF_OVERSPEED, CF_COLS = range(4)
 WB_FIRST, WB_LAST, WB_COLS = range(3)
 
 # drive table (int)
-DI_NODE, DI_CELLS, DI_NCELLS, DI_ROLL, DI_COLS = range(5)
+# (DI_WINDER: centre-winder compensation, docs/winder.md W3-W4: WINDER_*; DI_FAMILY: the
+# controller family, docs/branching.md "State feedback": FAMILY_*)
+DI_NODE, DI_CELLS, DI_NCELLS, DI_ROLL, DI_WINDER, DI_FAMILY, DI_COLS = range(7)
+WINDER_NONE, WINDER_COMP, WINDER_OPEN = range(3)
+#: DI_FAMILY: the cascaded PI | decentralized state feedback | decentralized adaptive
+#: (friction estimate) | MRAC
+FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE, FAMILY_MRAC = range(4)
+FAMILIES = {"cascaded_pi": FAMILY_PI, "state_feedback": FAMILY_STATE_FEEDBACK,
+            "adaptive": FAMILY_ADAPTIVE, "mrac": FAMILY_MRAC}
 # drive table (float)
 # (taper: kind of physics.taper, 0 none; taper; largest diameter [m]; a table's profile.
 # diameter calculator: DCALC_*; filter [s]; rate limit [m/s]; hold below [m/s]; line-speed
@@ -65,15 +76,27 @@ DI_NODE, DI_CELLS, DI_NCELLS, DI_ROLL, DI_COLS = range(5)
  D_DHOLD, D_DSOURCE, D_DTHICK, D_DDIR, D_PRESETN) = range(23)
 D_PRESETT = D_PRESETN + 1
 D_PRESETD = D_PRESETT + MAX_PRESETS
-D_COLS = D_PRESETD + MAX_PRESETS
+# centre-winder compensation and open-loop tension control (docs/winder.md W3-W4, W7): 1 with
+# inertia compensation; static friction [N·m]; viscous friction [N·m·s]; the friction
+# table's profile (over |ω| [rad/s]), -1 none; the open-loop speed limiter's offset [m/s];
+# +1 a rewind (the web pulls it back), -1 an unwind
+(D_COMPJ, D_COMPCS, D_COMPB, D_COMPFP, D_SPEEDLIM,
+ D_DIR) = range(D_PRESETD + MAX_PRESETS, D_PRESETD + MAX_PRESETS + 6)
+D_COLS = D_DIR + 1
 DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = range(3)
 
 # controller memory per drive
 # controller memory per drive (I_RADIUS: the diameter calculator's radius [m])
-I_SPEED, I_TENSION, I_RADIUS, I_COLS = range(4)
+# (I_FRICTION: the adaptive family's friction estimate b̂ [N·m·s]; I_FACTOR: the drive's
+# taper factor at its last tick, read by the decentralized families' references; the MRAC's
+# adapted gains k̂_T [N·m/N], k̂_V [N·m·s/m] and bias ĉ [N·m])
+I_SPEED, I_TENSION, I_RADIUS, I_FRICTION, I_FACTOR, I_KT, I_KV, I_BIAS, I_COLS = range(9)
 
 # event table (roll change): time, roll, new radius, new wound-in tension, web
-E_TIME, E_ROLL, E_RADIUS, E_WOUND, E_WEB, E_COLS = range(6)
+# (flying splice, docs/winder.md S1: E_KIND an EVENT_*; the new roll's surface speed over the
+# web's, 1 + mismatch; slack [m] put into the roll's span)
+E_TIME, E_ROLL, E_RADIUS, E_WOUND, E_WEB, E_KIND, E_GAIN, E_SLACK, E_COLS = range(9)
+EVENT_ROLL_CHANGE, EVENT_SPLICE = range(2)
 
 STATUS_OK, STATUS_NONFINITE, STATUS_UNWIND_EMPTY, STATUS_RUNAWAY = range(4)
 #: web laws: a span's stretch beyond its web's strength (``SF_STRENGTH``)
@@ -86,6 +109,19 @@ RUNAWAY_STRAIN = 0.05
 # sigma [N], speed sigma [m/s], speed resolution [m/s])
 DS_KIND, DS_INDEX, DS_A, DS_B, DS_C, DS_COLS = range(6)
 DIST_WOUND_RIPPLE, DIST_SPEED_RIPPLE, DIST_DRAG, DIST_NOISE = range(4)
+
+# decentralized families (sim.branches.decentral, loop.decentral): per drive (float) the
+# gains K_T [N·m/N], K_V [N·m·s/m]; the friction model b [N·m·s] of the roller and the motor's
+# reflected n² b_m; the adaptive law's (and the MRAC's) γ [rad/s], leakage, bound b_max
+# [N·m·s]; the thickness [m] and direction (+1 winding, -1 unwinding, 0 a roller) of the roll
+# it measures speed on; the MRAC's law (the chain's sim.core.drive_table._mrac_columns): P b
+# per state, the rates of k̂_T, k̂_V and ĉ, the projection half-widths of k̂_T, k̂_V and ĉ
+(FB_KT, FB_KV, FB_BMODEL, FB_BMOTOR, FB_GAMMA, FB_LEAK, FB_BMAX, FB_THICK, FB_DIR, FB_PBT,
+ FB_PBV, FB_GKT, FB_GKV, FB_GBIAS, FB_KBT, FB_KBV, FB_CBOUND, FB_COLS) = range(18)
+# references (float, rows x (1 + cells)): per span, its operating-point tension [N] then its
+# change per newton of each loadcell's reference; per drive, its surface speed [m/s] and its
+# change [m/s/N]; then the operating point's line speed [m/s] and each loadcell's reference
+# [N] there (taper included); the last row: scratch, each loadcell's reference change [N]
 
 # compliant transmissions and brakes (docs/branching.md, "Drive trains"): drive table (int)
 # column at its end, the state number of the drive's motor speed ω_m [rad/s] (its twist

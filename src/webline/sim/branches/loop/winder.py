@@ -1,0 +1,133 @@
+"""Centre-winder functions of a branched line's roll drives in the compiled loop: inertia and
+friction compensation, open-loop (indirect) tension control with its speed limiter
+(docs/winder.md W3, W4, W7) and the flying splice (S1), as the chain's
+``sim.drives.winder_loop`` and ``sim.elements.splice`` do; tables in ``loop.layout``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from webline.physics import roll
+from webline.sim.branches.loop import layout as B
+from webline.sim.elements.signals import jit, profile_at
+
+_roll_inertia: Any = jit(roll.roll_inertia)
+
+
+@jit
+def known_inertia(i: int, radius: float, nodes: np.ndarray, rolls: np.ndarray) -> float:
+    """Inertia [kg·m²] of node ``i`` as its drive knows it (W3): rotating parts and reflected
+    motor, plus every roll wound on it (not on a clutch core) at the radius ``radius`` [m] the
+    drive uses (the calculated one where it has a calculator): the drive knows one diameter,
+    so every lane on a shaft is taken at it (6.1: π ρ w (R⁴ - R_c⁴) / 2)."""
+    inertia = nodes[i, B.N_JCONST]
+    for j in range(rolls.shape[0]):
+        if int(rolls[j, B.R_NODE]) == i and rolls[j, B.R_CLUTCH] == 0.0:
+            inertia += _roll_inertia(0.0, radius, rolls[j, B.R_CORE], rolls[j, B.R_WIDTH],
+                                     rolls[j, B.R_RHO])
+    return inertia
+
+
+@jit
+def compensation(d: int, i: int, radius: float, omega: float, a_line: float,
+                 nodes: np.ndarray, rolls: np.ndarray, df: np.ndarray, prof_t: np.ndarray,
+                 prof_v: np.ndarray, prof_off: np.ndarray) -> float:
+    """Motor torque [N·m] drive ``d`` (on node ``i``) adds for its roll's inertia and
+    friction (W3): (J(R) a_line / R + c_s sign(ω) + b ω + f(|ω|) sign(ω)) / n, R [m] the
+    radius the drive uses, ω [rad/s] its measured speed, a_line [m/s²] the line-speed
+    reference's slope, f the measured friction table (F1) where it has one."""
+    torque = df[d, B.D_COMPJ] * known_inertia(i, radius, nodes, rolls) * a_line / radius
+    sign = 1.0 if omega > 0.0 else -1.0 if omega < 0.0 else 0.0
+    torque += df[d, B.D_COMPCS] * sign + df[d, B.D_COMPB] * omega
+    table = int(df[d, B.D_COMPFP])
+    if table >= 0:
+        torque += sign * profile_at(table, abs(omega), prof_t, prof_v, prof_off)
+    return torque / df[d, B.D_RATIO]
+
+
+@jit
+def zone_reference(d: int, t: float, factor: float, di: np.ndarray, cells: np.ndarray,
+                   prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray) -> float:
+    """Drive ``d``'s zone reference [N] at ``t`` [s]: the sum of its loadcells' references
+    (on a shaft with several lanes, the lanes'), times ``factor`` (taper, ramp)."""
+    total = 0.0
+    for c in range(di[d, B.DI_CELLS], di[d, B.DI_CELLS] + di[d, B.DI_NCELLS]):
+        total += profile_at(cells[c, 1], t, prof_t, prof_v, prof_off)
+    return factor * total
+
+
+@jit
+def open_loop(d: int, dt: float, radius: float, tension_ref: float, comp: float,
+              v_meas: float, v_line: float, gain: float, istate: np.ndarray,
+              df: np.ndarray) -> float:
+    """Torque command [N·m] of open-loop drive ``d`` (W4) with its speed limiter (W7), as the
+    chain's ``sim.drives.winder_loop.open_loop_command``: τ_T = ±T_ref R / n + comp clipped
+    (+ rewind, - unwind), unless the speed PI on v_line ± offset, saturated at τ_T (its
+    integrator clamped there), asks for less: a freed roll is held at its limit.
+    ``tension_ref`` [N] the zone's reference, ``v_meas``, ``v_line`` [m/s]."""
+    direction = df[d, B.D_DIR]
+    limit = df[d, B.D_LIMIT]
+    raw = direction * tension_ref * radius / df[d, B.D_RATIO] + comp
+    tension_torque = min(max(raw, -limit), limit)
+    error = v_line + direction * df[d, B.D_SPEEDLIM] - v_meas
+    integral = istate[d, B.I_SPEED] + df[d, B.D_KIS] * gain * error * dt
+    if direction * integral > direction * (tension_torque - comp):  # clamped at saturation
+        integral = tension_torque - comp
+    istate[d, B.I_SPEED] = integral
+    speed_torque = df[d, B.D_KPS] * gain * error + integral + comp
+    if direction * speed_torque >= direction * tension_torque:  # the tension torque acts
+        return tension_torque
+    return min(max(speed_torque, -limit), limit)  # the limiter holds the roll
+
+
+@jit
+def splice(e: int, x: np.ndarray, istate: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
+           sf: np.ndarray, rolls: np.ndarray, webs: np.ndarray, df: np.ndarray,
+           events: np.ndarray) -> None:
+    """Flying splice ``e`` of an unwind (S1), at its tick, in place on the plant state ``x``
+    and the controller memory ``istate``: the new roll (radius R_new) takes the old one's
+    place at (1 + mismatch) times the web's speed at the old roll; the slack δ goes into the
+    web's first span (its stretch drops by EA δ / L) and into the web's unwound-length counter
+    (the balance Σ L (1 - s/EA) + out - in is unchanged); the drive's speed integrator takes
+    the tension torque's change T (R_new - R_old)/n and the viscous torque's, its motor the
+    new roll's friction torque (it carried no web before), its calculated radius R_new."""
+    j = int(events[e, B.E_ROLL])
+    i = int(rolls[j, B.R_NODE])
+    w = int(rolls[j, B.R_WEB])
+    k = webs[w, B.WB_FIRST]
+    w_i, r_j = offsets[B.O_OMEGA] + i, offsets[B.O_RADIUS] + j
+    r_old, omega_old = x[r_j], x[w_i]
+    r_new = events[e, B.E_RADIUS]
+    x[w_i] = events[e, B.E_GAIN] * r_old * omega_old / r_new
+    x[r_j] = r_new
+    carried = x[k] if x[k] > 0.0 else 0.0
+    slack = events[e, B.E_SLACK]
+    x[k] -= sf[k, B.SF_EA] * slack / sf[k, B.SF_LENGTH]
+    x[offsets[B.O_WEB] + 2 * w] += slack
+    d = int(nodes[i, B.N_DRIVE])
+    if d < 0:
+        return
+    n = df[d, B.D_RATIO]
+    omega = x[w_i]
+    viscous = nodes[i, B.N_VISCOUS] / n  # [N·m·s]: at the roll, seen by the motor
+    istate[d, B.I_SPEED] += -carried * (r_new - r_old) / n + viscous * (omega - omega_old)
+    sign = 1.0 if omega > 0.0 else -1.0 if omega < 0.0 else 0.0
+    x[offsets[B.O_TORQUE] + d] = viscous * omega + nodes[i, B.N_COULOMB] * sign / n
+    if df[d, B.D_DCALC] != B.DCALC_NONE:
+        istate[d, B.I_RADIUS] = r_new  # the diameter preset: the drive knows the new roll
+
+
+@jit
+def splices(t: float, dt: float, x: np.ndarray, istate: np.ndarray, done: np.ndarray,
+            offsets: np.ndarray, nodes: np.ndarray, sf: np.ndarray, rolls: np.ndarray,
+            webs: np.ndarray, df: np.ndarray, events: np.ndarray) -> None:
+    """Every flying splice not yet made whose tick (the first at or after its time, ``t``
+    [s] the tick's time, ``dt`` [s] the period) has come (``splice``)."""
+    for e in range(events.shape[0]):
+        if (done[e] == 0.0 and events[e, B.E_KIND] == B.EVENT_SPLICE
+                and t >= events[e, B.E_TIME] - 0.5 * dt):
+            done[e] = 1.0
+            splice(e, x, istate, offsets, nodes, sf, rolls, webs, df, events)
