@@ -177,6 +177,12 @@ def test_a_direct_drive_has_no_twist_and_keeps_its_run():
     (lambda d: d["rollers"][0]["drive"].update(transmission=_belt(), motor_inertia=0.01),
      "scenarios.roll-change.roll_change.roller", "needs a direct drive on the roll"),
     (lambda d: d["rollers"][4]["drive"].update(brake="-3 N*m"), "rollers[4].drive.brake", ""),
+    (lambda d: (d["rollers"][4]["drive"].update(transmission=_belt(), motor_inertia=0.01),
+                d["rollers"][4].__setitem__("controller", {"type": "state_feedback"})),
+     "rollers[4].drive.transmission", "needs a cascaded_pi controller"),
+    (lambda d: (d["rollers"][0]["drive"].update(transmission=_belt(), motor_inertia=0.01),
+                d["scenarios"].pop("roll-change")),
+     "scenarios.flying-splice.splice.roll", "a flying splice needs a direct drive"),
     (lambda d: (d["rollers"][4]["drive"].update(brake="3 N*m"), d.__setitem__(
         "disturbances", [{"type": "roller_drag", "roller": "nip", "torque": "1 N*m"}])),
      "disturbances[0].roller", "already has a drag or brake torque"),
