@@ -270,3 +270,27 @@ def test_show_lists_a_branched_drives_transmission_and_brake():
     assert row["backlash"] != "none" and row["brake"].startswith("2")
     other = dict(zip(table.columns, table.rows[0], strict=True))
     assert other["transmission"] == "direct" and other["brake"] == "none"
+
+
+def test_a_belted_rewinds_inertia_compensation_still_counts_its_motor():
+    """Inertia compensation (W3) accelerates everything the motor must: the roll, the rotating
+    parts and the motor. Across a belt the motor's n² J_m is no longer in the roller's
+    inertia, so the compensation adds it back: the torque it asks is the direct drive's
+    (same parts, same motor), to round-off (1e-12 relative)."""
+    from webline.sim.branches.loop.winder import compensation
+
+    torques = []
+    for transmission in (None, _belt()):
+        data = load_branched("laminator").spec.model_dump(exclude_none=True)
+        rewind = next(r for r in data["rollers"] if r["name"] == "rewind")
+        rewind["winder"] = {"inertia_compensation": True}
+        rewind["drive"]["motor_inertia"] = 0.05
+        if transmission is not None:
+            rewind["drive"].update(transmission=transmission, feedback="motor")
+        plan = compile_branches(load_branched(data))
+        d = plan.line.drives.index(plan.line.node_index["rewind"])
+        i = plan.line.node_index["rewind"]
+        torques.append(compensation(d, i, 0.08, 31.25, 0.25, plan.nodes, plan.rolls, plan.df,
+                                    plan.prof_t, plan.prof_v, plan.prof_off))
+    assert torques[0] > 0.0
+    assert torques[1] == pytest.approx(torques[0], rel=1e-12)

@@ -61,3 +61,13 @@ def reflected_motor(d: int, di: np.ndarray, df: np.ndarray) -> float:
     if di[d, B.DI_TSTATE] < 0:
         return 0.0
     return df[d, B.D_RATIO] ** 2 * df[d, B.D_JMOTOR]
+
+
+@jit
+def motor_beyond(d: int, df: np.ndarray) -> float:
+    """n² J_m [kg·m²] of drive ``d``'s motor where a compliant transmission keeps it out of
+    its node's inertia (stiffness > 0), else 0 (from the float table alone, for the centre
+    winder's inertia compensation, which sees no integer table)."""
+    if df[d, B.D_KTRANS] <= 0.0:
+        return 0.0
+    return df[d, B.D_RATIO] ** 2 * df[d, B.D_JMOTOR]
