@@ -75,7 +75,7 @@ def linear_states(plan: BranchPlan) -> tuple[np.ndarray, list[str]]:
     ``<dancer>_position`` [m], ``<dancer>_velocity`` [m/s]."""
     names = [f"{plan.line.spec.rollers[i].name}_{part}" for i in dancer_nodes(plan.line)
              for part in ("position", "velocity")]
-    return np.arange(plan.offsets[B.O_DANCER], plan.offsets[B.O_N], dtype=np.int64), names
+    return np.arange(plan.offsets[B.O_DANCER], plan.offsets[B.O_DANCER_END], dtype=np.int64), names
 
 
 def position_row(plan: BranchPlan, c: int, keep: np.ndarray) -> np.ndarray | None:

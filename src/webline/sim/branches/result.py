@@ -13,6 +13,7 @@ from webline.sim.branches.break_verdict import break_findings, intact, without_c
 from webline.sim.branches.centre_winder import splice_findings
 from webline.sim.branches.dancer_views import end_stop_findings, span_lengths
 from webline.sim.branches.dancers import dancer_nodes
+from webline.sim.branches.drive_trains import train_signals
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.web_findings import felt_records, layer_tension, yield_findings
 from webline.spec.branched.check import kind_of
@@ -109,6 +110,8 @@ class BranchResult:
             "core_omega": var(("core",), core_omega, "rad/s",
                               "angular speed of a lane's core on a differential shaft"),
         }
+        if np.any(plan.di[:, B.DI_TSTATE] >= 0):  # compliant transmissions (drive_trains)
+            data.update(train_signals(plan.offsets, plan.di, plan.df, x, var))
         coords = {"time": ("time", t, {"units": "s"}),
                   "span": [s.name for s in line.spans],
                   "span_web": ("span", [line.spec.webs[s.web].name for s in line.spans]),
@@ -118,7 +121,7 @@ class BranchResult:
                   "web": [w.name for w in line.spec.webs]}
         dancers = dancer_nodes(line)
         if dancers:  # (only where there are: the built-in lines' records stay as they were)
-            data["dancer_position"] = var(("dancer",), x[:, o[B.O_DANCER]:o[B.O_N]:2], "m",
+            data["dancer_position"] = var(("dancer",), x[:, o[B.O_DANCER]:o[B.O_DANCER_END]:2], "m",
                                           "dancer carriage position y (0 .. travel)")
             coords["dancer"] = [line.spec.rollers[i].name for i in dancers]
         return xr.Dataset(data, coords, attrs={

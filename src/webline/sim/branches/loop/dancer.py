@@ -49,7 +49,7 @@ def carriage_rates(x: np.ndarray, felt: np.ndarray, held: np.ndarray, offsets: n
     travel; T the tensions the roller feels ``felt`` [N], the load [N] of dancer n held over
     the tick in ``held``, whose last entries are the dancers' loads."""
     first = offsets[B.O_DANCER]
-    first_load = held.shape[0] - (offsets[B.O_N] - first) // 2
+    first_load = held.shape[0] - (offsets[B.O_DANCER_END] - first) // 2
     for k in range(si.shape[0]):
         state = si[k, B.S_DANCEB]
         if state < 0:

@@ -20,7 +20,7 @@ def taper_loads(held: np.ndarray, istate: np.ndarray, x: np.ndarray, offsets: np
     by that drive's taper factor f(D) (``control.taper_at``), D from the radius its
     controller knows: the calculated one with a diameter calculator, else the true one.
     The dancers' loads are the last entries of ``held``."""
-    first_load = held.shape[0] - (offsets[B.O_N] - offsets[B.O_DANCER]) // 2
+    first_load = held.shape[0] - (offsets[B.O_DANCER_END] - offsets[B.O_DANCER]) // 2
     for d in range(di.shape[0]):
         if df[d, B.D_TAPER_KIND] == 0.0:
             continue

@@ -142,15 +142,29 @@ DIST_WOUND_RIPPLE, DIST_SPEED_RIPPLE, DIST_DRAG, DIST_NOISE = range(4)
 # change [m/s/N]; then the operating point's line speed [m/s] and each loadcell's reference
 # [N] there (taper included); the last row: scratch, each loadcell's reference change [N]
 
-# dancers (docs/branching.md, "Dancers"): the offsets row's entry O_DANCER, the first dancer
-# state (carriage position y [m] and speed [m/s] per dancer, ending at O_N); span table (int):
+# compliant transmissions and brakes (docs/branching.md, "Drive trains"): drive table (int)
+# column at its end, the state number of the drive's motor speed ω_m [rad/s] (its twist
+# [rad] at the load shaft follows it), -1 for a direct drive; drive table (float) columns at
+# its end: stiffness [N·m/rad] and damping [N·m·s/rad] seen from the load shaft, the free
+# travel backwards and forwards [rad], motor inertia [kg·m²] and friction [N·m·s] on the
+# motor shaft, 1 where the speed loop measures the motor (feedback = "motor"). A compliant
+# drive's node gets N_RATIO 0: its torque comes through ``loop.transmission``.
+DI_TSTATE = DI_COLS
+DI_COLS = DI_COLS + 1
+(D_KTRANS, D_CTRANS, D_GAPNEG, D_GAPPOS, D_JMOTOR, D_BMOTOR,
+ D_FEEDBACK) = range(D_COLS, D_COLS + 7)
+D_COLS = D_COLS + 7
+
+# dancers (docs/branching.md, "Dancers"): the offsets row's entries O_DANCER, the first
+# dancer state (carriage position y [m] and speed [m/s] per dancer), and O_DANCER_END after
+# the last; span table (int):
 # the dancer state at the span's end a / end b (-1: a fixed roller), the other span of the
 # dancer at end b (-1); span table (float): the span's strand gain g at end a / end b (it
 # lengthens by g (y - y_set)); node table (float): the carriage's state (-1: no dancer) and
 # parameters; held inputs: at their end, the load [N] per dancer (DIST_DANCER_LOAD rows);
 # cells (int): a third column, the dancer node whose position the drive's loop reads (-1: a
 # loadcell)
-O_DANCER = O_BREAK + 1
+O_DANCER, O_DANCER_END = O_BREAK + 1, O_BREAK + 2
 S_DANCEA, S_DANCEB, S_DOUT = S_COLS, S_COLS + 1, S_COLS + 2
 S_COLS += 3
 SF_GAINA, SF_GAINB = SF_COLS, SF_COLS + 1

@@ -14,6 +14,7 @@ import numpy as np
 from webline.physics import roll, roller, span
 from webline.sim.branches.loop import dancer as D
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop import transmission as TR
 from webline.sim.branches.loop import web_law as W
 from webline.sim.branches.loop.breaks import brake_torque, web_flows
 from webline.sim.elements.signals import jit
@@ -97,7 +98,7 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
     inertia = work[4 * n_s + n_n:4 * n_s + 2 * n_n]
     has_law, has_kv = lawi.shape[0] > 0, kv.shape[0] > 0
     n_w = webs.shape[0]
-    has_dancer = offsets[B.O_DANCER] < offsets[B.O_N]  # (frozen: folds away without one)
+    has_dancer = offsets[B.O_DANCER] < offsets[B.O_DANCER_END]  # (frozen: folds away without one)
     for k in range(n_s):
         tension[k] = _tension(x[k])
         if offsets[B.O_BREAK] and wound[n_w + n_n + k] != 0.0:  # broken: carries nothing
@@ -158,6 +159,7 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
                                      rolls[j, B.R_DIR])
     if has_dancer:  # the carriages (D2), their loads held at the end of the inputs
         D.carriage_rates(x, felt, wound, offsets, nodes, si, sf, dx)
+    TR.drive_trains(x, di, df, offsets, torque, dx)  # compliant drives (folds away without)
     for i in range(n_n):
         omega = x[off_w + i]
         total = torque[i] - nodes[i, B.N_VISCOUS] * omega
