@@ -25,6 +25,7 @@ from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import held_inputs
 from webline.sim.branches.loop.kernel import compiled_advance
 from webline.sim.branches.loop.plant import node_inertia, work_size
+from webline.sim.branches.traction import traction_columns
 from webline.sim.branches.web_laws import law_tables
 from webline.sim.branches.winder import diameter_columns, taper_columns
 from webline.spec.branched.check import kind_of
@@ -131,7 +132,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     eccentric = eccentricities(line)
     off_c = off_q + 2 * n_w
     offsets = np.array([off_w, off_r, off_tq, off_q, off_c, off_c + len(cores),
-                        off_c + len(cores) + len(eccentric), -1], dtype=np.int64)
+                        off_c + len(cores) + len(eccentric), -1, 0, 0], dtype=np.int64)
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):
         nodes[i, B.N_RADIUS] = r.radius
@@ -158,6 +159,8 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         rolls[j] = (roll.node, roll.web, roll.direction, m.thickness, m.width,
                     wound_density(line, j), nodes[roll.node, B.N_CORE], on_clutch)
     si, sf, layers = _span_tables(line)
+    rate = spec.control.sample_rate if sample_rate is None else sample_rate
+    traction_columns(line, nodes, si, offsets, 1.0 / rate)  # slip, nips, measured friction
     lawi, lawf, laws, kv = law_tables(line, si, sf)
     for c, (_, _, k) in enumerate(cores):
         si[k, B.S_CORE] = c
@@ -206,7 +209,6 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         spec.control.sample_rate if sample_rate is None else sample_rate)), (-1, B.E_COLS))])
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
     top = max(float(np.max(np.abs(v))) for v in [breakpoints(spec.speed)[1]])
-    rate = spec.control.sample_rate if sample_rate is None else sample_rate
     plan = BranchPlan(line, offsets, nodes, si, sf, layers, rolls, webs, di, df, cores, clutch,
                       np.array(cells, dtype=np.int64).reshape(-1, 2), events, dist, radius0,
                       wound,

@@ -11,6 +11,7 @@ import numpy as np
 
 from webline.sim.branches.centre_winder import splice_findings
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.traction import slip_findings
 from webline.sim.branches.web_findings import felt_records, layer_tension, yield_findings
 from webline.spec.branched.check import kind_of
 from webline.verdict import Finding, Verdict
@@ -168,6 +169,7 @@ class BranchResult:
                                         float(self.time[first])))
         findings += splice_findings(line, self.plan.dt, self.time, ds["tension"].values)
         findings += yield_findings(self.plan, self.time, self.states)
+        findings += slip_findings(self.plan)
         limits = self.plan.df[:, B.D_LIMIT]
         for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit
             at_limit = np.nonzero(np.abs(ds["torque_cmd"].values[:, d]) >= limits[d])[0]

@@ -11,6 +11,7 @@ from typing import NoReturn
 
 from webline.errors import LineFileError
 from webline.spec.branched.disturbances import check_disturbances
+from webline.spec.branched.traction import check_traction
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
 from webline.spec.branched.web_law import check_web_laws
 from webline.spec.branched.winder import check_splices, check_winders
@@ -68,6 +69,7 @@ def check_branched(spec: BranchedLineSpec, file: str) -> None:
     check_disturbances(spec, fail)
     check_winders(spec, fail)
     check_splices(spec, fail)
+    check_traction(spec, fail)  # traction rollers, nips, measured friction
 
 
 def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
@@ -75,20 +77,12 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         key = f"rollers[{i}]"
         if roller.type == "dancer":
             unsupported(f"{key}.dancer", fail)
-        for name in ("nip", "wrap", "friction_table"):
-            if getattr(roller, name, None) is not None:
-                unsupported(f"{key}.{name}", fail)
         _check_diameter(spec, i, roller, fail)
         if isinstance(roller, RewindSpec):
             check_taper(roller.taper, f"{key}.taper", fail)
             if roller.taper is not None and roller.shaft is not None:
                 fail(f"{key}.taper", "a differential shaft has no tension loop to taper (its "
                      "lanes' tension is slip_torque / radius)")
-        if roller.breakaway_torque > 0.0:
-            unsupported(f"{key}.breakaway_torque", fail)
-        contact = getattr(roller, "contact", None)
-        if contact is not None and contact.type != "adhered":
-            unsupported(f"{key}.contact", fail)
         drive = getattr(roller, "drive", None)
         if drive is not None:
             if drive.transmission.type != "direct":

@@ -15,11 +15,33 @@ O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_CORE, O_ANGLE, O_N = range(7)
 # (tension ramp, docs/winder.md R1: the profile of its factor on every zone's reference, -1
 # without a ramp)
 O_RAMP = 7
+# traction rollers and measured friction (docs/branching.md, "Slip and measured friction"):
+# 1 where any roller's web may slip over it | any roller has a friction table or a
+# break-away torque; 0 folds their code away in the compiled loop
+O_SLIP, O_FRICTION = 8, 9
 
 # node table (float)
 # (N_ECC: eccentricity [m]; N_ANGLE: its angle state's number, -1 where round)
 (N_RADIUS, N_JCONST, N_VISCOUS, N_COULOMB, N_CORE, N_RATIO, N_DRIVE, N_INVJ, N_ROLLS, N_ECC,
  N_ANGLE, N_COLS) = range(12)
+
+# traction rollers and measured friction (docs/branching.md, "Slip and measured friction"),
+# node table columns at its end: 1 on a traction roller; wrap [rad], μ0, μ', viscous
+# traction [N·s/m], a traction nip's static and Coulomb force [N], the web's mass per length
+# [kg/m], the spans in and out; the stick/slip state held over a tick (0 stuck, 1
+# slipping), the time slipped [s], the break-aways, the first one's time [s] (nan: none),
+# the largest slip speed [m/s] at a tick; a friction table's points, speeds [rad/s] and
+# torques [N·m]; the break-away torque [N·m]; the control period [s] (a held roller's ω
+# decays in it)
+(N_TRACTION, N_WRAP, N_MU, N_MUK, N_SLIPB, N_NIPS, N_NIPK, N_RHOA, N_SPIN, N_SPOUT,
+ N_SLIPPING, N_SLIPTIME, N_SLIPCOUNT, N_SLIPFIRST, N_SLIPPEAK) = range(N_COLS, N_COLS + 15)
+FRICTION_POINTS = 5  # (spec.friction.MAX_POINTS)
+N_FRICN = N_SLIPPEAK + 1
+N_FRICW = N_FRICN + 1
+N_FRICT = N_FRICW + FRICTION_POINTS
+N_BREAKAWAY = N_FRICT + FRICTION_POINTS
+N_STICKTAU = N_BREAKAWAY + 1
+N_COLS = N_STICKTAU + 1
 
 # span table (int): nodes, web, where the carried-in stretch comes from, roll arms, layers,
 # the clutch core its downstream end winds on (-1: the node itself), the angle states of its
