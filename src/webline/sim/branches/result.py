@@ -169,7 +169,7 @@ class BranchResult:
                                         float(self.time[first])))
         findings += splice_findings(line, self.plan.dt, self.time, ds["tension"].values)
         findings += yield_findings(self.plan, self.time, self.states)
-        findings += slip_findings(self.plan)
+        findings += slip_findings(self.plan.line, self.plan.nodes, self.plan.si)
         limits = self.plan.df[:, B.D_LIMIT]
         for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit
             at_limit = np.nonzero(np.abs(ds["torque_cmd"].values[:, d]) >= limits[d])[0]

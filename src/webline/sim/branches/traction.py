@@ -15,7 +15,6 @@ from webline.verdict import Finding
 
 if TYPE_CHECKING:
     from webline.model.web_graph import BranchedLine
-    from webline.sim.branches.plan import BranchPlan
 
 
 def traction_columns(line: BranchedLine, nodes: np.ndarray, si: np.ndarray, offsets: np.ndarray,
@@ -30,7 +29,7 @@ def traction_columns(line: BranchedLine, nodes: np.ndarray, si: np.ndarray, offs
         nip = getattr(spec, "nip", None)
         if nip is not None:  # its pressure roller turns with it (own inertia, bearings)
             inertia, viscous, coulomb = shaft_terms(spec)
-            nodes[i, B.N_JCONST] += inertia - spec.inertia
+            nodes[i, B.N_JCONST] += inertia - spec.inertia  # type: ignore[operator]
             nodes[i, B.N_VISCOUS] += viscous - spec.friction
             nodes[i, B.N_COULOMB] += coulomb - spec.coulomb_friction
             nodes[i, B.N_INVJ] = 1.0 / nodes[i, B.N_JCONST]
@@ -61,16 +60,16 @@ def traction_columns(line: BranchedLine, nodes: np.ndarray, si: np.ndarray, offs
             offsets[B.O_FRICTION] = 1
 
 
-def slip_findings(plan: BranchPlan) -> list[Finding]:
+def slip_findings(line: BranchedLine, nodes: np.ndarray, si: np.ndarray) -> list[Finding]:
     """One warning per traction roller the web slipped over in the run: the web or
     lane, the time it slipped, the break-aways, the first one's time and the largest slip
-    speed at a tick (from the loop's columns, ``loop.traction.update_slip``)."""
+    speed at a tick (from a plan's node and span tables after its run, which
+    ``loop.traction.update_slip`` filled)."""
     findings = []
-    line, nodes = plan.line, plan.nodes
     for i in np.flatnonzero(nodes[:, B.N_TRACTION]):
         if nodes[i, B.N_SLIPCOUNT] == 0.0:
             continue
-        web = line.spec.webs[int(plan.si[int(nodes[i, B.N_SPOUT]), B.S_WEB])].name
+        web = line.spec.webs[int(si[int(nodes[i, B.N_SPOUT]), B.S_WEB])].name
         roller = line.spec.rollers[i].name
         count = int(nodes[i, B.N_SLIPCOUNT])
         first, time, peak = (float(nodes[i, c]) for c in (B.N_SLIPFIRST, B.N_SLIPTIME,

@@ -11,8 +11,8 @@ from typing import NoReturn
 
 from webline.errors import LineFileError
 from webline.spec.branched.disturbances import check_disturbances
-from webline.spec.branched.traction import check_traction
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
+from webline.spec.branched.traction import check_traction
 from webline.spec.branched.web_law import check_web_laws
 from webline.spec.branched.winder import check_splices, check_winders
 from webline.spec.schema import (
