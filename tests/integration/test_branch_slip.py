@@ -112,6 +112,39 @@ def _guide(d, **keys):
     d["rollers"][GUIDE].update(keys)
 
 
+def guide_line(traction: bool, drag: str | None = None):
+    """The slitter with its idle guide on a traction contact of little friction, μθ = 0.005
+    (it holds 1.5 N of tension difference at 300 N); ``drag``: a bearing drag stepped on at
+    0.5 s, which asks more of the web than that."""
+    d = copy.deepcopy(SLITTER)
+    if traction:
+        _guide(d, wrap="0.5 rad", contact={"type": "traction", "friction": 0.01,
+                                           "viscous": "1e4 N*s/m"})
+    if drag is not None:
+        d["disturbances"] = [{"type": "roller_drag", "roller": "guide", "torque": {
+            "type": "steps", "initial": "0 N*m", "steps": [{"time": "0.5 s", "value": drag}]}}]
+    return load_branched(d)
+
+
+def test_a_traction_idler_sticks_in_steady_running_and_slips_past_its_capstan_ratio():
+    adhered = simulate_branches(guide_line(False), 0.5)
+    stuck = simulate_branches(guide_line(True), 0.5)
+    assert float(np.max(np.abs(stuck.rec - adhered.rec))) == 0.0  # s = 0 in every stage
+    # a 0.2 N·m drag needs 4 N across the guide, beyond its 1.5 N: the web slips over it
+    result = simulate_branches(guide_line(True, "0.2 N*m"), 1.0, record_interval="1 ms")
+    x, plan = result.states, result.plan
+    surface = 0.05 * x[:, plan.offsets[B.O_OMEGA] + GUIDE]
+    t_c = plan.nodes[GUIDE, B.N_RHOA] * surface**2
+    ratio = (np.maximum(x[:, 1], 0.0) - t_c) / (np.maximum(x[:, 0], 0.0) - t_c)
+    first = plan.nodes[GUIDE, B.N_SLIPFIRST]
+    tick = int(np.flatnonzero(np.isclose(result.time, first, rtol=0, atol=1e-9))[0])
+    limit = math.exp(0.01 * 0.5)
+    assert 0.5 <= first < 0.6 and ratio[tick - 1] <= limit < ratio[tick]
+    ds = result.dataset  # and web length is kept through the slipping idler
+    balance = ds["web_stored"] + ds["web_out"] - ds["web_in"]
+    assert float(np.max(np.abs(balance - balance.isel(time=0)))) < 1e-7
+
+
 def test_a_friction_table_sets_the_idlers_tension_difference():
     d = copy.deepcopy(SLITTER)
     _guide(d, friction="0 N*m*s",
