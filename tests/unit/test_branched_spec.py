@@ -85,8 +85,23 @@ CASES = [  # (base, change, key in the message, fragment of the problem)
      "exactly one master roller, found 0"),
     (LAMINATOR, _set_dancer, "rollers[1].dancer",
      "not yet supported on a branched line (stage 1: "),
-    (LAMINATOR, lambda d: d["rollers"][0].__setitem__("controller", {"type": "state_feedback"}),
+    (LAMINATOR, lambda d: d["rollers"][0].__setitem__("controller", {
+        "type": "python", "function": "m:f"}),
      "rollers[0].controller.type", "not yet supported on a branched line"),
+    (LAMINATOR, lambda d: d["rollers"][0].__setitem__("controller", {
+        "type": "state_feedback", "tension_feedback": "observer"}),
+     "rollers[0].controller.tension_feedback", "not yet supported on a branched line"),
+    (LAMINATOR, lambda d: (d["rollers"][0].__setitem__("controller", {
+        "type": "state_feedback"}), d["rollers"][0].__setitem__("winder", {
+            "inertia_compensation": True})),
+     "rollers[0].winder", "a centre winder's compensation and open loop with a cascaded_pi"),
+    (LAMINATOR, lambda d: d["rollers"][0].__setitem__("controller", {
+        "type": "adaptive", "leakage": -1}), "rollers[0].controller.leakage", "must be >= 0"),
+    (SLITTER, lambda d: (d["rollers"][4].__setitem__("shaft", {
+        "type": "differential", "slip_torque": "8 N*m", "overspeed": 0.02,
+        "core_inertia": "0.005 kg*m**2"}), d["rollers"][4].__setitem__(
+            "controller", {"type": "state_feedback"})),
+     "rollers[4].controller.type", "a differential shaft runs in speed control"),
     (LAMINATOR, lambda d: d["webs"][0]["spans"][1].pop("tension"), "rollers[0]",
      "no loadcell span"),
     (LAMINATOR, lambda d: d["webs"][2]["spans"][1].__setitem__("tension", "180 N"),

@@ -22,6 +22,8 @@ import numpy as np
 from scipy.optimize import root
 
 from webline.errors import SimulationError
+from webline.model.web_graph import BranchedLine
+from webline.profiles import breakpoints
 from webline.sim.branches.centre_winder import open_loop_torque
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import taper_at
@@ -187,3 +189,11 @@ def operating_point(plan: BranchPlan, t: float = 0.0) -> BranchPoint:
                                                       plan.rolls)
             at[off_tq + d] = -web_torque / plan.nodes[i, B.N_RATIO]
     return BranchPoint(at, at[off_tq:off_tq + n_d].copy(), ratio, speed)
+
+
+def analysis_time(line: BranchedLine) -> float:
+    """Time [s] at which to analyse ``line``: 0, or for a start from rest the end of the
+    speed ramp (the chain's rule, ``model.operating_point.analysis_time``: a line standing
+    still has no web transport, so its span modes lose their damping)."""
+    times, values = breakpoints(line.spec.speed)
+    return 0.0 if values[0] > 0.01 * float(np.max(values)) else float(times[-1])

@@ -20,9 +20,10 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 
 from webline.model.web_graph import BranchedLine, load_branched
-from webline.profiles import breakpoints
 from webline.sim.branches.centre_winder import linear_winder_rows
+from webline.sim.branches.decentral import ensure_prepared, linear_rows
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
+from webline.sim.branches.equilibrium import analysis_time as analysis_time  # (its home was here)
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import node_inertia, rhs
 from webline.sim.branches.plan import BranchPlan, compile_branches
@@ -131,8 +132,9 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
     [N·m] of every drive, then tension integrator [m/s] of every drive with a zone), r = (line
     speed [m/s], then each loadcell's reference [N] in ``plan.cells`` order). With
     ``radii`` the measured speed r ω also varies with the roll's radius."""
+    ensure_prepared(plan)
     n_x, n_d = len(kept_states(plan, radii)), plan.di.shape[0]
-    zoned = [d for d in range(n_d) if plan.di[d, B.DI_NCELLS] > 0]
+    zoned = _zoned(plan)
     n_q, n_r = n_d + len(zoned), 1 + plan.cells.shape[0]
     kx, ki, kr = np.zeros((n_d, n_x)), np.zeros((n_d, n_q)), np.zeros((n_d, n_r))
     gx, gi, gr = np.zeros((n_q, n_x)), np.zeros((n_q, n_q)), np.zeros((n_q, n_r))
@@ -140,6 +142,9 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
     felt = felt_tension_rows(plan, point, radii)
     for d in range(n_d):
         i, row = int(plan.di[d, B.DI_NODE]), plan.df[d]
+        if plan.di[d, B.DI_FAMILY] != B.FAMILY_PI:  # state feedback, adaptive
+            kx[d], ki[d], kr[d], gx[d], gi[d], gr[d] = linear_rows(plan, point, d, n_x, n_q)
+            continue
         # e_v = v_line ff + σ (kp_t e_t + q_t) - r ω,  e_t = Σ (ref_c - T_c)
         ev_x, ev_q, ev_r = np.zeros(n_x), np.zeros(n_q), np.zeros(n_r)
         ev_r[0] = point.ratio[d]
@@ -168,7 +173,33 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
             linear_winder_rows(plan, d, speed_arm(plan, point, i),
                                n_d + zoned.index(d) if d in zoned else None, kx, ki, kr, gx,
                                gi, gr)
-    return kx, ki, kr, gx, gi, gr
+    keep = _integrators(plan)  # a state-feedback drive has none
+    return kx, ki[:, keep], kr, gx[keep], gi[np.ix_(keep, keep)], gr[keep]
+
+
+def _zoned(plan: BranchPlan) -> list[int]:
+    """The PI drives with a tension loop (a tension integrator each)."""
+    return [d for d in range(plan.di.shape[0])
+            if plan.di[d, B.DI_NCELLS] > 0 and plan.di[d, B.DI_FAMILY] == B.FAMILY_PI]
+
+
+def _integrators(plan: BranchPlan) -> list[int]:
+    """The controller states kept: each drive's speed integrator (an adaptive drive's: its
+    friction estimate; an MRAC's: its bias, its gains' changes being second order at the
+    operating point; none for state feedback), then the tension integrators."""
+    n_d = plan.di.shape[0]
+    return ([d for d in range(n_d) if plan.di[d, B.DI_FAMILY] != B.FAMILY_STATE_FEEDBACK]
+            + list(range(n_d, n_d + len(_zoned(plan)))))
+
+
+def integrator_names(plan: BranchPlan) -> list[str]:
+    """Names of the closed loop's controller states (``_integrators``)."""
+    drives = [plan.line.spec.rollers[i].name for i in plan.line.drives]
+    kind = {B.FAMILY_ADAPTIVE: "friction_estimate", B.FAMILY_MRAC: "mrac_bias"}
+    names = [f"{n}_{kind.get(int(plan.di[d, B.DI_FAMILY]), 'speed_integral')}"
+             for d, n in enumerate(drives)]
+    names += [f"{drives[d]}_tension_integral" for d in _zoned(plan)]
+    return [names[q] for q in _integrators(plan)]
 
 
 def wound_gains(plan: BranchPlan, point: BranchPoint,
@@ -233,9 +264,7 @@ def branch_linear_model(plan: BranchPlan, point: BranchPoint,
         b_cl[:n_x, -e.shape[1]:] += b @ kw
         b_cl[n_x:, -e.shape[1]:] = gw
     c_cl = np.hstack([c, np.zeros((c.shape[0], n_q))])
-    zoned = [d for d in range(len(drives)) if plan.di[d, B.DI_NCELLS] > 0]
-    names = (names + [f"{n}_speed_integral" for n in drives]
-             + [f"{drives[d]}_tension_integral" for d in zoned])
+    names = names + integrator_names(plan)
     inputs = (["line_speed_ref"]
               + [f"{line.spans[int(k)].name}_tension_ref" for k in plan.cells[:, 0]] + wound)
     return LinearModel(a_cl, b_cl, c_cl, names, inputs, outputs)
@@ -247,14 +276,6 @@ def linear_model(line: BranchedLine | str, t: float = 0.0, *,
     references (``branch_linear_model``)."""
     plan = compile_branches(load_branched(line))
     return branch_linear_model(plan, operating_point(plan, t), loop)
-
-
-def analysis_time(line: BranchedLine) -> float:
-    """Time [s] at which to analyse ``line``: 0, or for a start from rest the end of the
-    speed ramp (the chain's rule, ``model.operating_point.analysis_time``: a line standing
-    still has no web transport, so its span modes lose their damping)."""
-    times, values = breakpoints(line.spec.speed)
-    return 0.0 if values[0] > 0.01 * float(np.max(values)) else float(times[-1])
 
 
 def fastest_rate(plan: BranchPlan, point: BranchPoint) -> float:

@@ -42,7 +42,9 @@ class BranchPlan:
     torques. ``radius0``: each drive's calculated radius at the start [m] (0 without a
     diameter calculator). ``wound``: the held inputs, wound-in tension [N] per web then drag
     [N·m] per node (``held`` gives them at a time). ``lawi``, ``lawf``, ``laws``, ``kv``: the
-    web laws' terms and Kelvin-Voigt spans (``sim.branches.web_laws``; empty: linear elastic)."""
+    web laws' terms and Kelvin-Voigt spans (``sim.branches.web_laws``; empty: linear elastic).
+    ``fb``, ``refs``: the decentralized families' gains and references (``layout`` FB_*,
+    filled by ``decentral.prepare``)."""
 
     line: BranchedLine
     offsets: np.ndarray
@@ -70,6 +72,8 @@ class BranchPlan:
     lawf: np.ndarray
     laws: np.ndarray
     kv: np.ndarray
+    fb: np.ndarray
+    refs: np.ndarray
 
     @property
     def n_x(self) -> int:
@@ -103,7 +107,7 @@ class BranchPlan:
                            self.speed_max,
                            self.nodes, self.sf, self.rolls, self.df, self.clutch, self.events,
                            self.dist, self.prof_t, self.prof_v, self.prof_off, self.lawf,
-                           self.laws)
+                           self.laws, self.fb, self.refs)
 
     def held(self, t: float) -> np.ndarray:
         """The held inputs ``kernel.rhs`` takes at ``t`` [s] without the ripples (their mean):
@@ -190,6 +194,8 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         di[d, B.DI_NCELLS] = len(zone.loadcells) if zone else 0
         cells += [(k, ref_of[k]) for k in (zone.loadcells if zone else ())]
         di[d, B.DI_ROLL] = _speed_roll(line, i, zone.loadcells if zone else ())
+        di[d, B.DI_FAMILY] = B.FAMILIES.get(getattr(spec.rollers[i], "controller", None)
+                                            .type, B.FAMILY_PI)  # type: ignore[union-attr]
         df[d, B.D_SIGMA] = zone.sigma if zone and i not in cores[:, B.C_NODE] else 0.0
     events = np.zeros((0, B.E_COLS))
     change = line.roll_change
@@ -214,7 +220,9 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
                       wound,
                       np.concatenate([t for t, _ in profiles]),
                       np.concatenate([v for _, v in profiles]), offs, 1.0 / rate,
-                      RUNAWAY_SPEED_FACTOR * top + RUNAWAY_SPEED_FLOOR, lawi, lawf, laws, kv)
+                      RUNAWAY_SPEED_FACTOR * top + RUNAWAY_SPEED_FLOOR, lawi, lawf, laws, kv,
+                      np.zeros((n_d, B.FB_COLS)),
+                      np.zeros((n_s + n_d + 2, 1 + len(cells))))
     _tune(plan)
     return plan
 
@@ -294,8 +302,10 @@ def _tune(plan: BranchPlan) -> None:
         x[plan.offsets[B.O_RADIUS] + j] = roll.radius
     for d, i in enumerate(line.drives):
         roller = line.spec.rollers[i]
-        assert not isinstance(roller, IdleSpec) and isinstance(roller.controller, CascadedPISpec)
-        c, drive = roller.controller, roller.drive
+        assert not isinstance(roller, IdleSpec)
+        pi = roller.controller if isinstance(roller.controller, CascadedPISpec) else (
+            CascadedPISpec())  # a decentralized drive: its PI columns stay unused
+        c, drive = pi, roller.drive
         j = plan.di[d, B.DI_ROLL]
         radius = x[plan.offsets[B.O_RADIUS] + j] if j >= 0 else roller.radius
         inertia = float(node_inertia(i, x, plan.offsets, plan.nodes, plan.rolls))

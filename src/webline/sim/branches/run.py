@@ -10,6 +10,7 @@ import numpy as np
 from webline.errors import SimulationError
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches.centre_winder import initial_compensation
+from webline.sim.branches.decentral import prepare, start_memory
 from webline.sim.branches.equilibrium import operating_point
 from webline.sim.branches.linear import fastest_rate
 from webline.sim.branches.loop import layout as B
@@ -53,6 +54,7 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
             duration = line.spec.scenarios[scenario].duration
     duration = 10.0 if duration is None else duration
     plan = compile_branches(line, rate)
+    prepare(plan)  # the decentralized drives' designs and references (none: nothing)
     point = operating_point(plan)
     if substeps is None:
         substeps = max(1, math.ceil(plan.dt * fastest_rate(plan, point) / STEP_LIMIT))
@@ -70,6 +72,7 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     istate[:, B.I_SPEED] = point.torque  # the speed integrators hold the torques
     istate[:, B.I_SPEED] -= initial_compensation(plan, point)  # (less a winder's, W3)
     istate[:, B.I_RADIUS] = plan.radius0
+    start_memory(plan, istate)  # the decentralized families' (sim.branches.decentral)
     n_d = plan.di.shape[0]
     rec = new_records(n_ticks, every, plan.n_x, n_d)
     wound, done, cmd = plan.wound.copy(), np.zeros(len(plan.events)), point.torque.copy()

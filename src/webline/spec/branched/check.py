@@ -10,13 +10,13 @@ from collections.abc import Callable
 from typing import NoReturn
 
 from webline.errors import LineFileError
+from webline.spec.branched.controllers import check_controller
 from webline.spec.branched.disturbances import check_disturbances
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
 from webline.spec.branched.traction import check_traction
 from webline.spec.branched.web_law import check_web_laws
 from webline.spec.branched.winder import check_splices, check_winders
 from webline.spec.schema import (
-    CascadedPISpec,
     DrivenSpec,
     IdleSpec,
     RewindSpec,
@@ -89,9 +89,7 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
                 unsupported(f"{key}.drive.transmission", fail)
             if drive.brake is not None:
                 unsupported(f"{key}.drive.brake", fail)
-        controller = getattr(roller, "controller", None)
-        if controller is not None and not isinstance(controller, CascadedPISpec):
-            unsupported(f"{key}.controller.type", fail, "cascaded_pi controllers")
+        check_controller(key, roller, fail, unsupported)
     check_web_laws(spec, fail)
     for name, scenario in spec.scenarios.items():
         change = scenario.roll_change

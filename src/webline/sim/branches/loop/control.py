@@ -12,6 +12,7 @@ import numpy as np
 
 from webline.physics import motor, span, taper
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.decentral import decentral_command, reference_changes
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.loop.winder import compensation, open_loop, zone_reference
 from webline.sim.drives.measure import quantized
@@ -76,14 +77,16 @@ def taper_at(d: int, radius: float, core_radius: float, df: np.ndarray, prof_t: 
 def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarray,
                  cmd: np.ndarray, offsets: np.ndarray, nodes: np.ndarray, rolls: np.ndarray,
                  di: np.ndarray, df: np.ndarray, cells: np.ndarray, dist: np.ndarray,
-                 prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray) -> None:
+                 prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray,
+                 si: np.ndarray, fb: np.ndarray, refs: np.ndarray) -> None:
     """One sample ``tick`` of every drive's cascaded PI (thesis Fig. 4.3, as the chain's
     ``sim.drives.controllers.pi_command``): line speed x draw is the speed feedforward, a
     tension PI on the zone's loadcell (or the sum of its loadcells) trims it, a speed PI gives
     the torque, clipped, with conditional integration. ``cells`` rows: (span, profile).
     ``dist``: a drive's speed ripple adds to its speed reference; measurement noise to the
     measured speed (channel 2 d, then rounded to the resolution) and each loadcell's tension
-    (channel 2 c + 1), as the chain's ``sim.drives.measure``."""
+    (channel 2 c + 1), as the chain's ``sim.drives.measure``. A decentralized drive
+    (``DI_FAMILY``) takes ``loop.decentral``'s command instead of the PI's (``fb``, ``refs``)."""
     v_line = profile_at(0, t, prof_t, prof_v, prof_off)
     off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
     sigma_t, sigma_v, resolution, seed, noisy = 0.0, 0.0, 0.0, 0, False
@@ -91,6 +94,11 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
         if int(dist[r, B.DS_KIND]) == B.DIST_NOISE:
             seed, noisy = int(dist[r, B.DS_INDEX]), True
             sigma_t, sigma_v, resolution = dist[r, B.DS_A], dist[r, B.DS_B], dist[r, B.DS_C]
+    decentral = False
+    for d in range(di.shape[0]):  # (frozen table: folds away on a line of PI drives)
+        decentral = decentral or di[d, B.DI_FAMILY] != B.FAMILY_PI
+    if decentral:
+        reference_changes(t, istate, di, cells, refs, prof_t, prof_v, prof_off)
     for d in range(di.shape[0]):
         i = di[d, B.DI_NODE]
         j = di[d, B.DI_ROLL]
@@ -119,6 +127,12 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             if noisy:
                 measured += sigma_t * gaussian(seed, tick, 2 * c + 1)
             e_t += factor * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - measured
+        istate[d, B.I_FACTOR] = factor  # (the decentralized drives' references read it)
+        if di[d, B.DI_FAMILY] != B.FAMILY_PI:  # state feedback, adaptive, MRAC
+            cmd[d] = decentral_command(d, di[d, B.DI_FAMILY], i, t, dt, radius, v_meas, -e_t,
+                                       x, istate, offsets, nodes, rolls, si, df, fb, refs,
+                                       prof_t, prof_v, prof_off)
+            continue
         trim = df[d, B.D_SIGMA] * (df[d, B.D_KPT] * e_t + istate[d, B.I_TENSION])
         ripple = 0.0
         for r in range(dist.shape[0]):

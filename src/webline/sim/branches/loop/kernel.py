@@ -49,14 +49,16 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             di: np.ndarray, df: np.ndarray, cores: np.ndarray, clutch: np.ndarray,
             cells: np.ndarray, events: np.ndarray, dist: np.ndarray, prof_t: np.ndarray,
             prof_v: np.ndarray, prof_off: np.ndarray, lawi: np.ndarray, lawf: np.ndarray,
-            laws: np.ndarray, kv: np.ndarray) -> tuple[int, int, float]:
+            laws: np.ndarray, kv: np.ndarray, fb: np.ndarray,
+            refs: np.ndarray) -> tuple[int, int, float]:
     """Advance ``n_ticks`` controller periods from tick ``tick0``, recording ``new_records``'
     rows every ``record_every`` ticks and, with ``include_end``, the state after the last (a
     chunked run leaves that tick to the next chunk); returns (records, status, time of
     failure). Stops at a non-finite state, an empty unwind, a runaway or a span beyond its
     web's strength (``layout``). With web laws or Kelvin-Voigt spans the loadcells read the
     tension the rollers feel (``loop.web_law``).
-    ``held``: scratch for the inputs held over a period (``held_inputs``)."""
+    ``held``: scratch for the inputs held over a period (``held_inputs``); ``fb``, ``refs``:
+    the decentralized drives' tables (``loop.decentral``)."""
     n_x = x.shape[0]
     n_d = di.shape[0]
     n_s = si.shape[0]
@@ -80,7 +82,7 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             for m in range(n_x):
                 measured[m] = work[start + m] if m < n_s else x[m]
         control_tick(t, tick0 + j, dt, measured, istate, cmd, offsets, nodes, rolls, di, df,
-                     cells, dist, prof_t, prof_v, prof_off)
+                     cells, dist, prof_t, prof_v, prof_off, si, fb, refs)
         if (tick0 + j) % record_every == 0 or j == n_ticks:
             rec[n_rec, 0] = t
             for m in range(n_x):
@@ -147,11 +149,12 @@ def _compiled(*tables: tuple[Any, ...]) -> Any:
              include_end: bool, speed_max: float, nodes: np.ndarray, sf: np.ndarray,
              rolls: np.ndarray, df: np.ndarray, clutch: np.ndarray, events: np.ndarray,
              dist: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
-             prof_off: np.ndarray, lawf: np.ndarray, laws: np.ndarray) -> tuple[int, int, float]:
+             prof_off: np.ndarray, lawf: np.ndarray, laws: np.ndarray, fb: np.ndarray,
+             refs: np.ndarray) -> tuple[int, int, float]:
         return advance(x, istate, wound, done, rec, stages, cmd, work, held, tick0, n_ticks, dt,
                        substeps, record_every, include_end, speed_max, offsets, nodes, si, sf,
                        layers, rolls, webs, di, df, cores, clutch, cells, events, dist, prof_t,
-                       prof_v, prof_off, lawi, lawf, laws, kv)
+                       prof_v, prof_off, lawi, lawf, laws, kv, fb, refs)
 
     return loop
 

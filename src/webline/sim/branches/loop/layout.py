@@ -79,9 +79,15 @@ CF_SLIP, CF_INERTIA, CF_OVERSPEED, CF_COLS = range(4)
 WB_FIRST, WB_LAST, WB_COLS = range(3)
 
 # drive table (int)
-# (DI_WINDER: centre-winder compensation, docs/winder.md W3-W4: WINDER_*)
-DI_NODE, DI_CELLS, DI_NCELLS, DI_ROLL, DI_WINDER, DI_COLS = range(6)
+# (DI_WINDER: centre-winder compensation, docs/winder.md W3-W4: WINDER_*; DI_FAMILY: the
+# controller family, docs/branching.md "State feedback": FAMILY_*)
+DI_NODE, DI_CELLS, DI_NCELLS, DI_ROLL, DI_WINDER, DI_FAMILY, DI_COLS = range(7)
 WINDER_NONE, WINDER_COMP, WINDER_OPEN = range(3)
+#: DI_FAMILY: the cascaded PI | decentralized state feedback | decentralized adaptive
+#: (friction estimate) | MRAC
+FAMILY_PI, FAMILY_STATE_FEEDBACK, FAMILY_ADAPTIVE, FAMILY_MRAC = range(4)
+FAMILIES = {"cascaded_pi": FAMILY_PI, "state_feedback": FAMILY_STATE_FEEDBACK,
+            "adaptive": FAMILY_ADAPTIVE, "mrac": FAMILY_MRAC}
 # drive table (float)
 # (taper: kind of physics.taper, 0 none; taper; largest diameter [m]; a table's profile.
 # diameter calculator: DCALC_*; filter [s]; rate limit [m/s]; hold below [m/s]; line-speed
@@ -103,7 +109,10 @@ DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = range(3)
 
 # controller memory per drive
 # controller memory per drive (I_RADIUS: the diameter calculator's radius [m])
-I_SPEED, I_TENSION, I_RADIUS, I_COLS = range(4)
+# (I_FRICTION: the adaptive family's friction estimate b̂ [N·m·s]; I_FACTOR: the drive's
+# taper factor at its last tick, read by the decentralized families' references; the MRAC's
+# adapted gains k̂_T [N·m/N], k̂_V [N·m·s/m] and bias ĉ [N·m])
+I_SPEED, I_TENSION, I_RADIUS, I_FRICTION, I_FACTOR, I_KT, I_KV, I_BIAS, I_COLS = range(9)
 
 # event table (roll change): time, roll, new radius, new wound-in tension, web
 # (flying splice, docs/winder.md S1: E_KIND an EVENT_*; the new roll's surface speed over the
@@ -122,3 +131,16 @@ RUNAWAY_STRAIN = 0.05
 # sigma [N], speed sigma [m/s], speed resolution [m/s])
 DS_KIND, DS_INDEX, DS_A, DS_B, DS_C, DS_COLS = range(6)
 DIST_WOUND_RIPPLE, DIST_SPEED_RIPPLE, DIST_DRAG, DIST_NOISE = range(4)
+
+# decentralized families (sim.branches.decentral, loop.decentral): per drive (float) the
+# gains K_T [N·m/N], K_V [N·m·s/m]; the friction model b [N·m·s] of the roller and the motor's
+# reflected n² b_m; the adaptive law's (and the MRAC's) γ [rad/s], leakage, bound b_max
+# [N·m·s]; the thickness [m] and direction (+1 winding, -1 unwinding, 0 a roller) of the roll
+# it measures speed on; the MRAC's law (the chain's sim.core.drive_table._mrac_columns): P b
+# per state, the rates of k̂_T, k̂_V and ĉ, the projection half-widths of k̂_T, k̂_V and ĉ
+(FB_KT, FB_KV, FB_BMODEL, FB_BMOTOR, FB_GAMMA, FB_LEAK, FB_BMAX, FB_THICK, FB_DIR, FB_PBT,
+ FB_PBV, FB_GKT, FB_GKV, FB_GBIAS, FB_KBT, FB_KBV, FB_CBOUND, FB_COLS) = range(18)
+# references (float, rows x (1 + cells)): per span, its operating-point tension [N] then its
+# change per newton of each loadcell's reference; per drive, its surface speed [m/s] and its
+# change [m/s/N]; then the operating point's line speed [m/s] and each loadcell's reference
+# [N] there (taper included); the last row: scratch, each loadcell's reference change [N]

@@ -1,0 +1,43 @@
+"""Checks of a branched line's controller families (docs/branching.md, "State feedback"):
+the cascaded PI, decentralized state feedback, adaptive control and MRAC run on any drive
+but a differential shaft's (speed control only); the section observer and a user's Python
+controller not yet."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import NoReturn
+
+from webline.spec.schema import (
+    AdaptiveSpec,
+    CascadedPISpec,
+    MRACSpec,
+    RewindSpec,
+    StateFeedbackSpec,
+)
+
+Fail = Callable[[str, str], NoReturn]
+Unsupported = Callable[[str, Fail, str], NoReturn]
+
+#: the families a branched line runs
+FAMILIES = "cascaded_pi, state_feedback, adaptive and mrac controllers"
+
+
+def check_controller(key: str, roller: object, fail: Fail, unsupported: Unsupported) -> None:
+    """One line naming ``key``'s controller key where roller's controller is not run on a
+    branched line (``unsupported`` words it as the other stage-1 refusals)."""
+    controller = getattr(roller, "controller", None)
+    if controller is None or isinstance(controller, CascadedPISpec):
+        return
+    if not isinstance(controller, StateFeedbackSpec | AdaptiveSpec | MRACSpec):
+        unsupported(f"{key}.controller.type", fail, FAMILIES)
+    if controller.tension_feedback != "loadcell":
+        unsupported(f"{key}.controller.tension_feedback", fail,
+                    "decentralized controllers on their loadcells")
+    if getattr(roller, "winder", None) is not None:  # (its tick adds them to the PI's only)
+        unsupported(f"{key}.winder", fail, "a centre winder's compensation and open loop "
+                    "with a cascaded_pi drive")
+    if isinstance(roller, RewindSpec) and roller.shaft is not None:
+        fail(f"{key}.controller.type", f"{controller.type!r} needs a tension loop; a "
+             "differential shaft runs in speed control (its lanes' tension is slip_torque / "
+             "radius): use cascaded_pi")
