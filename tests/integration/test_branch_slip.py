@@ -176,3 +176,22 @@ def test_a_breakaway_torque_holds_an_idler_at_rest_below_it():
     assert float(np.max(np.abs(omega[:moved]))) < 1e-3
     assert np.all(held[:moved - 1])
     assert not held[moved - 1] or not held[moved]
+
+
+def test_a_stiff_slip_mode_sets_the_rk4_step():
+    from webline.physics.slip import slip_rate
+
+    line = slitter(lanes="130 N")
+    contact = dict(line.spec.rollers[PULL].contact.model_dump(), viscous=100.0)
+    d = copy.deepcopy(SLITTER)
+    d["rollers"][PULL].update(wrap=f"{WRAP} rad", contact=contact)
+    for w in (1, 2, 3):
+        d["webs"][w]["spans"][0]["tension"] = {
+            "type": "steps", "initial": "100 N", "steps": [{"time": "0.5 s", "value": "130 N"}]}
+    result = simulate_branches(load_branched(d), 1.0)
+    # b = 100 N·s/m: the spans round the slipping roll decay at up to (EA/b)(κ/L_in +
+    # 1/L_out) + v(...) ~ 3.6e3 1/s, which the stuck linear model does not hold: the step
+    # resolves it (h·rate <= 0.5, as the chain's sim.linear.fastest.slip_rates)
+    rate = slip_rate(281.25e3, 100.0, 2.0, 1.5, MU, MU, WRAP, 5.5)
+    assert result.settings["substeps"] >= math.ceil(1e-3 * rate / 0.5) > 1
+    assert result.plan.nodes[PULL, B.N_SLIPCOUNT] >= 1 and result.failure is None

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from webline.physics.slip import slip_rate
 from webline.sim.branches.loop import layout as B
 from webline.spec.nip import shaft_terms
 from webline.verdict import Finding
@@ -58,6 +59,22 @@ def traction_columns(line: BranchedLine, nodes: np.ndarray, si: np.ndarray, offs
         if spec.breakaway_torque > 0.0:
             nodes[i, B.N_BREAKAWAY] = spec.breakaway_torque
             offsets[B.O_FRICTION] = 1
+
+
+def slip_rate_bound(line: BranchedLine, nodes: np.ndarray, sf: np.ndarray,
+                    top_speed: float) -> float:
+    """Fastest decay rate [1/s] the two spans round any slipping roller may have
+    (``physics.slip.slip_rate`` at 1.1 x the ``top_speed`` [m/s], as the chain's
+    ``sim.linear.fastest.slip_rates``): the stuck linear model does not see it, the RK4
+    step must resolve it; 0 without a traction roller."""
+    rate = 0.0
+    for i in np.flatnonzero(nodes[:, B.N_TRACTION]):
+        k_in, k_out = int(nodes[i, B.N_SPIN]), int(nodes[i, B.N_SPOUT])
+        rate = max(rate, slip_rate(sf[k_in, B.SF_EA], nodes[i, B.N_SLIPB],
+                                   sf[k_in, B.SF_LENGTH], sf[k_out, B.SF_LENGTH],
+                                   nodes[i, B.N_MU], nodes[i, B.N_MUK], nodes[i, B.N_WRAP],
+                                   1.1 * top_speed))
+    return rate
 
 
 def slip_findings(line: BranchedLine, nodes: np.ndarray, si: np.ndarray) -> list[Finding]:
