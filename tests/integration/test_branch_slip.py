@@ -195,3 +195,17 @@ def test_a_stiff_slip_mode_sets_the_rk4_step():
     rate = slip_rate(281.25e3, 100.0, 2.0, 1.5, MU, MU, WRAP, 5.5)
     assert result.settings["substeps"] >= math.ceil(1e-3 * rate / 0.5) > 1
     assert result.plan.nodes[PULL, B.N_SLIPCOUNT] >= 1 and result.failure is None
+
+
+def test_a_traction_idler_on_a_laminate_and_on_a_layer_sticks_as_the_adhered_ones():
+    laminator = tomllib.loads(resources.files("webline.data.lines").joinpath("laminator.toml")
+                              .read_text("utf-8"))
+    d = copy.deepcopy(laminator)
+    for i in (3, 5):  # guide_foil (a layer's path), guide_laminate (the laminate's)
+        d["rollers"][i].update(wrap="2 rad", contact={"type": "traction", "friction": 0.3,
+                                                      "viscous": "1e4 N*s/m"})
+    adhered = simulate_branches(load_branched(laminator), 0.5)
+    traction = simulate_branches(load_branched(d), 0.5)
+    # stuck throughout: bit for bit the adhered run (s = 0 in every stage)
+    assert float(np.max(np.abs(traction.rec - adhered.rec))) == 0.0
+    assert traction.plan.nodes[[3, 5], B.N_SLIPCOUNT].sum() == 0.0
