@@ -149,8 +149,6 @@ def test_an_eccentric_roller_ripples_the_tension_at_its_rotation_frequency():
      "disturbances[0].roller", "driven roller"),
     ({"type": "wound_in_ripple", "amplitude": 300.0, "frequency": 1.0},
      "disturbances[0].amplitude", "wound-in tension"),
-    ({"type": "web_break", "span": "unwind_zone", "at": 1.0},
-     "disturbances[0].type", "not yet supported"),
     ({"type": "eccentric_roller", "roller": "guide", "eccentricity": 0.05},
      "disturbances[0].eccentricity", "below the roller radius"),
 ])

@@ -106,9 +106,6 @@ CASES = [  # (base, change, key in the message, fragment of the problem)
      "no loadcell span"),
     (LAMINATOR, lambda d: d["webs"][2]["spans"][1].__setitem__("tension", "180 N"),
      "rollers[6]", "two loadcell spans in series"),
-    (LAMINATOR, lambda d: d.__setitem__("disturbances", [
-        {"type": "web_break", "span": "film_zone", "at": "1 s"}]), "disturbances[0].type",
-     "not yet supported on a branched line"),
     (LAMINATOR, lambda d: d.__setitem__("checks", {}), "checks",
      "not yet supported on a branched line"),
     (LAMINATOR, lambda d: d["scenarios"]["start-up"].__setitem__("unwind_radius", "0.2 m"),

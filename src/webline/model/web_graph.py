@@ -267,6 +267,10 @@ class BranchedLine:
         for key in ("speed", "disturbances"):  # a scenario's replace the line's
             if key in dumped:
                 data[key] = dumped[key]
+        if "break_" in dumped:  # docs/branching.md "Web breaks": a web_break disturbance
+            data["disturbances"] = [*data.get("disturbances", []),
+                                    {**dumped["break_"], "type": "web_break"}]
+            data["scenarios"][name].pop("break_")  # (now the run's one web_break)
         if "splice" in dumped:  # a flying_splice disturbance (docs/winder.md, Flying splice)
             data["disturbances"] = [*data.get("disturbances", []), dumped["splice"]]
         for path, value in scenario.set.items():

@@ -190,8 +190,8 @@ def branched_from_dict(data: Any, file: str = "<dict>") -> BranchedLineSpec:
         raise LineFileError(file, "spans", "a branched line gives its spans in each of its "
                             "[[webs]], not at the top level")
     for key in not_yet_branched(data):
-        raise LineFileError(file, key, "not yet supported on a branched line (speed, set, "
-                            "roll_change and disturbances scenarios)")
+        raise LineFileError(file, key, "not yet supported on a branched line (speed, set, break, "
+                            "splice, roll_change and disturbances scenarios)")
     try:
         spec = BranchedLineSpec.model_validate(data, context={WEB_WIDTH: _web_width(data)})
     except ValidationError as exc:
@@ -204,7 +204,7 @@ def branched_from_dict(data: Any, file: str = "<dict>") -> BranchedLineSpec:
 
 #: keys of a single-path line file that a branched line does not take yet (stage 1)
 _NOT_YET_TOP = ("checks",)
-_NOT_YET_SCENARIO = ("unwind_radius", "rewind_radius", "break")
+_NOT_YET_SCENARIO = ("unwind_radius", "rewind_radius")
 
 
 def not_yet_branched(data: dict[str, Any]) -> list[str]:

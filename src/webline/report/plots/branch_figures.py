@@ -17,6 +17,7 @@ from webline.report.plots.frame import framed_figure
 from webline.report.plots.mpl_text import legend_label, literal
 from webline.report.text.branch_tables import SI, junction_kind, shaft_lanes, small_length
 from webline.report.text.display import Display, number_text
+from webline.sim.branches.break_verdict import stop_factor
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.result import BranchResult
 from webline.sim.branches.web_findings import has_laws
@@ -36,11 +37,13 @@ def references(result: BranchResult) -> dict[int, np.ndarray]:
 
 def profile_values(result: BranchResult, p: int) -> np.ndarray:
     """The plan's reference profile ``p`` (0: the line speed [m/s]; a loadcell's tension [N])
-    at every record: what ``plan.profile(p, t)`` interpolates."""
+    at every record: what ``plan.profile(p, t)`` interpolates; the line speed ramping to a
+    stop after a detected web break as the drives had it (``break_verdict.stop_factor``)."""
     plan = result.plan
     off = plan.prof_off
-    return np.interp(result.time, plan.prof_t[off[p]:off[p + 1]],
-                     plan.prof_v[off[p]:off[p + 1]])
+    values = np.interp(result.time, plan.prof_t[off[p]:off[p + 1]],
+                       plan.prof_v[off[p]:off[p + 1]])
+    return values * stop_factor(plan, result.time, result.settings) if p == 0 else values
 
 
 def largest_deviation(result: BranchResult) -> tuple[float, str, float]:

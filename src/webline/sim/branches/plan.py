@@ -13,6 +13,7 @@ import numpy as np
 from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
+from webline.sim.branches.breaks import break_columns
 from webline.sim.branches.centre_winder import (
     ramp_column,
     rotating_inertia,
@@ -136,7 +137,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     eccentric = eccentricities(line)
     off_c = off_q + 2 * n_w
     offsets = np.array([off_w, off_r, off_tq, off_q, off_c, off_c + len(cores),
-                        off_c + len(cores) + len(eccentric), -1, 0, 0], dtype=np.int64)
+                        off_c + len(cores) + len(eccentric), -1, 0, 0, 0], dtype=np.int64)
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):
         nodes[i, B.N_RADIUS] = r.radius
@@ -207,6 +208,9 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         events = np.array([[change.time, j, change.radius, new, w, B.EVENT_ROLL_CHANGE, 1.0,
                             0.0]])
     dist = disturbance_table(line, profiles)
+    if break_columns(line, sf, df):  # a web break: after the drags each span's broken flag,
+        offsets[B.O_BREAK] = 1  # then each node's holding brake [N·m]
+        wound = np.concatenate([wound, np.zeros(n_s + n_n)])
     taper_columns(line, df, profiles)
     radius0 = diameter_columns(line, df, di)
     winder_columns(line, di, df, profiles)  # centre winders: compensation, open loop, ramp

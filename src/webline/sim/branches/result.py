@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
+from webline.sim.branches.break_verdict import break_findings, intact, without_cut_jump
 from webline.sim.branches.centre_winder import splice_findings
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.traction import slip_findings
@@ -153,8 +154,9 @@ class BranchResult:
         for w, web in enumerate(line.spec.webs):
             spans = line.web_spans(w)
             tension = ds["tension"].values[:, spans]
-            label = f"{kind_of(web)} {web.name}"
-            slack = np.nonzero(np.any(tension <= 0.0, axis=1))[0]
+            taut = np.where(intact(self.plan, self.time)[:, spans], tension, np.inf)
+            label = f"{kind_of(web)} {web.name}"  # (a broken span: the break's finding)
+            slack = np.nonzero(np.any(taut <= 0.0, axis=1))[0]
             if len(slack):
                 findings.append(Finding("warning", "slack", web.name, f"{label} goes slack at "
                                         f"t = {self.time[slack[0]]:.4g} s", float(
@@ -169,6 +171,7 @@ class BranchResult:
                                         float(self.time[first])))
         findings += splice_findings(line, self.plan.dt, self.time, ds["tension"].values)
         findings += yield_findings(self.plan, self.time, self.states)
+        findings += break_findings(self.plan, self.time, ds["speed"].values, self.settings)
         findings += slip_findings(self.plan.line, self.plan.nodes, self.plan.si)
         limits = self.plan.df[:, B.D_LIMIT]
         for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit
@@ -183,14 +186,16 @@ class BranchResult:
 
     def web_summary(self) -> list[dict[str, object]]:
         """Per web: its kind, tension min/max/final per span [N] (a loadcell's also its largest
-        deviation from its reference) and the drift of its length balance [m]."""
+        deviation from its reference) and the drift of its length balance [m] (a cut web's
+        without its jump at the break: ``break_verdict.without_cut_jump``)."""
         line = self.plan.line
         ds = self.dataset
         out = []
         for w, web in enumerate(line.spec.webs):
             spans = line.web_spans(w)
-            balance = (ds["web_stored"].values[:, w] + ds["web_out"].values[:, w]
-                       - ds["web_in"].values[:, w])
+            balance = without_cut_jump(self.plan, self.time, ds["web_stored"].values[:, w]
+                                       + ds["web_out"].values[:, w]
+                                       - ds["web_in"].values[:, w], w)
             table: dict[str, dict[str, float]] = {}
             for k in spans:
                 tension = ds["tension"].values[:, k]

@@ -9,6 +9,7 @@ import numpy as np
 
 from webline.errors import SimulationError
 from webline.model.web_graph import BranchedLine, load_branched
+from webline.sim.branches.break_verdict import detection
 from webline.sim.branches.centre_winder import initial_compensation
 from webline.sim.branches.decentral import prepare, start_memory
 from webline.sim.branches.equilibrium import operating_point
@@ -72,6 +73,7 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     istate[:, B.I_SPEED] = point.torque  # the speed integrators hold the torques
     istate[:, B.I_SPEED] -= initial_compensation(plan, point)  # (less a winder's, W3)
     istate[:, B.I_RADIUS] = plan.radius0
+    istate[:, B.I_DETECT] = -1.0  # no web break detected yet
     start_memory(plan, istate)  # the decentralized families' (sim.branches.decentral)
     n_d = plan.di.shape[0]
     rec = new_records(n_ticks, every, plan.n_x, n_d)
@@ -95,7 +97,7 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
         failure = f"interrupted by the user (Ctrl-C) at t = {rec[n_rec - 1, 0]:.4g} s"
     result = BranchResult(plan, rec[:n_rec].copy(), failure,
                           {"duration": duration, "dt": plan.dt, "substeps": substeps,
-                           "record_every": every})
+                           "record_every": every, **detection(plan, istate)})
     if failure is not None and raise_on_failure:
         raise SimulationError(f"{line.name}: {failure}", partial=result)
     return result

@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from typing import NoReturn
 
+from webline.spec.branched.breaks import check_break, check_breaks
 from webline.spec.branched.schema import BranchedLineSpec
 from webline.spec.disturbances import (
     DisturbanceSpec,
@@ -17,12 +18,13 @@ from webline.spec.disturbances import (
 )
 from webline.spec.schema import IdleSpec, RewindSpec, UnwindSpec
 from webline.spec.splice import FlyingSplice
+from webline.spec.winder import WebBreak
 
 Fail = Callable[[str, str], NoReturn]
 
 #: what a branched line runs (the rest is refused naming its key)
 SUPPORTED = ("roller_drag, eccentric_roller, speed_ripple, wound_in_ripple, "
-             "measurement_noise and flying_splice disturbances")
+             "measurement_noise, flying_splice and web_break disturbances")
 
 
 def check_disturbances(spec: BranchedLineSpec, fail: Fail) -> None:
@@ -32,6 +34,7 @@ def check_disturbances(spec: BranchedLineSpec, fail: Fail) -> None:
         for name, s in spec.scenarios.items() if s.disturbances is not None]
     for key, items in lists:
         _check_list(spec, key, items, fail)
+    check_breaks(spec, fail)
 
 
 def _check_list(spec: BranchedLineSpec, key: str, items: list[DisturbanceSpec],
@@ -40,13 +43,19 @@ def _check_list(spec: BranchedLineSpec, key: str, items: list[DisturbanceSpec],
     unwinds = [r.name for r in spec.rollers if isinstance(r, UnwindSpec)]
     dragged: set[str] = set()
     eccentric: set[str] = set()
-    noises = 0
+    noises = breaks = 0
     for j, item in enumerate(items):
         here = f"{key}[{j}]"
         if not isinstance(item, RollerDrag | SpeedRipple | WoundInRipple | MeasurementNoise
-                          | EccentricRoller | FlyingSplice):  # (splices: spec.branched.winder)
+                          | EccentricRoller | FlyingSplice  # (splices: spec.branched.winder)
+                          | WebBreak):
             fail(f"{here}.type", f"not yet supported on a branched line ({SUPPORTED})")
-        if isinstance(item, EccentricRoller):
+        if isinstance(item, WebBreak):
+            breaks += 1
+            if breaks > 1:
+                fail(here, "one web_break per run")
+            check_break(spec, item, here, fail)
+        elif isinstance(item, EccentricRoller):
             _check_eccentric(item, here, by_name, eccentric, fail)
         elif isinstance(item, RollerDrag | SpeedRipple):
             roller = by_name.get(item.roller)

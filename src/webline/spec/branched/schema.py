@@ -19,6 +19,7 @@ from webline.spec.disturbances import DisturbanceSpec, Name
 from webline.spec.quantities import Force, Length, SpeedProfile, Strict, Time, TimeNonNeg
 from webline.spec.schema import ControlSpec, RollerSpec, SpanSpec, Text, WebSpec
 from webline.spec.splice import SpliceEvent
+from webline.spec.winder import BreakEvent
 
 
 class WebPathSpec(Strict):
@@ -56,8 +57,9 @@ class BranchedScenarioSpec(Strict):
     """A named run of a branched line: speed reference, values changed by nested path
     (``set``: ``"webs.film.spans.film_zone.tension"``, ``"webs.lane_1.thickness"``) and an
     unwind's ``roll_change`` or ``splice`` (a ``flying_splice`` added to its disturbances);
-    ``disturbances`` replace the line's; ``duration`` the default
-    run length [s]."""
+    ``disturbances`` replace the line's; ``break``: a web break (the chain's keys,
+    docs/branching.md "Web breaks"), added to the disturbances as a ``web_break``;
+    ``duration`` the default run length [s]."""
 
     description: Text = ""
     duration: Time
@@ -66,7 +68,9 @@ class BranchedScenarioSpec(Strict):
     roll_change: RollChangeSpec | None = None
     splice: SpliceEvent | None = None  # docs/winder.md, Flying splice (an unwind's)
     disturbances: list[DisturbanceSpec] | None = None
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    # ``break`` in the file (a Python keyword); a dump writes break_, which reads back too
+    break_: BreakEvent | None = Field(None, alias="break")
+    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
 
 
 class BranchedLineSpec(Strict):

@@ -12,6 +12,7 @@ import numpy as np
 
 from webline.physics import motor, span, taper
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.breaks import break_monitor, fade_trim, held_command
 from webline.sim.branches.loop.decentral import decentral_command, reference_changes
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.loop.winder import compensation, open_loop, zone_reference
@@ -88,6 +89,10 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
     (channel 2 c + 1), as the chain's ``sim.drives.measure``. A decentralized drive
     (``DI_FAMILY``) takes ``loop.decentral``'s command instead of the PI's (``fb``, ``refs``)."""
     v_line = profile_at(0, t, prof_t, prof_v, prof_off)
+    stopping = 1.0  # the line-speed factor of the ramp to a stop after a web break (W5)
+    if offsets[B.O_BREAK]:
+        stopping = break_monitor(t, x, istate, di, df, cells, prof_t, prof_v, prof_off)
+        v_line *= stopping
     off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
     sigma_t, sigma_v, resolution, seed, noisy = 0.0, 0.0, 0.0, 0, False
     for r in range(dist.shape[0]):
@@ -127,6 +132,9 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             if noisy:
                 measured += sigma_t * gaussian(seed, tick, 2 * c + 1)
             e_t += factor * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - measured
+        if offsets[B.O_BREAK] and stopping < 1.0:  # tension loops frozen, trims faded
+            e_t = 0.0
+            fade_trim(d, dt, stopping, istate, df)
         istate[d, B.I_FACTOR] = factor  # (the decentralized drives' references read it)
         if di[d, B.DI_FAMILY] != B.FAMILY_PI:  # state feedback, adaptive, MRAC
             cmd[d] = decentral_command(d, di[d, B.DI_FAMILY], i, t, dt, radius, v_meas, -e_t,
@@ -143,6 +151,9 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
         if df[d, B.D_ADAPTIVE] > 0.0:  # speed gains follow the roll's inertia
             gain = node_inertia(i, x, offsets, nodes, rolls) / (
                 df[d, B.D_RATIO] * radius) / df[d, B.D_GAINNORM]
+        if offsets[B.O_BREAK] and stopping == 0.0:  # stopped: the drives hold (W8)
+            cmd[d] = held_command(d, dt, v_meas, gain, istate, df)
+            continue
         comp = 0.0
         if di[d, B.DI_WINDER] != B.WINDER_NONE:  # a centre winder (docs/winder.md W3, W4)
             comp = compensation(d, i, radius, v_meas / radius,

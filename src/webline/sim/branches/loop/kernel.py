@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.breaks import cut
 from webline.sim.branches.loop.control import control_tick, held_inputs
 from webline.sim.branches.loop.plant import rhs
 from webline.sim.branches.loop.traction import update_slip
@@ -72,6 +73,8 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             break
         roll_change(t, x, wound, done, offsets, rolls, events)
         splices(t, dt, x, istate, done, offsets, nodes, sf, rolls, webs, df, events)
+        if offsets[B.O_BREAK]:  # a web break: its spans carry nothing from their time on
+            cut(t, x, wound, sf, webs.shape[0], nodes.shape[0], istate, di, df)
         held_inputs(t, wound, held, webs.shape[0], dist, prof_t, prof_v, prof_off)
         measured = x
         if lawi.shape[0] > 0 or kv.shape[0] > 0:  # the loadcells feel F(s) + τ ds/dt

@@ -15,10 +15,13 @@ O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_CORE, O_ANGLE, O_N = range(7)
 # (tension ramp, docs/winder.md R1: the profile of its factor on every zone's reference, -1
 # without a ramp)
 O_RAMP = 7
+# web break (sim.branches.breaks): 1 where the line has a break in this run (a flag frozen
+# into the compiled loop, so that a line without one folds the monitor and the cut away)
+O_BREAK = 8
 # traction rollers and measured friction (docs/branching.md, "Slip and measured friction"):
 # 1 where any roller's web may slip over it | any roller has a friction table or a
 # break-away torque; 0 folds their code away in the compiled loop
-O_SLIP, O_FRICTION = 8, 9
+O_SLIP, O_FRICTION = 9, 10
 
 # node table (float)
 # (N_ECC: eccentricity [m]; N_ANGLE: its angle state's number, -1 where round)
@@ -49,7 +52,10 @@ N_COLS = N_STICKTAU + 1
 (S_A, S_B, S_WEB, S_SRC, S_FROM, S_ARMA, S_ARMB, S_COUNT, S_CORE, S_ECCA, S_ECCB,
  S_COLS) = range(12)
 # span table (float)
-SF_LENGTH, SF_EA, SF_SHARE, SF_INVEA, SF_COLS = range(5)
+SF_LENGTH, SF_EA, SF_SHARE, SF_INVEA = range(4)
+# web break: the time [s] the span breaks (inf: never; every span of the broken segment)
+SF_BREAK = 4
+SF_COLS = 5
 #: S_SRC: the previous span of the path | the unwind's wound-in tension | the sum of the
 #: layers' last spans (a laminate's first span) | the base web's last span x share (a lane)
 SRC_PREVIOUS, SRC_WOUND, SRC_LAYERS, SRC_SLIT = range(4)
@@ -104,7 +110,14 @@ D_PRESETD = D_PRESETT + MAX_PRESETS
 # +1 a rewind (the web pulls it back), -1 an unwind
 (D_COMPJ, D_COMPCS, D_COMPB, D_COMPFP, D_SPEEDLIM,
  D_DIR) = range(D_PRESETD + MAX_PRESETS, D_PRESETD + MAX_PRESETS + 6)
-D_COLS = D_DIR + 1
+D_BREAK = D_DIR + 1
+# web break (sim.branches.breaks), the same on every drive's row: the monitor's threshold
+# (x each loadcell's reference), stop time [s], hold after the stop (HOLD_*), diameter
+# threshold [m] (0: off), the holding brake as a fraction of the torque limit (hold
+# "brakes": fraction x limit x ratio at the roller)
+D_BTHRESH, D_BSTOP, D_BHOLD, D_BDIAM, D_BBRAKE = range(D_BREAK, D_BREAK + 5)
+D_COLS = D_BREAK + 5
+HOLD_ZERO_SPEED, HOLD_OFF, HOLD_BRAKES = range(3)
 DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = range(3)
 
 # controller memory per drive
@@ -112,7 +125,13 @@ DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = range(3)
 # (I_FRICTION: the adaptive family's friction estimate b̂ [N·m·s]; I_FACTOR: the drive's
 # taper factor at its last tick, read by the decentralized families' references; the MRAC's
 # adapted gains k̂_T [N·m/N], k̂_V [N·m·s/m] and bias ĉ [N·m])
-I_SPEED, I_TENSION, I_RADIUS, I_FRICTION, I_FACTOR, I_KT, I_KV, I_BIAS, I_COLS = range(9)
+I_SPEED, I_TENSION, I_RADIUS, I_FRICTION, I_FACTOR, I_KT, I_KV, I_BIAS = range(8)
+# web break (sim.branches.breaks), on every drive's row: the time it was detected [s] (-1:
+# not yet), the method (BREAK_*), where (the loadcell's span, or the drive), the extreme of
+# the drive's calculated radius so far [m]
+I_DETECT, I_METHOD, I_WHERE, I_REXTREME = range(8, 12)
+I_COLS = 12
+BREAK_TENSION, BREAK_DIAMETER = range(1, 3)
 
 # event table (roll change): time, roll, new radius, new wound-in tension, web
 # (flying splice, docs/winder.md S1: E_KIND an EVENT_*; the new roll's surface speed over the

@@ -15,6 +15,7 @@ from webline.physics import roll, roller, span
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop import traction as T
 from webline.sim.branches.loop import web_law as W
+from webline.sim.branches.loop.breaks import brake_torque, web_flows
 from webline.sim.elements.signals import jit
 
 _tension: Any = jit(span.tension)
@@ -95,8 +96,11 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
     torque = work[4 * n_s:4 * n_s + n_n]
     inertia = work[4 * n_s + n_n:4 * n_s + 2 * n_n]
     has_law, has_kv = lawi.shape[0] > 0, kv.shape[0] > 0
+    n_w = webs.shape[0]
     for k in range(n_s):
         tension[k] = _tension(x[k])
+        if offsets[B.O_BREAK] and wound[n_w + n_n + k] != 0.0:  # broken: carries nothing
+            tension[k] = 0.0
     elastic = work[4 * n_s + 2 * n_n:5 * n_s + 2 * n_n] if has_law else tension
     felt = work[5 * n_s + 2 * n_n:6 * n_s + 2 * n_n] if has_kv else elastic
     if has_law:  # the web laws' tensions F(s) (docs/branching.md, "Web laws")
@@ -139,6 +143,9 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
                               tension[k])
         if has_kv:
             felt[k] = W.felt(k, x, dx, elastic, sf)
+        if offsets[B.O_BREAK] and wound[n_w + n_n + k] != 0.0:  # cut: frozen, carries nothing
+            dx[k] = 0.0
+            felt[k] = 0.0  # (its stretch is 0 from the cut on: so are F(0) and the damper's)
         torque[a] += arm_a * felt[k]  # the span pulls its upstream roller forward
         if core < 0:  # (a lane on a clutch core pulls its core, below)
             torque[b] -= arm_b * felt[k]
@@ -152,7 +159,6 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         dx[off_c + c] = (passed - radius * felt[k]) / inertia_core
         dx[off_r + j] = _radius_rate(radius * omega_core, radius, rolls[j, B.R_THICK],
                                      rolls[j, B.R_DIR])
-    n_w = webs.shape[0]
     for i in range(n_n):
         omega = x[off_w + i]
         total = torque[i] - nodes[i, B.N_VISCOUS] * omega
@@ -162,6 +168,9 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         d = int(nodes[i, B.N_DRIVE])
         if d >= 0:
             total += nodes[i, B.N_RATIO] * x[off_tq + d]
+            if offsets[B.O_BREAK] and wound[n_w + n_n + n_s + i] != 0.0:  # a holding brake
+                total -= brake_torque(wound[n_w + n_n + n_s + i], omega, inertia[i] if
+                                      nodes[i, B.N_ROLLS] > 0.0 else nodes[i, B.N_JCONST])
         if offsets[B.O_FRICTION]:  # a friction table; held at rest by a break-away torque
             held, total = T.measured_friction(i, omega, total, coulomb, nodes)
             if held:  # ω decays to 0 in a control period
@@ -173,6 +182,9 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
             dx[off_w + i] = total * nodes[i, B.N_INVJ]
     for d in range(di.shape[0]):
         dx[off_tq + d] = (cmd[d] - x[off_tq + d]) * df[d, B.D_INVLAG]
+    if offsets[B.O_BREAK]:  # a cut web: its intact spans' ends (sim.branches.breaks)
+        web_flows(dx, off_q, webs, sf, wound[n_w + n_n:], v_a, v_b, s_in, tension)
+        return
     for w in range(webs.shape[0]):  # unstrained web in and out: v (1 - ε) at each end
         first, last = webs[w, B.WB_FIRST], webs[w, B.WB_LAST]
         inv_ea = sf[first, B.SF_INVEA]
