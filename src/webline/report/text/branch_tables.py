@@ -5,14 +5,17 @@ drives with their zones; per web and lane the run's tensions and the verdict's f
 from __future__ import annotations
 
 from webline.model.web_graph import BranchedLine
+from webline.report.text.describe import backlash_text, transmission_text
 from webline.report.text.display import Display, number_text, profile_text
 from webline.report.text.tables import Table, make_table
 from webline.sim.branches.result import BranchResult
 from webline.spec.branched.check import kind_of
 from webline.spec.roll_inertia import RollTotal, RollTotals
-from webline.spec.schema import DrivenSpec, IdleSpec, RewindSpec, UnwindSpec
+from webline.spec.schema import DrivenSpec, DriveSpec, IdleSpec, RewindSpec, UnwindSpec
 
 SI = Display("si")
+#: the drives table's columns of a line with a compliant transmission or a brake
+TRAIN_COLUMNS = ["transmission", "backlash", "speed measured on", "brake"]
 #: small lengths (radii, widths) and thicknesses: (factor from m, unit) per unit system
 SMALL = {"si": (1e3, "mm"), "imperial": (1.0 / 0.0254, "in")}
 THIN = {"si": (1e6, "µm"), "imperial": (1.0 / 25.4e-6, "mil")}
@@ -121,7 +124,11 @@ def line_tables(line: BranchedLine, display: Display = SI) -> list[Table]:
         span_names = ", ".join(line.spans[k].name for k in zone.spans) if zone else "–"
         drives.append((roller.name, what, span_names,
                        number_text(roller.drive.torque_limit * display.factor("torque")),
-                       number_text(roller.drive.ratio)))
+                       number_text(roller.drive.ratio), *train_cells(roller.drive, display)))
+    trains = any(spec.rollers[i].drive.transmission.type != "direct"  # type: ignore[union-attr]
+                 or spec.rollers[i].drive.brake is not None  # type: ignore[union-attr]
+                 for i in line.drives)  # compliant or braked drives: their columns
+    drives = [row[:5] + (row[5:] if trains else ()) for row in drives]
     return [about,
             make_table("webs", "Webs", ["web", "kind", "from", "path", display.label("EA", "force"),
                                         f"thickness [{thin_unit}]", f"width [{small_unit}]"],
@@ -135,7 +142,7 @@ def line_tables(line: BranchedLine, display: Display = SI) -> list[Table]:
                                           "tension reference", "loadcell"], spans),
             make_table("drives", "Drives and their tension zones", [
                 "drive", "controls", "zone spans", display.label("torque limit", "torque"),
-                "ratio"], drives),
+                "ratio", *(TRAIN_COLUMNS if trains else [])], drives),
             make_table("scenarios", "Scenarios", ["scenario", "duration [s]", "description"],
                        [(name, number_text(sc.duration), sc.description or "–")
                         for name, sc in spec.scenarios.items()])]
@@ -173,3 +180,11 @@ def drive_findings_table(result: BranchResult) -> Table:
             if f.where not in webs]
     return make_table("drive_findings", "Findings about drives and the run",
                       ["level", "kind", "where", "finding"], rows)
+
+
+def train_cells(drive: DriveSpec, display: Display) -> tuple[str, ...]:
+    """A drive's transmission, backlash, speed-loop side and brake as the chain's drives
+    table words them."""
+    return (transmission_text(drive.transmission, display),
+            backlash_text(getattr(drive.transmission, "backlash", None), display),
+            drive.feedback, profile_text(drive.brake, "torque", display) or "none")

@@ -25,6 +25,7 @@ from webline.errors import SimulationError
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
 from webline.sim.branches.centre_winder import open_loop_torque
+from webline.sim.branches.drive_trains import steady_trains
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import taper_at
 from webline.sim.branches.loop.plant import node_inertia, rhs
@@ -111,6 +112,7 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.nd
         x[off_c:off_c + n_c] = z[n_s + n_n:n_s + n_n + n_c] * c_scale
         cmd[:] = z[n_s + n_n + n_c:] * tq_scale
         x[off_tq:off_tq + n_d] = cmd
+        steady_trains(x, plan.offsets, plan.di, plan.df, plan.rolls)  # twists carry torques
         return x
 
     def residual(z: np.ndarray) -> np.ndarray:
@@ -182,12 +184,14 @@ def operating_point(plan: BranchPlan, t: float = 0.0) -> BranchPoint:
         dx = np.zeros(plan.n_x)
         cmd = np.zeros(n_d)
         at[off_tq:off_tq + n_d] = 0.0
+        steady_trains(at, plan.offsets, plan.di, plan.df, plan.rolls)
         rhs(at, cmd, plan.held(t), *plan.tables(), dx, plan.scratch())
         for d in range(n_d):  # J dω/dt = web torque + n τ = 0
             i = plan.di[d, B.DI_NODE]
             web_torque = dx[off_w + i] * node_inertia(i, at, plan.offsets, plan.nodes,
                                                       plan.rolls)
-            at[off_tq + d] = -web_torque / plan.nodes[i, B.N_RATIO]
+            at[off_tq + d] = -web_torque / plan.df[d, B.D_RATIO]
+        steady_trains(at, plan.offsets, plan.di, plan.df, plan.rolls)
     return BranchPoint(at, at[off_tq:off_tq + n_d].copy(), ratio, speed)
 
 

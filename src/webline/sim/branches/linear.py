@@ -22,10 +22,12 @@ import numpy as np
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches.centre_winder import linear_winder_rows
 from webline.sim.branches.decentral import ensure_prepared, linear_rows
+from webline.sim.branches.drive_trains import train_states
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
 from webline.sim.branches.equilibrium import analysis_time as analysis_time  # (its home was here)
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import node_inertia, rhs
+from webline.sim.branches.loop.transmission import reflected_motor
 from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.branches.traction import slip_rate_bound
 from webline.sim.branches.web_findings import felt_rows, felt_wound_rows
@@ -50,7 +52,8 @@ def kept_states(plan: BranchPlan, radii: bool = False) -> np.ndarray:
                             plan.offsets[B.O_WEB])
     return np.concatenate([np.arange(off_tq if radii else off_r),
                            np.arange(off_tq, off_q),
-                           np.arange(plan.offsets[B.O_CORE], plan.offsets[B.O_ANGLE])]
+                           np.arange(plan.offsets[B.O_CORE], plan.offsets[B.O_ANGLE]),
+                           [s for s, _ in train_states(plan.line, plan.di)]]  # motor ω, twist
                           ).astype(np.int64)
 
 
@@ -64,7 +67,8 @@ def state_names(plan: BranchPlan, radii: bool = False) -> list[str]:
              f"{line.spec.webs[line.rolls[j].web].name}_core_omega" for j in plan.cores[:, 0]]
     return ([f"{s.name}_tension" for s in line.spans]
             + [f"{r.name}_omega" for r in line.spec.rollers] + rolls
-            + [f"{line.spec.rollers[i].name}_torque" for i in line.drives] + cores)
+            + [f"{line.spec.rollers[i].name}_torque" for i in line.drives] + cores
+            + [name for _, name in train_states(plan.line, plan.di)])
 
 
 def wound_webs(plan: BranchPlan) -> list[int]:
@@ -149,7 +153,13 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
         # e_v = v_line ff + σ (kp_t e_t + q_t) - r ω,  e_t = Σ (ref_c - T_c)
         ev_x, ev_q, ev_r = np.zeros(n_x), np.zeros(n_q), np.zeros(n_r)
         ev_r[0] = point.ratio[d]
-        ev_x[off_w + i] = -speed_arm(plan, point, i)
+        motor = int(plan.di[d, B.DI_TSTATE])
+        if motor >= 0 and row[B.D_FEEDBACK] > 0:  # the motor's encoder: ω_m / n
+            kept = kept_states(plan, radii)
+            ev_x[int(np.flatnonzero(kept == motor)[0])] = -speed_arm(plan, point, i) / row[
+                B.D_RATIO]
+        else:
+            ev_x[off_w + i] = -speed_arm(plan, point, i)
         if radii and plan.di[d, B.DI_ROLL] >= 0:
             ev_x[plan.offsets[B.O_RADIUS] + plan.di[d, B.DI_ROLL]] = -point.x[off_w + i]
         if d in zoned:
@@ -164,7 +174,8 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
                 gr[q_t, 1 + c] = row[B.D_KIT]
         gain = 1.0
         if row[B.D_ADAPTIVE] > 0.0:  # the speed gains follow the roll's inertia
-            inertia = node_inertia(i, point.x, plan.offsets, plan.nodes, plan.rolls)
+            inertia = node_inertia(i, point.x, plan.offsets, plan.nodes, plan.rolls) + (
+                reflected_motor(d, plan.di, plan.df))
             gain = inertia / (row[B.D_RATIO] * speed_arm(plan, point, i)) / row[B.D_GAINNORM]
         kps, kis = row[B.D_KPS] * gain, row[B.D_KIS] * gain
         kx[d], ki[d], kr[d] = kps * ev_x, kps * ev_q, kps * ev_r
@@ -224,7 +235,8 @@ def wound_gains(plan: BranchPlan, point: BranchPoint,
             gw[n_d + zoned.index(d)] -= row[B.D_KIT] * felt[k]
         gain = 1.0
         if row[B.D_ADAPTIVE] > 0.0:  # as controller_matrices
-            inertia = node_inertia(i, point.x, plan.offsets, plan.nodes, plan.rolls)
+            inertia = node_inertia(i, point.x, plan.offsets, plan.nodes, plan.rolls) + (
+                reflected_motor(d, plan.di, plan.df))
             gain = inertia / (row[B.D_RATIO] * speed_arm(plan, point, i)) / row[B.D_GAINNORM]
         kw[d], gw[d] = row[B.D_KPS] * gain * ev_w, row[B.D_KIS] * gain * ev_w
     return kw, gw

@@ -22,6 +22,7 @@ from webline.sim.branches.centre_winder import (
     wound_density,
 )
 from webline.sim.branches.disturb import disturbance_table, eccentricities
+from webline.sim.branches.drive_trains import brake_rows, train_columns, tuning_inertia
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import held_inputs
 from webline.sim.branches.loop.kernel import compiled_advance
@@ -207,7 +208,8 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         new = wound[w] if change.wound_in_tension is None else change.wound_in_tension
         events = np.array([[change.time, j, change.radius, new, w, B.EVENT_ROLL_CHANGE, 1.0,
                             0.0]])
-    dist = disturbance_table(line, profiles)
+    dist = np.vstack([disturbance_table(line, profiles), brake_rows(line, profiles)])
+    train_columns(line, offsets, nodes, di, df)  # compliant transmissions (drive_trains)
     if break_columns(line, sf, df):  # a web break: after the drags each span's broken flag,
         offsets[B.O_BREAK] = 1  # then each node's holding brake [N·m]
         wound = np.concatenate([wound, np.zeros(n_s + n_n)])
@@ -312,13 +314,14 @@ def _tune(plan: BranchPlan) -> None:
         c, drive = pi, roller.drive
         j = plan.di[d, B.DI_ROLL]
         radius = x[plan.offsets[B.O_RADIUS] + j] if j >= 0 else roller.radius
-        inertia = float(node_inertia(i, x, plan.offsets, plan.nodes, plan.rolls))
+        inertia, seen = tuning_inertia(plan.di, plan.df, d, float(
+            node_inertia(i, x, plan.offsets, plan.nodes, plan.rolls)))
         zone = i in line.zones
         compliance = zone_compliance(line, i) if zone else 1.0
         auto = tune(inertia, drive.ratio, radius, compliance, 1.0, c.speed_bandwidth,
                     c.tension_bandwidth, c.damping)
         limit = min(0.2 / drive.torque_lag, 2 * math.pi / plan.dt / 20)
-        scale = min(1.0, limit * inertia / (drive.ratio * radius) / auto.speed_kp)
+        scale = min(1.0, limit * seen / (drive.ratio * radius) / auto.speed_kp)
         row = plan.df[d]
         row[B.D_RATIO] = drive.ratio
         row[B.D_KPS] = scale * auto.speed_kp if c.speed_kp is None else c.speed_kp

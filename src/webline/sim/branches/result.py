@@ -11,6 +11,7 @@ import numpy as np
 
 from webline.sim.branches.break_verdict import break_findings, intact, without_cut_jump
 from webline.sim.branches.centre_winder import splice_findings
+from webline.sim.branches.drive_trains import train_signals
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.traction import slip_findings
 from webline.sim.branches.web_findings import felt_records, layer_tension, yield_findings
@@ -107,6 +108,8 @@ class BranchResult:
             "core_omega": var(("core",), core_omega, "rad/s",
                               "angular speed of a lane's core on a differential shaft"),
         }
+        if np.any(plan.di[:, B.DI_TSTATE] >= 0):  # compliant transmissions (drive_trains)
+            data.update(train_signals(plan.offsets, plan.di, plan.df, x, var))
         coords = {"time": ("time", t, {"units": "s"}),
                   "span": [s.name for s in line.spans],
                   "span_web": ("span", [line.spec.webs[s.web].name for s in line.spans]),

@@ -12,6 +12,7 @@ from typing import NoReturn
 from webline.errors import LineFileError
 from webline.spec.branched.controllers import check_controller
 from webline.spec.branched.disturbances import check_disturbances
+from webline.spec.branched.drive_train import check_drive_train
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
 from webline.spec.branched.traction import check_traction
 from webline.spec.branched.web_law import check_web_laws
@@ -85,10 +86,8 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
                      "lanes' tension is slip_torque / radius)")
         drive = getattr(roller, "drive", None)
         if drive is not None:
-            if drive.transmission.type != "direct":
-                unsupported(f"{key}.drive.transmission", fail)
-            if drive.brake is not None:
-                unsupported(f"{key}.drive.brake", fail)
+            check_drive_train(spec, key, roller.name, drive, getattr(roller, "controller", None),
+                              fail)
         check_controller(key, roller, fail, unsupported)
     check_web_laws(spec, fail)
     for name, scenario in spec.scenarios.items():

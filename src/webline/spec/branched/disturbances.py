@@ -62,8 +62,9 @@ def _check_list(spec: BranchedLineSpec, key: str, items: list[DisturbanceSpec],
             if roller is None:
                 fail(f"{here}.roller", f"no roller named {item.roller!r}")
             if isinstance(item, RollerDrag):
-                if item.roller in dragged:
-                    fail(f"{here}.roller", f"{item.roller!r} already has a drag torque")
+                braked = getattr(getattr(roller, "drive", None), "brake", None) is not None
+                if item.roller in dragged or braked:  # (a drive's brake is a drag: as chains)
+                    fail(f"{here}.roller", f"{item.roller!r} already has a drag or brake torque")
                 dragged.add(item.roller)
             elif isinstance(roller, IdleSpec):
                 fail(f"{here}.roller", "a speed ripple needs a driven roller")

@@ -12,6 +12,7 @@ import numpy as np
 
 from webline.physics import motor, span, taper
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop import transmission as TR
 from webline.sim.branches.loop.breaks import break_monitor, fade_trim, held_command
 from webline.sim.branches.loop.decentral import decentral_command, reference_changes
 from webline.sim.branches.loop.plant import node_inertia
@@ -93,7 +94,7 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
     if offsets[B.O_BREAK]:
         stopping = break_monitor(t, x, istate, di, df, cells, prof_t, prof_v, prof_off)
         v_line *= stopping
-    off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
+    off_r = offsets[B.O_RADIUS]
     sigma_t, sigma_v, resolution, seed, noisy = 0.0, 0.0, 0.0, 0, False
     for r in range(dist.shape[0]):
         if int(dist[r, B.DS_KIND]) == B.DIST_NOISE:
@@ -114,7 +115,7 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
                     preset = 0.5 * df[d, B.D_PRESETD + p]
                     istate[d, B.I_RADIUS] = radius if preset <= 0.0 else preset
             radius = istate[d, B.I_RADIUS]
-        v_meas = radius * x[off_w + i]
+        v_meas = radius * TR.measured_omega(d, i, x, offsets, di, df)  # (a motor encoder)
         if noisy:
             v_meas = quantized(v_meas + sigma_v * gaussian(seed, tick, 2 * d), resolution)
         if df[d, B.D_DCALC] != B.DCALC_NONE:  # W2: the radius the controllers use
@@ -149,7 +150,8 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
         e_v = v_line * df[d, B.D_FF] + ripple + trim - v_meas
         gain = 1.0
         if df[d, B.D_ADAPTIVE] > 0.0:  # speed gains follow the roll's inertia
-            gain = node_inertia(i, x, offsets, nodes, rolls) / (
+            inertia = node_inertia(i, x, offsets, nodes, rolls) + TR.reflected_motor(d, di, df)
+            gain = inertia / (
                 df[d, B.D_RATIO] * radius) / df[d, B.D_GAINNORM]
         if offsets[B.O_BREAK] and stopping == 0.0:  # stopped: the drives hold (W8)
             cmd[d] = held_command(d, dt, v_meas, gain, istate, df)

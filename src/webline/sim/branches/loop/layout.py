@@ -163,3 +163,16 @@ DIST_WOUND_RIPPLE, DIST_SPEED_RIPPLE, DIST_DRAG, DIST_NOISE = range(4)
 # change per newton of each loadcell's reference; per drive, its surface speed [m/s] and its
 # change [m/s/N]; then the operating point's line speed [m/s] and each loadcell's reference
 # [N] there (taper included); the last row: scratch, each loadcell's reference change [N]
+
+# compliant transmissions and brakes (docs/branching.md, "Drive trains"): drive table (int)
+# column at its end, the state number of the drive's motor speed ω_m [rad/s] (its twist
+# [rad] at the load shaft follows it), -1 for a direct drive; drive table (float) columns at
+# its end: stiffness [N·m/rad] and damping [N·m·s/rad] seen from the load shaft, the free
+# travel backwards and forwards [rad], motor inertia [kg·m²] and friction [N·m·s] on the
+# motor shaft, 1 where the speed loop measures the motor (feedback = "motor"). A compliant
+# drive's node gets N_RATIO 0: its torque comes through ``loop.transmission``.
+DI_TSTATE = DI_COLS
+DI_COLS = DI_COLS + 1
+(D_KTRANS, D_CTRANS, D_GAPNEG, D_GAPPOS, D_JMOTOR, D_BMOTOR,
+ D_FEEDBACK) = range(D_COLS, D_COLS + 7)
+D_COLS = D_COLS + 7

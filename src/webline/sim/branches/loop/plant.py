@@ -14,6 +14,7 @@ import numpy as np
 from webline.physics import roll, roller, span
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop import traction as T
+from webline.sim.branches.loop import transmission as TR
 from webline.sim.branches.loop import web_law as W
 from webline.sim.branches.loop.breaks import brake_torque, web_flows
 from webline.sim.elements.signals import jit
@@ -159,6 +160,7 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         dx[off_c + c] = (passed - radius * felt[k]) / inertia_core
         dx[off_r + j] = _radius_rate(radius * omega_core, radius, rolls[j, B.R_THICK],
                                      rolls[j, B.R_DIR])
+    TR.drive_trains(x, di, df, offsets, torque, dx)  # compliant drives (folds away without)
     for i in range(n_n):
         omega = x[off_w + i]
         total = torque[i] - nodes[i, B.N_VISCOUS] * omega

@@ -12,6 +12,7 @@ import numpy as np
 
 from webline.physics import roll
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.transmission import motor_beyond
 from webline.sim.elements.signals import jit, profile_at
 
 _roll_inertia: Any = jit(roll.roll_inertia)
@@ -39,7 +40,8 @@ def compensation(d: int, i: int, radius: float, omega: float, a_line: float,
     friction (W3): (J(R) a_line / R + c_s sign(ω) + b ω + f(|ω|) sign(ω)) / n, R [m] the
     radius the drive uses, ω [rad/s] its measured speed, a_line [m/s²] the line-speed
     reference's slope, f the measured friction table (F1) where it has one."""
-    torque = df[d, B.D_COMPJ] * known_inertia(i, radius, nodes, rolls) * a_line / radius
+    inertia = known_inertia(i, radius, nodes, rolls) + motor_beyond(d, df)  # (a belt's motor)
+    torque = df[d, B.D_COMPJ] * inertia * a_line / radius
     sign = 1.0 if omega > 0.0 else -1.0 if omega < 0.0 else 0.0
     torque += df[d, B.D_COMPCS] * sign + df[d, B.D_COMPB] * omega
     table = int(df[d, B.D_COMPFP])
