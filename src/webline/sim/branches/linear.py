@@ -20,7 +20,6 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 
 from webline.model.web_graph import BranchedLine, load_branched
-from webline.sim.branches.centre_winder import linear_winder_rows
 from webline.sim.branches.decentral import ensure_prepared, linear_rows
 from webline.sim.branches.drive_trains import train_states
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
@@ -31,6 +30,7 @@ from webline.sim.branches.loop.transmission import reflected_motor
 from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.branches.traction import slip_rate_bound
 from webline.sim.branches.web_findings import felt_rows, felt_wound_rows
+from webline.sim.branches.winder import linear_winder_rows
 from webline.sim.linear.linearize import LinearModel
 from webline.sim.linear.stability import SHARE, UnstableMode, tolerance, unstable_modes
 from webline.verdict import Finding

@@ -14,13 +14,6 @@ from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
 from webline.sim.branches.breaks import break_columns
-from webline.sim.branches.centre_winder import (
-    ramp_column,
-    rotating_inertia,
-    splice_rows,
-    winder_columns,
-    wound_density,
-)
 from webline.sim.branches.disturb import disturbance_table, eccentricities
 from webline.sim.branches.drive_trains import brake_rows, train_columns, tuning_inertia
 from webline.sim.branches.loop import layout as B
@@ -29,7 +22,15 @@ from webline.sim.branches.loop.kernel import compiled_advance
 from webline.sim.branches.loop.plant import node_inertia, work_size
 from webline.sim.branches.traction import traction_columns
 from webline.sim.branches.web_laws import law_tables
-from webline.sim.branches.winder import diameter_columns, taper_columns
+from webline.sim.branches.winder import (
+    diameter_columns,
+    ramp_column,
+    rotating_inertia,
+    splice_rows,
+    taper_columns,
+    winder_columns,
+    wound_density,
+)
 from webline.spec.branched.check import kind_of
 from webline.spec.schema import CascadedPISpec, IdleSpec, RewindSpec, UnwindSpec
 

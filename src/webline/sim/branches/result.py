@@ -10,11 +10,11 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from webline.sim.branches.break_verdict import break_findings, intact, without_cut_jump
-from webline.sim.branches.centre_winder import splice_findings
 from webline.sim.branches.drive_trains import train_signals
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.traction import slip_findings
 from webline.sim.branches.web_findings import felt_records, layer_tension, yield_findings
+from webline.sim.branches.winder import splice_findings
 from webline.spec.branched.check import kind_of
 from webline.verdict import Finding, Verdict
 from webline.version import __version__
