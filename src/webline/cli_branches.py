@@ -12,8 +12,8 @@ from webline.cli_common import BadInput, open_output
 from webline.files import atomic_write
 from webline.model.web_graph import load_branched
 from webline.report.text.display import Display
-from webline.sim.branches.centre_winder import splice_summary
 from webline.sim.branches.run import simulate_branches
+from webline.sim.branches.winder import splice_summary
 
 FIGURE = "figures/tensions.png"
 REPORT = "report.html"

@@ -326,7 +326,7 @@ def test_the_splice_summary_gives_the_old_rolls_stop_and_the_new_rolls_run_up(sp
     """S4 as the chain's report: the old roll as it left the web and the least times its
     drive needs to stop it, and the new roll's to run up, at the torque limit (150 N·m):
     J(R) ω / (n τ_max), J(R) = 0.5 + π ρ w (R⁴ - R_c⁴) / 2 by hand."""
-    from webline.sim.branches.centre_winder import splice_summary
+    from webline.sim.branches.winder import splice_summary
 
     (item,) = splice_summary(spliced)
     ds = spliced.dataset

@@ -198,13 +198,14 @@ def test_webline_run_refuses_a_bad_branched_file_in_one_line(tmp_path):
 
     text = resources.files("webline.data.lines").joinpath("laminator.toml").read_text("utf-8")
     bad = tmp_path / "bad.toml"
-    bad.write_text(text.replace('type = "idle"', 'type = "idle"\nnip = { load = "1 kN", '
-                                'radius = "5 cm", inertia = "0.001 kg*m**2" }', 1),
+    bad.write_text(text.replace('type = "idle"', 'type = "idle"\ncontact = { type = '
+                                '"traction", friction = 0.2, viscous = "1e4 N*s/m" }', 1),
                    encoding="utf-8")
     result = CliRunner().invoke(app, ["run", str(bad), "-o", str(tmp_path / "o")])
     assert result.exit_code == 2, result.output
     lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1 and "rollers[1].nip: not yet supported on a branched line" in lines[0]
+    assert len(lines) == 1
+    assert "rollers[1].wrap: a traction contact needs the wrap angle" in lines[0]
     assert "Traceback" not in result.output
 
 

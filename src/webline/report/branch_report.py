@@ -26,8 +26,8 @@ from webline.report.text.display import Display, number_text
 from webline.report.text.html import Image, Section, Text, render, table_html
 from webline.report.text.tables import Table, least_damped, make_table, modes_table
 from webline.report.text.verdict_text import STATUS_CLASS
-from webline.sim.branches.centre_winder import splice_summary
 from webline.sim.branches.result import BranchResult
+from webline.sim.branches.winder import splice_summary
 from webline.spec.load import dump_spec
 from webline.version import __version__
 

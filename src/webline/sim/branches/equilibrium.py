@@ -24,7 +24,6 @@ from scipy.optimize import root
 from webline.errors import SimulationError
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
-from webline.sim.branches.centre_winder import open_loop_torque
 from webline.sim.branches.dancer_views import place_carriages
 from webline.sim.branches.drive_trains import steady_trains
 from webline.sim.branches.loop import layout as B
@@ -32,6 +31,7 @@ from webline.sim.branches.loop.control import taper_at
 from webline.sim.branches.loop.plant import node_inertia, rhs
 from webline.sim.branches.loop.web_law import felt_view, law_stretch
 from webline.sim.branches.plan import BranchPlan
+from webline.sim.branches.winder import open_loop_torque
 
 #: the solver's relative tolerance on the scaled unknowns [-]
 XTOL = 1e-13

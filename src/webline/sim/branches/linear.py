@@ -20,7 +20,6 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 
 from webline.model.web_graph import BranchedLine, load_branched
-from webline.sim.branches.centre_winder import linear_winder_rows
 from webline.sim.branches.dancer_views import linear_states as dancer_linear_states
 from webline.sim.branches.dancer_views import load_column, position_row
 from webline.sim.branches.decentral import ensure_prepared, linear_rows
@@ -31,7 +30,9 @@ from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import node_inertia, rhs
 from webline.sim.branches.loop.transmission import reflected_motor
 from webline.sim.branches.plan import BranchPlan, compile_branches
+from webline.sim.branches.traction import slip_rate_bound
 from webline.sim.branches.web_findings import felt_rows, felt_wound_rows
+from webline.sim.branches.winder import linear_winder_rows
 from webline.sim.linear.linearize import LinearModel
 from webline.sim.linear.stability import SHARE, UnstableMode, tolerance, unstable_modes
 from webline.verdict import Finding
@@ -306,9 +307,12 @@ def linear_model(line: BranchedLine | str, t: float = 0.0, *,
 
 def fastest_rate(plan: BranchPlan, point: BranchPoint) -> float:
     """Largest |eigenvalue| [1/s] of the open- and closed-loop models at ``point``: what the
-    fixed RK4 step must resolve (as the chain's ``sim.linear.linearize.fastest_mode``)."""
-    return max(float(np.max(np.abs(np.linalg.eigvals(branch_linear_model(plan, point, loop).a))))
-               for loop in ("open", "closed"))
+    fixed RK4 step must resolve (as the chain's ``sim.linear.linearize.fastest_mode``), and
+    the spans round a slipping roller (``traction.slip_rate_bound``)."""
+    model = max(float(np.max(np.abs(np.linalg.eigvals(branch_linear_model(plan, point, loop).a))))
+                for loop in ("open", "closed"))
+    top = float(np.max(np.abs(plan.prof_v[plan.prof_off[0]:plan.prof_off[1]])))
+    return max(model, slip_rate_bound(plan.line, plan.nodes, plan.sf, top))  # (stuck model)
 
 
 def sampled_unstable_modes(plan: BranchPlan, point: BranchPoint) -> list[UnstableMode]:

@@ -14,13 +14,6 @@ from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
 from webline.sim.branches.breaks import break_columns
-from webline.sim.branches.centre_winder import (
-    ramp_column,
-    rotating_inertia,
-    splice_rows,
-    winder_columns,
-    wound_density,
-)
 from webline.sim.branches.dancers import (
     dancer_columns,
     dancer_nodes,
@@ -35,8 +28,17 @@ from webline.sim.branches.loop.control import held_inputs
 from webline.sim.branches.loop.dancer_taper import taper_loads
 from webline.sim.branches.loop.kernel import compiled_advance
 from webline.sim.branches.loop.plant import node_inertia, work_size
+from webline.sim.branches.traction import traction_columns
 from webline.sim.branches.web_laws import law_tables
-from webline.sim.branches.winder import diameter_columns, taper_columns
+from webline.sim.branches.winder import (
+    diameter_columns,
+    ramp_column,
+    rotating_inertia,
+    splice_rows,
+    taper_columns,
+    winder_columns,
+    wound_density,
+)
 from webline.spec.branched.check import kind_of
 from webline.spec.schema import CascadedPISpec, IdleSpec, RewindSpec, UnwindSpec
 
@@ -157,7 +159,8 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     off_dn = off_c + len(cores) + len(eccentric)  # dancers: 2 states each (docs/branching.md)
     n_dn = len(dancer_nodes(line))
     offsets = np.array([off_w, off_r, off_tq, off_q, off_c, off_c + len(cores),
-                        off_dn + 2 * n_dn, -1, 0, off_dn, off_dn + 2 * n_dn], dtype=np.int64)
+                        off_dn + 2 * n_dn, -1, 0, 0, 0, off_dn, off_dn + 2 * n_dn],
+                       dtype=np.int64)
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):
         nodes[i, B.N_RADIUS] = r.radius
@@ -184,6 +187,8 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         rolls[j] = (roll.node, roll.web, roll.direction, m.thickness, m.width,
                     wound_density(line, j), nodes[roll.node, B.N_CORE], on_clutch)
     si, sf, layers = _span_tables(line)
+    rate = spec.control.sample_rate if sample_rate is None else sample_rate
+    traction_columns(line, nodes, si, offsets, 1.0 / rate)  # slip, nips, measured friction
     lawi, lawf, laws, kv = law_tables(line, si, sf)
     for c, (_, _, k) in enumerate(cores):
         si[k, B.S_CORE] = c
@@ -243,7 +248,6 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
         spec.control.sample_rate if sample_rate is None else sample_rate)), (-1, B.E_COLS))])
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
     top = max(float(np.max(np.abs(v))) for v in [breakpoints(spec.speed)[1]])
-    rate = spec.control.sample_rate if sample_rate is None else sample_rate
     plan = BranchPlan(line, offsets, nodes, si, sf, layers, rolls, webs, di, df, cores, clutch,
                       np.array(cells, dtype=np.int64).reshape(-1, B.CELL_COLS), events, dist,
                       radius0, wound,

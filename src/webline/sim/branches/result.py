@@ -10,12 +10,13 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from webline.sim.branches.break_verdict import break_findings, intact, without_cut_jump
-from webline.sim.branches.centre_winder import splice_findings
 from webline.sim.branches.dancer_views import end_stop_findings, span_lengths
 from webline.sim.branches.dancers import dancer_nodes
 from webline.sim.branches.drive_trains import train_signals
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.traction import slip_findings
 from webline.sim.branches.web_findings import felt_records, layer_tension, yield_findings
+from webline.sim.branches.winder import splice_findings
 from webline.spec.branched.check import kind_of
 from webline.verdict import Finding, Verdict
 from webline.version import __version__
@@ -182,6 +183,7 @@ class BranchResult:
         findings += splice_findings(line, self.plan.dt, self.time, ds["tension"].values)
         findings += yield_findings(self.plan, self.time, self.states)
         findings += break_findings(self.plan, self.time, ds["speed"].values, self.settings)
+        findings += slip_findings(self.plan.line, self.plan.nodes, self.plan.si)
         findings += end_stop_findings(self.plan, self.time, self.states)
         limits = self.plan.df[:, B.D_LIMIT]
         for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit

@@ -10,7 +10,6 @@ import numpy as np
 from webline.errors import SimulationError
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches.break_verdict import detection
-from webline.sim.branches.centre_winder import initial_compensation
 from webline.sim.branches.decentral import prepare, start_memory
 from webline.sim.branches.equilibrium import operating_point
 from webline.sim.branches.linear import fastest_rate
@@ -19,6 +18,7 @@ from webline.sim.branches.loop.kernel import new_records
 from webline.sim.branches.plan import compile_branches
 from webline.sim.branches.result import BranchResult
 from webline.sim.branches.web_findings import strength_failure
+from webline.sim.branches.winder import initial_compensation
 from webline.spec.ranges import argument, whole_argument
 
 #: RK4 sub-steps keep h·|λ|max below this, as the chain's ``sim.simulate.STEP_LIMIT``

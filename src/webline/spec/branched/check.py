@@ -15,6 +15,7 @@ from webline.spec.branched.controllers import check_controller
 from webline.spec.branched.disturbances import check_disturbances
 from webline.spec.branched.drive_train import check_drive_train
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
+from webline.spec.branched.traction import check_traction
 from webline.spec.branched.web_law import check_web_laws
 from webline.spec.branched.winder import check_splices, check_winders
 from webline.spec.dancer import DancerCarriage
@@ -71,6 +72,7 @@ def check_branched(spec: BranchedLineSpec, file: str) -> None:
     check_disturbances(spec, fail)
     check_winders(spec, fail)
     check_splices(spec, fail)
+    check_traction(spec, fail)  # traction rollers, nips, measured friction
 
 
 def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
@@ -79,20 +81,12 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         dancer = getattr(roller, "dancer", None)
         if dancer is not None:
             _check_dancer(dancer, f"{key}.dancer", fail)
-        for name in ("nip", "wrap", "friction_table"):
-            if getattr(roller, name, None) is not None:
-                unsupported(f"{key}.{name}", fail)
         _check_diameter(spec, i, roller, fail)
         if isinstance(roller, RewindSpec):
             check_taper(roller.taper, f"{key}.taper", fail)
             if roller.taper is not None and roller.shaft is not None:
                 fail(f"{key}.taper", "a differential shaft has no tension loop to taper (its "
                      "lanes' tension is slip_torque / radius)")
-        if roller.breakaway_torque > 0.0:
-            unsupported(f"{key}.breakaway_torque", fail)
-        contact = getattr(roller, "contact", None)
-        if contact is not None and contact.type != "adhered":
-            unsupported(f"{key}.contact", fail)
         drive = getattr(roller, "drive", None)
         if drive is not None:
             check_drive_train(spec, key, roller.name, drive, getattr(roller, "controller", None),

@@ -16,6 +16,7 @@ from webline.sim.branches.loop.breaks import cut
 from webline.sim.branches.loop.control import control_tick, held_inputs
 from webline.sim.branches.loop.dancer_taper import taper_loads
 from webline.sim.branches.loop.plant import rhs
+from webline.sim.branches.loop.traction import update_slip
 from webline.sim.branches.loop.web_law import felt_start_jit
 from webline.sim.branches.loop.winder import splices
 from webline.sim.elements.signals import jit, loop_njit
@@ -99,6 +100,8 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             n_rec += 1
         if j == n_ticks:
             break
+        if offsets[B.O_SLIP]:  # stick or slip for this tick, held over its stages
+            update_slip(t, dt, measured, offsets, nodes)
         for _ in range(substeps):
             for stage in range(4):
                 state = x if stage == 0 else tmp

@@ -18,11 +18,33 @@ O_RAMP = 7
 # web break (sim.branches.breaks): 1 where the line has a break in this run (a flag frozen
 # into the compiled loop, so that a line without one folds the monitor and the cut away)
 O_BREAK = 8
+# traction rollers and measured friction (docs/branching.md, "Slip and measured friction"):
+# 1 where any roller's web may slip over it | any roller has a friction table or a
+# break-away torque; 0 folds their code away in the compiled loop
+O_SLIP, O_FRICTION = 9, 10
 
 # node table (float)
 # (N_ECC: eccentricity [m]; N_ANGLE: its angle state's number, -1 where round)
 (N_RADIUS, N_JCONST, N_VISCOUS, N_COULOMB, N_CORE, N_RATIO, N_DRIVE, N_INVJ, N_ROLLS, N_ECC,
  N_ANGLE, N_COLS) = range(12)
+
+# traction rollers and measured friction (docs/branching.md, "Slip and measured friction"),
+# node table columns at its end: 1 on a traction roller; wrap [rad], μ0, μ', viscous
+# traction [N·s/m], a traction nip's static and Coulomb force [N], the web's mass per length
+# [kg/m], the spans in and out; the stick/slip state held over a tick (0 stuck, 1
+# slipping), the time slipped [s], the break-aways, the first one's time [s] (nan: none),
+# the largest slip speed [m/s] at a tick; a friction table's points, speeds [rad/s] and
+# torques [N·m]; the break-away torque [N·m]; the control period [s] (a held roller's ω
+# decays in it)
+(N_TRACTION, N_WRAP, N_MU, N_MUK, N_SLIPB, N_NIPS, N_NIPK, N_RHOA, N_SPIN, N_SPOUT,
+ N_SLIPPING, N_SLIPTIME, N_SLIPCOUNT, N_SLIPFIRST, N_SLIPPEAK) = range(N_COLS, N_COLS + 15)
+FRICTION_POINTS = 5  # (spec.friction.MAX_POINTS)
+N_FRICN = N_SLIPPEAK + 1
+N_FRICW = N_FRICN + 1
+N_FRICT = N_FRICW + FRICTION_POINTS
+N_BREAKAWAY = N_FRICT + FRICTION_POINTS
+N_STICKTAU = N_BREAKAWAY + 1
+N_COLS = N_STICKTAU + 1
 
 # span table (int): nodes, web, where the carried-in stretch comes from, roll arms, layers,
 # the clutch core its downstream end winds on (-1: the node itself), the angle states of its
@@ -164,7 +186,7 @@ D_COLS = D_COLS + 7
 # parameters; held inputs: at their end, the load [N] per dancer (DIST_DANCER_LOAD rows);
 # cells (int): a third column, the dancer node whose position the drive's loop reads (-1: a
 # loadcell)
-O_DANCER, O_DANCER_END = O_BREAK + 1, O_BREAK + 2
+O_DANCER, O_DANCER_END = O_FRICTION + 1, O_FRICTION + 2
 S_DANCEA, S_DANCEB, S_DOUT = S_COLS, S_COLS + 1, S_COLS + 2
 S_COLS += 3
 SF_GAINA, SF_GAINB = SF_COLS, SF_COLS + 1

@@ -14,6 +14,7 @@ import numpy as np
 from webline.physics import roll, roller, span
 from webline.sim.branches.loop import dancer as D
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop import traction as T
 from webline.sim.branches.loop import transmission as TR
 from webline.sim.branches.loop import web_law as W
 from webline.sim.branches.loop.breaks import brake_torque, web_flows
@@ -80,7 +81,7 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
     """dx/dt of a branched line into ``dx`` with held motor-torque commands ``cmd`` [N·m] and
     held inputs ``wound``: the wound-in tension [N] per web, then the drag torque [N·m] per
     node (``roller_drag``, added to its Coulomb friction). ``work``: scratch of 6 x spans +
-    2 x nodes (``work_size``). Web laws (``lawi``, ``lawf``, ``laws``: the terms of
+    3 x nodes (``work_size``). Web laws (``lawi``, ``lawf``, ``laws``: the terms of
     ``loop.web_law``) and Kelvin-Voigt spans (``kv``: their numbers) set the tension the
     rollers feel; without them (empty tables, frozen into the loop) that code folds away.
     A lane on a differential shaft winds on its own core, which its slip clutch drives from
@@ -107,6 +108,9 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
     felt = work[5 * n_s + 2 * n_n:6 * n_s + 2 * n_n] if has_kv else elastic
     if has_law:  # the web laws' tensions F(s) (docs/branching.md, "Web laws")
         W.law_tensions(x, elastic, si, lawi, lawf, laws)
+    slip = work[6 * n_s + 2 * n_n:6 * n_s + 3 * n_n]
+    if offsets[B.O_SLIP]:  # the web over a slipping roller moves at r ω - s (Ch. 5)
+        T.slip_speeds(x, elastic, offsets, nodes, slip)
     for i in range(n_n):
         torque[i] = 0.0
         inertia[i] = nodes[i, B.N_JCONST]
@@ -132,6 +136,9 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         v_a[k] = arm_a * x[off_w + a]
         core = si[k, B.S_CORE]
         v_b[k] = arm_b * x[off_w + b] if core < 0 else arm_b * x[off_c + core]
+        if offsets[B.O_SLIP]:
+            v_a[k] -= slip[a]
+            v_b[k] -= slip[b]
         s_in[k] = carried_in(k, x, tension, wound, si, sf, layers, elastic)
         if has_law and (si[k, B.S_SRC] == B.SRC_WOUND or si[k, B.S_SRC] == B.SRC_LAYERS):
             s_in[k] = W.law_stretch(k, s_in[k], si, lawi, lawf, laws)  # a tension in: F⁻¹
@@ -172,6 +179,11 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
             if offsets[B.O_BREAK] and wound[n_w + n_n + n_s + i] != 0.0:  # a holding brake
                 total -= brake_torque(wound[n_w + n_n + n_s + i], omega, inertia[i] if
                                       nodes[i, B.N_ROLLS] > 0.0 else nodes[i, B.N_JCONST])
+        if offsets[B.O_FRICTION]:  # a friction table; held at rest by a break-away torque
+            held, total = T.measured_friction(i, omega, total, coulomb, nodes)
+            if held:  # ω decays to 0 in a control period
+                dx[off_w + i] = -omega / nodes[i, B.N_STICKTAU]
+                continue
         if nodes[i, B.N_ROLLS] > 0.0:  # J(R) of the rolls on it (6.1)
             dx[off_w + i] = total / inertia[i]
         else:
@@ -189,5 +201,6 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
 
 
 def work_size(n_spans: int, n_nodes: int) -> int:
-    """Length of ``rhs``'s scratch array (the last 2 x spans: web laws' tensions)."""
-    return 6 * n_spans + 2 * n_nodes
+    """Length of ``rhs``'s scratch array (2 x spans for web laws' tensions, then the slip
+    speed per node)."""
+    return 6 * n_spans + 3 * n_nodes
