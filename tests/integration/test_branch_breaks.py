@@ -12,7 +12,7 @@ from scipy.optimize import curve_fit
 import webline
 from webline.errors import LineFileError
 from webline.model.web_graph import BranchedLine, load_branched
-from webline.sim.branches.breaks import broken_segment
+from webline.sim.branches.disturb import broken_segment
 from webline.sim.branches.loop import layout as B
 
 AT, STOP = 1.0, 5.0  # the break [s] and the stop ramp [s]

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from webline.sim.branches.breaks import web_break
+from webline.sim.branches.disturb import web_break
 from webline.sim.branches.loop import layout as B
 from webline.spec.branched.check import kind_of
 from webline.spec.winder import WebBreak

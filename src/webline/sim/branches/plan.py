@@ -13,7 +13,6 @@ import numpy as np
 from webline.control.pi import tune
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
-from webline.sim.branches.breaks import break_columns
 from webline.sim.branches.dancers import (
     dancer_columns,
     dancer_nodes,
@@ -21,7 +20,7 @@ from webline.sim.branches.dancers import (
     position_gains,
     zone_cells,
 )
-from webline.sim.branches.disturb import disturbance_table, eccentricities
+from webline.sim.branches.disturb import break_columns, disturbance_table, eccentricities
 from webline.sim.branches.drive_trains import brake_rows, train_columns, tuning_inertia
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import held_inputs

@@ -15,7 +15,7 @@ O_OMEGA, O_RADIUS, O_TORQUE, O_WEB, O_CORE, O_ANGLE, O_N = range(7)
 # (tension ramp, docs/winder.md R1: the profile of its factor on every zone's reference, -1
 # without a ramp)
 O_RAMP = 7
-# web break (sim.branches.breaks): 1 where the line has a break in this run (a flag frozen
+# web break (sim.branches.disturb): 1 where the line has a break in this run (a flag frozen
 # into the compiled loop, so that a line without one folds the monitor and the cut away)
 O_BREAK = 8
 # traction rollers and measured friction (docs/branching.md, "Slip and measured friction"):
@@ -111,7 +111,7 @@ D_PRESETD = D_PRESETT + MAX_PRESETS
 (D_COMPJ, D_COMPCS, D_COMPB, D_COMPFP, D_SPEEDLIM,
  D_DIR) = range(D_PRESETD + MAX_PRESETS, D_PRESETD + MAX_PRESETS + 6)
 D_BREAK = D_DIR + 1
-# web break (sim.branches.breaks), the same on every drive's row: the monitor's threshold
+# web break (sim.branches.disturb), the same on every drive's row: the monitor's threshold
 # (x each loadcell's reference), stop time [s], hold after the stop (HOLD_*), diameter
 # threshold [m] (0: off), the holding brake as a fraction of the torque limit (hold
 # "brakes": fraction x limit x ratio at the roller)
@@ -126,7 +126,7 @@ DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = range(3)
 # taper factor at its last tick, read by the decentralized families' references; the MRAC's
 # adapted gains k̂_T [N·m/N], k̂_V [N·m·s/m] and bias ĉ [N·m])
 I_SPEED, I_TENSION, I_RADIUS, I_FRICTION, I_FACTOR, I_KT, I_KV, I_BIAS = range(8)
-# web break (sim.branches.breaks), on every drive's row: the time it was detected [s] (-1:
+# web break (sim.branches.disturb), on every drive's row: the time it was detected [s] (-1:
 # not yet), the method (BREAK_*), where (the loadcell's span, or the drive), the extreme of
 # the drive's calculated radius so far [m]
 I_DETECT, I_METHOD, I_WHERE, I_REXTREME = range(8, 12)

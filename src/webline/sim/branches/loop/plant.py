@@ -190,7 +190,7 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
             dx[off_w + i] = total * nodes[i, B.N_INVJ]
     for d in range(di.shape[0]):
         dx[off_tq + d] = (cmd[d] - x[off_tq + d]) * df[d, B.D_INVLAG]
-    if offsets[B.O_BREAK]:  # a cut web: its intact spans' ends (sim.branches.breaks)
+    if offsets[B.O_BREAK]:  # a cut web: its intact spans' ends (sim.branches.disturb)
         web_flows(dx, off_q, webs, sf, wound[n_w + n_n:], v_a, v_b, s_in, tension)
         return
     for w in range(webs.shape[0]):  # unstrained web in and out: v (1 - ε) at each end
