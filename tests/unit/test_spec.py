@@ -566,3 +566,15 @@ def test_every_built_in_line_and_scenario_pickles_to_an_equal_line() -> None:
             sent = line if scenario is None else line.with_scenario(scenario)
             back = pickle.loads(pickle.dumps(sent))
             assert back.spec == sent.spec and back.source == sent.source, (name, scenario)
+
+
+def test_a_dancers_key_is_named_once_although_its_type_is_its_table() -> None:
+    """A dancer roller has ``type = "dancer"`` and a ``dancer`` table: pydantic's location
+    repeats "dancer" (the union's tag, then the field), which the key path once showed twice
+    (``rollers[1].dancer.dancer.angle_in``)."""
+    data = webline.load_line("converter").spec.model_dump(exclude_none=True)
+    index = next(i for i, r in enumerate(data["rollers"]) if r["type"] == "dancer")
+    data["rollers"][index]["dancer"]["angle_in"] = "100 deg"
+    with pytest.raises(LineFileError) as info:
+        spec_from_dict(data, "line.toml")
+    assert f"rollers[{index}].dancer.angle_in: " in str(info.value)

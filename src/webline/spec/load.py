@@ -53,10 +53,13 @@ def _format_loc(loc: tuple[int | str, ...], data: Any = None) -> str:
     """
     out = ""
     node = data
-    for part in loc:
+    for n, part in enumerate(loc):
         if isinstance(part, int):
             out += f"[{part}]"
             node = node[part] if isinstance(node, list) and 0 <= part < len(node) else None
+        elif (isinstance(node, dict) and part == node.get("type") and n + 1 < len(loc)
+              and loc[n + 1] in node):  # a tag named as a key of its table ("dancer")
+            continue
         elif isinstance(node, dict) and part in node:
             out += f".{part}" if out else str(part)
             node = node[part]
