@@ -10,6 +10,7 @@ from html import unescape
 
 import numpy as np
 import pytest
+from branch_support import laminated_then_slit
 from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, Rectangle
 from typer.testing import CliRunner
@@ -319,32 +320,10 @@ def test_run_and_show_take_units_for_a_branched_line(tmp_path):
     assert shown.exit_code == 0 and "EA [lbf]" in shown.output
 
 
-def _laminated_then_slit():
-    """The laminator with its laminate slit at a knife into two lanes on the rewind's shaft:
-    a tree that merges and then splits."""
-    import tomllib
-    from importlib import resources
-
-    data = tomllib.loads(resources.files("webline.data.lines").joinpath(
-        "laminator.toml").read_text("utf-8"))
-    rewind = data["rollers"].pop()
-    data["rollers"] += [{"name": "knife", "type": "idle", "radius": "50 mm",
-                         "inertia": "0.002 kg*m**2", "friction": "1e-4 N*m*s"}, rewind]
-    data["webs"][2]["path"] = ["nip", "guide_laminate", "knife"]
-    data["webs"][2]["spans"] = [{"name": "laminate_zone", "length": "2 m"}, {"length": "1 m"}]
-    for lane in ("lane_a", "lane_b"):
-        data["webs"].append({"name": lane, "slit_from": "laminate", "width": "0.5 m",
-                             "path": ["knife", "rewind"],
-                             "spans": [{"name": f"{lane}_span", "length": "2 m",
-                                        "tension": "90 N"}]})
-    data["scenarios"] = {}
-    return load_branched(data)
-
-
 def test_a_tree_that_merges_then_splits_is_drawn_with_both_junctions_in_their_places():
     from webline.report.plots.branch_schematic import web_rows
 
-    line = _laminated_then_slit()
+    line = laminated_then_slit()
     fig = branch_schematic(line)
     webs, rollers = _by_gid(fig, "web"), _by_gid(fig, "roller")
     assert set(webs) == {"film", "foil", "laminate", "lane_a", "lane_b"}

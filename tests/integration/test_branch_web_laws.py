@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from branch_support import laminated_then_slit
 
 import webline
 from webline.errors import LineFileError
@@ -268,24 +269,8 @@ def test_a_lane_of_a_laminate_carries_its_share_of_the_layers_laws():
     lane's strain ε = s / (φ EA_L), the laws evaluated here from their formulas (1e-9 N:
     the solver's tolerance); the knife span carries the lanes' strain's law, not their
     stretch's linear sum."""
-    import tomllib
-    from importlib import resources
-
-    data = tomllib.loads(resources.files("webline.data.lines").joinpath(
-        "laminator.toml").read_text("utf-8"))
-    rewind = data["rollers"].pop()
-    data["rollers"] += [{"name": "knife", "type": "idle", "radius": "50 mm",
-                         "inertia": "0.002 kg*m**2", "friction": "1e-4 N*m*s"}, rewind]
-    data["webs"][1]["web"]["stress_strain"] = POWER
-    data["webs"][2]["path"] = ["nip", "guide_laminate", "knife"]
-    data["webs"][2]["spans"] = [{"name": "laminate_zone", "length": "2 m"}, {"length": "1 m"}]
-    for lane in ("lane_a", "lane_b"):
-        data["webs"].append({"name": lane, "slit_from": "laminate", "width": "0.5 m",
-                             "path": ["knife", "rewind"],
-                             "spans": [{"name": f"{lane}_span", "length": "2 m",
-                                        "tension": "90 N"}]})
-    data["scenarios"] = {}
-    line = load_branched(data)
+    line = laminated_then_slit(
+        lambda data: data["webs"][1]["web"].__setitem__("stress_strain", POWER))
     point = operating_point(compile_branches(line))
 
     def laminate(strain: float) -> float:

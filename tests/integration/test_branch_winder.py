@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
+from branch_support import foil_zone_check
 
 import webline
 from webline.model.tension_ramp import ramp_factor
@@ -239,23 +239,7 @@ def test_a_splice_on_one_layer_reaches_the_other_only_through_the_nip(spliced):
     equations (6.8) give from the recorded speeds of its rollers and the nip alone (as the
     layer upset's test)."""
     ds = spliced.dataset
-    t = ds["time"].values
-    speeds = [ds["radius"].sel(roll="unwind_foil/foil").values
-              * ds["omega"].sel(node="unwind_foil").values,
-              0.05 * ds["omega"].sel(node="guide_foil").values,
-              0.1 * ds["omega"].sel(node="nip").values]
-    ea, lengths, wound = 630e3, (1.5, 2.0), 50.0
-
-    def rate(time: float, x: np.ndarray) -> list[float]:
-        v = [np.interp(time, t, s) for s in speeds]
-        tension = np.maximum(x, 0.0)
-        return [(ea * (v[1] - v[0]) + wound * v[0] - tension[0] * v[1]) / lengths[0],
-                (ea * (v[2] - v[1]) + tension[0] * v[1] - tension[1] * v[2]) / lengths[1]]
-
-    recorded = ds["tension"].sel(span=["foil[0]", "foil_zone"]).values.T
-    solved = solve_ivp(rate, (0.0, t[-1]), recorded[:, 0], t_eval=t, rtol=1e-11, atol=1e-9,
-                       max_step=1e-3).y
-    deviation = np.max(np.abs(recorded - recorded[:, :1]), axis=1)
+    recorded, solved, deviation = foil_zone_check(ds)
     assert np.all(deviation > 1.0)  # the splice does reach the foil zone
     # the recorded speeds are 1 ms samples interpolated linearly (as the layer upset's);
     # the nip's acceleration jumps at the splice (the film's tension steps), where a linear
