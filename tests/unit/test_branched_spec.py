@@ -229,5 +229,8 @@ def test_front_door_routes_each_kind_of_line_and_names_what_stage_1_lacks(tmp_pa
                     encoding="utf-8")
     result = webline.simulate(path, 0.05)  # a file path: dispatched on its [[webs]]
     assert type(result).__name__ == "BranchResult" and result.time[-1] == pytest.approx(0.05)
-    with pytest.raises(webline.ArgumentError, match="not yet supported for a branched line"):
+    with pytest.raises(webline.ArgumentError, match="progress: not yet supported for a "
+                                                    "branched line"):
+        webline.simulate(path, 0.05, progress=lambda done, total: None)
+    with pytest.raises(webline.ArgumentError, match="controller: object is not a controller"):
         webline.simulate(path, 0.05, controller=object())

@@ -191,18 +191,19 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
 
     A branched line (``[[webs]]``, ``webline.load_branched``; docs/branching.md) runs through
     ``sim.branches`` and returns a ``BranchResult`` (an xarray Dataset and a verdict per web
-    and lane); ``progress`` and ``controller`` are not yet supported there (stage 1).
+    and lane; a user ``controller`` per drive or for all, docs/controllers.md "On a branched
+    line"); ``progress`` is not yet supported there.
     """
     if is_branched_line(line):
-        if progress is not None or controller is not None:
-            raise ArgumentError("progress, controller: not yet supported for a branched line "
-                                "(stage 1: built-in cascaded PI, one run at a time)")
+        if progress is not None:
+            raise ArgumentError("progress: not yet supported for a branched line (its run "
+                                "returns to Python in chunks of 20 000 ticks)")
         from webline.sim.branches.run import simulate_branches  # scipy: only when needed
 
         return simulate_branches(cast("BranchedLine", line), duration, scenario=scenario,
                                  sample_rate=sample_rate, substeps=substeps,
                                  record_interval=record_interval,
-                                 raise_on_failure=raise_on_failure)
+                                 raise_on_failure=raise_on_failure, controller=controller)
     line = load_line(cast("Line | str | Path", line))
     duration, sample_rate, record_interval = (  # units and checks as the CLI's
         None if value is None else argument(value, kind, name, within=key)

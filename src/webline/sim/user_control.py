@@ -17,7 +17,6 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -26,6 +25,16 @@ from webline.errors import ArgumentError
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint
 from webline.sim.core.plan import Plan
+from webline.sim.core.user_protocol import (  # (here too, where the docs name them)
+    MEASURED,
+    REFERENCES,
+    Controller,
+    DriveInfo,
+    Group,
+    controller_error,
+)
+from webline.sim.core.user_protocol import checked_controller as _checked
+from webline.sim.core.user_protocol import shape_of as _shape
 from webline.sim.core.user_step import (
     C_EVERY,
     C_INCLUDE_END,
@@ -41,54 +50,6 @@ from webline.sim.core.user_step import (
 )
 from webline.sim.drives.user_loop import N_MEASURED, N_REFERENCES, STATUS_USER_NONFINITE
 from webline.sim.elements import layout as L
-
-MEASURED = ("speed", "tension", "radius", "inertia")  # in ``user_loop.U_*`` order
-REFERENCES = ("speed_reference", "tension_reference")
-
-
-@runtime_checkable
-class Controller(Protocol):
-    """What ``simulate(..., controller=...)`` accepts (module docstring)."""
-
-    def reset(self, context: ControllerContext) -> None: ...
-
-    def __call__(self, t: float, measurements: np.ndarray,
-                 references: np.ndarray) -> Any: ...
-
-
-@dataclass(frozen=True)
-class DriveInfo:
-    """One drive a user controller commands.
-
-    ``node``: its roller's index in the line; ``roll``: True for the unwind or rewind, whose
-    radius and inertia change as the roll runs; ``role``: "master" (speed) or "tension";
-    ``tension_sign`` σ: +1 if speeding the drive up raises its zone's tension, -1 if it
-    lowers it (the drive upstream of its zone), 0 for the master; ``torque_limit`` [N·m]
-    (the command is clipped there); ``ratio`` motor / roller speed; ``radius`` [m] and
-    ``inertia`` [kg·m²] at the roller at t = 0; ``builtin_pi``: the cascaded-PI gains
-    webline would run this drive with (SI, ``control.pi``; a dancer zone's tension gains act
-    on the dancer's position error, (m/s)/m), a place to start; ``gain_norm`` [kg·m]: the
-    inertia / (ratio x radius) those gains were tuned at (the built-in PI scales its speed
-    gains by the current value over this one); ``equilibrium_command`` [N·m]: the command
-    that holds the drive at the operating point, where the run starts (the motor torque
-    there, less what the drive's own compensation adds); ``equilibrium_trim`` [m/s]: how
-    much faster than its speed reference the drive runs there (the draw its idle rollers'
-    friction takes; the built-in PI's tension integrator starts at it times σ).
-    """
-
-    name: str
-    node: int
-    roll: bool
-    role: str
-    tension_sign: float
-    torque_limit: float
-    ratio: float
-    radius: float
-    inertia: float
-    builtin_pi: PIGains
-    gain_norm: float
-    equilibrium_command: float
-    equilibrium_trim: float
 
 
 @dataclass(frozen=True)
@@ -111,15 +72,6 @@ class ControllerContext:
                 return names.index(name)
         raise KeyError(f"no measurement or reference {name!r}; there are "
                        f"{', '.join(self.measurement_names + self.reference_names)}")
-
-
-@dataclass(frozen=True)
-class Group:
-    """One controller object and the drives (indices into ``line.drives``) it commands."""
-
-    name: str
-    controller: Controller
-    drives: tuple[int, ...]
 
 
 def user_groups(line: Line, controller: object | Mapping[str, object] | None,
@@ -145,13 +97,6 @@ def user_groups(line: Line, controller: object | Mapping[str, object] | None,
     taken = {d for g in groups for d in g.drives}
     groups += [Group(names[d], obj, (d,)) for d, obj in from_file.items() if d not in taken]
     return sorted(groups, key=lambda g: g.drives[0])
-
-
-def _checked(obj: object, what: str) -> Controller:
-    if not isinstance(obj, Controller):
-        raise ArgumentError(f"{what}: {type(obj).__name__} is not a controller: it needs "
-                            f"reset(context) and __call__(t, measurements, references)")
-    return obj
 
 
 def user_plan(plan: Plan, drives: Sequence[int]) -> Plan:
@@ -327,18 +272,3 @@ def run_user(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: np.nd
         run.interrupted = True
         return run
     return loop.outcome()
-
-
-def _shape(value: object) -> str:
-    """What a controller returned, for an error: "shape (2,)", "a str"."""
-    shape = np.shape(value) if isinstance(value, np.ndarray | list | tuple) else None
-    return f"shape {shape}" if shape is not None else f"a {type(value).__name__}"
-
-
-def controller_error(group: Group, tick: int, t: float, exc: BaseException | None,
-                     what: str = "") -> str:
-    """One sentence: which controller failed, how, at which tick and time [s]."""
-    if exc is not None:
-        what = f"raised {type(exc).__name__}: {exc}"
-    kind = getattr(group.controller, "kind", type(group.controller).__name__)
-    return f"controller {group.name!r} ({kind}) {what} at tick {tick} (t = {t:.6g} s)"

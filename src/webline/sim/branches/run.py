@@ -3,19 +3,20 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
-from webline.errors import SimulationError
+from webline.errors import ControllerError, SimulationError
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches.break_verdict import detection
 from webline.sim.branches.decentral import prepare, start_memory
-from webline.sim.branches.equilibrium import operating_point
+from webline.sim.branches.equilibrium import BranchPoint, operating_point
 from webline.sim.branches.linear import fastest_rate
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.kernel import new_records
-from webline.sim.branches.plan import compile_branches
+from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.branches.result import BranchResult
 from webline.sim.branches.web_findings import strength_failure
 from webline.sim.branches.winder import initial_compensation
@@ -34,7 +35,8 @@ CHUNK = 20_000
 def simulate_branches(line: BranchedLine | str | Path, duration: float | str | None = None, *,
                       scenario: str | None = None, sample_rate: float | str | None = None,
                       substeps: int | None = None, record_interval: float | str | None = None,
-                      raise_on_failure: bool = True) -> BranchResult:
+                      raise_on_failure: bool = True,
+                      controller: object | Mapping[str, object] | None = None) -> BranchResult:
     """Simulate a branched line for ``duration`` [s] from its operating point at t = 0.
 
     Arguments as ``webline.simulate`` (``scenario`` applies a named scenario, whose duration
@@ -42,7 +44,10 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     mode of its open- and closed-loop linear models, ``sim.branches.linear``). A run that
     leaves physical validity (non-finite state, an empty unwind, a runaway) raises
     ``SimulationError`` with the run so far as ``partial`` (or, with
-    ``raise_on_failure=False``, returns it with its ``failure`` set).
+    ``raise_on_failure=False``, returns it with its ``failure`` set). ``controller``: a
+    user's controller for every drive or a dict drive name -> controller (docs/controllers.md,
+    "On a branched line"; ``sim.branches.user``): the run goes one tick at a time through
+    Python, and a controller that fails stops it with ``ControllerError``.
     """
     line = load_branched(line)
     duration = None if duration is None else argument(duration, "time", "duration")
@@ -54,6 +59,60 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
         if duration is None:
             duration = line.spec.scenarios[scenario].duration
     duration = 10.0 if duration is None else duration
+    plan, point, substeps = plan_and_step(line, rate, substeps)
+    n_ticks = max(1, round(duration / plan.dt))
+    every = (max(1, math.ceil((n_ticks + 1) / MAX_RECORDS)) if every_s is None
+             else max(1, round(every_s / plan.dt)))
+    x, istate = start_state(plan, point)
+    n_d = plan.di.shape[0]
+    rec = new_records(n_ticks, every, plan.n_x, n_d)
+    wound, done, cmd = plan.wound.copy(), np.zeros(len(plan.events)), point.torque.copy()
+    users = None
+    if controller is not None:  # user controllers: one tick at a time (sim.branches.user)
+        from webline.sim.branches.user.loop import BranchUserLoop, branch_groups
+
+        users = BranchUserLoop(plan, point, branch_groups(line, controller), x, istate, wound,
+                               done, cmd, substeps, every)
+        plan, (x, istate, wound, done, cmd) = users.plan, users.live
+    status, t_fail, n_rec, tick = B.STATUS_OK, math.nan, 0, 0
+    interrupted = False
+    try:  # in chunks: Ctrl-C is seen between two, and the run keeps what it computed
+        while tick < n_ticks and status == B.STATUS_OK:
+            count = min(CHUNK, n_ticks - tick)
+            if users is None:
+                stored, status, t_fail = plan.run(x, istate, wound, done, rec[n_rec:], cmd,
+                                                  tick, count, substeps, every,
+                                                  tick + count == n_ticks)
+            else:
+                stored, status, t_fail, count = users.ticks(rec[n_rec:], tick, count,
+                                                            tick + count == n_ticks)
+            n_rec += stored
+            tick += count
+    except KeyboardInterrupt:
+        if not n_rec:
+            raise
+        interrupted = True
+    failure = (strength_failure(plan, x, t_fail) if status == B.STATUS_STRENGTH
+               else None if status == B.STATUS_OK else users.failed[1]
+               if users is not None and users.failed is not None
+               else _failure_text(status, t_fail))
+    if interrupted:
+        failure = f"interrupted by the user (Ctrl-C) at t = {rec[n_rec - 1, 0]:.4g} s"
+    result = BranchResult(plan, rec[:n_rec].copy(), failure,
+                          {"duration": duration, "dt": plan.dt, "substeps": substeps,
+                           "record_every": every, **detection(plan, istate)})
+    if failure is not None and raise_on_failure:
+        if users is not None and users.failed is not None:
+            raise ControllerError(f"{line.name}: {failure}", partial=result)
+        raise SimulationError(f"{line.name}: {failure}", partial=result)
+    return result
+
+
+def plan_and_step(line: BranchedLine, rate: float | None,
+                  substeps: int | None) -> tuple[BranchPlan, BranchPoint, int]:
+    """``line``'s plan at sample rate ``rate`` [Hz] (None: the file's), its operating point
+    at t = 0 and the RK4 sub-steps per controller period (``substeps``, or chosen from the
+    fastest mode of its linear models, with the file's controllers)."""
     plan = compile_branches(line, rate)
     prepare(plan)  # the decentralized drives' designs and references (none: nothing)
     point = operating_point(plan)
@@ -64,9 +123,12 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
                                   f"RK4 steps per controller period (at most {MAX_SUBSTEPS})")
     else:
         substeps = whole_argument(substeps, "substeps", 1, "expected a whole number")
-    n_ticks = max(1, round(duration / plan.dt))
-    every = (max(1, math.ceil((n_ticks + 1) / MAX_RECORDS)) if every_s is None
-             else max(1, round(every_s / plan.dt)))
+    return plan, point, substeps
+
+
+def start_state(plan: BranchPlan, point: BranchPoint) -> tuple[np.ndarray, np.ndarray]:
+    """The state and controller memory a run of ``plan`` starts from at ``point`` (sets the
+    drives' speed feedforward ``D_FF`` in ``plan``)."""
     plan.df[:, B.D_FF] = point.ratio
     x = point.x.copy()
     istate = np.zeros((plan.di.shape[0], B.I_COLS))
@@ -75,32 +137,7 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     istate[:, B.I_RADIUS] = plan.radius0
     istate[:, B.I_DETECT] = -1.0  # no web break detected yet
     start_memory(plan, istate)  # the decentralized families' (sim.branches.decentral)
-    n_d = plan.di.shape[0]
-    rec = new_records(n_ticks, every, plan.n_x, n_d)
-    wound, done, cmd = plan.wound.copy(), np.zeros(len(plan.events)), point.torque.copy()
-    status, t_fail, n_rec, tick = B.STATUS_OK, math.nan, 0, 0
-    interrupted = False
-    try:  # in chunks: Ctrl-C is seen between two, and the run keeps what it computed
-        while tick < n_ticks and status == B.STATUS_OK:
-            count = min(CHUNK, n_ticks - tick)
-            stored, status, t_fail = plan.run(x, istate, wound, done, rec[n_rec:], cmd, tick,
-                                              count, substeps, every, tick + count == n_ticks)
-            n_rec += stored
-            tick += count
-    except KeyboardInterrupt:
-        if not n_rec:
-            raise
-        interrupted = True
-    failure = (strength_failure(plan, x, t_fail) if status == B.STATUS_STRENGTH
-               else None if status == B.STATUS_OK else _failure_text(status, t_fail))
-    if interrupted:
-        failure = f"interrupted by the user (Ctrl-C) at t = {rec[n_rec - 1, 0]:.4g} s"
-    result = BranchResult(plan, rec[:n_rec].copy(), failure,
-                          {"duration": duration, "dt": plan.dt, "substeps": substeps,
-                           "record_every": every, **detection(plan, istate)})
-    if failure is not None and raise_on_failure:
-        raise SimulationError(f"{line.name}: {failure}", partial=result)
-    return result
+    return x, istate
 
 
 def _failure_text(status: int, t_fail: float) -> str:

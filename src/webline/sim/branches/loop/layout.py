@@ -196,3 +196,13 @@ SF_COLS += 2
 N_COLS += 8
 CELL_DANCER, CELL_COLS = 2, 3
 DIST_DANCER_LOAD = DIST_NOISE + 1
+
+# user controllers (docs/controllers.md, "On a branched line"; sim.branches.user): a drive of
+# DI_FAMILY FAMILY_USER issues the command a Python controller wrote into its memory row
+# (I_UCMD [N·m]) and stores what it measured there: surface speed [m/s], its zone's tension
+# [N] (the sum of its loadcells; NaN without one), the radius it works with [m], the inertia
+# at its roller [kg·m²], speed reference [m/s] and tension reference [N] (NaN without a zone)
+FAMILY_USER = FAMILY_MRAC + 1
+(I_UCMD, I_USPEED, I_UTENSION, I_URADIUS, I_UINERTIA, I_UVREF,
+ I_UTREF) = range(I_COLS, I_COLS + 7)
+I_COLS += 7

@@ -1,0 +1,249 @@
+"""A branched line's run with user controllers (docs/controllers.md, "On a branched line").
+
+Each tick the compiled loop (``loop.kernel.advance``) first samples the tick on a scratch copy
+of the run's arrays (``n_ticks`` = 0: events, held inputs and every drive's tick, nothing
+integrated), which yields exactly the readings the live tick will take (measurement noise is
+a function of seed, tick and channel; the calculated radius, break monitor and splices are
+deterministic); Python calls the controllers with those readings, writes their commands into
+the user drives' memory (``layout.I_UCMD``), and the live arrays advance one tick. The
+drives without a user controller keep their compiled controllers.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from webline.control.pi import PIGains
+from webline.errors import ArgumentError
+from webline.model.web_graph import BranchedLine
+from webline.sim.branches.equilibrium import BranchPoint
+from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop import transmission as TR
+from webline.sim.branches.loop.plant import node_inertia
+from webline.sim.branches.plan import BranchPlan
+from webline.sim.core.user_protocol import (
+    MEASURED,
+    REFERENCES,
+    DriveInfo,
+    Group,
+    checked_controller,
+    controller_error,
+    shape_of,
+)
+
+#: the readings stored per user drive, in ``MEASURED`` then ``REFERENCES`` order
+READINGS = (B.I_USPEED, B.I_UTENSION, B.I_URADIUS, B.I_UINERTIA, B.I_UVREF, B.I_UTREF)
+
+
+@dataclass(frozen=True)
+class BranchControllerContext:
+    """What ``reset`` receives on a branched line: as ``sim.user_control.ControllerContext``
+    with the ``BranchedLine`` and its ``BranchPoint`` (state, torques and speed ratios at
+    t = 0)."""
+
+    line: BranchedLine
+    operating_point: BranchPoint
+    sample_period: float
+    drives: tuple[DriveInfo, ...]
+    measurement_names: tuple[str, ...]
+    reference_names: tuple[str, ...]
+
+    def index(self, name: str) -> int:
+        """Position of measurement or reference ``name`` (e.g. ``"rewind.tension"``)."""
+        for names in (self.measurement_names, self.reference_names):
+            if name in names:
+                return names.index(name)
+        raise KeyError(f"no measurement or reference {name!r}; there are "
+                       f"{', '.join(self.measurement_names + self.reference_names)}")
+
+
+def drive_names(line: BranchedLine) -> list[str]:
+    """The names of ``line``'s drives (its driven rollers), in drive order."""
+    return [line.spec.rollers[i].name for i in line.drives]
+
+
+def branch_groups(line: BranchedLine, controller: object | Mapping[str, object] | None
+                  ) -> list[Group]:
+    """The user controllers of a run: ``controller`` one object for every drive, or a dict
+    drive name -> object, in drive order; ``ArgumentError`` for an unknown drive name, an
+    object without the protocol or a drive in open-loop tension control (it has no
+    command to take)."""
+    names = drive_names(line)
+    if controller is None:
+        return []
+    if isinstance(controller, Mapping):
+        groups = []
+        for name, obj in controller.items():
+            if name not in names:
+                raise ArgumentError(f"controller: no drive {name!r}; the drives are "
+                                    f"{', '.join(names)}")
+            groups.append(Group(name, checked_controller(obj, f"controller[{name!r}]"),
+                                (names.index(name),)))
+    else:
+        groups = [Group("line", checked_controller(controller, "controller"),
+                        tuple(range(len(names))))]
+    for g in groups:
+        for d in g.drives:
+            winder = getattr(line.spec.rollers[line.drives[d]], "winder", None)
+            if winder is not None and winder.mode == "open_loop":
+                raise ArgumentError(f"controller: {names[d]!r} runs open-loop tension "
+                                    f"control (rollers.winder.mode); it takes no command")
+    return sorted(groups, key=lambda g: g.drives[0])
+
+
+def user_branch_plan(plan: BranchPlan, groups: Sequence[Group]) -> BranchPlan:
+    """``plan`` with the drives of ``groups`` run by their user controllers
+    (``FAMILY_USER``); a new structure, compiled once."""
+    di = plan.di.copy()
+    for g in groups:
+        di[list(g.drives), B.DI_FAMILY] = B.FAMILY_USER
+    return dataclasses.replace(plan, di=di)
+
+
+def branch_context(plan: BranchPlan, point: BranchPoint, group: Group,
+                   istate: np.ndarray) -> BranchControllerContext:
+    """The context of ``group`` in a run of ``plan`` from ``point`` with controller memory
+    ``istate`` at t = 0."""
+    line, infos = plan.line, []
+    for d in group.drives:
+        i, row = int(plan.di[d, B.DI_NODE]), plan.df[d]
+        j = int(plan.di[d, B.DI_ROLL])
+        radius = float(point.x[plan.offsets[B.O_RADIUS] + j]) if j >= 0 else float(
+            plan.nodes[i, B.N_RADIUS])
+        inertia = float(node_inertia(i, point.x, plan.offsets, plan.nodes, plan.rolls)
+                        + TR.reflected_motor(d, plan.di, plan.df))
+        infos.append(DriveInfo(
+            line.spec.rollers[i].name, i, j >= 0,
+            "tension" if row[B.D_SIGMA] != 0.0 and plan.di[d, B.DI_NCELLS] > 0 else "master",
+            float(row[B.D_SIGMA]), float(row[B.D_LIMIT]), float(row[B.D_RATIO]), radius,
+            inertia, PIGains(*(float(row[c]) for c in (B.D_KPS, B.D_KIS, B.D_KPT, B.D_KIT))),
+            float(row[B.D_GAINNORM]), float(istate[d, B.I_SPEED]),
+            float(row[B.D_SIGMA] * istate[d, B.I_TENSION])))
+    return BranchControllerContext(
+        line, point, plan.dt, tuple(infos),
+        tuple(f"{info.name}.{m}" for info in infos for m in MEASURED),
+        tuple(f"{info.name}.{r}" for info in infos for r in REFERENCES))
+
+
+class BranchUserLoop:
+    """The live arrays of a branched run with user controllers (module docstring): ``x``,
+    ``istate``, ``wound``, ``done`` and ``cmd`` as ``BranchPlan.run`` takes them, advanced
+    tick by tick by ``tick``; ``plan`` has the user drives' ``FAMILY_USER``."""
+
+    def __init__(self, plan: BranchPlan, point: BranchPoint, groups: Sequence[Group],
+                 x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
+                 cmd: np.ndarray, substeps: int, every: int) -> None:
+        self.plan = user_branch_plan(plan, groups)
+        self.groups = list(groups)
+        # the live arrays in one buffer and their scratch copy in another: one copy a tick
+        arrays = (x, istate, wound, done, cmd)
+        self.live_buffer = np.concatenate([a.ravel() for a in arrays])
+        self.scratch_buffer = self.live_buffer.copy()
+        self.live, self.scratch = (_views(buffer, arrays) for buffer in (
+            self.live_buffer, self.scratch_buffer))
+        self.substeps, self.every = substeps, every
+        self.users = np.array([d for g in groups for d in g.drives], dtype=np.int64)
+        # where each reading lies in the buffers (istate's rows follow x's entries)
+        at = x.size + self.users[:, None] * istate.shape[1]
+        self.reading_at = (at + np.array(READINGS[:len(MEASURED)])).ravel()
+        self.reference_at = (at + np.array(READINGS[len(MEASURED):])).ravel()
+        self.readings = np.empty(self.reading_at.size)  # (reused every tick)
+        self.references = np.empty(self.reference_at.size)
+        self.loop = self.plan.loop()
+        p = self.plan
+        self.stages, self.work = np.empty((5, p.n_x)), p.scratch()
+        self.held, self.rec_s = np.empty_like(wound), np.empty((2, 1 + p.n_x + 2 * len(cmd)))
+        self.tail = (p.speed_max, p.nodes, p.sf, p.rolls, p.df, p.clutch, p.events, p.dist,
+                     p.prof_t, p.prof_v, p.prof_off, p.lawf, p.laws, p.fb, p.refs)
+        self.views: list[tuple[Any, ...]] = []  # each group's slices of the readings, made once
+        first = 0
+        for g in groups:
+            k = len(g.drives)
+            self.views.append((g, self.readings[len(MEASURED) * first:len(MEASURED) * (first + k)],
+                               self.references[len(REFERENCES) * first:
+                                               len(REFERENCES) * (first + k)], k,
+                               x.size + self.users[first:first + k] * istate.shape[1]
+                               + B.I_UCMD))
+            first += k
+            g.controller.reset(branch_context(self.plan, point, g, istate))
+        self.failed: tuple[str, str, float] | None = None
+
+    def _call(self, arrays: tuple[np.ndarray, ...], rec: np.ndarray, tick: int, n_ticks: int,
+              include_end: bool) -> tuple[int, int, float]:
+        x, istate, wound, done, cmd = arrays
+        out: tuple[int, int, float] = self.loop(
+            x, istate, wound, done, rec, self.stages, cmd, self.work, self.held, tick, n_ticks,
+            self.plan.dt, self.substeps, self.every, include_end, *self.tail)
+        return out
+
+    def tick(self, rec: np.ndarray, tick: int, last: bool) -> tuple[int, int, float]:
+        """Tick ``tick``: sample it, call the controllers, then advance the live arrays one
+        tick, recording into ``rec`` (``last``: the run's end, only sampled and recorded).
+        Returns (records, status, time of failure) as ``BranchPlan.run``; a controller that
+        fails leaves ``failed`` (its name, the error line, the time) and status -1."""
+        self.scratch_buffer[:] = self.live_buffer
+        self._call(self.scratch, self.rec_s, tick, 0, True)
+        self.scratch_buffer.take(self.reading_at, out=self.readings, mode="clip")
+        self.scratch_buffer.take(self.reference_at, out=self.references,
+                                 mode="clip")  # (unbuffered: the indices are valid)
+        t = tick * self.plan.dt
+        for g, meas, refs, k, rows in self.views:
+            error = self._command(g, meas, refs, k, tick, t)
+            if error is not None:
+                self.failed = (g.name, error, t)
+                return 0, -1, t
+            self.live_buffer[rows] = self._last
+        return self._call(self.live, rec, tick, 0 if last else 1, last)
+
+    def _command(self, g: Group, meas: np.ndarray, refs: np.ndarray, k: int, tick: int,
+                 t: float) -> str | None:
+        """Call ``g``'s controller; its commands in ``_last``, or the error line."""
+        try:
+            torque: Any = g.controller(t, meas, refs)
+        except Exception as exc:  # the user's code: any error stops the run, named
+            return controller_error(g, tick, t, exc)
+        values = torque
+        if not (type(torque) is np.ndarray and torque.shape == (k,)):  # (the fast path)
+            try:
+                values = np.asarray(torque, dtype=float)
+                if values.ndim > 1 or (values.ndim == 1 and values.shape[0] != k) or (
+                        values.ndim == 0 and k > 1):
+                    raise ValueError
+            except (ValueError, TypeError):
+                return controller_error(g, tick, t, None, f"returned {shape_of(torque)} "
+                                        f"where {k} torque(s) [N·m] were due")
+        if not math.isfinite(values.sum()):  # (any nan or inf makes the sum one)
+            each = np.broadcast_to(values, (k,)).astype(float)
+            bad = int(np.flatnonzero(~np.isfinite(each))[0])
+            name = self.plan.line.spec.rollers[self.plan.line.drives[g.drives[bad]]].name
+            return controller_error(g, tick, t, None, f"returned a non-finite torque "
+                                    f"{each[bad]} for {name}")
+        self._last = values
+        return None
+
+    def ticks(self, rec: np.ndarray, tick0: int, count: int,
+              include_end: bool) -> tuple[int, int, float, int]:
+        """``count`` ticks from ``tick0`` (and, with ``include_end``, the sample of the run's
+        last tick), recording into ``rec``; (records, status, time of failure, ticks done)."""
+        stored = 0
+        for j in range(count + int(include_end)):
+            n, status, t_fail = self.tick(rec[stored:], tick0 + j, j == count)
+            stored += n
+            if status != B.STATUS_OK:
+                return stored, status, t_fail, j
+        return stored, B.STATUS_OK, math.nan, count
+
+
+def _views(buffer: np.ndarray, arrays: tuple[np.ndarray, ...]) -> tuple[np.ndarray, ...]:
+    """Views of ``buffer`` shaped as ``arrays``, which lie in it one after the other."""
+    out, start = [], 0
+    for a in arrays:
+        out.append(buffer[start:start + a.size].reshape(a.shape))
+        start += a.size
+    return tuple(out)

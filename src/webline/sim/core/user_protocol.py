@@ -1,0 +1,95 @@
+"""The user-controller protocol shared by the chain's runs (``sim.user_control``) and a
+branched line's (``sim.branches.user``): what a controller is, what it is told about each
+drive it commands, and the one-line error of one that fails (docs/controllers.md)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+
+from webline.control.pi import PIGains
+from webline.errors import ArgumentError
+
+MEASURED = ("speed", "tension", "radius", "inertia")  # in ``user_loop.U_*`` order
+REFERENCES = ("speed_reference", "tension_reference")
+
+
+@runtime_checkable
+class Controller(Protocol):
+    """What ``simulate(..., controller=...)`` accepts (docs/controllers.md): ``reset(context)``
+    once (a ``sim.user_control.ControllerContext``, or its branched line's), then
+    ``__call__(t, measurements, references)`` every tick."""
+
+    def reset(self, context: Any) -> None: ...
+
+    def __call__(self, t: float, measurements: np.ndarray,
+                 references: np.ndarray) -> Any: ...
+
+
+@dataclass(frozen=True)
+class DriveInfo:
+    """One drive a user controller commands.
+
+    ``node``: its roller's index in the line; ``roll``: True for the unwind or rewind, whose
+    radius and inertia change as the roll runs; ``role``: "master" (speed) or "tension";
+    ``tension_sign`` σ: +1 if speeding the drive up raises its zone's tension, -1 if it
+    lowers it (the drive upstream of its zone), 0 for the master; ``torque_limit`` [N·m]
+    (the command is clipped there); ``ratio`` motor / roller speed; ``radius`` [m] and
+    ``inertia`` [kg·m²] at the roller at t = 0; ``builtin_pi``: the cascaded-PI gains
+    webline would run this drive with (SI, ``control.pi``; a dancer zone's tension gains act
+    on the dancer's position error, (m/s)/m), a place to start; ``gain_norm`` [kg·m]: the
+    inertia / (ratio x radius) those gains were tuned at (the built-in PI scales its speed
+    gains by the current value over this one); ``equilibrium_command`` [N·m]: the command
+    that holds the drive at the operating point, where the run starts (the motor torque
+    there, less what the drive's own compensation adds); ``equilibrium_trim`` [m/s]: how
+    much faster than its speed reference the drive runs there (the draw its idle rollers'
+    friction takes; the built-in PI's tension integrator starts at it times σ).
+    """
+
+    name: str
+    node: int
+    roll: bool
+    role: str
+    tension_sign: float
+    torque_limit: float
+    ratio: float
+    radius: float
+    inertia: float
+    builtin_pi: PIGains
+    gain_norm: float
+    equilibrium_command: float
+    equilibrium_trim: float
+
+
+@dataclass(frozen=True)
+class Group:
+    """One controller object and the drives (indices into ``line.drives``) it commands."""
+
+    name: str
+    controller: Controller
+    drives: tuple[int, ...]
+
+
+def checked_controller(obj: object, what: str) -> Controller:
+    """``obj`` if it has the protocol, else ``ArgumentError`` naming ``what``."""
+    if not isinstance(obj, Controller):
+        raise ArgumentError(f"{what}: {type(obj).__name__} is not a controller: it needs "
+                            f"reset(context) and __call__(t, measurements, references)")
+    return obj
+
+
+def shape_of(value: object) -> str:
+    """What a controller returned, for an error: "shape (2,)", "a str"."""
+    shape = np.shape(value) if isinstance(value, np.ndarray | list | tuple) else None
+    return f"shape {shape}" if shape is not None else f"a {type(value).__name__}"
+
+
+def controller_error(group: Group, tick: int, t: float, exc: BaseException | None,
+                     what: str = "") -> str:
+    """One sentence: which controller failed, how, at which tick and time [s]."""
+    if exc is not None:
+        what = f"raised {type(exc).__name__}: {exc}"
+    kind = getattr(group.controller, "kind", type(group.controller).__name__)
+    return f"controller {group.name!r} ({kind}) {what} at tick {tick} (t = {t:.6g} s)"

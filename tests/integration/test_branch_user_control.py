@@ -1,0 +1,148 @@
+"""User Python controllers on branched lines (docs/controllers.md, "On a branched line"):
+called every tick with the drive's readings, their torques through the same drives; the
+other drives keep their compiled controllers."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import webline
+from webline.errors import ArgumentError, ControllerError
+
+
+class UserPI:
+    """The cascaded PI (thesis Fig. 4.3) written here, with the gains the file's cascaded PI
+    runs (``DriveInfo.builtin_pi``); it records what it read at every tick."""
+
+    def reset(self, context):
+        self.dt, self.drives = context.sample_period, context.drives
+        self.names = context.measurement_names
+        self.speed_i = [d.equilibrium_command for d in context.drives]  # [N·m]
+        self.tension_i = [d.tension_sign * d.equilibrium_trim for d in context.drives]
+        self.out = np.zeros(len(context.drives))
+        self.seen = []  # (t, measurements, references) per tick
+
+    def __call__(self, t, meas, refs):
+        self.seen.append((t, meas.copy(), refs.copy()))
+        for k, d in enumerate(self.drives):
+            speed, tension, radius, inertia = meas[4 * k:4 * k + 4]
+            g = d.builtin_pi
+            scale = inertia / (d.ratio * radius) / d.gain_norm if d.roll else 1.0
+            e_t = trim = 0.0
+            if d.role == "tension":
+                e_t = refs[2 * k + 1] - tension
+                trim = d.tension_sign * (g.tension_kp * e_t + self.tension_i[k])
+            e_v = refs[2 * k] + trim - speed
+            raw = g.speed_kp * scale * e_v + self.speed_i[k]
+            u = min(max(raw, -d.torque_limit), d.torque_limit)
+            if not (raw != u and e_v * raw > 0.0):  # conditional integration, as built in
+                self.speed_i[k] += g.speed_ki * scale * e_v * self.dt
+            if not (raw != u and d.tension_sign * e_t * raw > 0.0):
+                self.tension_i[k] += g.tension_ki * e_t * self.dt
+            self.out[k] = u
+        return self.out
+
+
+def _tensions(result):
+    return result.dataset["tension"].values
+
+
+def test_a_user_pi_reproduces_the_built_in_laminator_through_a_tension_step():
+    # The layer-upset scenario: 150 m/min, the film zone's reference steps 120 -> 150 N at
+    # 2 s. The user PI reads what the compiled PI reads at the same tick (sampled on a copy
+    # of the state before the tick), its command is held over the same period and does the
+    # same float operations in the same order: the runs are equal to round-off. One
+    # loadcell per zone makes even the order of the sums the same, so 1e-9 N (far below the
+    # 30 N step and its transient) is a margin, not a fit (the runs agree to the bit here).
+    line = webline.load_branched("laminator").with_scenario("layer-upset")
+    built_in = webline.simulate(line, 2.5)
+    pi = UserPI()
+    user = webline.simulate(line, 2.5, controller=pi)
+    assert built_in.failure is None and user.failure is None
+    film = list(built_in.dataset["span"].values).index("film_zone")
+    step = _tensions(built_in)[:, film]
+    assert step.max() - step[0] > 20.0  # the step went through the run compared
+    assert np.max(np.abs(_tensions(user) - _tensions(built_in))) <= 1e-9
+    assert np.max(np.abs(user.states - built_in.states)) <= 1e-9 * np.max(np.abs(
+        built_in.states))
+    # called at every tick t = k dt from 0 to the end (the last command only recorded)
+    times = [t for t, *_ in pi.seen]
+    assert len(times) == round(2.5 / line.spec.control.sample_rate ** -1) + 1
+    assert times[0] == 0.0 and times[-1] == pytest.approx(2.5)
+    # and one drive alone: the others keep their compiled controllers, same numbers
+    one = webline.simulate(line, 2.5, controller={"rewind": UserPI()})
+    assert np.max(np.abs(_tensions(one) - _tensions(built_in))) <= 1e-9
+
+
+def test_a_shaft_of_lanes_reads_the_sum_of_its_lanes_loadcells():
+    # The slitter's rewind_shaft winds two lanes (100 N each): its drive's tension reading is
+    # the sum of the lanes' loadcells and its reference their sum (200 N), the error the
+    # built-in PI integrates. The user PI then reproduces the built-in run; the sum's order
+    # differs from the built-in's sum of errors, so round-off (1e-9 of 300 N) is allowed.
+    line = webline.load_branched("slitter")
+    built_in = webline.simulate(line, 1.0)
+    pi = UserPI()
+    user = webline.simulate(line, 1.0, controller=pi)
+    assert np.max(np.abs(_tensions(user) - _tensions(built_in))) <= 1e-9 * 300.0
+    spans = list(user.dataset["span"].values)
+    lanes = [spans.index("lane_1_span"), spans.index("lane_2_span")]
+    k = [d.name for d in pi.drives].index("rewind_shaft")
+    for row in (0, 500, 1000):  # the reading of tick j is of the state recorded at tick j
+        t, meas, refs = pi.seen[row]
+        assert user.time[row] == pytest.approx(t)
+        assert meas[4 * k + 1] == pytest.approx(_tensions(user)[row, lanes].sum(), abs=1e-9)
+        assert refs[2 * k + 1] == pytest.approx(200.0)
+    master = [d.role for d in pi.drives].index("master")
+    assert np.isnan(pi.seen[0][1][4 * master + 1])  # the master has no zone: NaN
+
+
+class Raises:
+    def reset(self, context):
+        self.n = len(context.drives)
+
+    def __call__(self, t, meas, refs):
+        if t > 0.01:
+            raise RuntimeError("gain table empty")
+        return np.zeros(self.n)
+
+
+class ReturnsNaN(Raises):
+    def __call__(self, t, meas, refs):
+        return np.full(self.n, np.nan if t > 0.02 else 0.0)
+
+
+class WrongShape(Raises):
+    def __call__(self, t, meas, refs):
+        return np.zeros(self.n + 1)
+
+
+@pytest.mark.parametrize(("controller", "message", "t_last"), [
+    (Raises(), r"^laminator: controller 'line' \(Raises\) raised RuntimeError: gain table "
+               r"empty at tick 11 \(t = 0\.011 s\)$", 0.01),
+    (ReturnsNaN(), r"^laminator: controller 'line' \(ReturnsNaN\) returned a non-finite "
+                   r"torque nan for unwind_film at tick 21 \(t = 0\.021 s\)$", 0.02),
+    (WrongShape(), r"returned shape \(5,\) where 4 torque\(s\) \[N·m\] were due at tick 0",
+     None),
+])
+def test_a_failing_controller_stops_the_run_in_one_line_naming_it_and_the_tick(
+        controller, message, t_last):
+    with pytest.raises(ControllerError, match=message) as caught:
+        webline.simulate("laminator", 0.1, controller=controller)
+    assert "\n" not in str(caught.value)
+    partial = caught.value.partial
+    if t_last is None:
+        assert len(partial.time) == 0
+    else:  # the run up to the tick before the failing one
+        assert partial.time[-1] == pytest.approx(t_last)
+    returned = webline.simulate("laminator", 0.1, controller=controller,
+                                raise_on_failure=False)
+    assert returned.failure is not None and "controller 'line'" in returned.failure
+
+
+def test_bad_controller_arguments_are_one_line_naming_the_problem():
+    with pytest.raises(ArgumentError, match="controller: no drive 'nope'; the drives are "
+                                            "unwind_film, unwind_foil, nip, rewind"):
+        webline.simulate("laminator", 0.1, controller={"nope": UserPI()})
+    with pytest.raises(ArgumentError, match=r"controller\['nip'\]: object is not a controller"):
+        webline.simulate("laminator", 0.1, controller={"nip": object()})
