@@ -146,3 +146,51 @@ def test_bad_controller_arguments_are_one_line_naming_the_problem():
         webline.simulate("laminator", 0.1, controller={"nope": UserPI()})
     with pytest.raises(ArgumentError, match=r"controller\['nip'\]: object is not a controller"):
         webline.simulate("laminator", 0.1, controller={"nip": object()})
+
+
+def test_a_session_steps_as_simulate_runs_and_a_restore_repeats_the_same_numbers():
+    # Stepping 200 + 0 + 300 ticks runs the same compiled loop on the same arrays as one
+    # simulate(0.5 s): the same records to the bit, the last row the state at t = 0.5 s.
+    line = webline.load_branched("laminator").with_scenario("layer-upset")
+    session = webline.Session(line)
+    assert type(session).__name__ == "BranchSession"
+    session.step(200)
+    session.step(0)
+    session.step(300)
+    assert session.t == pytest.approx(0.5)
+    stepped, run = session.result(), webline.simulate(line, 0.5)
+    assert type(stepped).__name__ == "BranchResult" and stepped.failure is None
+    assert np.array_equal(stepped.rec, run.rec)
+    snap = session.snapshot()
+    session.apply({"film_zone.stretch": 30.0})  # a 30 N kick, then back to the snapshot
+    session.set_reference("film_zone.tension", 150.0)
+    session.step(100)
+    kicked = session.result().rec.copy()
+    session.restore(snap)
+    session.step(100)
+    again = session.result().rec.copy()
+    session.restore(snap)
+    session.apply({"film_zone.stretch": 30.0})
+    session.set_reference("film_zone.tension", 150.0)
+    session.step(100)
+    assert np.array_equal(session.result().rec, kicked)  # the same numbers again
+    assert np.array_equal(again, webline.simulate(line, 0.6).rec)  # restore undid the kick
+    with pytest.raises(ArgumentError, match="set_reference: no reference 'x'; there are "
+                                            "speed, film_zone\\.tension"):
+        session.set_reference("x", 1.0)
+    with pytest.raises(ArgumentError, match="apply: no state 'x'"):
+        session.apply({"x": 1.0})
+    with pytest.raises(ArgumentError, match="step: n must be a whole number >= 0"):
+        session.step(-1)
+
+
+def test_a_session_with_a_user_controller_equals_its_simulate_run():
+    # The user PI on every drive: the same readings, commands and ticks as simulate's user
+    # run, so the states are equal to the bit; the last record's user commands are the
+    # held ones (the session does not call the controller for a tick it has not run).
+    line = webline.load_branched("laminator").with_scenario("layer-upset")
+    run = webline.simulate(line, 0.3, controller=UserPI())
+    session = webline.Session(line, controller=UserPI())
+    session.step(300)
+    assert np.array_equal(session.result().states, run.states)
+    assert session.measurements["measured.rewind.tension"] == pytest.approx(180.0, abs=1.0)

@@ -8,6 +8,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -20,7 +21,7 @@ from webline.sim.core.user_step import C_STORED
 from webline.sim.elements import layout as L
 from webline.sim.results.failure import Failure, kernel_failure
 from webline.sim.results.result import Result
-from webline.sim.simulate import _result, choose_substeps
+from webline.sim.simulate import _result, choose_substeps, is_branched_line
 from webline.sim.user_control import (
     UserLoop,
     builtin_stand_in,
@@ -28,6 +29,9 @@ from webline.sim.user_control import (
     user_plan,
 )
 from webline.sim.user_objects import file_controllers
+
+if TYPE_CHECKING:
+    from webline.model.web_graph import BranchedLine
 
 #: records the session's buffer starts with; it doubles when full
 FIRST_ROWS = 4096
@@ -47,7 +51,17 @@ class Snapshot:
 class Session:
     """``line`` at its operating point, advanced by ``step``. ``controller`` as in
     ``simulate`` (one object for every drive, or a dict per drive name); ``scenario``,
-    ``sample_rate`` [Hz] and ``substeps`` as there. Every tick is recorded (``result``)."""
+    ``sample_rate`` [Hz] and ``substeps`` as there. Every tick is recorded (``result``).
+    A branched line (``[[webs]]``) gives a ``sim.branches.user.session.BranchSession``, with
+    the same methods and a ``BranchResult``."""
+
+    def __new__(cls, line: Line | str | Path | BranchedLine, **options: Any) -> Any:
+        if is_branched_line(line):
+            from webline.model.web_graph import load_branched
+            from webline.sim.branches.user.session import BranchSession
+
+            return BranchSession(load_branched(line), **options)  # type: ignore[arg-type]
+        return super().__new__(cls)
 
     def __init__(self, line: Line | str | Path, *, controller: object | Mapping[str, object]
                  | None = None, scenario: str | None = None, sample_rate: float | None = None,

@@ -173,6 +173,10 @@ class BranchUserLoop:
             first += k
             g.controller.reset(branch_context(self.plan, point, g, istate))
         self.failed: tuple[str, str, float] | None = None
+        #: the names of ``readings``, as the controllers' contexts name them
+        self.measurement_names = tuple(
+            f"{self.plan.line.spec.rollers[self.plan.line.drives[d]].name}.{m}"
+            for d in self.users for m in MEASURED)
 
     def _call(self, arrays: tuple[np.ndarray, ...], rec: np.ndarray, tick: int, n_ticks: int,
               include_end: bool) -> tuple[int, int, float]:
@@ -181,6 +185,18 @@ class BranchUserLoop:
             x, istate, wound, done, rec, self.stages, cmd, self.work, self.held, tick, n_ticks,
             self.plan.dt, self.substeps, self.every, include_end, *self.tail)
         return out
+
+    def advance(self, rec: np.ndarray, tick: int, count: int) -> tuple[int, int, float]:
+        """``count`` ticks from ``tick`` in one compiled call, without a controller to call
+        (a session of a line without user drives); as ``BranchPlan.run``."""
+        return self._call(self.live, rec, tick, count, False)
+
+    def sample(self, tick: int) -> np.ndarray:
+        """The record row of tick ``tick`` as a run that ends there writes it (sampled on
+        the scratch copy: the live arrays stay where they are)."""
+        self.scratch_buffer[:] = self.live_buffer
+        self._call(self.scratch, self.rec_s, tick, 0, True)
+        return self.rec_s[:1].copy()
 
     def tick(self, rec: np.ndarray, tick: int, last: bool) -> tuple[int, int, float]:
         """Tick ``tick``: sample it, call the controllers, then advance the live arrays one
