@@ -20,6 +20,7 @@ from rich.markup import escape
 from webline.cli_analyze import analyze
 from webline.cli_benchmark import benchmark_command
 from webline.cli_common import (
+    FAMILY_TYPES,
     INTERRUPTED,
     TERMINATED,
     BadInput,
@@ -118,9 +119,9 @@ def run(
         from webline.cli_branches import run_branched
 
         run_branched(line, _duration(duration), scenario, out, force, quiet, {
-            "--controller": controller is not None, "--set": bool(sets),
-            "--format": data_format != DataFormat.netcdf,
-            "--precision": precision != Precision.float64}, svg=svg, units=units.value)
+            "--set": bool(sets), "--format": data_format != DataFormat.netcdf,
+            "--precision": precision != Precision.float64}, svg=svg, units=units.value,
+            family=None if controller is None else FAMILY_TYPES[controller.value])
         return
     from webline.report.early import Reporter
 

@@ -152,6 +152,12 @@ def _analyze_branched(source: str, scenario: str | None, at: str | None, as_json
     line = load_branched(source)
     if scenario:
         line = line.with_scenario(scenario)
+    from webline.spec.branched.controllers import python_drives
+
+    if python_drives(line.spec):  # (as a single-path line's analyses refuse them)
+        raise BadInput(f"{line.source}: {', '.join(python_drives(line.spec))} run a user's "
+                       "python controller, which has no linear model in webline: no "
+                       "closed-loop analysis")
     t = analysis_time(line) if at is None else time_option(at, "--time", zero=True)
     plan = compile_branches(line)
     point = operating_point(plan, t)

@@ -21,11 +21,13 @@ REPORT = "report.html"
 
 def run_branched(source: str, seconds: float | None, scenario: str | None, out: Path | None,
                  force: bool, quiet: bool, unsupported: dict[str, bool],
-                 svg: bool = False, units: str = "si") -> None:
+                 svg: bool = False, units: str = "si", family: str | None = None) -> None:
     """Simulate branched line ``source`` and write its files into ``out`` (default
     out/LINE[-SCENARIO]), each figure also as SVG with ``svg``, the report in ``units`` ('si'
     or 'imperial'); ``unsupported``: options given that branched lines do not support yet.
-    ``quiet``: print only the report's path."""
+    ``quiet``: print only the report's path. ``family``: every drive runs this controller
+    family (``--controller``, its line-file type) instead of the file's; the file's python
+    controllers run as in ``simulate`` (docs/controllers.md, "On a branched line")."""
     for option, given in unsupported.items():
         if given:
             raise BadInput(f"{option}: not yet supported for a branched line (stage 1: the "
@@ -33,13 +35,20 @@ def run_branched(source: str, seconds: float | None, scenario: str | None, out: 
                            "and report.html)")
     display = branch_units(units)
     line = load_branched(source)
+    if family is not None:
+        from webline.control.select import with_branched_controller
+
+        line = with_branched_controller(line, family)  # type: ignore[arg-type]
     if scenario:
         line = line.with_scenario(scenario)
     folder = open_output(out or Path("out") / (line.name + (f"-{scenario}" if scenario else "")),
                          force, "run", ("results.nc", "summary.json", FIGURE, REPORT))
     if seconds is None and scenario:
         seconds = line.spec.scenarios[scenario].duration
-    result = simulate_branches(line, seconds, raise_on_failure=False)
+    from webline.sim.user_objects import branched_controllers
+
+    result = simulate_branches(line, seconds, raise_on_failure=False,
+                               controller=branched_controllers(line, None))
     from webline.report.branch_report import write_branch_report
     from webline.spec.load import dump_spec
 

@@ -194,3 +194,79 @@ def test_a_session_with_a_user_controller_equals_its_simulate_run():
     session.step(300)
     assert np.array_equal(session.result().states, run.states)
     assert session.measurements["measured.rewind.tension"] == pytest.approx(180.0, abs=1.0)
+
+
+def _laminator_with(tmp_path, controller: str) -> str:
+    """The laminator's file in ``tmp_path`` with its rewind's controller table replaced by
+    ``controller``, beside a module ``user_pi_module.py`` holding ``UserPI``."""
+    import inspect
+    from importlib import resources
+
+    text = resources.files("webline.data.lines").joinpath("laminator.toml").read_text("utf-8")
+    head, rewind = text.split('name = "rewind"', 1)
+    old = next(line for line in rewind.splitlines() if line.startswith("controller ="))
+    (tmp_path / "user_pi_module.py").write_text(
+        "import numpy as np\n\n\n" + inspect.getsource(UserPI), encoding="utf-8")
+    path = tmp_path / "laminator_user.toml"
+    path.write_text(head + 'name = "rewind"' + rewind.replace(old, controller, 1),
+                    encoding="utf-8")
+    return str(path)
+
+
+def test_run_takes_the_files_python_controller_and_the_controller_option(tmp_path):
+    import xarray as xr
+    from typer.testing import CliRunner
+
+    from webline.cli import app
+    from webline.control.select import with_branched_controller
+
+    path = _laminator_with(tmp_path, 'controller = { type = "python", object = '
+                                     '"user_pi_module.py:UserPI" }')
+    out = tmp_path / "out"
+    ran = CliRunner().invoke(app, ["run", path, "-d", "0.3", "-o", str(out), "-q"])
+    assert ran.exit_code == 0, ran.output
+    written = xr.open_dataset(out / "results.nc")["tension"].values
+    # the file's python PI on the rewind, the compiled PI on the others: the built-in run
+    built_in = webline.simulate("laminator", 0.3)
+    assert np.max(np.abs(written - _tensions(built_in))) <= 1e-9
+    ran = CliRunner().invoke(app, ["run", "laminator", "-d", "0.3", "--controller",
+                                   "state-feedback", "-o", str(tmp_path / "sf"), "-q"])
+    assert ran.exit_code == 0, ran.output
+    expected = webline.simulate(with_branched_controller(webline.load_branched("laminator"),
+                                                         "state_feedback"), 0.3)
+    written = xr.open_dataset(tmp_path / "sf" / "results.nc")["tension"].values
+    assert np.array_equal(written, _tensions(expected))
+    assert not np.array_equal(written, _tensions(built_in))  # another family ran
+
+
+@pytest.mark.parametrize(("controller", "key", "problem"), [
+    ('controller = { type = "python", object = "user_pi_module.py:Nope" }',
+     "rollers[6].controller.object", "'user_pi_module.py' has no 'Nope'"),
+    ('controller = { type = "python", object = "missing.py:UserPI" }',
+     "rollers[6].controller.object", "cannot import 'missing.py'"),
+])
+def test_a_bad_python_controller_in_a_branched_file_is_one_line_exit_2(
+        tmp_path, controller, key, problem):
+    from typer.testing import CliRunner
+
+    from webline.cli import app
+
+    path = _laminator_with(tmp_path, controller)
+    ran = CliRunner().invoke(app, ["run", path, "-d", "0.1", "-o", str(tmp_path / "o")])
+    assert ran.exit_code == 2
+    lines = [line for line in ran.output.splitlines() if line.strip()]
+    assert len(lines) == 1 and key in lines[0] and problem in lines[0], ran.output
+
+
+def test_analyze_refuses_a_branched_line_with_a_python_controller_in_one_line(tmp_path):
+    from typer.testing import CliRunner
+
+    from webline.cli import app
+
+    path = _laminator_with(tmp_path, 'controller = { type = "python", object = '
+                                     '"user_pi_module.py:UserPI" }')
+    ran = CliRunner().invoke(app, ["analyze", path])
+    assert ran.exit_code == 2
+    lines = [line for line in ran.output.splitlines() if line.strip()]
+    assert len(lines) == 1 and "rewind run a user's python controller, which has no linear " \
+        "model" in lines[0], ran.output

@@ -86,9 +86,10 @@ CASES = [  # (base, change, key in the message, fragment of the problem)
      "exactly one master roller, found 0"),
     (LAMINATOR, _set_dancer, "rollers[1].dancer.use",
      "not yet supported on a branched line (stage 1: dancers in position control"),
-    (LAMINATOR, lambda d: d["rollers"][0].__setitem__("controller", {
-        "type": "python", "function": "m:f"}),
-     "rollers[0].controller.type", "not yet supported on a branched line"),
+    (LAMINATOR, lambda d: (d["rollers"][0].__setitem__("controller", {
+        "type": "python", "object": "m:f"}), d["rollers"][0].__setitem__("winder", {
+            "mode": "open_loop"})),
+     "rollers[0].winder.mode", "open-loop tension control takes no command from a python"),
     (LAMINATOR, lambda d: d["rollers"][0].__setitem__("controller", {
         "type": "state_feedback", "tension_feedback": "observer"}),
      "rollers[0].controller.tension_feedback", "not yet supported on a branched line"),

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from typing import Literal
 
 from webline.line import Line
-from webline.spec.load import spec_from_dict
+from webline.model.web_graph import BranchedLine
+from webline.spec.load import branched_from_dict, spec_from_dict
 
 Family = Literal["cascaded_pi", "state_feedback", "adaptive", "mrac"]
 FAMILIES: tuple[Family, ...] = ("cascaded_pi", "state_feedback", "adaptive", "mrac")
@@ -36,3 +38,19 @@ def with_controller(line: Line, family: Family, *,
             roller["controller"] = {"type": family, **options,
                                     **dict(overrides.get(roller["name"], {}))}
     return Line(spec_from_dict(data, f"{line.source} [{family}]"), line.source)
+
+
+def with_branched_controller(line: BranchedLine, family: Family) -> BranchedLine:
+    """A copy of branched ``line`` whose every driven roller runs a ``family`` controller (its
+    default design), as ``with_controller`` does for a single-path line; validated, so a
+    drive that cannot run it (a differential shaft's: speed control only) is a
+    ``LineFileError`` naming its key."""
+    if family not in FAMILIES:
+        raise ValueError(f"unknown controller family {family!r}; expected one of {FAMILIES}")
+    data = line.spec.model_dump(exclude_none=True)
+    driven = {line.spec.rollers[i].name for i in line.drives}
+    for roller in data["rollers"]:
+        if roller["name"] in driven:
+            roller["controller"] = {"type": family}
+    return dataclasses.replace(line, spec=branched_from_dict(
+        data, f"{line.source} [--controller {family}]"))

@@ -93,6 +93,14 @@ def modes_parts(result: BranchResult) -> list[Table | Text]:
     from webline.sim.branches.linear import analysis_time, stability_findings
 
     line = result.plan.line
+    from webline.sim.branches.loop import layout as B
+
+    users = [line.spec.rollers[int(i)].name for i, family in zip(
+        result.plan.di[:, B.DI_NODE], result.plan.di[:, B.DI_FAMILY], strict=True)
+        if family == B.FAMILY_USER]
+    if users:
+        return [Text(f"No closed-loop modes: {', '.join(users)} ran a user's Python "
+                     "controller, which has no linear model in webline (docs/controllers.md).")]
     t = analysis_time(line)
     try:
         modes = closed_loop_modes(line, t)

@@ -59,8 +59,11 @@ class Session:
         if is_branched_line(line):
             from webline.model.web_graph import load_branched
             from webline.sim.branches.user.session import BranchSession
+            from webline.sim.user_objects import branched_controllers
 
-            return BranchSession(load_branched(line), **options)  # type: ignore[arg-type]
+            branched = load_branched(line)  # type: ignore[arg-type]
+            options["controller"] = branched_controllers(branched, options.get("controller"))
+            return BranchSession(branched, **options)
         return super().__new__(cls)
 
     def __init__(self, line: Line | str | Path, *, controller: object | Mapping[str, object]

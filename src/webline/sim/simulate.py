@@ -198,9 +198,13 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
         if progress is not None:
             raise ArgumentError("progress: not yet supported for a branched line (its run "
                                 "returns to Python in chunks of 20 000 ticks)")
+        from webline.model.web_graph import load_branched
         from webline.sim.branches.run import simulate_branches  # scipy: only when needed
+        from webline.sim.user_objects import branched_controllers
 
-        return simulate_branches(cast("BranchedLine", line), duration, scenario=scenario,
+        branched = load_branched(cast("BranchedLine", line))
+        controller = branched_controllers(branched, controller)  # (and the file's)
+        return simulate_branches(branched, duration, scenario=scenario,
                                  sample_rate=sample_rate, substeps=substeps,
                                  record_interval=record_interval,
                                  raise_on_failure=raise_on_failure, controller=controller)

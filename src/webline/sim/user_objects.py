@@ -7,17 +7,19 @@ from __future__ import annotations
 import importlib
 import importlib.util
 import sys
+from collections.abc import Mapping
 from pathlib import Path
 from types import ModuleType
 
 from webline.errors import LineFileError
 from webline.line import Line
+from webline.model.web_graph import BranchedLine
 from webline.sim.compiled_control import CompiledController
 from webline.sim.user_control import Controller
 from webline.spec.schema import PythonControllerSpec
 
 
-def file_controllers(line: Line) -> dict[int, Controller]:
+def file_controllers(line: Line | BranchedLine) -> dict[int, Controller]:
     """The controller object of each drive (index into ``line.drives``) whose line-file
     controller is ``type = "python"``."""
     out: dict[int, Controller] = {}
@@ -114,3 +116,16 @@ def _module(name: str, source: str) -> ModuleType:
         del sys.modules[module_id]
         raise
     return module
+
+
+def branched_controllers(line: BranchedLine, controller: object | Mapping[str, object] | None
+                         ) -> object | Mapping[str, object] | None:
+    """The user controllers of a run of branched ``line``: its file's python controllers by
+    drive name, under ``controller`` (one object for every drive replaces them all; a dict
+    adds to them or replaces them by drive name); None where there are none."""
+    if controller is not None and not isinstance(controller, Mapping):
+        return controller
+    merged: dict[str, object] = {line.spec.rollers[line.drives[d]].name: obj
+                                 for d, obj in file_controllers(line).items()}
+    merged.update(controller or {})
+    return merged or None

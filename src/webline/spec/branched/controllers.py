@@ -1,7 +1,7 @@
 """Checks of a branched line's controller families (docs/branching.md, "State feedback"):
 the cascaded PI, decentralized state feedback, adaptive control and MRAC run on any drive
-but a differential shaft's (speed control only); the section observer and a user's Python
-controller not yet."""
+but a differential shaft's (speed control only), a user's Python controller on any
+(docs/controllers.md, "On a branched line"); the section observer not yet."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ from webline.spec.schema import (
     AdaptiveSpec,
     CascadedPISpec,
     MRACSpec,
+    PythonControllerSpec,
     RewindSpec,
     StateFeedbackSpec,
 )
@@ -20,7 +21,7 @@ Fail = Callable[[str, str], NoReturn]
 Unsupported = Callable[[str, Fail, str], NoReturn]
 
 #: the families a branched line runs
-FAMILIES = "cascaded_pi, state_feedback, adaptive and mrac controllers"
+FAMILIES = "cascaded_pi, state_feedback, adaptive, mrac and python controllers"
 
 
 def check_controller(key: str, roller: object, fail: Fail, unsupported: Unsupported) -> None:
@@ -28,6 +29,12 @@ def check_controller(key: str, roller: object, fail: Fail, unsupported: Unsuppor
     branched line (``unsupported`` words it as the other stage-1 refusals)."""
     controller = getattr(roller, "controller", None)
     if controller is None or isinstance(controller, CascadedPISpec):
+        return
+    if isinstance(controller, PythonControllerSpec):  # (its object is made when it runs)
+        winder = getattr(roller, "winder", None)
+        if winder is not None and winder.mode == "open_loop":
+            fail(f"{key}.winder.mode", "open-loop tension control takes no command from a "
+                 "python controller: use mode = 'closed_loop' or another controller")
         return
     if not isinstance(controller, StateFeedbackSpec | AdaptiveSpec | MRACSpec):
         unsupported(f"{key}.controller.type", fail, FAMILIES)
@@ -41,3 +48,10 @@ def check_controller(key: str, roller: object, fail: Fail, unsupported: Unsuppor
         fail(f"{key}.controller.type", f"{controller.type!r} needs a tension loop; a "
              "differential shaft runs in speed control (its lanes' tension is slip_torque / "
              "radius): use cascaded_pi")
+
+
+def python_drives(spec: object) -> list[str]:
+    """The rollers of a branched line's ``spec`` whose controller is a user's Python one:
+    they have no linear model in webline (docs/controllers.md)."""
+    return [r.name for r in getattr(spec, "rollers", ())
+            if isinstance(getattr(r, "controller", None), PythonControllerSpec)]
