@@ -8,6 +8,7 @@ import pytest
 gymnasium = pytest.importorskip("gymnasium")
 
 
+
 def test_env_checker_passes() -> None:
     """Must show: gymnasium's own checker accepts the environment (spaces, seeding,
     reset/step signatures, determinism of a seeded reset)."""
@@ -49,3 +50,28 @@ def test_randomize_draws_from_the_distribution_with_the_seed() -> None:
     _, b = env.reset(seed=7)
     _, c = env.reset(seed=8)
     assert a["parameters"] == b["parameters"] != c["parameters"]
+
+
+def test_a_branched_line_passes_the_checker_and_holding_the_equilibrium_costs_little() -> None:
+    """The environment on the laminator (its three tension drives commanded, the nip on its
+    compiled PI): gymnasium's checker passes; action 0 holds the equilibrium commands, so the
+    tensions stay near their references and the reward per step is near 0 (each relative
+    error below 1 %: -reward < 3 x 1e-4 + effort)."""
+    from gymnasium.utils.env_checker import check_env
+
+    import webline.gym
+
+    env = gymnasium.make("webline/Line-v0", line="laminator", duration=0.05, ticks_per_step=5)
+    check_env(env.unwrapped, skip_render_check=True)
+    obs, _ = env.reset(seed=0)
+    assert obs.shape == (9,)  # speed error, tension error, radius per tension drive
+    truncated = False
+    while not truncated:
+        obs, reward, terminated, truncated, info = env.step(np.zeros(3))
+        assert not terminated
+        effort = sum((d.equilibrium_command / d.torque_limit) ** 2 for d in (
+            a.context.drives[0] for a in env.unwrapped.agents.values()))
+        assert -reward <= 3e-4 + 0.01 * effort + 1e-12
+    assert info["verdict"] in ("ok", "warning") and info["t"] == pytest.approx(0.05)
+    with pytest.raises(webline.ArgumentError, match="randomize: not yet supported"):
+        gymnasium.make("webline/Line-v0", line="laminator", randomize={"x": "normal(1, 5 %)"})

@@ -30,6 +30,7 @@ from gymnasium import spaces
 from webline.errors import ArgumentError, SimulationError
 from webline.line import Line, load_line
 from webline.sim.session import Session
+from webline.sim.simulate import is_branched_line
 from webline.sim.sweeps.distributions import draw
 from webline.sim.user_control import ControllerContext
 
@@ -55,7 +56,9 @@ class _Agent:
 class LineEnv(gymnasium.Env):
     """A webline line as a Gymnasium environment (module docstring).
 
-    ``line``: a built-in name, a file or a ``Line``; ``drives``: the names the agent
+    ``line``: a built-in name, a file, a ``Line`` or a branched line (its drives' readings
+    as a user controller's: a shaft of lanes reads the sum of its lanes; no ``randomize``
+    yet); ``drives``: the names the agent
     commands (default: every tension-controlling drive); ``scenario``; ``duration`` [s] of an
     episode; ``ticks_per_step``; ``action_scale`` [-]; ``tension_weight``, ``effort_weight``
     [-]; ``randomize``: {line path: distribution}.
@@ -68,10 +71,22 @@ class LineEnv(gymnasium.Env):
                  ticks_per_step: int = 10, action_scale: float = 0.2,
                  tension_weight: float = 1.0, effort_weight: float = 0.01,
                  randomize: Mapping[str, Any] | None = None) -> None:
-        self.base = load_line(line)
-        names = [self.base.node_name(i) for i in self.base.drives]
-        tension = [self.base.node_name(i) for i in self.base.drives
-                   if self.base.controlled_zone(i) is not None]
+        self.base: Any
+        if is_branched_line(line):  # docs/controllers.md, "On a branched line"
+            from webline.model.web_graph import load_branched
+
+            if randomize:
+                raise ArgumentError("randomize: not yet supported for a branched line (its "
+                                    "parameters have no replace by path yet)")
+            self.base = load_branched(line)  # type: ignore[arg-type]
+            rollers = self.base.spec.rollers
+            names = [rollers[i].name for i in self.base.drives]
+            tension = [rollers[i].name for i in self.base.drives if i in self.base.zones]
+        else:
+            self.base = load_line(line)
+            names = [self.base.node_name(i) for i in self.base.drives]
+            tension = [self.base.node_name(i) for i in self.base.drives
+                       if self.base.controlled_zone(i) is not None]
         self.drive_names = list(drives) if drives is not None else tension
         for name in self.drive_names:
             if name not in names:
@@ -87,7 +102,7 @@ class LineEnv(gymnasium.Env):
         n = len(self.drive_names)
         self.action_space = spaces.Box(-1.0, 1.0, (n,), dtype=np.float32)
         self.observation_space = spaces.Box(-np.inf, np.inf, (3 * n,), dtype=np.float32)
-        self.session: Session | None = None
+        self.session: Any = None  # a Session (a BranchSession for a branched line)
         self.agents: dict[str, _Agent] = {}
 
     def reset(self, *, seed: int | None = None,
@@ -121,8 +136,8 @@ class LineEnv(gymnasium.Env):
             self.session.step(self.ticks)
         except SimulationError as exc:
             terminated = True
-            partial = exc.partial
-            info["verdict"] = getattr(partial, "status", "failed")
+            verdict = getattr(exc.partial, "verdict", None)
+            info["verdict"] = verdict.status if verdict is not None else "failed"
             info["message"] = str(exc)
         error = 0.0
         for agent in self.agents.values():
@@ -132,7 +147,7 @@ class LineEnv(gymnasium.Env):
         reward = -(self.weights[0] * error + self.weights[1] * effort)
         truncated = not terminated and self.session.t >= self.duration - 1e-12
         if truncated:
-            info["verdict"] = self.session.result().status
+            info["verdict"] = self.session.result().verdict.status
         info["t"] = self.session.t
         return self._observation(), float(reward), terminated, truncated, info
 
