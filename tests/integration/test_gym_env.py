@@ -8,7 +8,6 @@ import pytest
 gymnasium = pytest.importorskip("gymnasium")
 
 
-
 def test_env_checker_passes() -> None:
     """Must show: gymnasium's own checker accepts the environment (spaces, seeding,
     reset/step signatures, determinism of a seeded reset)."""
