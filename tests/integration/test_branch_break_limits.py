@@ -104,3 +104,24 @@ def test_the_held_open_loop_rewind_is_clipped_at_its_standstill_torque(sigma):
     # rest it may give a little more: the held zone ends below σ T_ref, not slack)
     assert 0.5 * sigma * T_REF < zone[-1] <= sigma * T_REF + 0.01 * T_REF
     assert abs(ds["speed"].sel(node="rewind").values[-1]) < 1e-3  # at rest
+
+
+def test_the_inertia_compensation_takes_the_stop_ramps_deceleration():
+    """The foil broken at 1 s, the line ramped to a stop in 3 s (s from 1 to 0): the line
+    reference's acceleration is s a - v / T = -2.5 / 3 m/s² (W8; the profile's own is 0),
+    so at a tick of the ramp the open-loop rewind with inertia compensation commands
+    T_ref R + J(R) (-v / T) / R + b_c ω (n = 1; J(R) = J_c + π ρ w (R⁴ - R_c⁴) / 2, 6.1,
+    by hand): its roll decelerates with the line instead of pulling the laminate up by
+    J v / (T R²) (42 N at 0.08 m)."""
+    line = _open_loop({"span": "foil_zone", "stop_time": "3 s"}, 2.6, inertia_compensation=True)
+    result = webline.simulate(line, scenario="b")
+    ds = result.dataset
+    detected = result.settings["break_detected_s"]
+    assert 0.0 <= detected - AT <= result.plan.dt  # the foil zone's loadcell reads 0
+    row = ds.sel(time=detected + 1.5, method="nearest")
+    radius = float(row["radius"].sel(roll="rewind/laminate"))
+    omega = float(row["omega"].sel(node="rewind"))
+    inertia = J_ROLLER + math.pi * RHO_LAMINATE * (radius ** 4 - CORE ** 4) / 2
+    hand = T_REF * radius + inertia * (-V_LINE / 3.0) / radius + 0.05 * omega
+    # the same sums in another order: rounding, ~1e-15 of the torque
+    assert float(row["torque_cmd"].sel(drive="rewind")) == pytest.approx(hand, rel=1e-9)

@@ -1,7 +1,8 @@
-"""A stopped line's limits on an open-loop roll after a web break of a branched line, as the
-chain's ``sim.drives.winder_loop.over_limit`` and ``sim.elements.break_hold.held_command``
+"""A stopping line's limits on its centre winders after a web break of a branched line, as
+the chain's ``sim.drives.winder_loop.over_limit`` and ``sim.elements.break_hold``
 (docs/winder.md W7, W8; docs/branching.md "Web breaks"): the monitor's overspeed watch of
-a roll beyond its speed limiter's limit, and the standstill torque of the hold. Columns in
+an open-loop roll beyond its speed limiter's limit, the stop ramp's deceleration that the
+inertia compensation takes, and the standstill torque of the hold. Columns in
 ``loop.layout`` (D_BOVER, D_BSTALL)."""
 
 from __future__ import annotations
@@ -36,6 +37,18 @@ def overspeed_drive(x: np.ndarray, istate: np.ndarray, offsets: np.ndarray, node
         if df[d, B.D_DIR] * (v_meas - v_line) > df[d, B.D_SPEEDLIM]:
             return d
     return -1
+
+
+@jit
+def stop_acceleration(a_line: float, v_line: float, stopping: float, df: np.ndarray) -> float:
+    """Acceleration [m/s²] of the line-speed reference s(t) v(t) while it ramps to a stop
+    (``stopping`` s from 1 to 0 in the stop time T): s a - v / T, ``a_line`` and ``v_line``
+    the profile's own acceleration [m/s²] and speed [m/s]; 0 once stopped, ``a_line``
+    before the break is found. A centre winder's inertia compensation takes it, so that its
+    roll decelerates with the ramp (W8)."""
+    if stopping >= 1.0:
+        return a_line
+    return stopping * a_line - v_line / df[0, B.D_BSTOP] if stopping > 0.0 else 0.0
 
 
 @jit
