@@ -63,6 +63,28 @@ def test_a_freed_open_loop_rewind_is_found_beyond_its_speed_limit():
         message)
 
 
+def test_a_freed_open_loop_unwind_is_found_below_its_speed_limit():
+    """The film broken at 1 s (film[0] and film_zone, from the unwind through the idle guide
+    to the nip), its unwind in open loop (friction compensated), the tension monitor off:
+    the braking torque T_ref R / n meets no web and slows the roll at T_ref R² / J = 120 N x
+    0.3² m² / 18.1 kg·m² = 0.60 m/s² (J = 0.5 + π ρ w (R⁴ - R_c⁴) / 2 by hand), so its
+    surface speed falls below v_line - Δ after Δ J / (T_ref R²) = 0.21 s: an unwind's limit
+    is the lower one."""
+    data = copy.deepcopy(LAMINATOR)
+    data["rollers"][0]["winder"] = {"mode": "open_loop", "viscous_friction": "0.05 N*m*s"}
+    data["scenarios"] = {"b": {"duration": 1.4, "break": {"at": AT, "span": "film_zone",
+                                                          "threshold": 0.0}}}
+    result = webline.simulate(load_branched(data), scenario="b")
+    settings = result.settings
+    assert settings["break_method"] == B.BREAK_OVERSPEED
+    assert list(result.dataset.drive.values)[int(settings["break_where"])] == "unwind_film"
+    inertia = 0.5 + math.pi * 1390 * 1.0 * (0.3 ** 4 - CORE ** 4) / 2
+    hand = 0.05 * V_LINE * inertia / (120.0 * 0.3 ** 2)
+    # left out: the roll's shrinking in 0.2 s (5e-7 m) and the film's strain at the break
+    # (1.2e-3 m/s, 1 % of Δ): within a tick and 3 %
+    assert settings["break_detected_s"] - AT == pytest.approx(hand, rel=0.03, abs=1e-3)
+
+
 def test_a_speed_limit_above_what_the_roll_reaches_finds_nothing():
     """The same break with Δ = 50 % x 2.5 m/s: in the 0.3 s to the end the freed rewind
     gains 3.6 x 0.3 = 1.08 m/s < 1.25 m/s (the speed it does reach, from the trace, is
