@@ -270,3 +270,22 @@ def test_analyze_refuses_a_branched_line_with_a_python_controller_in_one_line(tm
     lines = [line for line in ran.output.splitlines() if line.strip()]
     assert len(lines) == 1 and "rewind run a user's python controller, which has no linear " \
         "model" in lines[0], ran.output
+
+
+class StopsWithCtrlC(Raises):
+    def __call__(self, t, meas, refs):
+        if t > 0.05:
+            raise KeyboardInterrupt
+        return self.torques
+
+    def reset(self, context):
+        self.torques = np.array([d.equilibrium_command for d in context.drives])
+
+
+def test_ctrl_c_in_a_user_run_keeps_what_was_computed():
+    # Ctrl-C between two ticks: the run returns with its records so far, as a built-in run
+    # interrupted between chunks (the user path's chunk is still 20 000 ticks)
+    result = webline.simulate("laminator", 1.0, controller=StopsWithCtrlC(),
+                              raise_on_failure=False)
+    assert result.failure is not None and "interrupted" in result.failure
+    assert result.time[-1] == pytest.approx(0.05)

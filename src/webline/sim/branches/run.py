@@ -89,6 +89,8 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
             n_rec += stored
             tick += count
     except KeyboardInterrupt:
+        if users is not None:  # (the ticks of the user run's chunk so far)
+            n_rec += users.stored_in_chunk
         if not n_rec:
             raise
         interrupted = True

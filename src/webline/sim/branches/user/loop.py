@@ -173,6 +173,7 @@ class BranchUserLoop:
             first += k
             g.controller.reset(branch_context(self.plan, point, g, istate))
         self.failed: tuple[str, str, float] | None = None
+        self.stored_in_chunk = 0  # records ``ticks`` wrote in its current call
         #: the names of ``readings``, as the controllers' contexts name them
         self.measurement_names = tuple(
             f"{self.plan.line.spec.rollers[self.plan.line.drives[d]].name}.{m}"
@@ -247,10 +248,11 @@ class BranchUserLoop:
               include_end: bool) -> tuple[int, int, float, int]:
         """``count`` ticks from ``tick0`` (and, with ``include_end``, the sample of the run's
         last tick), recording into ``rec``; (records, status, time of failure, ticks done)."""
-        stored = 0
+        stored = self.stored_in_chunk = 0  # (what a Ctrl-C between two ticks keeps)
         for j in range(count + int(include_end)):
             n, status, t_fail = self.tick(rec[stored:], tick0 + j, j == count)
             stored += n
+            self.stored_in_chunk = stored
             if status != B.STATUS_OK:
                 return stored, status, t_fail, j
         return stored, B.STATUS_OK, math.nan, count
