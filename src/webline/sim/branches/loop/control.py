@@ -22,7 +22,7 @@ from webline.sim.branches.loop.breaks import break_monitor, fade_trim, held_comm
 from webline.sim.branches.loop.dancer import position_error
 from webline.sim.branches.loop.decentral import decentral_command, reference_changes
 from webline.sim.branches.loop.plant import node_inertia
-from webline.sim.branches.loop.user import user_command
+from webline.sim.branches.loop.user import user_tick
 from webline.sim.branches.loop.winder import compensation, open_loop, zone_reference
 from webline.sim.drives.measure import quantized
 from webline.sim.elements.signals import gaussian, jit, profile_at, profile_slope_at, sines
@@ -115,8 +115,7 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             sigma_t, sigma_v, resolution = dist[r, B.DS_A], dist[r, B.DS_B], dist[r, B.DS_C]
     decentral = False
     for d in range(di.shape[0]):  # (frozen table: folds away on a line of PI drives)
-        decentral = decentral or (di[d, B.DI_FAMILY] != B.FAMILY_PI
-                                  and di[d, B.DI_FAMILY] != B.FAMILY_USER)
+        decentral = decentral or di[d, B.DI_FAMILY] != B.FAMILY_PI
     if decentral:
         reference_changes(t, istate, di, cells, refs, prof_t, prof_v, prof_off)
     for d in range(di.shape[0]):
@@ -154,8 +153,12 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             e_t = 0.0
             fade_trim(d, dt, stopping, istate, df)
         istate[d, B.I_FACTOR] = factor  # (the decentralized drives' references read it)
-        if di[d, B.DI_FAMILY] != B.FAMILY_PI and (  # state feedback, adaptive, MRAC
-                di[d, B.DI_FAMILY] != B.FAMILY_USER):
+        if di[d, B.DI_FAMILY] != B.FAMILY_PI:  # state feedback, adaptive, MRAC
+            if di[d, B.DI_FAMILY] == B.FAMILY_USER:  # a user's Python controller (loop.user)
+                cmd[d] = user_tick(d, i, t, tick, dt, v_meas, radius, v_line, a_line, factor,
+                                   stopping, x, istate, offsets, nodes, rolls, di, df, cells,
+                                   dist, prof_t, prof_v, prof_off, sigma_t, seed, noisy)
+                continue
             cmd[d] = decentral_command(d, di[d, B.DI_FAMILY], i, t, dt, radius, v_meas, -e_t,
                                        x, istate, offsets, nodes, rolls, si, df, fb, refs,
                                        prof_t, prof_v, prof_off)
@@ -187,13 +190,6 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
                                                                  prof_v, prof_off),
                                    comp, v_meas, v_line, gain, istate, df)
                 continue
-        if di[d, B.DI_FAMILY] == B.FAMILY_USER:  # a user's Python controller (loop.user)
-            cmd[d] = user_command(
-                d, t, tick, v_meas, radius, node_inertia(i, x, offsets, nodes, rolls)
-                + TR.reflected_motor(d, di, df), v_line * df[d, B.D_FF] + ripple, factor,
-                offsets[B.O_BREAK] != 0 and stopping < 1.0, comp, x, istate, nodes, di, df,
-                cells, prof_t, prof_v, prof_off, sigma_t, seed, noisy)
-            continue
         raw = df[d, B.D_KPS] * gain * e_v + istate[d, B.I_SPEED]
         u = _saturate(raw, df[d, B.D_LIMIT])
         saturated = raw != u

@@ -3,7 +3,9 @@
 
 A drive of family ``FAMILY_USER`` is measured at its tick exactly as the cascaded PI measures
 it (``loop.control``: encoder, noise and resolution, calculated radius, loadcells or dancer),
-and ``user_command`` stores those readings in the drive's memory row (``layout`` I_U*) and
+then ``user_tick`` (called from the decentralized families' branch of ``control_tick``, so
+that a line of built-in drives compiles to the very same code) adds what a PI drive's tick
+adds and ``user_command`` stores those readings in the drive's memory row (``layout`` I_U*) and
 issues the command the Python side wrote there (``I_UCMD``), saturated, plus a centre
 winder's compensation as on a built-in command. A line without user drives never reaches it:
 ``DI_FAMILY`` is frozen into the compiled loop.
@@ -18,8 +20,12 @@ import numpy as np
 
 from webline.physics import motor, span
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop import transmission as TR
+from webline.sim.branches.loop.breaks import held_command
 from webline.sim.branches.loop.dancer import position_error
-from webline.sim.elements.signals import gaussian, jit, profile_at
+from webline.sim.branches.loop.plant import node_inertia
+from webline.sim.branches.loop.winder import compensation
+from webline.sim.elements.signals import gaussian, jit, profile_at, sines
 
 _tension: Any = jit(span.tension)
 _saturate: Any = jit(motor.saturate)
@@ -62,3 +68,33 @@ def user_command(d: int, t: float, tick: int, v_meas: float, radius: float, iner
     istate[d, B.I_UTREF] = reference
     u = _saturate(istate[d, B.I_UCMD], df[d, B.D_LIMIT])
     return u if comp == 0.0 else _saturate(u + comp, df[d, B.D_LIMIT])
+
+
+@jit
+def user_tick(d: int, i: int, t: float, tick: int, dt: float, v_meas: float, radius: float,
+              v_line: float, a_line: float, factor: float, stopping: float, x: np.ndarray,
+              istate: np.ndarray, offsets: np.ndarray, nodes: np.ndarray, rolls: np.ndarray,
+              di: np.ndarray, df: np.ndarray, cells: np.ndarray, dist: np.ndarray,
+              prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray, sigma_t: float,
+              seed: int, noisy: bool) -> float:
+    """User drive ``d``'s (node ``i``) command [N·m] at its tick, as ``control_tick`` issues a
+    cascaded PI's: its speed reference line speed ``v_line`` x draw + its speed ripple
+    [m/s]; once the line has stopped after a break, the hold (W8) instead; a centre winder's
+    compensation at the line's acceleration ``a_line`` [m/s²] added (``user_command``)."""
+    ripple = 0.0
+    for r in range(dist.shape[0]):
+        if int(dist[r, B.DS_KIND]) == B.DIST_SPEED_RIPPLE and int(dist[r, B.DS_INDEX]) == d:
+            ripple += sines(dist[r:r + 1, B.DS_A:B.DS_C + 1], t)
+    inertia = node_inertia(i, x, offsets, nodes, rolls) + TR.reflected_motor(d, di, df)
+    if offsets[B.O_BREAK] and stopping == 0.0:  # stopped: the drive holds (W8), as a PI's
+        gain = 1.0
+        if df[d, B.D_ADAPTIVE] > 0.0:
+            gain = inertia / (df[d, B.D_RATIO] * radius) / df[d, B.D_GAINNORM]
+        return held_command(d, dt, v_meas, gain, istate, df)
+    comp = 0.0
+    if di[d, B.DI_WINDER] != B.WINDER_NONE:  # a centre winder (docs/winder.md W3)
+        comp = compensation(d, i, radius, v_meas / radius, a_line, nodes, rolls, df, prof_t,
+                            prof_v, prof_off)
+    return user_command(d, t, tick, v_meas, radius, inertia, v_line * df[d, B.D_FF] + ripple,
+                        factor, offsets[B.O_BREAK] != 0 and stopping < 1.0, comp, x, istate,
+                        nodes, di, df, cells, prof_t, prof_v, prof_off, sigma_t, seed, noisy)
