@@ -76,3 +76,30 @@ def check_roll_radii(spec: Any, fail: Fail) -> None:
                 if radius <= roll.core_radius:
                     fail(f"scenarios.{name}.{key}", f"{radius:g} m must be above the core "
                          f"radius of every {kind}: {roll.name!r}'s is {roll.core_radius:g} m")
+
+
+def radius_changes(spec: Any, unwind_radius: object = None, rewind_radius: object = None
+                   ) -> dict[str, object]:
+    """The paths and radii [m] (``rollers[i].radius``) that start every unwind of ``spec``
+    (a ``BranchedLineSpec``) at ``unwind_radius`` and every rewind at ``rewind_radius``
+    (numbers [m] or strings with units; None: the file's), as a scenario's keys of those
+    names do. ``ArgumentError`` naming the argument for a radius not above a roll's core or
+    a line with no roll of that kind."""
+    from webline.errors import ArgumentError
+    from webline.spec.ranges import argument
+
+    changes: dict[str, object] = {}
+    for (key, kind), given in zip(ROLL_KEYS.items(), (unwind_radius, rewind_radius),
+                                  strict=True):
+        if given is None:
+            continue
+        radius = argument(given, "length", key, ">0")
+        rolls = [(i, r) for i, r in enumerate(spec.rollers) if r.type == kind]
+        if not rolls:
+            raise ArgumentError(f"{key}: this line has no {kind}")
+        for i, roll in rolls:
+            if radius <= roll.core_radius:
+                raise ArgumentError(f"{key}: {radius:g} m must be above the core radius of "
+                                    f"every {kind}: {roll.name!r}'s is {roll.core_radius:g} m")
+            changes[f"rollers[{i}].radius"] = radius
+    return changes
