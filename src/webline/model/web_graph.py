@@ -27,7 +27,6 @@ from webline.spec.load import (
     parse_branched,
     read_any,
 )
-from webline.spec.paths import set_path
 from webline.spec.schema import DrivenSpec, IdleSpec, RewindSpec, UnwindSpec
 
 #: the notebook's view of a branched line, resolved by name when first displayed, as
@@ -276,8 +275,7 @@ class BranchedLine:
         if "splice" in dumped:  # a flying_splice disturbance (docs/winder.md, Flying splice)
             data["disturbances"] = [*data.get("disturbances", []), dumped["splice"]]
         set_roll_radii(data, dumped)  # every unwind's / rewind's (spec.branched.values)
-        for path, value in scenario.set.items():
-            set_path(data, path, value, self.source)
+        set_values(data, scenario.set, self.source)  # after them: it may pick one roll
         spec = branched_from_dict(data, self.source)
         return BranchedLine(spec, self.source, scenario.roll_change, name)
 
