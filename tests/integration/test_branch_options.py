@@ -83,6 +83,7 @@ def test_analyze_set_moves_the_operating_point():
     ("webs.film.web.ea=-5 kN", ["webs[0].web.ea"]),            # a value the schema refuses
     ("rollers.nip.radius=fast", ["rollers[4].radius"]),         # not a length
     ("webs.film.web.ea", ["--set", "PATH=VALUE"]),              # no value
+    ("rollers.unwind_film.radius=50 mm", ["rollers[0].core_radius", "below the roll radius"]),
 ])
 def test_a_bad_set_is_refused_in_one_line_naming_the_path(command, setting, words, tmp_path):
     args = [command, "laminator", "--set", setting]

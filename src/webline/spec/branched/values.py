@@ -61,9 +61,14 @@ def set_roll_radii(data: dict[str, Any], scenario: Mapping[str, Any]) -> None:
 
 
 def check_roll_radii(spec: Any, fail: Fail) -> None:
-    """Each scenario's ``unwind_radius`` / ``rewind_radius`` (``spec``: a
-    ``BranchedLineSpec``): the line has a roll of that kind, and the radius lies above the
-    core of every one of them (a roll starts with web on it)."""
+    """Every roll's ``radius`` above its ``core_radius`` (as the chain's check), and each
+    scenario's ``unwind_radius`` / ``rewind_radius`` (``spec``: a ``BranchedLineSpec``): the
+    line has a roll of that kind, and the radius lies above the core of every one of them
+    (a roll starts with web on it)."""
+    for i, roller in enumerate(spec.rollers):
+        if roller.type in ROLL_KEYS.values() and roller.core_radius >= roller.radius:
+            fail(f"rollers[{i}].core_radius", f"must be below the roll radius "
+                 f"{roller.radius:g} m, got {roller.core_radius:g} m")
     for name, scenario in spec.scenarios.items():
         for key, kind in ROLL_KEYS.items():
             radius = getattr(scenario, key)
