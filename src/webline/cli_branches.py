@@ -15,7 +15,6 @@ from webline.report.results_file import results_name
 from webline.report.text.display import Display
 from webline.sim.branches.run import simulate_branches
 from webline.sim.branches.winder import splice_summary
-from webline.sim.results.dataset_files import write_dataset
 
 FIGURE = "figures/tensions.png"
 REPORT = "report.html"
@@ -45,11 +44,12 @@ def run_branched(source: str, seconds: float | None, scenario: str | None, out: 
         seconds = line.spec.scenarios[scenario].duration
     result = simulate_branches(line, seconds, raise_on_failure=False)
     from webline.report.branch_report import write_branch_report
-    from webline.spec.load import dump_spec
 
-    results = folder.claim(name)  # every output embeds its inputs: the line's spec
-    ds = result.dataset.assign_attrs(line_spec=dump_spec(line.spec))
-    write_dataset(ds, results, data_format, precision)  # type: ignore[arg-type]
+    results = folder.claim(name)  # NetCDF: with the resolved line file (line_spec)
+    if data_format == "csv":
+        result.to_csv(results)
+    else:
+        result.to_netcdf(results, precision)  # type: ignore[arg-type]
     report = write_branch_report(result, folder.path, folder=folder, results_file=results,
                                  svg=svg, display=display).report
     folder.finish()

@@ -149,11 +149,14 @@ class BranchResult:
     def to_netcdf(self, path: str | Path, precision: Literal["float64", "float32"] = "float64"
                   ) -> Path:
         """Write every signal to NetCDF-4, compressed and chunked along time as a single-path
-        run's file, float signals as ``precision`` (time stays float64), atomically. Returns
-        the path (``sim.results.dataset_files``)."""
+        run's file, float signals as ``precision`` (time stays float64), the resolved line
+        file in attribute ``line_spec`` (TOML, SI), atomically. Returns the path
+        (``sim.results.dataset_files``)."""
         from webline.sim.results.dataset_files import write_dataset
+        from webline.spec.load import dump_spec
 
-        return write_dataset(self.dataset, path, "netcdf", precision)
+        filed = self.dataset.assign_attrs(line_spec=dump_spec(self.plan.line.spec))
+        return write_dataset(filed, path, "netcdf", precision)
 
     def to_csv(self, path: str | Path) -> Path:
         """Write one column per signal and element (``tension[film_zone] [N]`` ...), time
