@@ -21,7 +21,7 @@ import numpy as np
 
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches.dancer_views import linear_states as dancer_linear_states
-from webline.sim.branches.dancer_views import load_column, position_row
+from webline.sim.branches.dancer_views import load_column, reading_row
 from webline.sim.branches.decentral import ensure_prepared, linear_rows
 from webline.sim.branches.drive_trains import train_states
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
@@ -172,10 +172,12 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
             first = int(plan.di[d, B.DI_CELLS])
             for c in range(first, first + int(plan.di[d, B.DI_NCELLS])):
                 k = int(plan.cells[c, 0])
-                position = position_row(plan, c, kept)
-                if position is not None:  # a dancer in position control: e_t = y - y_set
-                    ev_x += row[B.D_SIGMA] * row[B.D_KPT] * position
-                    gx[q_t] += row[B.D_KIT] * position
+                reading = reading_row(plan, c, kept)
+                if reading is not None:  # a dancer: its position, or as tension sensor
+                    ev_x += row[B.D_SIGMA] * row[B.D_KPT] * reading[0]
+                    gx[q_t] += row[B.D_KIT] * reading[0]
+                    ev_r[1 + c] += row[B.D_SIGMA] * row[B.D_KPT] * reading[1]
+                    gr[q_t, 1 + c] = row[B.D_KIT] * reading[1]
                     continue
                 ev_x -= row[B.D_SIGMA] * row[B.D_KPT] * felt[k]  # the loadcell reads T
                 ev_r[1 + c] += row[B.D_SIGMA] * row[B.D_KPT]
