@@ -26,13 +26,14 @@ from webline.sim.branches.equilibrium import operating_point
 from webline.sim.branches.linear import branch_linear_model
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.plan import compile_branches
+from webline.sim.branches.result import BranchResult
 
 SPRING, LOAD, DAMPER = 2000.0, 240.0, 200.0  # [N/m], [N], [N·s/m]
 BEFORE, AFTER = 120.0, 150.0  # [N]: the film zone's reference before and after 2 s
 DURATION = 8.0  # [s]: 6 s after the upset, 48 time constants of the 8 rad/s tension loop
 
 
-def _run(use: str, **extra: str) -> webline.BranchResult:
+def _run(use: str, **extra: str) -> BranchResult:
     data = dancer_laminator(use=use, stiffness=f"{SPRING} N/m", load=f"{LOAD} N", **extra)
     return webline.simulate(load_branched(data), DURATION, scenario="layer-upset")
 
