@@ -169,3 +169,21 @@ def test_bad_rewind_splices_are_one_line_naming_the_key(base, change, key, fragm
         load_branched(data)
     assert len(str(caught.value).splitlines()) == 1
     assert caught.value.key == key and fragment in caught.value.problem, caught.value
+
+
+def test_the_cli_names_the_key_of_a_differential_shafts_splice(tmp_path):
+    import tomli_w
+    from typer.testing import CliRunner
+
+    from webline.cli import app
+
+    data = spliced(SLITTER, 4, "0.25 m")
+    data["rollers"][4]["shaft"] = {"type": "differential", "slip_torque": "8 N*m",
+                                   "overspeed": 0.02, "core_inertia": "0.005 kg*m**2"}
+    bad = tmp_path / "bad.toml"
+    bad.write_text(tomli_w.dumps(data), encoding="utf-8")
+    result = CliRunner().invoke(app, ["run", str(bad), "-o", str(tmp_path / "o")])
+    assert result.exit_code == 2, result.output
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and "disturbances[0].roll" in lines[0]
+    assert "Traceback" not in result.output
