@@ -172,17 +172,12 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
             first = int(plan.di[d, B.DI_CELLS])
             for c in range(first, first + int(plan.di[d, B.DI_NCELLS])):
                 k = int(plan.cells[c, 0])
-                reading = reading_row(plan, c, kept)
-                if reading is not None:  # a dancer: its position, or as tension sensor
-                    ev_x += row[B.D_SIGMA] * row[B.D_KPT] * reading[0]
-                    gx[q_t] += row[B.D_KIT] * reading[0]
-                    ev_r[1 + c] += row[B.D_SIGMA] * row[B.D_KPT] * reading[1]
-                    gr[q_t, 1 + c] = row[B.D_KIT] * reading[1]
-                    continue
-                ev_x -= row[B.D_SIGMA] * row[B.D_KPT] * felt[k]  # the loadcell reads T
-                ev_r[1 + c] += row[B.D_SIGMA] * row[B.D_KPT]
-                gx[q_t] -= row[B.D_KIT] * felt[k]
-                gr[q_t, 1 + c] = row[B.D_KIT]
+                reading = reading_row(plan, c, kept)  # a dancer's position or tension
+                on_x, on_ref = (-felt[k], 1.0) if reading is None else reading  # (a loadcell)
+                ev_x += row[B.D_SIGMA] * row[B.D_KPT] * on_x
+                ev_r[1 + c] += row[B.D_SIGMA] * row[B.D_KPT] * on_ref
+                gx[q_t] += row[B.D_KIT] * on_x
+                gr[q_t, 1 + c] = row[B.D_KIT] * on_ref
         gain = 1.0
         if row[B.D_ADAPTIVE] > 0.0:  # the speed gains follow the roll's inertia
             inertia = node_inertia(i, point.x, plan.offsets, plan.nodes, plan.rolls) + (
