@@ -23,6 +23,7 @@ from webline.errors import LineFileError
 from webline.model.web_graph import load_branched
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.result import BranchResult
+from webline.sim.branches.winder import splice_summary
 
 LAMINATOR, SLITTER = (tomllib.loads(resources.files("webline.data.lines").joinpath(f"{n}.toml")
                                     .read_text("utf-8")) for n in ("laminator", "slitter"))
@@ -79,6 +80,13 @@ def test_the_new_core_takes_the_rewinds_place(laminate):
         by_hand = 0.3 + math.pi * rho * width * (radius[k] ** 4 - CORE**4) / 2
         assert node_inertia(6, x, plan.offsets, plan.nodes, plan.rolls) == pytest.approx(
             by_hand, rel=1e-12)
+    # S4 per roll: the new core's least run-up time J(R_new) ω_new / (n τ_max) at the
+    # rewind's 100 N·m, by hand from the records (1e-9: the same numbers)
+    summary = splice_summary(result)
+    assert [item["roll"] for item in summary] == ["rewind"]
+    j_new = 0.3 + math.pi * rho * width * (0.08**4 - CORE**4) / 2
+    assert summary[0]["new_run_up_s"] == pytest.approx(j_new * omega[j] / 100.0, rel=1e-9)
+    assert summary[0]["old_radius_m"] == pytest.approx(radius[j - 1], rel=1e-12)
 
 
 def test_the_laminate_tension_recovers_within_the_chains_window(laminate):
