@@ -17,6 +17,25 @@ from webline.errors import WeblineError
 # the twin and simulation layers load inside the commands, so that --help stays fast
 
 
+#: why a command refuses a branched line: {command: reason}
+SINGLE_PATH_ONLY = {
+    "replay": "a twin's traces drive and are matched to a single-path line's signals",
+    "fit": "a twin's traces drive and are matched to a single-path line's signals",
+    "experiment": "its tests are planned from a single-path line's drives and record the "
+                  "traces replay and fit take, which are single-path",
+}
+
+
+def refuse_branched(command: str, line: str) -> None:
+    """One line, exit 2, where ``line`` is a branched line and ``command`` takes only
+    single-path lines (``SINGLE_PATH_ONLY``)."""
+    from webline.model.web_graph import source_is_branched
+
+    if source_is_branched(line):
+        raise BadInput(f"{line}: webs: webline {command}: not yet supported for a branched "
+                       f"line ([[webs]]): {SINGLE_PATH_ONLY[command]} (docs/branching.md)")
+
+
 def _uncertain(texts: list[str]) -> dict[str, str]:
     out = {}
     for text in texts:
@@ -59,13 +78,12 @@ def tune_command(
     """Tune LINE's controllers: lowest tension error over the scenarios, every margin,
     torque limit and robustness constraint held. Exit 0 when every constraint holds, 1 when
     one does not (the files say which)."""
-    from webline.line import load_line
-    from webline.twin.tuning.tune import tune
+    from webline.twin.tuning.tune import line_ops, tune
     from webline.twin.tuning.tune_output import FILES, write_tune
     from webline.twin.tuning.tune_robust import fit_uncertain
     from webline.twin.tuning.tune_space import parse_free
 
-    base = load_line(line)
+    base = line_ops(line).load(line)  # a single-path or a branched line (docs/branching.md)
     space = None if not free else [parse_free(base, text) for text in free]
     dists: dict[str, Any] | None = None
     notes: list[str] = []
@@ -106,6 +124,7 @@ def experiment_command(
     from webline.line import load_line
     from webline.twin.tuning.experiment import EXPERIMENTS, plan_experiment, write_experiment
 
+    refuse_branched("experiment", line)
     base = load_line(line)
     if list_:
         for key, experiment in EXPERIMENTS.items():
