@@ -10,7 +10,8 @@ logarithms of the free values, the line's own settings in the first population) 
 bounded number of evaluations. A candidate that misses a constraint
 (``tune_constraints``) is penalised above every feasible one. Among the feasible candidates,
 best first, the first that passes the robustness Monte Carlo (``tune_robust``) is the result;
-its gains are written explicitly (``tune_space.frozen_gains``).
+its gains are written explicitly (``tune_space.frozen_gains``). A branched line
+(``[[webs]]``) is tuned the same way with its own pieces (``LineOps``: ``tune_branched``).
 """
 
 from __future__ import annotations
@@ -162,7 +163,8 @@ def tune(line: Any, scenarios: Sequence[str] | None = None, *,
          samples: int = 20, seed: int = 0, evaluations: int = 200, popsize: int = 2,
          workers: int | None = None,
          progress: Callable[[int, float], None] | None = None) -> TuneResult:
-    """Tune ``line``'s controllers (module docstring).
+    """Tune ``line``'s controllers (module docstring): a single-path or branched line (its
+    object, a file or a built-in name).
 
     ``scenarios``: names of the line's scenarios (default ``default_scenarios``); ``free``:
     the tuning variables (default ``tune_space.default_free``); ``objective``: a function of
