@@ -141,3 +141,36 @@ def test_twin_commands_refuse_a_branched_line_in_one_line(args):
     assert result.exit_code == 2, result.output
     assert len(result.output.strip().splitlines()) == 1
     assert f"webs: webline {args[0]}: not yet supported for a branched line" in result.output
+
+
+def test_branched_gain_margin_is_the_gain_that_destabilises_the_sampled_loop():
+    """The film unwind's loop-at-a-time gain margin on the branched model (the hold as a
+    half-period delay) against the exact sampled loop (zero-order hold, ``linear.
+    sampled_closed_loop``): scaling that drive's speed PI (kp and ki: its whole torque
+    command, the tension loop's trim included) by 0.95x the margin leaves every sampled mode
+    inside the unit circle, by 1.05x takes one outside (the boundary lay between 1.00x and
+    1.02x when written; ±5 %: the delay e^{-jωT/2} is the hold's mean lag, not its exact
+    frequency response, and the margin is read off an 80-point-per-decade grid)."""
+    from webline.sim.branches.equilibrium import operating_point
+    from webline.sim.branches.linear import sampled_closed_loop
+    from webline.sim.branches.loop import layout as B
+    from webline.sim.branches.plan import compile_branches
+    from webline.twin.tuning.tune_branched import stability_constraints
+    from webline.twin.tuning.tune_constraints import Limits
+
+    line = load_branched("laminator")
+    gm = next(c for c in stability_constraints(line, Limits()) if c.name == "gain margin [dB]")
+    assert gm.where.startswith("unwind_film")
+    factor = 10 ** (gm.value / 20)
+    d = line.drives.index(line.node_index["unwind_film"])
+    row = compile_branches(line).df[d]
+
+    def largest(scale: float) -> float:
+        scaled = derive_branched(line, {
+            "rollers.unwind_film.controller.speed_kp": scale * float(row[B.D_KPS]),
+            "rollers.unwind_film.controller.speed_ki": scale * float(row[B.D_KIS])})
+        plan = compile_branches(scaled)
+        return float(np.abs(np.linalg.eigvals(
+            sampled_closed_loop(plan, operating_point(plan)))).max())
+
+    assert largest(0.95 * factor) < 1.0 < largest(1.05 * factor)
