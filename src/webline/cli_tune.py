@@ -21,8 +21,6 @@ from webline.errors import WeblineError
 SINGLE_PATH_ONLY = {
     "replay": "a twin's traces drive and are matched to a single-path line's signals",
     "fit": "a twin's traces drive and are matched to a single-path line's signals",
-    "experiment": "its tests are planned from a single-path line's drives and record the "
-                  "traces replay and fit take, which are single-path",
 }
 
 
@@ -122,14 +120,21 @@ def experiment_command(
 ) -> None:
     """Simulate an identification test on LINE and write the traces to record."""
     from webline.line import load_line
+    from webline.model.web_graph import load_branched, source_is_branched
     from webline.twin.tuning.experiment import EXPERIMENTS, plan_experiment, write_experiment
+    from webline.twin.tuning.experiment_branched import PLANNERS, write_branched_experiment
 
-    refuse_branched("experiment", line)
-    base = load_line(line)
+    branched = source_is_branched(line)  # the same tests on its drives and zones
+    base: Any = load_branched(line) if branched else load_line(line)
+    write = write_branched_experiment if branched else write_experiment
+
+    def planned(key: str) -> Any:
+        return PLANNERS[key](base) if branched else plan_experiment(base, key)
+
     if list_:
         for key, experiment in EXPERIMENTS.items():
             try:
-                duration = f"{plan_experiment(base, key).duration:g} s on {base.name}"
+                duration = f"{planned(key).duration:g} s on {base.name}"
             except WeblineError as exc:  # the test does not apply to this line
                 duration = f"not on {base.name}: {exc}"
             typer.echo(f"{key}: {experiment.title}; identifies "
@@ -142,7 +147,7 @@ def experiment_command(
         raise BadInput(f"no experiment named {name!r}; known: {', '.join(EXPERIMENTS)}")
     folder = open_output(out or Path("out") / f"experiment-{name}", force, "experiment",
                          ("results.csv", "experiment.json"))
-    plan, result = write_experiment(base, name, folder.path, folder.claim)
+    plan, result = write(base, name, folder.path, folder.claim)
     folder.finish()
     typer.echo(f"{name} on {base.name}: {plan.duration:g} s; identifies "
                f"{'; '.join(plan.experiment.identifies)}")

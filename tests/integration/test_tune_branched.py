@@ -1,7 +1,7 @@
 """`webline tune` on a branched line (issue 26 item 2; docs/branching.md, "Tuning a branched
 line"): the objective over every web's and lane's loadcell, stability from the branched
 linear model, the chain's files; and the one-line refusals of the single-path-only twin
-commands (replay, fit, experiment)."""
+commands (replay, fit)."""
 
 from __future__ import annotations
 
@@ -133,9 +133,7 @@ def test_tune_bad_free_on_a_branched_line_is_one_line_exit_2(tmp_path, option, k
 
 
 @pytest.mark.parametrize("args", [("replay", "laminator", "x.csv"),
-                                  ("fit", "laminator", "x.csv", "--free", "a=1..2"),
-                                  ("experiment", "laminator", "--list"),
-                                  ("experiment", "slitter", "tension-step")])
+                                  ("fit", "laminator", "x.csv", "--free", "a=1..2")])
 def test_twin_commands_refuse_a_branched_line_in_one_line(args):
     result = invoke(*args)
     assert result.exit_code == 2, result.output
