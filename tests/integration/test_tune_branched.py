@@ -85,7 +85,9 @@ def test_branched_stability_constraint_sees_the_sampled_loop(kp, sampled):
 
     line = derive_branched(load_branched("laminator"),
                            {"rollers.rewind.controller.tension_kp": kp})
-    worst = next(c for c in stability_constraints(line, Limits()) if c.name == UNSTABLE)
+    # one point (the initial radii): where the linear model below is taken
+    worst = next(c for c in stability_constraints(line, Limits(roll_points=1))
+                 if c.name == UNSTABLE)
     assert worst.holds != sampled
     if sampled:
         plan = compile_branches(line)
@@ -93,6 +95,28 @@ def test_branched_stability_constraint_sees_the_sampled_loop(kp, sampled):
         assert worst.value == pytest.approx(mode.eigenvalue.real, rel=1e-9)
         assert "controllers sampled at 1000 Hz" in worst.where
         assert np.linalg.eigvals(linear_model(line).a).real.max() < 0
+
+
+def test_roll_points_wind_one_length_off_every_unwind_and_onto_every_rewind():
+    """The laminator's three points: the wound areas change by ℓ h (film 23 um, foil 9 um,
+    laminate their sum 32 um) for one ℓ; the last point is 95 % of the way to the rewind
+    reaching 0.3 m (the largest initial roll: its room, π (0.3² - 0.08²) / 32 um = 8206 m,
+    is below the film unwind's 11 514 m to its core)."""
+    from webline.twin.tuning.tune_branched import roll_points
+
+    points = roll_points(load_branched("laminator"), 3)
+    assert points[0][1] == pytest.approx({"rollers.unwind_film.radius": 0.3,
+                                          "rollers.unwind_foil.radius": 0.3,
+                                          "rollers.rewind.radius": 0.08}, rel=1e-12)
+    last = points[-1][1]
+    length = 0.95 * math.pi * (0.3**2 - 0.08**2) / 32e-6
+    for key, r0, h in (("unwind_film", 0.3, -23e-6), ("unwind_foil", 0.3, -9e-6),
+                       ("rewind", 0.08, 32e-6)):
+        # the unstrained web leaving both unwinds arrives on the rewind: area / π balance
+        assert last[f"rollers.{key}.radius"] ** 2 == pytest.approx(
+            r0**2 + length * h / math.pi, rel=1e-12)
+    assert last["rollers.rewind.radius"] == pytest.approx(0.3 * math.sqrt(
+        0.95 + 0.05 * (0.08 / 0.3) ** 2), rel=1e-12)
 
 
 def test_tune_cli_on_a_branched_line_writes_the_chain_files(tmp_path):
@@ -157,7 +181,8 @@ def test_branched_gain_margin_is_the_gain_that_destabilises_the_sampled_loop():
     from webline.twin.tuning.tune_constraints import Limits
 
     line = load_branched("laminator")
-    gm = next(c for c in stability_constraints(line, Limits()) if c.name == "gain margin [dB]")
+    gm = next(c for c in stability_constraints(line, Limits(roll_points=1))
+              if c.name == "gain margin [dB]")
     assert gm.where.startswith("unwind_film")
     factor = 10 ** (gm.value / 20)
     d = line.drives.index(line.node_index["unwind_film"])

@@ -14,9 +14,9 @@ The chain's tuning (``tune``) with a branched line's pieces (``BRANCHED``):
   a start-up ramp for a line that starts at rest) from the branched linear model
   (``branches.linear``): the continuous closed loop's modes and the sampled loop's (the hold
   can destabilise a fast mode), the damping of the modes the controllers take part in, and
-  each drive's loop-at-a-time margins (``loop_margins.margins_of`` on the branched model).
-  One point, the initial radii: several webs grow or empty their rolls at once, so the
-  chain's one-parameter sweep across "the roll" has no single meaning here;
+  each drive's loop-at-a-time margins (``loop_margins.margins_of`` on the branched model),
+  at ``Limits.roll_points`` points across the rolls (``roll_points``: every web runs at the
+  line speed, so one wound length places every unwind and rewind);
 * robustness: the chain's Monte Carlo (``tune_robust.robustness``, branched sweeps), each
   draw's stability checked as above;
 * the tuned line keeps its gains explicit (``frozen_gains``), a roll's scheduled speed gains
@@ -25,6 +25,7 @@ The chain's tuning (``tune``) with a branched line's pieces (``BRANCHED``):
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -139,38 +140,79 @@ def closed_loop_modes(line: BranchedLine) -> tuple[BranchPlan, Any, float, np.nd
     return plan, point, t, values, participation[rows].sum(axis=0), sampled
 
 
+def roll_points(line: BranchedLine, n: int) -> list[tuple[str, dict[str, float]]]:
+    """``n`` points across the rolls of branched ``line``: (where, {roller radius path: r
+    [m]}). Every web runs at the line speed, so one unstrained length ℓ [m] wound off every
+    unwind and onto every rewind places them all: r² = r0² ∓ ℓ h / π (h the roll's web
+    thickness; a shaft's lanes at their mean, they start at one radius), from the initial
+    radii to 95 % of the ℓ at which the first unwind reaches its core or a rewind the
+    largest initial roll radius (the chain's ``tune_space.roll_radii`` rule)."""
+    rolls: dict[int, list[Any]] = {}
+    for roll in line.rolls:
+        rolls.setdefault(roll.node, []).append(roll)
+    top = max((r.radius for r in line.rolls), default=0.0)
+    room = math.inf
+    thickness: dict[int, tuple[float, float, float]] = {}  # node: (h [m], r0 [m], ∓1)
+    for node, on in rolls.items():
+        h = float(np.mean([line.materials[r.web].thickness for r in on]))
+        r0, sign = on[0].radius, on[0].direction
+        thickness[node] = (h, r0, sign)
+        if sign < 0:
+            core = getattr(line.spec.rollers[node], "core_radius", 0.0) or 0.0
+            room = min(room, math.pi * (r0**2 - core**2) / h)
+        elif top > r0:
+            room = min(room, math.pi * (top**2 - r0**2) / h)
+    if not math.isfinite(room) or n <= 1:
+        return [("initial radii", {})]
+    out = []
+    for length in np.linspace(0.0, 0.95 * room, n):
+        radii = {f"rollers.{line.spec.rollers[node].name}.radius":
+                 math.sqrt(r0**2 + sign * length * h / math.pi)
+                 for node, (h, r0, sign) in thickness.items()}
+        where = ", ".join(f"{path.split('.')[1]} r = {r:.3g} m" for path, r in radii.items())
+        out.append((f"{length:.4g} m wound: {where}", radii))
+    return out
+
+
 def stability_constraints(line: BranchedLine, limits: Limits) -> list[Constraint]:
-    """Modes, damping and loop margins of branched ``line`` (its gains explicit) at its
-    operating point (module docstring), as the chain's constraints name them."""
-    plan, point, t, values, share, sampled = closed_loop_modes(line)
-    open_ = branch_linear_model(plan, point, "open")
-    n_d = len(line.drives)
-    a_cl = np.asarray(branch_linear_model(plan, point, "closed").a, dtype=float)
-    b_full, k = split_feedback(np.asarray(open_.a), np.asarray(open_.b)[:, :n_d], a_cl)
-    names = [line.spec.rollers[i].name for i in line.drives]
-    spot = f"operating point at t = {t:g} s (initial radii)"
+    """Modes, damping and loop margins of branched ``line`` (its gains explicit) at
+    ``limits.roll_points`` points across its rolls (``roll_points``), the worst of each, as
+    the chain's constraints name them (module docstring)."""
     worst: Worst = {}
-    record_point(worst, values, share, margins_of(a_cl, b_full, k, plan.dt, names), spot,
-                 limits)
-    if sampled > worst[UNSTABLE][0]:  # the hold's delay: the sampled loop decides
-        worst[UNSTABLE] = (sampled, f"{spot}, controllers sampled at {1 / plan.dt:.4g} Hz")
+    names = [line.spec.rollers[i].name for i in line.drives]
+    for where, radii in roll_points(line, limits.roll_points):
+        at = derive_branched(line, radii)
+        plan, point, t, values, share, sampled = closed_loop_modes(at)
+        open_ = branch_linear_model(plan, point, "open")
+        a_cl = np.asarray(branch_linear_model(plan, point, "closed").a, dtype=float)
+        b_full, k = split_feedback(np.asarray(open_.a),
+                                   np.asarray(open_.b)[:, :len(line.drives)], a_cl)
+        spot = f"t = {t:g} s, {where}"
+        record_point(worst, values, share, margins_of(a_cl, b_full, k, plan.dt, names),
+                     spot, limits)
+        if sampled > worst[UNSTABLE][0]:  # the hold's delay: the sampled loop decides
+            worst[UNSTABLE] = (sampled, f"{spot}, controllers sampled at {1 / plan.dt:.4g} Hz")
     return worst_constraints(worst, limits)
 
 
-def instability(line: BranchedLine, values: dict[str, float]) -> str | None:
-    """Why branched ``line`` with ``values`` [SI] at their paths is unstable (a continuous
-    or sampled closed-loop mode with Re λ >= 0), or None."""
-    *_, t, eig, _, sampled = closed_loop_modes(derive_branched(line, values))
-    worst = max(float(eig.real.max()), sampled)
-    if worst >= 0.0:
-        return f"unstable at t = {t:g} s (largest real part {worst:.3g} 1/s)"
+def instability(line: BranchedLine, values: dict[str, float], points: int = 3) -> str | None:
+    """Why branched ``line`` with ``values`` [SI] at their paths is unstable at one of
+    ``points`` points across its rolls (a continuous or sampled closed-loop mode with
+    Re λ >= 0), or None."""
+    drawn = derive_branched(line, values)
+    for where, radii in roll_points(drawn, points):
+        *_, t, eig, _, sampled = closed_loop_modes(derive_branched(drawn, radii))
+        worst = max(float(eig.real.max()), sampled)
+        if worst >= 0.0:
+            return f"unstable at t = {t:g} s, {where} (largest real part {worst:.3g} 1/s)"
     return None
 
 
 def _robustness(line: BranchedLine, dists: Mapping[str, Any], names: Sequence[str],
                 limits: Limits, n: int, seed: int, workers: int | None) -> RobustCheck:
     return robustness(line, dists, names, limits=limits, n=n, seed=seed, workers=workers,
-                      instability=instability)
+                      instability=lambda drawn, values: instability(drawn, values,
+                                                                    limits.roll_points))
 
 
 def default_uncertain(line: BranchedLine) -> dict[str, str]:
