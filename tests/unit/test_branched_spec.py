@@ -66,7 +66,7 @@ def test_load_line_refuses_a_branched_line_in_one_line():
 def _set_dancer(d):
     d["rollers"][1]["type"] = "dancer"
     d["rollers"][1]["dancer"] = {"mass": "5 kg", "travel": "0.2 m", "position": "0.1 m",
-                                 "use": "none"}  # (position control is supported)
+                                 "use": "tension"}  # (a sensor without its spring)
 
 
 CASES = [  # (base, change, key in the message, fragment of the problem)
@@ -84,8 +84,8 @@ CASES = [  # (base, change, key in the message, fragment of the problem)
      "webs[2].path[0]", "starts at the roller where its layers end"),
     (LAMINATOR, lambda d: d["rollers"][4].update(role="tension"), "rollers",
      "exactly one master roller, found 0"),
-    (LAMINATOR, _set_dancer, "rollers[1].dancer.use",
-     "not yet supported on a branched line (stage 1: dancers in position control"),
+    (LAMINATOR, _set_dancer, "rollers[1].dancer.stiffness",
+     "a dancer as tension sensor needs a spring (stiffness > 0)"),
     (LAMINATOR, lambda d: (d["rollers"][0].__setitem__("controller", {
         "type": "python", "object": "m:f"}), d["rollers"][0].__setitem__("winder", {
             "mode": "open_loop"})),
@@ -114,8 +114,8 @@ CASES = [  # (base, change, key in the message, fragment of the problem)
      "checks.min_duration", ">= 0"),
     (LAMINATOR, lambda d: d.__setitem__("checks", {"end_stop": "1 s"}), "checks.end_stop",
      "unknown key"),
-    (LAMINATOR, lambda d: d["scenarios"]["start-up"].__setitem__("unwind_radius", "0.2 m"),
-     "scenarios.start-up.unwind_radius", "not yet supported on a branched line"),
+    (LAMINATOR, lambda d: d["scenarios"]["start-up"].__setitem__("unwind_radius", "76 mm"),
+     "scenarios.start-up.unwind_radius", "must be above the core radius of every unwind"),
     (LAMINATOR, lambda d: d["control"].__setitem__("tension_ramp", {"time": "2 s"}),
      "control.tension_ramp.standstill", "required key is missing"),
     (LAMINATOR, lambda d: d["webs"][2].__setitem__("layers", ["foil", "foil"]),

@@ -164,7 +164,7 @@ def spec_from_dict(data: Any, file: str = "<dict>") -> LineSpec:
         raise LineFileError(file, "(top level)", "a line file must be a table of keys")
     if "webs" in data:
         raise LineFileError(file, "webs", "a branched line ([[webs]]): not yet supported "
-                            "here (webline run, validate and analyze; in Python "
+                            "here (webline run, validate, analyze, tune and experiment; in Python "
                             "webline.load_branched, webline.simulate and webline.linearize; "
                             "docs/branching.md)")
     try:  # forces per width (pli, N/m) need the web's width: read it first
@@ -207,7 +207,7 @@ def branched_from_dict(data: Any, file: str = "<dict>") -> BranchedLineSpec:
 
 #: keys of a single-path line file that a branched line does not take yet (stage 1)
 _NOT_YET_TOP: tuple[str, ...] = ()
-_NOT_YET_SCENARIO = ("unwind_radius", "rewind_radius")
+_NOT_YET_SCENARIO: tuple[str, ...] = ()
 
 
 def not_yet_branched(data: dict[str, Any]) -> list[str]:

@@ -16,6 +16,7 @@ from webline.spec.branched.disturbances import check_disturbances
 from webline.spec.branched.drive_train import check_drive_train
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
 from webline.spec.branched.traction import check_traction
+from webline.spec.branched.values import check_roll_radii
 from webline.spec.branched.web_law import check_web_laws
 from webline.spec.branched.winder import check_splices, check_winders
 from webline.spec.dancer import DancerCarriage
@@ -73,6 +74,7 @@ def check_branched(spec: BranchedLineSpec, file: str) -> None:
     check_winders(spec, fail)
     check_splices(spec, fail)
     check_traction(spec, fail)  # traction rollers, nips, measured friction
+    check_roll_radii(spec, fail)  # scenarios' unwind_radius / rewind_radius
 
 
 def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
@@ -102,10 +104,12 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
 
 
 def _check_dancer(carriage: DancerCarriage, key: str, fail: Fail) -> None:
-    """A dancer on a branched line: in position control (docs/branching.md, "Dancers"), a
-    straight angle below 90 deg, a pivoting arm with both its keys."""
-    if carriage.use != "position":
-        unsupported(f"{key}.use", fail, "dancers in position control (use = 'position')")
+    """A dancer on a branched line (docs/branching.md, "Dancers"), the chain's checks: a
+    tension sensor on a spring, a straight angle below 90 deg, a pivoting arm with both its
+    keys."""
+    if carriage.use == "tension" and carriage.stiffness == 0.0:
+        fail(f"{key}.stiffness", "a dancer as tension sensor needs a spring (stiffness > 0): "
+             "without one it reads load / (g_in + g_out) whatever the tension")
     if carriage.position > carriage.travel:
         fail(f"{key}.position", f"must lie within the travel {carriage.travel:g} m")
     for name in ("angle_in", "angle_out"):

@@ -22,7 +22,7 @@ from webline.physics import motor, span
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop import transmission as TR
 from webline.sim.branches.loop.breaks import held_command
-from webline.sim.branches.loop.dancer import position_error
+from webline.sim.branches.loop.dancer import position_error, sensed_tension
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.loop.winder import compensation
 from webline.sim.elements.signals import gaussian, jit, profile_at, sines
@@ -34,22 +34,27 @@ _saturate: Any = jit(motor.saturate)
 @jit
 def user_command(d: int, t: float, tick: int, v_meas: float, radius: float, inertia: float,
                  speed_ref: float, factor: float, frozen: bool, comp: float, x: np.ndarray,
-                 istate: np.ndarray, nodes: np.ndarray, di: np.ndarray, df: np.ndarray,
-                 cells: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
-                 prof_off: np.ndarray, sigma_t: float, seed: int, noisy: bool) -> float:
+                 istate: np.ndarray, offsets: np.ndarray, nodes: np.ndarray, di: np.ndarray,
+                 df: np.ndarray, cells: np.ndarray, dist: np.ndarray, prof_t: np.ndarray,
+                 prof_v: np.ndarray, prof_off: np.ndarray, sigma_t: float, seed: int,
+                 noisy: bool) -> float:
     """Store user drive ``d``'s readings at tick ``tick`` (time ``t`` [s]) and return its
     torque command [N·m]: the held ``I_UCMD`` saturated at the torque limit, plus ``comp``
     (a centre winder's compensation, saturated again). Its zone's tension is the sum of its
     loadcells (a shaft of lanes: one per lane), with the same noise draws as the built-in
-    loop; its reference the sum of theirs times the taper ``factor``; a dancer in position
-    control reads reference - (y - y_set), so that reference - reading is the position error
-    [m] the built-in loop uses; ``frozen`` (after a detected break, W5): the tension reads its
-    reference."""
+    loop; its reference the sum of theirs times the taper ``factor``; a dancer as tension
+    sensor reads the tension it senses, one in position control reference - (y - y_set), so
+    that reference - reading is the position error [m] the built-in loop uses; ``frozen``
+    (after a detected break, W5): the tension reads its reference."""
     tension, reference = 0.0, 0.0
     for c in range(di[d, B.DI_CELLS], di[d, B.DI_CELLS] + di[d, B.DI_NCELLS]):
         ref = factor * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off)
         reference += ref
         if cells.shape[1] > B.CELL_DANCER and cells[c, B.CELL_DANCER] >= 0:
+            if cells[c, B.CELL_SENSOR]:  # the dancer as tension sensor (D3)
+                tension += sensed_tension(cells[c, B.CELL_DANCER], t, x, offsets, nodes, dist,
+                                          prof_t, prof_v, prof_off)
+                continue
             tension += ref - position_error(cells[c, B.CELL_DANCER], x, nodes)
             continue
         measured = _tension(x[cells[c, 0]])
@@ -97,4 +102,5 @@ def user_tick(d: int, i: int, t: float, tick: int, dt: float, v_meas: float, rad
                             prof_v, prof_off)
     return user_command(d, t, tick, v_meas, radius, inertia, v_line * df[d, B.D_FF] + ripple,
                         factor, offsets[B.O_BREAK] != 0 and stopping < 1.0, comp, x, istate,
-                        nodes, di, df, cells, prof_t, prof_v, prof_off, sigma_t, seed, noisy)
+                        offsets, nodes, di, df, cells, dist, prof_t, prof_v, prof_off, sigma_t,
+                        seed, noisy)
