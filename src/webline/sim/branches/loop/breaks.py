@@ -91,6 +91,14 @@ def break_monitor(t: float, x: np.ndarray, istate: np.ndarray, di: np.ndarray,
 
 
 @jit
+def stop_acceleration(a_line: float, v_line: float, stopping: float, stop_time: float) -> float:
+    """Acceleration [m/s²] of the line-speed reference s(t) v(t) while it ramps to a stop in
+    ``stop_time`` [s] (the chain's ``sim.elements.break_hold.stop_acceleration``, W8):
+    s a - v / T, ``a_line`` [m/s²] and ``v_line`` [m/s] the profile's own; 0 once stopped."""
+    return stopping * a_line - v_line / stop_time if stopping > 0.0 else 0.0
+
+
+@jit
 def fade_trim(d: int, dt: float, stopping: float, istate: np.ndarray, df: np.ndarray) -> None:
     """Drive ``d``'s frozen tension trim falls with the line speed while it ramps to a stop
     (``stopping`` in [0, 1) this tick, ``dt`` [s]): the tension integrator times

@@ -145,9 +145,14 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             fade_trim(d, dt, stopping, istate, df)
         istate[d, B.I_FACTOR] = factor  # (the decentralized drives' references read it)
         if di[d, B.DI_FAMILY] != B.FAMILY_PI:  # state feedback, adaptive, MRAC
+            if offsets[B.O_BREAK] and stopping == 0.0 and df[d, B.D_BHOLD] != (
+                    B.HOLD_ZERO_SPEED):  # stopped, "off" or "brakes": no torque (W8)
+                cmd[d] = 0.0
+                continue
+            adapting = not (offsets[B.O_BREAK] and istate[0, B.I_DETECT] >= 0.0)
             cmd[d] = decentral_command(d, di[d, B.DI_FAMILY], i, t, dt, radius, v_meas, -e_t,
-                                       x, istate, offsets, nodes, rolls, si, df, fb, refs,
-                                       prof_t, prof_v, prof_off)
+                                       stopping, adapting, x, istate, offsets, nodes, rolls,
+                                       si, df, fb, refs, prof_t, prof_v, prof_off)
             continue
         trim = df[d, B.D_SIGMA] * (df[d, B.D_KPT] * e_t + istate[d, B.I_TENSION])
         ripple = 0.0
