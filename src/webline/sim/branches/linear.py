@@ -152,7 +152,8 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
     for d in range(n_d):
         i, row = int(plan.di[d, B.DI_NODE]), plan.df[d]
         if plan.di[d, B.DI_FAMILY] != B.FAMILY_PI:  # state feedback, adaptive
-            kx[d], ki[d], kr[d], gx[d], gi[d], gr[d] = linear_rows(plan, point, d, n_x, n_q)
+            kx[d], ki[d], kr[d], gx[d], gi[d], gr[d] = linear_rows(plan, point, d, n_x, n_q,
+                                                                   kept)
             continue
         # e_v = v_line ff + σ (kp_t e_t + q_t) - r ω,  e_t = Σ (ref_c - T_c)
         ev_x, ev_q, ev_r = np.zeros(n_x), np.zeros(n_q), np.zeros(n_r)

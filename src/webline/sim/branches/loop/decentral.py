@@ -8,7 +8,9 @@ x_T the zone's loadcell tension (or lanes' sum) minus its reference, x_V the mea
 speed minus the reference; u_eq the torque that holds the node on its reference motion,
 from the reference tensions of every span on the node (a junction's too); f cancels a roll's
 velocity-squared term; g = J / (n r) over its design value keeps the speed row's closed-loop
-entries as designed while a roll's inertia and radius change.
+entries as designed while a roll's inertia and radius change. Across a compliant
+transmission J counts the reflected motor n² J_m (the design lumps it, as the chain's) and
+the measured speed is the side ``feedback`` names (``loop.transmission.measured_omega``).
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ from webline.physics import motor, roll, roller
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.breaks import stop_acceleration
 from webline.sim.branches.loop.plant import arm, node_inertia
+from webline.sim.branches.loop.transmission import motor_beyond
 from webline.sim.elements.signals import jit, profile_at, profile_slope_at
 
 _friction: Any = jit(roller.friction_torque)
@@ -81,8 +84,8 @@ def decentral_command(d: int, family: int, i: int, t: float, dt: float, radius: 
             web_torque += arm(si[k, B.S_ARMA], i, x, offsets, nodes) * t_ref
         else:
             web_torque -= arm(si[k, B.S_ARMB], i, x, offsets, nodes) * t_ref
-    inertia = node_inertia(i, x, offsets, nodes, rolls)
-    ratio = nodes[i, B.N_RATIO]
+    inertia = node_inertia(i, x, offsets, nodes, rolls) + motor_beyond(d, df)  # (a belt's)
+    ratio = df[d, B.D_RATIO]  # (a compliant drive's node has none: its torque is the belt's)
     omega_ref = v_ref / radius
     r_dot = _radius_rate(v_ref, radius, fb[d, B.FB_THICK], fb[d, B.FB_DIR])
     omega_dot = a_ref / radius - v_ref * r_dot / (radius * radius)
