@@ -252,6 +252,8 @@ def linear_rows(plan: BranchPlan, point: BranchPoint, d: int, n_x: int, n_q: int
     if adaptive:
         dv += row[B.FB_BMODEL] / (r * n)
     kx[speed] = dv * arm
+    if plan.di[d, B.DI_WINDER] != B.WINDER_NONE:  # a winder's b_c ω / n on the measured ω
+        kx[speed] += plan.df[d, B.D_COMPB] / (r * n) * arm  # (static friction, J a: constant)
     first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
     for c in range(first, first + count):
         k = int(plan.cells[c, 0])

@@ -1,7 +1,7 @@
 """Checks of a branched line's controller families (docs/branching.md, "State feedback"):
 the cascaded PI, decentralized state feedback, adaptive control and MRAC run on any drive
-but a differential shaft's (speed control only); the section observer and a user's Python
-controller not yet."""
+but a differential shaft's (speed control only), a centre winder's compensations added to
+their torque (closed loop); the section observer and a user's Python controller not yet."""
 
 from __future__ import annotations
 
@@ -34,9 +34,12 @@ def check_controller(key: str, roller: object, fail: Fail, unsupported: Unsuppor
     if controller.tension_feedback != "loadcell":
         unsupported(f"{key}.controller.tension_feedback", fail,
                     "decentralized controllers on their loadcells")
-    if getattr(roller, "winder", None) is not None:  # (its tick adds them to the PI's only)
-        unsupported(f"{key}.winder", fail, "a centre winder's compensation and open loop "
-                    "with a cascaded_pi drive")
+    winder = getattr(roller, "winder", None)
+    if winder is not None and winder.mode == "open_loop":
+        fail(f"{key}.winder.mode", f"open_loop replaces the drive's {controller.type!r} "
+             "controller (torque T_ref R / n, its speed limiter on the cascaded PI's speed "
+             "gains): give controller cascaded_pi, or mode closed_loop to add the "
+             "compensations to the state feedback")
     if isinstance(roller, RewindSpec) and roller.shaft is not None:
         fail(f"{key}.controller.type", f"{controller.type!r} needs a tension loop; a "
              "differential shaft runs in speed control (its lanes' tension is slip_torque / "

@@ -153,6 +153,12 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             cmd[d] = decentral_command(d, di[d, B.DI_FAMILY], i, t, dt, radius, v_meas, -e_t,
                                        stopping, adapting, x, istate, offsets, nodes, rolls,
                                        si, df, fb, refs, prof_t, prof_v, prof_off)
+            if di[d, B.DI_WINDER] != B.WINDER_NONE:  # a centre winder's compensation (W3),
+                # added to the law's torque as the chain's control_tick adds it
+                cmd[d] = _saturate(cmd[d] + compensation(
+                    d, i, radius, v_meas / radius, profile_slope_at(0, t, prof_t, prof_v,
+                                                                    prof_off),
+                    nodes, rolls, df, prof_t, prof_v, prof_off), df[d, B.D_LIMIT])
             continue
         trim = df[d, B.D_SIGMA] * (df[d, B.D_KPT] * e_t + istate[d, B.I_TENSION])
         ripple = 0.0
