@@ -140,3 +140,25 @@ def test_held_off_or_braked_the_decentralized_drives_give_no_torque(hold):
         assert np.max(speed[t[after] >= stop + 0.5]) < 0.02
         message = next(f.message for f in result.verdict.findings if f.kind == "web_break")
         assert "stopped by t = 6 s" in message
+
+
+def test_a_held_shaft_pulls_its_intact_lane_with_the_broken_lanes_reference():
+    """The slitter with state feedback on every drive,
+    lane_1 broken on the shaft it shares with lane_2. Held at zero speed with its sum loop
+    frozen, the shaft's u_eq keeps both lanes' references: a_1 T_1,ref + a_2 T_2,ref at
+    rest, and only lane_2 takes it, so T_2 = T_2,ref + (a_1/a_2) T_1,ref = 200 N (the lanes'
+    arms alike), twice its reference, where the PI's integrator takes the lost load up
+    (105 N, test_branch_breaks). To 0.5 % (the speed feedback's share at the creep left;
+    measured 0.1 %); every driven roller below 1e-4 m/s from 1 s after the ramp."""
+    data = load_branched("slitter").spec.model_dump(exclude_none=True)
+    for r in data["rollers"]:
+        if "controller" in r:
+            r["controller"] = {"type": "state_feedback"}
+    data["scenarios"] = {"b": {"duration": DURATION, "break": {
+        "span": "lane_1_span", "at": AT, "stop_time": STOP}}}
+    result = webline.simulate(load_branched(data), scenario="b")
+    ds = result.dataset
+    late = ds.time.values >= AT + STOP + 1.0
+    assert ds.tension.sel(span="lane_2_span").values[late] == pytest.approx(200.0, rel=5e-3)
+    driven = [result.plan.line.spec.rollers[i].name for i in result.plan.line.drives]
+    assert np.max(np.abs(ds.speed.sel(node=driven).values[late])) < 1e-4
