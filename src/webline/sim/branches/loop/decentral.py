@@ -22,7 +22,7 @@ import numpy as np
 
 from webline.physics import motor, roll, roller
 from webline.sim.branches.loop import layout as B
-from webline.sim.branches.loop.breaks import stop_acceleration
+from webline.sim.branches.loop.break_limits import stop_acceleration
 from webline.sim.branches.loop.plant import arm, node_inertia
 from webline.sim.branches.loop.transmission import motor_beyond
 from webline.sim.elements.signals import jit, profile_at, profile_slope_at
@@ -65,7 +65,7 @@ def decentral_command(d: int, family: int, i: int, t: float, dt: float, radius: 
     v_line = profile_at(0, t, prof_t, prof_v, prof_off)
     a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)
     if stopping < 1.0:  # (a break was detected: W5, W8)
-        a_line = stop_acceleration(a_line, v_line, stopping, df[d, B.D_BSTOP])
+        a_line = stop_acceleration(a_line, v_line, stopping, df)
     scale = stopping * v_line / refs[-2, 0]
     accel = a_line / refs[-2, 0]
     v_ref = refs[n_s + d, 0]
