@@ -118,9 +118,8 @@ def run(
         from webline.cli_branches import run_branched
 
         run_branched(line, _duration(duration), scenario, out, force, quiet, {
-            "--controller": controller is not None, "--set": bool(sets),
-            "--format": data_format != DataFormat.netcdf,
-            "--precision": precision != Precision.float64}, svg=svg, units=units.value)
+            "--controller": controller is not None}, svg=svg, units=units.value, sets=sets,
+            data_format=data_format.value, precision=precision.value)
         return
     from webline.report.early import Reporter
 
@@ -255,9 +254,7 @@ def show(line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None
     from webline.spec.load import file_is_branched
 
     if file_is_branched(line):  # docs/branching.md, "Report"
-        if sets:
-            raise BadInput("--set: not yet supported for a branched line")
-        print_tables(show_branched(line, scenario, schematic, units.value), _console())
+        print_tables(show_branched(line, scenario, schematic, units.value, sets), _console())
         if schematic is not None:
             typer.echo(f"Schematic: {schematic}")
         return

@@ -63,8 +63,8 @@ def analyze(
     if file_is_branched(line):  # docs/branching.md, "Linear models"
         _analyze_branched(line, scenario, at, as_json, {
             "--units": units != Units.si, "--certificate": certificate,
-            "--controller": controller is not None, "--set": bool(sets),
-            "--across-roll": across_roll, "--figure": figure is not None})
+            "--controller": controller is not None,
+            "--across-roll": across_roll, "--figure": figure is not None}, sets=sets)
         return
     from webline.analysis.modes import closed_loop_modes
     from webline.analysis.zone_loops import speed_leaks, zone_loops
@@ -129,11 +129,12 @@ def analyze(
 
 
 def _analyze_branched(source: str, scenario: str | None, at: str | None, as_json: bool,
-                      unsupported: dict[str, bool]) -> None:
+                      unsupported: dict[str, bool], *, sets: list[str] | None = None) -> None:
     """``analyze`` of a branched line: operating point, closed-loop modes and the stability
-    verdict (``sim.branches.linear``); ``unsupported``: options given that it does not take."""
+    verdict (``sim.branches.linear``); ``unsupported``: options given that it does not take;
+    ``sets``: the ``--set PATH=VALUE`` options, applied after the scenario."""
     from webline.analysis.modes import modes_of
-    from webline.model.web_graph import load_branched
+    from webline.cli_branches import branched_line
     from webline.report.text.tables import modes_table
     from webline.report.text.verdict_text import verdict_lines
     from webline.sim.branches.equilibrium import operating_point
@@ -149,9 +150,7 @@ def _analyze_branched(source: str, scenario: str | None, at: str | None, as_json
         if given:
             raise BadInput(f"{option}: not yet supported for a branched line (analyze: the "
                            "operating point, closed-loop modes and stability, in SI)")
-    line = load_branched(source)
-    if scenario:
-        line = line.with_scenario(scenario)
+    line = branched_line(source, scenario, sets)
     t = analysis_time(line) if at is None else time_option(at, "--time", zero=True)
     plan = compile_branches(line)
     point = operating_point(plan, t)

@@ -8,9 +8,10 @@ from pathlib import Path
 
 import typer
 
-from webline.cli_common import BadInput, open_output
+from webline.cli_common import BadInput, open_output, parse_sets
 from webline.files import atomic_write
-from webline.model.web_graph import load_branched
+from webline.model.web_graph import BranchedLine, load_branched
+from webline.report.results_file import results_name
 from webline.report.text.display import Display
 from webline.sim.branches.run import simulate_branches
 from webline.sim.branches.winder import splice_summary
@@ -21,31 +22,34 @@ REPORT = "report.html"
 
 def run_branched(source: str, seconds: float | None, scenario: str | None, out: Path | None,
                  force: bool, quiet: bool, unsupported: dict[str, bool],
-                 svg: bool = False, units: str = "si") -> None:
-    """Simulate branched line ``source`` and write its files into ``out`` (default
-    out/LINE[-SCENARIO]), each figure also as SVG with ``svg``, the report in ``units`` ('si'
-    or 'imperial'); ``unsupported``: options given that branched lines do not support yet.
-    ``quiet``: print only the report's path."""
+                 svg: bool = False, units: str = "si", sets: list[str] | None = None,
+                 data_format: str = "netcdf", precision: str = "float64") -> None:
+    """Simulate branched line ``source`` (``sets``: ``--set PATH=VALUE``, applied after
+    ``scenario``) and write its files into ``out`` (default out/LINE[-SCENARIO]): the results
+    as ``data_format`` ('netcdf': results.nc, floats as ``precision``; 'csv': results.csv;
+    ``sim.results.dataset_files``), each figure also as SVG with ``svg``, the report in
+    ``units`` ('si' or 'imperial'); ``unsupported``: options given that branched lines do not
+    support yet. ``quiet``: print only the report's path."""
     for option, given in unsupported.items():
         if given:
             raise BadInput(f"{option}: not yet supported for a branched line (stage 1: the "
                            "file's cascaded PI drives; results.nc, summary.json, the figures "
                            "and report.html)")
     display = branch_units(units)
-    line = load_branched(source)
-    if scenario:
-        line = line.with_scenario(scenario)
+    line = branched_line(source, scenario, sets)
+    name = results_name(data_format)  # type: ignore[arg-type]
     folder = open_output(out or Path("out") / (line.name + (f"-{scenario}" if scenario else "")),
-                         force, "run", ("results.nc", "summary.json", FIGURE, REPORT))
+                         force, "run", (name, "summary.json", FIGURE, REPORT))
     if seconds is None and scenario:
         seconds = line.spec.scenarios[scenario].duration
     result = simulate_branches(line, seconds, raise_on_failure=False)
     from webline.report.branch_report import write_branch_report
-    from webline.spec.load import dump_spec
 
-    results = folder.claim("results.nc")  # every output embeds its inputs: the line's spec
-    ds = result.dataset.assign_attrs(line_spec=dump_spec(line.spec))
-    atomic_write(results, lambda path: ds.to_netcdf(path, engine="h5netcdf"))
+    results = folder.claim(name)  # NetCDF: with the resolved line file (line_spec)
+    if data_format == "csv":
+        result.to_csv(results)
+    else:
+        result.to_netcdf(results, precision)  # type: ignore[arg-type]
     report = write_branch_report(result, folder.path, folder=folder, results_file=results,
                                  svg=svg, display=display).report
     folder.finish()
@@ -81,14 +85,24 @@ def branch_units(units: str) -> Display:
     return Display(units)  # type: ignore[arg-type]
 
 
-def show_branched(source: str, scenario: str | None, schematic: Path | None,
-                  units: str = "si") -> list:
-    """The tables of branched line ``source`` (``report.text.branch_tables``) in ``units``;
-    with ``schematic``, its schematic written there (PNG, or SVG/PDF by the file's suffix)."""
-    display = branch_units(units)
+def branched_line(source: str, scenario: str | None, sets: list[str] | None) -> BranchedLine:
+    """Branched line ``source`` as a command runs it: with ``scenario``, then every ``--set
+    PATH=VALUE`` of ``sets`` (``BranchedLine.replace``: a bad path or value is one line
+    naming it, exit 2)."""
+    changes = parse_sets(sets)
     line = load_branched(source)
     if scenario:
         line = line.with_scenario(scenario)
+    return line.replace(changes)
+
+
+def show_branched(source: str, scenario: str | None, schematic: Path | None,
+                  units: str = "si", sets: list[str] | None = None) -> list:
+    """The tables of branched line ``source`` (``report.text.branch_tables``) in ``units``,
+    with ``scenario`` and ``sets`` (``--set``) applied; with ``schematic``, its schematic
+    written there (PNG, or SVG/PDF by the file's suffix)."""
+    display = branch_units(units)
+    line = branched_line(source, scenario, sets)
     from webline.report.text.branch_tables import line_tables
 
     if schematic is not None:

@@ -165,7 +165,6 @@ def _load(source: str, scenario: str | None, controller: ControllerFamily | None
     """The line as a command runs it: loaded, with ``--controller``, ``--scenario`` and every
     ``--set PATH=VALUE`` applied, in that order."""
     from webline.line import load_line
-    from webline.spec.paths import parse_assignment
 
     line = load_line(source)
     if controller is not None:
@@ -174,6 +173,15 @@ def _load(source: str, scenario: str | None, controller: ControllerFamily | None
         line = with_controller(line, FAMILY_TYPES[controller.value])  # type: ignore[arg-type]
     if scenario:
         line = line.with_scenario(scenario)
+    changes = parse_sets(sets)
+    return line.replace(changes) if changes else line
+
+
+def parse_sets(sets: list[str] | None) -> dict[str, object]:
+    """``--set PATH=VALUE`` options as {path: value} (``spec.paths.parse_assignment``), in
+    the order given (a later one of the same path wins); ``BadInput`` for one without '='."""
+    from webline.spec.paths import parse_assignment
+
     changes = {}
     for text in sets or []:
         try:
@@ -181,7 +189,7 @@ def _load(source: str, scenario: str | None, controller: ControllerFamily | None
         except ValueError as exc:
             raise BadInput(f"--set: {exc}") from None
         changes[path] = value
-    return line.replace(changes) if changes else line
+    return changes
 
 
 def time_option(text: str, option: str, *, zero: bool = False) -> float:

@@ -8,6 +8,7 @@ at an unwind or ends at a rewind) and the simulation's plan reads these numbers.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
@@ -16,6 +17,7 @@ from typing import Any, NoReturn
 from webline.errors import ArgumentError, LineFileError
 from webline.spec.branched.check import kind_of
 from webline.spec.branched.schema import BranchedLineSpec, RollChangeSpec, WebPathSpec
+from webline.spec.branched.values import set_roll_radii, set_values
 from webline.spec.branched.winder import check_roll_inertias, wound_web
 from webline.spec.check import web_ea
 from webline.spec.load import (
@@ -25,7 +27,6 @@ from webline.spec.load import (
     parse_branched,
     read_any,
 )
-from webline.spec.paths import set_path
 from webline.spec.schema import DrivenSpec, IdleSpec, RewindSpec, UnwindSpec
 
 #: the notebook's view of a branched line, resolved by name when first displayed, as
@@ -273,10 +274,24 @@ class BranchedLine:
             data["scenarios"][name].pop("break_")  # (now the run's one web_break)
         if "splice" in dumped:  # a flying_splice disturbance (docs/winder.md, Flying splice)
             data["disturbances"] = [*data.get("disturbances", []), dumped["splice"]]
-        for path, value in scenario.set.items():
-            set_path(data, path, value, self.source)
+        set_roll_radii(data, dumped)  # every unwind's / rewind's (spec.branched.values)
+        set_values(data, scenario.set, self.source)  # after them: it may pick one roll
         spec = branched_from_dict(data, self.source)
         return BranchedLine(spec, self.source, scenario.roll_change, name)
+
+    def replace(self, changes: Mapping[str, object], /) -> BranchedLine:
+        """A new, checked line with the values at ``changes``' paths changed, as a scenario's
+        ``set`` writes them, units where the file takes them (``{"webs.film.web.ea": "50 kN",
+        "webs.film.spans.film_zone.tension": "140 N", "rollers.nip.radius": 0.12}``; list
+        elements by name or ``[i]``: ``webline.spec.paths``); its scenario and roll change
+        kept. Raises ``LineFileError`` naming the path that does not exist (with the closest
+        key) or the value's problem."""
+        if not changes:
+            return self
+        data = self.spec.model_dump(exclude_none=True)
+        set_values(data, changes, self.source)
+        return _checked(BranchedLine(branched_from_dict(data, self.source), self.source,
+                                     self.roll_change, self.scenario))
 
 
 def load_branched(source: BranchedLine | BranchedLineSpec | str | Path | dict[str, Any]

@@ -22,11 +22,12 @@ def linearize(line: Line | BranchedLine | str | Path, t: float | str = 0.0, *,
     ``StateSpace`` with named signals (``LinearSystem``).
 
     A single-path line: ``webline.sim.linear.linearize.linearize`` (roll radii [m] as given,
-    default initial). A branched line (``[[webs]]``): ``sim.branches.linear``, its roll radii
-    those of the file. ``loop="open"``: the plant, inputs the motor torque commands [N·m] and
-    wound-in tensions [N]; ``"closed"``: with its continuous-time cascaded PI controllers,
-    inputs the line speed reference [m/s], the tension references [N] and the wound-in
-    tensions. Outputs: span tensions [N] and web speeds [m/s].
+    default initial). A branched line (``[[webs]]``): ``sim.branches.linear``; ``unwind_radius``
+    is every unwind's radius and ``rewind_radius`` every rewind's, as a scenario's keys of
+    those names (default: the file's). ``loop="open"``: the plant, inputs the motor torque
+    commands [N·m] and wound-in tensions [N]; ``"closed"``: with its continuous-time
+    cascaded PI controllers, inputs the line speed reference [m/s], the tension references
+    [N] and the wound-in tensions. Outputs: span tensions [N] and web speeds [m/s].
     """
     from webline.spec.ranges import argument
 
@@ -35,12 +36,14 @@ def linearize(line: Line | BranchedLine | str | Path, t: float | str = 0.0, *,
         t = argument(t, "time", "t", ">=0")
         if loop not in ("open", "closed"):
             raise ArgumentError(f"loop: must be 'open' or 'closed', got {loop!r}")
-        if unwind_radius is not None or rewind_radius is not None:
-            raise ArgumentError("unwind_radius, rewind_radius: not supported for a branched "
-                                "line (its rolls' radii are the file's)")
+        from webline.model.web_graph import load_branched
         from webline.sim.branches.linear import linearize_branched
+        from webline.spec.branched.values import radius_changes
 
-        return linearize_branched(line, t, loop=loop)  # type: ignore[arg-type]
+        branched = load_branched(line)
+        branched = branched.replace(radius_changes(branched.spec, unwind_radius,
+                                                   rewind_radius))
+        return linearize_branched(branched, t, loop=loop)
     from webline.sim.linear.linearize import linearize as linearize_chain
 
     return linearize_chain(str(line) if isinstance(line, Path) else line, t, loop=loop,

@@ -26,6 +26,8 @@ from webline.version import __version__
 HTML_VIEW = "webline.report.branch_report:branch_result_html"
 
 if TYPE_CHECKING:
+    from pathlib import Path
+
     import xarray as xr
 
     from webline.sim.branches.plan import BranchPlan
@@ -144,6 +146,25 @@ class BranchResult:
         """Span tensions [N] as a pandas DataFrame: one row per record (index ``time`` [s]),
         one column per span."""
         return self.dataset["tension"].to_pandas()
+
+    def to_netcdf(self, path: str | Path, precision: Literal["float64", "float32"] = "float64"
+                  ) -> Path:
+        """Write every signal to NetCDF-4, compressed and chunked along time as a single-path
+        run's file, float signals as ``precision`` (time stays float64), the resolved line
+        file in attribute ``line_spec`` (TOML, SI), atomically. Returns the path
+        (``sim.results.dataset_files``)."""
+        from webline.sim.results.dataset_files import write_dataset
+        from webline.spec.load import dump_spec
+
+        filed = self.dataset.assign_attrs(line_spec=dump_spec(self.plan.line.spec))
+        return write_dataset(filed, path, "netcdf", precision)
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write one column per signal and element (``tension[film_zone] [N]`` ...), time
+        first, atomically. Returns the path."""
+        from webline.sim.results.dataset_files import write_dataset
+
+        return write_dataset(self.dataset, path, "csv")
 
     @cached_property
     def verdict(self) -> Verdict:

@@ -33,8 +33,6 @@ from webline.sim.linear import budget
 from webline.sim.results.metrics import METRICS, run_metrics
 from webline.sim.sweeps.cases import case_value, path_unit, probe_values
 from webline.sim.sweeps.sweep_dataset import _coordinate
-from webline.spec.load import branched_from_dict
-from webline.spec.paths import set_path, split_path
 from webline.spec.ranges import argument
 from webline.verdict import RANK
 
@@ -52,31 +50,7 @@ def derive_branched(base: BranchedLine, changes: Mapping[str, object]) -> Branch
     """``base`` with each path of ``changes`` set to its value (as a scenario's ``set``),
     validated and its topology checked as a loaded line is. Raises ``LineFileError`` naming
     the path (a path that does not exist, with the closest key) or the value's problem."""
-    if not changes:
-        return base
-    data = base.spec.model_dump(exclude_none=True)
-    for path, value in changes.items():
-        _one_stiffness(data, path)
-        set_path(data, path, value, base.source)
-    line = BranchedLine(branched_from_dict(data, base.source), base.source, base.roll_change,
-                        base.scenario)
-    _ = line.zones  # topology and zones checked now, not when the case runs
-    return line
-
-
-#: a web's stiffness is given one way: setting one of these replaces the other
-_STIFFNESS = {"modulus": "ea", "ea": "modulus"}
-
-
-def _one_stiffness(data: dict[str, Any], path: str) -> None:
-    """Setting ``webs.W.web.modulus`` on a web that gives ``ea`` (or the reverse) replaces
-    it: a web's stiffness is given one way (``ea`` would otherwise win, silently)."""
-    parts = split_path(path)
-    if len(parts) != 4 or parts[0] != "webs" or parts[2] != "web" or parts[3] not in _STIFFNESS:
-        return
-    for k, web in enumerate(data.get("webs", [])):
-        if str(parts[1]) in (web.get("name"), str(k)) and isinstance(web.get("web"), dict):
-            web["web"].pop(_STIFFNESS[str(parts[3])], None)
+    return base.replace(changes)  # BranchedLine.replace: zones checked now, not in the run
 
 
 def _seconds(base: BranchedLine, duration: float | str | None, scenario: str | None) -> float:

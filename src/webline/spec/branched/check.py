@@ -16,6 +16,7 @@ from webline.spec.branched.disturbances import check_disturbances
 from webline.spec.branched.drive_train import check_drive_train
 from webline.spec.branched.schema import BranchedLineSpec, WebPathSpec
 from webline.spec.branched.traction import check_traction
+from webline.spec.branched.values import check_roll_radii
 from webline.spec.branched.web_law import check_web_laws
 from webline.spec.branched.winder import check_splices, check_winders
 from webline.spec.dancer import DancerCarriage
@@ -73,6 +74,7 @@ def check_branched(spec: BranchedLineSpec, file: str) -> None:
     check_winders(spec, fail)
     check_splices(spec, fail)
     check_traction(spec, fail)  # traction rollers, nips, measured friction
+    check_roll_radii(spec, fail)  # scenarios' unwind_radius / rewind_radius
 
 
 def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:

@@ -59,7 +59,9 @@ class BranchedScenarioSpec(Strict):
     unwind's ``roll_change`` or ``splice`` (a ``flying_splice`` added to its disturbances);
     ``disturbances`` replace the line's; ``break``: a web break (the chain's keys,
     docs/branching.md "Web breaks"), added to the disturbances as a ``web_break``;
-    ``duration`` the default run length [s]."""
+    ``unwind_radius`` / ``rewind_radius`` [m]: the starting radius of every unwind / every
+    rewind (``spec.branched.values``), applied before ``set``; ``duration`` the default run
+    length [s]."""
 
     description: Text = ""
     duration: Time
@@ -70,6 +72,8 @@ class BranchedScenarioSpec(Strict):
     disturbances: list[DisturbanceSpec] | None = None
     # ``break`` in the file (a Python keyword); a dump writes break_, which reads back too
     break_: BreakEvent | None = Field(None, alias="break")
+    unwind_radius: Length | None = None  # every unwind's (spec.branched.values)
+    rewind_radius: Length | None = None  # every rewind's
     model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
 
 
