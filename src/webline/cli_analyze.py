@@ -65,8 +65,8 @@ def analyze(
         if figure is not None and not across_roll:
             raise BadInput("--figure: the map of the modes across the roll; give --across-roll")
         _analyze_branched(line, scenario, at, as_json, units, {
-            "--certificate": certificate, "--controller": controller is not None,
-            "--set": bool(sets)}, (points, damping, figure) if across_roll else None)
+            "--controller": controller is not None, "--set": bool(sets)},
+            (points, damping, figure) if across_roll else None, certificate)
         return
     from webline.analysis.modes import closed_loop_modes
     from webline.analysis.zone_loops import speed_leaks, zone_loops
@@ -108,11 +108,7 @@ def analyze(
         if course is not None:
             payload["modes_across_roll"] = roll_modes_values(course)
         if cert is not None:
-            payload["certificate"] = {"holds": cert.holds, "worst_ratio": cert.worst_ratio,
-                                      "max_real": cert.max_real,
-                                      "max_real_plant": cert.max_real_plant,
-                                      "sampled_radius": cert.sampled_radius,
-                                      "sections": cert.rows()}
+            payload["certificate"] = _certificate_values(cert)
         typer.echo(json.dumps(payload, indent=2, default=float))
     else:
         tables = [*operating_point_tables(loaded, point, display), modes_table(modes)]
@@ -132,10 +128,12 @@ def analyze(
 
 def _analyze_branched(source: str, scenario: str | None, at: str | None, as_json: bool,
                       units: Units, unsupported: dict[str, bool],
-                      across: tuple[int, float, str | None] | None) -> None:
+                      across: tuple[int, float, str | None] | None,
+                      certificate: bool = False) -> None:
     """``analyze`` of a branched line: operating point, closed-loop modes and the stability
     verdict (``sim.branches.linear``) in ``units``; ``unsupported``: options given that it
-    does not take; ``across``: (points, damping threshold, figure) of ``--across-roll``."""
+    does not take; ``across``: (points, damping threshold, figure) of ``--across-roll``;
+    ``certificate``: thesis Thm 6.2.1 over the tree's sections (``analysis.branch_certificate``)."""
     from webline.analysis.modes import modes_of
     from webline.model.web_graph import load_branched
     from webline.report.text.branch_analysis import point_tables, point_values
@@ -167,6 +165,7 @@ def _analyze_branched(source: str, scenario: str | None, at: str | None, as_json
     display = Display(units.value, 1.0)  # (per width: each web's own, branch_analysis)
     course = None if across is None else _branched_across_roll(line, plan, scenario, *across,
                                                                 display)
+    cert = _branched_certificate(line) if certificate else None
     verdict = Verdict.of(stability_findings(plan, point, t)
                          + (course.findings() if course is not None else []))
     spans, nodes = _branch_point_rows(plan, point)
@@ -179,6 +178,8 @@ def _analyze_branched(source: str, scenario: str | None, at: str | None, as_json
             "closed_loop_modes": [m.as_dict() for m in modes], "verdict": verdict.as_dict()}
         if course is not None:
             payload["modes_across_roll"] = rolls_modes_values(course, display)
+        if cert is not None:
+            payload["certificate"] = _certificate_values(cert)
         typer.echo(json.dumps(payload, indent=2, default=float))
     else:
         tables = [*point_tables(spans, nodes, t, display), modes_table(modes)]
@@ -188,6 +189,8 @@ def _analyze_branched(source: str, scenario: str | None, at: str | None, as_json
             tables.append(rolls_modes_table(course, display))
         print_tables(tables, _console())
         typer.echo("\n".join(verdict_lines(verdict)))
+        if cert is not None:
+            _print_certificate(cert)
     if verdict.exit_code:
         raise typer.Exit(verdict.exit_code)
 
@@ -284,6 +287,24 @@ def _certificate(line: Line) -> Certificate:
     except LineFileError as exc:
         raise BadInput(f"--certificate: thesis Thm 6.2.1 is about decentralized state feedback "
                        f"on every drive, which this line cannot run: {exc}") from None
+
+
+def _branched_certificate(line: object) -> Certificate:
+    """Thesis Thm 6.2.1 over a branched line's sections; a tree whose sections do not hold
+    all it reads (an idle junction between zones) is refused in one line, with the reason."""
+    from webline.analysis.branch_certificate import NotCertifiable, branch_certificate
+
+    try:
+        return branch_certificate(line)  # type: ignore[arg-type]
+    except NotCertifiable as exc:
+        raise BadInput(f"--certificate: {exc}") from None
+
+
+def _certificate_values(cert: Certificate) -> dict[str, object]:
+    """The certificate as plain data (JSON)."""
+    return {"holds": cert.holds, "worst_ratio": cert.worst_ratio, "max_real": cert.max_real,
+            "max_real_plant": cert.max_real_plant, "sampled_radius": cert.sampled_radius,
+            "sections": cert.rows()}
 
 
 def _print_certificate(cert: Certificate) -> None:
