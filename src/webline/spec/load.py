@@ -206,7 +206,7 @@ def branched_from_dict(data: Any, file: str = "<dict>") -> BranchedLineSpec:
 
 
 #: keys of a single-path line file that a branched line does not take yet (stage 1)
-_NOT_YET_TOP = ("checks",)
+_NOT_YET_TOP: tuple[str, ...] = ()
 _NOT_YET_SCENARIO = ("unwind_radius", "rewind_radius")
 
 

@@ -22,7 +22,8 @@ if TYPE_CHECKING:
 #: the line speed at the break after the stop ramp (the chain's W8 ``rest_fraction``)
 REST_FRACTION = 0.02
 _METHODS = {B.BREAK_TENSION: "tension below its threshold", B.BREAK_DIAMETER:
-            "the calculated diameter running the wrong way"}
+            "the calculated diameter running the wrong way",
+            B.BREAK_OVERSPEED: "overspeed of an open-loop roll at its speed limit"}
 
 
 def detection(plan: BranchPlan, istate: np.ndarray) -> dict[str, float]:

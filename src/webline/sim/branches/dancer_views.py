@@ -12,7 +12,7 @@ from webline.sim.branches.dancers import dancer_nodes, dancer_spans
 from webline.sim.branches.loop import layout as B
 from webline.sim.results.winder_states import interval_stats
 from webline.spec.branched.check import kind_of
-from webline.spec.winder import StateChecksSpec
+from webline.spec.winder import WebBreak
 from webline.verdict import Finding
 
 if TYPE_CHECKING:
@@ -42,21 +42,24 @@ def span_lengths(plan: BranchPlan, states: np.ndarray) -> np.ndarray:
 def end_stop_findings(plan: BranchPlan, time: np.ndarray, states: np.ndarray) -> list[Finding]:
     """A ``warning`` ``dancer_end_stop`` per dancer whose carriage rested on an end stop (y
     <= 0 or >= its travel) in the records ``time`` [s], ``states`` (the chain's check, with
-    its default ``checks.end_stop_time``: any touch), named by the web or lane it rides on:
-    when, how long, which stop."""
+    the line file's ``checks.end_stop_time``, up to a web break: after it the break's finding
+    speaks), named by the web or lane it rides on: when, how long, which stop."""
     line = plan.line
     if len(time) < 2:
         return []
     duration = float(time[-1] - time[0])
+    before = time < min((b.at for b in line.spec.disturbances if isinstance(b, WebBreak)),
+                        default=np.inf)
     out = []
     for i in dancer_nodes(line):
         y = states[:, int(plan.nodes[i, B.N_DSTATE])]
         travel = float(plan.nodes[i, B.N_DTRAVEL])
-        stats = interval_stats(time, (y <= 0.0) | (y >= travel), StateChecksSpec().end_stop_time)
+        stats = interval_stats(time, before & ((y <= 0.0) | (y >= travel)),
+                               line.spec.checks.end_stop_time)
         if stats is None:
             continue
         web = line.spec.webs[line.spans[dancer_spans(line, i)[0]].web]
-        low = bool(np.any(y <= 0.0))
+        low = bool(np.any(before & (y <= 0.0)))
         times = "once" if stats.count == 1 else f"{stats.count} times"
         out.append(Finding(
             "warning", "dancer_end_stop", web.name,

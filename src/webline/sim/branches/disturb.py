@@ -124,4 +124,5 @@ def break_columns(line: BranchedLine, sf: np.ndarray, df: np.ndarray) -> bool:
     df[:, B.D_BTHRESH], df[:, B.D_BSTOP] = item.threshold, item.stop_time
     df[:, B.D_BHOLD], df[:, B.D_BDIAM] = HOLDS[item.hold], item.diameter_threshold
     df[:, B.D_BBRAKE] = item.brake_torque_fraction
+    df[:, B.D_BOVER], df[:, B.D_BSTALL] = float(item.overspeed), item.standstill_tension
     return True

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from webline.sim.branches.break_verdict import break_findings, intact, without_cut_jump
+from webline.sim.branches.checks.winder_states import diameter_findings, tension_findings
 from webline.sim.branches.dancer_views import end_stop_findings, span_lengths
 from webline.sim.branches.dancers import dancer_nodes
 from webline.sim.branches.drive_trains import train_signals
@@ -185,6 +186,10 @@ class BranchResult:
         findings += break_findings(self.plan, self.time, ds["speed"].values, self.settings)
         findings += slip_findings(self.plan.line, self.plan.nodes, self.plan.si)
         findings += end_stop_findings(self.plan, self.time, self.states)
+        findings += tension_findings(self.plan, self.time, ds["tension"].values,  # [checks]
+                                     ds["radius"].values, ds["radius_calc"].values)
+        findings += diameter_findings(self.plan, self.time, ds["radius"].values,
+                                      ds["radius_calc"].values)
         limits = self.plan.df[:, B.D_LIMIT]
         for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit
             at_limit = np.nonzero(np.abs(ds["torque_cmd"].values[:, d]) >= limits[d])[0]

@@ -19,7 +19,7 @@ from webline.spec.disturbances import DisturbanceSpec, Name
 from webline.spec.quantities import Force, Length, SpeedProfile, Strict, Time, TimeNonNeg
 from webline.spec.schema import ControlSpec, RollerSpec, SpanSpec, Text, WebSpec
 from webline.spec.splice import SpliceEvent
-from webline.spec.winder import BreakEvent
+from webline.spec.winder import BreakEvent, StateChecksSpec
 
 
 class WebPathSpec(Strict):
@@ -87,3 +87,6 @@ class BranchedLineSpec(Strict):
     control: ControlSpec = ControlSpec()
     scenarios: dict[str, BranchedScenarioSpec] = Field(default_factory=dict)
     disturbances: list[DisturbanceSpec] = Field(default_factory=list)
+    #: thresholds of the verdict's winder-state findings, per web and lane zone, roll and
+    #: dancer (docs/branching.md, "Winder states in the verdict")
+    checks: StateChecksSpec = StateChecksSpec()

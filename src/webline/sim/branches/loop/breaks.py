@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.break_limits import overspeed_drive
 from webline.sim.elements.signals import jit, profile_at
 
 #: a set brake is Coulomb friction smoothed over at least the speed its load would give the
@@ -53,22 +54,27 @@ def brake_torque(brake: float, omega: float, inertia: float) -> float:
 @jit
 def break_monitor(t: float, x: np.ndarray, istate: np.ndarray, di: np.ndarray,
                   df: np.ndarray, cells: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
-                  prof_off: np.ndarray) -> float:
+                  prof_off: np.ndarray, offsets: np.ndarray, nodes: np.ndarray) -> float:
     """Look for a break once per tick, before the drives (W5): a loadcell's tension below the
-    threshold x its reference (every loadcell of every zone, in the drives' order), or a
-    speed-ratio diameter that has run the wrong way (an unwind's grown, a rewind's shrunk)
-    by more than the diameter threshold [m] from its extreme so far (W6; the radius the
-    calculator gave last tick). The first found is kept in ``istate`` (time, method, where:
-    the loadcell's span or the drive). Returns the line-speed factor of the ramp to a stop,
-    1 before the detection, falling to 0 in the stop time."""
+    threshold x its reference (every loadcell of every zone, in the drives' order, but an
+    open-loop drive's: it reads none), a speed-ratio diameter that has run the wrong way
+    (an unwind's grown, a rewind's shrunk) by more than the diameter threshold [m] from its
+    extreme so far (W6; the radius the calculator gave last tick), or an open-loop roll
+    beyond its speed limit (W7, ``loop.break_limits``). The first found is kept in
+    ``istate`` (time, method, where: the loadcell's span or the drive). Returns the
+    line-speed factor of the ramp to a stop, 1 before the detection, falling to 0 in the
+    stop time."""
     if istate[0, B.I_DETECT] < 0.0:
         method, where = 0, -1
         threshold = df[0, B.D_BTHRESH]
-        for c in range(cells.shape[0]):
-            tension = x[cells[c, 0]] if x[cells[c, 0]] > 0.0 else 0.0
-            reference = profile_at(cells[c, 1], t, prof_t, prof_v, prof_off)
-            if method == 0 and tension < threshold * reference:
-                method, where = B.BREAK_TENSION, cells[c, 0]
+        for d in range(di.shape[0]):
+            if di[d, B.DI_WINDER] == B.WINDER_OPEN:  # (no loadcell read: W5)
+                continue
+            for c in range(di[d, B.DI_CELLS], di[d, B.DI_CELLS] + di[d, B.DI_NCELLS]):
+                tension = x[cells[c, 0]] if x[cells[c, 0]] > 0.0 else 0.0
+                reference = profile_at(cells[c, 1], t, prof_t, prof_v, prof_off)
+                if method == 0 and tension < threshold * reference:
+                    method, where = B.BREAK_TENSION, cells[c, 0]
         for d in range(di.shape[0]):  # every calculator keeps its extreme, found or not
             if df[d, B.D_DCALC] == B.DCALC_SPEED_RATIO and df[d, B.D_BDIAM] > 0.0:
                 radius = istate[d, B.I_RADIUS]
@@ -81,7 +87,11 @@ def break_monitor(t: float, x: np.ndarray, istate: np.ndarray, di: np.ndarray,
                 if method == 0 and grown > df[d, B.D_BDIAM]:
                     method, where = B.BREAK_DIAMETER, d
         if method == 0:
-            return 1.0
+            where = overspeed_drive(x, istate, offsets, nodes, di, df,
+                                    profile_at(0, t, prof_t, prof_v, prof_off))
+            if where < 0:
+                return 1.0
+            method = B.BREAK_OVERSPEED
         for d in range(di.shape[0]):
             istate[d, B.I_DETECT] = t
             istate[d, B.I_METHOD] = method

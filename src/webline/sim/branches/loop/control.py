@@ -13,6 +13,11 @@ import numpy as np
 from webline.physics import motor, span, taper
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop import transmission as TR
+from webline.sim.branches.loop.break_limits import (
+    held_open_loop,
+    standstill_hold,
+    stop_acceleration,
+)
 from webline.sim.branches.loop.breaks import break_monitor, fade_trim, held_command
 from webline.sim.branches.loop.dancer import position_error
 from webline.sim.branches.loop.decentral import decentral_command, reference_changes
@@ -97,9 +102,12 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
     (``DI_FAMILY``) takes ``loop.decentral``'s command instead of the PI's (``fb``, ``refs``);
     one with a section observer (``DI_OBS``) feeds back its T̂ (``loop.observer``)."""
     v_line = profile_at(0, t, prof_t, prof_v, prof_off)
+    a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)  # (a centre winder's)
     stopping = 1.0  # the line-speed factor of the ramp to a stop after a web break (W5)
     if offsets[B.O_BREAK]:
-        stopping = break_monitor(t, x, istate, di, df, cells, prof_t, prof_v, prof_off)
+        stopping = break_monitor(t, x, istate, di, df, cells, prof_t, prof_v, prof_off,
+                                 offsets, nodes)
+        a_line = stop_acceleration(a_line, v_line, stopping, df)  # the ramp's (W8)
         v_line *= stopping
     off_r = offsets[B.O_RADIUS]
     sigma_t, sigma_v, resolution, seed, noisy = 0.0, 0.0, 0.0, 0, False
@@ -168,13 +176,16 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             gain = inertia / (
                 df[d, B.D_RATIO] * radius) / df[d, B.D_GAINNORM]
         if offsets[B.O_BREAK] and stopping == 0.0:  # stopped: the drives hold (W8)
-            cmd[d] = held_command(d, dt, v_meas, gain, istate, df)
+            if standstill_hold(d, di, df):  # an open-loop roll: its standstill torque
+                cmd[d] = held_open_loop(d, dt, v_meas, gain, radius, zone_reference(
+                    d, t, factor, di, cells, prof_t, prof_v, prof_off), istate, df)
+            else:
+                cmd[d] = held_command(d, dt, v_meas, gain, istate, df)
             continue
         comp = 0.0
         if di[d, B.DI_WINDER] != B.WINDER_NONE:  # a centre winder (docs/winder.md W3, W4)
-            comp = compensation(d, i, radius, v_meas / radius,
-                                profile_slope_at(0, t, prof_t, prof_v, prof_off), nodes, rolls,
-                                df, prof_t, prof_v, prof_off)
+            comp = compensation(d, i, radius, v_meas / radius, a_line, nodes, rolls, df,
+                                prof_t, prof_v, prof_off)
             if di[d, B.DI_WINDER] == B.WINDER_OPEN:
                 cmd[d] = open_loop(d, dt, radius, zone_reference(d, t, factor, di, cells, prof_t,
                                                                  prof_v, prof_off),

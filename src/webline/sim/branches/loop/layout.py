@@ -197,6 +197,16 @@ N_COLS += 8
 CELL_DANCER, CELL_COLS = 2, 3
 DIST_DANCER_LOAD = DIST_NOISE + 1
 
+# a stopped line's limits after a web break ([checks] and break limits, docs/branching.md
+# "Web breaks", the chain's W7-W8): drive table (float) columns at its end, the same on every
+# drive's row: 1 where the monitor watches the open-loop rolls for overspeed (a roll beyond
+# its speed limiter's limit), the standstill fraction σ of the hold (an open-loop roll's
+# torque on the tension side at most σ T_ref R / n); the monitor's method number of the
+# chain (``sim.elements.layout.BREAK_OVERSPEED``)
+D_BOVER, D_BSTALL = D_COLS, D_COLS + 1
+D_COLS += 2
+BREAK_OVERSPEED = 4
+
 # section observer (docs/branching.md, "Section observer"; loop.observer): drive table (int)
 # the observed span + 1 (0: none, the loadcell); drive table (float, fb): the gains l_T
 # [N/rad], l_ω [1/s], the EA [N] and span length [m] it assumes, the wound-in tension [N] it
