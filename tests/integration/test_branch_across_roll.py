@@ -65,6 +65,21 @@ def test_the_course_follows_each_roll_by_its_own_web_and_starts_at_analyze():
     np.testing.assert_allclose(first, listed, rtol=1e-9)
 
 
+@pytest.mark.parametrize(("scenario", "at", "new"), [("roll-change", 5.0, 0.3),
+                                                     ("flying-splice", 2.0, 0.3)])
+def test_the_course_renews_an_unwind_at_its_roll_change_or_splice(scenario, at, new):
+    # the foil (roll-change) or film (flying-splice) unwind starts at 0.1 m and is renewed
+    # at 0.3 m; before and after, (A1) from its own start: R² = R_0² - h s / π, s at 150 m/min
+    line = load_branched("laminator").with_scenario(scenario)
+    duration = float(line.spec.scenarios[scenario].duration)
+    time, length, radius = branch_roll_course(line, 11, duration)
+    j = 1 if scenario == "roll-change" else 0
+    h = (9e-6 if j else 23e-6) / math.pi
+    for t, s, r in zip(time, length, radius[:, j], strict=True):
+        expected = 0.1**2 - h * s if t < at else new**2 - h * (s - 2.5 * at)
+        assert r == pytest.approx(math.sqrt(expected), rel=1e-9), t
+
+
 def test_the_model_at_each_point_carries_the_rolls_inertia():
     """The rewind's inertia in the linear model at each point of the course is the roll's
     (6.2) at the radius (A1) gives: J = J_rot + (π/2) w ρ (R⁴ - Rc⁴), read back from the

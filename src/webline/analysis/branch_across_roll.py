@@ -14,8 +14,8 @@ sum of its layers'; a lane's: its own) each roll's radius follows (6.6), d(R²)/
 for every unwind and every rewind (each lane on a shared shaft its own radius). Without a
 scenario, s runs from 0 until the first unwind reaches its core, at the analysis time's
 references; along a scenario, s(t) = ∫ |v_ref| dt over its duration and each point is
-linearized at the references of its time; a roll change (``roll_change``) puts its unwind
-back to its new radius at its time.
+linearized at the references of its time; a roll change (``roll_change``) or an unwind's
+flying splice puts its unwind back to its new radius at its time.
 """
 
 from __future__ import annotations
@@ -118,19 +118,22 @@ def _core(line: BranchedLine, node: int) -> float:
 
 def _roll_changes(line: BranchedLine, time: np.ndarray, fine: np.ndarray,
                   wound: np.ndarray) -> np.ndarray:
-    """R² [m²] per point and roll of an unwind renewed by the scenario's ``roll_change``
-    (NaN where none): the new radius at the change, unwinding from there (A1)."""
+    """R² [m²] per point and roll of an unwind renewed by the scenario's ``roll_change`` or
+    a ``flying_splice`` disturbance (NaN where none): the new radius at its time, unwinding
+    from there (A1)."""
     out = np.full((len(time), len(line.rolls)), np.nan)
-    change = line.roll_change
-    if change is None:
-        return out
-    at = float(np.interp(change.time, fine, wound))
-    for j, roll in enumerate(line.rolls):
-        if line.spec.rollers[roll.node].name != change.roller or roll.direction > 0:
-            continue
-        h = line.materials[roll.web].thickness / math.pi
-        after = time >= change.time
-        out[after, j] = change.radius**2 - h * (np.interp(time[after], fine, wound) - at)
+    renewals = [] if line.roll_change is None else [
+        (line.roll_change.roller, line.roll_change.time, line.roll_change.radius)]
+    renewals += [(item.roll, item.at, 0.5 * item.new_diameter)
+                 for item in line.spec.disturbances if item.type == "flying_splice"]
+    for name, at, radius in renewals:
+        run = float(np.interp(at, fine, wound))
+        for j, roll in enumerate(line.rolls):
+            if line.spec.rollers[roll.node].name != name or roll.direction > 0:
+                continue
+            h = line.materials[roll.web].thickness / math.pi
+            after = time >= at
+            out[after, j] = radius**2 - h * (np.interp(time[after], fine, wound) - run)
     return out
 
 
