@@ -133,3 +133,30 @@ def test_an_observer_on_a_zone_it_cannot_observe_is_one_line(tmp_path):
     assert result.exit_code == 2, result.output
     assert "rollers[0].controller.tension_feedback" in result.output
     assert "a zone of one span" in result.output and "Traceback" not in result.output
+
+
+def test_an_observer_behind_the_nip_reads_the_layers_references_and_is_unbiased():
+    """The rewind's zone made one span (the laminate straight from the nip, 3.5 m): what it
+    carries in is the layers' sum (B2), which the observer takes at their references. A step
+    of any loadcell reference moves those references, so the linear model's observer rows
+    take them as inputs: at steady state (DC gain, -A⁻¹B) T̂ is the laminate's tension for
+    every reference input (to round-off; left out, a film step would bias T̂ by ~v_a/v_b
+    per newton)."""
+    data = _laminator(observer=False, guide=True)
+    data["rollers"] = [r for r in data["rollers"] if r["name"] != "guide_laminate"]
+    data["webs"][2]["path"] = ["nip", "rewind"]
+    data["webs"][2]["spans"] = [{"name": "laminate_zone", "length": "3.5 m",
+                                 "tension": "180 N"}]
+    next(r for r in data["rollers"] if r["name"] == "rewind")["controller"][
+        "tension_feedback"] = "observer"
+    data.pop("scenarios")
+    plan = compile_branches(load_branched(data))
+    model = branch_linear_model(plan, operating_point(plan), "closed")
+    assert np.linalg.eigvals(model.a).real.max() < 0.0
+    dc = -np.linalg.solve(model.a, model.b)
+    true, estimate = (model.states.index(n) for n in ("laminate_zone_tension",
+                                                       "rewind_tension_estimate"))
+    for name in ("film_zone_tension_ref", "foil_zone_tension_ref",
+                 "laminate_zone_tension_ref"):
+        j = model.inputs.index(name)
+        assert abs(dc[estimate, j] - dc[true, j]) < 1e-9, name

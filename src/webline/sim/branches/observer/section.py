@@ -91,7 +91,8 @@ def observer_rows(plan: BranchPlan, point: BranchPoint, kept: np.ndarray,
     with every observer's two states appended to the controller states: its (B1) and (B4)
     linear at ``point`` in the plant's kept states (``kept``: their indices in the kernel's
     state) and its own, and the drive's law reading T̂ where it read its loadcell (each row's
-    dependence on the loadcell span's state moves to T̂)."""
+    dependence on the loadcell span's state moves to T̂); the references it reads (T_in, the
+    node's other spans) move with the loadcells' references through ``plan.refs``."""
     kx, ki, kr, gx, gi, gr = matrices
     observers = [d for d in range(plan.di.shape[0]) if plan.di[d, B.DI_OBS] > 0]
     if not observers:
@@ -125,6 +126,8 @@ def observer_rows(plan: BranchPlan, point: BranchPoint, kept: np.ndarray,
         gi[t_hat, t_hat] = -arm_b * x[off_w + b] / length
         gx[t_hat, column[off_w + i]] += row[B.FB_OBS_LT]
         gi[t_hat, w_hat] = -row[B.FB_OBS_LT]
+        sensitivity = plan.refs[:len(plan.line.spans), 1:]  # per span, per loadcell reference
+        gr[t_hat, 1:] += _sources_in(plan, k) @ sensitivity * arm_a * x[off_w + a] / length
         # J dω̂/dt = ±a T̂ + n τ - b ω̂ (+ the others at their references) + J l_ω (ω - ω̂)
         inertia = float(node_inertia(i, x, plan.offsets, plan.nodes, plan.rolls))
         sign = 1.0 if a == i else -1.0
@@ -134,6 +137,12 @@ def observer_rows(plan: BranchPlan, point: BranchPoint, kept: np.ndarray,
         slope = row[B.FB_BMODEL] + row[B.FB_BMOTOR] + _coulomb_slope(plan, i, x[off_w + i])
         gi[w_hat, w_hat] = -slope / inertia - row[B.FB_OBS_LW]
         gx[w_hat, column[off_w + i]] += row[B.FB_OBS_LW]
+        for other in range(len(plan.line.spans)):  # the node's other spans: their references
+            if other != k and i in (plan.si[other, B.S_A], plan.si[other, B.S_B]):
+                end = B.S_ARMA if plan.si[other, B.S_A] == i else B.S_ARMB
+                side = 1.0 if end == B.S_ARMA else -1.0
+                gr[w_hat, 1:] += side * _arm(plan, x, other, i, end) * sensitivity[other] / (
+                    inertia)
     return kx, ki, kr, gx, gi, gr
 
 
@@ -153,6 +162,21 @@ def _reference_in(plan: BranchPlan, x: np.ndarray, k: int, row: np.ndarray) -> f
     if src == B.SRC_PREVIOUS:
         return float(x[frm])
     return float(plan.sf[k, B.SF_SHARE] * x[frm])
+
+
+def _sources_in(plan: BranchPlan, k: int) -> np.ndarray:
+    """∂T_in/∂T_s [-] of what the observer takes carried into span ``k``, per span s (none
+    for a wound-in tension: the observer holds its plan value)."""
+    out = np.zeros(len(plan.line.spans))
+    src, frm = int(plan.si[k, B.S_SRC]), int(plan.si[k, B.S_FROM])
+    if src == B.SRC_LAYERS:
+        for j in range(int(plan.si[k, B.S_COUNT])):
+            out[plan.layers[frm + j]] += 1.0
+    elif src == B.SRC_PREVIOUS:
+        out[frm] = 1.0
+    elif src != B.SRC_WOUND:
+        out[frm] = plan.sf[k, B.SF_SHARE]
+    return out
 
 
 def _coulomb_slope(plan: BranchPlan, i: int, omega: float) -> float:
