@@ -17,6 +17,23 @@ from webline.errors import WeblineError
 # the twin and simulation layers load inside the commands, so that --help stays fast
 
 
+#: why a command refuses a branched line: {command: reason}
+SINGLE_PATH_ONLY = {
+    "replay": "a twin's traces drive and are matched to a single-path line's signals",
+    "fit": "a twin's traces drive and are matched to a single-path line's signals",
+}
+
+
+def refuse_branched(command: str, line: str) -> None:
+    """One line, exit 2, where ``line`` is a branched line and ``command`` takes only
+    single-path lines (``SINGLE_PATH_ONLY``)."""
+    from webline.model.web_graph import source_is_branched
+
+    if source_is_branched(line):
+        raise BadInput(f"{line}: webs: webline {command}: not yet supported for a branched "
+                       f"line ([[webs]]): {SINGLE_PATH_ONLY[command]} (docs/branching.md)")
+
+
 def _uncertain(texts: list[str]) -> dict[str, str]:
     out = {}
     for text in texts:
@@ -59,13 +76,12 @@ def tune_command(
     """Tune LINE's controllers: lowest tension error over the scenarios, every margin,
     torque limit and robustness constraint held. Exit 0 when every constraint holds, 1 when
     one does not (the files say which)."""
-    from webline.line import load_line
-    from webline.twin.tuning.tune import tune
+    from webline.twin.tuning.tune import line_ops, tune
     from webline.twin.tuning.tune_output import FILES, write_tune
     from webline.twin.tuning.tune_robust import fit_uncertain
     from webline.twin.tuning.tune_space import parse_free
 
-    base = load_line(line)
+    base = line_ops(line).load(line)  # a single-path or a branched line (docs/branching.md)
     space = None if not free else [parse_free(base, text) for text in free]
     dists: dict[str, Any] | None = None
     notes: list[str] = []
@@ -104,13 +120,21 @@ def experiment_command(
 ) -> None:
     """Simulate an identification test on LINE and write the traces to record."""
     from webline.line import load_line
+    from webline.model.web_graph import load_branched, source_is_branched
     from webline.twin.tuning.experiment import EXPERIMENTS, plan_experiment, write_experiment
+    from webline.twin.tuning.experiment_branched import PLANNERS, write_branched_experiment
 
-    base = load_line(line)
+    branched = source_is_branched(line)  # the same tests on its drives and zones
+    base: Any = load_branched(line) if branched else load_line(line)
+    write = write_branched_experiment if branched else write_experiment
+
+    def planned(key: str) -> Any:
+        return PLANNERS[key](base) if branched else plan_experiment(base, key)
+
     if list_:
         for key, experiment in EXPERIMENTS.items():
             try:
-                duration = f"{plan_experiment(base, key).duration:g} s on {base.name}"
+                duration = f"{planned(key).duration:g} s on {base.name}"
             except WeblineError as exc:  # the test does not apply to this line
                 duration = f"not on {base.name}: {exc}"
             typer.echo(f"{key}: {experiment.title}; identifies "
@@ -123,7 +147,7 @@ def experiment_command(
         raise BadInput(f"no experiment named {name!r}; known: {', '.join(EXPERIMENTS)}")
     folder = open_output(out or Path("out") / f"experiment-{name}", force, "experiment",
                          ("results.csv", "experiment.json"))
-    plan, result = write_experiment(base, name, folder.path, folder.claim)
+    plan, result = write(base, name, folder.path, folder.claim)
     folder.finish()
     typer.echo(f"{name} on {base.name}: {plan.duration:g} s; identifies "
                f"{'; '.join(plan.experiment.identifies)}")

@@ -13,6 +13,7 @@ import typer
 from rich.markup import escape
 
 from webline.cli_common import LineArg, ScenarioOpt, _console, open_output
+from webline.cli_tune import refuse_branched
 from webline.errors import ArgumentError
 
 if TYPE_CHECKING:
@@ -71,6 +72,7 @@ def replay_command(
     from webline.twin.fitting.report import write_replay_report
     from webline.twin.traces.replay import replay
 
+    refuse_branched("replay", line)
     measurements = _data(data, line, scenario, maps)
     result = replay(measurements.line, measurements)
     target = out or Path(default_folder(result.line.name, "replay"))
@@ -111,6 +113,7 @@ def fit_command(
     from webline.twin.fitting.fit_files import write_fit_files
     from webline.twin.fitting.report import write_fit_report
 
+    refuse_branched("fit", line)
     bounds = parse_pairs(free, "--free")
     measurements = _data(data, line, scenario, maps)
     from webline.line import load_line

@@ -59,10 +59,8 @@ CASES = [
      "rollers[4].inertia", "a differential shaft's lanes turn on their own cores"),
     (LAMINATOR, lambda d: d["control"].__setitem__("tension_ramp", {
         "standstill": 1.5, "time": "2 s"}), "control.tension_ramp.standstill", ""),
-    (LAMINATOR, _scenario_splice(roll="rewind"), "scenarios.splice.splice.roll",
-     "a rewind's flying splice is not yet supported on a branched line"),
     (LAMINATOR, _scenario_splice(roll="nip"), "scenarios.splice.splice.roll",
-     "must name an unwind of this line ('unwind_film', 'unwind_foil')"),
+     "must name an unwind or a rewind of this line ('unwind_film', 'unwind_foil', 'rewind')"),
     (LAMINATOR, _scenario_splice(new_diameter="0.1 m"),
      "scenarios.splice.splice.new_diameter", "must exceed the core's diameter 0.1524 m"),
     (LAMINATOR, _scenario_splice(speed_mismatch=0.9),

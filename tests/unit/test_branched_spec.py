@@ -66,7 +66,7 @@ def test_load_line_refuses_a_branched_line_in_one_line():
 def _set_dancer(d):
     d["rollers"][1]["type"] = "dancer"
     d["rollers"][1]["dancer"] = {"mass": "5 kg", "travel": "0.2 m", "position": "0.1 m",
-                                 "use": "none"}  # (position control is supported)
+                                 "use": "tension"}  # (a sensor without its spring)
 
 
 CASES = [  # (base, change, key in the message, fragment of the problem)
@@ -84,8 +84,8 @@ CASES = [  # (base, change, key in the message, fragment of the problem)
      "webs[2].path[0]", "starts at the roller where its layers end"),
     (LAMINATOR, lambda d: d["rollers"][4].update(role="tension"), "rollers",
      "exactly one master roller, found 0"),
-    (LAMINATOR, _set_dancer, "rollers[1].dancer.use",
-     "not yet supported on a branched line (stage 1: dancers in position control"),
+    (LAMINATOR, _set_dancer, "rollers[1].dancer.stiffness",
+     "a dancer as tension sensor needs a spring (stiffness > 0)"),
     (LAMINATOR, lambda d: d["rollers"][0].__setitem__("controller", {
         "type": "python", "function": "m:f"}),
      "rollers[0].controller.type", "not yet supported on a branched line"),

@@ -164,7 +164,7 @@ def spec_from_dict(data: Any, file: str = "<dict>") -> LineSpec:
         raise LineFileError(file, "(top level)", "a line file must be a table of keys")
     if "webs" in data:
         raise LineFileError(file, "webs", "a branched line ([[webs]]): not yet supported "
-                            "here (webline run, validate and analyze; in Python "
+                            "here (webline run, validate, analyze, tune and experiment; in Python "
                             "webline.load_branched, webline.simulate and webline.linearize; "
                             "docs/branching.md)")
     try:  # forces per width (pli, N/m) need the web's width: read it first

@@ -19,11 +19,36 @@ if TYPE_CHECKING:
     from webline.sim.branches.plan import BranchPlan
 
 
-def place_carriages(plan: BranchPlan, x: np.ndarray) -> None:
-    """Every carriage at its set position, at rest, in the state ``x``."""
-    for i in dancer_nodes(plan.line):
+def place_carriages(plan: BranchPlan, x: np.ndarray, refs: np.ndarray,
+                    held: np.ndarray) -> None:
+    """Every carriage at rest in the state ``x``: at its set position, or a tension sensor's
+    where it reads its loop's reference, y = y_set + (load - G T_ref)/k (D2 with the loop at
+    rest: G = g_in + g_out); ``refs`` [N] the loadcell spans' references, ``held`` the held
+    inputs (``BranchPlan.held``: the loads last). A passive carriage is placed after the
+    solve (``settle_passive``): its place follows from the tensions."""
+    dancers = dancer_nodes(plan.line)
+    for n, i in enumerate(dancers):
         state = int(plan.nodes[i, B.N_DSTATE])
         x[state], x[state + 1] = plan.nodes[i, B.N_DSET], 0.0
+        read = np.flatnonzero((plan.cells[:, B.CELL_DANCER] == i)
+                              & (plan.cells[:, B.CELL_SENSOR] == 1))
+        if len(read):
+            load = held[len(held) - len(dancers) + n]
+            k = int(plan.cells[read[0], 0])
+            x[state] += (load - plan.nodes[i, B.N_DGSUM] * refs[k]) / plan.nodes[i, B.N_DK]
+
+
+def settle_passive(plan: BranchPlan, x: np.ndarray, dx: np.ndarray) -> None:
+    """Move each passive sprung carriage (read by no drive) of the steady state ``x`` to
+    where its forces balance: ``dx`` the rates at x, its carriage's M dv/dt = load - g_in T_in
+    - g_out T_out - k (y - y_set) linear in y (the steady tensions do not depend on the
+    spans' lengths), so y += M dv/dt / k. An air-loaded one (k = 0) stays at its set position
+    (its load balances the tensions there, or nowhere within its travel)."""
+    for i in dancer_nodes(plan.line):
+        if i in plan.cells[:, B.CELL_DANCER] or plan.nodes[i, B.N_DK] == 0.0:
+            continue
+        state = int(plan.nodes[i, B.N_DSTATE])
+        x[state] += dx[state + 1] / plan.nodes[i, B.N_DINVM] / plan.nodes[i, B.N_DK]
 
 
 def span_lengths(plan: BranchPlan, states: np.ndarray) -> np.ndarray:
@@ -81,35 +106,47 @@ def linear_states(plan: BranchPlan) -> tuple[np.ndarray, list[str]]:
     return np.arange(plan.offsets[B.O_DANCER], plan.offsets[B.O_DANCER_END], dtype=np.int64), names
 
 
-def position_row(plan: BranchPlan, c: int, keep: np.ndarray) -> np.ndarray | None:
-    """Row over the kept states ``keep`` of what cell ``c``'s drive reads from its dancer
-    in position control, y - y_set (its loop's error, in place of T_ref - T); None for a
-    loadcell."""
+def reading_row(plan: BranchPlan, c: int,
+                keep: np.ndarray) -> tuple[np.ndarray, float] | None:
+    """What cell ``c``'s drive adds to its loop's error from its dancer, linear over the kept
+    states ``keep`` and the cell's reference: (row, coefficient on the reference). Position
+    control: e_t = y - y_set; a tension sensor: e_t = T_ref - (load - k (y - y_set))/G, the
+    default load G T_ref (``load_rows``) cancelling the reference. None for a loadcell."""
     node = int(plan.cells[c, B.CELL_DANCER])
     if node < 0:
         return None
     row = np.zeros(len(keep))
     row[int(np.flatnonzero(keep == int(plan.nodes[node, B.N_DSTATE]))[0])] = 1.0
-    return row
+    if not plan.cells[c, B.CELL_SENSOR]:
+        return row, 0.0
+    gain = plan.nodes[node, B.N_DGSUM]
+    load = _load_row(plan, node)
+    follows = load[B.DS_B] if int(load[B.DS_A]) == int(plan.cells[c, 1]) else 0.0
+    return plan.nodes[node, B.N_DK] / gain * row, 1.0 - follows / gain
+
+
+def _load_row(plan: BranchPlan, node: int) -> np.ndarray:
+    """The ``DIST_DANCER_LOAD`` row of the dancer on ``node`` (the loads come last)."""
+    rows = plan.dist[plan.dist[:, B.DS_KIND] == B.DIST_DANCER_LOAD]
+    return rows[dancer_nodes(plan.line).index(node)]
 
 
 def load_column(plan: BranchPlan, c: int, keep: np.ndarray) -> np.ndarray:
-    """d(dx/dt)/d(reference of cell ``c``) over the kept states through a dancer's default
-    load, (g_in + g_out) x the zone's reference (``load_rows``; through a taper, x f(D) at
-    the rolls' starting radii): (g_in + g_out) f / M on its carriage's speed; zeros for a
-    loadcell or a load given in the file."""
+    """d(dx/dt)/d(reference of cell ``c``) over the kept states through the default loads
+    that follow it, (g_in + g_out) x the zone's reference (``load_rows``; through a taper, x
+    f(D) at the rolls' starting radii): (g_in + g_out) f / M on each such carriage's speed,
+    whatever the dancer's use; zeros where no load follows it (a load given in the file)."""
     column = np.zeros(len(keep))
-    node = int(plan.cells[c, B.CELL_DANCER])
-    if node < 0:
-        return column
-    rows = plan.dist[plan.dist[:, B.DS_KIND] == B.DIST_DANCER_LOAD]
     dancers = dancer_nodes(plan.line)
-    slot = len(plan.wound) - len(dancers) + dancers.index(node)  # the loads come last
-    row = rows[rows[:, B.DS_INDEX] == slot][0]
-    if int(row[B.DS_A]) == int(plan.cells[c, 1]):  # the default load follows the reference
+    held = plan.held(0.0)
+    for n, node in enumerate(dancers):
+        row = _load_row(plan, node)
+        if int(row[B.DS_A]) != int(plan.cells[c, 1]):
+            continue
+        slot = len(plan.wound) - len(dancers) + n
         speed = int(plan.nodes[node, B.N_DSTATE]) + 1
         reference = plan.profile(int(row[B.DS_A]), 0.0)
-        taper = plan.held(0.0)[slot] / (row[B.DS_B] * reference) if reference else 1.0
+        taper = held[slot] / (row[B.DS_B] * reference) if reference else 1.0
         column[int(np.flatnonzero(keep == speed)[0])] = (
             taper * row[B.DS_B] * plan.nodes[node, B.N_DINVM])
     return column

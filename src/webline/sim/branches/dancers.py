@@ -4,9 +4,10 @@ loop of its zone's drive and the carriage's place at the operating point.
 
 A dancer roller on node i carries two states after every other block, its carriage position
 y [m] and speed [m/s]; the span into it and the span out of it (on the one web that wraps
-it) are L + g (y - y_set) long (D0). Its zone is the tension zone that holds those spans; in
-position control (the only use a branched line takes yet) the zone's drive trims its speed
-on y - y_set instead of its loadcells' tension error.
+it) are L + g (y - y_set) long (D0). Its zone is the tension zone that holds those spans; by
+its ``use`` the zone's drive trims its speed on y - y_set (``"position"``) or on the
+reference less the tension the carriage's balance reads (``"tension"``) instead of its
+loadcells' tension error; ``"none"``: the carriage moves passively, the loadcells measure.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from webline.control.zone_tuning import KP_SPANS, tension_gains
 from webline.errors import LineFileError
 from webline.model.web_graph import BranchedLine, Zone
 from webline.profiles import breakpoints
@@ -84,34 +86,39 @@ def dancer_columns(line: BranchedLine, offsets: np.ndarray, nodes: np.ndarray, s
         row[B.N_DSET], row[B.N_DTRAVEL] = c.position, c.travel
         row[B.N_DSTOP] = c.stop_stiffness
         row[B.N_DSTOPC] = 2.0 * STOP_DAMPING_RATIO * math.sqrt(c.stop_stiffness * mass)
+        row[B.N_DGSUM] = g_in + g_out
         si[into, B.S_DANCEB], si[into, B.S_DOUT], sf[into, B.SF_GAINB] = state, out, g_in
         si[out, B.S_DANCEA], sf[out, B.SF_GAINA] = state, g_out
 
 
 def zone_cells(line: BranchedLine, zone: Zone | None,
-               ref_of: dict[int, int]) -> list[tuple[int, int, int]]:
-    """The ``cells`` rows (span, reference profile, dancer node) of the drive of ``zone``:
-    its loadcells (dancer -1), or one row reading the position of the zone's dancer (with
-    the loadcell span whose reference sets the dancer's default load, for the reports)."""
+               ref_of: dict[int, int]) -> list[tuple[int, int, int, int]]:
+    """The ``cells`` rows (span, reference profile, dancer node, 1 for a tension sensor) of
+    the drive of ``zone``: its loadcells (dancer -1), or one row reading the zone's dancer in
+    position control or as tension sensor (with the loadcell span whose reference sets the
+    dancer's default load and, for a sensor, the loop's reference). A passive dancer (``use =
+    "none"``) leaves the loadcells to the loop."""
     if zone is None:
         return []
-    dancers = [i for i in dancer_nodes(line) if dancer_zone(line, i).node == zone.node]
+    dancers = [i for i in dancer_nodes(line) if dancer_zone(line, i).node == zone.node
+               and _carriage(line, i).use != "none"]
     if len(dancers) > 1:
-        raise LineFileError(line.source, f"rollers[{dancers[1]}].dancer", "a second dancer in "
-                            f"the zone of {line.spec.rollers[zone.node].name!r}: its drive "
-                            "holds one dancer's position")
+        raise LineFileError(line.source, f"rollers[{dancers[1]}].dancer.use", "a second "
+                            f"dancer read by the drive of {line.spec.rollers[zone.node].name!r}"
+                            " (its loop reads one dancer; make the others use = 'none')")
     if dancers:
         i = dancers[0]
+        use = _carriage(line, i).use
         drive = line.spec.rollers[zone.node]
         winder = getattr(drive, "winder", None)
         if not isinstance(getattr(drive, "controller", None), CascadedPISpec) or (
                 winder is not None and winder.mode == "open_loop"):
-            raise LineFileError(line.source, f"rollers[{i}].dancer.use", "position control "
+            raise LineFileError(line.source, f"rollers[{i}].dancer.use", f"{use} control "
                                 f"trims the speed of a cascaded PI; {drive.name!r} runs "
                                 "another controller or open-loop tension")
         k = _zone_loadcell(line, zone, i)  # (its reference: the default load's, D2)
-        return [(k, ref_of[k], i)]
-    return [(k, ref_of[k], -1) for k in zone.loadcells]
+        return [(k, ref_of[k], i, int(use == "tension"))]
+    return [(k, ref_of[k], -1, 0) for k in zone.loadcells]
 
 
 def _zone_loadcell(line: BranchedLine, zone: Zone, i: int) -> int:
@@ -139,21 +146,62 @@ def load_rows(line: BranchedLine, first_slot: int, profiles: list[Any],
     return np.array(rows, dtype=float).reshape(-1, B.DS_COLS)
 
 
-def position_gains(line: BranchedLine, di: np.ndarray, df: np.ndarray, cells: np.ndarray,
-                   zone_compliance: Callable[[BranchedLine, int], float]) -> None:
-    """The position loops' PI gains [(m/s)/m, (m/s)/(m·s)] in the drive table ``df``: the
-    zone's tension gains scaled by EA/L_zone over G, G = 1/(g + k C/g) the carriage travel
-    per metre of web stored (the chain's Z2, ``control.zone_tuning.position_gain``; C the
-    zone's L/EA [m/N], ``zone_compliance``), unless the file gives ``position_kp`` /
-    ``position_ki``."""
+def zone_gains(line: BranchedLine, di: np.ndarray, df: np.ndarray, cells: np.ndarray,
+               zone_compliance: Callable[[BranchedLine, int], float]) -> None:
+    """The tension loops' PI gains in the drive table ``df`` of every zone with a dancer,
+    for the stiffness the loop works against (the chain's Z1-Z4, ``control.zone_tuning``;
+    C_s the zone's spans' L/EA [m/N], ``zone_compliance``; G = g_in + g_out):
+
+    - position control: the zone's tension gains scaled by (1/C_s)/G_p, G_p = 1/(G + k C/G)
+      the carriage travel per metre of web stored, C = C_s plus the passive dancers' G²/k
+      (Z2), unless the file gives ``position_kp`` / ``position_ki``;
+    - tension sensor (Z1): placed on K = 1/C, C = C_s + Σ G²/k over the zone's dancers;
+    - a loadcell beside passive dancers (Z4): on K = 1/C and their dampers c_e = K² Σ G² c /
+      k², kp within ``KP_SPANS`` x the spans' own design;
+
+    the file's tension gains are kept where it gives them; a zone with an air-loaded passive
+    dancer (k = 0: its load sets the tension) keeps the spans' design."""
     for d, i in enumerate(line.drives):
-        first = int(di[d, B.DI_CELLS])
-        if di[d, B.DI_NCELLS] == 0 or cells[first, B.CELL_DANCER] < 0:
+        if i not in line.zones or di[d, B.DI_NCELLS] == 0 or df[d, B.D_SIGMA] == 0.0:
             continue
-        c = _carriage(line, int(cells[first, B.CELL_DANCER]))
-        compliance = zone_compliance(line, i)
-        g = sum(c.gains)
-        scale = (g + c.stiffness * compliance / g) / compliance
+        mine = [n for n in dancer_nodes(line) if dancer_zone(line, n).node == i]
+        if not mine:
+            continue
+        first = int(di[d, B.DI_CELLS])
+        reader = int(cells[first, B.CELL_DANCER])
+        spans = zone_compliance(line, i)
+        others = spans + sum(_stored_per_newton(line, n) for n in mine if n != reader)
         row = df[d]
-        row[B.D_KPT] = scale * row[B.D_KPT] if c.position_kp is None else c.position_kp
-        row[B.D_KIT] = scale * row[B.D_KIT] if c.position_ki is None else c.position_ki
+        if reader >= 0 and not cells[first, B.CELL_SENSOR]:  # position control (Z2)
+            c = _carriage(line, reader)
+            g = sum(c.gains)
+            scale = (g + c.stiffness * others / g) / spans
+            if math.isfinite(scale):
+                row[B.D_KPT] = scale * row[B.D_KPT] if c.position_kp is None else c.position_kp
+                row[B.D_KIT] = scale * row[B.D_KIT] if c.position_ki is None else c.position_ki
+            continue
+        controller = line.spec.rollers[i].controller  # type: ignore[union-attr]
+        if not isinstance(controller, CascadedPISpec):
+            continue
+        compliance = others + (_stored_per_newton(line, reader) if reader >= 0 else 0.0)
+        if not math.isfinite(compliance):
+            continue  # an air-loaded dancer sets the tension: the spans' design stays
+        bandwidth, damping = controller.tension_bandwidth, controller.damping
+        if reader >= 0:  # the sensor reads its spring's force only (Z1)
+            kp, ki = tension_gains(1.0 / compliance, 0.0, bandwidth, damping)
+        else:  # a loadcell feels the passive carriages' dampers too (Z4)
+            damper = sum(sum(_carriage(line, n).gains) ** 2 * _carriage(line, n).damping
+                         / _carriage(line, n).stiffness ** 2 for n in mine) / compliance**2
+            kp, ki = tension_gains(1.0 / compliance, damper, bandwidth, damping,
+                                   KP_SPANS * 2.0 * damping * bandwidth * spans)
+        if controller.tension_kp is None:
+            row[B.D_KPT] = kp
+        if controller.tension_ki is None:
+            row[B.D_KIT] = ki
+
+
+def _stored_per_newton(line: BranchedLine, i: int) -> float:
+    """G²/k [m/N] of the dancer on node ``i`` (Z1): the web its carriage stores per newton
+    of tension lost, G = g_in + g_out; inf on an air-loaded one (k = 0)."""
+    c = _carriage(line, i)
+    return math.inf if c.stiffness == 0.0 else sum(c.gains) ** 2 / c.stiffness

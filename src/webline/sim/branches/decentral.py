@@ -158,7 +158,7 @@ def prepare(plan: BranchPlan) -> list[SectionDesign | None]:
     refs[:n_s, 0] = point.x[:n_s]
     refs[n_s:n_s + n_d, 0] = point.ratio * point.line_speed
     refs[-2, 0] = point.line_speed
-    for c, (k, p, _) in enumerate(plan.cells):
+    for c, (k, p, *_) in enumerate(plan.cells):
         refs[-2, 1 + c] = point.x[k]
         prof_v = plan.prof_v.copy()
         prof_v[plan.prof_off[p]:plan.prof_off[p + 1]] += 1.0

@@ -24,7 +24,7 @@ from scipy.optimize import root
 from webline.errors import SimulationError
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
-from webline.sim.branches.dancer_views import place_carriages
+from webline.sim.branches.dancer_views import place_carriages, settle_passive
 from webline.sim.branches.drive_trains import steady_trains
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import taper_at
@@ -60,7 +60,7 @@ def _references(plan: BranchPlan, t: float, radii: np.ndarray | None = None) -> 
         if plan.offsets[B.O_RAMP] >= 0:  # the tension ramp at start and stop (R1)
             factor *= plan.profile(int(plan.offsets[B.O_RAMP]), t)
         first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
-        for k, p, _ in plan.cells[first:first + count]:
+        for k, p, *_ in plan.cells[first:first + count]:
             refs[k] = factor * plan.profile(int(p), t)
     return refs
 
@@ -95,7 +95,8 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
     x = np.zeros(plan.n_x)
     for j, roll in enumerate(plan.line.rolls):
         x[off_r + j] = roll.radius if radii is None else radii[j]
-    place_carriages(plan, x)  # a position loop holds each carriage at its set position
+    held = plan.held(t)  # wound-in tensions and drags at t (ripples: their mean, 0)
+    place_carriages(plan, x, refs, held)  # where each dancer's loop holds its carriage
     arms = plan.nodes[:, B.N_RADIUS].copy()
     for d in range(n_d):
         j = plan.di[d, B.DI_ROLL]
@@ -109,7 +110,6 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
     c_scale = w_scale[plan.cores[:, B.C_NODE]]
     tq_scale = t_scale * plan.nodes[plan.di[:, B.DI_NODE], B.N_RADIUS]
     master = plan.line.master
-    held = plan.held(t)  # wound-in tensions and drags at t (ripples: their mean, 0)
 
     def state(z: np.ndarray) -> np.ndarray:
         x[:n_s] = z[:n_s] * t_scale
@@ -166,7 +166,9 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
     if not found.success or np.max(np.abs(residual(found.x))) > 1e-9:
         raise SimulationError(f"{plan.line.name}: no steady operating point found at "
                               f"{speed:.4g} m/s ({found.message})")
-    return state(found.x).copy()
+    rhs(state(found.x), cmd, held, *tables, dx, work)
+    settle_passive(plan, x, dx)  # a passive carriage where its forces balance
+    return x.copy()
 
 
 def operating_point(plan: BranchPlan, t: float = 0.0, *,

@@ -20,7 +20,7 @@ import numpy as np
 
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches.dancer_views import linear_states as dancer_linear_states
-from webline.sim.branches.dancer_views import load_column, position_row
+from webline.sim.branches.dancer_views import load_column, reading_row
 from webline.sim.branches.decentral import ensure_prepared, linear_rows
 from webline.sim.branches.drive_trains import train_states
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
@@ -172,15 +172,12 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
             first = int(plan.di[d, B.DI_CELLS])
             for c in range(first, first + int(plan.di[d, B.DI_NCELLS])):
                 k = int(plan.cells[c, 0])
-                position = position_row(plan, c, kept)
-                if position is not None:  # a dancer in position control: e_t = y - y_set
-                    ev_x += row[B.D_SIGMA] * row[B.D_KPT] * position
-                    gx[q_t] += row[B.D_KIT] * position
-                    continue
-                ev_x -= row[B.D_SIGMA] * row[B.D_KPT] * felt[k]  # the loadcell reads T
-                ev_r[1 + c] += row[B.D_SIGMA] * row[B.D_KPT]
-                gx[q_t] -= row[B.D_KIT] * felt[k]
-                gr[q_t, 1 + c] = row[B.D_KIT]
+                reading = reading_row(plan, c, kept)  # a dancer's position or tension
+                on_x, on_ref = (-felt[k], 1.0) if reading is None else reading  # (a loadcell)
+                ev_x += row[B.D_SIGMA] * row[B.D_KPT] * on_x
+                ev_r[1 + c] += row[B.D_SIGMA] * row[B.D_KPT] * on_ref
+                gx[q_t] += row[B.D_KIT] * on_x
+                gr[q_t, 1 + c] = row[B.D_KIT] * on_ref
         gain = 1.0
         if row[B.D_ADAPTIVE] > 0.0:  # the speed gains follow the roll's inertia
             inertia = node_inertia(i, point.x, plan.offsets, plan.nodes, plan.rolls) + (

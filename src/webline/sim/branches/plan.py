@@ -17,8 +17,8 @@ from webline.sim.branches.dancers import (
     dancer_columns,
     dancer_nodes,
     load_rows,
-    position_gains,
     zone_cells,
+    zone_gains,
 )
 from webline.sim.branches.disturb import break_columns, disturbance_table, eccentricities
 from webline.sim.branches.drive_trains import brake_rows, train_columns, tuning_inertia
@@ -210,7 +210,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
             wound[w] = first.wound_in_tension
     di = np.zeros((n_d, B.DI_COLS), dtype=np.int64)
     df = np.zeros((n_d, B.D_COLS))
-    cells: list[tuple[int, int, int]] = []
+    cells: list[tuple[int, int, int, int]] = []
     for d, i in enumerate(line.drives):
         zone = line.zones.get(i)
         di[d, B.DI_NODE] = i
@@ -256,7 +256,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
                       np.zeros((n_d, B.FB_COLS)),
                       np.zeros((n_s + n_d + 2, 1 + len(cells))))
     _tune(plan)
-    position_gains(line, plan.di, plan.df, plan.cells, zone_compliance)
+    zone_gains(line, plan.di, plan.df, plan.cells, zone_compliance)
     return plan
 
 

@@ -74,12 +74,23 @@ def splice_rows(line: BranchedLine, dt: float) -> list[list[float]]:
     """Event rows (``layout`` E_*) of ``line``'s flying splices, at their ticks' times."""
     rows = []
     for item in splices(line):
-        node = line.node_index[item.roll]
-        j = next(j for j, r in enumerate(line.rolls) if r.node == node)
+        j = spliced_roll(line, line.node_index[item.roll])
         rows.append([splice_tick(item.at, dt) * dt, j, item.new_diameter / 2.0, 0.0,
                      line.rolls[j].web, B.EVENT_SPLICE, 1.0 + item.speed_mismatch,
                      item.slack])
     return rows
+
+
+def spliced_roll(line: BranchedLine, node: int) -> int:
+    """The roll whose web speed a splice of the roll on ``node`` matches: the one its drive
+    measures speed on (on a rewind's shaft of lanes, the first loadcell's lane), else the
+    node's first roll."""
+    zone = line.zones.get(node)
+    for k in zone.loadcells if zone is not None else ():
+        j = line.roll_of(node, line.spans[k].web)
+        if j >= 0:
+            return j
+    return next(j for j, r in enumerate(line.rolls) if r.node == node)
 
 
 def initial_compensation(plan: Any, point: Any) -> np.ndarray:
@@ -105,7 +116,7 @@ def initial_compensation(plan: Any, point: Any) -> np.ndarray:
 def splice_findings(line: BranchedLine, dt: float, time: np.ndarray,
                     tension: np.ndarray) -> list[Finding]:
     """A ``warning`` ``splice_slack`` for each flying splice after which a span of the
-    spliced unwind's tension zone went slack (tension <= 0 N) before the next splice or the
+    spliced roll's tension zone went slack (tension <= 0 N) before the next splice or the
     end of the run (the chain's ``sim.results.splice_findings``): where, when (the first slack
     record [s]) and how long (the records' time slack, summed [s]). ``time`` [s] and
     ``tension`` [N] (records x spans) are the run's records."""
@@ -180,7 +191,7 @@ def wound_density(line: BranchedLine, j: int) -> float:
 def splice_summary(result: Any) -> list[dict[str, object]]:
     """What each flying splice of a run (``result``: a ``BranchResult``) did, as the chain's
     report says it (docs/winder.md S4): its instant [s], the largest tension change [N] in the
-    unwind's zone after it (against the last record before it, up to the next splice or the
+    roll's zone after it (against the last record before it, up to the next splice or the
     end) with its span and delay [s]; the old roll as it left the web (radius [m], speed
     [rad/s], inertia [kg·m²]) and the least time its drive needs to stop it at its torque
     limit, J ω / (n τ_max) [s]; the least time the new roll's drive needs to bring it to its
@@ -203,7 +214,7 @@ def splice_summary(result: Any) -> list[dict[str, object]]:
         spans = list(line.zones[node].spans)
         change = np.abs(tension[inside][:, spans] - tension[before, spans])
         row, col = np.unravel_index(int(np.argmax(change)), change.shape)
-        j = next(j for j, r in enumerate(line.rolls) if r.node == node)
+        j = spliced_roll(line, node)
         d = line.drives.index(node)
         stop = plan.df[d, B.D_RATIO] * plan.df[d, B.D_LIMIT]
         r_old = float(states[before, plan.offsets[B.O_RADIUS] + j])
@@ -223,9 +234,12 @@ def splice_summary(result: Any) -> list[dict[str, object]]:
 
 
 def _inertia_at(plan: Any, state: np.ndarray, node: int, j: int, radius: float) -> float:
-    """Inertia [kg·m²] of ``node`` in ``state`` with its roll ``j`` at ``radius`` [m]."""
+    """Inertia [kg·m²] of ``node`` in ``state`` with its roll ``j`` at ``radius`` [m] (on a
+    shaft of lanes every lane: they are spliced together)."""
     x = state.copy()
-    x[plan.offsets[B.O_RADIUS] + j] = radius
+    for m, roll in enumerate(plan.line.rolls):
+        if m == j or roll.node == node:
+            x[plan.offsets[B.O_RADIUS] + m] = radius
     return float(node_inertia(node, x, plan.offsets, plan.nodes, plan.rolls))
 
 

@@ -102,10 +102,12 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
 
 
 def _check_dancer(carriage: DancerCarriage, key: str, fail: Fail) -> None:
-    """A dancer on a branched line: in position control (docs/branching.md, "Dancers"), a
-    straight angle below 90 deg, a pivoting arm with both its keys."""
-    if carriage.use != "position":
-        unsupported(f"{key}.use", fail, "dancers in position control (use = 'position')")
+    """A dancer on a branched line (docs/branching.md, "Dancers"), the chain's checks: a
+    tension sensor on a spring, a straight angle below 90 deg, a pivoting arm with both its
+    keys."""
+    if carriage.use == "tension" and carriage.stiffness == 0.0:
+        fail(f"{key}.stiffness", "a dancer as tension sensor needs a spring (stiffness > 0): "
+             "without one it reads load / (g_in + g_out) whatever the tension")
     if carriage.position > carriage.travel:
         fail(f"{key}.position", f"must lie within the travel {carriage.travel:g} m")
     for name in ("angle_in", "angle_out"):

@@ -1,6 +1,6 @@
 """Checks of a branched line's centre-winder keys (docs/branching.md, "Centre winders and
 flying splices"): a roll's ``winder`` table, its ``inertia`` as totals and the flying
-splices of its unwinds, each
+splices of its rolls, each
 problem one ``LineFileError`` line naming the key."""
 
 from __future__ import annotations
@@ -34,8 +34,8 @@ def check_winders(spec: BranchedLineSpec, fail: Fail) -> None:
 
 def check_splices(spec: BranchedLineSpec, fail: Fail) -> None:
     """The flying splices of the line's disturbances, of every scenario's and every
-    scenario's ``splice``: of an unwind (a rewind's, whose shaft may carry several lanes,
-    is not modelled yet), onto a roll larger than its core, one per roll and time."""
+    scenario's ``splice``: of an unwind or a rewind (not a differential shaft), onto a roll
+    larger than its core, one per roll and time."""
     lists: list[tuple[str, Sequence[Any], bool]] = [
         ("disturbances", spec.disturbances, True)]
     for name, scenario in spec.scenarios.items():
@@ -51,12 +51,15 @@ def check_splices(spec: BranchedLineSpec, fail: Fail) -> None:
                 continue
             here = f"{key}[{j}]" if indexed else key
             roll = rollers.get(item.roll)
-            if not isinstance(roll, UnwindSpec):
-                unwinds = ", ".join(repr(r.name) for r in spec.rollers
-                                    if isinstance(r, UnwindSpec))
-                fail(f"{here}.roll", f"must name an unwind of this line ({unwinds}), got "
-                     f"{item.roll!r} (a rewind's flying splice is not yet supported on a "
-                     "branched line)")
+            if not isinstance(roll, UnwindSpec | RewindSpec):
+                rolls = ", ".join(repr(r.name) for r in spec.rollers
+                                  if isinstance(r, UnwindSpec | RewindSpec))
+                fail(f"{here}.roll", f"must name an unwind or a rewind of this line ({rolls})"
+                     f", got {item.roll!r}")
+            if getattr(roll, "shaft", None) is not None:
+                fail(f"{here}.roll", f"{item.roll!r} is a differential shaft: each lane winds "
+                     "on its own slipping clutch core, whose speed and slip at the transfer "
+                     "the splice's keys do not give (not modelled)")
             if (item.roll, item.at) in seen:
                 fail(f"{here}.at", f"{item.roll!r} is already spliced at {item.at:g} s")
             seen.add((item.roll, item.at))

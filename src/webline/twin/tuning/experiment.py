@@ -64,7 +64,7 @@ class ExperimentPlan:
     derivation of its times in words and numbers, and the columns to record."""
 
     experiment: Experiment
-    line: Line
+    line: Any  # a Line, or a BranchedLine (``experiment_branched``)
     duration: float
     derivation: tuple[str, ...]
     record: tuple[str, ...] = field(default_factory=tuple)

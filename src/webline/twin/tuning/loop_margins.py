@@ -69,21 +69,36 @@ def feedback_rows(plan: Plan) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     open_ = plan_linear_model(plan, loop="open")
     closed = plan_linear_model(plan, loop="closed")
     n_d = len(plan.line.drives)
-    a, b = np.asarray(open_.a), np.asarray(open_.b)[:, :n_d]
     a_cl = np.asarray(closed.a)
-    n, n_z = a.shape[0], a_cl.shape[0]
-    feedback = a_cl[:n].copy()
-    feedback[:, :n] -= a
-    k, *_ = np.linalg.lstsq(b, feedback, rcond=None)
-    b_full = np.zeros((n_z, n_d))
-    b_full[:n] = b
+    b_full, k = split_feedback(np.asarray(open_.a), np.asarray(open_.b)[:, :n_d], a_cl)
     return a_cl, b_full, k
 
 
 def loop_margins(plan: Plan) -> list[LoopMargin]:
     """``LoopMargin`` of every drive of ``plan`` (module docstring)."""
     a_cl, b_full, k = feedback_rows(plan)
-    period = float(plan.dt)
+    return margins_of(a_cl, b_full, k, float(plan.dt),
+                      [plan.line.node_name(i) for i in plan.line.drives])
+
+
+def split_feedback(a: np.ndarray, b: np.ndarray, a_cl: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """(b padded to A_cl's size, K) from an open loop (``a``, ``b``: one torque-command
+    column per drive) and its closed loop ``a_cl`` whose first rows are [A + B Kx, B Ki]
+    (module docstring; any line's linear model of that form, a branched line's too)."""
+    n, n_z, n_d = a.shape[0], a_cl.shape[0], b.shape[1]
+    feedback = a_cl[:n].copy()
+    feedback[:, :n] -= a
+    k, *_ = np.linalg.lstsq(b, feedback, rcond=None)
+    b_full = np.zeros((n_z, n_d))
+    b_full[:n] = b
+    return b_full, k
+
+
+def margins_of(a_cl: np.ndarray, b_full: np.ndarray, k: np.ndarray, period: float,
+               drives: list[str]) -> list[LoopMargin]:
+    """``LoopMargin`` of each drive (names ``drives``, one column of ``b_full`` and row of
+    ``k`` each) of the closed loop ``a_cl``, controllers sampled every ``period`` [s]."""
     nyquist = math.pi / period
     decades = math.log10(nyquist / LOWEST)
     omega = np.logspace(math.log10(LOWEST), math.log10(nyquist),
@@ -96,12 +111,12 @@ def loop_margins(plan: Plan) -> list[LoopMargin]:
     g = np.einsum("dn,wnd->wd", k, resolvent)
     delay = np.exp(-0.5j * omega * period)
     out = []
-    for d, i in enumerate(plan.line.drives):
+    for d, name in enumerate(drives):
         a_cut = a_cl - np.outer(b_full[:, d], k[d])
         unstable = int(np.sum(np.linalg.eigvals(a_cut).real > 1e-9))
         loop = -g[:, d] / (1.0 + g[:, d]) * delay
         gm, down, pm, wc = _margins(omega, loop)
-        out.append(LoopMargin(plan.line.node_name(i), gm, down, pm, wc, unstable))
+        out.append(LoopMargin(name, gm, down, pm, wc, unstable))
     return out
 
 

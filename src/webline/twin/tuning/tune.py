@@ -10,7 +10,8 @@ logarithms of the free values, the line's own settings in the first population) 
 bounded number of evaluations. A candidate that misses a constraint
 (``tune_constraints``) is penalised above every feasible one. Among the feasible candidates,
 best first, the first that passes the robustness Monte Carlo (``tune_robust``) is the result;
-its gains are written explicitly (``tune_space.frozen_gains``).
+its gains are written explicitly (``tune_space.frozen_gains``). A branched line
+(``[[webs]]``) is tuned the same way with its own pieces (``LineOps``: ``tune_branched``).
 """
 
 from __future__ import annotations
@@ -35,7 +36,12 @@ from webline.twin.tuning.tune_constraints import (
     stability_constraints,
 )
 from webline.twin.tuning.tune_robust import RobustCheck, default_uncertain, robustness
-from webline.twin.tuning.tune_space import FreeParameter, default_free, frozen_gains, with_values
+from webline.twin.tuning.tune_space import (
+    FreeParameter,
+    LineOps,
+    default_free,
+    frozen_gains,
+)
 
 OBJECTIVE = ("sum over scenarios and loadcell spans of RMS(tension - reference) / set "
              "tension [1]")
@@ -111,7 +117,32 @@ class TuneResult:
                 f"draws)")
 
 
-def default_scenarios(line: Line) -> list[str]:
+def _chain_robustness(line: Line, dists: Mapping[str, Any], names: Sequence[str],
+                      limits: Limits, n: int, seed: int, workers: int | None) -> RobustCheck:
+    return robustness(line, dists, names, limits=limits, n=n, seed=seed, workers=workers)
+
+
+#: what ``tune`` does with a single-path line
+CHAIN = LineOps(load=load_line, default_free=default_free, derive=derive_line,
+                frozen_gains=frozen_gains, run_cases=run_cases,
+                set_tension=lambda line: compile_plan(line).op.tension,
+                stability=stability_constraints, robustness=_chain_robustness,
+                default_uncertain=default_uncertain)
+
+
+def line_ops(line: Any) -> LineOps:
+    """``CHAIN``, or for a branched line (``model.web_graph.source_is_branched``) its
+    ``tune_branched.BRANCHED``."""
+    from webline.model.web_graph import source_is_branched
+
+    if source_is_branched(line):
+        from webline.twin.tuning.tune_branched import BRANCHED
+
+        return BRANCHED
+    return CHAIN
+
+
+def default_scenarios(line: Any) -> list[str]:
     """The line's scenarios without a web break that last at most ``SCENARIO_LIMIT``."""
     out = []
     for name, s in line.spec.scenarios.items():
@@ -126,13 +157,14 @@ def _breaks(scenario: Any) -> bool:
     return "break" in data or any(d.get("type") == "break" for d in data.get("disturbances", []))
 
 
-def tune(line: Line | str, scenarios: Sequence[str] | None = None, *,
+def tune(line: Any, scenarios: Sequence[str] | None = None, *,
          free: Sequence[FreeParameter] | None = None, objective: Objective | None = None,
          constraints: Limits | None = None, uncertain: Mapping[str, Any] | None = None,
          samples: int = 20, seed: int = 0, evaluations: int = 200, popsize: int = 2,
          workers: int | None = None,
          progress: Callable[[int, float], None] | None = None) -> TuneResult:
-    """Tune ``line``'s controllers (module docstring).
+    """Tune ``line``'s controllers (module docstring): a single-path or branched line (its
+    object, a file or a built-in name).
 
     ``scenarios``: names of the line's scenarios (default ``default_scenarios``); ``free``:
     the tuning variables (default ``tune_space.default_free``); ``objective``: a function of
@@ -143,7 +175,8 @@ def tune(line: Line | str, scenarios: Sequence[str] | None = None, *,
     candidates simulated (each runs every scenario); ``popsize``: the population per free
     value; ``progress(evaluations, best objective)`` after each generation."""
     started = time.perf_counter()
-    base = load_line(line)
+    ops = line_ops(line)
+    base = ops.load(line)
     names = list(default_scenarios(base) if scenarios is None else scenarios)
     for name in names:
         if name not in base.spec.scenarios:
@@ -151,18 +184,18 @@ def tune(line: Line | str, scenarios: Sequence[str] | None = None, *,
             raise ArgumentError(f"scenario {name!r}: not in {base.name} (it has: {known})")
     if not names:
         raise ArgumentError(f"{base.name}: no scenario to tune on (give --scenario)")
-    space = list(default_free(base) if free is None else free)
+    space = list(ops.default_free(base) if free is None else free)
     if not space:
         raise ArgumentError(f"{base.name}: nothing to tune (no cascaded-PI drive; give --free)")
     limits = constraints or Limits()
-    dists = dict(default_uncertain(base) if uncertain is None else uncertain)
-    set_tension = compile_plan(base).op.tension
+    dists = dict(ops.default_uncertain(base) if uncertain is None else uncertain)
+    set_tension = ops.set_tension(base)
     history: list[Evaluation] = []
 
     def evaluate(xs: np.ndarray) -> np.ndarray:
         cases = [{p.path: float(math.exp(v)) for p, v in zip(space, x, strict=True)}
                  for x in xs]
-        history.extend(_evaluate(base, names, cases, objective, set_tension, limits,
+        history.extend(_evaluate(ops, base, names, cases, objective, set_tension, limits,
                                  workers))
         if progress is not None:
             progress(len(history), min(e.penalised for e in history))
@@ -181,18 +214,18 @@ def tune(line: Line | str, scenarios: Sequence[str] | None = None, *,
                                vectorized=True, updating="deferred", polish=False,
                                seed=seed, tol=0.0, init="latinhypercube")
     before = history[0]
-    chosen, robust, notes = _robust_choice(base, history, names, dists, limits, samples, seed,
-                                           workers)
+    chosen, robust, notes = _robust_choice(ops, base, history, names, dists, limits, samples,
+                                           seed, workers)
     tuned_values = chosen.values
-    tuned_plain = with_values(base, tuned_values)
-    gains_after = frozen_gains(tuned_plain)
-    tuned = with_values(tuned_plain, gains_after)
+    tuned_plain = ops.derive(base, tuned_values)
+    gains_after = ops.frozen_gains(tuned_plain)
+    tuned = ops.derive(tuned_plain, gains_after)
     return TuneResult(base, tuned, tuple(space), tuple(names), limits, before, chosen, robust,
-                      frozen_gains(base), gains_after, len(history),
+                      ops.frozen_gains(base), gains_after, len(history),
                       time.perf_counter() - started, notes=tuple(notes))
 
 
-def _current(line: Line, p: FreeParameter) -> float:
+def _current(line: Any, p: FreeParameter) -> float:
     from webline.sim.sweeps.cases import case_value
 
     value = case_value(line, p.path)
@@ -203,11 +236,11 @@ def _clip(value: float, p: FreeParameter) -> float:
     return min(max(value, p.low), p.high)
 
 
-def _evaluate(base: Line, names: Sequence[str], cases: list[dict[str, float]],
+def _evaluate(ops: LineOps, base: Any, names: Sequence[str], cases: list[dict[str, float]],
               score: Objective | None, set_tension: np.ndarray, limits: Limits,
               workers: int | None) -> list[Evaluation]:
     """Simulate ``cases`` in every scenario and check each one's constraints."""
-    runs = {s: run_cases(base, cases, scenario=s, workers=workers) for s in names}
+    runs = {s: ops.run_cases(base, cases, scenario=s, workers=workers) for s in names}
     n = len(cases)
     terms: list[dict[str, float]] = [{} for _ in range(n)]
     checks: list[list[Constraint]] = [[] for _ in range(n)]
@@ -228,15 +261,15 @@ def _evaluate(base: Line, names: Sequence[str], cases: list[dict[str, float]],
         totals = np.asarray(score(runs, base), dtype=float)
     out = []
     for c, case in enumerate(cases):
-        line = derive_line(base, case)
-        explicit = with_values(line, frozen_gains(line))
-        checks[c] += stability_constraints(explicit, limits)
+        line = ops.derive(base, case)
+        explicit = ops.derive(line, ops.frozen_gains(line))
+        checks[c] += ops.stability(explicit, limits)
         value = float(totals[c]) if np.isfinite(totals[c]) else math.inf
         out.append(Evaluation(dict(case), value, terms[c], tuple(checks[c])))
     return out
 
 
-def _robust_choice(base: Line, history: list[Evaluation], names: Sequence[str],
+def _robust_choice(ops: LineOps, base: Any, history: list[Evaluation], names: Sequence[str],
                    dists: Mapping[str, Any], limits: Limits, samples: int, seed: int,
                    workers: int | None) -> tuple[Evaluation, RobustCheck, list[str]]:
     """The best feasible candidate that passes the robustness Monte Carlo (at most
@@ -251,10 +284,11 @@ def _robust_choice(base: Line, history: list[Evaluation], names: Sequence[str],
     if not unique:
         notes.append("no candidate met every margin and limit: the line is kept as it was")
         first = history[0]
-        return first, _check(base, first, names, dists, limits, samples, seed, workers), notes
+        return first, _check(ops, base, first, names, dists, limits, samples, seed,
+                             workers), notes
     failed: RobustCheck | None = None
     for e in unique[:ROBUST_TRIES]:
-        check = _check(base, e, names, dists, limits, samples, seed, workers)
+        check = _check(ops, base, e, names, dists, limits, samples, seed, workers)
         if check.holds:
             if failed is not None:
                 notes.append("a better candidate failed the robustness Monte Carlo; the best "
@@ -267,9 +301,9 @@ def _robust_choice(base: Line, history: list[Evaluation], names: Sequence[str],
         0, 0, limits.robust_share, {}), notes
 
 
-def _check(base: Line, e: Evaluation, names: Sequence[str], dists: Mapping[str, Any],
-           limits: Limits, samples: int, seed: int, workers: int | None) -> RobustCheck:
-    plain = with_values(base, e.values)
-    explicit = with_values(plain, frozen_gains(plain))
-    return robustness(explicit, dists, names, limits=limits, n=samples, seed=seed,
-                      workers=workers)
+def _check(ops: LineOps, base: Any, e: Evaluation, names: Sequence[str],
+           dists: Mapping[str, Any], limits: Limits, samples: int, seed: int,
+           workers: int | None) -> RobustCheck:
+    plain = ops.derive(base, e.values)
+    explicit = ops.derive(plain, ops.frozen_gains(plain))
+    return ops.robustness(explicit, dists, names, limits, samples, seed, workers)

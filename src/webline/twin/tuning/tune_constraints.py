@@ -25,8 +25,11 @@ from webline.line import Line
 from webline.sim.core.plan import compile_plan
 from webline.sim.linear.linearize import plan_linear_model
 from webline.spec.schema import CascadedPISpec
-from webline.twin.tuning.loop_margins import loop_margins
+from webline.twin.tuning.loop_margins import LoopMargin, loop_margins
 from webline.twin.tuning.tune_space import line_at_roll, roll_radii
+
+#: the constraint on the closed loop's modes
+UNSTABLE = "largest real part of a closed-loop mode [1/s]"
 
 
 @dataclass(frozen=True)
@@ -98,35 +101,13 @@ def controller_modes(line: Line) -> tuple[np.ndarray, np.ndarray]:
 def stability_constraints(line: Line, limits: Limits) -> list[Constraint]:
     """Margins and damping of ``line`` (its gains explicit, ``tune_space.frozen_gains``) at
     ``limits.roll_points`` points across the roll; the worst of each over the points."""
-    worst: dict[str, tuple[float, str]] = {}
-
-    def keep(name: str, value: float, where: str, lower_is_worse: bool = True) -> None:
-        old = worst.get(name)
-        if old is None or (value < old[0] if lower_is_worse else value > old[0]):
-            worst[name] = (value, where)
-
+    worst: Worst = {}
     for ru, rw in roll_radii(line, limits.roll_points):
         at = line_at_roll(line, ru, rw)
         spot = f"unwind r = {ru:.3g} m, rewind r = {rw:.3g} m"
         values, share = controller_modes(at)
-        keep("largest real part of a closed-loop mode [1/s]", float(values.real.max()), spot,
-             lower_is_worse=False)
-        mask = share >= limits.controller_share
-        zeta = -values.real / np.maximum(np.abs(values), 1e-300)
-        keep("damping of the controlled modes [1]", float(zeta[mask].min()), spot)
-        for m in loop_margins(compile_plan(at)):
-            here = f"{m.drive}, {spot}"
-            keep("gain margin [dB]", m.gain_margin_db, here)
-            keep("gain-reduction margin [dB]", m.reduction_margin_db, here)
-            keep("phase margin [deg]", m.phase_margin, here)
-    name = "largest real part of a closed-loop mode [1/s]"
-    out = [Constraint(name, worst[name][0], 0.0, "<=", worst[name][1])]
-    for name, limit in (("damping of the controlled modes [1]", limits.min_damping),
-                        ("gain margin [dB]", limits.gain_margin_db),
-                        ("gain-reduction margin [dB]", limits.reduction_margin_db),
-                        ("phase margin [deg]", limits.phase_margin_deg)):
-        value, where = worst[name]
-        out.append(Constraint(name, value, limit, ">=", where))
+        record_point(worst, values, share, loop_margins(compile_plan(at)), spot, limits)
+    out = worst_constraints(worst, limits)
     if all(not isinstance(getattr(line.spec.rollers[i], "controller", None), CascadedPISpec)
            for i in line.drives):
         from webline.analysis.certificate import certificate
@@ -134,6 +115,44 @@ def stability_constraints(line: Line, limits: Limits) -> list[Constraint]:
         cert = certificate(line)
         out.append(Constraint("decentralized certificate: min δ/(√N ξ) [1]",
                               cert.worst_ratio, 1.0, ">=", "initial radii"))
+    return out
+
+
+#: the worst value of each stability measure so far and where: {name: (value, where)}
+Worst = dict[str, tuple[float, str]]
+
+
+def record_point(worst: Worst, values: np.ndarray, share: np.ndarray,
+                 margins: list[LoopMargin], spot: str, limits: Limits) -> None:
+    """Keep in ``worst`` the stability measures of one operating point (``spot``): its
+    closed-loop eigenvalues ``values`` [1/s], their controller ``share`` [1] and each drive's
+    loop ``margins``."""
+    def keep(name: str, value: float, where: str, lower_is_worse: bool = True) -> None:
+        old = worst.get(name)
+        if old is None or (value < old[0] if lower_is_worse else value > old[0]):
+            worst[name] = (value, where)
+
+    keep(UNSTABLE, float(values.real.max()), spot, lower_is_worse=False)
+    mask = share >= limits.controller_share
+    zeta = -values.real / np.maximum(np.abs(values), 1e-300)
+    keep("damping of the controlled modes [1]",
+         float(zeta[mask].min()) if mask.any() else 1.0, spot)
+    for m in margins:
+        here = f"{m.drive}, {spot}"
+        keep("gain margin [dB]", m.gain_margin_db, here)
+        keep("gain-reduction margin [dB]", m.reduction_margin_db, here)
+        keep("phase margin [deg]", m.phase_margin, here)
+
+
+def worst_constraints(worst: Worst, limits: Limits) -> list[Constraint]:
+    """The stability constraints of the worst values ``record_point`` kept."""
+    out = [Constraint(UNSTABLE, worst[UNSTABLE][0], 0.0, "<=", worst[UNSTABLE][1])]
+    for name, limit in (("damping of the controlled modes [1]", limits.min_damping),
+                        ("gain margin [dB]", limits.gain_margin_db),
+                        ("gain-reduction margin [dB]", limits.reduction_margin_db),
+                        ("phase margin [deg]", limits.phase_margin_deg)):
+        value, where = worst[name]
+        out.append(Constraint(name, value, limit, ">=", where))
     return out
 
 

@@ -16,7 +16,7 @@ import numpy as np
 from webline.report.text.html import Image, Section, Text, render
 from webline.report.text.tables import make_table
 from webline.twin.tuning.tune import OBJECTIVE, TuneResult
-from webline.twin.tuning.tune_space import gain_table
+from webline.twin.tuning.tune_branched import line_gain_table
 from webline.version import __version__
 
 
@@ -31,19 +31,20 @@ def scenario_figure(result: TuneResult, scenario: str) -> Image:
     """Tension error of every loadcell span [N] over time, before and after."""
     from webline.sim.simulate import simulate
 
-    runs = {"before": simulate(result.line, scenario=scenario, raise_on_failure=False),
-            "after": simulate(result.tuned, scenario=scenario, raise_on_failure=False)}
-    ref = runs["before"].tension_ref
-    spans = [k for k in range(ref.shape[1]) if np.all(np.isfinite(ref[:, k]))]
-    fig, axes = plt.subplots(len(spans), 1, figsize=(8, 1.9 * len(spans) + 0.6), sharex=True,
+    runs = {"before": _errors(simulate(result.line, scenario=scenario,
+                                       raise_on_failure=False)),
+            "after": _errors(simulate(result.tuned, scenario=scenario,
+                                      raise_on_failure=False))}
+    names = [name for name, _ in runs["before"][1]]
+    fig, axes = plt.subplots(len(names), 1, figsize=(8, 1.9 * len(names) + 0.6), sharex=True,
                              squeeze=False)
-    for ax, k in zip(axes[:, 0], spans, strict=True):
-        for label, run in runs.items():
-            error = run.tension[:, k] - run.tension_ref[:, k]
+    for k, (ax, name) in enumerate(zip(axes[:, 0], names, strict=True)):
+        for label, (time, errors) in runs.items():
+            error = errors[k][1]
             rms = math.sqrt(float(np.mean(error**2)))
-            ax.plot(run.time, error, lw=0.9, label=f"{label}: RMS {rms:.3g} N",
+            ax.plot(time, error, lw=0.9, label=f"{label}: RMS {rms:.3g} N",
                     ls="-" if label == "after" else "--")
-        ax.set_ylabel(f"{result.line.span_name(k)}\nerror [N]", fontsize=8)
+        ax.set_ylabel(f"{name}\nerror [N]", fontsize=8)
         ax.legend(fontsize=7, loc="upper right")
         ax.grid(alpha=0.3)
     axes[-1, 0].set_xlabel("time [s]")
@@ -51,6 +52,19 @@ def scenario_figure(result: TuneResult, scenario: str) -> Image:
     caption = (f"Scenario {scenario}: each loadcell span's tension error before (dashed) and "
                "after (solid) tuning, with its RMS over the run.")
     return Image(f"tension_{scenario}", caption, _png(fig))
+
+
+def _errors(run: Any) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
+    """(time [s], [(loadcell span, tension minus reference [N])]) of a run of either kind."""
+    from webline.sim.results.result import Result
+
+    if not isinstance(run, Result):  # a branched line's BranchResult
+        from webline.twin.tuning.tune_branched import loadcell_errors
+
+        return loadcell_errors(run)
+    ref = run.tension_ref
+    return run.time, [(run.plan.line.span_name(k), run.tension[:, k] - ref[:, k])
+                      for k in range(ref.shape[1]) if np.all(np.isfinite(ref[:, k]))]
 
 
 def schedule_figure(table: list[dict[str, Any]]) -> Image | None:
@@ -76,7 +90,7 @@ def schedule_figure(table: list[dict[str, Any]]) -> Image | None:
 def figures(result: TuneResult) -> list[Image]:
     """Every figure of the tune report."""
     out = [scenario_figure(result, s) for s in result.scenarios]
-    schedule = schedule_figure(gain_table(result.tuned))
+    schedule = schedule_figure(line_gain_table(result.tuned))
     return out + ([schedule] if schedule is not None else [])
 
 

@@ -13,7 +13,7 @@ from typing import Any
 
 from webline.spec.load import dump_spec
 from webline.twin.tuning.tune import OBJECTIVE, TuneResult
-from webline.twin.tuning.tune_space import gain_table
+from webline.twin.tuning.tune_branched import line_gain_table
 from webline.version import __version__
 
 FILES = ("tuned.toml", "tune.json", "gain_table.csv", "report.html")
@@ -37,7 +37,7 @@ def tune_json(result: TuneResult) -> dict[str, Any]:
             "before": evaluation(result.before), "after": evaluation(result.after),
             "robustness": result.robust.as_dict(),
             "gains_before": result.gains_before, "gains_after": result.gains_after,
-            "gain_table": gain_table(result.tuned),
+            "gain_table": line_gain_table(result.tuned),
             "evaluations": result.evaluations, "seconds": result.seconds,
             "notes": list(result.notes)}
 

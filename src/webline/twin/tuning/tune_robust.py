@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -105,10 +105,19 @@ def fit_uncertain(path: str | Path) -> tuple[dict[str, Any], list[str]]:
     return out, skipped
 
 
-def robustness(line: Line, uncertain: Mapping[str, Any], scenarios: Sequence[str], *,
-               limits: Limits, n: int, seed: int, workers: int | None = None) -> RobustCheck:
+def robustness(line: Any, uncertain: Mapping[str, Any], scenarios: Sequence[str], *,
+               limits: Limits, n: int, seed: int, workers: int | None = None,
+               instability: Callable[[Any, dict[str, float]], str | None] | None = None,
+               ) -> RobustCheck:
     """Monte Carlo of ``n`` draws (``seed``) of ``uncertain`` on ``line`` (gains explicit)
-    over ``scenarios`` (module docstring)."""
+    over ``scenarios`` (module docstring). ``instability(line, drawn values)``: why the drawn
+    line is unstable, or None (default ``chain_instability``; a branched line's:
+    ``tune_branched``)."""
+    def unstable(drawn: Any, values: dict[str, float]) -> str | None:
+        if instability is not None:
+            return instability(drawn, values)
+        return chain_instability(drawn, values, limits.roll_points)
+
     text = {p: d if isinstance(d, str) else _describe(d) for p, d in uncertain.items()}
     if not uncertain or n == 0:
         return RobustCheck(0, 0, limits.robust_share, text)
@@ -131,17 +140,24 @@ def robustness(line: Line, uncertain: Mapping[str, Any], scenarios: Sequence[str
                 why.setdefault(c, f"{scenario}: {ds.drive.values[d]} at its torque limit "
                                   f"{share[c, d]:.1%} of the run")
     for c in range(n):
-        values = {p: float(drawn[p][c]) for p in uncertain}
-        drawn_line = derive_line(line, values)
-        for ru, rw in roll_radii(line, limits.roll_points):
-            eig, _ = controller_modes(line_at_roll(drawn_line, ru, rw))
-            if eig.real.max() >= 0.0:
-                ok[c] = False
-                why.setdefault(c, f"unstable at unwind r = {ru:.3g} m, rewind r = {rw:.3g} m "
-                                  f"(largest real part {eig.real.max():.3g} 1/s)")
-                break
+        reason = unstable(line, {p: float(drawn[p][c]) for p in uncertain})
+        if reason is not None:
+            ok[c] = False
+            why.setdefault(c, reason)
     reasons = tuple(f"draw {c}: {why[c]}" for c in sorted(why)[:REASONS_KEPT])
     return RobustCheck(n, int(ok.sum()), limits.robust_share, text, reasons)
+
+
+def chain_instability(line: Line, values: dict[str, float], points: int = 3) -> str | None:
+    """Why single-path ``line`` with ``values`` [SI] at their paths is unstable at one of
+    ``points`` points across the roll (a closed-loop mode with Re λ >= 0), or None."""
+    drawn_line = derive_line(line, values)
+    for ru, rw in roll_radii(line, points):
+        eig, _ = controller_modes(line_at_roll(drawn_line, ru, rw))
+        if eig.real.max() >= 0.0:
+            return (f"unstable at unwind r = {ru:.3g} m, rewind r = {rw:.3g} m "
+                    f"(largest real part {eig.real.max():.3g} 1/s)")
+    return None
 
 
 def _describe(dist: Any) -> str:

@@ -19,8 +19,9 @@ that starts from another roll (a splice scenario): it stays defined by its
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -33,6 +34,27 @@ from webline.spec.schema import CascadedPISpec
 
 #: default bounds of a free bandwidth: its value divided and multiplied by this [1]
 DEFAULT_SPAN = 3.0
+
+
+@dataclass(frozen=True)
+class LineOps:
+    """What ``webline.tune`` does with one kind of line (a single-path line: ``tune.CHAIN``;
+    a branched one: ``tune_branched.BRANCHED``): load it, its default ``FreeParameter``s,
+    ``derive(line, {path: value})``, its ``frozen_gains``, ``run_cases(line, cases, *,
+    scenario, workers)`` (a Dataset with ``tension_rms_error`` (case, span), ``status``,
+    ``torque_limit_time`` (case, drive)), ``set_tension(line)`` [N] per span, its
+    ``stability(line, limits)`` constraints, ``robustness(line, dists, scenarios, limits,
+    n, seed, workers)`` and ``default_uncertain(line)``."""
+
+    load: Callable[[Any], Any]
+    default_free: Callable[[Any], list[FreeParameter]]
+    derive: Callable[[Any, Mapping[str, Any]], Any]
+    frozen_gains: Callable[[Any], dict[str, float]]
+    run_cases: Callable[..., Any]
+    set_tension: Callable[[Any], np.ndarray]
+    stability: Callable[[Any, Any], list[Any]]
+    robustness: Callable[..., Any]
+    default_uncertain: Callable[[Any], dict[str, str]]
 
 
 @dataclass(frozen=True)
@@ -63,7 +85,7 @@ def _around(path: str, value: float) -> FreeParameter:
     return FreeParameter(path, value / DEFAULT_SPAN, value * DEFAULT_SPAN)
 
 
-def parse_free(line: Line, text: str) -> FreeParameter:
+def parse_free(line: Any, text: str) -> FreeParameter:
     """``"PATH=LOW..HIGH"`` (units as the line file takes them; a unit written once, after
     HIGH, applies to both) as a ``FreeParameter`` in SI. Raises ``ArgumentError``."""
     path, sep, bounds = text.partition("=")
@@ -92,11 +114,19 @@ def _is_number(text: str) -> bool:
     return True
 
 
-def path_value(line: Line, path: str, text: object) -> float:
-    """The SI number ``line`` reads at ``path`` for ``text``; ``ArgumentError`` naming the
-    path where the line refuses it or the path is not a number."""
+def path_value(line: Any, path: str, text: object) -> float:
+    """The SI number ``line`` (single-path or branched) reads at ``path`` for ``text``;
+    ``ArgumentError`` naming the path where the line refuses it or the path is not a
+    number."""
+    from webline.model.web_graph import BranchedLine
+
+    derive: Callable[[Any, dict[str, object]], Any] = derive_line
+    if isinstance(line, BranchedLine):
+        from webline.sim.sweeps.branch_study import derive_branched
+
+        derive = derive_branched
     try:
-        value = case_value(derive_line(line, {path: text}), path)
+        value = case_value(derive(line, {path: text}), path)
     except LineFileError as exc:
         raise ArgumentError(f"{path}: {exc}") from None
     if not isinstance(value, float | int) or isinstance(value, bool):

@@ -19,7 +19,7 @@ from webline.sim.branches.loop.break_limits import (
     stop_acceleration,
 )
 from webline.sim.branches.loop.breaks import break_monitor, fade_trim, held_command
-from webline.sim.branches.loop.dancer import position_error
+from webline.sim.branches.loop.dancer import position_error, sensed_tension
 from webline.sim.branches.loop.decentral import decentral_command, reference_changes
 from webline.sim.branches.loop.observer import observe
 from webline.sim.branches.loop.plant import node_inertia
@@ -145,6 +145,11 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             factor *= profile_at(offsets[B.O_RAMP], t, prof_t, prof_v, prof_off)
         for c in range(di[d, B.DI_CELLS], di[d, B.DI_CELLS] + di[d, B.DI_NCELLS]):
             if cells.shape[1] > B.CELL_DANCER and cells[c, B.CELL_DANCER] >= 0:
+                if cells[c, B.CELL_SENSOR]:  # the dancer as tension sensor (D3)
+                    e_t += factor * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - (
+                        sensed_tension(cells[c, B.CELL_DANCER], t, x, offsets, nodes, dist,
+                                       prof_t, prof_v, prof_off))
+                    continue
                 e_t += position_error(cells[c, B.CELL_DANCER], x, nodes)  # dancer position
                 continue
             measured = _tension(x[cells[c, 0]])

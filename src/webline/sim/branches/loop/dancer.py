@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from webline.sim.branches.loop import layout as B
-from webline.sim.elements.signals import jit
+from webline.sim.elements.signals import jit, profile_at
 
 
 @jit
@@ -71,3 +71,24 @@ def position_error(node: int, x: np.ndarray, nodes: np.ndarray) -> float:
     """What a drive's tension loop reads from the dancer on ``node`` in position control
     (D3): y - y_set [m], in place of T_ref - T (gains in (m/s)/m)."""
     return x[int(nodes[node, B.N_DSTATE])] - nodes[node, B.N_DSET]
+
+
+@jit
+def sensed_tension(node: int, t: float, x: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
+                   dist: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
+                   prof_off: np.ndarray) -> float:
+    """What a drive's tension loop reads from the dancer on ``node`` as a tension sensor
+    (D3, the chain's ``dancer_measurement``): the carriage's static balance, T = (load -
+    k (y - y_set)) / (g_in + g_out) [N], the load [N] its profile's value at ``t`` (the
+    dancers' ``DIST_DANCER_LOAD`` rows come in the order of their states)."""
+    n = (int(nodes[node, B.N_DSTATE]) - offsets[B.O_DANCER]) // 2
+    load, m = 0.0, 0
+    for r in range(dist.shape[0]):
+        if int(dist[r, B.DS_KIND]) == B.DIST_DANCER_LOAD:
+            if m == n:
+                load = dist[r, B.DS_B] * profile_at(int(dist[r, B.DS_A]), t, prof_t, prof_v,
+                                                    prof_off)
+                break
+            m += 1
+    spring = nodes[node, B.N_DK] * (x[int(nodes[node, B.N_DSTATE])] - nodes[node, B.N_DSET])
+    return (load - spring) / nodes[node, B.N_DGSUM]

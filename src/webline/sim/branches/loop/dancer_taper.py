@@ -18,7 +18,8 @@ def taper_loads(held: np.ndarray, istate: np.ndarray, x: np.ndarray, offsets: np
                 prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray) -> None:
     """Multiply the held load [N] of each dancer a tapered drive holds in position control
     by that drive's taper factor f(D) (``control.taper_at``), D from the radius its
-    controller knows: the calculated one with a diameter calculator, else the true one.
+    controller knows: the calculated one with a diameter calculator, else the true one (a
+    dancer read as tension sensor keeps its load: its drive's reference is tapered).
     The dancers' loads are the last entries of ``held``."""
     first_load = held.shape[0] - (offsets[B.O_DANCER_END] - offsets[B.O_DANCER]) // 2
     for d in range(di.shape[0]):
@@ -30,7 +31,7 @@ def taper_loads(held: np.ndarray, istate: np.ndarray, x: np.ndarray, offsets: np
             radius = istate[d, B.I_RADIUS]
         for c in range(di[d, B.DI_CELLS], di[d, B.DI_CELLS] + di[d, B.DI_NCELLS]):
             node = cells[c, B.CELL_DANCER]
-            if node >= 0:
+            if node >= 0 and not cells[c, B.CELL_SENSOR]:  # (a sensor: the reference tapers)
                 slot = first_load + (int(nodes[node, B.N_DSTATE]) - offsets[B.O_DANCER]) // 2
                 held[slot] *= taper_at(d, radius, nodes[i, B.N_CORE], df, prof_t, prof_v,
                                        prof_off)

@@ -73,7 +73,7 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
         if j == n_ticks and not include_end:  # the next chunk starts with this tick
             break
         roll_change(t, x, wound, done, offsets, rolls, events)
-        splices(t, dt, x, istate, done, offsets, nodes, sf, rolls, webs, df, events)
+        splices(t, dt, x, istate, done, offsets, nodes, si, sf, rolls, webs, df, events)
         if offsets[B.O_BREAK]:  # a web break: its spans carry nothing from their time on
             cut(t, x, wound, sf, webs.shape[0], nodes.shape[0], istate, di, df)
         held_inputs(t, wound, held, webs.shape[0], dist, prof_t, prof_v, prof_off)
@@ -127,7 +127,11 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
                 return n_rec, B.STATUS_STRENGTH, t + dt
         for i in range(nodes.shape[0]):
             r_i = nodes[i, B.N_RADIUS]
-            if abs(x[off_w + i]) * r_i > speed_max:
+            if nodes[i, B.N_ROLLS] == 0.0 and abs(x[off_w + i]) * r_i > speed_max:
+                return n_rec, B.STATUS_RUNAWAY, t + dt
+        for r in range(rolls.shape[0]):  # a roll's surface at its radius now (a new core)
+            if rolls[r, B.R_CLUTCH] == 0.0 and (
+                    abs(x[off_w + int(rolls[r, B.R_NODE])]) * x[off_r + r] > speed_max):
                 return n_rec, B.STATUS_RUNAWAY, t + dt
     return n_rec, B.STATUS_OK, math.nan
 

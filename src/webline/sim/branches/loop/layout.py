@@ -197,6 +197,15 @@ N_COLS += 8
 CELL_DANCER, CELL_COLS = 2, 3
 DIST_DANCER_LOAD = DIST_NOISE + 1
 
+# dancer as tension sensor or passive (docs/branching.md, "Dancers"): cells (int) a fourth
+# column, 1 where the drive's loop reads its dancer as a tension sensor, T = (load - k (y -
+# y_set)) / (g_in + g_out) (0: its position, or a loadcell); node table (float): the dancer's
+# g_in + g_out [m/m]
+CELL_SENSOR = CELL_COLS
+CELL_COLS += 1
+N_DGSUM = N_COLS
+N_COLS += 1
+
 # a stopped line's limits after a web break ([checks] and break limits, docs/branching.md
 # "Web breaks", the chain's W7-W8): drive table (float) columns at its end, the same on every
 # drive's row: 1 where the monitor watches the open-loop rolls for overspeed (a roll beyond

@@ -1,6 +1,6 @@
 """Centre-winder functions of a branched line's roll drives in the compiled loop: inertia and
 friction compensation, open-loop (indirect) tension control with its speed limiter
-(docs/winder.md W3, W4, W7) and the flying splice (S1), as the chain's
+(docs/winder.md W3, W4, W7) and the flying splices of unwinds and rewinds (S1), as the chain's
 ``sim.drives.winder_loop`` and ``sim.elements.splice`` do; tables in ``loop.layout``.
 """
 
@@ -12,6 +12,7 @@ import numpy as np
 
 from webline.physics import roll
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.dancer import span_motion
 from webline.sim.branches.loop.transmission import motor_beyond
 from webline.sim.elements.signals import jit, profile_at
 
@@ -87,35 +88,47 @@ def open_loop(d: int, dt: float, radius: float, tension_ref: float, comp: float,
 
 @jit
 def splice(e: int, x: np.ndarray, istate: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
-           sf: np.ndarray, rolls: np.ndarray, webs: np.ndarray, df: np.ndarray,
+           si: np.ndarray, sf: np.ndarray, rolls: np.ndarray, webs: np.ndarray, df: np.ndarray,
            events: np.ndarray) -> None:
-    """Flying splice ``e`` of an unwind (S1), at its tick, in place on the plant state ``x``
-    and the controller memory ``istate``: the new roll (radius R_new) takes the old one's
-    place at (1 + mismatch) times the web's speed at the old roll; the slack δ goes into the
-    web's first span (its stretch drops by EA δ / L) and into the web's unwound-length counter
-    (the balance Σ L (1 - s/EA) + out - in is unchanged); the drive's speed integrator takes
-    the tension torque's change T (R_new - R_old)/n and the viscous torque's, its motor the
-    new roll's friction torque (it carried no web before), its calculated radius R_new."""
-    j = int(events[e, B.E_ROLL])
-    i = int(rolls[j, B.R_NODE])
-    w = int(rolls[j, B.R_WEB])
-    k = webs[w, B.WB_FIRST]
-    w_i, r_j = offsets[B.O_OMEGA] + i, offsets[B.O_RADIUS] + j
-    r_old, omega_old = x[r_j], x[w_i]
+    """Flying splice ``e`` (S1) of an unwind or a rewind, at its tick, in place on the plant
+    state ``x`` and the controller memory ``istate``: the new roll (radius R_new) takes the
+    old one's place at (1 + mismatch) times the web's speed at the old roll (the event's
+    roll: on a shaft of lanes the one its drive measures speed on). Every roll wound on the
+    node (an unwind's one; on a rewind's shaft each lane, its web cut and wound on onto its
+    own new core of R_new) starts at R_new; the slack δ goes into the span next to it (its
+    stretch drops by EA δ / L, L its length now) and into its web's counter: unwound + δ on
+    an unwind, rewound - δ on a rewind (the balance Σ L (1 - s/EA) + out - in is unchanged;
+    the web cut onto the old roll stays counted as rewound). The drive's speed integrator
+    takes the tension torques' change ∓ Σ T (R_new - R_old)/n (- unwind, + rewind) and the
+    viscous torque's, its motor the new roll's friction torque (it carried no web before),
+    its calculated radius R_new."""
+    j0 = int(events[e, B.E_ROLL])
+    i = int(rolls[j0, B.R_NODE])
+    direction = rolls[j0, B.R_DIR]  # -1 unwinding, +1 winding
+    w_i = offsets[B.O_OMEGA] + i
+    omega_old = x[w_i]
     r_new = events[e, B.E_RADIUS]
-    x[w_i] = events[e, B.E_GAIN] * r_old * omega_old / r_new
-    x[r_j] = r_new
-    carried = x[k] if x[k] > 0.0 else 0.0
+    x[w_i] = events[e, B.E_GAIN] * x[offsets[B.O_RADIUS] + j0] * omega_old / r_new
     slack = events[e, B.E_SLACK]
-    x[k] -= sf[k, B.SF_EA] * slack / sf[k, B.SF_LENGTH]
-    x[offsets[B.O_WEB] + 2 * w] += slack
+    torque = 0.0  # the change of the web's torque on the roll [N·m]
+    for j in range(rolls.shape[0]):
+        if int(rolls[j, B.R_NODE]) != i or rolls[j, B.R_CLUTCH] != 0.0:
+            continue
+        w = int(rolls[j, B.R_WEB])
+        k = webs[w, B.WB_FIRST] if direction < 0.0 else webs[w, B.WB_LAST]
+        r_j = offsets[B.O_RADIUS] + j
+        carried = x[k] if x[k] > 0.0 else 0.0
+        torque += direction * carried * (r_new - x[r_j])
+        x[r_j] = r_new
+        x[k] -= sf[k, B.SF_EA] * slack / span_motion(k, x, nodes, si, sf)[0]
+        x[offsets[B.O_WEB] + 2 * w + (0 if direction < 0.0 else 1)] -= direction * slack
     d = int(nodes[i, B.N_DRIVE])
     if d < 0:
         return
     n = df[d, B.D_RATIO]
     omega = x[w_i]
     viscous = nodes[i, B.N_VISCOUS] / n  # [N·m·s]: at the roll, seen by the motor
-    istate[d, B.I_SPEED] += -carried * (r_new - r_old) / n + viscous * (omega - omega_old)
+    istate[d, B.I_SPEED] += torque / n + viscous * (omega - omega_old)
     sign = 1.0 if omega > 0.0 else -1.0 if omega < 0.0 else 0.0
     x[offsets[B.O_TORQUE] + d] = viscous * omega + nodes[i, B.N_COULOMB] * sign / n
     if df[d, B.D_DCALC] != B.DCALC_NONE:
@@ -124,12 +137,12 @@ def splice(e: int, x: np.ndarray, istate: np.ndarray, offsets: np.ndarray, nodes
 
 @jit
 def splices(t: float, dt: float, x: np.ndarray, istate: np.ndarray, done: np.ndarray,
-            offsets: np.ndarray, nodes: np.ndarray, sf: np.ndarray, rolls: np.ndarray,
-            webs: np.ndarray, df: np.ndarray, events: np.ndarray) -> None:
+            offsets: np.ndarray, nodes: np.ndarray, si: np.ndarray, sf: np.ndarray,
+            rolls: np.ndarray, webs: np.ndarray, df: np.ndarray, events: np.ndarray) -> None:
     """Every flying splice not yet made whose tick (the first at or after its time, ``t``
     [s] the tick's time, ``dt`` [s] the period) has come (``splice``)."""
     for e in range(events.shape[0]):
         if (done[e] == 0.0 and events[e, B.E_KIND] == B.EVENT_SPLICE
                 and t >= events[e, B.E_TIME] - 0.5 * dt):
             done[e] = 1.0
-            splice(e, x, istate, offsets, nodes, sf, rolls, webs, df, events)
+            splice(e, x, istate, offsets, nodes, si, sf, rolls, webs, df, events)

@@ -1,0 +1,233 @@
+"""``webline experiment`` on a branched line (docs/branching.md, "Tuning a branched line"):
+the chain's identification tests (``experiment``) laid out on a branched line's drives and
+zones and simulated in the branch kernel.
+
+The test signals are the chain's, with the chain's duration rules computed from the branched
+line's own time scales: ``accel-ramps`` ramps the line speed (every drive of every web
+follows it; the acceleration is 30 % of the weakest drive's torque limit over its J/(n r));
+``tension-step`` steps each tension zone's set point by 10 % in turn (every loadcell of the
+zone together: lanes on one shaft are controlled as their sum; a zone held by a dancer in
+position control or a differential shaft's drive, which holds speed only, is left out);
+``dancer-step`` steps each dancer's load by 10 %. The traces (``results.csv``: every span's
+tension, every roller's surface speed, every drive's torque and command, each dancer's
+position, with webline's names and units) lay out the test to run on the machine; replay
+and fit take a single-path line's traces.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from webline.errors import ArgumentError
+from webline.model.web_graph import BranchedLine
+from webline.profiles import breakpoints
+from webline.sim.branches.loop import layout as B
+from webline.sim.branches.plan import compile_branches
+from webline.sim.sweeps.branch_study import derive_branched
+from webline.spec.schema import CascadedPISpec, DancerSpec
+from webline.twin.tuning.experiment import (
+    EXPERIMENTS,
+    MIN_HOLD,
+    RAMP_TORQUE_SHARE,
+    SETTLE,
+    STEP,
+    ExperimentPlan,
+    _up,
+)
+
+
+def _loop_times(line: BranchedLine) -> tuple[float, float]:
+    """(slowest τ_s, slowest τ_t) [s] of the line's cascaded PIs (0 where none)."""
+    tau_s = tau_t = 0.0
+    for i in line.drives:
+        c = getattr(line.spec.rollers[i], "controller", None)
+        if isinstance(c, CascadedPISpec):
+            tau_s = max(tau_s, 1.0 / (c.damping * c.speed_bandwidth))
+            if i in line.zones:
+                tau_t = max(tau_t, 1.0 / (c.damping * c.tension_bandwidth))
+    return tau_s, tau_t
+
+
+def _zone_transport(line: BranchedLine, speed: float) -> float:
+    """The longest zone's web length (per web: a zone may hold several) over the line speed
+    [s]."""
+    longest = 0.0
+    for zone in line.zones.values():
+        for web in {line.spans[s].web for s in zone.spans}:
+            longest = max(longest, sum(line.spans[s].length for s in zone.spans
+                                       if line.spans[s].web == web))
+    return longest / speed
+
+
+def _line_speed(line: BranchedLine) -> float:
+    """The line's top reference speed [m/s]."""
+    return float(np.max(breakpoints(line.spec.speed)[1]))
+
+
+def accel_ramps(line: BranchedLine) -> ExperimentPlan:
+    plan = compile_branches(line)
+    v = _line_speed(line)
+    tau_s, tau_t = _loop_times(line)
+    # D_GAINNORM = J / (n r) of each drive at its initial radius [kg·m]: a = share x limit / it
+    accel = min(RAMP_TORQUE_SHARE * plan.df[d, B.D_LIMIT] / plan.df[d, B.D_GAINNORM]
+                for d in range(len(line.drives)))
+    step_v = v / 3.0
+    ramp = _up(max(step_v / accel, SETTLE * tau_s))
+    transport = _zone_transport(line, v)
+    hold = _up(max(SETTLE * tau_t, SETTLE * tau_s, 3.0 * transport, MIN_HOLD))
+    times, values, t = [0.0, 1.0], [0.0, 0.0], 1.0
+    for k in (1, 2, 3):
+        t += ramp
+        times.append(t)
+        values.append(k * step_v)
+        t += hold
+        times.append(t)
+        values.append(k * step_v)
+    t += 3.0 * ramp  # the deceleration from full speed at the same rate
+    times.append(t)
+    values.append(0.0)
+    duration = t + hold
+    test = derive_branched(line, {"speed": {"type": "table", "time": times, "value": values}})
+    derivation = (
+        f"acceleration a = {step_v / ramp:.4g} m/s² (30 % of the weakest drive's torque "
+        f"limit allows {accel:.4g} m/s²; a ramp of v/3 = {step_v:.4g} m/s lasts at least "
+        f"5 τ_s = {SETTLE * tau_s:.3g} s): each ramp {ramp:g} s",
+        f"holds {hold:g} s = max(5 τ_t = {SETTLE * tau_t:.3g} s, 5 τ_s = {SETTLE * tau_s:.3g} s,"
+        f" 3 L/v = {3 * transport:.3g} s, {MIN_HOLD:g} s)",
+        f"total {duration:g} s: rest 1 s, three ramps and holds, deceleration {3 * ramp:g} s, "
+        f"rest {hold:g} s")
+    return ExperimentPlan(EXPERIMENTS["accel-ramps"], test, duration, derivation,
+                          ("speed[*]", "torque[*]", "tension[*]"))
+
+
+def tension_step(line: BranchedLine) -> ExperimentPlan:
+    plan = compile_branches(line)
+    _, tau_t = _loop_times(line)
+    hold = _up(max(SETTLE * tau_t, 10.0 * _zone_transport(line, _line_speed(line)), MIN_HOLD))
+    shafts = {int(n) for n in plan.cores[:, B.C_NODE]}
+    changes: dict[str, object] = {}
+    stepped, t = [], 1.0
+    for d, i in enumerate(line.drives):
+        first = int(plan.di[d, B.DI_CELLS])
+        if i not in line.zones or i in shafts or (
+                plan.di[d, B.DI_NCELLS] and plan.cells[first, B.CELL_DANCER] >= 0):
+            continue  # no zone; a slip shaft holds speed; a dancer sets it: dancer-step
+        for k in line.zones[i].loadcells:
+            span = line.spans[k]
+            web = line.spec.webs[span.web]
+            key = f"webs.{web.name}.spans.{span.k}.tension"
+            ref = line.span_tension_spec(k)
+            if not isinstance(ref, float | int):
+                raise ArgumentError(f"{line.name}: {key}: tension-step needs a constant set "
+                                    "point to step from")
+            changes[key] = {"type": "steps", "initial": ref, "steps": [
+                {"time": t, "value": ref * (1 + STEP)}, {"time": t + hold, "value": ref}]}
+            stepped.append(f"{span.name} ({line.spec.rollers[i].name}) {ref:g} -> "
+                           f"{ref * (1 + STEP):g} N at {t:g} s, back at {t + hold:g} s")
+        t += 2.0 * hold
+    if not stepped:
+        raise ArgumentError(f"{line.name}: tension-step: no zone with a loadcell in tension "
+                            "control (dancer zones: dancer-step)")
+    derivation = (f"each step held {hold:g} s = max(5 τ_t = {SETTLE * tau_t:.3g} s, "
+                  f"10 L/v = {10 * _zone_transport(line, _line_speed(line)):.3g} s, "
+                  f"{MIN_HOLD:g} s)", *stepped)
+    return ExperimentPlan(EXPERIMENTS["tension-step"], derive_branched(line, changes), t,
+                          derivation, ("tension[*]", "speed[*]", "torque[*]"))
+
+
+def dancer_step(line: BranchedLine) -> ExperimentPlan:
+    _, tau_t = _loop_times(line)
+    dancers = [(i, r) for i, r in enumerate(line.spec.rollers) if isinstance(r, DancerSpec)]
+    if not dancers:
+        raise ArgumentError(f"{line.name}: dancer-step: the line has no dancer")
+    plan = compile_branches(line)
+    changes: dict[str, object] = {}
+    lines, t = [], 1.0
+    for i, roller in dancers:
+        c = roller.dancer
+        decay = 2.0 * c.mass / c.damping if c.damping > 0 else math.inf
+        hold = _up(max(SETTLE * decay if math.isfinite(decay) else MIN_HOLD,
+                       SETTLE * tau_t, MIN_HOLD))
+        if c.load is not None and not isinstance(c.load, float | int):
+            raise ArgumentError(f"{line.name}: rollers.{roller.name}.dancer.load: "
+                                "dancer-step needs a constant load to step from")
+        # without a load of its own: its strands' gains x its zone's loadcell reference
+        # (``branches.dancers.load_rows``), the load that holds the set position
+        cell = next(row for row in plan.cells if int(row[B.CELL_DANCER]) == i)
+        load = float(c.load) if c.load is not None else (
+            sum(c.gains) * plan.profile(int(cell[1]), 0.0))
+        changes[f"rollers.{roller.name}.dancer.load"] = {
+            "type": "steps", "initial": load,
+            "steps": [{"time": t, "value": load * (1 + STEP)}, {"time": t + hold,
+                                                                 "value": load}]}
+        lines.append(f"{roller.name}: load {load:g} -> {load * (1 + STEP):g} N at {t:g} s, "
+                     f"back at {t + hold:g} s; held {hold:g} s = max(5 x 2m/c = "
+                     f"{SETTLE * decay:.3g} s, 5 τ_t = {SETTLE * tau_t:.3g} s, {MIN_HOLD:g} s)")
+        t += 2.0 * hold
+    return ExperimentPlan(EXPERIMENTS["dancer-step"], derive_branched(line, changes), t,
+                          tuple(lines), ("dancer_position[*]", "tension[*]", "speed[*]"))
+
+
+PLANNERS: dict[str, Callable[[BranchedLine], ExperimentPlan]] = {
+    "accel-ramps": accel_ramps, "tension-step": tension_step, "dancer-step": dancer_step}
+
+#: the run's signals written to results.csv: (variable, its dimension)
+SIGNALS = (("tension", "span"), ("speed", "node"), ("torque", "drive"),
+           ("torque_cmd", "drive"), ("dancer_position", "dancer"))
+
+
+def results_csv(dataset: Any, path: Path) -> None:
+    """One column per signal and element, ``tension[film_zone] [N]``, time first (the
+    chain's ``results.csv`` layout)."""
+    headers, columns = ["time [s]"], [dataset["time"].values]
+    for name, dim in SIGNALS:
+        if name not in dataset:
+            continue
+        var = dataset[name]
+        unit = var.attrs.get("units", "1")
+        for j, element in enumerate(dataset[dim].values):
+            headers.append(f"{name}[{element}] [{unit}]")
+            columns.append(var.values[:, j])
+    np.savetxt(path, np.column_stack(columns), delimiter=",", header=",".join(headers),
+               comments="", fmt="%.9g")
+
+
+def write_branched_experiment(line: BranchedLine, name: str, out: Path,
+                              claim: Callable[[str], Path] | None = None
+                              ) -> tuple[ExperimentPlan, Any]:
+    """Simulate test ``name`` on branched ``line`` and write ``results.csv``,
+    ``experiment.json`` and ``traces.png`` into ``out`` (as ``experiment.write_experiment``).
+    Returns the plan and the ``BranchResult``."""
+    import matplotlib.pyplot as plt
+
+    from webline.sim.branches.run import simulate_branches
+
+    place = claim or (lambda relative: out / relative)
+    if name not in PLANNERS:
+        raise ArgumentError(f"no experiment named {name!r}; known: {', '.join(PLANNERS)}")
+    plan = PLANNERS[name](line)
+    result = simulate_branches(plan.line, plan.duration, raise_on_failure=False)
+    ds = result.dataset
+    results_csv(ds, place("results.csv"))
+    data = plan.as_dict() | {"line": line.name, "verdict": result.verdict.headline}
+    place("experiment.json").write_text(json.dumps(data, indent=2), encoding="utf-8")
+    shown = ("speed", "torque") if name == "accel-ramps" else ("tension", "speed")
+    fig, axes = plt.subplots(len(shown), 1, figsize=(8, 5), sharex=True)
+    for ax, signal in zip(axes, shown, strict=True):
+        dim = dict(SIGNALS)[signal]
+        for j, element in enumerate(ds[dim].values):
+            ax.plot(ds["time"].values, ds[signal].values[:, j], lw=0.9, label=str(element))
+        ax.set_ylabel(f"{signal} [{ds[signal].attrs.get('units', '1')}]")
+        ax.legend(fontsize=7, loc="upper right", ncol=2)
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel("time [s]")
+    fig.suptitle(f"{name} on {line.name}", fontsize=10)
+    fig.savefig(place("traces.png"), dpi=100, bbox_inches="tight")
+    plt.close(fig)
+    return plan, result
