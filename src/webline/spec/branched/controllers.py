@@ -1,7 +1,7 @@
 """Checks of a branched line's controller families (docs/branching.md, "State feedback"):
 the cascaded PI, decentralized state feedback, adaptive control and MRAC run on any drive
-but a differential shaft's (speed control only); the section observer and a user's Python
-controller not yet."""
+but a differential shaft's (speed control only), with their loadcells or a section observer
+(``sim.branches.observer``, which checks its zone); a user's Python controller not yet."""
 
 from __future__ import annotations
 
@@ -31,9 +31,6 @@ def check_controller(key: str, roller: object, fail: Fail, unsupported: Unsuppor
         return
     if not isinstance(controller, StateFeedbackSpec | AdaptiveSpec | MRACSpec):
         unsupported(f"{key}.controller.type", fail, FAMILIES)
-    if controller.tension_feedback != "loadcell":
-        unsupported(f"{key}.controller.tension_feedback", fail,
-                    "decentralized controllers on their loadcells")
     if getattr(roller, "winder", None) is not None:  # (its tick adds them to the PI's only)
         unsupported(f"{key}.winder", fail, "a centre winder's compensation and open loop "
                     "with a cascaded_pi drive")
