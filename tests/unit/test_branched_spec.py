@@ -89,9 +89,6 @@ CASES = [  # (base, change, key in the message, fragment of the problem)
     (LAMINATOR, lambda d: d["rollers"][0].__setitem__("controller", {
         "type": "python", "function": "m:f"}),
      "rollers[0].controller.type", "not yet supported on a branched line"),
-    (LAMINATOR, lambda d: d["rollers"][0].__setitem__("controller", {
-        "type": "state_feedback", "tension_feedback": "observer"}),
-     "rollers[0].controller.tension_feedback", "not yet supported on a branched line"),
     (LAMINATOR, lambda d: (d["rollers"][0].__setitem__("controller", {
         "type": "state_feedback"}), d["rollers"][0].__setitem__("winder", {
             "mode": "open_loop"})),

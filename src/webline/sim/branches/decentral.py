@@ -31,6 +31,7 @@ from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import taper_at
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.loop.transmission import reflected_motor
+from webline.sim.branches.observer.section import observer_columns
 from webline.sim.branches.plan import BranchPlan
 from webline.spec.schema import AdaptiveSpec, IdleSpec, MRACSpec, StateFeedbackSpec
 
@@ -174,6 +175,7 @@ def prepare(plan: BranchPlan) -> list[SectionDesign | None]:
             continue
         designs.append(design(plan, point, d))
         _columns(plan, point, d, designs[-1])  # type: ignore[arg-type]
+        observer_columns(plan, point, d, section_model(plan, point, d))  # (where asked)
     return designs
 
 

@@ -15,6 +15,7 @@ from webline.sim.branches.equilibrium import operating_point
 from webline.sim.branches.linear import fastest_rate
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.kernel import new_records
+from webline.sim.branches.observer.section import start_observers
 from webline.sim.branches.plan import compile_branches
 from webline.sim.branches.result import BranchResult
 from webline.sim.branches.web_findings import strength_failure
@@ -75,6 +76,7 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     istate[:, B.I_RADIUS] = plan.radius0
     istate[:, B.I_DETECT] = -1.0  # no web break detected yet
     start_memory(plan, istate)  # the decentralized families' (sim.branches.decentral)
+    start_observers(plan, istate, x)  # (section observers: at the initial state)
     n_d = plan.di.shape[0]
     rec = new_records(n_ticks, every, plan.n_x, n_d)
     wound, done, cmd = plan.wound.copy(), np.zeros(len(plan.events)), point.torque.copy()

@@ -1,7 +1,8 @@
 """Checks of a branched line's controller families (docs/branching.md, "State feedback"):
 the cascaded PI, decentralized state feedback, adaptive control and MRAC run on any drive
-but a differential shaft's (speed control only), a centre winder's compensations added to
-their torque (closed loop); the section observer and a user's Python controller not yet."""
+but a differential shaft's (speed control only), with their loadcells or a section observer
+(``sim.branches.observer``, which checks its zone), a centre winder's compensations added to
+their torque (closed loop); a user's Python controller not yet."""
 
 from __future__ import annotations
 
@@ -31,9 +32,6 @@ def check_controller(key: str, roller: object, fail: Fail, unsupported: Unsuppor
         return
     if not isinstance(controller, StateFeedbackSpec | AdaptiveSpec | MRACSpec):
         unsupported(f"{key}.controller.type", fail, FAMILIES)
-    if controller.tension_feedback != "loadcell":
-        unsupported(f"{key}.controller.tension_feedback", fail,
-                    "decentralized controllers on their loadcells")
     winder = getattr(roller, "winder", None)
     if winder is not None and winder.mode == "open_loop":
         fail(f"{key}.winder.mode", f"open_loop replaces the drive's {controller.type!r} "
