@@ -23,6 +23,7 @@ from webline.cli_common import (
 )
 
 if TYPE_CHECKING:
+    from webline.analysis.branch_across_roll import BranchRollModes
     from webline.analysis.certificate import Certificate
     from webline.line import Line
     from webline.report.text.display import Display
@@ -61,10 +62,11 @@ def analyze(
     from webline.spec.load import file_is_branched
 
     if file_is_branched(line):  # docs/branching.md, "Linear models"
-        _analyze_branched(line, scenario, at, as_json, {
-            "--units": units != Units.si, "--certificate": certificate,
-            "--controller": controller is not None,
-            "--across-roll": across_roll, "--figure": figure is not None}, sets=sets)
+        if figure is not None and not across_roll:
+            raise BadInput("--figure: the map of the modes across the roll; give --across-roll")
+        _analyze_branched(line, scenario, at, as_json, units, {
+            "--controller": controller is not None},
+            (points, damping, figure) if across_roll else None, certificate, sets=sets)
         return
     from webline.analysis.modes import closed_loop_modes
     from webline.analysis.zone_loops import speed_leaks, zone_loops
@@ -106,11 +108,7 @@ def analyze(
         if course is not None:
             payload["modes_across_roll"] = roll_modes_values(course)
         if cert is not None:
-            payload["certificate"] = {"holds": cert.holds, "worst_ratio": cert.worst_ratio,
-                                      "max_real": cert.max_real,
-                                      "max_real_plant": cert.max_real_plant,
-                                      "sampled_radius": cert.sampled_radius,
-                                      "sections": cert.rows()}
+            payload["certificate"] = _certificate_values(cert)
         typer.echo(json.dumps(payload, indent=2, default=float))
     else:
         tables = [*operating_point_tables(loaded, point, display), modes_table(modes)]
@@ -129,12 +127,18 @@ def analyze(
 
 
 def _analyze_branched(source: str, scenario: str | None, at: str | None, as_json: bool,
-                      unsupported: dict[str, bool], *, sets: list[str] | None = None) -> None:
+                      units: Units, unsupported: dict[str, bool],
+                      across: tuple[int, float, str | None] | None,
+                      certificate: bool = False, *, sets: list[str] | None = None) -> None:
     """``analyze`` of a branched line: operating point, closed-loop modes and the stability
-    verdict (``sim.branches.linear``); ``unsupported``: options given that it does not take;
+    verdict (``sim.branches.linear``) in ``units``; ``unsupported``: options given that it
+    does not take; ``across``: (points, damping threshold, figure) of ``--across-roll``;
+    ``certificate``: thesis Thm 6.2.1 over the tree's sections (``analysis.branch_certificate``);
     ``sets``: the ``--set PATH=VALUE`` options, applied after the scenario."""
     from webline.analysis.modes import modes_of
     from webline.cli_branches import branched_line
+    from webline.report.text.branch_analysis import point_tables, point_values
+    from webline.report.text.display import Display
     from webline.report.text.tables import modes_table
     from webline.report.text.verdict_text import verdict_lines
     from webline.sim.branches.equilibrium import operating_point
@@ -149,7 +153,8 @@ def _analyze_branched(source: str, scenario: str | None, at: str | None, as_json
     for option, given in unsupported.items():
         if given:
             raise BadInput(f"{option}: not yet supported for a branched line (analyze: the "
-                           "operating point, closed-loop modes and stability, in SI)")
+                           "operating point, closed-loop modes, stability and the modes "
+                           "across the rolls)")
     line = branched_line(source, scenario, sets)
     from webline.spec.branched.controllers import python_drives
 
@@ -162,29 +167,35 @@ def _analyze_branched(source: str, scenario: str | None, at: str | None, as_json
     point = operating_point(plan, t)
     model = branch_linear_model(plan, point, "closed")
     modes = modes_of(model.a, model.states)
-    verdict = Verdict.of(stability_findings(plan, point, t))
+    display = Display(units.value, 1.0)  # (per width: each web's own, branch_analysis)
+    course = None if across is None else _branched_across_roll(line, plan, scenario, *across,
+                                                                display)
+    cert = _branched_certificate(line) if certificate else None
+    verdict = Verdict.of(stability_findings(plan, point, t)
+                         + (course.findings() if course is not None else []))
     spans, nodes = _branch_point_rows(plan, point)
     if as_json:
-        typer.echo(json.dumps({
-            "line": line.name, "scenario": scenario, "units": "si", "analysis_time_s": t,
-            "operating_point": {"spans": spans, "rollers": nodes},
-            "closed_loop_modes": [m.as_dict() for m in modes], "verdict": verdict.as_dict()},
-            indent=2, default=float))
-    else:
-        from webline.report.text.tables import make_table
+        from webline.report.text.branch_analysis import rolls_modes_values
 
-        tables = [
-            make_table("spans", f"Operating point at t = {t:g} s: spans",
-                       ["span", "web", "tension [N]"],
-                       [[r["span"], r["web"], f"{r['tension_N']:.4g}"] for r in spans]),
-            make_table("rollers", "Operating point: rollers",
-                       ["roller", "surface speed [m/s]", "ω [rad/s]", "torque [N·m]"],
-                       [[r["roller"], f"{r['speed_m_s']:.4g}", f"{r['omega_rad_s']:.4g}",
-                         "–" if r["torque_Nm"] is None else f"{r['torque_Nm']:.4g}"]
-                        for r in nodes]),
-            modes_table(modes)]
+        payload: dict[str, object] = {
+            "line": line.name, "scenario": scenario, "units": units.value,
+            "analysis_time_s": t, "operating_point": point_values(spans, nodes, display),
+            "closed_loop_modes": [m.as_dict() for m in modes], "verdict": verdict.as_dict()}
+        if course is not None:
+            payload["modes_across_roll"] = rolls_modes_values(course, display)
+        if cert is not None:
+            payload["certificate"] = _certificate_values(cert)
+        typer.echo(json.dumps(payload, indent=2, default=float))
+    else:
+        tables = [*point_tables(spans, nodes, t, display), modes_table(modes)]
+        if course is not None:
+            from webline.report.text.branch_analysis import rolls_modes_table
+
+            tables.append(rolls_modes_table(course, display))
         print_tables(tables, _console())
         typer.echo("\n".join(verdict_lines(verdict)))
+        if cert is not None:
+            _print_certificate(cert)
     if verdict.exit_code:
         raise typer.Exit(verdict.exit_code)
 
@@ -200,6 +211,7 @@ def _branch_point_rows(plan: object, point: object) -> tuple[list[dict], list[di
     assert isinstance(plan, BranchPlan) and isinstance(point, BranchPoint)
     line, x = plan.line, point.x
     spans = [{"span": s.name, "web": line.spec.webs[s.web].name,
+              "width_m": line.materials[s.web].width,
               "tension_N": float(max(x[s.index], 0.0))} for s in line.spans]
     nodes = []
     for i, roller in enumerate(line.spec.rollers):
@@ -211,28 +223,61 @@ def _branch_point_rows(plan: object, point: object) -> tuple[list[dict], list[di
     return spans, nodes
 
 
+def _branched_across_roll(line: object, plan: object, scenario: str | None, points: int,
+                          damping: float, figure: str | None, display: Display
+                          ) -> BranchRollModes:
+    """The modes across the rolls of a branched line (``analysis.branch_across_roll``): along
+    the scenario's course where one is given (``line`` has it applied), else from the rolls
+    as loaded until the first unwind is empty; the map written to ``figure`` if given."""
+    from webline.analysis.branch_across_roll import branch_roll_course, branch_roll_modes
+    from webline.model.web_graph import BranchedLine
+    from webline.sim.branches.plan import BranchPlan
+
+    assert isinstance(line, BranchedLine) and isinstance(plan, BranchPlan)
+    duration = float(line.spec.scenarios[scenario].duration) if scenario else None
+    if duration is None and not any(r.direction < 0 for r in line.rolls):
+        raise BadInput("--across-roll: this line has no unwind to run empty; give --scenario "
+                       "to follow its course")
+    time, length, radius = branch_roll_course(line, points, duration)
+    course = branch_roll_modes(plan, time, radius, length, damping)
+    if figure is not None:
+        from webline.report.plots.roll_figures import roll_modes_figure
+        from webline.report.text.branch_analysis import base_display
+
+        fig = roll_modes_figure(course, base_display(display))
+        rewind = next((n for n, r in zip(course.rolls, plan.line.rolls, strict=True)
+                       if r.direction > 0), "rewind")
+        fig.axes[1].set_xlabel(base_display(display).label(f"{rewind} diameter", "length"))
+        _save_png(fig, figure)
+    return course
+
+
+def _save_png(fig: object, figure: str) -> None:
+    """Write matplotlib figure ``fig`` to ``figure`` as PNG (atomically)."""
+    import io
+    from pathlib import Path
+
+    from webline.files import atomic_write_bytes
+
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=110)  # type: ignore[attr-defined]
+    atomic_write_bytes(Path(figure), buffer.getvalue())
+    typer.echo(f"wrote {figure}", err=True)
+
+
 def _across_roll(line: Line, scenario: str | None, points: int, damping: float,
                  figure: str | None, display: Display) -> RollModes:
     """The modes across the roll (``analysis.across_roll``): along the scenario's course
     where one is given, else from the rolls as loaded to an empty unwind; the map's figure
     written to ``figure`` if given."""
-    from pathlib import Path
-
     from webline.analysis.across_roll import modes_across_roll
 
     duration = line.spec.scenarios[scenario].duration if scenario else None
     course = modes_across_roll(line, points, duration=duration, threshold=damping)
     if figure is not None:
-        from webline.files import atomic_write_bytes
         from webline.report.plots.roll_figures import roll_modes_figure
 
-        fig = roll_modes_figure(course, display)
-        import io
-
-        buffer = io.BytesIO()
-        fig.savefig(buffer, format="png", dpi=110)
-        atomic_write_bytes(Path(figure), buffer.getvalue())
-        typer.echo(f"wrote {figure}", err=True)
+        _save_png(roll_modes_figure(course, display), figure)
     return course
 
 
@@ -247,6 +292,24 @@ def _certificate(line: Line) -> Certificate:
     except LineFileError as exc:
         raise BadInput(f"--certificate: thesis Thm 6.2.1 is about decentralized state feedback "
                        f"on every drive, which this line cannot run: {exc}") from None
+
+
+def _branched_certificate(line: object) -> Certificate:
+    """Thesis Thm 6.2.1 over a branched line's sections; a tree whose sections do not hold
+    all it reads (an idle junction between zones) is refused in one line, with the reason."""
+    from webline.analysis.branch_certificate import NotCertifiable, branch_certificate
+
+    try:
+        return branch_certificate(line)  # type: ignore[arg-type]
+    except NotCertifiable as exc:
+        raise BadInput(f"--certificate: {exc}") from None
+
+
+def _certificate_values(cert: Certificate) -> dict[str, object]:
+    """The certificate as plain data (JSON)."""
+    return {"holds": cert.holds, "worst_ratio": cert.worst_ratio, "max_real": cert.max_real,
+            "max_real_plant": cert.max_real_plant, "sampled_radius": cert.sampled_radius,
+            "sections": cert.rows()}
 
 
 def _print_certificate(cert: Certificate) -> None:

@@ -30,7 +30,7 @@ def test_analyze_json_modes_are_the_linear_model_eigenvalues():
     payload = json.loads(result.output)
     # a start from rest is analysed at the end of its ramp (1 s + 10 s), at top speed
     assert payload["analysis_time_s"] == 11.0
-    speeds = {r["roller"]: r["speed_m_s"] for r in payload["operating_point"]["rollers"]}
+    speeds = {r["roller"]: r["speed"] for r in payload["operating_point"]["rollers"]}
     assert abs(speeds["pull"] - 5.0) < 1e-9  # the master at 300 m/min
     values = np.linalg.eigvals(linear_model("slitter").a)  # same references at top speed
     listed = [complex(m["eigenvalue_real"], m["eigenvalue_imag"])
@@ -45,10 +45,50 @@ def test_analyze_json_modes_are_the_linear_model_eigenvalues():
 
 
 def test_analyze_branched_refuses_what_it_does_not_support_in_one_line():
-    result = _run("analyze", "slitter", "--across-roll")
+    result = _run("analyze", "slitter", "--controller", "mrac")
     assert result.exit_code == 2
-    assert "--across-roll: not yet supported for a branched line" in result.output
+    assert "--controller: not yet supported for a branched line" in result.output
     assert "Traceback" not in result.output
+
+
+LBF, FPM, LBF_FT, INCH = 4.4482216152605, 0.00508, 1.3558179483314004, 0.0254  # [SI]
+
+
+def test_analyze_branched_in_imperial_units_is_the_si_point_converted():
+    si = json.loads(_run("analyze", "slitter", "--json").output)["operating_point"]
+    imperial = json.loads(_run("analyze", "slitter", "--json", "--units", "imperial").output)
+    point = imperial["operating_point"]
+    assert imperial["units"] == "imperial"
+    assert point["units"] == {"tension": "lbf", "speed": "ft/min", "torque": "lbf*ft",
+                              "width": "in"}
+    # the same numbers in the other units: exact factors (1 lbf = 4.4482216152605 N, 1 ft/min
+    # = 0.00508 m/s, 1 lbf·ft = 1.3558179483314004 N·m), so to round-off
+    for a, b in zip(si["spans"], point["spans"], strict=True):
+        assert b["tension"] == pytest.approx(a["tension"] / LBF, rel=1e-12)
+    for a, b in zip(si["rollers"], point["rollers"], strict=True):
+        assert b["speed"] == pytest.approx(a["speed"] / FPM, rel=1e-12)
+        assert b["omega_rad_s"] == a["omega_rad_s"]
+        assert (b["torque"] is None) == (a["torque"] is None)
+        if a["torque"] is not None:
+            assert b["torque"] == pytest.approx(a["torque"] / LBF_FT, rel=1e-12)
+
+
+@pytest.mark.parametrize(("units", "factor"), [("si-per-width", 1.0),
+                                               ("imperial-per-width", INCH / LBF)])
+def test_analyze_branched_per_width_divides_each_span_by_its_own_web(units, factor):
+    # the slitter's base web is 1.25 m wide, its lanes 0.4 m each: the lanes' 100 N is
+    # 250 N/m (1.4275 pli), the base web's 299.8 N is 239.8 N/m
+    point = json.loads(_run("analyze", "slitter", "--json", "--units", units).output)[
+        "operating_point"]
+    spans = {r["span"]: r for r in point["spans"]}
+    assert spans["lane_1_span"]["tension"] == pytest.approx(100.0 / 0.4 * factor, rel=1e-9)
+    assert spans["unwind_zone"]["tension"] == pytest.approx(300.0 / 1.25 * factor, rel=1e-9)
+    widths = {r["web"]: r["web_width"] for r in point["spans"]}
+    assert widths["lane_3"] == pytest.approx(400.0 if units.startswith("si") else 0.4 / INCH)
+    table = _run("analyze", "slitter", "--units", units)
+    assert table.exit_code == 0, table.output
+    assert "web width" in table.output
+    assert ("[pli]" if units.startswith("imperial") else "[N/m]") in table.output
 
 
 def _overtuned(kp: float) -> dict:

@@ -321,15 +321,3 @@ BREAK = {"type": "web_break", "span": "lane_1_span", "at": 1.0}
 def test_a_bad_break_is_one_line_naming_its_key(disturbances, scenario, key, problem):
     with pytest.raises(LineFileError, match=re.escape(key) + ".*" + re.escape(problem)):
         load_branched(_slitter_with(disturbances, scenario))
-
-
-def test_a_break_with_a_decentralized_drive_is_refused_naming_it():
-    """A state-feedback drive's references do not follow the stop ramp (a laminator with
-    state feedback on its rolls kept turning at 2.3-2.5 m/s after the ramp): refused, one
-    line naming the break and the drive, until they do."""
-    data = _slitter_with([BREAK])
-    rewind = next(r for r in data["rollers"] if r["name"] == "rewind_3")
-    rewind["controller"] = {"type": "state_feedback"}
-    with pytest.raises(LineFileError, match=re.escape("disturbances[0]") + ".*state_feedback "
-                       "drive \\('rewind_3'"):
-        load_branched(data)

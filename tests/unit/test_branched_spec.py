@@ -90,13 +90,10 @@ CASES = [  # (base, change, key in the message, fragment of the problem)
         "type": "python", "object": "m:f"}), d["rollers"][0].__setitem__("winder", {
             "mode": "open_loop"})),
      "rollers[0].winder.mode", "open-loop tension control takes no command from a python"),
-    (LAMINATOR, lambda d: d["rollers"][0].__setitem__("controller", {
-        "type": "state_feedback", "tension_feedback": "observer"}),
-     "rollers[0].controller.tension_feedback", "not yet supported on a branched line"),
     (LAMINATOR, lambda d: (d["rollers"][0].__setitem__("controller", {
         "type": "state_feedback"}), d["rollers"][0].__setitem__("winder", {
-            "inertia_compensation": True})),
-     "rollers[0].winder", "a centre winder's compensation and open loop with a cascaded_pi"),
+            "mode": "open_loop"})),
+     "rollers[0].winder.mode", "open_loop replaces the drive's 'state_feedback' controller"),
     (LAMINATOR, lambda d: d["rollers"][0].__setitem__("controller", {
         "type": "adaptive", "leakage": -1}), "rollers[0].controller.leakage", "must be >= 0"),
     (SLITTER, lambda d: (d["rollers"][4].__setitem__("shaft", {

@@ -167,12 +167,29 @@ def certificate(line: Line, closed: Sequence[np.ndarray] | ClosedLoops | None = 
     linearized plant with the gains that give Ā_i (their first rows must equal the A_i's),
     continuously and sampled at the line's controller rate.
     """
-    from webline.control.sections import assemble, section_models
+    from webline.control.sections import section_models
 
     at = line_at_radii(line, unwind_radius, rewind_radius)
     op = operating_point(at)
     models = section_models(at, op)
     bars = _closed(at, op, models, closed)
+    plant_real, sampled = _plant_check(at, models, bars) if plant else (None, None)
+    return certificate_of(models, bars, [at.node_name(m.node) for m in models],
+                          op.line_speed, n_rule=n_rule, scaling=scaling, epsilon=epsilon,
+                          plant=(plant_real, sampled))
+
+
+def certificate_of(models: Sequence[SectionModel], bars: Sequence[np.ndarray],
+                   names: Sequence[str], line_speed: float, *, n_rule: NRule = "thesis",
+                   scaling: Scaling = "optimize", epsilon: float | Sequence[float] | None = None,
+                   plant: tuple[float | None, float | None] = (None, None)) -> Certificate:
+    """Theorem 6.2.1 for section ``models`` (A_i, B_i and the couplings A_ij, SI) closed to
+    ``bars`` (Ā_i), sections named ``names``, at ``line_speed`` [m/s]; ``plant``: the full
+    plant's largest Re λ [1/s] and sampled spectral radius, where computed (``certificate``
+    of a line; a branched line's: ``analysis.branch_certificate``)."""
+    from webline.control.sections import assemble
+
+    models, bars = list(models), list(bars)
     counts = section_counts(models, n_rule)
     units, label = _units(models, bars, counts, scaling)
     bounds = interconnection_bounds(models, units)
@@ -188,15 +205,14 @@ def certificate(line: Line, closed: Sequence[np.ndarray] | ClosedLoops | None = 
             np.broadcast_to(epsilon, len(models))[i])
         sol = solve_bounded_real_are(scaled, n, x * x + eps) if hurwitz and eps > 0 else None
         sections.append(SectionCertificate(
-            at.node_name(m.node), m.states, a_bar, hurwitz, d, x, n, margin, eps,
+            names[i], m.states, a_bar, hurwitz, d, x, n, margin, eps,
             None if sol is None else sol.p, None if sol is None else sol.residual))
     a, _ = assemble(models)
     full = a.copy()
     for i, a_bar in enumerate(bars):
         full[_block(models, i), _block(models, i)] = a_bar
-    plant_real, sampled = _plant_check(at, models, bars) if plant else (None, None)
-    return Certificate(op.line_speed, n_rule, label, units, tuple(sections),
-                       float(np.linalg.eigvals(full).real.max()), plant_real, sampled)
+    return Certificate(line_speed, n_rule, label, units, tuple(sections),
+                       float(np.linalg.eigvals(full).real.max()), plant[0], plant[1])
 
 
 @dataclass(frozen=True)

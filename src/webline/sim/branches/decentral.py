@@ -30,6 +30,8 @@ from webline.sim.branches.equilibrium import BranchPoint, analysis_time, operati
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import taper_at
 from webline.sim.branches.loop.plant import node_inertia
+from webline.sim.branches.loop.transmission import reflected_motor
+from webline.sim.branches.observer.section import observer_columns
 from webline.sim.branches.plan import BranchPlan
 from webline.spec.schema import AdaptiveSpec, IdleSpec, MRACSpec, StateFeedbackSpec
 
@@ -61,8 +63,9 @@ def section_model(plan: BranchPlan, point: BranchPoint, d: int) -> SectionModel:
     i = int(plan.di[d, B.DI_NODE])
     off_w = plan.offsets[B.O_OMEGA]
     r = _arm(plan, x, int(plan.di[d, B.DI_ROLL]), i)
-    inertia = float(node_inertia(i, x, plan.offsets, plan.nodes, plan.rolls))
-    n = plan.nodes[i, B.N_RATIO]
+    inertia = float(node_inertia(i, x, plan.offsets, plan.nodes, plan.rolls)
+                    + reflected_motor(d, plan.di, plan.df))  # (the motor across a belt, lumped)
+    n = plan.df[d, B.D_RATIO]  # (the drive's: a compliant drive's node has none)
     b = plan.nodes[i, B.N_VISCOUS]
     zone = line.zones.get(i)
     name = line.spec.rollers[i].name
@@ -172,6 +175,7 @@ def prepare(plan: BranchPlan) -> list[SectionDesign | None]:
             continue
         designs.append(design(plan, point, d))
         _columns(plan, point, d, designs[-1])  # type: ignore[arg-type]
+        observer_columns(plan, point, d, section_model(plan, point, d))  # (where asked)
     return designs
 
 
@@ -214,22 +218,30 @@ def start_memory(plan: BranchPlan, istate: np.ndarray) -> None:
                                          plan.prof_t, plan.prof_v, plan.prof_off)
 
 
-def linear_rows(plan: BranchPlan, point: BranchPoint, d: int, n_x: int,
-                n_q: int) -> tuple[np.ndarray, ...]:
+def linear_rows(plan: BranchPlan, point: BranchPoint, d: int, n_x: int, n_q: int,
+                kept: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
     """Drive ``d``'s decentralized law linear at ``point`` (``loop.decentral``, radii frozen),
     as ``linear.controller_matrices``' rows: u = kx x + ki q + kr r, dq/dt = gx x + gi q + gr
     r, x the kept plant states, q the integrators (here ``d``'s friction estimate at column
     ``d``), r = (line speed [m/s], each loadcell's reference [N]). The reference motion's
     torque u_eq moves with r through the tables' sensitivities; at the point itself the
-    feedback sees x_T = ΣT - Σref and x_V = r ω - v_ref."""
+    feedback sees x_T = ΣT - Σref and x_V = r ω - v_ref, ω the roller's, or across a
+    compliant transmission measured on the motor ω_m / n (``kept``: the model's states, to
+    find the motor's)."""
     row, i = plan.fb[d], int(plan.di[d, B.DI_NODE])
     n_s, _n_d, n_c = len(plan.line.spans), plan.di.shape[0], plan.cells.shape[0]
     kx, ki, kr = np.zeros(n_x), np.zeros(n_q), np.zeros(1 + n_c)
     gx, gi, gr = np.zeros(n_x), np.zeros(n_q), np.zeros(1 + n_c)
     r = _arm(plan, point.x, int(plan.di[d, B.DI_ROLL]), i)
-    n = plan.nodes[i, B.N_RATIO]
-    inertia = float(node_inertia(i, point.x, plan.offsets, plan.nodes, plan.rolls))
+    n = plan.df[d, B.D_RATIO]  # (the drive's: a compliant drive's node has none)
+    inertia = float(node_inertia(i, point.x, plan.offsets, plan.nodes, plan.rolls)
+                    + reflected_motor(d, plan.di, plan.df))
     off_w = plan.offsets[B.O_OMEGA]
+    # the column of the measured speed and its arm: the roller's r ω, or the motor's r ω_m / n
+    speed, arm = off_w + i, r
+    motor = int(plan.di[d, B.DI_TSTATE])
+    if motor >= 0 and plan.df[d, B.D_FEEDBACK] > 0.0 and kept is not None:
+        speed, arm = int(np.flatnonzero(kept == motor)[0]), r / n
     gain = inertia / (n * r) / plan.df[d, B.D_GAINNORM]
     friction = row[B.FB_BMODEL] + row[B.FB_BMOTOR]
     # x_V = r ω - v_ref; the velocity-squared term f: -dir J h / (2π r³ n) 2 v δv
@@ -241,7 +253,9 @@ def linear_rows(plan: BranchPlan, point: BranchPoint, d: int, n_x: int,
     adaptive = family == B.FAMILY_ADAPTIVE
     if adaptive:
         dv += row[B.FB_BMODEL] / (r * n)
-    kx[off_w + i] = dv * r
+    kx[speed] = dv * arm
+    if plan.di[d, B.DI_WINDER] != B.WINDER_NONE:  # a winder's b_c ω / n on the measured ω
+        kx[speed] += plan.df[d, B.D_COMPB] / (r * n) * arm  # (static friction, J a: constant)
     first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
     for c in range(first, first + count):
         k = int(plan.cells[c, 0])
@@ -266,7 +280,7 @@ def linear_rows(plan: BranchPlan, point: BranchPoint, d: int, n_x: int,
         for c in range(first, first + count):
             gx[int(plan.cells[c, 0])] += s_t
             gr[1 + c] -= s_t
-        gx[off_w + i] += s_v * r
+        gx[speed] += s_v * arm
         gr[0] -= s_v * v_per
         for c in range(n_c):
             gr[1 + c] -= s_v * plan.refs[n_s + d, 1 + c] * point.line_speed / plan.refs[-2, 0]
@@ -275,7 +289,7 @@ def linear_rows(plan: BranchPlan, point: BranchPoint, d: int, n_x: int,
         omega = v / r
         ki[d] = omega / n
         rate = row[B.FB_GAMMA] * gain * row[B.FB_KV] * n / max(omega**2, 1.0)
-        gx[off_w + i] = -rate * omega * r
+        gx[speed] = -rate * omega * arm
         gr[0] = rate * omega * v_per
         gi[d] = -row[B.FB_LEAK] * row[B.FB_GAMMA]
     return kx, ki, kr, gx, gi, gr

@@ -48,13 +48,14 @@ class BranchPoint:
     line_speed: float
 
 
-def _references(plan: BranchPlan, t: float) -> np.ndarray:
+def _references(plan: BranchPlan, t: float, radii: np.ndarray | None = None) -> np.ndarray:
     """Each loadcell span's reference [N] at ``t``, times its drive's taper at the roll's
-    starting radius and the tension ramp's factor."""
+    starting radius (or ``radii`` [m] per roll) and the tension ramp's factor."""
     refs = np.full(len(plan.line.spans), np.nan)
     for d in range(plan.di.shape[0]):
         i, j = plan.di[d, B.DI_NODE], plan.di[d, B.DI_ROLL]
-        factor = 1.0 if j < 0 else taper_at(d, plan.line.rolls[j].radius, plan.nodes[i, B.N_CORE],
+        radius = plan.line.rolls[j].radius if radii is None or j < 0 else float(radii[j])
+        factor = 1.0 if j < 0 else taper_at(d, radius, plan.nodes[i, B.N_CORE],
                                             plan.df, plan.prof_t, plan.prof_v, plan.prof_off)
         if plan.offsets[B.O_RAMP] >= 0:  # the tension ramp at start and stop (R1)
             factor *= plan.profile(int(plan.offsets[B.O_RAMP]), t)
@@ -79,19 +80,21 @@ def _guess(plan: BranchPlan, refs: np.ndarray) -> np.ndarray:
     return guess
 
 
-def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.ndarray:
-    """Stretches, node speeds and torques (one vector) of the steady line at ``speed``."""
+def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
+           radii: np.ndarray | None = None) -> np.ndarray:
+    """Stretches, node speeds and torques (one vector) of the steady line at ``speed``, the
+    rolls at their starting radii or at ``radii`` [m]."""
     n_s, n_n, n_d = len(plan.line.spans), plan.nodes.shape[0], plan.di.shape[0]
     n_c = plan.cores.shape[0]
     off_w, off_r, off_tq = (plan.offsets[B.O_OMEGA], plan.offsets[B.O_RADIUS],
                             plan.offsets[B.O_TORQUE])
     off_c = plan.offsets[B.O_CORE]
     shafts = set(plan.cores[:, B.C_NODE].tolist())
-    refs = _references(plan, t)
+    refs = _references(plan, t, radii)
     t_scale = float(np.nanmean(np.abs(refs))) if np.any(np.isfinite(refs)) else 1.0
     x = np.zeros(plan.n_x)
     for j, roll in enumerate(plan.line.rolls):
-        x[off_r + j] = roll.radius
+        x[off_r + j] = roll.radius if radii is None else radii[j]
     held = plan.held(t)  # wound-in tensions and drags at t (ripples: their mean, 0)
     place_carriages(plan, x, refs, held)  # where each dancer's loop holds its carriage
     arms = plan.nodes[:, B.N_RADIUS].copy()
@@ -168,8 +171,11 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float) -> np.nd
     return x.copy()
 
 
-def operating_point(plan: BranchPlan, t: float = 0.0) -> BranchPoint:
-    """The steady state of ``plan`` at time ``t`` [s] of its references (module docstring)."""
+def operating_point(plan: BranchPlan, t: float = 0.0, *,
+                    radii: np.ndarray | None = None) -> BranchPoint:
+    """The steady state of ``plan`` at time ``t`` [s] of its references (module docstring);
+    ``radii`` [m], one per ``plan.line.rolls``, put the rolls elsewhere on their course than
+    their start (the modes across the roll, ``analysis.branch_across_roll``)."""
     n_n, n_d = plan.nodes.shape[0], plan.di.shape[0]
     off_w, off_r, off_tq = (plan.offsets[B.O_OMEGA], plan.offsets[B.O_RADIUS],
                             plan.offsets[B.O_TORQUE])
@@ -179,7 +185,7 @@ def operating_point(plan: BranchPlan, t: float = 0.0) -> BranchPoint:
                               f"running at t = {t:g} s (a start from rest with slip clutches is "
                               "not modelled: their clutches would not slip)")
     top = float(np.max(np.abs(plan.prof_v[plan.prof_off[0]:plan.prof_off[1]])))
-    at = _solve(plan, speed if speed > 0.0 else max(top, 1.0), plan.nodes, t)
+    at = _solve(plan, speed if speed > 0.0 else max(top, 1.0), plan.nodes, t, radii)
     ratio = np.empty(n_d)
     for d in range(n_d):
         i, j = plan.di[d, B.DI_NODE], plan.di[d, B.DI_ROLL]
@@ -188,7 +194,7 @@ def operating_point(plan: BranchPlan, t: float = 0.0) -> BranchPoint:
     if speed <= 0.0:  # at rest: frictionless tensions, no motion, torques that hold it
         nodes = plan.nodes.copy()
         nodes[:, B.N_VISCOUS] = nodes[:, B.N_COULOMB] = 0.0
-        at = _solve(plan, max(top, 1.0), nodes, t)
+        at = _solve(plan, max(top, 1.0), nodes, t, radii)
         at[off_w:off_w + n_n] = 0.0
         dx = np.zeros(plan.n_x)
         cmd = np.zeros(n_d)

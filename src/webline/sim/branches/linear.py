@@ -8,10 +8,9 @@ speeds ω [rad/s], motor torques [N·m]. The roll radii are frozen at the operat
 change over minutes, the dynamics over seconds, as on a chain: thesis Sec. 4.1's set of
 radii), and the web-length counters are outputs, not dynamics: both are left out.
 
-The closed loop adds every drive's cascaded PI (``kernel.control_tick``) in continuous time,
-as the chain's closed-loop model does: speed integrator per drive, tension integrator per
-drive with a zone; saturation and conditional integration are off at the operating point.
-"""
+The closed loop adds every drive's controller (``kernel.control_tick``) in continuous time,
+as the chain's does (PI: speed and tension integrators; saturation off at the point), and
+the section observers' states (``sim.branches.observer``)."""
 
 from __future__ import annotations
 
@@ -29,6 +28,7 @@ from webline.sim.branches.equilibrium import analysis_time as analysis_time  # (
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import node_inertia, rhs
 from webline.sim.branches.loop.transmission import reflected_motor
+from webline.sim.branches.observer.section import observer_names, observer_rows
 from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.branches.traction import slip_rate_bound
 from webline.sim.branches.web_findings import felt_rows, felt_wound_rows
@@ -152,7 +152,8 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
     for d in range(n_d):
         i, row = int(plan.di[d, B.DI_NODE]), plan.df[d]
         if plan.di[d, B.DI_FAMILY] != B.FAMILY_PI:  # state feedback, adaptive
-            kx[d], ki[d], kr[d], gx[d], gi[d], gr[d] = linear_rows(plan, point, d, n_x, n_q)
+            kx[d], ki[d], kr[d], gx[d], gi[d], gr[d] = linear_rows(plan, point, d, n_x, n_q,
+                                                                   kept)
             continue
         # e_v = v_line ff + σ (kp_t e_t + q_t) - r ω,  e_t = Σ (ref_c - T_c)
         ev_x, ev_q, ev_r = np.zeros(n_x), np.zeros(n_q), np.zeros(n_r)
@@ -191,8 +192,9 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
             linear_winder_rows(plan, d, speed_arm(plan, point, i),
                                n_d + zoned.index(d) if d in zoned else None, kx, ki, kr, gx,
                                gi, gr)
-    keep = _integrators(plan)  # a state-feedback drive has none
-    return kx, ki[:, keep], kr, gx[keep], gi[np.ix_(keep, keep)], gr[keep]
+    keep = _integrators(plan)  # a state-feedback drive has none; then the observers' states
+    return observer_rows(plan, point, kept, (kx, ki[:, keep], kr, gx[keep],
+                                             gi[np.ix_(keep, keep)], gr[keep]))
 
 
 def _zoned(plan: BranchPlan) -> list[int]:
@@ -217,7 +219,7 @@ def integrator_names(plan: BranchPlan) -> list[str]:
     names = [f"{n}_{kind.get(int(plan.di[d, B.DI_FAMILY]), 'speed_integral')}"
              for d, n in enumerate(drives)]
     names += [f"{drives[d]}_tension_integral" for d in _zoned(plan)]
-    return [names[q] for q in _integrators(plan)]
+    return [names[q] for q in _integrators(plan)] + observer_names(plan)
 
 
 def wound_gains(plan: BranchPlan, point: BranchPoint,

@@ -16,6 +16,7 @@ from webline.sim.branches.equilibrium import BranchPoint, operating_point
 from webline.sim.branches.linear import fastest_rate
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.kernel import new_records
+from webline.sim.branches.observer.section import start_observers
 from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.branches.result import BranchResult
 from webline.sim.branches.web_findings import strength_failure
@@ -139,6 +140,7 @@ def start_state(plan: BranchPlan, point: BranchPoint) -> tuple[np.ndarray, np.nd
     istate[:, B.I_RADIUS] = plan.radius0
     istate[:, B.I_DETECT] = -1.0  # no web break detected yet
     start_memory(plan, istate)  # the decentralized families' (sim.branches.decentral)
+    start_observers(plan, istate, x)  # (section observers: at the initial state)
     return x, istate
 
 

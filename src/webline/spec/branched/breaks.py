@@ -8,7 +8,6 @@ from collections.abc import Callable
 from typing import NoReturn
 
 from webline.spec.branched.schema import BranchedLineSpec
-from webline.spec.control_schema import CascadedPISpec
 from webline.spec.winder import WebBreak
 
 Fail = Callable[[str, str], NoReturn]
@@ -20,17 +19,10 @@ def span_names(spec: BranchedLineSpec) -> list[str]:
 
 
 def check_break(spec: BranchedLineSpec, item: WebBreak, key: str, fail: Fail) -> None:
-    """A break's span exists; every drive runs the cascaded PI (the decentralized families'
-    references do not follow the stop ramp yet: such a line would not stop)."""
+    """A break's span exists (every controller family follows the stop ramp and holds)."""
     names = span_names(spec)
     if item.span not in names:
         fail(f"{key}.span", f"no span named {item.span!r} (spans: {', '.join(names)})")
-    for roller in spec.rollers:
-        controller = getattr(roller, "controller", None)
-        if controller is not None and not isinstance(controller, CascadedPISpec):
-            fail(key, f"not yet supported on a branched line with a {controller.type} drive "
-                 f"({roller.name!r}: its references do not follow the stop ramp); a web break "
-                 "runs with cascaded_pi drives")
 
 
 def check_breaks(spec: BranchedLineSpec, fail: Fail) -> None:

@@ -91,8 +91,7 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
                      "lanes' tension is slip_torque / radius)")
         drive = getattr(roller, "drive", None)
         if drive is not None:
-            check_drive_train(spec, key, roller.name, drive, getattr(roller, "controller", None),
-                              fail)
+            check_drive_train(spec, key, roller.name, drive, fail)
         check_controller(key, roller, fail, unsupported)
     check_web_laws(spec, fail)
     for name, scenario in spec.scenarios.items():

@@ -1,7 +1,9 @@
 """Checks of a branched line's controller families (docs/branching.md, "State feedback"):
 the cascaded PI, decentralized state feedback, adaptive control and MRAC run on any drive
-but a differential shaft's (speed control only), a user's Python controller on any
-(docs/controllers.md, "On a branched line"); the section observer not yet."""
+but a differential shaft's (speed control only), with their loadcells or a section observer
+(``sim.branches.observer``, which checks its zone), a centre winder's compensations added to
+their torque (closed loop); a user's Python controller on any (docs/controllers.md, "On a
+branched line")."""
 
 from __future__ import annotations
 
@@ -38,12 +40,12 @@ def check_controller(key: str, roller: object, fail: Fail, unsupported: Unsuppor
         return
     if not isinstance(controller, StateFeedbackSpec | AdaptiveSpec | MRACSpec):
         unsupported(f"{key}.controller.type", fail, FAMILIES)
-    if controller.tension_feedback != "loadcell":
-        unsupported(f"{key}.controller.tension_feedback", fail,
-                    "decentralized controllers on their loadcells")
-    if getattr(roller, "winder", None) is not None:  # (its tick adds them to the PI's only)
-        unsupported(f"{key}.winder", fail, "a centre winder's compensation and open loop "
-                    "with a cascaded_pi drive")
+    winder = getattr(roller, "winder", None)
+    if winder is not None and winder.mode == "open_loop":
+        fail(f"{key}.winder.mode", f"open_loop replaces the drive's {controller.type!r} "
+             "controller (torque T_ref R / n, its speed limiter on the cascaded PI's speed "
+             "gains): give controller cascaded_pi, or mode closed_loop to add the "
+             "compensations to the state feedback")
     if isinstance(roller, RewindSpec) and roller.shaft is not None:
         fail(f"{key}.controller.type", f"{controller.type!r} needs a tension loop; a "
              "differential shaft runs in speed control (its lanes' tension is slip_torque / "

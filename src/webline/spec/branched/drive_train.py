@@ -7,26 +7,23 @@ from collections.abc import Callable
 from typing import NoReturn
 
 from webline.spec.branched.schema import BranchedLineSpec
-from webline.spec.schema import CascadedPISpec, DriveSpec
+from webline.spec.schema import DriveSpec
 from webline.spec.splice import FlyingSplice
 
 Fail = Callable[[str, str], NoReturn]
 
 
 def check_drive_train(spec: BranchedLineSpec, key: str, name: str, drive: DriveSpec,
-                      controller: object, fail: Fail) -> None:
-    """A compliant transmission needs the motor's inertia (its speed is a state), the cascaded
-    PI (its speed loop may measure the motor) and cannot take a roll change or a flying
-    splice (its motor speed and twist would have to jump with the roll)."""
+                      fail: Fail) -> None:
+    """A compliant transmission needs the motor's inertia (its speed is a state) and cannot
+    take a roll change or a flying splice (its motor speed and twist would have to jump with
+    the roll). Every controller family runs on it (measuring the side ``feedback`` names)."""
     kind = drive.transmission.type
     if kind == "direct":
         return
     if drive.motor_inertia <= 0.0:
         fail(f"{key}.drive.motor_inertia", f"a {kind} transmission needs the motor's inertia "
              "(> 0)")
-    if not isinstance(controller, CascadedPISpec):
-        fail(f"{key}.drive.transmission", f"a {kind} transmission needs a cascaded_pi "
-             "controller on a branched line (the decentralized families measure the roller)")
     splices: list[tuple[str, object]] = [(f"disturbances[{j}]", item)
                                          for j, item in enumerate(spec.disturbances)]
     for scenario_name, scenario in spec.scenarios.items():

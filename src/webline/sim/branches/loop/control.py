@@ -21,6 +21,7 @@ from webline.sim.branches.loop.break_limits import (
 from webline.sim.branches.loop.breaks import break_monitor, fade_trim, held_command
 from webline.sim.branches.loop.dancer import position_error, sensed_tension
 from webline.sim.branches.loop.decentral import decentral_command, reference_changes
+from webline.sim.branches.loop.observer import observe
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.loop.user import user_tick
 from webline.sim.branches.loop.winder import compensation, open_loop, zone_reference
@@ -90,7 +91,8 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
                  cmd: np.ndarray, offsets: np.ndarray, nodes: np.ndarray, rolls: np.ndarray,
                  di: np.ndarray, df: np.ndarray, cells: np.ndarray, dist: np.ndarray,
                  prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray,
-                 si: np.ndarray, fb: np.ndarray, refs: np.ndarray) -> None:
+                 si: np.ndarray, fb: np.ndarray, refs: np.ndarray, sf: np.ndarray,
+                 layers: np.ndarray) -> None:
     """One sample ``tick`` of every drive's cascaded PI (thesis Fig. 4.3, as the chain's
     ``sim.drives.controllers.pi_command``): line speed x draw is the speed feedforward, a
     tension PI on the zone's loadcell (or the sum of its loadcells) trims it, a speed PI gives
@@ -98,7 +100,8 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
     ``dist``: a drive's speed ripple adds to its speed reference; measurement noise to the
     measured speed (channel 2 d, then rounded to the resolution) and each loadcell's tension
     (channel 2 c + 1), as the chain's ``sim.drives.measure``. A decentralized drive
-    (``DI_FAMILY``) takes ``loop.decentral``'s command instead of the PI's (``fb``, ``refs``)."""
+    (``DI_FAMILY``) takes ``loop.decentral``'s command instead of the PI's (``fb``, ``refs``);
+    one with a section observer (``DI_OBS``) feeds back its T̂ (``loop.observer``)."""
     v_line = profile_at(0, t, prof_t, prof_v, prof_off)
     a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)  # (a centre winder's)
     stopping = 1.0  # the line-speed factor of the ramp to a stop after a web break (W5)
@@ -137,7 +140,7 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
                                        df)
             istate[d, B.I_RADIUS] = radius
             v_meas = radius * omega_meas
-        e_t = 0.0
+        e_t = measured = 0.0
         factor = taper_at(d, radius, nodes[i, B.N_CORE], df, prof_t, prof_v, prof_off)
         if offsets[B.O_RAMP] >= 0:  # the tension ramp at start and stop (docs/winder.md R1)
             factor *= profile_at(offsets[B.O_RAMP], t, prof_t, prof_v, prof_off)
@@ -164,9 +167,25 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
                                    stopping, x, istate, offsets, nodes, rolls, di, df, cells,
                                    dist, prof_t, prof_v, prof_off, sigma_t, seed, noisy)
                 continue
-            cmd[d] = decentral_command(d, di[d, B.DI_FAMILY], i, t, dt, radius, v_meas, -e_t,
-                                       x, istate, offsets, nodes, rolls, si, df, fb, refs,
-                                       prof_t, prof_v, prof_off)
+            if offsets[B.O_BREAK] and stopping == 0.0 and df[d, B.D_BHOLD] != (
+                    B.HOLD_ZERO_SPEED):  # stopped, "off" or "brakes": no torque (W8)
+                cmd[d] = 0.0
+                continue
+            x_t = -e_t
+            if di[d, B.DI_OBS] > 0:  # a section observer's T̂ replaces the loadcell
+                estimate = observe(d, i, dt, v_meas / radius, x, istate, offsets, nodes, rolls,
+                                   si, sf, layers, di, fb, refs)
+                if not (offsets[B.O_BREAK] and stopping < 1.0):  # (frozen with the loops)
+                    x_t += estimate - measured
+            adapting = not (offsets[B.O_BREAK] and istate[0, B.I_DETECT] >= 0.0)
+            cmd[d] = decentral_command(d, di[d, B.DI_FAMILY], i, t, dt, radius, v_meas, x_t,
+                                       stopping, adapting, x, istate, offsets, nodes, rolls,
+                                       si, df, fb, refs, prof_t, prof_v, prof_off)
+            if di[d, B.DI_WINDER] != B.WINDER_NONE:  # a centre winder's compensation (W3),
+                # added to the law's torque as the chain's control_tick adds it
+                cmd[d] = _saturate(cmd[d] + compensation(
+                    d, i, radius, v_meas / radius, a_line, nodes, rolls, df, prof_t, prof_v,
+                    prof_off), df[d, B.D_LIMIT])
             continue
         trim = df[d, B.D_SIGMA] * (df[d, B.D_KPT] * e_t + istate[d, B.I_TENSION])
         ripple = 0.0

@@ -8,7 +8,9 @@ x_T the zone's loadcell tension (or lanes' sum) minus its reference, x_V the mea
 speed minus the reference; u_eq the torque that holds the node on its reference motion,
 from the reference tensions of every span on the node (a junction's too); f cancels a roll's
 velocity-squared term; g = J / (n r) over its design value keeps the speed row's closed-loop
-entries as designed while a roll's inertia and radius change.
+entries as designed while a roll's inertia and radius change. Across a compliant
+transmission J counts the reflected motor n² J_m (the design lumps it, as the chain's) and
+the measured speed is the side ``feedback`` names (``loop.transmission.measured_omega``).
 """
 
 from __future__ import annotations
@@ -20,7 +22,9 @@ import numpy as np
 
 from webline.physics import motor, roll, roller
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.break_limits import stop_acceleration
 from webline.sim.branches.loop.plant import arm, node_inertia
+from webline.sim.branches.loop.transmission import motor_beyond
 from webline.sim.elements.signals import jit, profile_at, profile_slope_at
 
 _friction: Any = jit(roller.friction_torque)
@@ -43,7 +47,8 @@ def reference_changes(t: float, istate: np.ndarray, di: np.ndarray, cells: np.nd
 
 @jit
 def decentral_command(d: int, family: int, i: int, t: float, dt: float, radius: float,
-                      v_meas: float, x_t: float, x: np.ndarray, istate: np.ndarray,
+                      v_meas: float, x_t: float, stopping: float, adapting: bool,
+                      x: np.ndarray, istate: np.ndarray,
                       offsets: np.ndarray, nodes: np.ndarray, rolls: np.ndarray,
                       si: np.ndarray, df: np.ndarray, fb: np.ndarray,
                       refs: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
@@ -52,10 +57,17 @@ def decentral_command(d: int, family: int, i: int, t: float, dt: float, radius: 
     node ``i`` (module docstring):
     ``radius`` [m] the one it converts speeds with, ``v_meas`` [m/s] its measured surface
     speed, ``x_t`` [N] its zone's tension error (measured minus reference); each loadcell's
-    reference change this tick in ``refs``' last row (``reference_changes``)."""
+    reference change this tick in ``refs``' last row (``reference_changes``). ``stopping``:
+    the line-speed factor of the ramp to a stop after a web break (1 without one): the
+    reference speeds follow the ramp s(t) v(t), their acceleration s a - v / T (W8);
+    ``adapting``: False from a break's detection on (the estimates keep their values)."""
     n_s, n_c = si.shape[0], refs.shape[1] - 1
-    scale = profile_at(0, t, prof_t, prof_v, prof_off) / refs[-2, 0]
-    accel = profile_slope_at(0, t, prof_t, prof_v, prof_off) / refs[-2, 0]
+    v_line = profile_at(0, t, prof_t, prof_v, prof_off)
+    a_line = profile_slope_at(0, t, prof_t, prof_v, prof_off)
+    if stopping < 1.0:  # (a break was detected: W5, W8)
+        a_line = stop_acceleration(a_line, v_line, stopping, df)
+    scale = stopping * v_line / refs[-2, 0]
+    accel = a_line / refs[-2, 0]
     v_ref = refs[n_s + d, 0]
     for c in range(n_c):
         v_ref += refs[n_s + d, 1 + c] * refs[-1, 1 + c]
@@ -72,8 +84,8 @@ def decentral_command(d: int, family: int, i: int, t: float, dt: float, radius: 
             web_torque += arm(si[k, B.S_ARMA], i, x, offsets, nodes) * t_ref
         else:
             web_torque -= arm(si[k, B.S_ARMB], i, x, offsets, nodes) * t_ref
-    inertia = node_inertia(i, x, offsets, nodes, rolls)
-    ratio = nodes[i, B.N_RATIO]
+    inertia = node_inertia(i, x, offsets, nodes, rolls) + motor_beyond(d, df)  # (a belt's)
+    ratio = df[d, B.D_RATIO]  # (a compliant drive's node has none: its torque is the belt's)
     omega_ref = v_ref / radius
     r_dot = _radius_rate(v_ref, radius, fb[d, B.FB_THICK], fb[d, B.FB_DIR])
     omega_dot = a_ref / radius - v_ref * r_dot / (radius * radius)
@@ -97,9 +109,14 @@ def decentral_command(d: int, family: int, i: int, t: float, dt: float, radius: 
         feedback += friction * x_v / (radius * ratio)
     raw = u_eq + comp + feedback
     u = _saturate(raw, df[d, B.D_LIMIT])
-    if adaptive and u == raw:
+    # the estimates adapt while the line runs: from a break's detection on the tension loops
+    # are frozen and the motion is the stop's, whose errors they would learn as friction
+    # (the laminator's foil unwind: b̂ from 0.05 to 24 N·m·s over a 5 s stop), so they keep
+    # what they knew at the detection for the restart
+    learning = u == raw and adapting
+    if adaptive and learning:
         adapt(d, dt, x_v, omega_ref, gain, ratio, istate, fb)
-    if mrac and u == raw:
+    if mrac and learning:
         mrac_adapt(d, dt, x_t, x_v, istate, fb)
     return u
 

@@ -86,7 +86,7 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             for m in range(n_x):
                 measured[m] = work[start + m] if m < n_s else x[m]
         control_tick(t, tick0 + j, dt, measured, istate, cmd, offsets, nodes, rolls, di, df,
-                     cells, dist, prof_t, prof_v, prof_off, si, fb, refs)
+                     cells, dist, prof_t, prof_v, prof_off, si, fb, refs, sf, layers)
         if offsets[B.O_DANCER] < offsets[B.O_DANCER_END]:  # taper through a dancer (frozen: folds)
             taper_loads(held, istate, x, offsets, nodes, di, df, cells, prof_t, prof_v,
                         prof_off)

@@ -216,6 +216,17 @@ D_BOVER, D_BSTALL = D_COLS, D_COLS + 1
 D_COLS += 2
 BREAK_OVERSPEED = 4
 
+# section observer (docs/branching.md, "Section observer"; loop.observer): drive table (int)
+# the observed span + 1 (0: none, the loadcell); drive table (float, fb): the gains l_T
+# [N/rad], l_ω [1/s], the EA [N] and span length [m] it assumes, the wound-in tension [N] it
+# assumes carried into an unwind's span; controller memory: its estimates T̂ [N], ω̂ [rad/s]
+DI_OBS = DI_COLS
+DI_COLS += 1
+FB_OBS_LT, FB_OBS_LW, FB_OBS_EA, FB_OBS_LENGTH, FB_OBS_TIN = range(FB_COLS, FB_COLS + 5)
+FB_COLS += 5
+I_THAT, I_WHAT = I_COLS, I_COLS + 1
+I_COLS += 2
+
 # user controllers (docs/controllers.md, "On a branched line"; sim.branches.user): a drive of
 # DI_FAMILY FAMILY_USER issues the command a Python controller wrote into its memory row
 # (I_UCMD [N·m]) and stores what it measured there: surface speed [m/s], its zone's tension
