@@ -118,7 +118,7 @@ def run(
     if file_is_branched(line):  # stage 1 of branched lines: its own files (docs/branching.md)
         from webline.cli_branches import run_branched
 
-        run_branched(line, _duration(duration), scenario, out, force, quiet, {},
+        run_branched(line, _duration(duration), scenario, out, force, quiet,
                      svg=svg, units=units.value, sets=sets, data_format=data_format.value,
                      precision=precision.value,
                      family=None if controller is None else FAMILY_TYPES[controller.value])

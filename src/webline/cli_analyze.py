@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from webline.cli_common import (
+    FAMILY_TYPES,
     BadInput,
     ControllerOpt,
     LineArg,
@@ -64,9 +65,10 @@ def analyze(
     if file_is_branched(line):  # docs/branching.md, "Linear models"
         if figure is not None and not across_roll:
             raise BadInput("--figure: the map of the modes across the roll; give --across-roll")
-        _analyze_branched(line, scenario, at, as_json, units, {
-            "--controller": controller is not None},
-            (points, damping, figure) if across_roll else None, certificate, sets=sets)
+        _analyze_branched(line, scenario, at, as_json, units,
+                          (points, damping, figure) if across_roll else None, certificate,
+                          sets=sets, family=None if controller is None
+                          else FAMILY_TYPES[controller.value])
         return
     from webline.analysis.modes import closed_loop_modes
     from webline.analysis.zone_loops import speed_leaks, zone_loops
@@ -127,14 +129,15 @@ def analyze(
 
 
 def _analyze_branched(source: str, scenario: str | None, at: str | None, as_json: bool,
-                      units: Units, unsupported: dict[str, bool],
-                      across: tuple[int, float, str | None] | None,
-                      certificate: bool = False, *, sets: list[str] | None = None) -> None:
+                      units: Units, across: tuple[int, float, str | None] | None,
+                      certificate: bool = False, *, sets: list[str] | None = None,
+                      family: str | None = None) -> None:
     """``analyze`` of a branched line: operating point, closed-loop modes and the stability
-    verdict (``sim.branches.linear``) in ``units``; ``unsupported``: options given that it
-    does not take; ``across``: (points, damping threshold, figure) of ``--across-roll``;
-    ``certificate``: thesis Thm 6.2.1 over the tree's sections (``analysis.branch_certificate``);
-    ``sets``: the ``--set PATH=VALUE`` options, applied after the scenario."""
+    verdict (``sim.branches.linear``) in ``units``; ``across``: (points, damping threshold,
+    figure) of ``--across-roll``; ``certificate``: thesis Thm 6.2.1 over the tree's sections
+    (``analysis.branch_certificate``); ``sets``: the ``--set PATH=VALUE`` options, applied
+    after the scenario; ``family``: every drive on this controller family (``--controller``,
+    its line-file type), applied first, as ``run`` does."""
     from webline.analysis.modes import modes_of
     from webline.cli_branches import branched_line
     from webline.report.text.branch_analysis import point_tables, point_values
@@ -150,12 +153,7 @@ def _analyze_branched(source: str, scenario: str | None, at: str | None, as_json
     from webline.sim.branches.plan import compile_branches
     from webline.verdict import Verdict
 
-    for option, given in unsupported.items():
-        if given:
-            raise BadInput(f"{option}: not yet supported for a branched line (analyze: the "
-                           "operating point, closed-loop modes, stability and the modes "
-                           "across the rolls)")
-    line = branched_line(source, scenario, sets)
+    line = branched_line(source, scenario, sets, family)
     from webline.spec.branched.controllers import python_drives
 
     if python_drives(line.spec):  # (as a single-path line's analyses refuse them)

@@ -21,24 +21,18 @@ REPORT = "report.html"
 
 
 def run_branched(source: str, seconds: float | None, scenario: str | None, out: Path | None,
-                 force: bool, quiet: bool, unsupported: dict[str, bool],
-                 svg: bool = False, units: str = "si", sets: list[str] | None = None,
+                 force: bool, quiet: bool, svg: bool = False, units: str = "si",
+                 sets: list[str] | None = None,
                  data_format: str = "netcdf", precision: str = "float64",
                  family: str | None = None) -> None:
     """Simulate branched line ``source`` (``sets``: ``--set PATH=VALUE``, applied after
     ``scenario``) and write its files into ``out`` (default out/LINE[-SCENARIO]): the results
     as ``data_format`` ('netcdf': results.nc, floats as ``precision``; 'csv': results.csv;
     ``sim.results.dataset_files``), each figure also as SVG with ``svg``, the report in
-    ``units`` ('si' or 'imperial'); ``unsupported``: options given that branched lines do not
-    support yet. ``quiet``: print only the report's path. ``family``: every drive runs this
-    controller family (``--controller``, its line-file type) instead of the file's; the
-    file's python controllers run as in ``simulate`` (docs/controllers.md, "On a branched
-    line")."""
-    for option, given in unsupported.items():
-        if given:
-            raise BadInput(f"{option}: not yet supported for a branched line (stage 1: the "
-                           "file's cascaded PI drives; results.nc, summary.json, the figures "
-                           "and report.html)")
+    ``units`` ('si' or 'imperial'). ``quiet``: print only the report's path. ``family``:
+    every drive runs this controller family (``--controller``, its line-file type) instead
+    of the file's; the file's python controllers run as in ``simulate`` (docs/controllers.md,
+    "On a branched line")."""
     display = branch_units(units)
     line = branched_line(source, scenario, sets, family)
     name = results_name(data_format)  # type: ignore[arg-type]

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+import webline
 from webline.cli import app
 from webline.sim.branches.linear import linear_model
 
@@ -44,11 +45,34 @@ def test_analyze_json_modes_are_the_linear_model_eigenvalues():
     assert payload["verdict"]["status"] == "ok"
 
 
-def test_analyze_branched_refuses_what_it_does_not_support_in_one_line():
-    result = _run("analyze", "slitter", "--controller", "mrac")
-    assert result.exit_code == 2
-    assert "--controller: not yet supported for a branched line" in result.output
-    assert "Traceback" not in result.output
+def test_analyze_controller_family_gives_that_familys_closed_loop_modes():
+    """``--controller state-feedback`` analyses the line with every drive on that family (as
+    ``run`` does): its listed modes are the eigenvalues of that line's closed loop, not the
+    file's cascaded PI's."""
+    from webline.control.select import with_branched_controller
+    from webline.sim.branches.equilibrium import operating_point
+    from webline.sim.branches.linear import analysis_time, branch_linear_model
+    from webline.sim.branches.plan import compile_branches
+
+    result = _run("analyze", "laminator", "--json", "--controller", "state-feedback")
+    assert result.exit_code == 0, result.output
+    listed = [complex(m["eigenvalue_real"], m["eigenvalue_imag"])
+              for m in json.loads(result.output)["closed_loop_modes"]]
+
+    def eigenvalues(line):
+        plan = compile_branches(line)
+        point = operating_point(plan, analysis_time(line))
+        return np.linalg.eigvals(branch_linear_model(plan, point, "closed").a)
+
+    family = eigenvalues(with_branched_controller(webline.load_branched("laminator"),
+                                                  "state_feedback"))
+    plain = eigenvalues(webline.load_branched("laminator"))
+    scale = np.max(np.abs(family))
+    # every listed mode is an eigenvalue of the state-feedback closed loop to round-off
+    # (1e-9 of the largest), and some lie far (0.1 1/s, 1e8 times that) from every PI mode
+    for value in listed:
+        assert np.min(np.abs(family - value)) < 1e-9 * scale
+    assert max(np.min(np.abs(plain - value)) for value in listed) > 0.1
 
 
 LBF, FPM, LBF_FT, INCH = 4.4482216152605, 0.00508, 1.3558179483314004, 0.0254  # [SI]

@@ -65,7 +65,7 @@ def test_analyze_set_moves_the_operating_point():
                   "--set", "rollers.unwind_film.radius=0.2 m")
     assert result.exit_code == 0, result.output
     payload = json.loads(result.output)
-    spans = {r["span"]: r["tension_N"] for r in payload["operating_point"]["spans"]}
+    spans = {r["span"]: r["tension"] for r in payload["operating_point"]["spans"]}
     assert spans["film_zone"] == pytest.approx(140.0, abs=1e-6)
     rollers = {r["roller"]: r for r in payload["operating_point"]["rollers"]}
     # the span equation (6.8) at rest, EA (v2 - v1) = T2 v2 - T1 v1 along the film: it
