@@ -21,7 +21,7 @@ from webline.analysis.branch_certificate import (
 )
 from webline.cli import app
 from webline.model.web_graph import load_branched
-from webline.sim.branches.decentral import design_time, section_model
+from webline.sim.branches.drives.decentral import design_time, section_model
 from webline.sim.branches.equilibrium import operating_point
 from webline.sim.branches.linear import branch_linear_model
 from webline.sim.branches.plan import compile_branches

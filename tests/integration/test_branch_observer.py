@@ -17,12 +17,12 @@ from typer.testing import CliRunner
 from webline.cli import app
 from webline.errors import LineFileError
 from webline.model.web_graph import load_branched
-from webline.sim.branches.decentral import prepare, start_memory
+from webline.sim.branches.drives.decentral import prepare, start_memory
+from webline.sim.branches.drives.observer import start_observers
 from webline.sim.branches.equilibrium import operating_point
 from webline.sim.branches.linear import branch_linear_model, fastest_rate
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.kernel import new_records
-from webline.sim.branches.observer.section import start_observers
 from webline.sim.branches.plan import compile_branches
 
 

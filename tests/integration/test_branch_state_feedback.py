@@ -15,7 +15,7 @@ import pytest
 from scipy.linalg import expm
 
 from webline.model.web_graph import load_branched
-from webline.sim.branches import decentral
+from webline.sim.branches.drives import decentral
 from webline.sim.branches.equilibrium import operating_point
 from webline.sim.branches.linear import branch_linear_model
 from webline.sim.branches.loop import layout as B

@@ -303,8 +303,8 @@ def test_a_damped_first_span_feels_the_wound_in_tension_through_its_rate():
     ∂T/∂T0 = τ v_a / L (v_a the unwind's surface speed 2.5 m/s, L 1.5 m): 8.33e-3, which the
     closed loop's loadcell reads (Kw, Gw) and no elastic span has. Central differences of
     1 N on rates affine in T0: exact to rounding (1e-9)."""
+    from webline.sim.branches.findings.web_findings import felt_wound_rows
     from webline.sim.branches.linear import wound_gains, wound_webs
-    from webline.sim.branches.web_findings import felt_wound_rows
 
     data = _laminator()
     spans = data["webs"][0]["spans"]

@@ -43,7 +43,7 @@ from webline.analysis.certificate import Certificate, NRule, Scaling, certificat
 from webline.control.sections import SectionModel
 from webline.errors import ArgumentError, LineFileError
 from webline.model.web_graph import BranchedLine, load_branched
-from webline.sim.branches.decentral import design, design_time
+from webline.sim.branches.drives.decentral import design, design_time
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
 from webline.sim.branches.linear import branch_linear_model, sampled_closed_loop
 from webline.sim.branches.loop import layout as B

@@ -17,10 +17,10 @@ from webline.report.plots.frame import framed_figure
 from webline.report.plots.mpl_text import legend_label, literal
 from webline.report.text.branch_tables import SI, junction_kind, shaft_lanes, small_length
 from webline.report.text.display import Display, number_text
-from webline.sim.branches.break_verdict import stop_factor
+from webline.sim.branches.findings.break_verdict import stop_factor
+from webline.sim.branches.findings.web_findings import has_laws
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.result import BranchResult
-from webline.sim.branches.web_findings import has_laws
 from webline.sim.results.decimate import envelope
 
 

@@ -3,7 +3,7 @@ DS_*) of wound-in ripple per unwind, speed ripple per drive, drag torque per rol
 measurement noise (docs/branching.md, "Disturbances"); and a web break (docs/branching.md,
 "Web breaks"): which spans it cuts loose, when, and the monitor's and the stop's settings as
 the loop's columns (SF_BREAK, D_B*; the loop's side in ``sim.branches.loop.breaks``, the
-verdict's in ``sim.branches.break_verdict``)."""
+verdict's in ``sim.branches.findings.break_verdict``)."""
 
 from __future__ import annotations
 

@@ -25,7 +25,7 @@ from webline.errors import SimulationError
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
 from webline.sim.branches.dancer_views import place_carriages, settle_passive
-from webline.sim.branches.drive_trains import steady_trains
+from webline.sim.branches.drives.drive_trains import steady_trains
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import taper_at
 from webline.sim.branches.loop.plant import node_inertia, rhs

@@ -10,7 +10,7 @@ radii), and the web-length counters are outputs, not dynamics: both are left out
 
 The closed loop adds every drive's controller (``kernel.control_tick``) in continuous time,
 as the chain's does (PI: speed and tension integrators; saturation off at the point), and
-the section observers' states (``sim.branches.observer``)."""
+the section observers' states (``sim.branches.drives.observer``)."""
 
 from __future__ import annotations
 
@@ -21,17 +21,17 @@ import numpy as np
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches.dancer_views import linear_states as dancer_linear_states
 from webline.sim.branches.dancer_views import load_column, reading_row
-from webline.sim.branches.decentral import ensure_prepared, linear_rows
-from webline.sim.branches.drive_trains import train_states
+from webline.sim.branches.drives.decentral import ensure_prepared, linear_rows
+from webline.sim.branches.drives.drive_trains import train_states
+from webline.sim.branches.drives.observer import observer_names, observer_rows
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
 from webline.sim.branches.equilibrium import analysis_time as analysis_time  # (its home was here)
+from webline.sim.branches.findings.web_findings import felt_rows, felt_wound_rows
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import node_inertia, rhs
 from webline.sim.branches.loop.transmission import reflected_motor
-from webline.sim.branches.observer.section import observer_names, observer_rows
 from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.branches.traction import slip_rate_bound
-from webline.sim.branches.web_findings import felt_rows, felt_wound_rows
 from webline.sim.branches.winder import linear_winder_rows
 from webline.sim.linear.linearize import LinearModel
 from webline.sim.linear.stability import SHARE, UnstableMode, tolerance, unstable_modes

@@ -21,7 +21,7 @@ from webline.sim.branches.dancers import (
     zone_gains,
 )
 from webline.sim.branches.disturb import break_columns, disturbance_table, eccentricities
-from webline.sim.branches.drive_trains import brake_rows, train_columns, tuning_inertia
+from webline.sim.branches.drives.drive_trains import brake_rows, train_columns, tuning_inertia
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import held_inputs
 from webline.sim.branches.loop.dancer_taper import taper_loads

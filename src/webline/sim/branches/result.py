@@ -9,14 +9,14 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
-from webline.sim.branches.break_verdict import break_findings, intact, without_cut_jump
-from webline.sim.branches.checks.winder_states import diameter_findings, tension_findings
 from webline.sim.branches.dancer_views import end_stop_findings, span_lengths
 from webline.sim.branches.dancers import dancer_nodes
-from webline.sim.branches.drive_trains import train_signals
+from webline.sim.branches.drives.drive_trains import train_signals
+from webline.sim.branches.findings.break_verdict import break_findings, intact, without_cut_jump
+from webline.sim.branches.findings.web_findings import felt_records, layer_tension, yield_findings
+from webline.sim.branches.findings.winder_states import diameter_findings, tension_findings
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.traction import slip_findings
-from webline.sim.branches.web_findings import felt_records, layer_tension, yield_findings
 from webline.sim.branches.winder import splice_findings
 from webline.spec.branched.check import kind_of
 from webline.verdict import Finding, Verdict

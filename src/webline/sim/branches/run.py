@@ -10,16 +10,16 @@ import numpy as np
 
 from webline.errors import ControllerError, SimulationError
 from webline.model.web_graph import BranchedLine, load_branched
-from webline.sim.branches.break_verdict import detection
-from webline.sim.branches.decentral import prepare, start_memory
+from webline.sim.branches.drives.decentral import prepare, start_memory
+from webline.sim.branches.drives.observer import start_observers
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
+from webline.sim.branches.findings.break_verdict import detection
+from webline.sim.branches.findings.web_findings import strength_failure
 from webline.sim.branches.linear import fastest_rate
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.kernel import new_records
-from webline.sim.branches.observer.section import start_observers
 from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.branches.result import BranchResult
-from webline.sim.branches.web_findings import strength_failure
 from webline.sim.branches.winder import initial_compensation
 from webline.spec.ranges import argument, whole_argument
 
@@ -139,7 +139,7 @@ def start_state(plan: BranchPlan, point: BranchPoint) -> tuple[np.ndarray, np.nd
     istate[:, B.I_SPEED] -= initial_compensation(plan, point)  # (less a winder's, W3)
     istate[:, B.I_RADIUS] = plan.radius0
     istate[:, B.I_DETECT] = -1.0  # no web break detected yet
-    start_memory(plan, istate)  # the decentralized families' (sim.branches.decentral)
+    start_memory(plan, istate)  # the decentralized families' (sim.branches.drives.decentral)
     start_observers(plan, istate, x)  # (section observers: at the initial state)
     return x, istate
 

@@ -1,7 +1,7 @@
 """Web laws on a branched line (docs/branching.md, "Web laws"): each raw web's
 ``stress_strain`` law, ``strength`` and its spans' Kelvin-Voigt dampers as the compiled loop's
 tables (``sim.branches.loop.web_law``); what a run's records and verdict make of them is
-``sim.branches.web_findings``'s.
+``sim.branches.findings.web_findings``'s.
 
 A span's law is a sum of terms over the raw webs it is made of, T(s) = Σ c F_w(a s)
 (``web_terms``); a web whose raw webs are all linear has none (T = max(s, 0), as before).

@@ -1,7 +1,7 @@
 """Checks of a branched line's controller families (docs/branching.md, "State feedback"):
 the cascaded PI, decentralized state feedback, adaptive control and MRAC run on any drive
 but a differential shaft's (speed control only), with their loadcells or a section observer
-(``sim.branches.observer``, which checks its zone), a centre winder's compensations added to
+(``sim.branches.drives.observer``, which checks its zone), a centre winder's compensations added to
 their torque (closed loop); a user's Python controller on any (docs/controllers.md, "On a
 branched line")."""
 

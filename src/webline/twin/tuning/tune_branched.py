@@ -34,6 +34,7 @@ import numpy as np
 from webline.errors import LineFileError
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches.equilibrium import analysis_time, operating_point
+from webline.sim.branches.findings.web_findings import felt_records
 from webline.sim.branches.linear import (
     branch_linear_model,
     integrator_names,
@@ -41,7 +42,6 @@ from webline.sim.branches.linear import (
 )
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.plan import BranchPlan, compile_branches
-from webline.sim.branches.web_findings import felt_records
 from webline.sim.sweeps.branch_study import derive_branched, run_branch_cases
 from webline.spec.branched.check import kind_of
 from webline.spec.schema import CascadedPISpec

@@ -1,6 +1,6 @@
 """A decentralized drive's tick on a branched line (docs/branching.md, "State feedback"), as
 the chain's ``sim.drives.controllers.decentralized_command`` and ``adapt``: tables in
-``layout`` (FB_*, the reference rows of ``sim.branches.decentral.prepare``).
+``layout`` (FB_*, the reference rows of ``sim.branches.drives.decentral.prepare``).
 
     u = u_eq + f - g (K_T x_T + K_V x_V)      (6.39-6.42; adaptive 6.62-6.68 with E-6.8)
 

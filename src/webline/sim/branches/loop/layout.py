@@ -151,7 +151,7 @@ RUNAWAY_STRAIN = 0.05
 DS_KIND, DS_INDEX, DS_A, DS_B, DS_C, DS_COLS = range(6)
 DIST_WOUND_RIPPLE, DIST_SPEED_RIPPLE, DIST_DRAG, DIST_NOISE = range(4)
 
-# decentralized families (sim.branches.decentral, loop.decentral): per drive (float) the
+# decentralized families (sim.branches.drives.decentral, loop.decentral): per drive (float) the
 # gains K_T [N·m/N], K_V [N·m·s/m]; the friction model b [N·m·s] of the roller and the motor's
 # reflected n² b_m; the adaptive law's (and the MRAC's) γ [rad/s], leakage, bound b_max
 # [N·m·s]; the thickness [m] and direction (+1 winding, -1 unwinding, 0 a roller) of the roll

@@ -10,7 +10,7 @@ junction's too), and corrects both with the speed residual ω_meas - ω̂:
 
 T_in at its reference (the previous span's, a laminate's layers' sum, a lane's share of its
 base web, or the wound-in tension), one Euler step per controller tick; l_T, l_ω from the
-section model (``sim.branches.observer``) place both error poles at -``observer_bandwidth``.
+section model (``sim.branches.drives.observer``) place both error poles at -``observer_bandwidth``.
 """
 
 from __future__ import annotations

@@ -13,12 +13,12 @@ import numpy as np
 
 from webline.errors import ArgumentError, ControllerError, SimulationError
 from webline.model.web_graph import BranchedLine
-from webline.sim.branches.break_verdict import detection
+from webline.sim.branches.findings.break_verdict import detection
+from webline.sim.branches.findings.web_findings import strength_failure
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.result import BranchResult
 from webline.sim.branches.run import _failure_text, plan_and_step, start_state
 from webline.sim.branches.user.loop import BranchUserLoop, branch_groups
-from webline.sim.branches.web_findings import strength_failure
 
 #: records the session's buffer starts with; it doubles when full
 FIRST_ROWS = 4096

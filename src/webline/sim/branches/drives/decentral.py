@@ -26,12 +26,12 @@ import numpy as np
 
 from webline.control.decentralized import SectionDesign, design_section
 from webline.control.sections import SectionModel
+from webline.sim.branches.drives.observer import observer_columns
 from webline.sim.branches.equilibrium import BranchPoint, analysis_time, operating_point
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import taper_at
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.loop.transmission import reflected_motor
-from webline.sim.branches.observer.section import observer_columns
 from webline.sim.branches.plan import BranchPlan
 from webline.spec.schema import AdaptiveSpec, IdleSpec, MRACSpec, StateFeedbackSpec
 

@@ -9,7 +9,7 @@ Gains, as the chain's ``sim.core.drive_table.observer_columns``: with the measur
 (c = ±a/J the span's arm on the node over its inertia [rad/s² per N], β = b/J) when the
 observer's model is the plant's: l_ω = 2λ - v_b/L - β and l_T = (λ² - (v_b/L)(β + l_ω)) / c
 put both error poles at -λ (``observer_bandwidth``), read off the drive's section model
-(``sim.branches.decentral.section_model``) at the design point.
+(``sim.branches.drives.decentral.section_model``) at the design point.
 """
 
 from __future__ import annotations
