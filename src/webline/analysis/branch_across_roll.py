@@ -33,10 +33,9 @@ from webline.sim.branches.linear import branch_linear_model
 from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.linear.roll_modes import (
     DAMPING_THRESHOLD,
-    LOOP_SHARE,
-    LOOP_SUFFIXES,
     POINTS,
     RollModes,
+    classified_modes,
 )
 from webline.spec.schema import RewindSpec, UnwindSpec
 from webline.verdict import Finding
@@ -148,16 +147,10 @@ def branch_roll_modes(plan: BranchPlan, time: np.ndarray, radius: np.ndarray,
     for t, radii in zip(time, radius, strict=True):
         model = branch_linear_model(plan, operating_point(plan, float(t), radii=radii),
                                     "closed")
-        loop = [k for k, name in enumerate(model.states)
-                if name in driven or name.endswith(LOOP_SUFFIXES)]
-        values, right = np.linalg.eig(np.asarray(model.a, dtype=float))
-        participation = np.abs(right * np.linalg.inv(right).T)  # [state, mode]
-        share = participation[loop].sum(axis=0) / participation.sum(axis=0)
-        kept = sorted((j for j in range(len(values)) if values[j].imag >= 0.0),
-                      key=lambda j: (abs(values[j]), values[j].imag))
-        eigenvalues.append(values[kept])
-        dominant.append(tuple(model.states[int(np.argmax(participation[:, j]))] for j in kept))
-        loops.append(tuple(bool(share[j] >= LOOP_SHARE) for j in kept))
+        values, names, in_loop = classified_modes(model, driven)
+        eigenvalues.append(values)
+        dominant.append(names)
+        loops.append(in_loop)
     first_unwind = next((j for j, r in enumerate(line.rolls) if r.direction < 0), 0)
     first_rewind = next((j for j, r in enumerate(line.rolls) if r.direction > 0), 0)
     return BranchRollModes(np.asarray(time, dtype=float), radius[:, first_unwind].copy(),

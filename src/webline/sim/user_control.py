@@ -31,6 +31,7 @@ from webline.sim.core.user_protocol import (  # (here too, where the docs name t
     Controller,
     DriveInfo,
     Group,
+    NamedReadings,
     controller_error,
 )
 from webline.sim.core.user_protocol import checked_controller as _checked
@@ -53,7 +54,7 @@ from webline.sim.elements import layout as L
 
 
 @dataclass(frozen=True)
-class ControllerContext:
+class ControllerContext(NamedReadings):
     """What ``reset`` receives: the ``line``, its ``operating_point`` at t = 0, the
     ``sample_period`` [s], the ``drives`` commanded (torques in this order) and the names of
     the entries of ``measurements`` and ``references``."""
@@ -64,14 +65,6 @@ class ControllerContext:
     drives: tuple[DriveInfo, ...]
     measurement_names: tuple[str, ...]
     reference_names: tuple[str, ...]
-
-    def index(self, name: str) -> int:
-        """Position of measurement or reference ``name`` (e.g. ``"rewind.tension"``)."""
-        for names in (self.measurement_names, self.reference_names):
-            if name in names:
-                return names.index(name)
-        raise KeyError(f"no measurement or reference {name!r}; there are "
-                       f"{', '.join(self.measurement_names + self.reference_names)}")
 
 
 def user_groups(line: Line, controller: object | Mapping[str, object] | None,

@@ -28,6 +28,22 @@ class Controller(Protocol):
                  references: np.ndarray) -> Any: ...
 
 
+class NamedReadings:
+    """``index`` by name over a context's ``measurement_names`` and ``reference_names``
+    (the chain's and a branched line's controller contexts)."""
+
+    measurement_names: tuple[str, ...]
+    reference_names: tuple[str, ...]
+
+    def index(self, name: str) -> int:
+        """Position of measurement or reference ``name`` (e.g. ``"rewind.tension"``)."""
+        for names in (self.measurement_names, self.reference_names):
+            if name in names:
+                return names.index(name)
+        raise KeyError(f"no measurement or reference {name!r}; there are "
+                       f"{', '.join(self.measurement_names + self.reference_names)}")
+
+
 @dataclass(frozen=True)
 class DriveInfo:
     """One drive a user controller commands.

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -128,16 +129,10 @@ def roll_modes(line: Line, time: np.ndarray, unwind: np.ndarray, rewind: np.ndar
     for t, ru, rr in zip(time, unwind, rewind, strict=True):
         model = linear_model(line, float(t), loop="closed", unwind_radius=float(ru),
                              rewind_radius=float(rr))
-        loop = [k for k, name in enumerate(model.states)
-                if name in driven or name.endswith(LOOP_SUFFIXES)]
-        values, right = np.linalg.eig(np.asarray(model.a, dtype=float))
-        participation = np.abs(right * np.linalg.inv(right).T)  # [state, mode]
-        share = participation[loop].sum(axis=0) / participation.sum(axis=0)
-        kept = sorted((j for j in range(len(values)) if values[j].imag >= 0.0),
-                      key=lambda j: (abs(values[j]), values[j].imag))
-        eigenvalues.append(values[kept])
-        dominant.append(tuple(model.states[int(np.argmax(participation[:, j]))] for j in kept))
-        loops.append(tuple(bool(share[j] >= LOOP_SHARE) for j in kept))
+        values, names, in_loop = classified_modes(model, driven)
+        eigenvalues.append(values)
+        dominant.append(names)
+        loops.append(in_loop)
     return RollModes(np.asarray(time, dtype=float), np.asarray(unwind, dtype=float),
                      np.asarray(rewind, dtype=float), tuple(eigenvalues), tuple(dominant),
                      tuple(loops), threshold)
@@ -169,3 +164,20 @@ def run_roll_modes(line: Line, time: np.ndarray, unwind: np.ndarray,
 
 def _damping(value: complex) -> float:
     return -value.real / abs(value) if value else math.nan
+
+
+def classified_modes(model: Any, driven: set[str]
+                     ) -> tuple[np.ndarray, tuple[str, ...], tuple[bool, ...]]:
+    """The modes of linear ``model`` (its ``a`` and ``states``) with Im >= 0, slowest first:
+    their eigenvalues [1/s], each one's dominant state, and whether it belongs to the drives'
+    loops (a share of at least ``LOOP_SHARE`` of its participation in the ``driven`` rollers'
+    speeds and the controllers' states)."""
+    loop = [k for k, name in enumerate(model.states)
+            if name in driven or name.endswith(LOOP_SUFFIXES)]
+    values, right = np.linalg.eig(np.asarray(model.a, dtype=float))
+    participation = np.abs(right * np.linalg.inv(right).T)  # [state, mode]
+    share = participation[loop].sum(axis=0) / participation.sum(axis=0)
+    kept = sorted((j for j in range(len(values)) if values[j].imag >= 0.0),
+                  key=lambda j: (abs(values[j]), values[j].imag))
+    return (values[kept], tuple(model.states[int(np.argmax(participation[:, j]))] for j in kept),
+            tuple(bool(share[j] >= LOOP_SHARE) for j in kept))

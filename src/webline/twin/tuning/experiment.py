@@ -129,9 +129,21 @@ def accel_ramps(line: Line) -> ExperimentPlan:
         radius = float(plan.op.radius[i])
         accel = min(accel, RAMP_TORQUE_SHARE * plan.drives[d, L.D_LIMIT] * drive.ratio
                     * radius / inertia)
+    speed, duration, derivation = speed_ramps(v, accel, tau_s, tau_t, _zone_transport(line, v))
+    return ExperimentPlan(EXPERIMENTS["accel-ramps"], line.replace({"speed": speed}), duration,
+                          derivation, ("speed[*]", "torque[*]", "tension[*]"))
+
+
+def speed_ramps(v: float, accel: float, tau_s: float, tau_t: float, transport: float
+                ) -> tuple[dict[str, object], float, tuple[str, ...]]:
+    """The accel-ramps test's speed profile from rest to line speed ``v`` [m/s] in three
+    ramps of v/3 at most ``accel`` [m/s²] (each at least 5 ``tau_s`` [s]), each held 5 loop
+    times (``tau_s``, ``tau_t`` [s]), 3 zone transports (``transport`` [s]) or ``MIN_HOLD``,
+    then back to rest at the same rate: (the line file's ``speed`` table, the test's
+    duration [s], the derivation's lines)."""
     step_v = v / 3.0
     ramp = _up(max(step_v / accel, SETTLE * tau_s))
-    hold = _up(max(SETTLE * tau_t, SETTLE * tau_s, 3.0 * _zone_transport(line, v), MIN_HOLD))
+    hold = _up(max(SETTLE * tau_t, SETTLE * tau_s, 3.0 * transport, MIN_HOLD))
     times, values, t = [0.0, 1.0], [0.0, 0.0], 1.0
     for k in (1, 2, 3):
         t += ramp
@@ -144,17 +156,15 @@ def accel_ramps(line: Line) -> ExperimentPlan:
     times.append(t)
     values.append(0.0)
     duration = t + hold
-    test = line.replace({"speed": {"type": "table", "time": times, "value": values}})
     derivation = (
         f"acceleration a = {step_v / ramp:.4g} m/s² (30 % of the weakest drive's torque "
         f"limit allows {accel:.4g} m/s²; a ramp of v/3 = {step_v:.4g} m/s lasts at least "
         f"5 τ_s = {SETTLE * tau_s:.3g} s): each ramp {ramp:g} s",
         f"holds {hold:g} s = max(5 τ_t = {SETTLE * tau_t:.3g} s, 5 τ_s = {SETTLE * tau_s:.3g} s,"
-        f" 3 L/v = {3 * _zone_transport(line, v):.3g} s, {MIN_HOLD:g} s)",
+        f" 3 L/v = {3 * transport:.3g} s, {MIN_HOLD:g} s)",
         f"total {duration:g} s: rest 1 s, three ramps and holds, deceleration {3 * ramp:g} s, "
         f"rest {hold:g} s")
-    return ExperimentPlan(EXPERIMENTS["accel-ramps"], test, duration, derivation,
-                          ("speed[*]", "torque[*]", "tension[*]"))
+    return {"type": "table", "time": times, "value": values}, duration, derivation
 
 
 def tension_step(line: Line) -> ExperimentPlan:

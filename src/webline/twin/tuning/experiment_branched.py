@@ -39,6 +39,7 @@ from webline.twin.tuning.experiment import (
     STEP,
     ExperimentPlan,
     _up,
+    speed_ramps,
 )
 
 
@@ -77,33 +78,10 @@ def accel_ramps(line: BranchedLine) -> ExperimentPlan:
     # D_GAINNORM = J / (n r) of each drive at its initial radius [kg·m]: a = share x limit / it
     accel = min(RAMP_TORQUE_SHARE * plan.df[d, B.D_LIMIT] / plan.df[d, B.D_GAINNORM]
                 for d in range(len(line.drives)))
-    step_v = v / 3.0
-    ramp = _up(max(step_v / accel, SETTLE * tau_s))
-    transport = _zone_transport(line, v)
-    hold = _up(max(SETTLE * tau_t, SETTLE * tau_s, 3.0 * transport, MIN_HOLD))
-    times, values, t = [0.0, 1.0], [0.0, 0.0], 1.0
-    for k in (1, 2, 3):
-        t += ramp
-        times.append(t)
-        values.append(k * step_v)
-        t += hold
-        times.append(t)
-        values.append(k * step_v)
-    t += 3.0 * ramp  # the deceleration from full speed at the same rate
-    times.append(t)
-    values.append(0.0)
-    duration = t + hold
-    test = derive_branched(line, {"speed": {"type": "table", "time": times, "value": values}})
-    derivation = (
-        f"acceleration a = {step_v / ramp:.4g} m/s² (30 % of the weakest drive's torque "
-        f"limit allows {accel:.4g} m/s²; a ramp of v/3 = {step_v:.4g} m/s lasts at least "
-        f"5 τ_s = {SETTLE * tau_s:.3g} s): each ramp {ramp:g} s",
-        f"holds {hold:g} s = max(5 τ_t = {SETTLE * tau_t:.3g} s, 5 τ_s = {SETTLE * tau_s:.3g} s,"
-        f" 3 L/v = {3 * transport:.3g} s, {MIN_HOLD:g} s)",
-        f"total {duration:g} s: rest 1 s, three ramps and holds, deceleration {3 * ramp:g} s, "
-        f"rest {hold:g} s")
-    return ExperimentPlan(EXPERIMENTS["accel-ramps"], test, duration, derivation,
-                          ("speed[*]", "torque[*]", "tension[*]"))
+    speed, duration, derivation = speed_ramps(v, accel, tau_s, tau_t,
+                                              _zone_transport(line, v))
+    return ExperimentPlan(EXPERIMENTS["accel-ramps"], derive_branched(line, {"speed": speed}),
+                          duration, derivation, ("speed[*]", "torque[*]", "tension[*]"))
 
 
 def tension_step(line: BranchedLine) -> ExperimentPlan:

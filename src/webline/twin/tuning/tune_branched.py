@@ -54,8 +54,8 @@ from webline.twin.tuning.tune_constraints import (
     record_point,
     worst_constraints,
 )
-from webline.twin.tuning.tune_robust import RobustCheck, robustness
-from webline.twin.tuning.tune_space import DEFAULT_SPAN, FreeParameter, LineOps
+from webline.twin.tuning.tune_robust import RobustCheck, robustness, rollers_uncertain
+from webline.twin.tuning.tune_space import FreeParameter, LineOps, pi_bandwidths
 from webline.twin.tuning.tune_space import gain_table as chain_gain_table
 
 
@@ -65,22 +65,10 @@ def _shafts(plan: BranchPlan) -> set[int]:
 
 
 def default_free(line: BranchedLine) -> list[FreeParameter]:
-    """The default tuning variables of branched ``line`` (module docstring)."""
+    """The default tuning variables of branched ``line`` (module docstring): a differential
+    shaft holds speed, so it has no tension bandwidth to tune."""
     shafts = _shafts(compile_branches(line))
-    out = []
-    for i in line.drives:
-        roller = line.spec.rollers[i]
-        c = getattr(roller, "controller", None)
-        if not isinstance(c, CascadedPISpec):
-            continue
-        base = f"rollers.{roller.name}.controller"
-        out.append(FreeParameter(f"{base}.speed_bandwidth", c.speed_bandwidth / DEFAULT_SPAN,
-                                 c.speed_bandwidth * DEFAULT_SPAN))
-        if i in line.zones and i not in shafts:
-            out.append(FreeParameter(f"{base}.tension_bandwidth",
-                                     c.tension_bandwidth / DEFAULT_SPAN,
-                                     c.tension_bandwidth * DEFAULT_SPAN))
-    return out
+    return pi_bandwidths(line, lambda i: i in line.zones and i not in shafts)
 
 
 def frozen_gains(line: BranchedLine) -> dict[str, float]:
@@ -230,14 +218,7 @@ def default_uncertain(line: BranchedLine) -> dict[str, str]:
         key, value = ("ea", material.ea) if material.ea is not None else (
             "modulus", material.modulus)
         out[f"{prefix}.{key}"] = f"normal({value!r}, 10 %)"
-    for i in line.drives:
-        roller = line.spec.rollers[i]
-        out[f"rollers.{roller.name}.inertia"] = f"normal({roller.inertia!r}, 10 %)"
-    for roller in line.spec.rollers:
-        carriage = getattr(roller, "dancer", None)
-        if carriage is not None and carriage.damping > 0:
-            out[f"rollers.{roller.name}.dancer.damping"] = f"normal({carriage.damping!r}, 30 %)"
-    return out
+    return {**out, **rollers_uncertain(line)}
 
 
 def gain_table(line: BranchedLine, points: int = 9) -> list[dict[str, float | str]]:

@@ -59,7 +59,13 @@ def default_uncertain(line: Line) -> dict[str, str]:
     """Uncertainties assumed when none are given [SI]: the web's modulus ±10 % (humidity and
     temperature), every driven roller's and roll's rotating inertia ±10 %, every dancer's
     damping ±30 % (one standard deviation each)."""
-    out = {"web.modulus": f"normal({line.spec.web.modulus!r}, 10 %)"}
+    return {"web.modulus": f"normal({line.spec.web.modulus!r}, 10 %)", **rollers_uncertain(line)}
+
+
+def rollers_uncertain(line: Any) -> dict[str, str]:
+    """The rollers' part of ``default_uncertain`` (a single-path or branched line): every
+    driven roller's and roll's rotating inertia ±10 %, every dancer's damping ±30 %."""
+    out = {}
     for i in line.drives:
         roller = line.spec.rollers[i]
         out[f"rollers.{roller.name}.inertia"] = f"normal({roller.inertia!r}, 10 %)"

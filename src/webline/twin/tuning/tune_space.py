@@ -68,6 +68,13 @@ class FreeParameter:
 
 def default_free(line: Line) -> list[FreeParameter]:
     """The default tuning variables of ``line`` (module docstring)."""
+    return pi_bandwidths(line, lambda i: line.controlled_zone(i) is not None)
+
+
+def pi_bandwidths(line: Any, holds_tension: Callable[[int], bool]) -> list[FreeParameter]:
+    """Each cascaded-PI drive's ``speed_bandwidth`` and, where ``holds_tension(node)``, its
+    ``tension_bandwidth`` [rad/s], from a third to three times their values (``line``: a
+    single-path or branched line, its ``drives`` and ``spec.rollers``)."""
     out = []
     for i in line.drives:
         roller = line.spec.rollers[i]
@@ -76,7 +83,7 @@ def default_free(line: Line) -> list[FreeParameter]:
             continue
         base = f"rollers.{roller.name}.controller"
         out.append(_around(f"{base}.speed_bandwidth", c.speed_bandwidth))
-        if line.controlled_zone(i) is not None:
+        if holds_tension(i):
             out.append(_around(f"{base}.tension_bandwidth", c.tension_bandwidth))
     return out
 

@@ -32,6 +32,7 @@ from webline.sim.core.user_protocol import (
     REFERENCES,
     DriveInfo,
     Group,
+    NamedReadings,
     checked_controller,
     controller_error,
     shape_of,
@@ -42,7 +43,7 @@ READINGS = (B.I_USPEED, B.I_UTENSION, B.I_URADIUS, B.I_UINERTIA, B.I_UVREF, B.I_
 
 
 @dataclass(frozen=True)
-class BranchControllerContext:
+class BranchControllerContext(NamedReadings):
     """What ``reset`` receives on a branched line: as ``sim.user_control.ControllerContext``
     with the ``BranchedLine`` and its ``BranchPoint`` (state, torques and speed ratios at
     t = 0)."""
@@ -53,14 +54,6 @@ class BranchControllerContext:
     drives: tuple[DriveInfo, ...]
     measurement_names: tuple[str, ...]
     reference_names: tuple[str, ...]
-
-    def index(self, name: str) -> int:
-        """Position of measurement or reference ``name`` (e.g. ``"rewind.tension"``)."""
-        for names in (self.measurement_names, self.reference_names):
-            if name in names:
-                return names.index(name)
-        raise KeyError(f"no measurement or reference {name!r}; there are "
-                       f"{', '.join(self.measurement_names + self.reference_names)}")
 
 
 def drive_names(line: BranchedLine) -> list[str]:
