@@ -299,6 +299,16 @@ def _del(path: str) -> Callable[[dict[str, Any]], None]:
 
 IDLE = {"name": "plain", "type": "idle", "radius": 0.05, "inertia": 0.001}
 
+
+def _open_loop_under(family: str) -> Callable[[dict[str, Any]], None]:
+    """The rewind in open-loop tension control under a ``family`` controller."""
+
+    def apply(data: dict[str, Any]) -> None:
+        data["rollers"][4]["winder"] = {"mode": "open_loop"}
+        data["rollers"][4]["controller"] = {"type": family}
+
+    return apply
+
 MALFORMED: dict[str, tuple[Callable[[dict[str, Any]], None], str, str]] = {
     # id: (mutation of hswl, exact key path, regex the problem must match)
     "missing span length": (_del("spans.1.length"), "spans[1].length", "required key is missing"),
@@ -327,6 +337,13 @@ MALFORMED: dict[str, tuple[Callable[[dict[str, Any]], None], str, str]] = {
     "missing roller type": (_del("rollers.3.type"), "rollers[3]", "'type' key is required"),
     "unknown role": (_set("rollers.2.role", "boss"), "rollers[2].role",
                      "'master' or 'tension'"),
+    # open loop replaces the controller and its speed limiter runs on the PI's speed gains,
+    # which a decentralized drive leaves at 0: a freed roll would never be held (W7)
+    "open loop under state feedback": (_open_loop_under("state_feedback"),
+                                       "rollers[4].winder.mode",
+                                       "open_loop replaces the drive's 'state_feedback'"),
+    "open loop under mrac": (_open_loop_under("mrac"), "rollers[4].winder.mode",
+                             "speed limiter on the cascaded PI's speed gains"),
     "unknown controller type": (_set("rollers.2.controller.type", "pid"),
                                 "rollers[2].controller.type", "'cascaded_pi'"),
     "unknown profile type": (_set("speed", {"type": "sine", "amplitude": 1.0}), "speed",

@@ -7,6 +7,7 @@ from collections.abc import Callable, Iterable
 from typing import NoReturn
 
 from webline.errors import LineFileError
+from webline.spec.control_schema import AdaptiveSpec, MRACSpec, StateFeedbackSpec
 from webline.spec.dancer import check_dancers
 from webline.spec.friction import check_friction
 from webline.spec.nip import check_nips
@@ -116,6 +117,7 @@ def check_spec(spec: LineSpec, file: str) -> None:
             if kinetic is not None and kinetic > contact.friction:
                 fail(f"rollers[{i}].contact.kinetic_friction",
                      f"must not exceed the static friction {contact.friction:g}")
+        check_open_loop(roller, f"rollers[{i}]", fail)
         drive = getattr(roller, "drive", None)
         if drive is not None and drive.transmission.type != "direct" and drive.motor_inertia <= 0:
             fail(f"rollers[{i}].drive.motor_inertia",
@@ -254,3 +256,16 @@ def _unique(names: Iterable[str], key: str, attr: str, fail: Fail) -> None:
         if name in seen:
             fail(f"{key}[{i}].{attr}", f"duplicate name {name!r}")
         seen.add(name)
+
+
+def check_open_loop(roller: object, key: str, fail: Fail) -> None:
+    """Open-loop tension control replaces the roll's controller, and its speed limiter (W7)
+    runs on the cascaded PI's speed gains: under a decentralized controller those are 0 and
+    the limiter would never hold a freed roll (as a branched line refuses it)."""
+    winder, controller = getattr(roller, "winder", None), getattr(roller, "controller", None)
+    if winder is not None and winder.mode == "open_loop" and isinstance(
+            controller, StateFeedbackSpec | AdaptiveSpec | MRACSpec):
+        fail(f"{key}.winder.mode", f"open_loop replaces the drive's {controller.type!r} "
+             "controller (torque T_ref R / n, its speed limiter on the cascaded PI's speed "
+             "gains): give controller cascaded_pi, or mode closed_loop to add the "
+             "compensations to the state feedback")

@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import NoReturn
 
+from webline.spec.check import check_open_loop
 from webline.spec.schema import (
     AdaptiveSpec,
     CascadedPISpec,
@@ -40,12 +41,7 @@ def check_controller(key: str, roller: object, fail: Fail, unsupported: Unsuppor
         return
     if not isinstance(controller, StateFeedbackSpec | AdaptiveSpec | MRACSpec):
         unsupported(f"{key}.controller.type", fail, FAMILIES)
-    winder = getattr(roller, "winder", None)
-    if winder is not None and winder.mode == "open_loop":
-        fail(f"{key}.winder.mode", f"open_loop replaces the drive's {controller.type!r} "
-             "controller (torque T_ref R / n, its speed limiter on the cascaded PI's speed "
-             "gains): give controller cascaded_pi, or mode closed_loop to add the "
-             "compensations to the state feedback")
+    check_open_loop(roller, key, fail)  # (as on a chain)
     if isinstance(roller, RewindSpec) and roller.shaft is not None:
         fail(f"{key}.controller.type", f"{controller.type!r} needs a tension loop; a "
              "differential shaft runs in speed control (its lanes' tension is slip_torque / "
