@@ -27,4 +27,6 @@ radius = float(ds["radius"].sel(roll="rewind_shaft/lane_2").sel(time=5.0, method
 first_order = 90e3 * 5.0 * 0.5e-6 / (2 * math.pi * radius**2)  # EA v Δh / (2π r²)
 print(f"drift rate {measured:.2f} N/s (first order: {first_order:.2f} N/s at r = "
       f"{radius * 1e3:.1f} mm)")
-print(f"verdict: {result.verdict.status}")
+# the lanes part until each is more than 20 % off its set 100 N ([checks] tension_tolerance)
+findings = sorted(f"{f.kind} {f.where}" for f in result.verdict.findings)
+print(f"verdict: {result.verdict.status} ({'; '.join(findings) or 'no findings'})")
