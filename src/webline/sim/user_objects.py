@@ -10,13 +10,16 @@ import sys
 from collections.abc import Mapping
 from pathlib import Path
 from types import ModuleType
+from typing import TYPE_CHECKING
 
 from webline.errors import LineFileError
 from webline.line import Line
-from webline.model.web_graph import BranchedLine
 from webline.sim.compiled_control import CompiledController
 from webline.sim.user_control import Controller
 from webline.spec.schema import PythonControllerSpec
+
+if TYPE_CHECKING:  # (a single-path run does not load the branched line's modules)
+    from webline.model.web_graph import BranchedLine
 
 
 def file_controllers(line: Line | BranchedLine) -> dict[int, Controller]:
