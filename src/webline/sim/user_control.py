@@ -21,7 +21,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from webline.control.pi import PIGains
-from webline.errors import ArgumentError
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint
 from webline.sim.core.plan import Plan
@@ -32,9 +31,9 @@ from webline.sim.core.user_protocol import (  # (here too, where the docs name t
     DriveInfo,
     Group,
     NamedReadings,
+    argument_groups,
     controller_error,
 )
-from webline.sim.core.user_protocol import checked_controller as _checked
 from webline.sim.core.user_protocol import shape_of as _shape
 from webline.sim.core.user_step import (
     C_EVERY,
@@ -74,19 +73,7 @@ def user_groups(line: Line, controller: object | Mapping[str, object] | None,
     drive order. ``ArgumentError`` for an unknown drive name or an object without the
     protocol."""
     names = [line.node_name(i) for i in line.drives]
-    groups: list[Group] = []
-    if controller is None:
-        pass
-    elif isinstance(controller, Mapping):
-        for name, obj in controller.items():
-            if name not in names:
-                raise ArgumentError(f"controller: no drive {name!r}; the drives are "
-                                    f"{', '.join(names)}")
-            groups.append(Group(name, _checked(obj, f"controller[{name!r}]"),
-                                (names.index(name),)))
-    else:
-        groups.append(Group("line", _checked(controller, "controller"),
-                            tuple(range(len(names)))))
+    groups = argument_groups(controller, names)
     taken = {d for g in groups for d in g.drives}
     groups += [Group(names[d], obj, (d,)) for d, obj in from_file.items() if d not in taken]
     return sorted(groups, key=lambda g: g.drives[0])

@@ -4,6 +4,7 @@ drive it commands, and the one-line error of one that fails (docs/controllers.md
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol, runtime_checkable
 
@@ -86,6 +87,26 @@ class Group:
     name: str
     controller: Controller
     drives: tuple[int, ...]
+
+
+def argument_groups(controller: object | Mapping[str, object] | None, names: Sequence[str]
+                    ) -> list[Group]:
+    """The groups of a run's ``controller`` argument over drives ``names`` (drive order):
+    none, one object for every drive (group "line"), or a dict drive name -> object (a group
+    each); ``ArgumentError`` for an unknown drive name or an object without the protocol."""
+    if controller is None:
+        return []
+    if not isinstance(controller, Mapping):
+        return [Group("line", checked_controller(controller, "controller"),
+                      tuple(range(len(names))))]
+    groups = []
+    for name, obj in controller.items():
+        if name not in names:
+            raise ArgumentError(f"controller: no drive {name!r}; the drives are "
+                                f"{', '.join(names)}")
+        groups.append(Group(name, checked_controller(obj, f"controller[{name!r}]"),
+                            (list(names).index(name),)))
+    return groups
 
 
 def checked_controller(obj: object, what: str) -> Controller:

@@ -33,7 +33,7 @@ from webline.sim.core.user_protocol import (
     DriveInfo,
     Group,
     NamedReadings,
-    checked_controller,
+    argument_groups,
     controller_error,
     shape_of,
 )
@@ -68,19 +68,7 @@ def branch_groups(line: BranchedLine, controller: object | Mapping[str, object] 
     object without the protocol or a drive in open-loop tension control (it has no
     command to take)."""
     names = drive_names(line)
-    if controller is None:
-        return []
-    if isinstance(controller, Mapping):
-        groups = []
-        for name, obj in controller.items():
-            if name not in names:
-                raise ArgumentError(f"controller: no drive {name!r}; the drives are "
-                                    f"{', '.join(names)}")
-            groups.append(Group(name, checked_controller(obj, f"controller[{name!r}]"),
-                                (names.index(name),)))
-    else:
-        groups = [Group("line", checked_controller(controller, "controller"),
-                        tuple(range(len(names))))]
+    groups = argument_groups(controller, names)
     for g in groups:
         for d in g.drives:
             winder = getattr(line.spec.rollers[line.drives[d]], "winder", None)
