@@ -101,7 +101,13 @@ def fit_command(
     scenario: ScenarioOpt = None,
     maps: MapOpt = None,
     max_simulations: Annotated[int, typer.Option(
-        "--max-simulations", min=10, help="Stop after about this many simulations.")] = 400,
+        "--max-simulations", min=10, help="Stop after about this many simulations (of the "
+        "local stages; the global stage's come on top).")] = 400,
+    starts: Annotated[int, typer.Option(
+        "--starts", min=1, help="Starts of the global stage: the line's values and the best "
+        "of a Latin hypercube over the bounds, each fitted briefly; the best goes on (1: the "
+        "line's values only).")] = 8,
+    seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of the Latin hypercube.")] = 0,
     force: ForceOpt = False,
 ) -> None:
     """Fit line parameters to measured data by weighted least squares: values, standard
@@ -119,7 +125,7 @@ def fit_command(
     from webline.line import load_line
 
     result = fit(load_line(line), measurements, bounds, scenario=scenario,
-                 max_simulations=max_simulations)
+                 max_simulations=max_simulations, starts=starts, seed=seed)
     target = out or Path(default_folder(result.line.name, "fit"))
     folder = open_output(target, force, "fit", FIT_FILES)
     for name in FIT_FILES:

@@ -8,7 +8,7 @@ import itertools
 import math
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -18,6 +18,7 @@ from webline.errors import ArgumentError
 from webline.line import Line, load_line
 from webline.twin.fitting.free import FreeParameter, parse_free
 from webline.twin.fitting.identify import Identifiability, identifiability
+from webline.twin.fitting.starts import GlobalStage, global_stage, latin_starts
 from webline.twin.traces.drive import driven_line
 from webline.twin.traces.measurements import Measurements
 from webline.twin.traces.replay import as_measurements
@@ -33,6 +34,10 @@ FAILED_RESIDUAL = 1e3
 #: of single samples a landscape of narrow valleys; its means lead into the right one, and
 #: the second stage then fits every sample from there
 SMOOTH_SECONDS = 0.1
+#: starts of the global stage by default (the line's values and 7 Latin-hypercube points)
+STARTS = 8
+#: least-squares iterations each start of the global stage may take, at most
+START_ITERATIONS = 8
 
 
 def signal_rows(r: np.ndarray) -> list[np.ndarray]:
@@ -112,6 +117,7 @@ class FitResult:
     signals: tuple[str, ...]
     before: Run
     after: Run
+    global_stage: GlobalStage | None = None
 
     @property
     def identifiable(self) -> np.ndarray:
@@ -152,13 +158,15 @@ class FitResult:
         return (f"<webline Fit of {Path(self.data.source).name}: {len(self.parameters)} "
                 f"parameters, {self.simulations} simulations, cost {self.cost:.4g}, residuals "
                 f"{self.residual_scale:.3g} x the noise, "
-                f"{'converged' if self.converged else 'not converged'}>\n" + "\n".join(rows))
+                f"{'converged' if self.converged else 'not converged'}"
+                + (f", {self.global_stage.summary()}" if self.global_stage else "")
+                + ">\n" + "\n".join(rows))
 
 
 def fit(line: Line | str | Path, data: Measurements | str | Path,
         free: Mapping[str, object], *, scenario: str | None = None,
         signals: Sequence[str] | None = None, max_simulations: int = 400,
-        workers: int | None = 1) -> FitResult:
+        workers: int | None = 1, starts: int = STARTS, seed: int = 0) -> FitResult:
     """Fit the ``free`` parameters of ``line`` ({path: "LOW .. HIGH UNIT"}, paths as
     ``Line.replace`` takes them, ``*`` for every element: ``rollers.*.friction``) to the
     measured traces ``data`` (``Measurements`` or a file, see ``load_measurements``).
@@ -172,6 +180,12 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
     of each range), the n perturbed cases run as one batch (``workers`` threads; the
     compiled loop holds the GIL, so 1 by default). Stops after about ``max_simulations``
     simulations. ``signals`` limits the compared signals (default: every measured one).
+
+    Before it, a global stage (``twin.fitting.starts``): with ``starts`` > 1, local fits of
+    at most ``START_ITERATIONS`` iterations each (on the means of the first stage) from the
+    line's values and the ``starts - 1`` best of ``SCREEN * (starts - 1)`` Latin-hypercube
+    points over the bounds (``seed``); the best of them starts the local stages, and the
+    result says how many reached the best cost. ``starts=1``: the line's values only.
     """
     started = time.perf_counter()
     line = original = load_line(line)
@@ -240,9 +254,28 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
     x0 = np.clip([p.scaled(p.start) for p in params], 0.0, 1.0)
     before = cases([x0])[0][1]
     window = max(1, round(SMOOTH_SECONDS / data.sample_period))
-    coarse = stage(window, x0, max_simulations // 2) if window > 1 else None
-    solution = stage(1, coarse.x if coarse is not None else x0,
-                     max_simulations - count[0])
+    found: GlobalStage | None = None
+    if starts > 1:
+        def local(start: np.ndarray) -> tuple[np.ndarray, float]:
+            end = stage(window, start, START_ITERATIONS * (len(params) + 1))
+            return np.asarray(end.x), float(end.cost)
+
+        def screen(xs: np.ndarray) -> np.ndarray:
+            return np.array([0.5 * float(np.sum(blocks(out[0], window) ** 2))
+                             for out in cases(list(xs))])
+
+        spent = count[0]
+        chosen = latin_starts(x0, starts, screen, seed)
+        found = global_stage(chosen, local, lambda: count[0])
+        found = replace(found, simulations=count[0] - spent)
+        x_start = found.best
+        spent = count[0]
+    else:
+        spent = 0
+        x_start = x0
+    if window > 1:
+        x_start = stage(window, x_start, max_simulations // 2).x
+    solution = stage(1, x_start, max_simulations - (count[0] - spent))
     x = np.asarray(solution.x)
     r = blocks(cases([x])[0][0], 1)
     after = cases([x])[0][1]
@@ -279,7 +312,7 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
         simulations=count[0], cost=0.5 * float(r @ r), converged=bool(solution.status > 0),
         message=str(solution.message), residual_scale=math.sqrt(variance),
         seconds=time.perf_counter() - started, noise=noise,
-        signals=tuple(names), before=before, after=after)
+        signals=tuple(names), before=before, after=after, global_stage=found)
 
 
 def driven_fitted(line: Line, params: Sequence[FreeParameter], value: np.ndarray,
