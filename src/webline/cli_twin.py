@@ -108,12 +108,15 @@ def fit_command(
         "of a Latin hypercube over the bounds, each fitted briefly; the best goes on (1: the "
         "line's values only).")] = 8,
     seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of the Latin hypercube.")] = 0,
+    accept_poor: Annotated[bool, typer.Option(
+        "--accept-poor", help="Exit 0 for a poor fit (its files still say it is poor).")] = False,
     force: ForceOpt = False,
 ) -> None:
     """Fit line parameters to measured data by weighted least squares: values, standard
-    errors, 95 % intervals, correlations, and the parameters the data cannot identify.
-    Writes fitted.toml (the line with the fitted values, annotated), fit.json and an HTML
-    report. Exit status: 0, 2 bad input."""
+    errors, 95 % intervals, correlations, the parameters the data cannot identify and a
+    verdict (good, poor, failed, with the reasons). Writes fitted.toml (the line with the
+    fitted values, annotated), fit.json and an HTML report, whatever the verdict. Exit
+    status: 0 good, 4 poor (0 with --accept-poor), 5 failed, 2 bad input."""
     from webline.report.outputs import default_folder
     from webline.twin.fitting.fit import fit
     from webline.twin.fitting.fit_files import write_fit_files
@@ -137,3 +140,11 @@ def fit_command(
     console.print(escape(measurements.report()))
     console.print(escape(repr(result)))
     console.print(escape(f"report: {report}"))
+    from webline.twin.fitting.verdict import EXIT
+
+    status = result.verdict.status
+    if status != "good":
+        typer.echo(f"warning: {status.upper()} FIT, its values are not to be trusted: "
+                   + "; ".join(result.verdict.reasons), err=True)
+    if status == "failed" or (status == "poor" and not accept_poor):
+        raise typer.Exit(EXIT[status])

@@ -45,6 +45,30 @@ def test_fit_writes_fitted_line_and_json(log, tmp_path):
     assert (out / "fitted.toml").exists() and (out / "report.html").exists()
 
 
+def test_a_poor_fit_exits_4_and_says_so_in_every_file(log, tmp_path):
+    """The infeed's inertia is 0.7 kg m² in the log; bounds that stop at 0.5 leave it on its
+    upper bound with residuals above the noise: a poor fit (issue 36 item 1), exit 4, marked
+    POOR in fitted.toml and the report, its reasons in fit.json; --accept-poor exits 0."""
+    out = tmp_path / "poor"
+    args = ("fit", "converter", str(log), "-s", "startup", "--starts", "2", "--free",
+            "rollers.infeed.inertia=0.1..0.5 kg*m**2")
+    result = invoke(*args, "-o", str(out))
+    assert result.exit_code == 4, result.output
+    assert "warning: POOR FIT" in result.stderr and "at its upper bound" in result.stderr
+    data = json.loads((out / "fit.json").read_text())
+    assert data["verdict"] == "poor" and data["residual_scale"] > 1.5
+    assert any("rollers.infeed.inertia at its upper bound" in r for r in data["reasons"])
+    entry = data["parameters"]["rollers.infeed.inertia"]
+    assert entry["at_bound"] == "high" and entry["interval"] == "one-sided"
+    assert entry["ci95"][1] == pytest.approx(0.5)  # one-sided: up to the bound
+    text = (out / "fitted.toml").read_text()
+    assert "# VERDICT: POOR" in text and "POOR FIT to log.csv, not to be trusted" in text
+    assert "95 % interval" not in text
+    assert "POOR FIT" in (out / "report.html").read_text()
+    accepted = invoke(*args, "--accept-poor", "-o", str(tmp_path / "accepted"))
+    assert accepted.exit_code == 0, accepted.output
+
+
 def bad_file(tmp_path, header, rows):
     path = tmp_path / "bad.csv"
     path.write_text(",".join(header) + "\n" + "\n".join(

@@ -52,3 +52,18 @@ def test_global_stage_leaves_the_local_minimum_of_the_torque_lag(ramps):
     assert result.residual_scale < 1.2, result
     for i, p in enumerate(result.parameters):
         assert result.value[i] == pytest.approx(TRUTH[p.path], rel=0.10), p.path
+
+
+def test_one_start_ends_on_the_bound_and_is_called_poor(ramps):
+    """Without the global stage the lag ends on its lower bound: the verdict says poor and
+    why, and the interval at the bound is one-sided and wide enough to hold the truth."""
+    line, path = ramps
+    result = fit(line, path, FREE, starts=1)
+    assert result.global_stage is None
+    assert result.verdict.status == "poor", result
+    lag = [p.path for p in result.parameters].index("rollers.rewind.drive.torque_lag")
+    assert result.at_bound[lag] == "low" and result.interval_kind[lag] == "one-sided"
+    assert any("torque_lag at its lower bound" in r for r in result.verdict.reasons)
+    assert result.residual_scale > 1.5
+    assert result.ci95[lag, 0] == pytest.approx(0.5e-3)
+    assert result.ci95[lag, 1] > TRUTH["rollers.rewind.drive.torque_lag"]

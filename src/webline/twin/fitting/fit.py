@@ -4,7 +4,6 @@ which parameters the data can identify."""
 
 from __future__ import annotations
 
-import itertools
 import math
 import time
 from collections.abc import Mapping, Sequence
@@ -18,7 +17,9 @@ from webline.errors import ArgumentError
 from webline.line import Line, load_line
 from webline.twin.fitting.free import FreeParameter, parse_free
 from webline.twin.fitting.identify import Identifiability, identifiability
+from webline.twin.fitting.intervals import honest_covariance, intervals
 from webline.twin.fitting.starts import GlobalStage, global_stage, latin_starts
+from webline.twin.fitting.verdict import Verdict, judge
 from webline.twin.traces.drive import driven_line
 from webline.twin.traces.measurements import Measurements
 from webline.twin.traces.replay import as_measurements
@@ -38,29 +39,6 @@ SMOOTH_SECONDS = 0.1
 STARTS = 8
 #: least-squares iterations each start of the global stage may take, at most
 START_ITERATIONS = 8
-
-
-def signal_rows(r: np.ndarray) -> list[np.ndarray]:
-    """Per signal, the rows (in ``blocks(r, 1)``'s order) of its measured points."""
-    counts = np.isfinite(r).sum(axis=1)
-    edges = np.concatenate([[0], np.cumsum(counts)])
-    return [np.arange(a, b) for a, b in itertools.pairwise(edges)]
-
-
-def covariance(jac: np.ndarray, rows: list[np.ndarray], dof: int,
-               r: np.ndarray) -> np.ndarray:
-    """Covariance of the scaled parameters: the sandwich A⁻¹ (Σₛ vₛ JₛᵀJₛ) A⁻¹ with
-    A = JᵀJ and vₛ the residual variance of signal s (its noise level as estimated from the
-    data is only an estimate: a signal whose residuals are larger than its weight assumed
-    counts with its own scatter), scaled by m / dof for the parameters fitted."""
-    inverse = np.linalg.pinv(jac.T @ jac)
-    middle = np.zeros_like(inverse)
-    m = sum(len(idx) for idx in rows)
-    for idx in rows:
-        if len(idx):
-            part = jac[idx]
-            middle += float(np.mean(r[idx] ** 2)) * (part.T @ part)
-    return inverse @ middle @ inverse * (m / max(1, dof))
 
 
 def blocks(r: np.ndarray, window: int) -> np.ndarray:
@@ -84,10 +62,14 @@ class FitResult:
     """A fit's outcome; values and intervals in SI (``FreeParameter.unit``).
 
     ``value`` (a parameter the data do not identify keeps the line's: ``raw_value`` holds
-    the optimiser's number for it), ``stderr`` (from ``covariance``: (JᵀJ)⁻¹ at the
-    solution, each signal's part scaled by its own residual variance), ``ci95`` (value ±
-    t₀.₉₇₅,m-n · stderr; the bounds for a parameter the data do not identify) per
-    parameter; ``correlation`` (n × n);
+    the optimiser's number for it), ``stderr`` (``twin.fitting.intervals``: a batch-means
+    sandwich over blocks of the residuals' correlation time, at least the noise-only error
+    times the residual scale where it exceeds 1; ``stderr_noise`` the noise-only error
+    (JᵀJ)⁻¹ of earlier versions), ``ci95`` (value ± t₀.₉₇₅ · stderr with
+    ``effective_points`` - n degrees of freedom: the blocks; one-sided at a bound; the
+    bounds for a parameter the data do not identify: ``interval_kind`` says which,
+    ``at_bound`` "low"/"high"/"") per parameter; ``correlation`` (n × n);
+    ``correlation_time`` [s] of the residuals (the longest of the signals');
     ``identifiability`` (which parameters the data cannot separate, and why);
     ``simulations`` run; ``cost`` (½Σr², r in noise levels); ``converged`` (scipy's
     convergence test was met);
@@ -95,7 +77,8 @@ class FitResult:
     where the model misses something (the intervals then assume it does not);
     ``noise`` the noise level [SI] each signal was weighted by; ``before`` / ``after`` the
     compared signals with the line's and the fitted values; ``fitted_line`` the line as
-    loaded (no scenario) with the identified values."""
+    loaded (no scenario) with the identified values; ``global_stage`` (None for one start);
+    ``verdict`` good / poor / failed with its reasons (``twin.fitting.verdict``)."""
 
     line: Line
     fitted_line: Line
@@ -117,7 +100,13 @@ class FitResult:
     signals: tuple[str, ...]
     before: Run
     after: Run
-    global_stage: GlobalStage | None = None
+    global_stage: GlobalStage | None
+    verdict: Verdict
+    interval_kind: tuple[str, ...]
+    at_bound: tuple[str, ...]
+    stderr_noise: np.ndarray
+    effective_points: int
+    correlation_time: float
 
     @property
     def identifiable(self) -> np.ndarray:
@@ -150,8 +139,11 @@ class FitResult:
         rows = []
         for i, p in enumerate(self.parameters):
             if self.identifiable[i]:
+                side = self.at_bound[i]
+                mark = (f", one-sided: at its {'lower' if side == 'low' else 'upper'} bound"
+                        if side else "")
                 rows.append(f"  {p.path} = {self.value[i]:.4g} {p.unit} ± {self.stderr[i]:.2g} "
-                            f"(95 %: {self.ci95[i, 0]:.4g} .. {self.ci95[i, 1]:.4g})")
+                            f"(95 %: {self.ci95[i, 0]:.4g} .. {self.ci95[i, 1]:.4g}{mark})")
             else:
                 rows.append(f"  {p.path}: not identifiable from this data "
                             f"({self.identifiability.reasons[i]})")
@@ -160,7 +152,7 @@ class FitResult:
                 f"{self.residual_scale:.3g} x the noise, "
                 f"{'converged' if self.converged else 'not converged'}"
                 + (f", {self.global_stage.summary()}" if self.global_stage else "")
-                + ">\n" + "\n".join(rows))
+                + ">\n" + "\n".join(rows) + "\n" + self.verdict.line())
 
 
 def fit(line: Line | str | Path, data: Measurements | str | Path,
@@ -283,18 +275,14 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
     m, n = len(r), len(params)
     spans = np.array([p.high - p.low for p in params])
     variance = float(r @ r) / max(1, m - n)
-    cov_x = covariance(jac, signal_rows(cases([x])[0][0]), m - n, r)
-    stderr = np.sqrt(np.clip(np.diag(cov_x), 0.0, None)) * spans
+    honest = honest_covariance(jac, cases([x])[0][0])
+    stderr = honest.stderr * spans
     value = np.array([p.unscaled(float(v)) for p, v in zip(params, x, strict=True)])
-    from scipy.stats import t as student
-
-    half = float(student.ppf(0.975, max(1, m - n))) * stderr
-    ci95 = np.column_stack([value - half, value + half])
-    scale = np.sqrt(np.clip(np.diag(cov_x), 1e-300, None))
-    correlation = np.clip(cov_x / np.outer(scale, scale), -1.0, 1.0)
-    ident = identifiability(jac, ci95, np.array([p.low for p in params]),
-                            np.array([p.high for p in params]), correlation,
-                            [p.path for p in params])
+    low, high = np.array([p.low for p in params]), np.array([p.high for p in params])
+    ci95, kinds, at = intervals(value, stderr, low, high, honest.blocks - n)
+    scale = np.sqrt(np.clip(np.diag(honest.cov), 1e-300, None))
+    correlation = np.clip(honest.cov / np.outer(scale, scale), -1.0, 1.0)
+    ident = identifiability(jac, ci95, low, high, correlation, [p.path for p in params])
     raw = value.copy()
     for i, p in enumerate(params):
         if not ident.identifiable[i]:
@@ -302,9 +290,15 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
             # and at most the standard deviation of a value spread evenly over them
             value[i] = min(max(p.start, p.low), p.high)
             ci95[i] = (p.low, p.high)
+            kinds[i], at[i] = "bounds", ""
             even = (p.high - p.low) / math.sqrt(12.0)
             stderr[i] = min(stderr[i], even) if math.isfinite(stderr[i]) else even
     fitted = driven_fitted(original, params, value, ident.identifiable)
+    verdict = judge(residual_scale=math.sqrt(variance), converged=bool(solution.status > 0),
+                    message=str(solution.message), failure=after.failure,
+                    at_bound=[(p.path, a) for p, a in zip(params, at, strict=True) if a],
+                    reached=found.reached if found else None,
+                    starts=found.count if found else None)
     return FitResult(
         line=line, fitted_line=fitted, data=data, parameters=tuple(params), value=value,
         raw_value=raw,
@@ -312,7 +306,10 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
         simulations=count[0], cost=0.5 * float(r @ r), converged=bool(solution.status > 0),
         message=str(solution.message), residual_scale=math.sqrt(variance),
         seconds=time.perf_counter() - started, noise=noise,
-        signals=tuple(names), before=before, after=after, global_stage=found)
+        signals=tuple(names), before=before, after=after, global_stage=found,
+        verdict=verdict, interval_kind=tuple(kinds), at_bound=tuple(at),
+        stderr_noise=honest.stderr_noise * spans, effective_points=honest.blocks,
+        correlation_time=honest.tau * data.sample_period)
 
 
 def driven_fitted(line: Line, params: Sequence[FreeParameter], value: np.ndarray,
