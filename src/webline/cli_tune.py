@@ -57,7 +57,12 @@ def tune_command(
         "third to three times their values).")] = None,
     fit: Annotated[Path | None, typer.Option(
         "--fit", help="A fit's fit.json (or its folder): the robustness Monte Carlo draws its "
-        "parameters from normal(value, stderr).")] = None,
+        "parameters from normal(value, stderr). A fit whose verdict is not good is refused "
+        "(exit 2) unless --poor-fit widen.")] = None,
+    poor_fit: Annotated[str, typer.Option(
+        "--poor-fit", metavar="refuse|widen", help="What to do with a --fit whose verdict is "
+        "poor or failed: refuse it (exit 2), or widen its parameters to their bounds "
+        "(uniform draws).")] = "refuse",
     uncertain: Annotated[list[str] | None, typer.Option(
         "--uncertain", metavar="PATH=DIST", help="An uncertain parameter of the robustness "
         "Monte Carlo (repeatable), e.g. web.modulus='normal(4 GPa, 10 %)'; overrides --fit "
@@ -86,7 +91,9 @@ def tune_command(
     dists: dict[str, Any] | None = None
     notes: list[str] = []
     if fit is not None:
-        dists, notes = fit_uncertain(fit / "fit.json" if fit.is_dir() else fit)
+        if poor_fit not in ("refuse", "widen"):
+            raise BadInput(f"--poor-fit: expected refuse or widen, got {poor_fit!r}")
+        dists, notes = fit_uncertain(fit / "fit.json" if fit.is_dir() else fit, poor_fit)
     if uncertain:
         dists = {**(dists or {}), **_uncertain(uncertain)}
     folder = open_output(out, force, "tune", FILES)
