@@ -51,7 +51,7 @@ def correlation_time(series: np.ndarray) -> float:
     acov = np.fft.irfft(spectrum * np.conj(spectrum))[:n]
     if acov[0] <= 0:
         return 1.0
-    rho = acov[1:n // 2] / acov[0]
+    rho = acov[1 : n // 2] / acov[0]
     taus = 1.0 + 2.0 * np.cumsum(rho)
     window = np.flatnonzero(np.arange(1, len(taus) + 1) >= SOKAL_C * taus)
     tau = float(taus[window[0]] if len(window) else taus[-1]) if len(taus) else 1.0
@@ -98,12 +98,12 @@ def honest_covariance(jac: np.ndarray, r: np.ndarray) -> Covariance:
     # the correlation of the sandwich, its diagonal raised to the chosen standard errors
     ratio = np.where(sandwich > 0, stderr / np.where(sandwich > 0, sandwich, 1.0), 1.0)
     cov = cov * np.outer(ratio, ratio)
-    return Covariance(cov, stderr, np.sqrt(np.clip(np.diag(inverse), 0.0, None)), block,
-                      count, tau)
+    return Covariance(cov, stderr, np.sqrt(np.clip(np.diag(inverse), 0.0, None)), block, count, tau)
 
 
-def intervals(value: np.ndarray, stderr: np.ndarray, low: np.ndarray, high: np.ndarray,
-              dof: int) -> tuple[np.ndarray, list[str], list[str]]:
+def intervals(
+    value: np.ndarray, stderr: np.ndarray, low: np.ndarray, high: np.ndarray, dof: int
+) -> tuple[np.ndarray, list[str], list[str]]:
     """95 % intervals [SI] of ``value`` ± t₀.₉₇₅(dof) ``stderr``, their kind per parameter
     ("two-sided", or "one-sided" for a value at a bound: [bound, value + t₀.₉₅ stderr]
     inward) and which bound each value is at ("low", "high" or "")."""

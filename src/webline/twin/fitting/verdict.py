@@ -34,9 +34,16 @@ class Verdict:
         return f"verdict: {self.status}{why}"
 
 
-def judge(*, residual_scale: float, converged: bool, message: str, failure: str,
-          at_bound: Sequence[tuple[str, str]], reached: int | None = None,
-          starts: int | None = None) -> Verdict:
+def judge(
+    *,
+    residual_scale: float,
+    converged: bool,
+    message: str,
+    failure: str,
+    at_bound: Sequence[tuple[str, str]],
+    reached: int | None = None,
+    starts: int | None = None,
+) -> Verdict:
     """The verdict of a fit: ``failure`` (the fitted line's simulation failed: "" if not) or a
     residual scale that is not finite is ``failed``, as is a fit that neither converged nor
     reached the noise; a residual scale above ``MISFIT``, a value at a bound (``at_bound``:
@@ -44,16 +51,22 @@ def judge(*, residual_scale: float, converged: bool, message: str, failure: str,
     ``reached`` of ``starts`` starts found the best cost (said when only one did, as a
     caution, not a reason)."""
     if failure or not math.isfinite(residual_scale):
-        return Verdict("failed", (f"the fitted line's simulation failed: {failure}"
-                                  if failure else "no finite cost",))
+        return Verdict(
+            "failed",
+            (f"the fitted line's simulation failed: {failure}" if failure else "no finite cost",),
+        )
     reasons = []
     if residual_scale > MISFIT:
-        reasons.append(f"residuals {residual_scale:.3g} x the noise (above {MISFIT:g}): the "
-                       "model misses something the data show")
+        reasons.append(
+            f"residuals {residual_scale:.3g} x the noise (above {MISFIT:g}): the "
+            "model misses something the data show"
+        )
     for path, side in at_bound:
-        reasons.append(f"{path} at its {'lower' if side == 'low' else 'upper'} bound: the "
-                       "bound is too tight, or the value stands in for something the model "
-                       "lacks")
+        reasons.append(
+            f"{path} at its {'lower' if side == 'low' else 'upper'} bound: the "
+            "bound is too tight, or the value stands in for something the model "
+            "lacks"
+        )
     if not converged:
         reasons.append(f"not converged ({message})")
         if residual_scale > MISFIT:
