@@ -51,8 +51,11 @@ def test_fit_files_have_the_shape_tune_reads(round_trip, tmp_path):
     data = json.loads(json_path.read_text())
     assert set(data) == {"line", "data", "verdict", "reasons", "residual_scale", "parameters",
                          "correlation", "simulations", "cost", "converged", "starts",
-                         "effective_points", "correlation_time"}
+                         "effective_points", "correlation_time", "checks", "findings"}
     assert data["verdict"] == "good" and data["reasons"] == []
+    # the model is right: every signal's residuals white at its noise
+    assert data["findings"] == [] and len(data["checks"]) == 17
+    assert all(0.8 < c["rms"] < 1.2 and c["p_white"] > 1e-3 for c in data["checks"])
     assert data["starts"]["count"] == 8 and data["starts"]["reached_best"] >= 1
     assert set(data["parameters"]) == set(TRUTH)
     for entry in data["parameters"].values():

@@ -21,6 +21,9 @@ def test_a_noisy_start_up_ramp_is_found_with_its_corners() -> None:
     knots, values = found
     assert len(knots) == 4
     assert np.allclose(knots[1:3], [1.5, 21.5], atol=5e-3)
+    # the rest and the steady speed are holds, exactly flat (a slow noisy ramp there would
+    # reach the torques through the inertia compensation)
+    assert values[0] == values[1] and values[2] == values[3]
     slope = (values[2] - values[1]) / (knots[2] - knots[1])
     assert abs(slope / 0.25 - 1.0) < 1e-3
 

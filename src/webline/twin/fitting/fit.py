@@ -15,6 +15,7 @@ import numpy as np
 
 from webline.errors import ArgumentError
 from webline.line import Line, load_line
+from webline.twin.fitting.checks import ModelChecks, model_checks
 from webline.twin.fitting.free import FreeParameter, parse_free
 from webline.twin.fitting.identify import Identifiability, identifiability
 from webline.twin.fitting.intervals import honest_covariance, intervals
@@ -78,7 +79,8 @@ class FitResult:
     ``noise`` the noise level [SI] each signal was weighted by; ``before`` / ``after`` the
     compared signals with the line's and the fitted values; ``fitted_line`` the line as
     loaded (no scenario) with the identified values; ``global_stage`` (None for one start);
-    ``verdict`` good / poor / failed with its reasons (``twin.fitting.verdict``)."""
+    ``verdict`` good / poor / failed with its reasons (``twin.fitting.verdict``);
+    ``checks`` the residuals' whiteness and input correlation (``twin.fitting.checks``)."""
 
     line: Line
     fitted_line: Line
@@ -107,6 +109,7 @@ class FitResult:
     stderr_noise: np.ndarray
     effective_points: int
     correlation_time: float
+    checks: ModelChecks
 
     @property
     def identifiable(self) -> np.ndarray:
@@ -152,7 +155,8 @@ class FitResult:
                 f"{self.residual_scale:.3g} x the noise, "
                 f"{'converged' if self.converged else 'not converged'}"
                 + (f", {self.global_stage.summary()}" if self.global_stage else "")
-                + ">\n" + "\n".join(rows) + "\n" + self.verdict.line())
+                + ">\n" + "\n".join(rows) + "\n" + self.verdict.line()
+                + "".join(f"\nmodel check: {f}" for f in self.checks.findings))
 
 
 def fit(line: Line | str | Path, data: Measurements | str | Path,
@@ -294,11 +298,14 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
             even = (p.high - p.low) / math.sqrt(12.0)
             stderr[i] = min(stderr[i], even) if math.isfinite(stderr[i]) else even
     fitted = driven_fitted(original, params, value, ident.identifiable)
+    weighted = cases([x])[0][0]
+    checks = model_checks(compared_time(data), dict(zip(names, weighted, strict=True)),
+                          dict(zip(names, measured, strict=True)))
     verdict = judge(residual_scale=math.sqrt(variance), converged=bool(solution.status > 0),
                     message=str(solution.message), failure=after.failure,
                     at_bound=[(p.path, a) for p, a in zip(params, at, strict=True) if a],
                     reached=found.reached if found else None,
-                    starts=found.count if found else None)
+                    starts=found.count if found else None, lacks=checks.serious)
     return FitResult(
         line=line, fitted_line=fitted, data=data, parameters=tuple(params), value=value,
         raw_value=raw,
@@ -309,7 +316,7 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
         signals=tuple(names), before=before, after=after, global_stage=found,
         verdict=verdict, interval_kind=tuple(kinds), at_bound=tuple(at),
         stderr_noise=honest.stderr_noise * spans, effective_points=honest.blocks,
-        correlation_time=honest.tau * data.sample_period)
+        correlation_time=honest.tau * data.sample_period, checks=checks)
 
 
 def driven_fitted(line: Line, params: Sequence[FreeParameter], value: np.ndarray,

@@ -28,7 +28,9 @@ def fit_json(result: FitResult) -> dict[str, Any]:
     "ci95": [lo, hi], "interval" ("two-sided"/"one-sided"/"bounds"), "at_bound"
     ("low"/"high"/null), "bounds": [low, high], "identifiable"}}, "correlation",
     "simulations", "cost", "converged", "starts": {"count", "reached_best"} (null: one
-    start), "effective_points", "correlation_time"}``, values in SI."""
+    start), "effective_points", "correlation_time", "checks": [{"signal", "rms" (noise
+    levels), "correlation_time" [s], "p_white", "worst_window" [s, s], "worst_rms"}],
+    "findings": [text]}``, values in SI."""
     kinds, at = result.interval_kind, result.at_bound
     parameters = {
         p.path: {"value": float(result.value[i]), "unit": p.unit,
@@ -50,7 +52,12 @@ def fit_json(result: FitResult) -> dict[str, Any]:
             "starts": ({"count": found.count, "reached_best": found.reached}
                        if found is not None else None),
             "effective_points": int(result.effective_points),
-            "correlation_time": _number(result.correlation_time)}
+            "correlation_time": _number(result.correlation_time),
+            "checks": [{"signal": c.signal, "rms": _number(c.rms),
+                        "correlation_time": _number(c.correlation_time),
+                        "p_white": _number(c.p_white), "worst_window": list(c.window),
+                        "worst_rms": _number(c.window_rms)} for c in result.checks.signals],
+            "findings": list(result.checks.findings)}
 
 
 def annotation(result: FitResult, i: int) -> str:
@@ -88,7 +95,8 @@ def fitted_toml(result: FitResult) -> str:
               f"# {result.simulations} simulations, cost {result.cost:.6g}, "
               f"{'converged' if result.converged else 'NOT converged'}; values in SI",
               *(f"# {p.path}: {annotation(result, i)}"
-                for i, p in enumerate(result.parameters)), ""]
+                for i, p in enumerate(result.parameters)),
+              *(f"# model check: {f}" for f in result.checks.findings), ""]
     return "\n".join(header + lines) + "\n"
 
 

@@ -149,6 +149,15 @@ def write_fit_report(result: FitResult, out: Path) -> Path:
         verdict.status, "failed")
     weights = make_table("weights", "Noise level each signal was weighted by (SI)",
                          ("signal", "noise σ"), [(n, _g(result.noise[n])) for n in names])
+    checks = make_table("checks", "Model checks: residuals per signal, largest first (RMS in "
+                        "noise levels; white residuals have p well above 0.001 and a "
+                        "correlation time near one sample)",
+                        ("signal", "RMS", "correlation time [s]", "whiteness p",
+                         "worst 0.5 s from [s]", "RMS there"),
+                        [(c.signal, _g(c.rms), _g(c.correlation_time), f"{c.p_white:.2g}",
+                          _g(c.window[0]), _g(c.window_rms)) for c in result.checks.signals])
+    findings = [Text("Model checks: " + "; ".join(result.checks.findings))] if \
+        result.checks.findings else []
     sections = [
         _data_section(result.data),
         Section("Fit", [values, correlation, weights]),
@@ -156,6 +165,7 @@ def write_fit_report(result: FitResult, out: Path) -> Path:
                                  "(blue)" + _which(names), overlay),
                            metrics_table(before, "before", "Before the fit"),
                            metrics_table(after, "after", "After the fit")]),
+        Section("Model checks", [*findings, checks]),
         Section("Residuals", [Image("residuals", "simulated - measured after the fit, with "
                                     "the ±2σ band of each signal's noise level"
                                     + _which(names), residuals)]),

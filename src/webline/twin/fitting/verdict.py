@@ -43,13 +43,16 @@ def judge(
     at_bound: Sequence[tuple[str, str]],
     reached: int | None = None,
     starts: int | None = None,
+    lacks: Sequence[str] = (),
 ) -> Verdict:
     """The verdict of a fit: ``failure`` (the fitted line's simulation failed: "" if not) or a
     residual scale that is not finite is ``failed``, as is a fit that neither converged nor
     reached the noise; a residual scale above ``MISFIT``, a value at a bound (``at_bound``:
     (path, "low"/"high") of the identifiable parameters) or no convergence is ``poor``.
     ``reached`` of ``starts`` starts found the best cost (said when only one did, as a
-    caution, not a reason)."""
+    caution, not a reason). ``lacks``: model checks that say the model lacks something
+    (``twin.fitting.checks``: correlated residuals well above the noise over a window,
+    which the residual scale over the whole record can hide) make it ``poor`` too."""
     if failure or not math.isfinite(residual_scale):
         return Verdict(
             "failed",
@@ -67,6 +70,7 @@ def judge(
             "bound is too tight, or the value stands in for something the model "
             "lacks"
         )
+    reasons.extend(f"the model likely lacks something: {finding}" for finding in lacks)
     if not converged:
         reasons.append(f"not converged ({message})")
         if residual_scale > MISFIT:

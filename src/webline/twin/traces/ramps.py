@@ -16,6 +16,8 @@ the reconstruction falls back to that zero-phase low-pass and says it is ambiguo
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 #: most knots of a ramp profile (a start-up, three speeds, a stop: about a dozen)
@@ -26,6 +28,8 @@ NOISE_FACTOR = 1.15
 #: the fallback: a second-order Butterworth low-pass of this cut-off [Hz], forwards and
 #: backwards
 SMOOTH_HZ = 1.0
+#: a segment whose slope is within this many standard errors of zero is a hold
+HOLD_SIGMAS = 3.0
 #: knot times are refined while a profile has at most this many knots
 REFINED_KNOTS = 8
 #: residuals are averaged over this time [s] to place a new knot (noise must not place it)
@@ -53,6 +57,33 @@ def _values_at(knots: np.ndarray, t: np.ndarray, v: np.ndarray) -> np.ndarray:
     """Least-squares values at ``knots`` of the continuous piecewise-linear fit to (t, v)."""
     basis = np.column_stack([np.interp(t, knots, np.eye(len(knots))[j]) for j in range(len(knots))])
     return np.linalg.lstsq(basis, v, rcond=None)[0]
+
+
+def _holds(
+    knots: np.ndarray, values: np.ndarray, t: np.ndarray, v: np.ndarray, noise: float
+) -> np.ndarray:
+    """``values`` at ``knots`` refitted with every segment whose slope is within
+    ``HOLD_SIGMAS`` standard errors of zero made exactly flat (a hold: a noisy rest must not
+    become a slow ramp, which the inertia compensation would turn into a torque)."""
+    tied = list(range(len(knots)))  # the value each knot takes (its group)
+    for j in range(len(knots) - 1):
+        inside = (t >= knots[j]) & (t <= knots[j + 1])
+        n, span = int(inside.sum()), float(knots[j + 1] - knots[j])
+        if n < 3 or span <= 0:
+            continue
+        slope_se = noise * math.sqrt(12.0 / n) / span  # least-squares slope of n points
+        if abs(values[j + 1] - values[j]) / span < HOLD_SIGMAS * slope_se:
+            old = tied[j + 1]
+            tied = [tied[j] if g == old else g for g in tied]
+    groups = sorted(set(tied))
+    if len(groups) == len(knots):
+        return values
+    hats = np.column_stack([np.interp(t, knots, np.eye(len(knots))[j]) for j in range(len(knots))])
+    basis = np.column_stack(
+        [hats[:, [k for k, g in enumerate(tied) if g == group]].sum(axis=1) for group in groups]
+    )
+    shared = np.linalg.lstsq(basis, v, rcond=None)[0]
+    return np.array([shared[groups.index(g)] for g in tied])
 
 
 def _refine(knots: np.ndarray, t: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -96,7 +127,7 @@ def fit_ramps(
             knots = _refine(knots, t, v)
         residual = np.interp(t, knots, _values_at(knots, t, v)) - v
         if float(np.sqrt(np.mean(residual**2))) <= NOISE_FACTOR * noise:
-            return knots, _values_at(knots, t, v)
+            return knots, _holds(knots, _values_at(knots, t, v), t, v, noise)
         if len(knots) >= MAX_KNOTS:
             return None
         local = np.abs(np.convolve(residual, kernel, mode="same"))
