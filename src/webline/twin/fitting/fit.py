@@ -257,8 +257,11 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
             return np.asarray(end.x), float(end.cost)
 
         def screen(xs: np.ndarray) -> np.ndarray:
+            # batches of a Jacobian's size: the memo then holds no more runs than a fit's
+            size = len(params) + 1
             return np.array([0.5 * float(np.sum(blocks(out[0], window) ** 2))
-                             for out in cases(list(xs))])
+                             for k in range(0, len(xs), size)
+                             for out in cases(list(xs[k:k + size]))])
 
         spent = count[0]
         chosen = latin_starts(x0, starts, screen, seed)
