@@ -15,13 +15,14 @@ from typing import Any
 import numpy as np
 
 from webline.errors import ArgumentError
-from webline.line import Line, load_line
+from webline.line import Line
 from webline.twin.fitting.free import FreeParameter, parse_free
 from webline.twin.fitting.identify import Identifiability, identifiability
 from webline.twin.traces.drive import driven_line
 from webline.twin.traces.measurements import Measurements
 from webline.twin.traces.replay import as_measurements
 from webline.twin.traces.runs import Run, common_substeps, compared_time, run_cases
+from webline.twin.traces.single_path import single_path_line
 from webline.twin.traces.weights import noise_levels
 
 #: forward-difference step of the Jacobian, as a share of each parameter's bounds
@@ -174,7 +175,7 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
     simulations. ``signals`` limits the compared signals (default: every measured one).
     """
     started = time.perf_counter()
-    line = original = load_line(line)
+    line = original = single_path_line(line, "fit")
     if scenario is not None:
         line = line.with_scenario(scenario)
     data = as_measurements(data, line)
