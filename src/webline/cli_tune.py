@@ -17,23 +17,6 @@ from webline.errors import WeblineError
 # the twin and simulation layers load inside the commands, so that --help stays fast
 
 
-#: why a command refuses a branched line: {command: reason}
-SINGLE_PATH_ONLY = {
-    "replay": "a twin's traces drive and are matched to a single-path line's signals",
-    "fit": "a twin's traces drive and are matched to a single-path line's signals",
-}
-
-
-def refuse_branched(command: str, line: str) -> None:
-    """One line, exit 2, where ``line`` is a branched line and ``command`` takes only
-    single-path lines (``SINGLE_PATH_ONLY``)."""
-    from webline.model.lines import load_line
-
-    if load_line(line).branched:
-        raise BadInput(f"{line}: webs: webline {command}: not yet supported for a branched "
-                       f"line ([[webs]]): {SINGLE_PATH_ONLY[command]} (docs/branching.md)")
-
-
 def _uncertain(texts: list[str]) -> dict[str, str]:
     out = {}
     for text in texts:

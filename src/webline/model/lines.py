@@ -21,8 +21,10 @@ if TYPE_CHECKING:
     from webline.model.web_graph import BranchedLine
     from webline.spec.branched.schema import BranchedLineSpec
 
-def load_line(source: Line | BranchedLine | LineSpec | BranchedLineSpec | str | Path
-              | dict[str, Any]) -> Line | BranchedLine:
+
+def load_line(
+    source: Line | BranchedLine | LineSpec | BranchedLineSpec | str | Path | dict[str, Any],
+) -> Line | BranchedLine:
     """A line from a TOML file path, a built-in line's name (``"hswl"``, ``"laminator"``), a
     dict as read from TOML, a spec, or a line (returned as it is).
 
@@ -52,5 +54,7 @@ def load_line(source: Line | BranchedLine | LineSpec | BranchedLineSpec | str | 
 
     if isinstance(source, BranchedLine | BranchedLineSpec):
         return load_branched(source)
-    raise ArgumentError(f"line: expected a line, a line file path, a built-in line's name, "
-                        f"a dict or a line spec, got {type(source).__name__}")
+    raise ArgumentError(
+        f"line: expected a line, a line file path, a built-in line's name, "
+        f"a dict or a line spec, got {type(source).__name__}"
+    )

@@ -140,8 +140,9 @@ class RunResult(ABC):
         each an array over spans, drives or nodes [N or s], NaN where it does not apply (an
         error without a loadcell), and ``status``."""
         totals = {(e.kind, e.where): e.total for e in self.events}
-        return run_metrics(self.time, self.tension, self.tension_ref, totals,
-                           self.element_names()) | {"status": np.array(self.status)}
+        return run_metrics(
+            self.time, self.tension, self.tension_ref, totals, self.element_names()
+        ) | {"status": np.array(self.status)}
 
     def metrics(self) -> Any:
         """``metric_arrays`` as a tidy ``pandas.DataFrame``: columns ``element``, ``metric``,

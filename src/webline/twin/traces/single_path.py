@@ -16,7 +16,9 @@ def single_path_line(line: Line | str | Path | Any, what: str) -> Line:
     (docs/branching.md)."""
     loaded = load_line(line)
     if loaded.branched:
-        raise ArgumentError(f"line: {what} of {loaded.name!r}: not yet supported for a branched "
-                            "line ([[webs]]): a twin's traces drive and are matched to a "
-                            "single-path line's signals (docs/branching.md)")
+        raise ArgumentError(
+            f"line: {what} of {loaded.name!r}: not yet supported for a branched "
+            "line ([[webs]]): a twin's traces drive and are matched to a "
+            "single-path line's signals (docs/branching.md)"
+        )
     return loaded
