@@ -246,3 +246,22 @@ def test_benchmark_runs_its_fixed_set_of_single_path_cases() -> None:
     result = webline.benchmark([Zero], quick=True, builtin=False)
     assert {c.line for c in CASES} <= {"hswl", "converter"}
     assert set(result.runs_table.status) == {"failed"}
+
+
+def test_a_branched_runs_tension_reference_is_what_its_drives_set() -> None:
+    """The laminator's loadcell spans carry their drives' set tensions (the file's 120 N and
+    60 N on the unwinds' zones, constant); the other spans none (NaN, as a single-path
+    run's). Their PI loops hold the tension within 0.1 % of it at the end of a 1 s run, and
+    the metrics' errors exist on exactly those spans."""
+    result = webline.simulate("laminator", 1.0)
+    ref = dict(zip(result.span_names, result.tension_ref.T, strict=True))
+    np.testing.assert_array_equal(ref["film_zone"], 120.0)
+    np.testing.assert_array_equal(ref["foil_zone"], 60.0)
+    cells = {"film_zone", "foil_zone", "laminate_zone"}
+    assert {name for name, r in ref.items() if np.all(np.isfinite(r))} == cells
+    assert all(np.all(np.isnan(r)) for name, r in ref.items() if name not in cells)
+    for name in cells:
+        k = result.span_names.index(name)
+        assert abs(result.tension[-1, k] / ref[name][-1] - 1.0) < 1e-3, name
+    rms = result.metrics_by_element()["tension_rms_error"]
+    assert {name for name, v in rms.items() if np.isfinite(v)} == cells

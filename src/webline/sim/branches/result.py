@@ -14,7 +14,12 @@ from webline.sim.branches.dancers import dancer_nodes
 from webline.sim.branches.drives.drive_trains import train_signals
 from webline.sim.branches.findings.break_verdict import break_findings, intact, without_cut_jump
 from webline.sim.branches.findings.web_findings import felt_records, layer_tension, yield_findings
-from webline.sim.branches.findings.winder_states import diameter_findings, tension_findings
+from webline.sim.branches.findings.winder_states import (
+    diameter_findings,
+    drive_radius,
+    set_tension,
+    tension_findings,
+)
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.traction import slip_findings
 from webline.sim.branches.winder import splice_findings
@@ -92,13 +97,16 @@ class BranchResult(RunResult):
 
     @cached_property
     def tension_ref(self) -> np.ndarray:
-        """The reference of each loadcell span's zone at each record [N] (its profile; NaN
-        on spans without a loadcell)."""
+        """Tension reference of each loadcell (or dancer) span [N] as its drive sets it: the
+        taper applied to the radius its controller uses (``findings.winder_states``, as
+        ``Result.tension_ref``); NaN on spans without one."""
         out = np.full(self.tension.shape, np.nan)
-        plan = self.plan
-        for k, p in plan.cells[:, :2]:
-            a, b = plan.prof_off[p], plan.prof_off[p + 1]
-            out[:, k] = np.interp(self.time, plan.prof_t[a:b], plan.prof_v[a:b])
+        plan, ds = self.plan, self.dataset
+        for d in range(len(self.line.drives)):
+            used = drive_radius(plan, d, ds["radius"].values, ds["control_radius"].values)
+            first = int(plan.di[d, B.DI_CELLS])
+            for c in range(first, first + int(plan.di[d, B.DI_NCELLS])):
+                out[:, int(plan.cells[c, 0])] = set_tension(plan, d, c, self.time, used)
         return out
 
     @cached_property
