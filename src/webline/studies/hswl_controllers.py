@@ -46,10 +46,7 @@ from webline.control.gains import THESIS_GAINS, gains_from_closed
 from webline.control.lumped import without_idlers
 from webline.control.sections import section_models
 from webline.control.select import Family, with_controller
-from webline.line import (
-    Line,
-    load_line,  # (these studies run single-path lines)
-)
+from webline.line import Line, load_line
 from webline.sim.results.result import Result
 from webline.studies.output import pyplot, write_figure, write_table, write_text
 from webline.studies.result import StudyResult

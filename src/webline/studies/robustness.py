@@ -16,7 +16,7 @@ import numpy as np
 
 import webline
 from webline.control.select import FAMILIES, with_controller
-from webline.line import load_line  # (these studies run single-path lines)
+from webline.line import load_line
 from webline.sim.sweeps.distributions import proportion_interval
 from webline.studies.output import finish, pyplot, save
 from webline.studies.result import StudyResult

@@ -31,7 +31,7 @@ from webline.analysis.drivetrain.gap_condition import (
     tension_deviation,
 )
 from webline.analysis.drivetrain.params import load_parameter_set
-from webline.line import load_line  # (these studies run single-path lines)
+from webline.line import load_line
 from webline.sim.core.plan import compile_plan
 from webline.sim.elements import layout as L
 

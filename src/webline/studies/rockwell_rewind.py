@@ -31,7 +31,7 @@ import numpy as np
 
 import webline
 from webline.analysis.drivetrain.params import load_parameter_set
-from webline.line import load_line  # (these studies run single-path lines)
+from webline.line import load_line
 from webline.sim.results.result import Result
 from webline.studies import rockwell_gap
 from webline.studies.output import finish, pyplot, save

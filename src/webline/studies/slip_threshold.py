@@ -28,10 +28,7 @@ import numpy as np
 
 import webline
 from webline.analysis import slip as an
-from webline.line import (
-    Line,
-    load_line,  # (these studies run single-path lines)
-)
+from webline.line import Line, load_line
 from webline.studies.output import pyplot, save
 from webline.studies.result import StudyResult
 from webline.studies.slip_chain import (

@@ -18,10 +18,7 @@ import numpy as np
 
 import webline
 from webline.control.select import with_controller
-from webline.line import (
-    Line,
-    load_line,  # (these studies run single-path lines)
-)
+from webline.line import Line, load_line
 from webline.sim.core.plan import compile_plan
 from webline.sim.drives.controllers import drive_inertia
 from webline.sim.drives.observer import observe

@@ -19,10 +19,7 @@ import numpy as np
 
 import webline
 from webline.analysis.drivetrain.params import load_parameter_set
-from webline.line import (
-    Line,
-    load_line,  # (these studies run single-path lines)
-)
+from webline.line import Line, load_line
 from webline.studies.output import finish, pyplot, save
 from webline.studies.result import StudyResult
 
