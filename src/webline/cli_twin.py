@@ -13,7 +13,6 @@ import typer
 from rich.markup import escape
 
 from webline.cli_common import LineArg, ScenarioOpt, _console, open_output
-from webline.cli_tune import refuse_branched
 from webline.errors import ArgumentError
 
 if TYPE_CHECKING:
@@ -71,8 +70,9 @@ def replay_command(
     from webline.report.outputs import default_folder
     from webline.twin.fitting.report import write_replay_report
     from webline.twin.traces.replay import replay
+    from webline.twin.traces.single_path import single_path_line
 
-    refuse_branched("replay", line)
+    single_path_line(line, "webline replay")  # (one line where its webs branch)
     measurements = _data(data, line, scenario, maps)
     result = replay(measurements.line, measurements)
     target = out or Path(default_folder(result.line.name, "replay"))
@@ -121,8 +121,9 @@ def fit_command(
     from webline.twin.fitting.fit import fit
     from webline.twin.fitting.fit_files import write_fit_files
     from webline.twin.fitting.report import write_fit_report
+    from webline.twin.traces.single_path import single_path_line
 
-    refuse_branched("fit", line)
+    single_path_line(line, "webline fit")
     bounds = parse_pairs(free, "--free")
     measurements = _data(data, line, scenario, maps)
     from webline.line import load_line

@@ -14,6 +14,7 @@ import numpy as np
 
 from webline.errors import ArgumentError, ControllerError, SimulationError
 from webline.line import Line, load_line
+from webline.model.lines import load_line as load_any
 from webline.sim.compiled_control import CompiledController
 from webline.sim.core import kernel
 from webline.sim.core.plan import compile_plan, equilibrium_plan_state
@@ -21,7 +22,7 @@ from webline.sim.core.user_step import C_STORED
 from webline.sim.elements import layout as L
 from webline.sim.results.failure import Failure, kernel_failure
 from webline.sim.results.result import Result
-from webline.sim.simulate import _result, choose_substeps, is_branched_line
+from webline.sim.simulate import _result, choose_substeps
 from webline.sim.user_control import (
     UserLoop,
     builtin_stand_in,
@@ -56,12 +57,12 @@ class Session:
     the same methods and a ``BranchResult``."""
 
     def __new__(cls, line: Line | str | Path | BranchedLine, **options: Any) -> Any:
-        if is_branched_line(line):
-            from webline.model.web_graph import load_branched
+        loaded = load_any(line)
+        if loaded.branched:
             from webline.sim.branches.user.session import BranchSession
             from webline.sim.user_objects import branched_controllers
 
-            branched = load_branched(line)  # type: ignore[arg-type]
+            branched = loaded
             options["controller"] = branched_controllers(branched, options.get("controller"))
             return BranchSession(branched, **options)
         return super().__new__(cls)

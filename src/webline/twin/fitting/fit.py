@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from webline.errors import ArgumentError
-from webline.line import Line, load_line
+from webline.line import Line
 from webline.twin.fitting.checks import ModelChecks, model_checks
 from webline.twin.fitting.free import FreeParameter, parse_free
 from webline.twin.fitting.identify import Identifiability, identifiability
@@ -25,6 +25,7 @@ from webline.twin.traces.drive import driven_line
 from webline.twin.traces.measurements import Measurements
 from webline.twin.traces.replay import as_measurements
 from webline.twin.traces.runs import Run, common_substeps, compared_time, run_cases
+from webline.twin.traces.single_path import single_path_line
 from webline.twin.traces.weights import noise_levels
 
 #: forward-difference step of the Jacobian, as a share of each parameter's bounds
@@ -184,7 +185,7 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
     result says how many reached the best cost. ``starts=1``: the line's values only.
     """
     started = time.perf_counter()
-    line = original = load_line(line)
+    line = original = single_path_line(line, "fit")
     if scenario is not None:
         line = line.with_scenario(scenario)
     data = as_measurements(data, line)

@@ -56,10 +56,13 @@ class RobustCheck:
 
 
 def default_uncertain(line: Line) -> dict[str, str]:
-    """Uncertainties assumed when none are given [SI]: the web's modulus ±10 % (humidity and
-    temperature), every driven roller's and roll's rotating inertia ±10 %, every dancer's
-    damping ±30 % (one standard deviation each)."""
-    return {"web.modulus": f"normal({line.spec.web.modulus!r}, 10 %)", **rollers_uncertain(line)}
+    """Uncertainties assumed when none are given [SI]: the web's stiffness ±10 % (humidity and
+    temperature; its ``ea`` or ``modulus`` as the file gives it: hswl gives ``ea``), every
+    driven roller's and roll's rotating inertia ±10 %, every dancer's damping ±30 % (one
+    standard deviation each)."""
+    web = line.spec.web
+    key, value = ("ea", web.ea) if web.ea is not None else ("modulus", web.modulus)
+    return {f"web.{key}": f"normal({value!r}, 10 %)", **rollers_uncertain(line)}
 
 
 def rollers_uncertain(line: Any) -> dict[str, str]:
