@@ -31,7 +31,7 @@ def wound_roll_figure(roll: WoundRoll) -> Figure:
     s, spec = roll.stress, roll.spec
     fig = Figure(figsize=(11.0, 4.6))
     grid = fig.add_gridspec(
-        1, 2, width_ratios=(1.7, 1.0), left=0.07, right=0.97, bottom=0.12, top=0.9, wspace=0.25
+        1, 2, width_ratios=(1.7, 1.0), left=0.07, right=0.9, bottom=0.12, top=0.9, wspace=0.25
     )
     ax = fig.add_subplot(grid[0, 0])
     r_mm = 1e3 * s.radius

@@ -195,7 +195,7 @@ class WoundRoll:
             "warning",
             kind,
             self.where,
-            f"{self.where}: {what} over {count} layers ({where}) {tail}",
+            f"{self.where}: {what} over {count} layers, {where} {tail}",
             t,
             {**details, "layers": count, "bands": len(found), "radius_m": [r0, r1]},
         )
