@@ -81,3 +81,32 @@ def test_limits_name_their_numbers() -> None:
     assert core.details["core_pressure_Pa"] == roll.stress.core_pressure > 1e3
     assert kinds["roll_hoop"].details["layers"] == len(roll.stress.radius)  # all below 1 GPa
     assert kinds["roll_pressure"].details["max_pressure_Pa"] == roll.stress.pressure.max()
+
+
+def test_a_branched_line_refuses_roll_stress_in_one_line() -> None:
+    """Its runs do not compute the roll yet: the table is refused, not ignored."""
+    import webline
+    from webline.errors import LineFileError
+
+    line = webline.load_branched("laminator")
+    with pytest.raises(LineFileError, match=r"rollers\[6\]\.roll_stress: .*single-path"):
+        line.replace({"rollers.rewind.roll_stress": {"k1": "1 kPa", "k2": 100}})
+
+
+def test_a_model_missing_its_keys_is_one_clear_line() -> None:
+    import webline
+    from webline.errors import LineFileError
+
+    line = webline.load_line("converter")
+    with pytest.raises(LineFileError, match=r"roll_stress\.k2: the pfeiffer model needs it"):
+        line.replace({"rollers.rewind.roll_stress": {"k1": "1 kPa"}})
+    with pytest.raises(LineFileError, match=r"roll_stress\.core\.inner_radius: must be below"):
+        line.replace(
+            {
+                "rollers.rewind.roll_stress": {
+                    "model": "constant",
+                    "radial_modulus": "50 MPa",
+                    "core": {"modulus": "3 GPa", "inner_radius": "0.1 m"},
+                }
+            }
+        )
