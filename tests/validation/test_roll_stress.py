@@ -186,3 +186,20 @@ def test_plain_python_equals_compiled() -> None:
     b = roll_stress(t, CORE_R, H, compiled=False, **kw)
     np.testing.assert_allclose(a.pressure, b.pressure, rtol=1e-12)
     np.testing.assert_allclose(a.hoop, b.hoop, rtol=1e-12, atol=1e-6)
+
+
+def test_roll_during_winding_is_the_roll_of_its_first_layers() -> None:
+    """The roll kept at layer m during winding is exactly the roll of the first m + 1 layers
+    wound alone (the accretion never looks ahead), to round-off."""
+    t = _wound_on(1200)
+    kw = dict(tangential_modulus=E_T, k1=5e3, k2=100.0, poisson=NU, core_stiffness=3e9)
+    full = roll_stress(t, CORE_R, H, during=[899, 299], **kw)
+    assert [len(s.radius) for s in full.during] == [900, 300]
+    for snap in full.during:
+        alone = roll_stress(t[: len(snap.radius)], CORE_R, H, **kw)
+        np.testing.assert_allclose(snap.pressure, alone.pressure, rtol=1e-12)
+        np.testing.assert_allclose(snap.hoop, alone.hoop, rtol=1e-12, atol=1e-6)
+    # and the finished roll presses harder on its core than it did two thirds of the way
+    assert full.core_pressure > full.during[0].core_pressure
+    with pytest.raises(ValueError, match="during"):
+        roll_stress(t, CORE_R, H, during=[1200], **kw)

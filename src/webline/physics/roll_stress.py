@@ -35,7 +35,7 @@ round-off at every cut. The compiled kernel loads numba only when first called.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -76,7 +76,8 @@ class RollStress:
     ``radius`` [m] (n,): inner radius of each layer; ``pressure`` [Pa] (n,): interlayer
     pressure ``−σ_r`` on that radius (``pressure[0]`` is on the core); ``hoop`` [Pa] (n,): each
     layer's mean tangential stress, wound-on stress included; ``wound_on`` [Pa] (n,): the
-    wound-on stress of each layer; ``thickness`` [m].
+    wound-on stress of each layer; ``thickness`` [m]; ``during``: the roll at the layers
+    ``roll_stress`` was asked to keep.
     """
 
     radius: np.ndarray
@@ -84,6 +85,7 @@ class RollStress:
     hoop: np.ndarray
     wound_on: np.ndarray
     thickness: float
+    during: tuple[RollStress, ...] = ()
 
     @property
     def core_pressure(self) -> float:
@@ -105,12 +107,16 @@ def _accrete(
     core_ratio: float,
     pressure: np.ndarray,
     hoop: np.ndarray,
+    during: np.ndarray,
+    during_pressure: np.ndarray,
+    during_hoop: np.ndarray,
 ) -> None:
     """Add the layers one by one (plain Python; numba compiles it unchanged).
 
     ``radius`` (n+1,) node radii; ``core_ratio`` = ``w'/w`` at the core = ``ν + E_t/E_c``;
     ``pressure`` (n+1,) and ``hoop`` (n,) accumulate (start at zero, hoop at the wound-on
-    stress).
+    stress); ``during`` (j,) layer indices whose roll is copied into row j of
+    ``during_pressure`` and ``during_hoop`` (j, n+1) as it is once that layer is on.
     """
     n = wound_on.shape[0]
     h = radius[1] - radius[0]
@@ -173,6 +179,12 @@ def _accrete(
                 hoop[k] -= b * (w[k + 1] - w[k]) / h
             k = start_top - 1
             hoop[k] -= a * (w[k + 1] - w[k] / _BIG) / h
+        # the roll as it is after layer m, for each snapshot asked at m (sorted ``during``)
+        for j in range(during.shape[0]):
+            if during[j] == m:
+                for k in range(m + 1):
+                    during_pressure[j, k] = pressure[k]
+                    during_hoop[j, k] = hoop[k]
 
 
 _compiled: Callable[..., None] | None = None
@@ -198,6 +210,7 @@ def roll_stress(
     k2: float,
     poisson: float = 0.0,
     core_stiffness: float = math.inf,
+    during: Sequence[int] = (),
     compiled: bool = True,
 ) -> RollStress:
     """Interlayer pressure and hoop stress [Pa] of a roll wound with stresses ``wound_on``.
@@ -208,7 +221,9 @@ def roll_stress(
     modulus); ``k1`` [Pa], ``k2`` [-]: Pfeiffer's law, ``E_r = K2 (P + K1)``, or with
     ``k2 = 0`` a constant radial modulus ``E_r = k1``; ``poisson`` ``ν`` [-] (Hakiel's
     ``ν_rt``, enters through the core); ``core_stiffness`` ``E_c`` [Pa] (``core_modulus``;
-    ``math.inf``: rigid). ``compiled=False`` runs the same loop in plain Python.
+    ``math.inf``: rigid). ``during``: layer indices at which the roll is kept as it is once
+    that layer is on (``RollStress.during``, in the order given: the roll at chosen radii
+    during winding). ``compiled=False`` runs the same loop in plain Python.
     """
     t = np.ascontiguousarray(wound_on, dtype=float)
     n = t.shape[0]
@@ -224,6 +239,10 @@ def roll_stress(
     core_ratio = poisson + tangential_modulus / core_stiffness
     pressure = np.zeros(n + 1)
     hoop = t.copy()
+    at = np.asarray(during, dtype=np.int64).reshape(-1)
+    if at.size and (at.min() < 0 or at.max() >= n):
+        raise ValueError(f"during: layer indices must be within 0..{n - 1}, got {list(at)}")
+    at_pressure, at_hoop = np.zeros((at.size, n + 1)), np.zeros((at.size, n))
     run = _kernel() if compiled else _accrete
     run(
         t,
@@ -234,6 +253,19 @@ def roll_stress(
         float(core_ratio),
         pressure,
         hoop,
+        at,
+        at_pressure,
+        at_hoop,
+    )
+    snapshots = tuple(
+        RollStress(
+            radius[: m + 1],
+            at_pressure[j, : m + 1],
+            at_hoop[j, : m + 1],
+            t[: m + 1],
+            float(thickness),
+        )
+        for j, m in enumerate(at)
     )
     return RollStress(
         radius=radius[:-1],
@@ -241,6 +273,7 @@ def roll_stress(
         hoop=hoop,
         wound_on=t,
         thickness=float(thickness),
+        during=snapshots,
     )
 
 
