@@ -67,3 +67,29 @@ def test_no_roll_stress_table_is_one_clear_line() -> None:
     run = CliRunner().invoke(app, ["taper", "converter"])
     assert run.exit_code == 2
     assert "roll_stress" in run.output and "Traceback" not in run.output
+
+
+@pytest.mark.parametrize(
+    ("args", "says"),
+    [
+        (["--form", "spiral"], "--form 'spiral'"),
+        (["--diameter", "big"], "--diameter 'big'"),
+        (["--diameter", "0.1 m"], "must be larger than the core"),
+    ],
+)
+def test_bad_options_are_one_clear_line(args: list[str], says: str, tmp_path) -> None:
+    run = CliRunner().invoke(
+        app,
+        [
+            "taper",
+            "converter",
+            "--set",
+            f"rollers.rewind.roll_stress={ROLL}",
+            "-o",
+            str(tmp_path / "x.toml"),
+            "--no-check",
+            *args,
+        ],
+    )
+    assert run.exit_code == 2, run.output
+    assert says in run.output and "Traceback" not in run.output
