@@ -110,3 +110,25 @@ def test_a_model_missing_its_keys_is_one_clear_line() -> None:
                 }
             }
         )
+
+
+def test_a_lay_on_nip_adds_mu_n_over_h_to_every_layer() -> None:
+    """nip_load [N over the width] and nip_friction μ: each layer's wound-on stress rises by
+    μ (N/w)/h, in the run's layers and the steady ones alike (Good, Wu & Fikes 1994)."""
+    plain, _, _ = _roll(0.0)
+    spec = RollStressSpec(k1=1.5e3, k2=120.0, diameter=0.2, nip_load=2000.0, nip_friction=0.3)
+    t, r, ten = _records(0.0)
+    nip = wound_roll(
+        "rewind",
+        spec,
+        time=t,
+        radius=r,
+        tension=ten,
+        core_radius=RC,
+        thickness=H,
+        width=W,
+        modulus=4e9,
+        steady_tension=lambda x: np.full(np.shape(x), 120.0),
+    )
+    np.testing.assert_allclose(nip.layers.stress - plain.layers.stress, 0.3 * 2000.0 / W / H)
+    assert nip.stress.core_pressure > plain.stress.core_pressure
