@@ -82,3 +82,16 @@ def test_roll_signals_and_summary(stepped: webline.Result) -> None:
     assert summary["layers"] == len(s.radius) and summary["layers_in_run"] == int(run.sum())
     # the finished roll is the taper's max diameter, 0.8 m: (0.4 - 0.089) / 23 µm layers
     assert summary["outer_radius_m"] == pytest.approx(0.4, abs=23e-6)
+
+
+def test_results_file_keeps_the_roll_per_layer(stepped: webline.Result, tmp_path) -> None:
+    """results.nc: the run's signals at its root as before, the roll in group wound_roll."""
+    import xarray as xr
+
+    path = stepped.to_netcdf(tmp_path / "results.nc")
+    with xr.open_dataset(path, group="wound_roll", engine="h5netcdf") as roll:
+        np.testing.assert_array_equal(roll.pressure.values, stepped.wound_roll.stress.pressure)
+        np.testing.assert_array_equal(roll.radius.values, stepped.wound_roll.layers.radius)
+        assert roll.wound_time.attrs["units"] == "s"
+    with xr.open_dataset(path, engine="h5netcdf") as root:
+        assert "tension" in root.data_vars and "layer" not in root.dims

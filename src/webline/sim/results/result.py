@@ -377,8 +377,11 @@ class Result:
     def to_netcdf(self, path: str | Path, precision: Precision = "float64") -> Path:
         """Write the dataset to NetCDF-4 (HDF5 via h5netcdf), zlib-compressed and chunked along
         time, atomically (a temporary file renamed into place). ``precision`` "float32" halves
-        the float signals (time stays float64). Returns the path."""
-        return write_netcdf(result_variables(self), path, precision)
+        the float signals (time stays float64). The rewind's wound roll, where the line computes
+        one, is the group ``wound_roll`` (per layer). Returns the path."""
+        roll = self.wound_roll
+        groups = {"wound_roll": roll.group_variables()} if roll is not None else None
+        return write_netcdf(result_variables(self), path, precision, groups)
 
     def to_dataframe(self):
         """The CSV's table as a ``pandas.DataFrame``: one row per record, indexed by ``time``

@@ -69,6 +69,22 @@ class WoundRoll:
             attrs={"rewind": self.where, "thickness_m": s.thickness},
         )
 
+    def group_variables(self) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]]:
+        """``to_xarray``'s variables and coordinates as plain arrays (the results file's
+        ``wound_roll`` group)."""
+        lay, s = self.layers, self.stress
+        one = ("layer",)
+        return {
+            "layer": (one, np.arange(len(lay.radius)), {}),
+            "radius": (one, lay.radius, {"units": "m"}),
+            "wound_on_tension": (one, lay.tension, {"units": "N"}),
+            "wound_on_stress": (one, lay.stress, {"units": "Pa"}),
+            "wound_time": (one, lay.time, {"units": "s"}),
+            "pressure": (one, s.pressure, {"units": "Pa"}),
+            "hoop": (one, s.hoop, {"units": "Pa"}),
+            "steady_pressure": (one, self.steady.pressure, {"units": "Pa"}),
+        }
+
     def summary(self) -> dict[str, object]:
         """Plain numbers for summary.json (SI, keys name their units)."""
         s = self.stress
