@@ -42,6 +42,7 @@ from webline.cli_common import (
     progress_bar,
     sigterm_as_interrupt,
 )
+from webline.cli_roll import taper_command
 from webline.cli_sweep import sweep_command
 from webline.cli_tune import experiment_command, tune_command
 from webline.cli_twin import fit_command, replay_command
@@ -329,6 +330,7 @@ app.command("replay")(handles_errors(replay_command))
 app.command("fit")(handles_errors(fit_command))
 app.command("tune")(handles_errors(tune_command))
 app.command("experiment")(handles_errors(experiment_command))
+app.command("taper")(handles_errors(taper_command))
 app.command("benchmark")(handles_errors(benchmark_command))
 
 

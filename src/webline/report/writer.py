@@ -154,6 +154,8 @@ def write_report(result: Result | BranchResult, out_dir: Path, *, units: System 
         "speed_loop_leaks": [leak.message() for leak in analysis.leaks],
         "modes_across_roll": (roll_modes_values(result.roll_modes)
                               if result.roll_modes is not None else None),
+        "wound_roll": (result.wound_roll.summary() if result.wound_roll is not None
+                       else None),
         "verdict": result.verdict.as_dict(),
     }), indent=2, allow_nan=False))
 

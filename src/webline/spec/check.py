@@ -12,6 +12,7 @@ from webline.spec.dancer import check_dancers
 from webline.spec.friction import check_friction
 from webline.spec.nip import check_nips
 from webline.spec.roll_inertia import check_roll_inertia
+from webline.spec.roll_stress import check_roll_stress
 from webline.spec.schema import (
     DisturbanceSpec,
     DrivenSpec,
@@ -136,6 +137,7 @@ def check_spec(spec: LineSpec, file: str) -> None:
     check_nips(rollers, fail)
     check_diameters(list(rollers), fail)
     check_taper(getattr(rollers[-1], "taper", None), f"rollers[{len(rollers) - 1}].taper", fail)
+    check_roll_stress(rollers[-1], f"rollers[{len(rollers) - 1}].roll_stress", fail)
     for k, span in enumerate(spec.spans):
         _check_span_model(spec, k, fail)
         if span.tension is not None:

@@ -60,6 +60,7 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
     si,
 )
 from webline.spec.roll_inertia import RollInertiaSpec
+from webline.spec.roll_stress import RollStressSpec
 from webline.spec.splice import FlyingSplice, SpliceEvent  # noqa: F401
 from webline.spec.web_law import StressStrainSpec
 from webline.spec.winder import (  # noqa: F401
@@ -217,7 +218,8 @@ class RewindSpec(_RollerBase):
     """Rewind roll. ``radius`` is the initial outer radius; ``inertia`` excludes the web (or
     totals, ``webline.spec.roll_inertia``);
     ``taper`` makes its zone's tension reference a function of its diameter; ``shaft`` a
-    differential (slip) shaft for lanes on one shaft (branched lines only)."""
+    differential (slip) shaft for lanes on one shaft (branched lines only); ``roll_stress``
+    the wound roll's stress model and limits (``webline.spec.roll_stress``)."""
 
     type: Literal["rewind"]
     inertia: Inertia | RollInertiaSpec  # type: ignore[assignment]
@@ -228,6 +230,7 @@ class RewindSpec(_RollerBase):
     diameter: DiameterSpec | None = None
     winder: WinderSpec | None = None
     shaft: DifferentialShaftSpec | None = None
+    roll_stress: RollStressSpec | None = None
 
 
 class DrivenSpec(_RollerBase):

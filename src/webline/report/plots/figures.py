@@ -280,6 +280,11 @@ def figure_jobs(result: Result, display: Display,
     if result.roll_modes is not None:  # a run across a roll: its modes along the way
         jobs.append(one("across_roll", roll_modes_caption(result.roll_modes, display),
                         lambda: roll_modes_figure(result.roll_modes, display)))  # type: ignore[arg-type]
+    if result.wound_roll is not None:  # the rewind's roll stresses (docs/wound-roll.md)
+        from webline.report.plots.wound_roll import wound_roll_caption, wound_roll_figure
+
+        roll = result.wound_roll
+        jobs.append(one("wound_roll", wound_roll_caption(roll), lambda: wound_roll_figure(roll)))
     if modes:
         jobs.append(one("poles", "Closed-loop poles at the operating point.",
                         lambda: poles_figure(modes)))

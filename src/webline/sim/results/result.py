@@ -23,6 +23,7 @@ if TYPE_CHECKING:
 
     from webline.sim.linear.roll_modes import RollModes
     from webline.sim.results.events import EventStats
+    from webline.sim.results.wound_roll import WoundRoll
     from webline.verdict import Verdict
 
 
@@ -90,12 +91,23 @@ class Result(RunResult):
         extra += yield_findings(self.line, self.time, self.stretch)
         if self.roll_modes is not None:  # a run across a roll: its modes along the way
             extra += self.roll_modes.findings()
+        if self.wound_roll is not None:  # the rewind's roll stresses (docs/wound-roll.md)
+            extra += self.wound_roll.findings()
         end = float(self.time[-1]) if len(self.time) else 0.0
         return run_verdict(self.plan, self.failure, [e.summary() for e in self.events], end,
                            self.break_monitor,
                            after_stop_from_records(self.time,
                                                    self.surface_speed[:, list(self.line.drives)],
                                                    self.drive_names), extra)
+
+    @cached_property
+    def wound_roll(self) -> WoundRoll | None:
+        """The rewind's wound roll at the end of the run: wound-on tension per layer,
+        pressure and hoop stress (``webline.sim.results.wound_roll``), for a rewind with a
+        ``roll_stress`` table, else None."""
+        from webline.sim.results.wound_roll import run_wound_roll
+
+        return run_wound_roll(self)
 
     @cached_property
     def roll_modes(self) -> RollModes | None:
@@ -337,8 +349,11 @@ class Result(RunResult):
     def to_netcdf(self, path: str | Path, precision: Precision = "float64") -> Path:
         """Write the dataset to NetCDF-4 (HDF5 via h5netcdf), zlib-compressed and chunked along
         time, atomically (a temporary file renamed into place). ``precision`` "float32" halves
-        the float signals (time stays float64). Returns the path."""
-        return write_netcdf(result_variables(self), path, precision)
+        the float signals (time stays float64). The rewind's wound roll, where the line computes
+        one, is the group ``wound_roll`` (per layer). Returns the path."""
+        roll = self.wound_roll
+        groups = {"wound_roll": roll.group_variables()} if roll is not None else None
+        return write_netcdf(result_variables(self), path, precision, groups)
 
     def to_dataframe(self):
         """The CSV's table as a ``pandas.DataFrame``: one row per record, indexed by ``time``

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
@@ -22,13 +23,19 @@ COMPLEVEL = 1
 Precision = Literal["float64", "float32"]
 
 
+#: a NetCDF group's variables: name -> (dimensions, values, attributes)
+GroupVariables = Mapping[str, tuple[tuple[str, ...], np.ndarray, Mapping[str, object]]]
+
+
 def write_netcdf(variables: ResultVariables, path: str | Path,
-                 precision: Precision = "float64") -> Path:
+                 precision: Precision = "float64",
+                 groups: Mapping[str, GroupVariables] | None = None) -> Path:
     """Write ``variables`` (``result_dataset.result_variables``) to NetCDF-4 with h5netcdf
     directly (xarray, pandas and their import are not needed to write): zlib (``COMPLEVEL``)
     with shuffle, chunks of ``TIME_CHUNK`` records, float signals as ``precision``; names as
     variable-length UTF-8 strings. ``xarray.open_dataset`` reads it back as
-    ``Result.to_xarray()``."""
+    ``Result.to_xarray()``. ``groups``: more variables in named groups, each with its own
+    dimensions (the wound roll per layer: ``xarray.open_dataset(path, group="wound_roll")``)."""
     if precision not in ("float64", "float32"):
         raise ArgumentError(f"precision: must be 'float64' or 'float32', got {precision!r}")
 
@@ -61,6 +68,14 @@ def write_netcdf(variables: ResultVariables, path: str | Path,
                                     compression_opts=COMPLEVEL, shuffle=True)
             var.attrs.update(attrs)
         f.attrs.update(variables.attrs)
+        for group_name, group_vars in (groups or {}).items():
+            g = f.create_group(group_name)
+            for name, (g_dims, g_values, g_attrs) in group_vars.items():
+                for dim, size in zip(g_dims, g_values.shape, strict=True):
+                    if dim not in g.dimensions:
+                        g.dimensions[dim] = size
+                var = g.create_variable(name, g_dims, data=g_values)
+                var.attrs.update(dict(g_attrs))
     return atomic_write_bytes(Path(path), buffer.getbuffer())
 
 

@@ -86,6 +86,9 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         _check_diameter(spec, i, roller, fail)
         if isinstance(roller, RewindSpec):
             check_taper(roller.taper, f"{key}.taper", fail)
+            if roller.roll_stress is not None:
+                fail(f"{key}.roll_stress", "the wound roll's stresses are computed on "
+                     "single-path lines only, for now (docs/wound-roll.md)")
             if roller.taper is not None and roller.shaft is not None:
                 fail(f"{key}.taper", "a differential shaft has no tension loop to taper (its "
                      "lanes' tension is slip_torque / radius)")

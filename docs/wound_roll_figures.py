@@ -1,0 +1,106 @@
+"""Draw the figures of docs/wound-roll.md from runs of the built-in converter, and print every
+number the page quotes.
+
+    .venv/bin/python docs/wound_roll_figures.py      # writes docs/img/wound-roll-*.png
+
+1. The commissioning task: a taper for a 600 mm roll of 25 µm film (``design_taper``), the
+   untapered roll for comparison, and the roll of a run with the chosen taper.
+2. A tension step during winding (the study of the page's "In a run"): the band it leaves.
+3. The converter's flying-splice scenario: what of its transients reaches the roll.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+import webline
+from webline.analysis.roll_taper import design_roll, design_taper, with_taper
+from webline.report.plots.wound_roll import wound_roll_figure
+
+IMG = Path(__file__).resolve().parent / "img"
+#: the page's roll table (assumed values, explained on the page)
+ROLL = {
+    "k1": "1.5 kPa",
+    "k2": 120,
+    "core": {"modulus": "3 GPa", "inner_radius": "76 mm"},
+    "min_hoop": "-0.2 MPa",
+    "max_pressure": "1 MPa",
+    "core_rating": "2 MPa",
+}
+STEP = {
+    "type": "steps",
+    "initial": "150 N",
+    "steps": [{"time": "4 s", "value": "200 N"}, {"time": "6 s", "value": "150 N"}],
+}
+
+
+def _mpa(x: float) -> str:
+    return f"{x / 1e6:.3g} MPa"
+
+
+def commissioning() -> None:
+    line = webline.load_line("converter").replace(
+        {"web.thickness": "25 um", "rollers.rewind.roll_stress": ROLL}
+    )
+    design = design_roll(line, 0.6)
+    for form in ("linear", "hyperbolic"):
+        r = design.roll(form, 0.0)
+        print(
+            f"no taper: min hoop {_mpa(r.hoop.min())} at r = {1e3 * r.radius[r.hoop.argmin()]:.4g}"
+            f" mm, {int((r.hoop < -0.2e6).sum())} layers below -0.2 MPa, max pressure "
+            f"{_mpa(r.pressure.max())}, core {_mpa(r.core_pressure)}"
+        )
+        break
+    choices = design_taper(line, diameter=0.6)
+    for c in choices:
+        print(
+            f"{c.form}: taper {c.taper:.3f}, mean wound-on {_mpa(c.mean_stress)}, "
+            f"below it: {c.below}"
+        )
+    tapered = with_taper(line, choices[0], 0.6)
+    result = webline.simulate(tapered, 5.0)
+    roll = result.wound_roll
+    s = roll.stress
+    print(
+        f"run with {choices[0].form} {choices[0].taper:.3f}: min hoop {_mpa(s.hoop.min())}, "
+        f"max pressure {_mpa(s.pressure.max())}, core {_mpa(s.core_pressure)}; findings: "
+        f"{[f.kind for f in result.verdict.findings]}"
+    )
+    wound_roll_figure(roll).savefig(IMG / "wound-roll-taper.png", dpi=90)
+
+
+def step_band() -> None:
+    line = webline.load_line("converter").replace(
+        {"rollers.rewind.roll_stress": ROLL, "spans.rewind_span.tension": STEP}
+    )
+    result = webline.simulate(line, 10.0)
+    for f in result.verdict.findings:
+        if f.kind == "roll_band":
+            print("step:", f.message)
+    print(f"step: peak rewind tension {result.tension[:, -1].max():.4g} N")
+    wound_roll_figure(result.wound_roll).savefig(IMG / "wound-roll-step.png", dpi=90)
+
+
+def flying_splice() -> None:
+    line = webline.load_line("converter").replace({"rollers.rewind.roll_stress": ROLL})
+    result = webline.simulate(line, scenario="flying-splice")
+    t, ten = result.time, result.tension[:, -1]
+    near = (t > 3.5) & (t < 6.0)
+    ref = float(np.median(ten[near]))
+    print(
+        f"flying splice: rewind tension {ten[near].min():.4g}-{ten[near].max():.4g} N around "
+        f"the unwind splice at 4 s ({100 * (ten[near].max() - ten[near].min()) / ref:.2g} % "
+        f"of {ref:.4g} N); start: {ten[(t > 0.2) & (t < 1.0)].min():.4g} N at t ~ 0.5 s"
+    )
+    for f in result.verdict.findings:
+        if f.kind.startswith("roll_"):
+            print("flying splice:", f.message)
+
+
+if __name__ == "__main__":
+    IMG.mkdir(exist_ok=True)
+    commissioning()
+    step_band()
+    flying_splice()
