@@ -88,7 +88,7 @@ def test_a_branched_line_refuses_roll_stress_in_one_line() -> None:
     import webline
     from webline.errors import LineFileError
 
-    line = webline.load_branched("laminator")
+    line = webline.load_line("laminator")
     with pytest.raises(LineFileError, match=r"rollers\[6\]\.roll_stress: .*single-path"):
         line.replace({"rollers.rewind.roll_stress": {"k1": "1 kPa", "k2": 100}})
 
