@@ -112,23 +112,36 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
     master = plan.line.master
     bonded = plan.lawi[plan.lawi[:, B.LI_STATE] >= 0]  # a laminate's layers' offsets
     layer_states = bonded[:, B.LI_STATE]
-    layer_lengths = plan.sf[bonded[:, B.LI_SPAN], B.SF_LENGTH]
-    n_m = n_s + n_n + n_c + n_d
+    layer_spans = bonded[:, B.LI_SPAN]
+    layer_lengths = plan.sf[layer_spans, B.SF_LENGTH]
+
+    def steady_layers() -> None:
+        """Each layer's offset where its rate is 0, v_b o = v_a o_in (``loop.laminate``):
+        o_in reads only the stretches and the offsets upstream, so passes in any order
+        settle it within the laminates' depth (a dancer's moved length: a contraction)."""
+        x[layer_states] = 0.0
+        for _ in range(len(layer_states) + 50):
+            rhs(x, cmd, held, *tables, dx, work)
+            v_b = work[3 * n_s:4 * n_s][layer_spans]
+            step = dx[layer_states] * layer_lengths / np.where(v_b != 0.0, v_b, 1.0)
+            x[layer_states] += step
+            if np.all(np.abs(step) <= 1e-15 * (1.0 + np.abs(x[layer_states]))):
+                break
 
     def state(z: np.ndarray) -> np.ndarray:
         x[:n_s] = z[:n_s] * t_scale
         x[off_w:off_w + n_n] = z[n_s:n_s + n_n] * w_scale
         x[off_c:off_c + n_c] = z[n_s + n_n:n_s + n_n + n_c] * c_scale
-        cmd[:] = z[n_s + n_n + n_c:n_m] * tq_scale
-        x[layer_states] = z[n_m:] * t_scale
+        cmd[:] = z[n_s + n_n + n_c:] * tq_scale
         x[off_tq:off_tq + n_d] = cmd
         steady_trains(x, plan.offsets, plan.di, plan.df, plan.rolls)  # twists carry torques
+        if len(layer_states):
+            steady_layers()
         return x
 
     def residual(z: np.ndarray) -> np.ndarray:
         rhs(state(z), cmd, held, *tables, dx, work)
-        out = np.empty(n_m + len(layer_states))
-        out[n_m:] = dx[layer_states] * layer_lengths / (t_scale * max(speed, 1e-9))
+        out = np.empty(n_s + n_n + n_c + n_d)
         out[:n_s] = dx[:n_s] * plan.sf[:, B.SF_LENGTH] / (t_scale * max(speed, 1e-9))
         accel = dx[off_w:off_w + n_n].copy()
         for d in range(n_d):  # a roll drive holds its surface speed as its radius changes
@@ -167,7 +180,7 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
         return out
 
     z0 = np.concatenate([_guess(plan, refs) / t_scale, np.ones(n_n), np.ones(n_c),
-                         np.zeros(n_d), np.zeros(len(layer_states))])
+                         np.zeros(n_d)])
     found = root(residual, z0, method="hybr", options={"xtol": XTOL})
     if not found.success or np.max(np.abs(residual(found.x))) > 1e-9:
         raise SimulationError(f"{plan.line.name}: no steady operating point found at "

@@ -15,7 +15,7 @@ from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.breaks import cut
 from webline.sim.branches.loop.control import control_tick, held_inputs
 from webline.sim.branches.loop.dancer_taper import taper_loads
-from webline.sim.branches.loop.laminate import beyond_strength
+from webline.sim.branches.loop.laminate import beyond_strength, cut_layers
 from webline.sim.branches.loop.plant import rhs
 from webline.sim.branches.loop.traction import update_slip
 from webline.sim.branches.loop.web_law import felt_start_jit
@@ -77,6 +77,8 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
         splices(t, dt, x, istate, done, offsets, nodes, si, sf, rolls, webs, df, events)
         if offsets[B.O_BREAK]:  # a web break: its spans carry nothing from their time on
             cut(t, x, wound, sf, webs.shape[0], nodes.shape[0], istate, di, df)
+            if offsets[B.O_LAYER] < offsets[B.O_LAYER_END]:  # (and its layers' offsets)
+                cut_layers(x, wound, webs.shape[0] + nodes.shape[0], lawi)
         held_inputs(t, wound, held, webs.shape[0], dist, prof_t, prof_v, prof_off)
         measured = x
         if lawi.shape[0] > 0 or kv.shape[0] > 0:  # the loadcells feel F(s) + τ ds/dt

@@ -19,6 +19,7 @@ import numpy as np
 
 from webline.physics import web_law
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.dancer import span_motion
 from webline.sim.elements.signals import jit
 
 _law_tension: Any = jit(web_law.law_tension)
@@ -61,11 +62,15 @@ def layer_rates(
     v_b: np.ndarray,
     wound: np.ndarray,
     cut0: int,
+    nodes: np.ndarray,
+    si: np.ndarray,
+    has_dancer: bool,
 ) -> None:
     """d/dt of every layer's offset [N/s] and of its unstrained length in and out [m/s]
     (module docstring); ``tension``: the spans' clipped stretches (a slack span leaves
     unstrained), ``s_in``: their stretches in; ``wound[cut0 + k]`` non-zero where span k is
-    broken (its offsets stay; ``cut0`` < 0: no break in the run)."""
+    broken (its offsets stay; ``cut0`` < 0: no break in the run). Beside a dancer the span's
+    length L moves: L do/dt = v_a o_in - v_b o - o dL/dt (docs/winder.md D1, per layer)."""
     for t in range(lawi.shape[0]):
         state = lawi[t, B.LI_STATE]
         if state < 0:
@@ -79,7 +84,14 @@ def layer_rates(
         o_in = u_in - a * s_in[k]
         o = x[state]
         broken = cut0 >= 0 and wound[cut0 + k] != 0.0
-        dx[state] = 0.0 if broken else (v_a[k] * o_in - v_b[k] * o) / sf[k, B.SF_LENGTH]
+        rate = v_a[k] * o_in - v_b[k] * o
+        if has_dancer and (si[k, B.S_DANCEA] >= 0 or si[k, B.S_DANCEB] >= 0):
+            length, moving = span_motion(k, x, nodes, si, sf)
+            dx[state] = (rate - o * moving) / length
+        else:
+            dx[state] = rate / sf[k, B.SF_LENGTH]
+        if broken:
+            dx[state] = 0.0
         inv_ea = 1.0 / lawf[t, B.LF_EA]
         if lawi[t, B.LI_LIN] >= 0:
             dx[lawi[t, B.LI_LIN]] = v_a[k] * (1.0 - u_in * inv_ea)
@@ -97,3 +109,12 @@ def beyond_strength(x: np.ndarray, lawi: np.ndarray, lawf: np.ndarray) -> bool:
         ):
             return True
     return False
+
+
+@jit
+def cut_layers(x: np.ndarray, wound: np.ndarray, cut0: int, lawi: np.ndarray) -> None:
+    """A broken span's layers carry nothing: their offsets to 0 with its stretch
+    (``loop.breaks.cut``; ``wound[cut0 + k]`` non-zero where span k is broken)."""
+    for t in range(lawi.shape[0]):
+        if lawi[t, B.LI_STATE] >= 0 and wound[cut0 + lawi[t, B.LI_SPAN]] != 0.0:
+            x[lawi[t, B.LI_STATE]] = 0.0
