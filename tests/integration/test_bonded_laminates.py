@@ -1,4 +1,4 @@
-"""Bonded laminates (issue 35, item 1; docs/branching.md "Laminates"): every layer keeps the
+"""Bonded laminates (issue 35, item 1; docs/branching.md (B2)): every layer keeps the
 strain it was bonded with at the nip, so each layer's tension is its own law at its own
 strain and the laminate's tension their sum.
 
@@ -144,3 +144,35 @@ def test_a_power_law_laminate_under_a_draw_is_the_sum_of_its_layers_at_their_str
     predicted = np.sqrt(tangent / EA_L)
     ratio = guide_mode(at_180) / guide_mode(load_branched("laminator"))
     assert ratio == pytest.approx(predicted, rel=5e-3)
+
+
+def test_a_lane_of_a_laminate_carries_each_layers_strain_and_length_through_the_knife():
+    """The laminate slit into two lanes on one shaft (``branch_support``): a lane leaves the
+    knife with the laminate's strains, layer by layer, so each layer's unstrained length out
+    of the laminate is what enters each lane as that layer (a lane is a strip of the same
+    length), and each lane's layer balance closes, to 1e-9 of the length that passed. The
+    lanes' layers carry their area share (φ = 0.5) of the layers' tensions: with no draw
+    after the nip (the lanes at 90 N each) 60 N and 30 N per lane."""
+    from branch_support import laminated_then_slit
+
+    result = webline.simulate(laminated_then_slit(), duration=3.0)
+    ds = result.dataset
+    for layer in ("film", "foil"):
+        left = ds.layer_out.sel(layer_web=f"laminate/{layer}").values
+        passed = float(left[-1] - left[0])
+        assert passed > 7.0
+        for lane in ("lane_a", "lane_b"):
+            into = ds.layer_in.sel(layer_web=f"{lane}/{layer}").values
+            assert np.max(np.abs((into - into[0]) - (left - left[0]))) < 1e-9 * passed
+            balance = (into - ds.layer_out.sel(layer_web=f"{lane}/{layer}").values
+                       - ds.layer_stored.sel(layer_web=f"{lane}/{layer}").values)
+            assert np.max(np.abs(balance - balance[0])) < 1e-9 * passed
+    plan = result.plan
+    line = plan.line
+    from webline.sim.branches.laminates import layer_rows, layer_stretch, mirrored_tension
+
+    k = _span(line, "lane_a_span")
+    tensions = {line.spec.webs[r].name: 0.5 * float(mirrored_tension(
+        line, r, layer_stretch(plan, t, result.states[-1:]))[0]) for t, r in layer_rows(plan, k)}
+    assert tensions["film"] == pytest.approx(60.0, rel=5e-3)
+    assert tensions["foil"] == pytest.approx(30.0, rel=5e-3)

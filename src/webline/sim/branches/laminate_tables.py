@@ -1,6 +1,6 @@
 """The layer columns of a branched line's law terms (``layout`` LI_SPAN .. LF_STRENGTH) and
 the layer states they number: a bonded laminate's per-layer offsets and lengths
-(docs/branching.md, "Laminates"; the loop's ``loop.laminate``, the records'
+(docs/branching.md, (B2); the loop's ``loop.laminate``, the records'
 ``laminates``)."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Bonded laminates on a branched line (docs/branching.md, "Laminates"): what a run's records
+"""Bonded laminates on a branched line (docs/branching.md, (B2)): what a run's records
 make of the layer states of the compiled loop (``loop.laminate``; their tables:
 ``laminate_tables``): each layer's stretch, tension and unstrained length per laminate span.
 

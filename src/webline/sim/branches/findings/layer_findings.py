@@ -1,5 +1,5 @@
-"""What a branched run's records make of its bonded laminates (docs/branching.md,
-"Laminates"): a layer in compression, where, when, for how long and how far below zero."""
+"""What a branched run's records make of its bonded laminates (docs/branching.md, (B2)):
+a layer in compression, where, when, for how long and how far below zero."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Bonded laminates in a branched line's compiled loop (docs/branching.md, "Laminates";
+"""Bonded laminates in a branched line's compiled loop (docs/branching.md, (B2);
 tables: ``sim.branches.laminates``, ``layout`` LI_SPAN .. LF_STRENGTH).
 
 Each layer of a laminate span (law term t: raw web r, scale a, factor c) has its own stretch

@@ -237,7 +237,7 @@ FAMILY_USER = FAMILY_MRAC + 1
  I_UTREF) = range(I_COLS, I_COLS + 7)
 I_COLS += 7
 
-# bonded laminates (docs/branching.md, "Laminates"; sim.branches.laminates, loop.laminate):
+# bonded laminates (docs/branching.md, (B2); sim.branches.laminates, loop.laminate):
 # the offsets row's entries O_LAYER, the first layer state, and O_LAYER_END after the last.
 # Every span of a web made of several raw webs (a laminate, its lanes) has law terms, one per
 # raw web (layer), even where every layer is linear, and each term a state: the layer's
