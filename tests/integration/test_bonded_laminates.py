@@ -164,15 +164,81 @@ def test_a_lane_of_a_laminate_carries_each_layers_strain_and_length_through_the_
         for lane in ("lane_a", "lane_b"):
             into = ds.layer_in.sel(layer_web=f"{lane}/{layer}").values
             assert np.max(np.abs((into - into[0]) - (left - left[0]))) < 1e-9 * passed
-            balance = (into - ds.layer_out.sel(layer_web=f"{lane}/{layer}").values
-                       - ds.layer_stored.sel(layer_web=f"{lane}/{layer}").values)
+            balance = (
+                into
+                - ds.layer_out.sel(layer_web=f"{lane}/{layer}").values
+                - ds.layer_stored.sel(layer_web=f"{lane}/{layer}").values
+            )
             assert np.max(np.abs(balance - balance[0])) < 1e-9 * passed
     plan = result.plan
     line = plan.line
     from webline.sim.branches.laminates import layer_rows, layer_stretch, mirrored_tension
 
     k = _span(line, "lane_a_span")
-    tensions = {line.spec.webs[r].name: 0.5 * float(mirrored_tension(
-        line, r, layer_stretch(plan, t, result.states[-1:]))[0]) for t, r in layer_rows(plan, k)}
+    tensions = {
+        line.spec.webs[r].name: 0.5
+        * float(mirrored_tension(line, r, layer_stretch(plan, t, result.states[-1:]))[0])
+        for t, r in layer_rows(plan, k)
+    }
     assert tensions["film"] == pytest.approx(60.0, rel=5e-3)
     assert tensions["foil"] == pytest.approx(30.0, rel=5e-3)
+
+
+def test_a_laminate_of_a_laminate_keeps_each_raw_layers_strain_and_length():
+    """A second, idle nip laminates a paper web (EA 200 kN, its zone at 50 N) onto the
+    film-foil laminate: the outer laminate's layers are the inner laminate's film and foil
+    (each with its own offset carried through the second nip) and the paper. The outer zone
+    at 230 N = 120 + 60 + 50 leaves no draw anywhere (the idle nip's bearing drag aside), so
+    each raw layer carries its own zone's tension in the outer laminate (film 120 N, foil
+    60 N, paper 50 N, 0.5 %), and each raw layer's length passes the second nip unchanged
+    (1e-9 of the length that passed)."""
+    data = load_branched("laminator").spec.model_dump(exclude_none=True)
+    rollers = {r["name"]: r for r in data["rollers"]}
+    rewind = data["rollers"].pop()
+    data["rollers"] += [
+        {**rollers["unwind_film"], "name": "unwind_paper", "wound_in_tension": 40.0},
+        {**rollers["guide_film"], "name": "guide_paper"},
+        {**rollers["guide_film"], "name": "nip_2"},
+        {**rollers["guide_film"], "name": "guide_outer"},
+        rewind,
+    ]
+    data["webs"][2]["path"] = ["nip", "guide_laminate", "nip_2"]
+    data["webs"][2]["spans"][0].pop("tension")  # (an idle second nip: the rewind's zone)
+    data["webs"] += [
+        {
+            "name": "paper",
+            "web": {"ea": 200e3, "thickness": 1e-4, "width": 1.0, "density": 800.0},
+            "path": ["unwind_paper", "guide_paper", "nip_2"],
+            "spans": [{"length": 1.5}, {"name": "paper_zone", "length": 2.0, "tension": 50.0}],
+        },
+        {
+            "name": "outer",
+            "layers": ["laminate", "paper"],
+            "path": ["nip_2", "guide_outer", "rewind"],
+            "spans": [{"name": "outer_zone", "length": 2.0, "tension": 230.0}, {"length": 1.5}],
+        },
+    ]
+    data["scenarios"] = {}
+    result = webline.simulate(load_branched(data), duration=2.0)
+    ds = result.dataset
+    layers = ds.layer_tension.isel(time=-1)
+    assert float(layers.sel(layer_span="outer_zone/paper")) == pytest.approx(50.0, rel=5e-3)
+    assert float(layers.sel(layer_span="outer_zone/laminate")) == pytest.approx(180.0, rel=5e-3)
+    plan = result.plan
+    from webline.sim.branches.laminates import layer_rows, layer_stretch, mirrored_tension
+
+    k = _span(plan.line, "outer_zone")
+    own = {
+        plan.line.spec.webs[r].name: float(
+            mirrored_tension(plan.line, r, layer_stretch(plan, t, result.states[-1:]))[0]
+        )
+        for t, r in layer_rows(plan, k)
+    }
+    assert own["film"] == pytest.approx(120.0, rel=5e-3)
+    assert own["foil"] == pytest.approx(60.0, rel=5e-3)
+    for layer in ("film", "foil"):
+        left = ds.layer_out.sel(layer_web=f"laminate/{layer}").values
+        into = ds.layer_in.sel(layer_web=f"outer/{layer}").values
+        passed = float(left[-1] - left[0])
+        assert passed > 4.5
+        assert np.max(np.abs((into - into[0]) - (left - left[0]))) < 1e-9 * passed
