@@ -32,8 +32,8 @@ class Finding:
     ``backlash_open``, ``tension_limit``, ``yield``, ``layer_compressed``, ``unstable_mode``,
     ``diverged``, ``unwind_empty``, ``strength_exceeded``, ``nonfinite``, ``interrupted``);
     ``where``: the span, drive, roller or mode it concerns; ``message``: one sentence
-    computed from the numbers; ``time`` [s]: when it first happened (None for a property of the line such as a
-    mode); ``details``: the numbers themselves (SI), for JSON.
+    computed from the numbers; ``time`` [s]: when it first happened (None for a property of
+    the line such as a mode); ``details``: the numbers themselves (SI), for JSON.
     """
 
     level: Level
