@@ -52,6 +52,13 @@ def test_the_laminators_layers_carry_their_own_zones_tensions():
     Tolerance 0.5 % (the brief's): the zones settle on their PI loops' references."""
     ds = webline.simulate("laminator", duration=1.0).dataset
     layers = ds.layer_tension.isel(time=-1)
+    strains = ds.layer_strain.isel(time=-1)
+    assert float(strains.sel(layer_span="laminate_zone/film")) == pytest.approx(
+        120.0 / EA_FILM, rel=5e-3
+    )
+    assert float(strains.sel(layer_span="laminate_zone/foil")) == pytest.approx(
+        60.0 / EA_FOIL, rel=5e-3
+    )
     for span in ("laminate_zone", "laminate[1]"):
         assert float(layers.sel(layer_span=f"{span}/film")) == pytest.approx(120.0, rel=5e-3)
         assert float(layers.sel(layer_span=f"{span}/foil")) == pytest.approx(60.0, rel=5e-3)

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from webline.sim.branches.loop import layout as B
-from webline.sim.branches.web_laws import raw_law
+from webline.sim.branches.web_laws import raw_law, web_terms
 
 if TYPE_CHECKING:
     from webline.model.web_graph import BranchedLine
@@ -32,6 +32,33 @@ def layer_rows(plan: BranchPlan, k: int) -> list[tuple[int, int]]:
     if count < 2:
         return []
     return [(t, int(plan.lawi[t, B.LI_WEB])) for t in range(first, first + count)]
+
+
+def layer_terms(plan: BranchPlan, layer: int, k: int) -> range:
+    """Law-term rows of layer web ``layer`` (a raw web, or a laminate's or lane's raw webs)
+    in laminate span ``k``: a block of the span's terms, in layer order."""
+    line = plan.line
+    first = int(plan.si[k, B.S_LAW0])
+    for name in line.spec.webs[line.spans[k].web].layers or []:
+        count = len(web_terms(line, line.web_index[name]))
+        if line.web_index[name] == layer:
+            return range(first, first + count)
+        first += count
+    raise ValueError(f"web {layer} is no layer of span {k}'s laminate")
+
+
+def layer_strain(plan: BranchPlan, layer: int, k: int, states: np.ndarray) -> np.ndarray:
+    """Strain [-] of layer web ``layer`` in laminate span ``k`` at each record of ``states``:
+    its own, Σ u / EA_layer over its raw webs (a raw layer's u / EA; a laminate as a layer:
+    its EA-weighted mean)."""
+    ea = plan.line.materials[layer].ea
+    return (
+        sum(
+            (layer_stretch(plan, t, states) for t in layer_terms(plan, layer, k)),
+            np.zeros(len(states)),
+        )
+        / ea
+    )
 
 
 def layer_stretch(plan: BranchPlan, t: int, states: np.ndarray) -> np.ndarray:

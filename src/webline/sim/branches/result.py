@@ -16,7 +16,7 @@ from webline.sim.branches.findings.break_verdict import break_findings, intact, 
 from webline.sim.branches.findings.layer_findings import compressed_findings
 from webline.sim.branches.findings.web_findings import felt_records, layer_tension, yield_findings
 from webline.sim.branches.findings.winder_states import diameter_findings, tension_findings
-from webline.sim.branches.laminates import layer_lengths
+from webline.sim.branches.laminates import layer_lengths, layer_strain
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.traction import slip_findings
 from webline.sim.branches.winder import splice_findings
@@ -75,13 +75,14 @@ class BranchResult:
         stored = np.stack([np.sum(lengths[:, s] * (1.0 - x[:, s] / ea[s]), axis=1)
                            for s in (line.web_spans(w) for w in range(len(line.spec.webs)))],
                           axis=1)
-        layer_names, layer_values = [], []
+        layer_names, layer_values, layer_strains = [], [], []
         for span in line.spans:  # each layer's tension in the laminate at its strain
             web = line.spec.webs[span.web]
             for name in web.layers or []:
                 layer_names.append(f"{span.name}/{name}")
                 layer_values.append(layer_tension(plan, line.web_index[name], span.index,
                                                   x, tension[:, span.index]))
+                layer_strains.append(layer_strain(plan, line.web_index[name], span.index, x))
         layer_webs, layer_in, layer_out, layer_stored = layer_lengths(plan, x, lengths)
         roll_names = [f"{line.spec.rollers[r.node].name}/{line.spec.webs[r.web].name}"
                       for r in line.rolls]
@@ -102,6 +103,8 @@ class BranchResult:
             "strain": var(("span",), x[:, :n_s] / ea, "1", "span strain EA·ε / EA"),
             "layer_tension": var(("layer_span",), np.array(layer_values).T.reshape(
                 len(t), len(layer_names)), "N", "layer tension in a laminate span"),
+            "layer_strain": var(("layer_span",), np.array(layer_strains).T.reshape(
+                len(t), len(layer_names)), "1", "layer's own strain in a laminate span"),
             "omega": var(("node",), omega, "rad/s", "roller angular speed"),
             "speed": var(("node",), arm * omega, "m/s", "surface speed of a roller (of a "
                          "shaft: the lane its drive measures)"),

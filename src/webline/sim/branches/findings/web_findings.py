@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from webline.sim.branches.findings.layer_findings import layer_strains
-from webline.sim.branches.laminates import layer_stretch, mirrored_tension
+from webline.sim.branches.laminates import layer_stretch, layer_terms, mirrored_tension
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import rhs
 from webline.sim.branches.loop.web_law import felt_view
@@ -134,13 +134,7 @@ def layer_tension(plan: BranchPlan, layer: int, k: int, states: np.ndarray,
     (mirrored in compression) at its own stretch a s + o (``sim.branches.laminates``), plus
     its stiffness share of a damper's force."""
     line = plan.line
-    web = line.spec.webs[line.spans[k].web]
-    first = int(plan.si[k, B.S_LAW0])
-    for name in web.layers or []:  # its terms: a block of the laminate's, in layer order
-        count = len(web_terms(line, line.web_index[name]))
-        if line.web_index[name] == layer:
-            break
-        first += count
+    own = layer_terms(plan, layer, k)
     out = np.zeros(len(states))
     elastic = np.zeros(len(states))
     for t in range(int(plan.si[k, B.S_LAW0]), int(plan.si[k, B.S_LAW0] + plan.si[k, B.S_NLAW])):
@@ -148,7 +142,7 @@ def layer_tension(plan: BranchPlan, layer: int, k: int, states: np.ndarray,
         carried = plan.lawf[t, B.LF_FACTOR] * mirrored_tension(
             line, r, layer_stretch(plan, t, states))
         elastic += carried
-        if first <= t < first + count:
+        if t in own:
             out += carried
     share = line.materials[layer].ea / plan.sf[k, B.SF_EA]
     return out + share * (felt - np.maximum(elastic, 0.0))
