@@ -29,11 +29,11 @@ class Finding:
     """One fact behind a verdict.
 
     ``level``: how bad; ``kind``: what (``slack``, ``torque_limit``, ``slip``,
-    ``backlash_open``, ``tension_limit``, ``yield``, ``unstable_mode``, ``diverged``,
-    ``unwind_empty``, ``strength_exceeded``, ``nonfinite``, ``interrupted``); ``where``: the
-    span, drive, roller or mode it concerns; ``message``: one sentence computed from the
-    numbers; ``time`` [s]: when it first happened (None for a property of the line such as a
-    mode); ``details``: the numbers themselves (SI), for JSON.
+    ``backlash_open``, ``tension_limit``, ``yield``, ``layer_compressed``, ``unstable_mode``,
+    ``diverged``, ``unwind_empty``, ``strength_exceeded``, ``nonfinite``, ``interrupted``);
+    ``where``: the span, drive, roller or mode it concerns; ``message``: one sentence
+    computed from the numbers; ``time`` [s]: when it first happened (None for a property of
+    the line such as a mode); ``details``: the numbers themselves (SI), for JSON.
     """
 
     level: Level

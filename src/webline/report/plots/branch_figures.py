@@ -18,7 +18,6 @@ from webline.report.plots.mpl_text import legend_label, literal
 from webline.report.text.branch_tables import SI, junction_kind, shaft_lanes, small_length
 from webline.report.text.display import Display, number_text
 from webline.sim.branches.findings.break_verdict import stop_factor
-from webline.sim.branches.findings.web_findings import has_laws
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.result import BranchResult
 from webline.sim.results.decimate import envelope
@@ -136,7 +135,7 @@ def layers_figure(result: BranchResult, display: Display = SI) -> Figure:
             if str(name).split("/")[0] == span:
                 _plot(ax, t, f * ds["layer_tension"].sel(layer_span=name).values,
                         label=legend_label(f"layer {str(name).split('/')[1]}"))
-        ax.set_title(literal(f"{span}: layer tensions (strains tied at the nip)"), fontsize=9)
+        ax.set_title(literal(f"{span}: layer tensions (bonded at the nip)"), fontsize=9)
         ax.set_ylabel(display.label("tension", "force"))
         ax.legend(fontsize=7, loc="best")
         ax.grid(alpha=0.3)
@@ -151,8 +150,7 @@ def layers_caption(result: BranchResult, display: Display = SI) -> str:
     for name in ds["layer_span"].values:
         values = f * ds["layer_tension"].sel(layer_span=name).values
         parts.append(f"{name} {number_text(values.min())} to {number_text(values.max())} {unit}")
-    how = ("its own law at the laminate's strain" if has_laws(result.plan)
-           else "(EA_layer / EA_laminate) × the laminate's")  # (web laws: docs/branching.md)
+    how = "its own law at the strain it was bonded with at the nip plus the laminate's draw"
     return f"Each layer's tension in a laminate span, {how}: " + ", ".join(parts) + "."
 
 

@@ -110,6 +110,23 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
     c_scale = w_scale[plan.cores[:, B.C_NODE]]
     tq_scale = t_scale * plan.nodes[plan.di[:, B.DI_NODE], B.N_RADIUS]
     master = plan.line.master
+    bonded = plan.lawi[plan.lawi[:, B.LI_STATE] >= 0]  # a laminate's layers' offsets
+    layer_states = bonded[:, B.LI_STATE]
+    layer_spans = bonded[:, B.LI_SPAN]
+    layer_lengths = plan.sf[layer_spans, B.SF_LENGTH]
+
+    def steady_layers() -> None:
+        """Each layer's offset where its rate is 0, v_b o = v_a o_in (``loop.laminate``):
+        o_in reads only the stretches and the offsets upstream, so passes in any order
+        settle it within the laminates' depth (a dancer's moved length: a contraction)."""
+        x[layer_states] = 0.0
+        for _ in range(len(layer_states) + 50):
+            rhs(x, cmd, held, *tables, dx, work)
+            v_b = work[3 * n_s:4 * n_s][layer_spans]
+            step = dx[layer_states] * layer_lengths / np.where(v_b != 0.0, v_b, 1.0)
+            x[layer_states] += step
+            if np.all(np.abs(step) <= 1e-15 * (1.0 + np.abs(x[layer_states]))):
+                break
 
     def state(z: np.ndarray) -> np.ndarray:
         x[:n_s] = z[:n_s] * t_scale
@@ -118,6 +135,8 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
         cmd[:] = z[n_s + n_n + n_c:] * tq_scale
         x[off_tq:off_tq + n_d] = cmd
         steady_trains(x, plan.offsets, plan.di, plan.df, plan.rolls)  # twists carry torques
+        if len(layer_states):
+            steady_layers()
         return x
 
     def residual(z: np.ndarray) -> np.ndarray:

@@ -4,7 +4,8 @@ The plant is the compiled right-hand side ``sim.branches.loop.plant.rhs`` itself
 by central finite differences at the operating point (``sim.branches.equilibrium``), so the
 model follows the kernel wherever it changes; a test checks it against the Jacobian derived
 by hand from (B1)-(B4). States kept: span stretches [N] (= tensions on a taut span), node
-speeds ω [rad/s], motor torques [N·m]. The roll radii are frozen at the operating point (they
+speeds ω [rad/s], motor torques [N·m], a laminate's layers' strain offsets [N]
+(``loop.laminate``). The roll radii are frozen at the operating point (they
 change over minutes, the dynamics over seconds, as on a chain: thesis Sec. 4.1's set of
 radii), and the web-length counters are outputs, not dynamics: both are left out.
 
@@ -56,7 +57,8 @@ def kept_states(plan: BranchPlan, radii: bool = False) -> np.ndarray:
                            np.arange(off_tq, off_q),
                            np.arange(plan.offsets[B.O_CORE], plan.offsets[B.O_ANGLE]),
                            [s for s, _ in train_states(plan.line, plan.di)],  # motor ω, twist
-                           dancer_linear_states(plan)[0]]).astype(np.int64)
+                           dancer_linear_states(plan)[0],
+                           _layer_states(plan)]).astype(np.int64)
 
 
 def state_names(plan: BranchPlan, radii: bool = False) -> list[str]:
@@ -71,7 +73,16 @@ def state_names(plan: BranchPlan, radii: bool = False) -> list[str]:
             + [f"{r.name}_omega" for r in line.spec.rollers] + rolls
             + [f"{line.spec.rollers[i].name}_torque" for i in line.drives] + cores
             + [name for _, name in train_states(plan.line, plan.di)]
-            + dancer_linear_states(plan)[1])
+            + dancer_linear_states(plan)[1]
+            + [f"{line.spans[int(plan.lawi[t, B.LI_SPAN])].name}/"
+               f"{line.spec.webs[int(plan.lawi[t, B.LI_WEB])].name}_offset"
+               for t in np.nonzero(plan.lawi[:, B.LI_STATE] >= 0)[0]])
+
+
+def _layer_states(plan: BranchPlan) -> np.ndarray:
+    """The bonded layers' offset states (``loop.laminate``: advected with the web; their
+    lengths in and out are counters, left out as the webs' are)."""
+    return plan.lawi[plan.lawi[:, B.LI_STATE] >= 0, B.LI_STATE]
 
 
 def wound_webs(plan: BranchPlan) -> list[int]:

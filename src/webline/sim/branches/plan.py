@@ -22,6 +22,7 @@ from webline.sim.branches.dancers import (
 )
 from webline.sim.branches.disturb import break_columns, disturbance_table, eccentricities
 from webline.sim.branches.drives.drive_trains import brake_rows, train_columns, tuning_inertia
+from webline.sim.branches.laminate_tables import layer_columns
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import held_inputs
 from webline.sim.branches.loop.dancer_taper import taper_loads
@@ -158,7 +159,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     off_dn = off_c + len(cores) + len(eccentric)  # dancers: 2 states each (docs/branching.md)
     n_dn = len(dancer_nodes(line))
     offsets = np.array([off_w, off_r, off_tq, off_q, off_c, off_c + len(cores),
-                        off_dn + 2 * n_dn, -1, 0, 0, 0, off_dn, off_dn + 2 * n_dn],
+                        off_dn + 2 * n_dn, -1, 0, 0, 0, off_dn, off_dn + 2 * n_dn, 0, 0],
                        dtype=np.int64)
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):
@@ -233,6 +234,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
                             0.0]])
     dist = np.vstack([disturbance_table(line, profiles), brake_rows(line, profiles)])
     train_columns(line, offsets, nodes, di, df)  # compliant transmissions (drive_trains)
+    layer_columns(line, si, offsets, lawi, lawf)  # bonded layers' states: the state's end
     if break_columns(line, sf, df):  # a web break: after the drags each span's broken flag,
         offsets[B.O_BREAK] = 1  # then each node's holding brake [N·m]
         wound = np.concatenate([wound, np.zeros(n_s + n_n)])

@@ -13,6 +13,7 @@ from webline.sim.branches.dancer_views import end_stop_findings, span_lengths
 from webline.sim.branches.dancers import dancer_nodes
 from webline.sim.branches.drives.drive_trains import train_signals
 from webline.sim.branches.findings.break_verdict import break_findings, intact, without_cut_jump
+from webline.sim.branches.findings.layer_findings import compressed_findings
 from webline.sim.branches.findings.web_findings import felt_records, layer_tension, yield_findings
 from webline.sim.branches.findings.winder_states import (
     diameter_findings,
@@ -20,6 +21,7 @@ from webline.sim.branches.findings.winder_states import (
     set_tension,
     tension_findings,
 )
+from webline.sim.branches.laminates import layer_lengths, layer_strain
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.traction import slip_findings
 from webline.sim.branches.winder import splice_findings
@@ -179,13 +181,15 @@ class BranchResult(RunResult):
         stored = np.stack([np.sum(lengths[:, s] * (1.0 - x[:, s] / ea[s]), axis=1)
                            for s in (line.web_spans(w) for w in range(len(line.spec.webs)))],
                           axis=1)
-        layer_names, layer_values = [], []
+        layer_names, layer_values, layer_strains = [], [], []
         for span in line.spans:  # each layer's tension in the laminate at its strain
             web = line.spec.webs[span.web]
             for name in web.layers or []:
                 layer_names.append(f"{span.name}/{name}")
                 layer_values.append(layer_tension(plan, line.web_index[name], span.index,
-                                                  x[:, span.index], tension[:, span.index]))
+                                                  x, tension[:, span.index]))
+                layer_strains.append(layer_strain(plan, line.web_index[name], span.index, x))
+        layer_webs, layer_in, layer_out, layer_stored = layer_lengths(plan, x, lengths)
         roll_names = [f"{line.spec.rollers[r.node].name}/{line.spec.webs[r.web].name}"
                       for r in line.rolls]
         drives = [line.spec.rollers[i].name for i in line.drives]
@@ -205,6 +209,8 @@ class BranchResult(RunResult):
             "strain": var(("span",), x[:, :n_s] / ea, "1", "span strain EA·ε / EA"),
             "layer_tension": var(("layer_span",), np.array(layer_values).T.reshape(
                 len(t), len(layer_names)), "N", "layer tension in a laminate span"),
+            "layer_strain": var(("layer_span",), np.array(layer_strains).T.reshape(
+                len(t), len(layer_names)), "1", "layer's own strain in a laminate span"),
             "omega": var(("node",), omega, "rad/s", "roller angular speed"),
             "speed": var(("node",), arm * omega, "m/s", "surface speed of a roller (of a "
                          "shaft: the lane its drive measures)"),
@@ -217,6 +223,12 @@ class BranchResult(RunResult):
             "web_in": var(("web",), q[:, 0::2], "m", "unstrained web in at the path's start"),
             "web_out": var(("web",), q[:, 1::2], "m", "unstrained web out at the path's end"),
             "web_stored": var(("web",), stored, "m", "unstrained web in the path's spans"),
+            "layer_in": var(("layer_web",), layer_in, "m", "unstrained layer in at its "
+                            "laminate's start"),
+            "layer_out": var(("layer_web",), layer_out, "m", "unstrained layer out at its "
+                             "laminate's end"),
+            "layer_stored": var(("layer_web",), layer_stored, "m", "unstrained layer in its "
+                                "laminate's spans"),
             "core_omega": var(("core",), core_omega, "rad/s",
                               "angular speed of a lane's core on a differential shaft"),
         }
@@ -225,7 +237,8 @@ class BranchResult(RunResult):
         coords = {"time": ("time", t, {"units": "s"}),
                   "span": [s.name for s in line.spans],
                   "span_web": ("span", [line.spec.webs[s.web].name for s in line.spans]),
-                  "layer_span": layer_names, "node": [r.name for r in line.spec.rollers],
+                  "layer_span": layer_names, "layer_web": layer_webs,
+                  "node": [r.name for r in line.spec.rollers],
                   "roll": roll_names, "drive": drives,
                   "core": [roll_names[j] for j in plan.cores[:, B.C_ROLL]],
                   "web": [w.name for w in line.spec.webs]}
@@ -320,6 +333,7 @@ class BranchResult(RunResult):
                                         float(self.time[first])))
         findings += splice_findings(line, self.plan.dt, self.time, ds["tension"].values)
         findings += yield_findings(self.plan, self.time, self.states)
+        findings += compressed_findings(self.plan, self.time, self.states)
         findings += break_findings(self.plan, self.time, ds["speed"].values, self.settings)
         findings += slip_findings(self.plan.line, self.plan.nodes, self.plan.si)
         findings += end_stop_findings(self.plan, self.time, self.states)

@@ -60,7 +60,8 @@ def law_tables(line: BranchedLine, si: np.ndarray,
                sf: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(lawi, lawf, laws, kv) of ``line`` (``layout`` LI_*, LF_*; the flat law arrays; the
     Kelvin-Voigt spans), filling the span tables' S_LAW0, S_NLAW, SF_TAU and SF_STRENGTH.
-    Every table is empty on a line of linear elastic webs."""
+    Every table is empty on a line of linear elastic webs without laminates; a laminate's
+    spans always have terms (its layers' columns: ``laminates.layer_columns``)."""
     raw = [w for w, web in enumerate(line.spec.webs) if kind_of(web) == "web"]
     laws = {w: raw_law(line, w) for w in raw}
     starts: dict[int, int] = {}
@@ -69,23 +70,31 @@ def law_tables(line: BranchedLine, si: np.ndarray,
         starts[w] = int(sum(len(a) for a in flat))
         flat.append(laws[w])
     rows_i: list[tuple[int, int]] = []
-    rows_f: list[tuple[float, float]] = []
+    rows_f: list[tuple[float, float, float]] = []
     kv = []
     for span in line.spans:
         k = span.index
         terms = web_terms(line, span.web)
-        sf[k, B.SF_STRENGTH] = min(_strength_stretch(line, laws[r], r) / a for r, a, _ in terms)
-        if any(laws[r].size > 1 for r, _, _ in terms):  # some raw web is nonlinear
+        strengths = [_strength_stretch(line, laws[r], r) for r, _, _ in terms]
+        # (bonded layers: each its own strength at its own stretch, ``loop.laminate``)
+        sf[k, B.SF_STRENGTH] = (min(u / a for u, (_, a, _) in zip(strengths, terms, strict=True))
+                                if len(terms) == 1 else np.inf)
+        if len(terms) > 1 or any(laws[r].size > 1 for r, _, _ in terms):  # layers, or a law
             si[k, B.S_LAW0], si[k, B.S_NLAW] = len(rows_i), len(terms)
             rows_i += [(r, starts[r]) for r, _, _ in terms]
-            rows_f += [(a, c) for _, a, c in terms]
+            rows_f += [(a, c, u) for (_, a, c), u in zip(terms, strengths, strict=True)]
         spec = line.spec.webs[span.web].spans[span.k]
         if spec.model == "kelvin-voigt":
             sf[k, B.SF_TAU] = spec.retardation or 0.0
             kv.append(k)
     any_law = bool(rows_i)
-    return (np.array(rows_i, dtype=np.int64).reshape(-1, B.LI_COLS),
-            np.array(rows_f, dtype=float).reshape(-1, B.LF_COLS),
+    lawi = np.full((len(rows_i), B.LI_COLS), -1, dtype=np.int64)  # (layer columns: -1, 0)
+    lawf = np.zeros((len(rows_f), B.LF_COLS))
+    if rows_i:
+        lawi[:, :2] = rows_i
+        lawf[:, :2] = [row[:2] for row in rows_f]
+        lawf[:, B.LF_STRENGTH] = [row[2] for row in rows_f]
+    return (lawi, lawf,
             np.concatenate(flat) if any_law else np.zeros(0),
             np.array(kv, dtype=np.int64))
 

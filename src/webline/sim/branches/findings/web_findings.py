@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from webline.sim.branches.findings.layer_findings import layer_strains
+from webline.sim.branches.laminates import layer_stretch, layer_terms, mirrored_tension
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import rhs
 from webline.sim.branches.loop.web_law import felt_view
@@ -26,7 +28,8 @@ def yield_findings(plan: BranchPlan, time: np.ndarray, states: np.ndarray) -> li
     strain exceeded its raw web's ``yield_strain`` in the records (``time`` [s], ``states``):
     where (the web or lane; in a laminate, the layer), its spans beyond yield, the first
     record beyond it [s], the records' time beyond it summed [s] and the peak strain [-]
-    with its time. A layer's strain in a laminate is the laminate's (its layers share it)."""
+    with its time. A layer's strain in a laminate is its own (bonded with its offset:
+    ``sim.branches.laminates``)."""
     line = plan.line
     if len(time) == 0:
         return []
@@ -34,12 +37,14 @@ def yield_findings(plan: BranchPlan, time: np.ndarray, states: np.ndarray) -> li
     out: list[Finding] = []
     for w, web in enumerate(line.spec.webs):
         spans = line.web_spans(w)
-        for r, a, _ in web_terms(line, w):
+        bonded = layer_strains(plan, w, states)  # a laminate's layers: their own strains
+        for j, (r, a, _) in enumerate(web_terms(line, w)):
             law = raw_material(line, r).stress_strain
             if law is None or law.yield_strain is None:
                 continue
             limit = law.yield_strain
-            strain = a * states[:, spans] / line.materials[r].ea  # ε of raw web r's material
+            strain = (bonded[j][1] if bonded  # ε of raw web r's material
+                      else a * states[:, spans] / line.materials[r].ea)
             beyond = strain > limit
             if not beyond.any():
                 continue
@@ -68,6 +73,18 @@ def strength_failure(plan: BranchPlan, x: np.ndarray, t_fail: float) -> str:
     state ``x``: the span, its web or lane, and the raw web (a laminate's layer) whose
     ``strength`` its tension reached."""
     line = plan.line
+    bonded = np.nonzero(plan.lawi[:, B.LI_STATE] >= 0)[0]
+    over = [plan.lawf[t, B.LF_SCALE] * x[plan.lawi[t, B.LI_SPAN]] + x[plan.lawi[t, B.LI_STATE]]
+            - plan.lawf[t, B.LF_STRENGTH] for t in bonded]
+    if over and max(over) > 0.0:  # a bonded layer at its own strength
+        t = int(bonded[int(np.argmax(over))])
+        r = int(plan.lawi[t, B.LI_WEB])
+        span = line.spans[int(plan.lawi[t, B.LI_SPAN])]
+        web = line.spec.webs[span.web]
+        raw = line.spec.webs[r].name
+        return (f"web {raw} (a layer of {kind_of(web)} {web.name}) broke: in span "
+                f"{span.name} it reached its strength ({raw_material(line, r).strength:.4g} N)"
+                f" at t = {t_fail:.4g} s")
     k = int(np.argmax(x[:len(line.spans)] - plan.sf[:, B.SF_STRENGTH]))
     span = line.spans[k]
     web = line.spec.webs[span.web]
@@ -110,17 +127,25 @@ def felt_records(plan: BranchPlan, time: np.ndarray, states: np.ndarray) -> np.n
     return out
 
 
-def layer_tension(plan: BranchPlan, layer: int, k: int, stretch: np.ndarray,
+def layer_tension(plan: BranchPlan, layer: int, k: int, states: np.ndarray,
                   felt: np.ndarray) -> np.ndarray:
     """Tension [N] layer web ``layer`` carries in laminate span ``k`` at its records
-    (``stretch``, ``felt`` [N]): its own law at the laminate's strain plus its stiffness
-    share of a damper's force; (EA_i / EA_L) x T_L on a linear elastic line."""
+    (``states``: records x states, ``felt`` [N]: the span's): each of its raw webs' law
+    (mirrored in compression) at its own stretch a s + o (``sim.branches.laminates``), plus
+    its stiffness share of a damper's force."""
     line = plan.line
+    own = layer_terms(plan, layer, k)
+    out = np.zeros(len(states))
+    elastic = np.zeros(len(states))
+    for t in range(int(plan.si[k, B.S_LAW0]), int(plan.si[k, B.S_LAW0] + plan.si[k, B.S_NLAW])):
+        r = int(plan.lawi[t, B.LI_WEB])
+        carried = plan.lawf[t, B.LF_FACTOR] * mirrored_tension(
+            line, r, layer_stretch(plan, t, states))
+        elastic += carried
+        if t in own:
+            out += carried
     share = line.materials[layer].ea / plan.sf[k, B.SF_EA]
-    if not has_laws(plan):
-        return share * felt
-    elastic = web_tension(line, line.spans[k].web, stretch)
-    return web_tension(line, layer, share * stretch) + share * (felt - elastic)
+    return out + share * (felt - np.maximum(elastic, 0.0))
 
 
 def felt_rows(plan: BranchPlan, x0: np.ndarray, keep: np.ndarray,

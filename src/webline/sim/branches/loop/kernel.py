@@ -15,6 +15,7 @@ from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.breaks import cut
 from webline.sim.branches.loop.control import control_tick, held_inputs
 from webline.sim.branches.loop.dancer_taper import taper_loads
+from webline.sim.branches.loop.laminate import beyond_strength, cut_layers
 from webline.sim.branches.loop.plant import rhs
 from webline.sim.branches.loop.traction import update_slip
 from webline.sim.branches.loop.web_law import felt_start_jit
@@ -76,6 +77,8 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
         splices(t, dt, x, istate, done, offsets, nodes, si, sf, rolls, webs, df, events)
         if offsets[B.O_BREAK]:  # a web break: its spans carry nothing from their time on
             cut(t, x, wound, sf, webs.shape[0], nodes.shape[0], istate, di, df)
+            if offsets[B.O_LAYER] < offsets[B.O_LAYER_END]:  # (and its layers' offsets)
+                cut_layers(x, wound, webs.shape[0] + nodes.shape[0], lawi)
         held_inputs(t, wound, held, webs.shape[0], dist, prof_t, prof_v, prof_off)
         measured = x
         if lawi.shape[0] > 0 or kv.shape[0] > 0:  # the loadcells feel F(s) + τ ds/dt
@@ -125,6 +128,8 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
                 return n_rec, B.STATUS_RUNAWAY, t + dt
             if x[k] > sf[k, B.SF_STRENGTH]:  # (inf where the web gives no strength)
                 return n_rec, B.STATUS_STRENGTH, t + dt
+        if offsets[B.O_LAYER] < offsets[B.O_LAYER_END] and beyond_strength(x, lawi, lawf):
+            return n_rec, B.STATUS_STRENGTH, t + dt  # a bonded layer at its own strength
         for i in range(nodes.shape[0]):
             r_i = nodes[i, B.N_RADIUS]
             if nodes[i, B.N_ROLLS] == 0.0 and abs(x[off_w + i]) * r_i > speed_max:

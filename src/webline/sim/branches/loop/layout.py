@@ -236,3 +236,19 @@ FAMILY_USER = FAMILY_MRAC + 1
 (I_UCMD, I_USPEED, I_UTENSION, I_URADIUS, I_UINERTIA, I_UVREF,
  I_UTREF) = range(I_COLS, I_COLS + 7)
 I_COLS += 7
+
+# bonded laminates (docs/branching.md, (B2); sim.branches.laminates, loop.laminate):
+# the offsets row's entries O_LAYER, the first layer state, and O_LAYER_END after the last.
+# Every span of a web made of several raw webs (a laminate, its lanes) has law terms, one per
+# raw web (layer), even where every layer is linear, and each term a state: the layer's
+# stretch offset o [N] from the span's, its own stretch u = a s + o. Law terms (int) columns:
+# the term's span; its offset state (absolute, -1: a span of one raw web, o = 0); the span
+# upstream whose stretch it carries in; that span's term's offset state (-1: none); the
+# layer's unstrained length in at its web's first span and out at its last (absolute states
+# [m], -1: none). Law terms (float): the upstream term's scale a; the raw web's EA [N]; its
+# stretch at its strength [N] (inf: none).
+O_LAYER, O_LAYER_END = O_DANCER_END + 1, O_DANCER_END + 2
+LI_SPAN, LI_STATE, LI_UP, LI_UPSTATE, LI_LIN, LI_LOUT = range(LI_COLS, LI_COLS + 6)
+LI_COLS += 6
+LF_UPSCALE, LF_EA, LF_STRENGTH = range(LF_COLS, LF_COLS + 3)
+LF_COLS += 3

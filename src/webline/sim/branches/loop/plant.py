@@ -13,6 +13,7 @@ import numpy as np
 
 from webline.physics import roll, roller, span
 from webline.sim.branches.loop import dancer as D
+from webline.sim.branches.loop import laminate as L
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop import traction as T
 from webline.sim.branches.loop import transmission as TR
@@ -41,19 +42,19 @@ def carried_in(k: int, x: np.ndarray, tension: np.ndarray, wound: np.ndarray,
                si: np.ndarray, sf: np.ndarray, layers: np.ndarray,
                elastic: np.ndarray) -> float:
     """Stretch [N] the web carries into span ``k`` (docs/branching.md, s_in); a nip sums
-    its layers' ``elastic`` tensions (without a law: their clipped stretches). With web laws
-    the wound-in tension and the layers' sum are tensions, turned into the span's stretch by
-    ``web_law.law_stretch`` in ``rhs``."""
+    its layers' clipped stretches Σ EA_i ε_i, each layer's own strain carried on by its
+    offset (``loop.laminate``). With web laws the wound-in tension is a tension, turned into
+    the span's stretch by ``web_law.law_stretch`` in ``rhs``."""
     src = si[k, B.S_SRC]
     frm = si[k, B.S_FROM]
     if src == B.SRC_PREVIOUS:
         return tension[frm]
     if src == B.SRC_WOUND:
         return wound[si[k, B.S_WEB]]
-    if src == B.SRC_LAYERS:  # force continuity at the nip: the layers' tensions add up
+    if src == B.SRC_LAYERS:  # the layers' stretches add up (their offsets: loop.laminate)
         total = 0.0
         for j in range(si[k, B.S_COUNT]):
-            total += elastic[layers[frm + j]]
+            total += tension[layers[frm + j]]
         return total
     return sf[k, B.SF_SHARE] * tension[frm]  # a lane: the base web's strain at the knife
 
@@ -108,6 +109,10 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
     felt = work[5 * n_s + 2 * n_n:6 * n_s + 2 * n_n] if has_kv else elastic
     if has_law:  # the web laws' tensions F(s) (docs/branching.md, "Web laws")
         W.law_tensions(x, elastic, si, lawi, lawf, laws)
+        if offsets[B.O_BREAK]:  # a broken span carries nothing (nor do its layers)
+            for k in range(n_s):
+                if wound[n_w + n_n + k] != 0.0:
+                    elastic[k] = 0.0
     slip = work[6 * n_s + 2 * n_n:6 * n_s + 3 * n_n]
     if offsets[B.O_SLIP]:  # the web over a slipping roller moves at r ω - s (Ch. 5)
         T.slip_speeds(x, elastic, offsets, nodes, slip)
@@ -140,7 +145,7 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
             v_a[k] -= slip[a]
             v_b[k] -= slip[b]
         s_in[k] = carried_in(k, x, tension, wound, si, sf, layers, elastic)
-        if has_law and (si[k, B.S_SRC] == B.SRC_WOUND or si[k, B.S_SRC] == B.SRC_LAYERS):
+        if has_law and si[k, B.S_SRC] == B.SRC_WOUND:
             s_in[k] = W.law_stretch(k, s_in[k], si, lawi, lawf, laws)  # a tension in: F⁻¹
         dx[k] = _stretch_rate(sf[k, B.SF_LENGTH], sf[k, B.SF_EA], v_a[k], v_b[k], s_in[k],
                               tension[k])
@@ -190,6 +195,9 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
             dx[off_w + i] = total * nodes[i, B.N_INVJ]
     for d in range(di.shape[0]):
         dx[off_tq + d] = (cmd[d] - x[off_tq + d]) * df[d, B.D_INVLAG]
+    if offsets[B.O_LAYER] < offsets[B.O_LAYER_END]:  # bonded layers (frozen: folds away)
+        L.layer_rates(x, dx, lawi, lawf, sf, tension, s_in, v_a, v_b, wound,
+                      n_w + n_n if offsets[B.O_BREAK] else -1, nodes, si, has_dancer)
     if offsets[B.O_BREAK]:  # a cut web: its intact spans' ends (sim.branches.disturb)
         web_flows(dx, off_q, webs, sf, wound[n_w + n_n:], v_a, v_b, s_in, tension)
         return

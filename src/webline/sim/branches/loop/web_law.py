@@ -5,9 +5,9 @@ span where it starts at an unwind or a lamination nip.
 A span's state is its stretch s = EA ε (EA its web's reference stiffness: a laminate's the
 sum of its layers', a lane's its share of its base web's), which mass conservation moves
 (B1). Its law is a sum of terms over the raw webs it is made of, T = Σ c F_w(a s) (a raw
-web: a = c = 1; a layer i of a laminate: a = EA_i / EA_L, c = 1, its strain is the
-laminate's; a lane of share φ: a = 1 / φ, c = φ), ``F_w`` the raw web's law in its own
-stretch (``physics.web_law``). Tables: ``layout`` S_LAW0, S_NLAW, SF_TAU, LI_*, LF_*.
+web: a = c = 1; a layer i of a laminate: a = EA_i / EA_L, c = 1, plus its own offset state,
+``loop.laminate``; a lane of share φ: a = 1 / φ, c = φ), ``F_w`` the raw web's law in its
+own stretch (``physics.web_law``). Tables: ``layout`` S_LAW0, S_NLAW, SF_TAU, LI_*, LF_*.
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ import numpy as np
 
 from webline.physics import web_law
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.laminate import bonded_tension
 from webline.sim.elements.signals import jit
 
 _law_tension: Any = jit(web_law.law_tension)
@@ -94,9 +95,13 @@ def law_stretch(k: int, tension: float, si: np.ndarray, lawi: np.ndarray, lawf: 
 @jit
 def law_tensions(x: np.ndarray, elastic: np.ndarray, si: np.ndarray, lawi: np.ndarray,
                  lawf: np.ndarray, laws: np.ndarray) -> None:
-    """Every span's elastic tension F(s) [N] into ``elastic``."""
+    """Every span's elastic tension F(s) [N] into ``elastic`` (a laminate's: its bonded
+    layers' at their own stretches, ``loop.laminate``)."""
     for k in range(si.shape[0]):
-        elastic[k] = law_tension(k, x[k], si, lawi, lawf, laws)
+        if si[k, B.S_NLAW] > 1:
+            elastic[k] = bonded_tension(k, x, si, lawi, lawf, laws)
+        else:
+            elastic[k] = law_tension(k, x[k], si, lawi, lawf, laws)
 
 
 @jit
