@@ -21,14 +21,9 @@ from webline.sim.branches.loop.kernel import new_records
 from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.branches.result import BranchResult
 from webline.sim.branches.winder import initial_compensation
+from webline.sim.linear.steps import MAX_SUBSTEPS, record_every, substeps_for
 from webline.spec.ranges import argument, whole_argument
 
-#: RK4 sub-steps keep h·|λ|max below this, as the chain's ``sim.simulate.STEP_LIMIT``
-STEP_LIMIT = 0.5
-#: most sub-steps per controller period before a line is refused as too stiff
-MAX_SUBSTEPS = 200
-#: default cap on stored records (longer runs are decimated, not the integration)
-MAX_RECORDS = 200_000
 #: controller ticks per call of the compiled loop (a run returns to Python between two)
 CHUNK = 20_000
 
@@ -62,8 +57,7 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     duration = 10.0 if duration is None else duration
     plan, point, substeps = plan_and_step(line, rate, substeps)
     n_ticks = max(1, round(duration / plan.dt))
-    every = (max(1, math.ceil((n_ticks + 1) / MAX_RECORDS)) if every_s is None
-             else max(1, round(every_s / plan.dt)))
+    every = record_every(n_ticks, plan.dt, every_s)
     x, istate = start_state(plan, point)
     n_d = plan.di.shape[0]
     rec = new_records(n_ticks, every, plan.n_x, n_d)
@@ -120,7 +114,7 @@ def plan_and_step(line: BranchedLine, rate: float | None,
     prepare(plan)  # the decentralized drives' designs and references (none: nothing)
     point = operating_point(plan)
     if substeps is None:
-        substeps = max(1, math.ceil(plan.dt * fastest_rate(plan, point) / STEP_LIMIT))
+        substeps = substeps_for(fastest_rate(plan, point), plan.dt)
         if substeps > MAX_SUBSTEPS:
             raise SimulationError(f"{line.name}: the line's fastest mode needs {substeps} "
                                   f"RK4 steps per controller period (at most {MAX_SUBSTEPS})")
