@@ -14,7 +14,6 @@ from typing import TYPE_CHECKING, cast, overload
 import numpy as np
 
 from webline.errors import (
-    ArgumentError,
     ControllerError,
     LineFileError,
     SimulationError,
@@ -184,12 +183,9 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
     A branched line (``[[webs]]``, ``webline.load_branched``; docs/branching.md) runs through
     ``sim.branches`` and returns a ``BranchResult`` (an xarray Dataset and a verdict per web
     and lane; a user ``controller`` per drive or for all, docs/controllers.md "On a branched
-    line"); ``progress`` is not yet supported there.
+    line"); ``progress`` is called there too, after each chunk of the run.
     """
     if is_branched_line(line):
-        if progress is not None:
-            raise ArgumentError("progress: not yet supported for a branched line (its run "
-                                "returns to Python in chunks of 20 000 ticks)")
         from webline.model.web_graph import load_branched
         from webline.sim.branches.run import simulate_branches  # scipy: only when needed
         from webline.sim.user_objects import branched_controllers
@@ -199,7 +195,8 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
         return simulate_branches(branched, duration, scenario=scenario,
                                  sample_rate=sample_rate, substeps=substeps,
                                  record_interval=record_interval,
-                                 raise_on_failure=raise_on_failure, controller=controller)
+                                 raise_on_failure=raise_on_failure, controller=controller,
+                                 progress=progress)
     line = load_line(cast("Line | str | Path", line))
     duration, sample_rate, record_interval = (  # units and checks as the CLI's
         None if value is None else argument(value, kind, name, within=key)

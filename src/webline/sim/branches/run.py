@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import numpy as np
@@ -11,6 +11,7 @@ import numpy as np
 from webline.errors import ControllerError, SimulationError
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches.drives.decentral import prepare, start_memory
+from webline.sim.branches.drives.draw import fill_draw
 from webline.sim.branches.drives.observer import start_observers
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
 from webline.sim.branches.findings.break_verdict import detection
@@ -32,7 +33,8 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
                       scenario: str | None = None, sample_rate: float | str | None = None,
                       substeps: int | None = None, record_interval: float | str | None = None,
                       raise_on_failure: bool = True,
-                      controller: object | Mapping[str, object] | None = None) -> BranchResult:
+                      controller: object | Mapping[str, object] | None = None,
+                      progress: Callable[[float], None] | None = None) -> BranchResult:
     """Simulate a branched line for ``duration`` [s] from its operating point at t = 0.
 
     Arguments as ``webline.simulate`` (``scenario`` applies a named scenario, whose duration
@@ -43,7 +45,9 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     ``raise_on_failure=False``, returns it with its ``failure`` set). ``controller``: a
     user's controller for every drive or a dict drive name -> controller (docs/controllers.md,
     "On a branched line"; ``sim.branches.user``): the run goes one tick at a time through
-    Python, and a controller that fails stops it with ``ControllerError``.
+    Python, and a controller that fails stops it with ``ControllerError``. ``progress``, if
+    given, is called with the fraction done (0..1) after each chunk (then at most 1 % of the
+    run, as the chain's).
     """
     line = load_branched(line)
     duration = None if duration is None else argument(duration, "time", "duration")
@@ -71,9 +75,10 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
         plan, (x, istate, wound, done, cmd) = users.plan, users.live
     status, t_fail, n_rec, tick = B.STATUS_OK, math.nan, 0, 0
     interrupted = False
+    chunk = CHUNK if progress is None else min(CHUNK, max(1000, math.ceil(n_ticks / 100)))
     try:  # in chunks: Ctrl-C is seen between two, and the run keeps what it computed
         while tick < n_ticks and status == B.STATUS_OK:
-            count = min(CHUNK, n_ticks - tick)
+            count = min(chunk, n_ticks - tick)
             if users is None:
                 stored, status, t_fail = plan.run(x, istate, wound, done, rec[n_rec:], cmd,
                                                   tick, count, substeps, every,
@@ -83,6 +88,8 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
                                                             tick + count == n_ticks)
             n_rec += stored
             tick += count
+            if progress is not None:
+                progress(tick / n_ticks)
     except KeyboardInterrupt:
         if users is not None:  # (the ticks of the user run's chunk so far)
             n_rec += users.stored_in_chunk
@@ -113,6 +120,7 @@ def plan_and_step(line: BranchedLine, rate: float | None,
     plan = compile_branches(line, rate)
     prepare(plan)  # the decentralized drives' designs and references (none: nothing)
     point = operating_point(plan)
+    fill_draw(plan, point)  # the PI drives' draw follows their references (loop.draw)
     if substeps is None:
         substeps = substeps_for(fastest_rate(plan, point), plan.dt)
         if substeps > MAX_SUBSTEPS:

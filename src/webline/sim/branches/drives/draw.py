@@ -1,0 +1,58 @@
+"""The PI drives' draw coefficients of a branched line (``loop.draw``, docs/errata.md "One
+loop"): how each drive's steady speed ratio moves with each loadcell's reference."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from webline.sim.branches.equilibrium import BranchPoint, operating_point, references
+from webline.sim.branches.loop import layout as B
+from webline.sim.branches.loop.draw import draw_rows
+from webline.sim.branches.plan import BranchPlan
+
+#: The reference step [N] of the second operating point (the coefficient is the secant of the
+#: mass-flow form, so any step gives it exactly where that form holds; 1 N keeps the solver's
+#: 1e-13 tolerance 1e-9 of the ratio's change).
+STEP = 1.0
+
+
+def references_move(plan: BranchPlan) -> bool:
+    """Whether a loadcell's reference can change during a run: a profile that is not
+    constant, a taper, or the tension ramp (without any, the draw stays that of t = 0)."""
+    if plan.offsets[B.O_RAMP] >= 0 or np.any(plan.df[:, B.D_TAPER_KIND] != 0.0):
+        return True
+    for p in plan.cells[:, 1]:
+        values = plan.prof_v[plan.prof_off[p]:plan.prof_off[p + 1]]
+        if np.ptp(values) > 0.0:
+            return True
+    return False
+
+
+def fill_draw(plan: BranchPlan, point: BranchPoint) -> None:
+    """Fill ``plan.refs``' draw rows (``loop.draw``) from ``point``, the operating point at
+    t = 0, and one more per loadcell with its reference ``STEP`` higher; nothing where the
+    references never move or no drive is a PI (the others follow ``loop.decentral``)."""
+    n_s, n_d = len(plan.line.spans), plan.di.shape[0]
+    pi = plan.di[:, B.DI_FAMILY] == B.FAMILY_PI
+    if not np.any(pi) or not references_move(plan):
+        return
+    first, start = draw_rows(n_s, n_d)
+    refs0 = references(plan, 0.0)
+    for c, (k, p, *_) in enumerate(plan.cells):
+        if plan.cells.shape[1] > B.CELL_DANCER and plan.cells[c, B.CELL_DANCER] >= 0:
+            continue  # a dancer's position is no tension reference
+        plan.refs[start, 1 + c] = refs0[k]
+        prof_v = plan.prof_v.copy()
+        prof_v[plan.prof_off[p]:plan.prof_off[p + 1]] += STEP
+        moved_plan = dataclasses.replace(plan, prof_v=prof_v)
+        moved = operating_point(moved_plan, 0.0)
+        step = references(moved_plan, 0.0)[k] - refs0[k]  # STEP times the taper and ramp
+        for d in np.flatnonzero(pi):
+            r0, r1 = point.ratio[d], moved.ratio[d]
+            if r0 == 0.0 or r1 == r0:
+                continue
+            # a numerator (1 - ε_a) is linear in its reference, a denominator's reciprocal is
+            plan.refs[first + d, 1 + c] = ((1.0 - r0 / r1) if r1 > r0 else (r1 / r0 - 1.0)) / step
+    plan.refs[start, 0] = 1.0
