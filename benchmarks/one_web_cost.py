@@ -53,8 +53,19 @@ def general_tick(seconds: float, substeps: int | None) -> tuple[float, int]:
         x, istate = start_state(plan, point)
         rec = new_records(ticks, 1, plan.n_x, plan.di.shape[0])
         started = time.perf_counter()
-        plan.run(x, istate, plan.wound.copy(), np.zeros(len(plan.events)), rec,
-                 point.torque.copy(), 0, ticks, steps, 1, True)
+        plan.run(
+            x,
+            istate,
+            plan.wound.copy(),
+            np.zeros(len(plan.events)),
+            rec,
+            point.torque.copy(),
+            0,
+            ticks,
+            steps,
+            1,
+            True,
+        )
         return time.perf_counter() - started
 
     once(100)  # compile
@@ -69,16 +80,19 @@ def main() -> None:
     best = {"chain": np.inf, "general": np.inf, "general (2 sub-steps, before)": np.inf}
     steps = {}
     for _ in range(args.repeat):
-        for name, run in (("chain", lambda: chain_tick(args.seconds)),
-                          ("general", lambda: general_tick(args.seconds, None)),
-                          ("general (2 sub-steps, before)",
-                           lambda: general_tick(args.seconds, 2))):
+        for name, run in (
+            ("chain", lambda: chain_tick(args.seconds)),
+            ("general", lambda: general_tick(args.seconds, None)),
+            ("general (2 sub-steps, before)", lambda: general_tick(args.seconds, 2)),
+        ):
             cost, steps[name] = run()
             best[name] = min(best[name], cost)
     for name, cost in best.items():
         print(f"hswl {name:32s} {cost * 1e9:7.0f} ns per tick ({steps[name]} sub-steps)")
-    print(f"general / chain: {best['general'] / best['chain']:.2f} "
-          f"(before: {best['general (2 sub-steps, before)'] / best['chain']:.2f})")
+    print(
+        f"general / chain: {best['general'] / best['chain']:.2f} "
+        f"(before: {best['general (2 sub-steps, before)'] / best['chain']:.2f})"
+    )
 
 
 if __name__ == "__main__":

@@ -37,7 +37,8 @@ def test_run_feeds_its_progress_bar_on_a_branched_line(tmp_path, monkeypatch):
         yield fed.append
 
     monkeypatch.setattr(cli_branches, "progress_bar", recording)
-    result = CliRunner().invoke(app, ["run", "laminator", "--duration", "2 s", "--out",
-                                      str(tmp_path / "out")])
+    result = CliRunner().invoke(
+        app, ["run", "laminator", "--duration", "2 s", "--out", str(tmp_path / "out")]
+    )
     assert result.exit_code == 0, result.output
     assert fed == [0.5, 1.0]

@@ -14,12 +14,19 @@ from webline.sim.linear.steps import (
 )
 
 
-@pytest.mark.parametrize("rate, expected", [
-    (500.0, 1),  # h·λ = 0.5 exactly: one step
-    (500.000000002, 1),  # the branched eigen-solve's rounding of hswl's 500 1/s (issue 33)
-    (500.0 * (1 + 2e-6), 2),  # beyond the slack: 0.500001 is a real excess
-    (1e-3, 1), (0.0, 1),  # a slow (or no) mode still takes one step
-    (1499.0, 3), (1500.0, 3), (1501.0, 4)])
+@pytest.mark.parametrize(
+    "rate, expected",
+    [
+        (500.0, 1),  # h·λ = 0.5 exactly: one step
+        (500.000000002, 1),  # the branched eigen-solve's rounding of hswl's 500 1/s (issue 33)
+        (500.0 * (1 + 2e-6), 2),  # beyond the slack: 0.500001 is a real excess
+        (1e-3, 1),
+        (0.0, 1),  # a slow (or no) mode still takes one step
+        (1499.0, 3),
+        (1500.0, 3),
+        (1501.0, 4),
+    ],
+)
 def test_substeps_keep_h_lambda_at_the_step_limit(rate, expected):
     """ceil(dt·λ / 0.5) up to a relative 1e-6: with dt = 1 ms, 500 1/s is one step."""
     assert substeps_for(rate, 1e-3) == expected

@@ -24,7 +24,7 @@ def references_move(plan: BranchPlan) -> bool:
     if plan.offsets[B.O_RAMP] >= 0 or np.any(plan.df[:, B.D_TAPER_KIND] != 0.0):
         return True
     for p in plan.cells[:, 1]:
-        values = plan.prof_v[plan.prof_off[p]:plan.prof_off[p + 1]]
+        values = plan.prof_v[plan.prof_off[p] : plan.prof_off[p + 1]]
         if np.ptp(values) > 0.0:
             return True
     return False
@@ -45,7 +45,7 @@ def fill_draw(plan: BranchPlan, point: BranchPoint) -> None:
             continue  # a dancer's position is no tension reference
         plan.refs[start, 1 + c] = refs0[k]
         prof_v = plan.prof_v.copy()
-        prof_v[plan.prof_off[p]:plan.prof_off[p + 1]] += STEP
+        prof_v[plan.prof_off[p] : plan.prof_off[p + 1]] += STEP
         moved_plan = dataclasses.replace(plan, prof_v=prof_v)
         moved = operating_point(moved_plan, 0.0)
         step = references(moved_plan, 0.0)[k] - refs0[k]  # STEP times the taper and ramp

@@ -37,9 +37,18 @@ def refs_rows(n_s: int, n_d: int) -> int:
 
 
 @jit
-def draw_factor(d: int, t: float, tick: int, istate: np.ndarray, di: np.ndarray,
-                cells: np.ndarray, refs: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
-                prof_off: np.ndarray) -> float:
+def draw_factor(
+    d: int,
+    t: float,
+    tick: int,
+    istate: np.ndarray,
+    di: np.ndarray,
+    cells: np.ndarray,
+    refs: np.ndarray,
+    prof_t: np.ndarray,
+    prof_v: np.ndarray,
+    prof_off: np.ndarray,
+) -> float:
     """Drive ``d``'s speed ratio now over its ratio at t = 0 (module docstring) at tick
     ``tick`` (time ``t`` [s]): each loadcell's reference is its profile at ``t`` times its
     drive's taper and ramp factor of the last tick (``I_FACTOR``); 1 at the first tick and
@@ -55,16 +64,26 @@ def draw_factor(d: int, t: float, tick: int, istate: np.ndarray, di: np.ndarray,
             k = refs[row, 1 + c]
             if k == 0.0:
                 continue
-            change = istate[owner, B.I_FACTOR] * profile_at(
-                cells[c, 1], t, prof_t, prof_v, prof_off) - refs[start, 1 + c]
+            change = (
+                istate[owner, B.I_FACTOR] * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off)
+                - refs[start, 1 + c]
+            )
             factor *= 1.0 + k * change if k < 0.0 else 1.0 / (1.0 - k * change)
     return factor
 
 
 @jit
-def start_references(t: float, tick: int, istate: np.ndarray, di: np.ndarray,
-                     cells: np.ndarray, refs: np.ndarray, prof_t: np.ndarray,
-                     prof_v: np.ndarray, prof_off: np.ndarray) -> None:
+def start_references(
+    t: float,
+    tick: int,
+    istate: np.ndarray,
+    di: np.ndarray,
+    cells: np.ndarray,
+    refs: np.ndarray,
+    prof_t: np.ndarray,
+    prof_v: np.ndarray,
+    prof_off: np.ndarray,
+) -> None:
     """At a run's first tick, after every drive set its factor: the loadcells' references as
     the loop reads them (a diameter calculator's taper at its own radius), so that a run
     whose references do not move keeps the draw of t = 0 exactly."""
@@ -74,4 +93,5 @@ def start_references(t: float, tick: int, istate: np.ndarray, di: np.ndarray,
     for owner in range(di.shape[0]):
         for c in range(di[owner, B.DI_CELLS], di[owner, B.DI_CELLS] + di[owner, B.DI_NCELLS]):
             refs[start, 1 + c] = istate[owner, B.I_FACTOR] * profile_at(
-                cells[c, 1], t, prof_t, prof_v, prof_off)
+                cells[c, 1], t, prof_t, prof_v, prof_off
+            )
