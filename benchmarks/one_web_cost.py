@@ -15,6 +15,10 @@ quiet.
 from __future__ import annotations
 
 import argparse
+import json
+import os
+import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -72,27 +76,64 @@ def general_tick(seconds: float, substeps: int | None) -> tuple[float, int]:
     return once(n_ticks) / n_ticks, steps
 
 
+def measure(seconds: float, repeat: int) -> dict[str, tuple[float, int]]:
+    """Best per-tick wall time [s] and sub-steps of each loop, alternated ``repeat`` times."""
+    best: dict[str, tuple[float, int]] = {}
+    for _ in range(repeat):
+        for name, run in (
+            ("chain", lambda: chain_tick(seconds)),
+            ("general", lambda: general_tick(seconds, None)),
+            ("general (2 sub-steps, before)", lambda: general_tick(seconds, 2)),
+        ):
+            cost, steps = run()
+            if name not in best or cost < best[name][0]:
+                best[name] = (cost, steps)
+    return best
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seconds", type=float, default=60.0)
     parser.add_argument("--repeat", type=int, default=5)
-    args = parser.parse_args()
-    best = {"chain": np.inf, "general": np.inf, "general (2 sub-steps, before)": np.inf}
-    steps = {}
-    for _ in range(args.repeat):
-        for name, run in (
-            ("chain", lambda: chain_tick(args.seconds)),
-            ("general", lambda: general_tick(args.seconds, None)),
-            ("general (2 sub-steps, before)", lambda: general_tick(args.seconds, 2)),
-        ):
-            cost, steps[name] = run()
-            best[name] = min(best[name], cost)
-    for name, cost in best.items():
-        print(f"hswl {name:32s} {cost * 1e9:7.0f} ns per tick ({steps[name]} sub-steps)")
-    print(
-        f"general / chain: {best['general'] / best['chain']:.2f} "
-        f"(before: {best['general (2 sub-steps, before)'] / best['chain']:.2f})"
+    parser.add_argument(
+        "--frozen",
+        help="a checkout of the commit before (its src/ is run in a subprocess, alternated "
+        "with this tree's, so both are measured in one run on the same machine state)",
     )
+    parser.add_argument("--json", action="store_true", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.json:
+        print(json.dumps(measure(args.seconds, args.repeat)))
+        return
+    trees = {"now": Path(__file__).parents[1]}
+    if args.frozen:
+        trees["before"] = Path(args.frozen)
+    best: dict[str, dict[str, tuple[float, int]]] = {tree: {} for tree in trees}
+    for _ in range(args.repeat):
+        for tree, root in trees.items():
+            env = {**os.environ, "PYTHONPATH": str(root / "src")}
+            out = subprocess.run(
+                [
+                    sys.executable,
+                    __file__,
+                    "--json",
+                    "--repeat",
+                    "1",
+                    "--seconds",
+                    str(args.seconds),
+                ],
+                env=env,
+                capture_output=True,
+                text=True,
+                check=True,
+            ).stdout
+            for name, (cost, steps) in json.loads(out.splitlines()[-1]).items():
+                if name not in best[tree] or cost < best[tree][name][0]:
+                    best[tree][name] = (cost, steps)
+    for tree, rows in best.items():
+        for name, (cost, steps) in rows.items():
+            print(f"{tree:6s} hswl {name:30s} {cost * 1e9:7.0f} ns per tick ({steps} sub-steps)")
+        print(f"{tree:6s} general / chain: {rows['general'][0] / rows['chain'][0]:.2f}")
 
 
 if __name__ == "__main__":
