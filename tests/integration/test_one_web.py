@@ -67,3 +67,20 @@ def test_one_web_reproduces_the_chain_after_a_tension_step(one_web):
 def test_one_web_reproduces_the_chain_where_nothing_differed(one_web, scenario):
     """A steady run and a speed ramp (measured 4e-13 and 8e-13 N before and after)."""
     assert _tension_gap(one_web, scenario, 5.0) < 1e-9
+
+
+def test_a_session_reference_step_moves_the_draw_as_in_the_chain(one_web):
+    """``Session.set_reference`` steps span2's reference 25 % up mid-run: the general loop's
+    session fills its draw coefficients whatever its file's references do, so its process
+    drive's feedforward steps with the reference as the chain's does; 1 s on, the tensions
+    agree to 1e-9 N as in the scenario above."""
+    chain, general = webline.Session("hswl"), webline.Session(one_web)
+    for session in (chain, general):
+        session.step(200)
+        session.set_reference("span2.tension", 80.0)
+        session.step(1000)
+    ran, held = general.result(), chain.result()
+    n = min(len(ran.time), len(held.time))  # (one session also records the state at its end)
+    assert np.array_equal(ran.time[:n], held.time[:n]) and n >= 1200
+    gap = np.abs(ran.dataset.tension.values[:n] - held.tension[:n])
+    assert float(np.max(gap)) < 1e-9

@@ -30,13 +30,14 @@ def references_move(plan: BranchPlan) -> bool:
     return False
 
 
-def fill_draw(plan: BranchPlan, point: BranchPoint) -> None:
+def fill_draw(plan: BranchPlan, point: BranchPoint, *, always: bool = False) -> None:
     """Fill ``plan.refs``' draw rows (``loop.draw``) from ``point``, the operating point at
-    t = 0, and one more per loadcell with its reference ``STEP`` higher; nothing where the
-    references never move or no drive is a PI (the others follow ``loop.decentral``)."""
+    t = 0, and one more per loadcell with its reference ``STEP`` higher, for the PI and user
+    drives (the decentralized ones follow ``loop.decentral``); nothing where no reference
+    moves during the run, unless ``always`` (a ``Session``, whose references a user sets)."""
     n_s, n_d = len(plan.line.spans), plan.di.shape[0]
-    pi = plan.di[:, B.DI_FAMILY] == B.FAMILY_PI
-    if not np.any(pi) or not references_move(plan):
+    pi = np.isin(plan.di[:, B.DI_FAMILY], (B.FAMILY_PI, B.FAMILY_USER))
+    if not np.any(pi) or not (always or references_move(plan)):
         return
     first, start = draw_rows(n_s, n_d)
     refs0 = references(plan, 0.0)
