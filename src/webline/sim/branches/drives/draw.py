@@ -57,3 +57,14 @@ def fill_draw(plan: BranchPlan, point: BranchPoint, *, always: bool = False) -> 
             # a numerator (1 - ε_a) is linear in its reference, a denominator's reciprocal is
             plan.refs[first + d, 1 + c] = ((1.0 - r0 / r1) if r1 > r0 else (r1 / r0 - 1.0)) / step
     plan.refs[start, 0] = 1.0
+
+
+def draw_coefficients(plan: BranchPlan) -> np.ndarray:
+    """k_dc (``loop.draw``) per drive and loadcell, filling the plan's draw rows first where
+    they are empty (the linear model's reference inputs: ∂(v ratio_d)/∂ref_c = v ratio_d k_dc,
+    as the chain's draw term −V/(EA − T₀), docs/errata.md)."""
+    n_s, n_d = len(plan.line.spans), plan.di.shape[0]
+    first, start = draw_rows(n_s, n_d)
+    if plan.refs[start, 0] == 0.0:
+        fill_draw(plan, operating_point(plan, 0.0), always=True)
+    return plan.refs[first:first + n_d, 1:].copy()
