@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import argparse
 import gc
-import math
 import os
 import platform
 import statistics
@@ -41,7 +40,8 @@ import plain_scipy
 import webline
 from webline.sim.core import kernel
 from webline.sim.core.plan import compile_plan, equilibrium_plan_state
-from webline.sim.simulate import MAX_RECORDS, choose_substeps
+from webline.sim.linear.steps import record_every
+from webline.sim.simulate import choose_substeps
 
 DURATION = 60.0
 TARGET_RATIO = 20.0
@@ -107,7 +107,7 @@ def main(argv: list[str] | None = None) -> int:
     plan = compile_plan(line)
     n_ticks = round(DURATION / plan.dt)
     substeps = choose_substeps(plan)
-    every = max(1, math.ceil((n_ticks + 1) / MAX_RECORDS))
+    every = record_every(n_ticks, plan.dt)
     x0, istate0 = equilibrium_plan_state(plan)
 
     def kernel_call() -> object:

@@ -22,9 +22,9 @@ from webline.sim.branches.linear import fastest_rate
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.kernel import new_records
 from webline.sim.branches.plan import compile_branches
-from webline.sim.branches.run import STEP_LIMIT
 from webline.sim.core import kernel
 from webline.sim.core.plan import compile_plan, equilibrium_plan_state
+from webline.sim.linear.steps import substeps_for
 from webline.sim.simulate import choose_substeps
 
 
@@ -49,7 +49,7 @@ def laminator_cost(seconds: float, repeat: int) -> tuple[float, int, int]:
     """(best ns per state per rhs, states, sub-steps) of the laminator's compiled loop."""
     plan = compile_branches(webline.load_line("laminator"))
     point = operating_point(plan)
-    substeps = max(1, int(np.ceil(plan.dt * fastest_rate(plan, point) / STEP_LIMIT)))
+    substeps = substeps_for(fastest_rate(plan, point), plan.dt)
     plan.df[:, B.D_FF] = point.ratio
     n_ticks = round(seconds / plan.dt)
     n_d = plan.di.shape[0]

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import typer
 
-from webline.cli_common import BadInput, open_output, parse_sets
+from webline.cli_common import BadInput, open_output, parse_sets, progress_bar
 from webline.files import atomic_write
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.report.results_file import results_name
@@ -42,8 +42,9 @@ def run_branched(source: str | BranchedLine, seconds: float | None, scenario: st
         seconds = line.spec.scenarios[scenario].duration
     from webline.sim.user_objects import branched_controllers
 
-    result = simulate_branches(line, seconds, raise_on_failure=False,
-                               controller=branched_controllers(line, None))
+    with progress_bar(not quiet, f"simulating {line.name}") as progress:
+        result = simulate_branches(line, seconds, raise_on_failure=False,
+                                   controller=branched_controllers(line, None), progress=progress)
     from webline.report.branch_report import write_branch_report
 
     results = folder.claim(name)  # NetCDF: with the resolved line file (line_spec)

@@ -85,10 +85,11 @@ def test_noise_and_ripples_in_chunks_are_the_run_in_one_piece(monkeypatch):
 
 def test_a_wound_in_ripple_enters_the_unwinds_span_as_its_equation_says():
     """The unwind's first span (B1), L dT/dt = EA (v_b - v_a) + s_in v_a - T v_b, with the
-    wound-in tension s_in = 280 N + 20 N sin(2π 2 Hz t) held over each 1 ms tick, integrated
-    on its own from the recorded speeds of the unwind and the guide, gives the run's tension
-    to 0.1 % of its ripple (measured 3e-5: the speeds are linear between records, the
-    kernel's RK4 stages see its own); and the ripple is at 2 Hz."""
+    wound-in tension s_in = 280 N + 20 N sin(2π 2 Hz t) at each RK4 stage's time (the
+    chain's rule, docs/errata.md "One loop"), integrated on its own from the recorded speeds
+    of the unwind and the guide, gives the run's tension to 0.1 % of its ripple (measured
+    3e-5: the speeds are linear between records, the kernel's RK4 stages see its own); and
+    the ripple is at 2 Hz."""
     ripple = {"type": "wound_in_ripple", "amplitude": 20.0, "frequency": 2.0}
     ds = webline.simulate(load_branched(_slitter(ripple)), 4.0).dataset
     t = ds.time.values
@@ -97,12 +98,12 @@ def test_a_wound_in_ripple_enters_the_unwinds_span_as_its_equation_says():
     ea, length, dt = 281.25e3, 2.0, t[1] - t[0]
     own = np.empty_like(first)
     own[0] = first[0]
-    for n in range(len(t) - 1):  # RK4 over each tick, s_in held, speeds linear in between
-        s_in = 280.0 + 20.0 * np.sin(2 * np.pi * 2.0 * t[n])
+    for n in range(len(t) - 1):  # RK4 over each tick, speeds linear in between
 
-        def rate(x: float, share: float, n: int = n, s_in: float = s_in) -> float:
+        def rate(x: float, share: float, n: int = n) -> float:
             va = v_a[n] + share * (v_a[n + 1] - v_a[n])
             vb = v_b[n] + share * (v_b[n + 1] - v_b[n])
+            s_in = 280.0 + 20.0 * np.sin(2 * np.pi * 2.0 * (t[n] + share * dt))
             return (ea * (vb - va) + s_in * va - x * vb) / length
 
         k1 = rate(own[n], 0.0)

@@ -41,14 +41,17 @@ def test_film_modulus_grid_in_the_layer_upset(upset) -> None:
     # 1e-2 N allows the ~1e-3 N the zone sits off its reference before the step
     np.testing.assert_allclose(film, 30.0, atol=1e-2)
     # the laminate (EA_L = EA_film + EA_foil) grows stiffer with the film: L dT/dt = EA_L Δv,
-    # the same nip speed error gives a larger tension response. Measured 6.30, 6.45, 6.64 N:
-    # steps of 0.15 N and more, far above the solver's 1e-9 N
+    # the same nip speed error gives a larger tension response. Measured 5.91, 6.09, 6.29 N
+    # (6.30, 6.45, 6.64 N with the draw held, E-B4): steps of 0.18 N and more, far above
+    # the solver's 1e-9 N
     assert np.all(np.diff(lam) > 0.1)
     # the foil feels the upset only through the nip's speed, which stiffer film and laminate
-    # spans on either side of the nip hold tighter: its dip shrinks, 8.69, 8.62, 7.80 N
-    assert np.all(np.diff(foil) < -0.05)
-    # the baseline case is the line's own run (docs/branching.md: the foil dips 8.6 N)
-    assert foil[1] == pytest.approx(8.6, abs=0.05)
+    # spans on either side of the nip hold tighter: its dip shrinks, 9.12, 9.08, 8.22 N
+    # (with the film drives' draw following the step, docs/errata.md E-B4; 8.69, 8.62,
+    # 7.80 N when it was held): steps of 0.039 N and more, far above the solver's 1e-9 N
+    assert np.all(np.diff(foil) < -0.02)
+    # the baseline case is the line's own run (docs/branching.md: the foil dips 9.1 N)
+    assert foil[1] == pytest.approx(9.08, abs=0.05)
 
 
 def test_steady_nip_leaves_the_foil_zone_alone() -> None:

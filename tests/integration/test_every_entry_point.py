@@ -31,7 +31,6 @@ LINES = ("hswl", "converter", "laminator", "slitter")
 REFUSED = {
     "replay": ("line", "a twin's traces drive and are matched to a single-path line's signals"),
     "fit": ("line", "a twin's traces drive and are matched to a single-path line's signals"),
-    "gym randomize": ("randomize", "not yet supported for a branched line"),
 }
 
 #: what every run's result offers, whatever its line (``webline.RunResult``)
@@ -219,13 +218,7 @@ def test_gym_make_with_randomize(line) -> None:
     import webline.gym  # (registers webline/Line-v0)
 
     randomize = {a_length(line): "normal(1, 5 %)"}
-    if line.branched:
-        with pytest.raises(webline.ArgumentError) as info:
-            gymnasium.make("webline/Line-v0", line=line.name, duration=0.05, randomize=randomize)
-        refusal(info.value, "gym randomize")
-        env = gymnasium.make("webline/Line-v0", line=line.name, duration=0.05)
-    else:
-        env = gymnasium.make("webline/Line-v0", line=line.name, duration=0.05, randomize=randomize)
+    env = gymnasium.make("webline/Line-v0", line=line.name, duration=0.05, randomize=randomize)
     observation, _ = env.reset(seed=0)
     observation, reward, *_ = env.step(env.action_space.sample() * 0.0)
     assert np.all(np.isfinite(observation)) and np.isfinite(reward)

@@ -58,7 +58,7 @@ def test_a_branched_line_passes_the_checker_and_holding_the_equilibrium_costs_li
     error below 1 %: -reward < 3 x 1e-4 + effort)."""
     from gymnasium.utils.env_checker import check_env
 
-    import webline.gym
+    import webline.gym  # noqa: F401
 
     env = gymnasium.make("webline/Line-v0", line="laminator", duration=0.05, ticks_per_step=5)
     check_env(env.unwrapped, skip_render_check=True)
@@ -72,5 +72,24 @@ def test_a_branched_line_passes_the_checker_and_holding_the_equilibrium_costs_li
             a.context.drives[0] for a in env.unwrapped.agents.values()))
         assert -reward <= 3e-4 + 0.01 * effort + 1e-12
     assert info["verdict"] in ("ok", "warning") and info["t"] == pytest.approx(0.05)
-    with pytest.raises(webline.ArgumentError, match="randomize: not yet supported"):
-        gymnasium.make("webline/Line-v0", line="laminator", randomize={"x": "normal(1, 5 %)"})
+
+
+def test_randomize_on_a_branched_line_reaches_the_simulated_web() -> None:
+    """Domain randomisation on the laminator (issue 33): each reset draws the film's EA by
+    its path; the same seed draws the same; the drawn value is the stiffness of every film
+    span the session's loop integrates (SI, to the bit)."""
+    import webline.gym  # noqa: F401
+    from webline.sim.branches.loop import layout as B
+
+    env = gymnasium.make("webline/Line-v0", line="laminator", duration=0.01,
+                         randomize={"webs.film.web.ea": "normal(103.5 kN, 5 %)"})
+    _, a = env.reset(seed=7)
+    plan = env.unwrapped.session.plan
+    film = plan.line.web_spans(0)
+    assert np.all(plan.sf[film, B.SF_EA] == a["parameters"]["webs.film.web.ea"])
+    assert abs(a["parameters"]["webs.film.web.ea"] / 103.5e3 - 1.0) < 0.25  # 5 sigma
+    _, b = env.reset(seed=7)
+    _, c = env.reset(seed=8)
+    assert a["parameters"] == b["parameters"] != c["parameters"]
+    obs, *_ = env.step(np.zeros(3))
+    assert np.all(np.isfinite(obs))

@@ -57,8 +57,8 @@ class LineEnv(gymnasium.Env):
     """A webline line as a Gymnasium environment (module docstring).
 
     ``line``: a built-in name, a file, a ``Line`` or a branched line (its drives' readings
-    as a user controller's: a shaft of lanes reads the sum of its lanes; no ``randomize``
-    yet); ``drives``: the names the agent
+    as a user controller's: a shaft of lanes reads the sum of its lanes; ``randomize`` by
+    its paths, ``BranchedLine.replace``); ``drives``: the names the agent
     commands (default: every tension-controlling drive); ``scenario``; ``duration`` [s] of an
     episode; ``ticks_per_step``; ``action_scale`` [-]; ``tension_weight``, ``effort_weight``
     [-]; ``randomize``: {line path: distribution}.
@@ -74,9 +74,6 @@ class LineEnv(gymnasium.Env):
         self.base: Any
         loaded = load_line(line)
         if loaded.branched:  # docs/controllers.md, "On a branched line"
-            if randomize:
-                raise ArgumentError("randomize: not yet supported for a branched line (its "
-                                    "parameters have no replace by path yet)")
             self.base = loaded
             rollers = self.base.spec.rollers
             names = [rollers[i].name for i in self.base.drives]

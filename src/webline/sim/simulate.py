@@ -14,7 +14,6 @@ from typing import TYPE_CHECKING, overload
 import numpy as np
 
 from webline.errors import (
-    ArgumentError,
     ControllerError,
     LineFileError,
     SimulationError,
@@ -30,6 +29,7 @@ from webline.sim.elements.web_state import slip_column
 from webline.sim.linear import budget
 from webline.sim.linear.fastest import slip_rates
 from webline.sim.linear.linearize import fastest_mode
+from webline.sim.linear.steps import STEP_LIMIT, record_every, substeps_for, too_stiff
 from webline.sim.results.failure import Failure, kernel_failure
 from webline.sim.results.result import Result
 from webline.sim.user_control import Group, builtin_stand_in, run_user, user_groups, user_plan
@@ -40,11 +40,6 @@ if TYPE_CHECKING:  # a single-path run does not import the branched line's modul
     from webline.model.web_graph import BranchedLine
     from webline.sim.branches.result import BranchResult
 
-#: RK4 sub-steps are chosen so that h·|λ|max stays below this (RK4 is accurate to ~1e-4 per
-#: step there and stable up to 2.78).
-STEP_LIMIT = 0.5
-#: Default cap on stored records; longer runs are decimated (the integration is not).
-MAX_RECORDS = 200_000
 
 
 #: Ticks of the first chunk of a run; later chunks are sized from its wall time.
@@ -56,10 +51,6 @@ CHUNK_SECONDS = 0.1
 #: ``status`` code of a run stopped by KeyboardInterrupt (the kernel's codes are >= 0).
 STATUS_INTERRUPTED = -1
 
-#: Most RK4 sub-steps per controller period before a line is refused as too stiff.
-MAX_SUBSTEPS = 200
-
-
 def choose_substeps(plan: Plan, rate: float | None = None) -> int:
     """RK4 sub-steps per controller period ``plan.dt`` [s]: enough for the plan's fastest mode
     (``rate`` [1/s] if already known, else ``linearize.fastest_mode``) and for the spans round
@@ -67,12 +58,12 @@ def choose_substeps(plan: Plan, rate: float | None = None) -> int:
     line, dt = plan.line, plan.dt
     rate = fastest_mode(plan) if rate is None else rate
     for i, rate_i, key in slip_rates(line):
-        if dt * rate_i / STEP_LIMIT > MAX_SUBSTEPS:
+        if too_stiff(rate_i, dt):
             raise LineFileError(line.source, key, (
                 f"web slip over {line.node_name(i)} would need a step below "
                 f"{STEP_LIMIT / rate_i:.2g} s; raise the viscous traction coefficient"))
         rate = max(rate, rate_i)
-    return max(1, math.ceil(dt * rate / STEP_LIMIT))
+    return substeps_for(rate, dt)
 
 
 def next_chunk(count: int, seconds: float, n_ticks: int, progress: bool) -> int:
@@ -180,13 +171,10 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
     A branched line (``[[webs]]``; docs/branching.md) runs through
     ``sim.branches`` and returns a ``BranchResult`` (an xarray Dataset and a verdict per web
     and lane; a user ``controller`` per drive or for all, docs/controllers.md "On a branched
-    line"); ``progress`` is not yet supported there.
+    line"); ``progress`` is called there too, after each chunk of the run.
     """
     line = load_line(line)
     if line.branched:
-        if progress is not None:
-            raise ArgumentError("progress: not yet supported for a branched line (its run "
-                                "returns to Python in chunks of 20 000 ticks)")
         from webline.sim.branches.run import simulate_branches  # scipy: only when needed
         from webline.sim.user_objects import branched_controllers
 
@@ -194,7 +182,8 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
         return simulate_branches(line, duration, scenario=scenario,
                                  sample_rate=sample_rate, substeps=substeps,
                                  record_interval=record_interval,
-                                 raise_on_failure=raise_on_failure, controller=controller)
+                                 raise_on_failure=raise_on_failure, controller=controller,
+                                 progress=progress)
     duration, sample_rate, record_interval = (  # units and checks as the CLI's
         None if value is None else argument(value, kind, name, within=key)
         for value, kind, name, key in ((duration, "time", "duration", "scenario.duration"),
@@ -215,10 +204,7 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
     else:
         substeps = whole_argument(substeps, "substeps", 1,
                                   "expected a whole number of RK4 steps per controller period")
-    if record_interval is None:
-        every = max(1, math.ceil((n_ticks + 1) / MAX_RECORDS))
-    else:
-        every = max(1, round(record_interval / plan.dt))
+    every = record_every(n_ticks, plan.dt, record_interval)
     columns = kernel.record_width(plan.n_x, plan.drives.shape[0], line.n_nodes)
     budget.check_work(line, budget.estimate(n_ticks, substeps, every, columns), plan.dt,
                       sample_rate_given=sample_rate is not None)

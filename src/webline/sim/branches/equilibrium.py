@@ -48,7 +48,7 @@ class BranchPoint:
     line_speed: float
 
 
-def _references(plan: BranchPlan, t: float, radii: np.ndarray | None = None) -> np.ndarray:
+def references(plan: BranchPlan, t: float, radii: np.ndarray | None = None) -> np.ndarray:
     """Each loadcell span's reference [N] at ``t``, times its drive's taper at the roll's
     starting radius (or ``radii`` [m] per roll) and the tension ramp's factor."""
     refs = np.full(len(plan.line.spans), np.nan)
@@ -90,7 +90,11 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
                             plan.offsets[B.O_TORQUE])
     off_c = plan.offsets[B.O_CORE]
     shafts = set(plan.cores[:, B.C_NODE].tolist())
-    refs = _references(plan, t, radii)
+    friction = nodes is plan.nodes  # (False: the frictionless line of a start from rest)
+    if np.any(nodes[:, B.N_ECC] != 0.0):  # out-of-round rollers turn at their mean arm r
+        nodes = nodes.copy()  # (as the chain's operating point; docs/errata.md, issue 33)
+        nodes[:, B.N_ECC] = 0.0
+    refs = references(plan, t, radii)
     t_scale = float(np.nanmean(np.abs(refs))) if np.any(np.isfinite(refs)) else 1.0
     x = np.zeros(plan.n_x)
     for j, roll in enumerate(plan.line.rolls):
@@ -165,7 +169,7 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
                 out[row] = (x[off_w + i] - fastest) / w_scale[i]
                 continue
             if plan.di[d, B.DI_WINDER] == B.WINDER_OPEN:  # its torque, not its zone (W4)
-                out[row] = (cmd[d] - open_loop_torque(plan, d, x, refs, t, nodes is plan.nodes)
+                out[row] = (cmd[d] - open_loop_torque(plan, d, x, refs, t, friction)
                             ) / tq_scale[d]
                 continue
             first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]

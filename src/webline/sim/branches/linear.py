@@ -23,6 +23,7 @@ from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches.dancer_views import linear_states as dancer_linear_states
 from webline.sim.branches.dancer_views import load_column, reading_row
 from webline.sim.branches.drives.decentral import ensure_prepared, linear_rows
+from webline.sim.branches.drives.draw import draw_coefficients
 from webline.sim.branches.drives.drive_trains import train_states
 from webline.sim.branches.drives.observer import observer_names, observer_rows
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
@@ -160,6 +161,7 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
     off_w = plan.offsets[B.O_OMEGA]
     felt = felt_tension_rows(plan, point, radii)
     kept = kept_states(plan, radii)
+    draw = draw_coefficients(plan)  # the feedforward's draw follows the references
     for d in range(n_d):
         i, row = int(plan.di[d, B.DI_NODE]), plan.df[d]
         if plan.di[d, B.DI_FAMILY] != B.FAMILY_PI:  # state feedback, adaptive
@@ -169,6 +171,7 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
         # e_v = v_line ff + σ (kp_t e_t + q_t) - r ω,  e_t = Σ (ref_c - T_c)
         ev_x, ev_q, ev_r = np.zeros(n_x), np.zeros(n_q), np.zeros(n_r)
         ev_r[0] = point.ratio[d]
+        ev_r[1:] += point.line_speed * point.ratio[d] * draw[d]  # (loop.draw, errata E-B4)
         motor = int(plan.di[d, B.DI_TSTATE])
         if motor >= 0 and row[B.D_FEEDBACK] > 0:  # the motor's encoder: ω_m / n
             kept = kept_states(plan, radii)

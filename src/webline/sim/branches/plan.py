@@ -26,6 +26,7 @@ from webline.sim.branches.laminate_tables import layer_columns
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.control import held_inputs
 from webline.sim.branches.loop.dancer_taper import taper_loads
+from webline.sim.branches.loop.draw import refs_rows
 from webline.sim.branches.loop.kernel import compiled_advance
 from webline.sim.branches.loop.plant import node_inertia, work_size
 from webline.sim.branches.traction import traction_columns
@@ -55,7 +56,7 @@ class BranchPlan:
     [N·m] per node (``held`` gives them at a time). ``lawi``, ``lawf``, ``laws``, ``kv``: the
     web laws' terms and Kelvin-Voigt spans (``sim.branches.web_laws``; empty: linear elastic).
     ``fb``, ``refs``: the decentralized families' gains and references (``layout`` FB_*,
-    filled by ``decentral.prepare``)."""
+    filled by ``decentral.prepare``; the PI drives' draw rows by ``drives.draw``, ``loop.draw``)."""
 
     line: BranchedLine
     offsets: np.ndarray
@@ -256,7 +257,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
                       np.concatenate([v for _, v in profiles]), offs, 1.0 / rate,
                       RUNAWAY_SPEED_FACTOR * top + RUNAWAY_SPEED_FLOOR, lawi, lawf, laws, kv,
                       np.zeros((n_d, B.FB_COLS)),
-                      np.zeros((n_s + n_d + 2, 1 + len(cells))))
+                      np.zeros((refs_rows(n_s, n_d), 1 + len(cells))))
     _tune(plan)
     zone_gains(line, plan.di, plan.df, plan.cells, zone_compliance)
     return plan

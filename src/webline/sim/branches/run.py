@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import numpy as np
@@ -11,6 +11,7 @@ import numpy as np
 from webline.errors import ControllerError, SimulationError
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches.drives.decentral import prepare, start_memory
+from webline.sim.branches.drives.draw import fill_draw
 from webline.sim.branches.drives.observer import start_observers
 from webline.sim.branches.equilibrium import BranchPoint, operating_point
 from webline.sim.branches.findings.break_verdict import detection
@@ -21,14 +22,9 @@ from webline.sim.branches.loop.kernel import new_records
 from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.branches.result import BranchResult
 from webline.sim.branches.winder import initial_compensation
+from webline.sim.linear.steps import MAX_SUBSTEPS, record_every, substeps_for
 from webline.spec.ranges import argument, whole_argument
 
-#: RK4 sub-steps keep h·|λ|max below this, as the chain's ``sim.simulate.STEP_LIMIT``
-STEP_LIMIT = 0.5
-#: most sub-steps per controller period before a line is refused as too stiff
-MAX_SUBSTEPS = 200
-#: default cap on stored records (longer runs are decimated, not the integration)
-MAX_RECORDS = 200_000
 #: controller ticks per call of the compiled loop (a run returns to Python between two)
 CHUNK = 20_000
 
@@ -37,7 +33,8 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
                       scenario: str | None = None, sample_rate: float | str | None = None,
                       substeps: int | None = None, record_interval: float | str | None = None,
                       raise_on_failure: bool = True,
-                      controller: object | Mapping[str, object] | None = None) -> BranchResult:
+                      controller: object | Mapping[str, object] | None = None,
+                      progress: Callable[[float], None] | None = None) -> BranchResult:
     """Simulate a branched line for ``duration`` [s] from its operating point at t = 0.
 
     Arguments as ``webline.simulate`` (``scenario`` applies a named scenario, whose duration
@@ -48,7 +45,9 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     ``raise_on_failure=False``, returns it with its ``failure`` set). ``controller``: a
     user's controller for every drive or a dict drive name -> controller (docs/controllers.md,
     "On a branched line"; ``sim.branches.user``): the run goes one tick at a time through
-    Python, and a controller that fails stops it with ``ControllerError``.
+    Python, and a controller that fails stops it with ``ControllerError``. ``progress``, if
+    given, is called with the fraction done (0..1) after each chunk (then at most 1 % of the
+    run, as the chain's).
     """
     line = load_branched(line)
     duration = None if duration is None else argument(duration, "time", "duration")
@@ -62,8 +61,7 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     duration = 10.0 if duration is None else duration
     plan, point, substeps = plan_and_step(line, rate, substeps)
     n_ticks = max(1, round(duration / plan.dt))
-    every = (max(1, math.ceil((n_ticks + 1) / MAX_RECORDS)) if every_s is None
-             else max(1, round(every_s / plan.dt)))
+    every = record_every(n_ticks, plan.dt, every_s)
     x, istate = start_state(plan, point)
     n_d = plan.di.shape[0]
     rec = new_records(n_ticks, every, plan.n_x, n_d)
@@ -77,9 +75,10 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
         plan, (x, istate, wound, done, cmd) = users.plan, users.live
     status, t_fail, n_rec, tick = B.STATUS_OK, math.nan, 0, 0
     interrupted = False
+    chunk = CHUNK if progress is None else min(CHUNK, max(1000, math.ceil(n_ticks / 100)))
     try:  # in chunks: Ctrl-C is seen between two, and the run keeps what it computed
         while tick < n_ticks and status == B.STATUS_OK:
-            count = min(CHUNK, n_ticks - tick)
+            count = min(chunk, n_ticks - tick)
             if users is None:
                 stored, status, t_fail = plan.run(x, istate, wound, done, rec[n_rec:], cmd,
                                                   tick, count, substeps, every,
@@ -89,6 +88,8 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
                                                             tick + count == n_ticks)
             n_rec += stored
             tick += count
+            if progress is not None:
+                progress(tick / n_ticks)
     except KeyboardInterrupt:
         if users is not None:  # (the ticks of the user run's chunk so far)
             n_rec += users.stored_in_chunk
@@ -119,8 +120,9 @@ def plan_and_step(line: BranchedLine, rate: float | None,
     plan = compile_branches(line, rate)
     prepare(plan)  # the decentralized drives' designs and references (none: nothing)
     point = operating_point(plan)
+    fill_draw(plan, point)  # the PI drives' draw follows their references (loop.draw)
     if substeps is None:
-        substeps = max(1, math.ceil(plan.dt * fastest_rate(plan, point) / STEP_LIMIT))
+        substeps = substeps_for(fastest_rate(plan, point), plan.dt)
         if substeps > MAX_SUBSTEPS:
             raise SimulationError(f"{line.name}: the line's fastest mode needs {substeps} "
                                   f"RK4 steps per controller period (at most {MAX_SUBSTEPS})")

@@ -28,8 +28,9 @@ from webline.sim.branches.equilibrium import operating_point
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.plan import compile_branches
 from webline.sim.branches.result import BranchResult
-from webline.sim.branches.run import MAX_RECORDS, STEP_LIMIT, fastest_rate, simulate_branches
+from webline.sim.branches.run import fastest_rate, simulate_branches
 from webline.sim.linear import budget
+from webline.sim.linear.steps import record_every, substeps_for
 from webline.sim.results.metrics import METRICS, run_metrics
 from webline.sim.sweeps.cases import case_value, path_unit, probe_values
 from webline.sim.sweeps.sweep_dataset import _coordinate
@@ -98,10 +99,8 @@ def _case_work(line: BranchedLine, seconds: float) -> budget.Work | None:
     except (WeblineError, ValueError, ArithmeticError):
         return None
     ticks = max(1, round(seconds / plan.dt))
-    substeps = max(1, math.ceil(plan.dt * rate / STEP_LIMIT))
-    every = max(1, math.ceil((ticks + 1) / MAX_RECORDS))
-    return budget.estimate(ticks, substeps, every,  # a record: t, x, commands, radii
-                           1 + plan.n_x + 2 * plan.di.shape[0])
+    return budget.estimate(ticks, substeps_for(rate, plan.dt), record_every(ticks, plan.dt),
+                           1 + plan.n_x + 2 * plan.di.shape[0])  # a record: t, x, commands, radii
 
 
 def branch_line_scale(base: BranchedLine, path: str,

@@ -23,7 +23,6 @@ follow from them (``batch_rates``).
 from __future__ import annotations
 
 import functools
-import math
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -40,7 +39,8 @@ from webline.sim.core.plan import Plan, compile_plan, equilibrium_plan_state
 from webline.sim.linear import budget
 from webline.sim.linear.fastest import DENSE_STATES
 from webline.sim.linear.linearize import fastest_mode, plan_linear_model
-from webline.sim.simulate import MAX_RECORDS, choose_substeps
+from webline.sim.linear.steps import record_every
+from webline.sim.simulate import choose_substeps
 from webline.spec.check import check_spec
 from webline.spec.paths import set_parts, split_path
 from webline.spec.ranges import range_for
@@ -233,7 +233,7 @@ def build_cases(base: Line, cases: Sequence[Mapping[str, object]], duration: flo
         ticks = max(1, round(duration / plan.dt))
         built.n_ticks.append(ticks)
         built.substeps.append(choose_substeps(plan, rate))
-        built.every.append(max(1, math.ceil((ticks + 1) / MAX_RECORDS)))  # as simulate's
+        built.every.append(record_every(ticks, plan.dt))  # as simulate's
         columns = kernel.record_width(plan.n_x, plan.drives.shape[0], plan.line.n_nodes)
         budget.check_work(plan.line, budget.estimate(ticks, built.substeps[-1], built.every[-1],
                                                      columns), plan.dt)  # as run refuses

@@ -11,7 +11,6 @@ costs more in combination is still checked when it is built (``cases.build_cases
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 from webline.limits import CASE_BYTES
@@ -19,8 +18,9 @@ from webline.line import Line
 from webline.sim.core import kernel
 from webline.sim.core.plan import compile_plan
 from webline.sim.linear import budget
+from webline.sim.linear.steps import record_every
 from webline.sim.results.metrics import METRICS
-from webline.sim.simulate import MAX_RECORDS, choose_substeps
+from webline.sim.simulate import choose_substeps
 
 
 def case_work(line: Line, duration: float) -> budget.Work:
@@ -28,7 +28,7 @@ def case_work(line: Line, duration: float) -> budget.Work:
     checking it with ``budget.check_work`` (``LineFileError`` naming the key beyond it)."""
     plan = compile_plan(line)
     ticks = max(1, round(duration / plan.dt))
-    every = max(1, math.ceil((ticks + 1) / MAX_RECORDS))
+    every = record_every(ticks, plan.dt)
     columns = kernel.record_width(plan.n_x, plan.drives.shape[0], line.n_nodes)
     work = budget.estimate(ticks, choose_substeps(plan), every, columns)
     budget.check_work(line, work, plan.dt)

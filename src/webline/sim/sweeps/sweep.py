@@ -25,7 +25,7 @@ from webline.line import Line, load_line
 from webline.model.lines import load_line as load_any
 from webline.model.web_graph import BranchedLine
 from webline.sim.core.plan import compile_plan
-from webline.sim.simulate import MAX_RECORDS
+from webline.sim.linear.steps import record_every
 from webline.sim.sweeps.batch import BatchOutput, run_batch
 from webline.sim.sweeps.branch_study import (
     branch_base,
@@ -86,7 +86,7 @@ def run_cases(line: Line | str | Path, cases: Sequence[Mapping[str, object]], *,
     if record_s is not None:
         # a multiple of the record interval, so every trace point is a record
         ticks = max(1, round(duration / base_plan.dt))
-        step = max(1, math.ceil((ticks + 1) / MAX_RECORDS))
+        step = record_every(ticks, base_plan.dt)
         trace_every = step * max(1, round(record_s / (base_plan.dt * step)))
         n_trace = ticks // trace_every + 1
     out = Collector(base_plan.line, len(cases), list(dict.fromkeys(p for c in cases for p in c)),

@@ -21,6 +21,7 @@ from webline.sim.branches.loop.break_limits import (
 from webline.sim.branches.loop.breaks import break_monitor, fade_trim, held_command
 from webline.sim.branches.loop.dancer import position_error, sensed_tension
 from webline.sim.branches.loop.decentral import decentral_command, reference_changes
+from webline.sim.branches.loop.draw import draw_factor, start_references
 from webline.sim.branches.loop.observer import observe
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.loop.user import user_tick
@@ -49,6 +50,30 @@ def held_inputs(t: float, wound: np.ndarray, held: np.ndarray, n_w: int, dist: n
         elif kind == B.DIST_DANCER_LOAD:  # a dancer's load: slot index (docs/branching.md)
             held[index] = dist[r, B.DS_B] * profile_at(int(dist[r, B.DS_A]), t, prof_t, prof_v,
                                                         prof_off)
+
+
+@jit
+def wound_ripples(dist: np.ndarray) -> bool:
+    """Whether any web's wound-in tension carries a ripple (``held_wound`` then has work)."""
+    for r in range(dist.shape[0]):  # noqa: SIM110 (compiled: no generator)
+        if int(dist[r, B.DS_KIND]) == B.DIST_WOUND_RIPPLE:
+            return True
+    return False
+
+
+@jit
+def held_wound(t: float, wound: np.ndarray, held: np.ndarray, dist: np.ndarray) -> None:
+    """The wound-in tension of each web with a ripple at ``t`` [s], into ``held``: a roll's
+    wound-in tension is a continuous function of time, so each RK4 stage reads it at its own
+    time (as the chain's ``wound_in``; held over a tick it lags by half a tick and costs RK4
+    its order, docs/errata.md, issue 33). Drags and dancer loads stay held over the tick,
+    like the commands."""
+    for r in range(dist.shape[0]):
+        if int(dist[r, B.DS_KIND]) == B.DIST_WOUND_RIPPLE:
+            held[int(dist[r, B.DS_INDEX])] = wound[int(dist[r, B.DS_INDEX])]
+    for r in range(dist.shape[0]):
+        if int(dist[r, B.DS_KIND]) == B.DIST_WOUND_RIPPLE:
+            held[int(dist[r, B.DS_INDEX])] += sines(dist[r:r + 1, B.DS_A:B.DS_C + 1], t)
 
 
 @jit
@@ -163,7 +188,9 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
         istate[d, B.I_FACTOR] = factor  # (the decentralized drives' references read it)
         if di[d, B.DI_FAMILY] != B.FAMILY_PI:  # state feedback, adaptive, MRAC
             if di[d, B.DI_FAMILY] == B.FAMILY_USER:  # a user's Python controller (loop.user)
-                cmd[d] = user_tick(d, i, t, tick, dt, v_meas, radius, v_line, a_line, factor,
+                draw = draw_factor(d, t, tick, istate, di, cells, refs, prof_t, prof_v, prof_off)
+                cmd[d] = user_tick(d, i, t, tick, dt, v_meas, radius, v_line * draw, a_line,
+                                   factor,
                                    stopping, x, istate, offsets, nodes, rolls, di, df, cells,
                                    dist, prof_t, prof_v, prof_off, sigma_t, seed, noisy)
                 continue
@@ -192,7 +219,8 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
         for r in range(dist.shape[0]):
             if int(dist[r, B.DS_KIND]) == B.DIST_SPEED_RIPPLE and int(dist[r, B.DS_INDEX]) == d:
                 ripple += sines(dist[r:r + 1, B.DS_A:B.DS_C + 1], t)
-        e_v = v_line * df[d, B.D_FF] + ripple + trim - v_meas
+        draw = draw_factor(d, t, tick, istate, di, cells, refs, prof_t, prof_v, prof_off)
+        e_v = v_line * df[d, B.D_FF] * draw + ripple + trim - v_meas
         gain = 1.0
         if df[d, B.D_ADAPTIVE] > 0.0:  # speed gains follow the roll's inertia
             inertia = node_inertia(i, x, offsets, nodes, rolls) + TR.reflected_motor(d, di, df)
@@ -222,3 +250,4 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
         if not (saturated and df[d, B.D_SIGMA] * e_t * raw > 0.0):
             istate[d, B.I_TENSION] += df[d, B.D_KIT] * e_t * dt
         cmd[d] = u if comp == 0.0 else _saturate(u + comp, df[d, B.D_LIMIT])
+    start_references(t, tick, istate, di, cells, refs, prof_t, prof_v, prof_off)

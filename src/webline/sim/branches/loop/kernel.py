@@ -13,7 +13,7 @@ import numpy as np
 
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.breaks import cut
-from webline.sim.branches.loop.control import control_tick, held_inputs
+from webline.sim.branches.loop.control import control_tick, held_inputs, held_wound, wound_ripples
 from webline.sim.branches.loop.dancer_taper import taper_loads
 from webline.sim.branches.loop.laminate import beyond_strength, cut_layers
 from webline.sim.branches.loop.plant import rhs
@@ -69,6 +69,7 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
     h = dt / substeps
     n_rec = 0
     off_w, off_r = offsets[B.O_OMEGA], offsets[B.O_RADIUS]
+    rippled = wound_ripples(dist)  # wound-in ripples: evaluated at each RK4 stage's time
     for j in range(n_ticks + 1):
         t = (tick0 + j) * dt
         if j == n_ticks and not include_end:  # the next chunk starts with this tick
@@ -105,9 +106,12 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             break
         if offsets[B.O_SLIP]:  # stick or slip for this tick, held over its stages
             update_slip(t, dt, measured, offsets, nodes)
-        for _ in range(substeps):
+        for s in range(substeps):
             for stage in range(4):
                 state = x if stage == 0 else tmp
+                if rippled:  # (the stage's time: t_s, t_s + h/2 twice, t_s + h)
+                    at = 0.0 if stage == 0 else 1.0 if stage == 3 else 0.5
+                    held_wound(t + (s + at) * h, wound, held, dist)
                 rhs(state, cmd, held, offsets, nodes, si, sf, layers, rolls, webs, di, df,
                     cores, clutch, lawi, lawf, laws, kv, stages[stage], work)
                 if stage < 3:

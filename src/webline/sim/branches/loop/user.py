@@ -83,7 +83,8 @@ def user_tick(d: int, i: int, t: float, tick: int, dt: float, v_meas: float, rad
               prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray, sigma_t: float,
               seed: int, noisy: bool) -> float:
     """User drive ``d``'s (node ``i``) command [N·m] at its tick, as ``control_tick`` issues a
-    cascaded PI's: its speed reference line speed ``v_line`` x draw + its speed ripple
+    cascaded PI's: its speed reference line speed ``v_line`` (times the change of its draw,
+    ``loop.draw``) x its draw at the start + its speed ripple
     [m/s]; once the line has stopped after a break, the hold (W8) instead; a centre winder's
     compensation at the line's acceleration ``a_line`` [m/s²] added (``user_command``)."""
     ripple = 0.0

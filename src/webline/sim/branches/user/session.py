@@ -13,6 +13,7 @@ import numpy as np
 
 from webline.errors import ArgumentError, ControllerError, SimulationError
 from webline.model.web_graph import BranchedLine
+from webline.sim.branches.drives.draw import fill_draw
 from webline.sim.branches.findings.break_verdict import detection
 from webline.sim.branches.findings.web_findings import strength_failure
 from webline.sim.branches.loop import layout as B
@@ -48,6 +49,7 @@ class BranchSession:
         if scenario is not None:
             line = line.with_scenario(scenario)
         plan, point, self.substeps = plan_and_step(line, sample_rate, substeps)
+        fill_draw(plan, point, always=True)  # set_reference moves the draw as a step would
         x, istate = start_state(plan, point)
         self._loop = BranchUserLoop(plan, point, branch_groups(line, controller), x, istate,
                                     plan.wound.copy(), np.zeros(len(plan.events)),
