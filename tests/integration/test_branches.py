@@ -40,8 +40,11 @@ def test_laminator_starts_at_its_operating_point_and_stays_there():
     # operating point's tolerance, 1e-13 relative, with margin)
     assert laminate == pytest.approx(layers, rel=1e-9)
     frame = result.to_dataframe()
-    assert list(frame.columns) == [s.name for s in result.plan.line.spans]
-    assert frame["laminate_zone"].iloc[0] == laminate
+    # one row per record, every signal (webline.RunResult): each span's tension a column
+    assert len(frame) == ds.sizes["time"]
+    spans = [f"tension[{s.name}]" for s in result.plan.line.spans]
+    assert [c for c in frame.columns if c.startswith("tension[")] == spans
+    assert frame["tension[laminate_zone]"].iloc[0] == laminate
     # bonded layers (issue 35): each keeps the strain it came into the nip with, and with
     # no draw across the nip (180 N = 120 + 60) each layer's strain in the laminate is its
     # own zone's
