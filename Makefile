@@ -17,8 +17,14 @@ $(STAMP): pyproject.toml
 run: $(STAMP)
 	$(BIN)/webline run hswl --scenario speed-change --out out/hswl
 
+# The suite runs on every core (pytest-xdist, one test file per worker so that a file's
+# fixtures are built once), then the tests marked `serial` (timed or signal-sensitive) alone;
+# both parts always run and either failing fails the target.
 test: $(STAMP)
-	$(BIN)/python -m pytest -q
+	status=0; \
+	$(BIN)/python -m pytest -q -n auto --dist loadfile -m "not serial" || status=1; \
+	$(BIN)/python -m pytest -q -m serial || status=1; \
+	exit $$status
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks examples

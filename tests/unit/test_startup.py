@@ -7,6 +7,12 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import pytest
+
+# serial: start-up is what these tests guard; run beside the parallel suite's workers they
+# would compete for its cores (and later tests here time it)
+pytestmark = pytest.mark.serial
+
 HEAVY = ("pint", "numba", "scipy", "control", "matplotlib", "xarray", "pandas", "h5py",
          "distributed")
 
