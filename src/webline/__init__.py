@@ -35,6 +35,7 @@ if TYPE_CHECKING:
     from webline.sim.session import Session
     from webline.sim.simulate import simulate
     from webline.sim.sweeps.sweep import monte_carlo, sweep
+    from webline.compile_ahead import warm
 
 #: where each lazily imported name lives
 _LAZY = {
@@ -52,6 +53,7 @@ _LAZY = {
     "Session": "webline.sim.session",
     "sweep": "webline.sim.sweeps.sweep",
     "monte_carlo": "webline.sim.sweeps.sweep",
+    "warm": "webline.compile_ahead",
 }
 #: names of the twin and studies layers (above this one): looked up on first use only, so
 #: importing ``webline`` never imports the layers above it (docs/architecture.md)
@@ -92,6 +94,7 @@ __all__ = [
     "simulate_reference",
     "sweep",
     "tune",
+    "warm",
 ]
 
 

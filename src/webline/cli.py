@@ -45,6 +45,7 @@ from webline.cli_common import (
 from webline.cli_sweep import sweep_command
 from webline.cli_tune import experiment_command, tune_command
 from webline.cli_twin import fit_command, replay_command
+from webline.cli_warm import warm_command
 from webline.version import __version__
 
 # The simulation, analysis and report layers are imported inside the commands that use them,
@@ -330,6 +331,7 @@ app.command("fit")(handles_errors(fit_command))
 app.command("tune")(handles_errors(tune_command))
 app.command("experiment")(handles_errors(experiment_command))
 app.command("benchmark")(handles_errors(benchmark_command))
+app.command("warm")(handles_errors(warm_command))
 
 
 def main() -> None:
