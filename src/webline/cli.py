@@ -114,10 +114,14 @@ def run(
     (diverged), 130 interrupted by Ctrl-C, 143 by SIGTERM (what was computed is written, status
     interrupted).
     """
-    from webline.spec.load import file_is_branched
+    # a TOML sniff, no schema: the report's process forks before pydantic and the line load
+    from webline.spec.source import file_is_branched
 
     if file_is_branched(line):  # stage 1 of branched lines: its own files (docs/branching.md)
         from webline.cli_branches import run_branched
+        from webline.report.early import drop_ahead
+
+        drop_ahead()
 
         run_branched(line, _duration(duration), scenario, out, force, quiet,
                      svg=svg, units=units.value, sets=sets, data_format=data_format.value,
@@ -126,7 +130,9 @@ def run(
         return
     from webline.report.early import Reporter
 
-    reporter = Reporter.start()  # first: it loads the report's libraries while we simulate
+    # first (or forked by main before the arguments were parsed): it loads the report's
+    # libraries while we simulate
+    reporter = Reporter.take()
     try:
         from webline.report.outputs import default_folder
         from webline.report.run_output import write_run
@@ -196,7 +202,7 @@ def validate(line: LineArg) -> None:
     cannot act, speed loops soft against the web) and exit 0."""
     from webline.line import load_line
     from webline.model.web_graph import load_branched
-    from webline.spec.load import file_is_branched
+    from webline.spec.source import file_is_branched
 
     if file_is_branched(line):  # docs/branching.md
         branched = load_branched(line)
@@ -254,7 +260,7 @@ def show(line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None
     from webline.cli_branches import show_branched, write_schematic
     from webline.report.text.describe import line_tables
     from webline.report.text.display import Display
-    from webline.spec.load import file_is_branched
+    from webline.spec.source import file_is_branched
 
     if file_is_branched(line):  # docs/branching.md, "Report"
         print_tables(show_branched(line, scenario, schematic, units.value, sets), _console())
@@ -341,6 +347,10 @@ def main() -> None:
     closed), the process ends without Python's module teardown, which takes 0.6-1 s after
     numba, scipy and matplotlib are loaded; exit handlers and output buffers still run."""
     with sigterm_as_interrupt() as terminated:
+        if sys.argv[1:2] == ["run"]:  # the report's process forks before typer loads pydantic
+            from webline.report.early import fork_ahead
+
+            fork_ahead()
         try:
             app(prog_name="webline")
             code: object = 0
