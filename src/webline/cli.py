@@ -42,6 +42,7 @@ from webline.cli_common import (
     progress_bar,
     sigterm_as_interrupt,
 )
+from webline.cli_hints import WeblineGroup
 from webline.cli_sweep import sweep_command
 from webline.cli_tune import experiment_command, tune_command
 from webline.cli_twin import fit_command, replay_command
@@ -52,7 +53,8 @@ from webline.version import __version__
 # so that `webline --version` and `webline --help` start in a fraction of a second.
 
 app = typer.Typer(
-    name="webline", add_completion=False, no_args_is_help=True, rich_markup_mode=None,
+    cls=WeblineGroup, name="webline", add_completion=False, no_args_is_help=True,
+    rich_markup_mode=None,
     pretty_exceptions_enable=False,
     help="Simulate and analyse roll-to-roll (web handling) lines described in line files. "
     "Exit status: 0 ok or warning, 1 failed run, 2 bad input, 3 unstable (analyze; run: also "
@@ -356,6 +358,9 @@ def main() -> None:
             code: object = 0
         except SystemExit as done:
             code = done.code
+        finally:  # a copy no command took (--help, a usage error): end it, or exit waits on it
+            if "webline.report.early" in sys.modules:
+                sys.modules["webline.report.early"].drop_ahead()
     if terminated() and code == INTERRUPTED:  # stopped by SIGTERM rather than Ctrl-C
         code = TERMINATED
     end_process(code)
