@@ -25,6 +25,7 @@ from webline.errors import (
 from webline.version import __version__
 
 if TYPE_CHECKING:
+    from webline.compile_ahead import warm
     from webline.line import Line, load_line
     from webline.model.operating_point import OperatingPoint, operating_point
     from webline.model.web_graph import BranchedLine, load_branched
@@ -35,7 +36,6 @@ if TYPE_CHECKING:
     from webline.sim.session import Session
     from webline.sim.simulate import simulate
     from webline.sim.sweeps.sweep import monte_carlo, sweep
-    from webline.compile_ahead import warm
 
 #: where each lazily imported name lives
 _LAZY = {

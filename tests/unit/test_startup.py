@@ -67,7 +67,8 @@ def test_run_forks_its_report_process_before_loading_the_schema(tmp_path) -> Non
     """``webline run`` forks the report's process first (issue 37): when it forks, neither
     pydantic nor the line's schema has been imported (the line's kind comes from a TOML sniff,
     ``webline.spec.source``), so the copy starts importing matplotlib at once."""
-    code = ("import sys; import webline.report.early as early; real = early.Reporter.start.__func__\n"
+    code = ("import sys; import webline.report.early as early\n"
+            "real = early.Reporter.start.__func__\n"
             "def spy(cls):\n"
             "    seen = [m for m in ('pydantic', 'webline.spec.schema', 'webline.spec.load', "
             "'numba', 'pint') if m in sys.modules]\n"

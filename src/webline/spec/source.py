@@ -63,8 +63,9 @@ def read_text(source: str | Path) -> tuple[str, str]:
         except OSError as exc:
             raise LineFileError(label, "(file)", f"cannot read: {exc.strerror or exc}") from None
         if len(raw) > MAX_FILE_BYTES:
-            raise LineFileError(label, "(file)",
-                                f"larger than a line file may be ({MAX_FILE_BYTES} bytes)")
+            raise LineFileError(
+                label, "(file)", f"larger than a line file may be ({MAX_FILE_BYTES} bytes)"
+            )
         if b"\0" in raw:
             raise LineFileError(label, "(file)", "contains NUL bytes: not a text file")
         try:
@@ -74,8 +75,9 @@ def read_text(source: str | Path) -> tuple[str, str]:
     name = str(source)
     if name not in builtin_lines():
         known = ", ".join(builtin_lines())
-        raise LineFileError(clip(name, 100), "(name)",
-                            f"no such file or built-in line (built-in: {known})")
+        raise LineFileError(
+            clip(name, 100), "(name)", f"no such file or built-in line (built-in: {known})"
+        )
     label = f"{name}.toml (built-in)"
     return resources.files(BUILTIN_PACKAGE).joinpath(f"{name}.toml").read_text("utf-8"), label
 
