@@ -9,7 +9,8 @@ ratio means more than the seconds):
 * ``webline --version``: the CLI's start-up (goal: at most 3x ``import numpy``);
 * ``webline run hswl --scenario speed-change``: the main job with a warm numba cache (one
   unmeasured run first compiles and caches the loop), writing results, figures, summary and
-  report to a temporary folder (goal: at most 1.5 s wall on the project's 2-core machine);
+  report to a temporary folder (goal: at most 1.5 s wall on the project's 2-core machine),
+  and its CPU time with the report's processes (issue 37's goal: at most 1.6 s);
   and, for comparison, the same command with its report written in the command's process, as
   before ``webline.report.early`` (the report's own process turned off).
 
@@ -22,6 +23,7 @@ while the line is simulated, and draws the figures while the results file is wri
 from __future__ import annotations
 
 import argparse
+import resource
 import statistics
 import subprocess
 import sys
@@ -67,12 +69,21 @@ print(f"  {'all of the above, one after another':48s} {clock[-1] - clock[0]:6.3f
 
 def wall(command: list[str], repeat: int) -> float:
     """Median wall time [s] of ``repeat`` runs of ``command`` (each must succeed)."""
-    times = []
+    return timed(command, repeat)[0]
+
+
+def timed(command: list[str], repeat: int) -> tuple[float, float]:
+    """Median wall time and median CPU time (user + system of the process and every process
+    it waited for: the report's copies) [s] of ``repeat`` runs of ``command``."""
+    times, cpus = [], []
     for _ in range(repeat):
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
         start = time.perf_counter()
         subprocess.run(command, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         times.append(time.perf_counter() - start)
-    return statistics.median(times)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpus.append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
+    return statistics.median(times), statistics.median(cpus)
 
 
 def main() -> None:
@@ -85,7 +96,7 @@ def main() -> None:
         wall([*WEBLINE, *job], 1)  # compiles and caches the loop for this line's structure
         numpy = wall([sys.executable, "-c", "import numpy"], args.repeat)
         version = wall([*WEBLINE, "--version"], args.repeat)
-        main_job = wall([*WEBLINE, *job], max(3, args.repeat // 2))
+        main_job, main_cpu = timed([*WEBLINE, *job], max(3, args.repeat // 2))
         one_process = wall([*WEBLINE_ONE_PROCESS, *job], max(3, args.repeat // 2))
         phases = subprocess.run([sys.executable, "-c", PHASES, folder], check=True,
                                 capture_output=True, text=True).stdout
@@ -94,6 +105,8 @@ def main() -> None:
           f"   goal <= 3x: {'met' if version <= 3 * numpy else 'NOT met'}")
     print(f"webline run hswl --scenario speed-change   {main_job:7.3f} s   "
           f"{main_job / numpy:5.2f}x   goal <= 1.5 s: {'met' if main_job <= 1.5 else 'NOT met'}")
+    print(f"  its CPU time (the command and its report's processes) {main_cpu:6.3f} s   "
+          f"goal <= 1.6 s: {'met' if main_cpu <= 1.6 else 'NOT met'}")
     print(f"  the same, report drawn in the command's process {one_process:6.3f} s   "
           f"(the report's process saves {one_process - main_job:.2f} s)")
     print("the main job's steps, one after another in one fresh process (wall):")

@@ -25,6 +25,7 @@ from webline.errors import (
 from webline.version import __version__
 
 if TYPE_CHECKING:
+    from webline.compile_ahead import warm
     from webline.line import Line
     from webline.model.lines import load_line
     from webline.model.operating_point import OperatingPoint, operating_point
@@ -54,6 +55,7 @@ _LAZY = {
     "Session": "webline.sim.session",
     "sweep": "webline.sim.sweeps.sweep",
     "monte_carlo": "webline.sim.sweeps.sweep",
+    "warm": "webline.compile_ahead",
 }
 #: names of the twin and studies layers (above this one): looked up on first use only, so
 #: importing ``webline`` never imports the layers above it (docs/architecture.md)
@@ -94,6 +96,7 @@ __all__ = [
     "simulate_reference",
     "sweep",
     "tune",
+    "warm",
 ]
 
 

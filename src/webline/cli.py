@@ -42,17 +42,20 @@ from webline.cli_common import (
     progress_bar,
     sigterm_as_interrupt,
 )
+from webline.cli_hints import WeblineGroup
 from webline.cli_roll import taper_command
 from webline.cli_sweep import sweep_command
 from webline.cli_tune import experiment_command, tune_command
 from webline.cli_twin import fit_command, replay_command
+from webline.cli_warm import warm_command
 from webline.version import __version__
 
 # The simulation, analysis and report layers are imported inside the commands that use them,
 # so that `webline --version` and `webline --help` start in a fraction of a second.
 
 app = typer.Typer(
-    name="webline", add_completion=False, no_args_is_help=True, rich_markup_mode=None,
+    cls=WeblineGroup, name="webline", add_completion=False, no_args_is_help=True,
+    rich_markup_mode=None,
     pretty_exceptions_enable=False,
     help="Simulate and analyse roll-to-roll (web handling) lines described in line files. "
     "Exit status: 0 ok or warning, 1 failed run, 2 bad input, 3 unstable (analyze; run: also "
@@ -119,6 +122,9 @@ def run(
     loaded = load_line(line)
     if loaded.branched:  # its own files (docs/branching.md)
         from webline.cli_branches import run_branched
+        from webline.report.early import drop_ahead
+
+        drop_ahead()
 
         run_branched(loaded, _duration(duration), scenario, out, force, quiet,
                      svg=svg, units=units.value, sets=sets, data_format=data_format.value,
@@ -127,7 +133,9 @@ def run(
         return
     from webline.report.early import Reporter
 
-    reporter = Reporter.start()  # first: it loads the report's libraries while we simulate
+    # first (or forked by main before the arguments were parsed): it loads the report's
+    # libraries while we simulate
+    reporter = Reporter.take()
     try:
         from webline.report.outputs import default_folder
         from webline.report.run_output import write_run
@@ -332,6 +340,7 @@ app.command("tune")(handles_errors(tune_command))
 app.command("experiment")(handles_errors(experiment_command))
 app.command("taper")(handles_errors(taper_command))
 app.command("benchmark")(handles_errors(benchmark_command))
+app.command("warm")(handles_errors(warm_command))
 
 
 def main() -> None:
@@ -341,11 +350,18 @@ def main() -> None:
     closed), the process ends without Python's module teardown, which takes 0.6-1 s after
     numba, scipy and matplotlib are loaded; exit handlers and output buffers still run."""
     with sigterm_as_interrupt() as terminated:
+        if sys.argv[1:2] == ["run"]:  # the report's process forks before typer loads pydantic
+            from webline.report.early import fork_ahead
+
+            fork_ahead()
         try:
             app(prog_name="webline")
             code: object = 0
         except SystemExit as done:
             code = done.code
+        finally:  # a copy no command took (--help, a usage error): end it, or exit waits on it
+            if "webline.report.early" in sys.modules:
+                sys.modules["webline.report.early"].drop_ahead()
     if terminated() and code == INTERRUPTED:  # stopped by SIGTERM rather than Ctrl-C
         code = TERMINATED
     end_process(code)

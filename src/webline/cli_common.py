@@ -243,6 +243,11 @@ def progress_bar(enabled: bool, label: str) -> Iterator[Callable[[float], None] 
         yield None
         return
     waiting = "loading the line's compiled loop (compiled once per line structure)"
+    from webline.compile_ahead import FIRST_COMPILE_CPU_S, cache_is_empty
+
+    if cache_is_empty():  # the first run of this webline version: say what the wait is
+        waiting = (f"compiling the simulation loop, once for this webline version (about "
+                   f"{FIRST_COMPILE_CPU_S['run hswl']:.0f} s of CPU; `webline warm` does it ahead)")
     columns = (TextColumn("{task.description}"), BarColumn(), TaskProgressColumn(),
                TimeElapsedColumn())
     with Progress(*columns, console=Console(stderr=True), transient=True) as bar:

@@ -26,6 +26,7 @@ from rich.progress import (
 from rich.table import Table as RichTable
 
 from webline.cli_common import Units, UnitsOpt, _duration, fail, open_output
+from webline.cli_hints import distribution_hint
 from webline.errors import ArgumentError
 from webline.spec.paths import split_values, toml_value
 
@@ -90,6 +91,9 @@ def parse_values(path: str, text: str) -> list[object]:
     raises ``ArgumentError`` naming the option."""
     if text.count(":") == 2 and "," not in text:
         return parse_range(path, text)
+    hint = distribution_hint(path, text)
+    if hint is not None:
+        raise ArgumentError(hint)
     values: list[object] = []
     for piece in split_values(text):
         try:

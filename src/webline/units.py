@@ -314,7 +314,7 @@ def _si_number(quantity: pint.Quantity, kind: str, value: object) -> float:
         wrong = True
     if wrong:
         raise ValueError(f"expected {_a(kind)} (e.g. {SI_UNITS[kind] or 'a plain number'}), "
-                         f"got {short(value)}")
+                         f"got {short(value)}{_force_unit_hint(quantity, kind, value)}")
     if not units:
         return float(quantity.magnitude)  # a plain number is SI
     if kind == "angular_frequency" and units & _CYCLE_UNITS:
@@ -322,6 +322,24 @@ def _si_number(quantity: pint.Quantity, kind: str, value: object) -> float:
     if kind == "frequency" and units & _ANGLE_UNITS:
         return float(quantity.to("rad/s").magnitude) / (2.0 * math.pi)  # rad/s -> cycles/s
     return float(quantity.to(SI_UNITS[kind]).magnitude)
+
+
+#: mass units written where their force unit was meant, and that force unit
+_MASS_AS_FORCE = re.compile(r"\b(?:(lbs?|pounds?|lbm)|(kg))\b")
+
+
+def _force_unit_hint(quantity: pint.Quantity, kind: str, value: object) -> str:
+    """": did you mean '9 lbf'? ..." where ``value`` wrote a mass unit (lb, lbs, kg) and its
+    force unit (lbf, kgf) gives ``kind`` (a force, a force per width...); "" otherwise."""
+    if not isinstance(value, str):
+        return ""
+    gravity = unit_registry.ureg().Quantity(1.0, "standard_gravity")
+    if (quantity * gravity).dimensionality != _dimensionality(kind):
+        return ""
+    fixed = _MASS_AS_FORCE.sub(lambda m: "lbf" if m.group(1) else "kgf", value)
+    if fixed == value:
+        return ""
+    return f": did you mean {short(fixed)}? (lb and kg are masses; lbf and kgf are forces)"
 
 
 def display_factor(kind: str, system: str) -> tuple[float, str]:

@@ -245,6 +245,7 @@ def test_line_file_bad_function_is_one_line_error(tmp_path: Path, controller: di
     assert says in str(info.value) and "rollers[4].controller" in str(info.value)
 
 
+@pytest.mark.serial  # timed: needs the CPU to itself
 def test_compiled_law_costs_little_more_than_the_builtin_pi() -> None:
     """The compiled user PI runs in the built-in loop: in one process, least CPU time of 5
     runs of 4 s of hswl, at most 3x the built-in PI (measured quiet: 1.3x; the strict 1.5x

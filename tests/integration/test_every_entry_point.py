@@ -215,7 +215,7 @@ def test_tune(line) -> None:
 def test_gym_make_with_randomize(line) -> None:
     import gymnasium
 
-    import webline.gym  # (registers webline/Line-v0)
+    import webline.gym  # noqa: F401  (registers webline/Line-v0)
 
     randomize = {a_length(line): "normal(1, 5 %)"}
     env = gymnasium.make("webline/Line-v0", line=line.name, duration=0.05, randomize=randomize)

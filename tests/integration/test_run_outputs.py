@@ -130,6 +130,7 @@ def test_symlinked_folder_or_file_is_refused(tmp_path):
 
 
 @pytest.mark.skipif(os.name != "posix", reason="sends SIGINT")
+@pytest.mark.serial  # timed: needs the CPU to itself
 def test_sigint_during_a_long_run_writes_partial_results_and_exits_130(tmp_path):
     """Three hours of the HSWL at 10 kHz control (~20 s of wall time or more), interrupted
     after its first chunks: exit 130, a readable results.nc with status interrupted and less

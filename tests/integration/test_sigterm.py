@@ -20,7 +20,9 @@ import xarray as xr
 import webline
 from webline.files import TEMP_PREFIX
 
-pytestmark = pytest.mark.skipif(os.name != "posix", reason="sends SIGTERM")
+# serial: each test times a signal sent after a run has started (seconds of wall time)
+pytestmark = [pytest.mark.skipif(os.name != "posix", reason="sends SIGTERM"),
+              pytest.mark.serial]
 ROOT = Path(__file__).resolve().parents[2]
 HSWL = resources.files("webline.data.lines").joinpath("hswl.toml").read_text("utf-8")
 

@@ -268,6 +268,7 @@ def chunks_run_cases():
     return run_cases
 
 
+@pytest.mark.serial  # timed: needs the CPU to itself
 def test_ctrl_c_on_a_local_cluster_stops_within_seconds(tmp_path) -> None:
     """The user's Ctrl-C reaches the whole process group: the command and its workers."""
     import signal

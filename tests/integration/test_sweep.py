@@ -191,6 +191,7 @@ def test_blocks_overlapping_on_threads_give_the_one_thread_results(monkeypatch) 
         np.testing.assert_array_equal(two[name].values, one[name].values, err_msg=name)
 
 
+@pytest.mark.serial  # timed: needs the CPU to itself
 def test_compiled_batch_releases_the_gil() -> None:
     # while a compiled batch runs in another thread, this thread keeps running Python. Were the
     # GIL held through a compiled call, this thread would stall for the whole call; released,

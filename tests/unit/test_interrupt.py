@@ -12,7 +12,9 @@ import pytest
 import webline
 from webline.sim.simulate import CHUNK_SECONDS
 
-pytestmark = pytest.mark.skipif(os.name != "posix", reason="sends SIGINT to itself")
+# serial: the signal must arrive within LATENCY, which a busy neighbour worker would stretch
+pytestmark = [pytest.mark.skipif(os.name != "posix", reason="sends SIGINT to itself"),
+              pytest.mark.serial]
 
 #: Wall time allowed between the signal and simulate's return [s]: one chunk (~0.1 s) plus
 #: assembling the result, with room for a machine shared by several processes.

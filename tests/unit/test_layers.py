@@ -47,7 +47,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("webline.cli", "webline.cli_analyze", "webline.cli_benchmark", "webline.cli_branches",
      "webline.cli_common",
      "webline.cli_roll", "webline.cli_sweep", "webline.cli_tune",
-     "webline.cli_twin"),
+     "webline.cli_twin", "webline.cli_warm", "webline.cli_hints"),
 )
 
 

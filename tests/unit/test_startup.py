@@ -7,6 +7,12 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import pytest
+
+# serial: start-up is what these tests guard; run beside the parallel suite's workers they
+# would compete for its cores (and later tests here time it)
+pytestmark = pytest.mark.serial
+
 HEAVY = ("pint", "numba", "scipy", "control", "matplotlib", "xarray", "pandas", "h5py",
          "distributed")
 
@@ -55,3 +61,22 @@ def test_a_single_path_run_imports_neither_xarray_nor_the_branched_line() -> Non
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=True)
     assert done.stdout.strip() == ""
+
+
+def test_run_forks_its_report_process_before_loading_the_schema(tmp_path) -> None:
+    """``webline run`` forks the report's process first (issue 37): when it forks, neither
+    pydantic nor the line's schema has been imported (the line's kind comes from a TOML sniff,
+    ``webline.spec.source``), so the copy starts importing matplotlib at once."""
+    code = ("import sys; import webline.report.early as early\n"
+            "real = early.Reporter.start.__func__\n"
+            "def spy(cls):\n"
+            "    seen = [m for m in ('pydantic', 'webline.spec.schema', 'webline.spec.load', "
+            "'numba', 'pint') if m in sys.modules]\n"
+            "    print('at fork:', ','.join(seen) or '-', file=sys.stderr, flush=True)\n"
+            "    return real(cls)\n"
+            "early.Reporter.start = classmethod(spy)\n"
+            "from webline.cli import main; sys.argv[0] = 'webline'; main()")
+    done = subprocess.run([sys.executable, "-c", code, "run", "hswl", "-d", "0.05", "-q",
+                           "--out", str(tmp_path / "run")], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert "at fork: -" in done.stderr.splitlines(), done.stderr

@@ -70,6 +70,7 @@ def test_intervals_of_a_hand_made_pattern():
     assert intervals(time, np.zeros(10, bool)).shape == (0, 2)
 
 
+@pytest.mark.serial  # timed: needs the CPU to itself
 def test_a_thousand_intervals_cost_no_python_loop():
     """1e6 records with 250 000 intervals: counted exactly, in well under a second."""
     import time as clock

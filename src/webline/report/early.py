@@ -90,6 +90,11 @@ class Reporter:
         theirs.close()
         return cls(process, mine)
 
+    @classmethod
+    def take(cls) -> Reporter | None:
+        """The copy ``fork_ahead`` forked, else a new one (``start``)."""
+        return _AHEAD.pop() if _AHEAD else cls.start()
+
     def submit(self, job: ReportJob) -> bool:
         """Hand ``job`` to the copy; False if it could not take it."""
         try:
@@ -124,3 +129,22 @@ class Reporter:
         if self._process.is_alive():
             self._process.terminate()
             self._process.join()
+
+
+#: the copy ``fork_ahead`` forked, until ``Reporter.take`` takes it
+_AHEAD: list[Reporter] = []
+
+
+def fork_ahead() -> None:
+    """Fork the copy now, before the command's arguments are parsed (``webline.cli.main`` for
+    ``webline run``; issue 37): typer's parsing imports pydantic, which the copy then does not
+    wait for. ``Reporter.take`` hands it to the command; ``drop_ahead`` ends it unused."""
+    reporter = Reporter.start()
+    if reporter is not None:
+        _AHEAD.append(reporter)
+
+
+def drop_ahead() -> None:
+    """End the copy ``fork_ahead`` forked, if it was not taken (a branched line's run)."""
+    while _AHEAD:
+        _AHEAD.pop().close()

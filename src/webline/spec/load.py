@@ -5,8 +5,6 @@ from __future__ import annotations
 import difflib
 import math
 import re
-import tomllib
-from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -18,23 +16,20 @@ from webline.spec.check import check_spec
 from webline.spec.locate import key_lines, locate
 from webline.spec.quantities import WEB_WIDTH
 from webline.spec.schema import LineSpec
+from webline.spec.source import (  # noqa: F401  (re-exported: callers import them from here)
+    BUILTIN_PACKAGE,
+    MAX_FILE_BYTES,
+    builtin_lines,
+    file_is_branched,
+    is_branched,
+    parse_toml,
+    read_any,
+    read_text,
+)
 from webline.units import clip, short, to_si
 
 if TYPE_CHECKING:  # imported where a branched line is read: a single-path run never pays it
     from webline.spec.branched.schema import BranchedLineSpec
-
-BUILTIN_PACKAGE = "webline.data.lines"
-
-
-def builtin_lines() -> dict[str, str]:
-    """Names of the built-in lines and the first line of each file's description."""
-    lines = {}
-    for entry in sorted(resources.files(BUILTIN_PACKAGE).iterdir(), key=lambda e: e.name):
-        if entry.name.endswith(".toml"):
-            data = tomllib.loads(entry.read_text(encoding="utf-8"))
-            lines[entry.name[:-5]] = str(data.get("description", "")).strip().split("\n")[0]
-    return lines
-
 
 _UNION_TAGS = {"constant", "ramp", "steps", "table", "unwind", "rewind", "driven", "idle",
                "wound_in_ripple", "eccentric_roller", "speed_ripple"}
@@ -89,8 +84,6 @@ def _problem(error: Any) -> str:
     return message
 
 
-#: Largest line file read [bytes]; the built-in lines are ~10 kB, 50 000 scenarios ~1.5 MB.
-MAX_FILE_BYTES = 2_000_000
 _SUFFIX = re.compile(r"^\[\[(.*?)\]\] ")  # a range validator's key suffix, see quantities.Strict
 #: every key the schema knows, for "did you mean" on an unknown key
 _ALL_KEYS: set[str] = set()
@@ -175,11 +168,6 @@ def spec_from_dict(data: Any, file: str = "<dict>") -> LineSpec:
     return spec
 
 
-def is_branched(data: Any) -> bool:
-    """Whether a line file's data is a branched line (``[[webs]]``, docs/branching.md)."""
-    return isinstance(data, dict) and "webs" in data
-
-
 def branched_from_dict(data: Any, file: str = "<dict>") -> BranchedLineSpec:
     """Validate a plain dict into a checked ``BranchedLineSpec`` (``LineFileError`` else)."""
     from webline.spec.branched.check import check_branched
@@ -218,12 +206,6 @@ def not_yet_branched(data: dict[str, Any]) -> list[str]:
     return keys
 
 
-def read_any(source: str | Path) -> tuple[dict[str, Any], str, str]:
-    """(TOML data, text, file label) of a line file path or a built-in line's name."""
-    text, label = read_text(source)
-    return _toml(text, label), text, label
-
-
 def parse_branched(data: dict[str, Any], text: str, label: str) -> BranchedLineSpec:
     """The checked branched spec of a line file's ``data``; problems carry their TOML line."""
     try:
@@ -235,50 +217,9 @@ def parse_branched(data: dict[str, Any], text: str, label: str) -> BranchedLineS
         ]) from None
 
 
-def read_text(source: str | Path) -> tuple[str, str]:
-    """(text, file label) of a line file path or a built-in line's name."""
-    path = Path(source)
-    if path.suffix == ".toml" or path.exists():
-        label = str(source)
-        try:
-            with path.open("rb") as handle:  # at most the limit, even from /dev/zero
-                raw = handle.read(MAX_FILE_BYTES + 1)
-        except FileNotFoundError:
-            raise LineFileError(label, "(file)", "no such file") from None
-        except OSError as exc:
-            raise LineFileError(label, "(file)", f"cannot read: {exc.strerror or exc}") from None
-        if len(raw) > MAX_FILE_BYTES:
-            raise LineFileError(label, "(file)",
-                                f"larger than a line file may be ({MAX_FILE_BYTES} bytes)")
-        if b"\0" in raw:
-            raise LineFileError(label, "(file)", "contains NUL bytes: not a text file")
-        try:
-            return raw.decode("utf-8-sig"), label  # a byte-order mark is fine
-        except UnicodeDecodeError as exc:
-            raise LineFileError(label, "(file)", f"not UTF-8 text (byte {exc.start})") from None
-    name = str(source)
-    if name not in builtin_lines():
-        known = ", ".join(builtin_lines())
-        raise LineFileError(clip(name, 100), "(name)",
-                            f"no such file or built-in line (built-in: {known})")
-    label = f"{name}.toml (built-in)"
-    return resources.files(BUILTIN_PACKAGE).joinpath(f"{name}.toml").read_text("utf-8"), label
-
-
-def _toml(text: str, label: str) -> dict[str, Any]:
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise LineFileError(label, "(syntax)", str(exc)) from None
-    except RecursionError:
-        raise LineFileError(label, "(syntax)", "arrays or tables nested too deeply") from None
-    except ValueError as exc:  # e.g. an integer of more than 4300 digits
-        raise LineFileError(label, "(syntax)", clip(str(exc), 200)) from None
-
-
 def parse_text(text: str, label: str) -> LineSpec:
     """The checked spec of a line file's ``text``; problems carry their TOML line."""
-    return parse_text_data(_toml(text, label), text, label)
+    return parse_text_data(parse_toml(text, label), text, label)
 
 
 def parse_text_data(data: dict[str, Any], text: str, label: str) -> LineSpec:

@@ -29,6 +29,71 @@ class StudyDataset(xr.Dataset):
         """xarray's repr: every dimension, coordinate, variable and attribute."""
         return xr.Dataset.__repr__(self)
 
+    def _case_dims(self) -> tuple[Any, ...] | None:
+        """The dimensions that number the cases (``case``, or a grid's parameter paths): those
+        of ``status``; None for a slice that lost it (xarray's own tables then)."""
+        return tuple(self["status"].dims) if "status" in self.data_vars else None
+
+    def metrics(self) -> Any:
+        """A tidy table (pandas): one row per case, metric and element (span, drive or node;
+        "" for a metric of the whole case) with columns: the case dimensions (``case`` or the
+        grid's parameter paths), every parameter coordinate, ``metric``, ``element`` and
+        ``value`` (SI). Text variables (``status``, ``headline``) are left to
+        ``to_dataframe``."""
+        import pandas as pd
+
+        cases = self._case_dims()
+        if cases is None:
+            raise ValueError("metrics() needs a study's Dataset (its 'status' variable)")
+        frame = self._case_table(cases)
+        parts = []
+        for name, da in self.data_vars.items():
+            if da.dtype.kind not in "fiub":
+                continue
+            extra = [d for d in da.dims if d not in cases]
+            if len(extra) > 1:  # no study metric has two element dimensions
+                raise ValueError(f"metric {name!r} has dimensions {da.dims}")
+            values = da.transpose(*cases, *extra).values.reshape(frame.shape[0], -1)
+            elements = [str(e) for e in da[extra[0]].values] if extra else [""]
+            for k, element in enumerate(elements):
+                part = frame.copy()
+                part["metric"], part["element"] = name, element
+                part["value"] = values[:, k]
+                parts.append(part)
+        return pd.concat(parts, ignore_index=True)
+
+    def to_dataframe(self, dim_order: Any = None) -> Any:
+        """One row per case (pandas): the case dimensions as index, every parameter
+        coordinate and every variable as columns, a per-element metric as one column per
+        element (``tension_rms_error[span2]``): no cross product of spans, drives and nodes.
+        With ``dim_order``, or for a slice without ``status``: xarray's own table."""
+        cases = self._case_dims()
+        if cases is None or dim_order is not None:
+            return xr.Dataset.to_dataframe(self, dim_order=dim_order)
+        frame = self._case_table(cases)
+        for name, da in self.data_vars.items():
+            extra = [d for d in da.dims if d not in cases]
+            values = da.transpose(*cases, *extra).values.reshape(frame.shape[0], -1)
+            if not extra:
+                frame[name] = values[:, 0]
+                continue
+            for k, element in enumerate(da[extra[0]].values):
+                frame[f"{name}[{element}]"] = values[:, k]
+        return frame.set_index(list(cases))
+
+    def _case_table(self, cases: tuple[Any, ...]) -> Any:
+        """A table of one row per case: the case dimensions' values and every coordinate
+        over the cases (the parameters of a Monte Carlo study, ``case`` of a grid)."""
+        import pandas as pd
+
+        index = pd.MultiIndex.from_product([self[d].values for d in cases], names=cases)
+        frame = index.to_frame(index=False)
+        for name, coord in self.coords.items():
+            if name not in cases and coord.dims and set(coord.dims) <= set(cases):
+                spread = coord.broadcast_like(self["status"]).transpose(*cases)
+                frame[name] = spread.values.reshape(-1)
+        return frame
+
 
 def as_study(ds: xr.Dataset) -> StudyDataset:
     """``ds``'s variables, coordinates and attributes as a ``StudyDataset`` (no copy of the
