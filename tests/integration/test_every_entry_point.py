@@ -160,7 +160,8 @@ def test_replay_and_fit(line, tmp_path: Path) -> None:
             with pytest.raises(webline.ArgumentError) as info:
                 call()
             refusal(info.value, entry)
-            done = CliRunner().invoke(app, [entry, line.name, str(tmp_path / "x.csv")])
+            extra = ["--free", "web.ea"] if entry == "fit" else []  # (fit's one required option)
+            done = CliRunner().invoke(app, [entry, line.name, str(tmp_path / "x.csv"), *extra])
             assert done.exit_code == 2 and done.output.count("\n") == 1, done.output
             assert REFUSED[entry][1] in done.output
         return
