@@ -35,13 +35,14 @@ def run_branched(source: str, seconds: float | None, scenario: str | None, out: 
     "On a branched line")."""
     display = branch_units(units)
     line = branched_line(source, scenario, sets, family)
+    from webline.sim.user_objects import branched_controllers, check_consent
+
+    check_consent(line)  # (before anything is written: a refusal is one line)
     name = results_name(data_format)  # type: ignore[arg-type]
     folder = open_output(out or Path("out") / (line.name + (f"-{scenario}" if scenario else "")),
                          force, "run", (name, "summary.json", FIGURE, REPORT))
     if seconds is None and scenario:
         seconds = line.spec.scenarios[scenario].duration
-    from webline.sim.user_objects import branched_controllers
-
     result = simulate_branches(line, seconds, raise_on_failure=False,
                                controller=branched_controllers(line, None))
     from webline.report.branch_report import write_branch_report

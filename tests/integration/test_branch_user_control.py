@@ -223,7 +223,7 @@ def test_run_takes_the_files_python_controller_and_the_controller_option(tmp_pat
     path = _laminator_with(tmp_path, 'controller = { type = "python", object = '
                                      '"user_pi_module.py:UserPI" }')
     out = tmp_path / "out"
-    ran = CliRunner().invoke(app, ["run", path, "-d", "0.3", "-o", str(out), "-q"])
+    ran = CliRunner().invoke(app, ["run", path, "-d", "0.3", "-o", str(out), "-q", "--allow-code"])
     assert ran.exit_code == 0, ran.output
     written = xr.open_dataset(out / "results.nc")["tension"].values
     # the file's python PI on the rewind, the compiled PI on the others: the built-in run
@@ -252,7 +252,8 @@ def test_a_bad_python_controller_in_a_branched_file_is_one_line_exit_2(
     from webline.cli import app
 
     path = _laminator_with(tmp_path, controller)
-    ran = CliRunner().invoke(app, ["run", path, "-d", "0.1", "-o", str(tmp_path / "o")])
+    ran = CliRunner().invoke(app, ["run", path, "-d", "0.1", "-o", str(tmp_path / "o"),
+                                   "--allow-code"])
     assert ran.exit_code == 2
     lines = [line for line in ran.output.splitlines() if line.strip()]
     assert len(lines) == 1 and key in lines[0] and problem in lines[0], ran.output

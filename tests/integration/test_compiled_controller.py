@@ -215,7 +215,7 @@ def test_line_file_function(tmp_path: Path) -> None:
     command = float(torque.params[0])
     path = _line_file(tmp_path, {"function": "laws.py:hold", "params": [command],
                                  "states": 1})
-    from_file = webline.simulate(webline.load_line(path), 0.2)
+    from_file = webline.simulate(webline.load_line(path), 0.2, allow_code=True)
     assert _worst(from_file.states, direct.states) < 1e-12  # the same law, the same run
 
 
@@ -226,7 +226,7 @@ def test_line_file_object_factory_of_a_compiled_law(tmp_path: Path) -> None:
     (tmp_path / "pi.py").write_text((EXAMPLES / "user_pi_numba.py").read_text())
     path = _line_file(tmp_path, {"object": "pi.py:cascaded_pi"})
     builtin = webline.simulate(webline.load_line("hswl"), 1.0)
-    assert _worst(webline.simulate(webline.load_line(path), 1.0).states,
+    assert _worst(webline.simulate(webline.load_line(path), 1.0, allow_code=True).states,
                   builtin.states) < 1e-9
 
 
@@ -241,7 +241,7 @@ def test_line_file_bad_function_is_one_line_error(tmp_path: Path, controller: di
     (tmp_path / "laws.py").write_text("def law(t, meas, refs, params, state, out):\n"
                                       "    out[0] = 0.0\n")
     with pytest.raises(LineFileError) as info:
-        webline.simulate(_line_file(tmp_path, controller), 0.1)
+        webline.simulate(_line_file(tmp_path, controller), 0.1, allow_code=True)
     assert says in str(info.value) and "rollers[4].controller" in str(info.value)
 
 
@@ -316,7 +316,7 @@ def test_cli_law_that_does_not_compile_exits_1_with_one_line(tmp_path: Path) -> 
                                       "    out[0] = 'fast'\n")
     path = _line_file(tmp_path, {"function": "laws.py:law"})
     done = subprocess.run([str(Path(sys.executable).parent / "webline"), "run", str(path),
-                           "--duration", "0.1", "-o", str(tmp_path / "out")],
+                           "--allow-code", "--duration", "0.1", "-o", str(tmp_path / "out")],
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 1, done.stderr
     lines = [s for s in (done.stdout + done.stderr).splitlines() if "numba cannot compile" in s]

@@ -51,7 +51,8 @@ class Snapshot:
 class Session:
     """``line`` at its operating point, advanced by ``step``. ``controller`` as in
     ``simulate`` (one object for every drive, or a dict per drive name); ``scenario``,
-    ``sample_rate`` [Hz] and ``substeps`` as there. Every tick is recorded (``result``).
+    ``sample_rate`` [Hz], ``substeps`` and ``allow_code`` (consent to the line file's own
+    Python code, docs/security.md) as there. Every tick is recorded (``result``).
     A branched line (``[[webs]]``) gives a ``sim.branches.user.session.BranchSession``, with
     the same methods and a ``BranchResult``."""
 
@@ -62,18 +63,19 @@ class Session:
             from webline.sim.user_objects import branched_controllers
 
             branched = load_branched(line)  # type: ignore[arg-type]
-            options["controller"] = branched_controllers(branched, options.get("controller"))
+            options["controller"] = branched_controllers(branched, options.get("controller"),
+                                                         options.pop("allow_code", None))
             return BranchSession(branched, **options)
         return super().__new__(cls)
 
     def __init__(self, line: Line | str | Path, *, controller: object | Mapping[str, object]
                  | None = None, scenario: str | None = None, sample_rate: float | None = None,
-                 substeps: int | None = None) -> None:
+                 substeps: int | None = None, allow_code: bool | None = None) -> None:
         line = load_line(line)
         if scenario is not None:
             line = line.with_scenario(scenario)
         plan = compile_plan(line, sample_rate=sample_rate)
-        groups = user_groups(line, controller, file_controllers(line))
+        groups = user_groups(line, controller, file_controllers(line, allow_code))
         self.substeps = substeps or choose_substeps(builtin_stand_in(plan))
         self.plan = user_plan(plan, [d for g in groups for d in g.drives]) if groups else plan
         x, istate = equilibrium_plan_state(self.plan)

@@ -139,7 +139,8 @@ def simulate(line: BranchedLine, duration: float | str | None = None, *,
              substeps: int | None = None, record_interval: float | str | None = None,
              progress: Callable[[float], None] | None = None,
              raise_on_failure: bool = True,
-             controller: object | Mapping[str, object] | None = None) -> BranchResult: ...
+             controller: object | Mapping[str, object] | None = None,
+             allow_code: bool | None = None) -> BranchResult: ...
 
 
 @overload
@@ -148,7 +149,8 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
              substeps: int | None = None, record_interval: float | str | None = None,
              progress: Callable[[float], None] | None = None,
              raise_on_failure: bool = True,
-             controller: object | Mapping[str, object] | None = None) -> Result: ...
+             controller: object | Mapping[str, object] | None = None,
+             allow_code: bool | None = None) -> Result: ...
 
 
 def simulate(line: Line | BranchedLine | str | Path, duration: float | str | None = None, *,
@@ -157,6 +159,7 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
              progress: Callable[[float], None] | None = None,
              raise_on_failure: bool = True,
              controller: object | Mapping[str, object] | None = None,
+             allow_code: bool | None = None,
              ) -> Result | BranchResult:
     """Simulate ``line`` for ``duration`` [s] from equilibrium at its initial references.
 
@@ -189,6 +192,12 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
     (``partial``: the run so far). The step is chosen for the line with its built-in
     controllers in place of the user's (``substeps`` overrides it).
 
+    ``allow_code``: consent to import the Python code the line file names (its
+    ``type = "python"`` controllers) from the line file's own folder; None: as the
+    surrounding ``spec.code_consent.allowing_code`` says, or the per-user allow-list
+    (docs/security.md). Without consent such a line is refused (``LineFileError``) before
+    anything is imported. Objects passed as ``controller`` are the caller's own: no consent.
+
     A branched line (``[[webs]]``, ``webline.load_branched``; docs/branching.md) runs through
     ``sim.branches`` and returns a ``BranchResult`` (an xarray Dataset and a verdict per web
     and lane; a user ``controller`` per drive or for all, docs/controllers.md "On a branched
@@ -203,7 +212,7 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
         from webline.sim.user_objects import branched_controllers
 
         branched = load_branched(cast("BranchedLine", line))
-        controller = branched_controllers(branched, controller)  # (and the file's)
+        controller = branched_controllers(branched, controller, allow_code)  # (and the file's)
         return simulate_branches(branched, duration, scenario=scenario,
                                  sample_rate=sample_rate, substeps=substeps,
                                  record_interval=record_interval,
@@ -223,7 +232,7 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
         duration = 10.0
     plan = compile_plan(line, sample_rate=sample_rate)
     n_ticks = max(1, round(duration / plan.dt))
-    groups = user_groups(line, controller, file_controllers(line))
+    groups = user_groups(line, controller, file_controllers(line, allow_code))
     if substeps is None:
         substeps = choose_substeps(builtin_stand_in(plan))
     else:
