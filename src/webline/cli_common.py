@@ -7,6 +7,7 @@ from __future__ import annotations
 import functools
 import inspect
 import signal
+import sys
 import typing
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -121,15 +122,28 @@ AllowCodeOpt = Annotated[bool, typer.Option(
     "before anything is imported (docs/security.md).")]
 
 
+def _no_debugger(*args: object, **kwargs: object) -> None:
+    """``breakpoint()`` in a command-line run: an error (the controller that called it fails
+    the run, named) instead of a debugger's prompt."""
+    raise RuntimeError("breakpoint() called during a command-line run, which opens no "
+                       "debugger; debug the controller from Python (webline.simulate)")
+
+
 def runs_code(command: F) -> F:
     """``command`` with an ``--allow-code`` option: within it, runs may import the Python
-    code their line file names from its own folder (``spec.code_consent.allowing_code``)."""
+    code their line file names from its own folder (``spec.code_consent.allowing_code``),
+    and ``breakpoint()`` raises instead of waiting for a debugger."""
     from webline.spec.code_consent import allowing_code
 
     @functools.wraps(command)
     def wrapper(*args: object, allow_code: bool = False, **kwargs: object) -> None:
-        with allowing_code(allow_code):
-            command(*args, **kwargs)
+        hook = sys.breakpointhook
+        sys.breakpointhook = _no_debugger  # (a prompt would wait forever on a terminal)
+        try:
+            with allowing_code(allow_code):
+                command(*args, **kwargs)
+        finally:
+            sys.breakpointhook = hook
 
     hints = typing.get_type_hints(command, include_extras=True)  # (typer reads them)
     signature = inspect.signature(command)

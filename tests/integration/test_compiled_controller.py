@@ -14,7 +14,7 @@ import pytest
 
 import webline
 from webline import CompiledController
-from webline.errors import ControllerError, LineFileError
+from webline.errors import ControllerError, LawCompileError, LineFileError
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -179,8 +179,8 @@ def uses_python(t: float, meas: np.ndarray, refs: np.ndarray, params: np.ndarray
 
 def test_law_that_does_not_compile_is_one_error_naming_it() -> None:
     """A law numba cannot compile (it reads a Python dict) stops the run before it starts
-    with one line naming the function and numba's reason."""
-    with pytest.raises(ControllerError) as info:
+    with one line naming the function and numba's reason: bad input (exit 2)."""
+    with pytest.raises(LawCompileError) as info:
         webline.simulate(webline.load_line("hswl"), 0.1,
                          controller={"rewind": CompiledController(uses_python)})
     message = str(info.value)
@@ -307,9 +307,9 @@ def test_session_calls_the_law_from_python() -> None:
     assert _worst(stepped[:n], builtin.states[:n]) < 1e-9
 
 
-def test_cli_law_that_does_not_compile_exits_1_with_one_line(tmp_path: Path) -> None:
-    """``webline run`` on a line file whose ``function`` numba cannot compile: exit 1, one
-    line naming the function."""
+def test_cli_law_that_does_not_compile_exits_2_with_one_line(tmp_path: Path) -> None:
+    """``webline run`` on a line file whose ``function`` numba cannot compile: bad input,
+    exit 2, one line naming the function."""
     import subprocess
 
     (tmp_path / "laws.py").write_text("def law(t, meas, refs, params, state, out):\n"
@@ -318,7 +318,7 @@ def test_cli_law_that_does_not_compile_exits_1_with_one_line(tmp_path: Path) -> 
     done = subprocess.run([str(Path(sys.executable).parent / "webline"), "run", str(path),
                            "--allow-code", "--duration", "0.1", "-o", str(tmp_path / "out")],
                           capture_output=True, text=True, timeout=600)
-    assert done.returncode == 1, done.stderr
+    assert done.returncode == 2, done.stderr
     lines = [s for s in (done.stdout + done.stderr).splitlines() if "numba cannot compile" in s]
     assert len(lines) == 1 and "compiled law law" in lines[0], done.stdout + done.stderr
 

@@ -312,6 +312,9 @@ def _user_result(plan: Plan, groups: list[Group], x: np.ndarray, istate: np.ndar
         run = run_compiled(plan, groups, x, istate, slipping, n_ticks, substeps, every, buffer)
     else:  # one tick at a time through Python (a compiled law called from there)
         run = run_user(plan, groups, x, istate, slipping, n_ticks, substeps, every, buffer)
+    if run.error is not None and run.stored == 0:  # (a reset failed): the start alone
+        run.stored = kernel.run(builtin_stand_in(plan), x.copy(), istate.copy(),
+                                slipping.copy(), 0, 0, substeps, every, True, buffer)[1]
     records = buffer[:run.stored].copy() if run.stored < len(buffer) - 2 else buffer[:run.stored]
     if run.interrupted and run.error is None:
         end = float(records[-1, 0]) if len(records) else 0.0

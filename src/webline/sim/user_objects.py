@@ -108,7 +108,7 @@ def make_law(spec: PythonControllerSpec, source: str, key: str,
                             f"function law(t, meas, refs, params, state, out) defined in "
                             f"its module")
     return CompiledController(target, params=spec.params, state=spec.states,  # type: ignore[arg-type]
-                              name=attribute)
+                              name=attribute, checked=spec.checked)
 
 
 def _positional(function: object) -> int:

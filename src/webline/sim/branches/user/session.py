@@ -67,6 +67,9 @@ class BranchSession:
         fails; the session cannot go on from either but by ``restore``."""
         if n < 0 or int(n) != n:
             raise ArgumentError(f"step: n must be a whole number >= 0, got {n}")
+        if self._tick == 0 and self._status == B.STATUS_OK and self._loop.failed is not None:
+            raise ControllerError(f"{self.plan.line.name}: {self._loop.failed[1]}",
+                                  partial=self.result())  # (a reset that failed)
         if self._status != B.STATUS_OK or self._loop.failed is not None:
             raise SimulationError(f"{self.plan.line.name}: the session stopped at t = "
                                   f"{self.t:.6g} s; restore a snapshot to go on")
