@@ -37,9 +37,9 @@ from webline.errors import ArgumentError, LawCompileError
 from webline.sim.core import law_kernel
 from webline.sim.core.law_kernel import buffer_layout, law_hook
 from webline.sim.core.plan import Plan
+from webline.sim.core.user_protocol import ENDINGS, reset_all
 from webline.sim.drives.user_loop import N_MEASURED, N_REFERENCES, STATUS_USER_NONFINITE
 from webline.sim.elements import layout as L
-from webline.sim.core.user_protocol import ENDINGS, reset_all
 from webline.sim.user_control import (
     ControllerContext,
     Group,

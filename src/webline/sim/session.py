@@ -177,7 +177,7 @@ class Session:
             law.state[:] = state
         self._rec = np.empty((max(FIRST_ROWS, 2 * len(snap.records) + 2), self._width))
         self._rec[:len(snap.records)] = snap.records
-        self._loop.failed = None  # type: ignore[assignment]
+        self._loop.failed = None
 
     def result(self) -> Result:
         """The ``Result`` of the ticks run so far."""
