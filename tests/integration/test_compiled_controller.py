@@ -15,6 +15,7 @@ import pytest
 import webline
 from webline import CompiledController
 from webline.errors import ControllerError, LawCompileError, LineFileError
+from webline.sim.compiled_control import CHECKED_HINT
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -165,7 +166,7 @@ def test_law_that_raises_named_with_tick_and_message() -> None:
         webline.simulate(webline.load_line("hswl"), 1.0, controller={"rewind": ctrl})
     message = str(info.value)
     assert message == ("controller 'rewind' (compiled law raises) raised ValueError: gain "
-                       "table empty at tick 250 (t = 0.25 s)")
+                       "table empty at tick 250 (t = 0.25 s)" + CHECKED_HINT)
     assert info.value.partial.time[-1] == pytest.approx(0.249)
 
 

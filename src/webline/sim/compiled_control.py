@@ -90,6 +90,11 @@ class CompiledController:
         self.torques = np.zeros(0)
         self._law: Any = None
 
+    def __getstate__(self) -> dict[str, Any]:
+        """Copied or pickled without its compiled form (compiled again where used: numba's
+        cache makes that quick)."""
+        return {**self.__dict__, "_law": None}
+
     @property
     def kind(self) -> str:
         """What errors call this controller: ``compiled law <name>``."""

@@ -24,6 +24,7 @@ from webline.line import Line, load_line
 from webline.sim.compiled_control import CompiledController, run_compiled
 from webline.sim.core import kernel
 from webline.sim.core.plan import Plan, compile_plan, equilibrium_plan_state
+from webline.sim.core.session_contract import session_settings
 from webline.sim.elements import layout as L
 from webline.sim.elements.web_state import slip_column
 from webline.sim.linear import budget
@@ -211,6 +212,7 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
         from webline.sim.branches.run import simulate_branches  # scipy: only when needed
         from webline.sim.user_objects import branched_controllers
 
+        sample_rate, substeps = session_settings(sample_rate, substeps)  # (as the chain's)
         branched = load_branched(cast("BranchedLine", line))
         controller = branched_controllers(branched, controller, allow_code)  # (and the file's)
         return simulate_branches(branched, duration, scenario=scenario,

@@ -147,11 +147,13 @@ class UserLoop:
     """A run of ``plan`` (user drives ``FAMILY_USER``, commanded by ``groups``) from the
     state ``x0``, ``istate0``, ``slip0``, one tick at a time: ``tick`` calls the controllers
     with the sampled measurements, then the compiled step (``sim.core.user_step``). Records go
-    every ``every`` ticks into the ``rec`` each call is given, from row ``stored``."""
+    every ``every`` ticks into the ``rec`` each call is given, from row ``stored``.
+    ``reset=False``: the controllers are not reset (a copied session's, whose memory they
+    carry)."""
 
     def __init__(self, plan: Plan, groups: Sequence[Group], x0: np.ndarray,
                  istate0: np.ndarray, slip0: np.ndarray, substeps: int, every: int,
-                 record_width: int) -> None:
+                 record_width: int, reset: bool = True) -> None:
         self.plan, self.groups = plan, list(groups)
         self.users = np.array([d for g in groups for d in g.drives], dtype=np.int64)
         self.packed = packed_run(plan, x0, istate0, slip0, self.users, record_width)
@@ -167,7 +169,7 @@ class UserLoop:
                                self.commands[first:first + k], k))
             first += k
         self.failed: tuple[str, str, float] | None = None
-        ended = reset_all(groups, lambda g: context_for(plan, g))
+        ended = reset_all(groups, lambda g: context_for(plan, g)) if reset else None
         if ended is not None:  # a reset that failed ends the run before its first tick
             self.failed = (ended[0].name, ended[1], 0.0)
         self.control[C_SUBSTEPS], self.control[C_EVERY] = substeps, every

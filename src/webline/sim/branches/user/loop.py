@@ -121,7 +121,7 @@ class BranchUserLoop:
 
     def __init__(self, plan: BranchPlan, point: BranchPoint, groups: Sequence[Group],
                  x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
-                 cmd: np.ndarray, substeps: int, every: int) -> None:
+                 cmd: np.ndarray, substeps: int, every: int, reset: bool = True) -> None:
         self.plan = user_branch_plan(plan, groups)
         self.groups = list(groups)
         # the live arrays in one buffer and their scratch copy in another: one copy a tick
@@ -155,7 +155,8 @@ class BranchUserLoop:
                                + B.I_UCMD))
             first += k
         self.failed: tuple[str, str, float] | None = None
-        ended = reset_all(groups, lambda g: branch_context(self.plan, point, g, istate))
+        ended = (reset_all(groups, lambda g: branch_context(self.plan, point, g, istate))
+                 if reset else None)  # (reset=False: a copied session's controllers)
         if ended is not None:  # a reset that failed ends the run before its first tick
             self.failed = (ended[0].name, ended[1], 0.0)
         self.stored_in_chunk = 0  # records ``ticks`` wrote in its current call
