@@ -75,23 +75,24 @@ def test_two_process_vector_env_matches_lone_envs() -> None:
         assert np.array_equal(r, np.array([g[1][k] for g in got]))
 
 
-@pytest.mark.parametrize(("action", "says"), [
-    (np.array([np.nan, 0.0]), "must be finite"),
-    (np.array([np.inf, 0.0]), "must be finite"),
-    (np.zeros(3), "shape (2,)"),
-    (0.0, "shape (2,)"),
-    (np.zeros((2, 1)), "shape (2,)"),
-    (np.array(["a", "b"]), "real numbers"),
+@pytest.mark.parametrize(("kind", "says"), [
+    ("nan", "must be finite"), ("inf", "must be finite"), ("long", "shape (3,)"),
+    ("scalar", "shape (3,)"), ("column", "shape (3,)"), ("text", "real numbers"),
 ])
-def test_bad_actions_are_one_clear_error(action: object, says: str) -> None:
-    """hswl's two tension drives: another shape names the expected shape (2,); NaN and inf
-    are refused (never a NaN torque, never a NaN reward)."""
+def test_bad_actions_are_one_clear_error(kind: str, says: str) -> None:
+    """hswl's three tension drives: another shape names the expected shape (3,); NaN and inf
+    are refused (never a NaN torque, never a NaN reward); the environment goes on."""
     env = make()
     env.reset(seed=0)
+    n = env.action_space.shape[0]
+    assert n == 3
+    action = {"nan": np.array([np.nan, 0.0, 0.0]), "inf": np.array([0.0, np.inf, 0.0]),
+              "long": np.zeros(n + 1), "scalar": 0.0, "column": np.zeros((n, 1)),
+              "text": np.array(["a"] * n)}[kind]
     with pytest.raises(ArgumentError) as info:
         env.step(action)
     assert says in str(info.value) and "\n" not in str(info.value)
-    obs, reward, terminated, truncated, _ = env.step(np.zeros(2))  # the env goes on
+    obs, reward, terminated, _, _ = env.step(np.zeros(n))
     assert np.isfinite(reward) and np.isfinite(obs).all() and not terminated
 
 
@@ -102,7 +103,7 @@ def test_non_finite_readings_end_the_episode_with_the_terminal_reward() -> None:
     env.reset(seed=0)
     name = next(k for k in env.session.state if k.endswith(".stretch"))
     env.session.apply({name: float("nan")})
-    obs, reward, terminated, truncated, info = env.step(np.zeros(2))
+    obs, reward, terminated, truncated, info = env.step(np.zeros(env.action_space.shape))
     assert terminated and not truncated and reward == -55.0
     assert np.isfinite(obs).all() and info["verdict"] == "failed"
     with pytest.raises(ArgumentError, match="failure_reward"):

@@ -19,9 +19,10 @@ Nothing non-finite goes in or out. An action must have the action space's shape 
 per agent drive; another shape is one ``ArgumentError`` naming the expected shape), be real
 numbers and finite: a NaN or infinite action is refused (``ArgumentError``), never clipped
 into a command, since it is a bug of the agent that a clip would hide. Where the plant's
-readings become non-finite, the observation is zeros there and the episode ends
-(``terminated``) with the terminal reward ``failure_reward`` (default -100, below what any
-finite step of a run near its references earns), ``info["verdict"]`` "failed".
+readings (or, at a failure, its state) become non-finite, the observation is zeros there
+and the episode ends (``terminated``) with the terminal reward ``failure_reward`` (default
+-100, below what any finite step of a run near its references earns), ``info["verdict"]``
+"failed".
 An environment can be deep-copied and pickled with its state (``Session``), so gymnasium's
 process-based ``AsyncVectorEnv`` works.
 ``randomize`` maps line paths to webline distributions (``"normal(9 kN, 5 %)"``,
@@ -163,7 +164,8 @@ class LineEnv(gymnasium.Env):
                 error += ((agent.measured[1] - t_ref) / t_ref) ** 2
         reward = -(self.weights[0] * error + self.weights[1] * effort)
         if not (np.isfinite(reward) and all(np.isfinite(a.measured).all()
-                                            for a in self.agents.values())):
+                                            for a in self.agents.values())
+                and (not terminated or np.isfinite(list(self.session.state.values())).all())):
             terminated, reward = True, self.failure_reward  # (documented: module docstring)
             info.setdefault("verdict", "failed")
             info.setdefault("message", "the readings became non-finite")
