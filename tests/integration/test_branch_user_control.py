@@ -131,8 +131,8 @@ def test_a_failing_controller_stops_the_run_in_one_line_naming_it_and_the_tick(
         webline.simulate("laminator", 0.1, controller=controller)
     assert "\n" not in str(caught.value)
     partial = caught.value.partial
-    if t_last is None:
-        assert len(partial.time) == 0
+    if t_last is None:  # failed at tick 0: the start alone is kept (the CLI writes it)
+        assert len(partial.time) == 1 and partial.time[0] == 0.0
     else:  # the run up to the tick before the failing one
         assert partial.time[-1] == pytest.approx(t_last)
     returned = webline.simulate("laminator", 0.1, controller=controller,
