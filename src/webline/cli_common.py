@@ -4,6 +4,7 @@ tables and progress bar, and loading a line as a command runs it (``--controller
 
 from __future__ import annotations
 
+import faulthandler
 import functools
 import inspect
 import signal
@@ -139,6 +140,8 @@ def runs_code(command: F) -> F:
     def wrapper(*args: object, allow_code: bool = False, **kwargs: object) -> None:
         hook = sys.breakpointhook
         sys.breakpointhook = _no_debugger  # (a prompt would wait forever on a terminal)
+        if not faulthandler.is_enabled():  # a compiled law that crashes the process: its
+            faulthandler.enable()  # stack (law_kernel) is printed, docs/controllers.md
         try:
             with allowing_code(allow_code):
                 command(*args, **kwargs)

@@ -45,7 +45,8 @@ ENDINGS = (
     "            if self.how == 'bdbquit':\n"
     "                import bdb\n"
     "                raise bdb.BdbQuit\n"
-    "        return self.torque\n")
+    "        return self.torque\n"
+)
 
 
 def line_file(folder: Path, controller: dict[str, object]) -> Path:
@@ -54,8 +55,9 @@ def line_file(folder: Path, controller: dict[str, object]) -> Path:
     rollers[-1]["controller"] = {"type": "python", **controller}
     (folder / "ends.py").write_text(ENDINGS)
     path = folder / "line.toml"
-    path.write_bytes(tomli_w.dumps(source.spec.model_dump(exclude_none=True)
-                                   | {"rollers": rollers}).encode())
+    path.write_bytes(
+        tomli_w.dumps(source.spec.model_dump(exclude_none=True) | {"rollers": rollers}).encode()
+    )
     return path
 
 
@@ -77,11 +79,11 @@ class Ends:
         return self.torque
 
 
-@pytest.mark.parametrize("exc", [SystemExit(0), SystemExit("bye"), GeneratorExit(),
-                                 bdb.BdbQuit()])
+@pytest.mark.parametrize("exc", [SystemExit(0), SystemExit("bye"), GeneratorExit(), bdb.BdbQuit()])
 @pytest.mark.parametrize("branched", [False, True])
-def test_base_exceptions_of_user_code_are_controller_errors(exc: BaseException,
-                                                            branched: bool) -> None:
+def test_base_exceptions_of_user_code_are_controller_errors(
+    exc: BaseException, branched: bool
+) -> None:
     """Raised at tick 20: a ControllerError naming the controller (its drive), the tick and
     the exception; the partial result holds ticks 0..19 (chain: its time ends at 19 dt)."""
     line, drive = ("laminator", "rewind") if branched else ("hswl", "rewind")
@@ -104,8 +106,10 @@ def test_a_raising_reset_is_a_controller_error_at_tick_0(branched: bool) -> None
         webline.simulate(line, 0.1, controller={"rewind": Ends(ValueError("bad gains"), -1)})
     assert len(info.value.partial.time) == 1 and info.value.partial.time[0] == 0.0
     message = str(info.value)
-    assert "controller 'rewind'" in message and "raised ValueError: bad gains in " \
-        "reset(context) at tick 0" in message, message
+    assert (
+        "controller 'rewind'" in message
+        and "raised ValueError: bad gains in reset(context) at tick 0" in message
+    ), message
     with pytest.raises(ControllerError, match="in reset"):
         webline.Session(line, controller={"rewind": Ends(SystemExit(0), -1)}).step(1)
 
@@ -118,25 +122,29 @@ def test_a_raising_reset_of_a_compiled_run_is_a_controller_error() -> None:
         raise SystemExit(3)
 
     with pytest.raises(ControllerError, match=r"raised SystemExit: 3 in reset\(context\)"):
-        webline.simulate("hswl", 0.1, controller={"rewind": CompiledController(
-            law, params=params)})
+        webline.simulate("hswl", 0.1, controller={"rewind": CompiledController(law, params=params)})
 
 
-@pytest.mark.parametrize(("how", "says"), [
-    ("exit", "raised SystemExit: 0 at tick 20"),
-    ("sys.exit", "raised SystemExit at tick 20"),
-    ("breakpoint", "raised RuntimeError: breakpoint() called during a command-line run"),
-    ("reset", "raised ValueError: bad gains in reset(context) at tick 0"),
-])
+@pytest.mark.parametrize(
+    ("how", "says"),
+    [
+        ("exit", "raised SystemExit: 0 at tick 20"),
+        ("sys.exit", "raised SystemExit at tick 20"),
+        ("breakpoint", "raised RuntimeError: breakpoint() called during a command-line run"),
+        ("reset", "raised ValueError: bad gains in reset(context) at tick 0"),
+    ],
+)
 def test_cli_run_that_a_controller_ends_fails_with_its_results_written(
-        tmp_path: Path, how: str, says: str) -> None:
+    tmp_path: Path, how: str, says: str
+) -> None:
     """``webline run``: exit 1 (a failed run, never 0), the controller and tick named, and
     the results so far written (results.nc with the ticks before it, summary failed).
     ``breakpoint()`` opens no prompt: it fails the run (the test would hang otherwise)."""
     path = line_file(tmp_path, {"object": "ends.py:Ends", "parameters": {"how": how}})
     out = tmp_path / "out"
-    ran = CliRunner().invoke(app, ["run", str(path), "-d", "0.1", "-o", str(out), "-q",
-                                   "--allow-code"])
+    ran = CliRunner().invoke(
+        app, ["run", str(path), "-d", "0.1", "-o", str(out), "-q", "--allow-code"]
+    )
     assert ran.exit_code == 1, ran.output
     assert says in ran.output and "controller 'rewind'" in ran.output, ran.output
     import json
@@ -158,16 +166,19 @@ def test_sys_exit_named_by_a_line_file_is_refused_before_any_call(tmp_path: Path
     trusted_file().write_text('modules = ["sys", "builtins"]\n')
     for obj in ("sys:exit", "builtins:breakpoint"):
         path = line_file(tmp_path, {"object": obj})
-        ran = CliRunner().invoke(app, ["run", str(path), "-d", "0.1", "-o",
-                                       str(tmp_path / "o"), "--allow-code"])
+        ran = CliRunner().invoke(
+            app, ["run", str(path), "-d", "0.1", "-o", str(tmp_path / "o"), "--allow-code"]
+        )
         errors = [s for s in ran.output.splitlines() if s.startswith("error")]
-        assert ran.exit_code == 2 and len(errors) == 1 and "neither a controller" in \
-            errors[0], ran.output
+        assert ran.exit_code == 2 and len(errors) == 1 and "neither a controller" in errors[0], (
+            ran.output
+        )
 
 
 def test_a_law_numba_cannot_compile_is_bad_input(tmp_path: Path) -> None:
-    (tmp_path / "laws.py").write_text("def law(t, meas, refs, params, state, out):\n"
-                                      "    out[0] = 'fast'\n")
+    (tmp_path / "laws.py").write_text(
+        "def law(t, meas, refs, params, state, out):\n    out[0] = 'fast'\n"
+    )
     path = line_file(tmp_path, {"function": "laws.py:law"})
     with pytest.raises(LawCompileError, match="numba cannot compile") as info:
         webline.simulate(path, 0.1, allow_code=True)
@@ -184,15 +195,22 @@ def test_checked_mode_names_an_out_of_bounds_write() -> None:
     """In checked mode a law writing past ``out`` ends the run at that tick with an
     IndexError named (unchecked, numba writes over memory); the unchecked law's error
     recommends checked mode."""
+
     def params(context: object) -> list[float]:
         return [context.drives[0].equilibrium_command]  # type: ignore[attr-defined]
 
     with pytest.raises(ControllerError) as info:
-        webline.simulate("hswl", 0.1, controller={"rewind": CompiledController(
-            writes_out_of_bounds, params=params, checked=True)})
+        webline.simulate(
+            "hswl",
+            0.1,
+            controller={
+                "rewind": CompiledController(writes_out_of_bounds, params=params, checked=True)
+            },
+        )
     message = str(info.value)
-    assert "IndexError" in message and "tick 11" in message and "checked mode" not in \
-        message, message
+    assert "IndexError" in message and "tick 11" in message and "checked mode" not in message, (
+        message
+    )
 
 
 def nan_state(t, meas, refs, params, state, out):  # type: ignore[no-untyped-def]
@@ -204,12 +222,18 @@ def test_checked_mode_refuses_a_non_finite_state() -> None:
     def params(context: object) -> list[float]:
         return [context.drives[0].equilibrium_command]  # type: ignore[attr-defined]
 
-    result = webline.simulate("hswl", 0.1, controller={"rewind": CompiledController(
-        nan_state, params=params, state=1)})
+    result = webline.simulate(
+        "hswl", 0.1, controller={"rewind": CompiledController(nan_state, params=params, state=1)}
+    )
     assert result.failure is None  # unchecked: the NaN in its own memory goes unseen
     with pytest.raises(ControllerError, match="state became non-finite") as info:
-        webline.simulate("hswl", 0.1, controller={"rewind": CompiledController(
-            nan_state, params=params, state=1, checked=True)})
+        webline.simulate(
+            "hswl",
+            0.1,
+            controller={
+                "rewind": CompiledController(nan_state, params=params, state=1, checked=True)
+            },
+        )
     assert "tick 20" in str(info.value)
 
 
@@ -223,5 +247,6 @@ def test_an_unchecked_laws_failure_recommends_checked_mode() -> None:
         return [context.drives[0].equilibrium_command]  # type: ignore[attr-defined]
 
     with pytest.raises(ControllerError, match="checked mode"):
-        webline.simulate("hswl", 0.1, controller={"rewind": CompiledController(
-            raises, params=params)})
+        webline.simulate(
+            "hswl", 0.1, controller={"rewind": CompiledController(raises, params=params)}
+        )

@@ -18,8 +18,7 @@ from webline.errors import ArgumentError  # noqa: E402
 
 
 def make(**options: object) -> object:
-    return gymnasium.make("webline/Line-v0", line="hswl", duration=0.1, ticks_per_step=5,
-                          **options)
+    return gymnasium.make("webline/Line-v0", line="hswl", duration=0.1, ticks_per_step=5, **options)
 
 
 def actions(n: int, count: int) -> list[np.ndarray]:
@@ -75,10 +74,17 @@ def test_two_process_vector_env_matches_lone_envs() -> None:
         assert np.array_equal(r, np.array([g[1][k] for g in got]))
 
 
-@pytest.mark.parametrize(("kind", "says"), [
-    ("nan", "must be finite"), ("inf", "must be finite"), ("long", "shape (3,)"),
-    ("scalar", "shape (3,)"), ("column", "shape (3,)"), ("text", "real numbers"),
-])
+@pytest.mark.parametrize(
+    ("kind", "says"),
+    [
+        ("nan", "must be finite"),
+        ("inf", "must be finite"),
+        ("long", "shape (3,)"),
+        ("scalar", "shape (3,)"),
+        ("column", "shape (3,)"),
+        ("text", "real numbers"),
+    ],
+)
 def test_bad_actions_are_one_clear_error(kind: str, says: str) -> None:
     """hswl's three tension drives: another shape names the expected shape (3,); NaN and inf
     are refused (never a NaN torque, never a NaN reward); the environment goes on."""
@@ -86,9 +92,14 @@ def test_bad_actions_are_one_clear_error(kind: str, says: str) -> None:
     env.reset(seed=0)
     n = env.action_space.shape[0]
     assert n == 3
-    action = {"nan": np.array([np.nan, 0.0, 0.0]), "inf": np.array([0.0, np.inf, 0.0]),
-              "long": np.zeros(n + 1), "scalar": 0.0, "column": np.zeros((n, 1)),
-              "text": np.array(["a"] * n)}[kind]
+    action = {
+        "nan": np.array([np.nan, 0.0, 0.0]),
+        "inf": np.array([0.0, np.inf, 0.0]),
+        "long": np.zeros(n + 1),
+        "scalar": 0.0,
+        "column": np.zeros((n, 1)),
+        "text": np.array(["a"] * n),
+    }[kind]
     with pytest.raises(ArgumentError) as info:
         env.step(action)
     assert says in str(info.value) and "\n" not in str(info.value)

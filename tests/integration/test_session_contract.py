@@ -28,15 +28,23 @@ class Integrating:
         return self.torque + self.sum
 
 
-@pytest.mark.parametrize(("options", "simulate_too"), [
-    ({"sample_rate": -1000}, True), ({"sample_rate": 0}, True),
-    ({"sample_rate": "fast"}, True), ({"sample_rate": "0.5 Hz"}, True),
-    ({"substeps": 0}, True), ({"substeps": -3}, True), ({"substeps": 1.5}, True),
-    ({"substeps": True}, True),
-])
+@pytest.mark.parametrize(
+    ("options", "simulate_too"),
+    [
+        ({"sample_rate": -1000}, True),
+        ({"sample_rate": 0}, True),
+        ({"sample_rate": "fast"}, True),
+        ({"sample_rate": "0.5 Hz"}, True),
+        ({"substeps": 0}, True),
+        ({"substeps": -3}, True),
+        ({"substeps": 1.5}, True),
+        ({"substeps": True}, True),
+    ],
+)
 @pytest.mark.parametrize("line", ["hswl", "laminator"])
-def test_settings_are_refused_as_simulate_refuses_them(options: dict, simulate_too: bool,
-                                                        line: str) -> None:
+def test_settings_are_refused_as_simulate_refuses_them(
+    options: dict, simulate_too: bool, line: str
+) -> None:
     """The same one-line ArgumentError (the line file's ranges: control.sample_rate 1 Hz ..
     1 MHz) as ``simulate``, for a chain and a branched line."""
     with pytest.raises(ArgumentError) as session:
@@ -47,15 +55,19 @@ def test_settings_are_refused_as_simulate_refuses_them(options: dict, simulate_t
 
 
 @pytest.mark.parametrize("line", ["hswl", "laminator"])
-@pytest.mark.parametrize(("name", "value", "says"), [
-    ("tension", -500.0, "must be > 0"),
-    ("tension", float("nan"), "finite"),
-    ("tension", "2e9 N", "outside the physical range"),
-    ("speed", -1.0, "must be >= 0"),
-    ("speed", 300.0, "outside the physical range"),
-])
-def test_set_reference_keeps_the_line_files_ranges(line: str, name: str, value: object,
-                                                   says: str) -> None:
+@pytest.mark.parametrize(
+    ("name", "value", "says"),
+    [
+        ("tension", -500.0, "must be > 0"),
+        ("tension", float("nan"), "finite"),
+        ("tension", "2e9 N", "outside the physical range"),
+        ("speed", -1.0, "must be >= 0"),
+        ("speed", 300.0, "outside the physical range"),
+    ],
+)
+def test_set_reference_keeps_the_line_files_ranges(
+    line: str, name: str, value: object, says: str
+) -> None:
     session = webline.Session(line)
     if name == "tension":  # (a zone's tension reference, by its loadcell span)
         name = _tension_references(session)[0]
@@ -68,8 +80,9 @@ def test_set_reference_keeps_the_line_files_ranges(line: str, name: str, value: 
 def _tension_references(session: object) -> list[str]:
     with pytest.raises(ArgumentError) as info:
         session.set_reference("nothing", 1.0)  # type: ignore[attr-defined]
-    return [n.strip() for n in str(info.value).split("there are ")[1].split(",")
-            if n.strip() != "speed"]
+    return [
+        n.strip() for n in str(info.value).split("there are ")[1].split(",") if n.strip() != "speed"
+    ]
 
 
 def test_set_reference_takes_units() -> None:
@@ -87,8 +100,11 @@ def test_a_snapshot_is_restored_only_where_it_came_from(six: webline.Line) -> No
     hswl = webline.load_line("hswl")
     stiffer = hswl.replace({"web.ea": hswl.ea * 1.1})
     mine = webline.Session(hswl)
-    for other in (webline.Session(stiffer), webline.Session(six),
-                  webline.Session(hswl, sample_rate=500)):
+    for other in (
+        webline.Session(stiffer),
+        webline.Session(six),
+        webline.Session(hswl, sample_rate=500),
+    ):
         other.step(3)
         with pytest.raises(ArgumentError) as info:
             mine.restore(other.snapshot())
@@ -116,8 +132,7 @@ def test_copies_go_on_as_the_original_does(line: str, how: str) -> None:
     integral all came along; stepping the copy leaves the original where it was."""
     session = webline.Session(line, controller={"rewind": Integrating()})
     session.step(150)
-    twin = copy.deepcopy(session) if how == "deepcopy" else pickle.loads(
-        pickle.dumps(session))
+    twin = copy.deepcopy(session) if how == "deepcopy" else pickle.loads(pickle.dumps(session))
     assert twin.t == session.t
     before = session.result().to_xarray() if line == "laminator" else None
     twin.step(250)
