@@ -47,7 +47,7 @@ def hswl_cost(seconds: float, repeat: int) -> tuple[float, int, int]:
 
 def laminator_cost(seconds: float, repeat: int) -> tuple[float, int, int]:
     """(best ns per state per rhs, states, sub-steps) of the laminator's compiled loop."""
-    plan = compile_branches(webline.load_branched("laminator"))
+    plan = compile_branches(webline.load_line("laminator"))
     point = operating_point(plan)
     substeps = max(1, int(np.ceil(plan.dt * fastest_rate(plan, point) / STEP_LIMIT)))
     plan.df[:, B.D_FF] = point.ratio

@@ -22,8 +22,7 @@ import webline
 from webline.control.select import with_controller
 
 SECONDS = 6.0
-LINES = ("hswl", "rockwell", "converter")
-BRANCHED = ("laminator", "slitter")
+LINES = ("hswl", "rockwell", "converter", "laminator", "slitter")
 CONTROLLERS = ("state_feedback", "adaptive", "mrac")
 
 
@@ -34,12 +33,6 @@ def save(path: str) -> None:
         runs[name] = webline.simulate(line, SECONDS).states
         for scenario in line.spec.scenarios:
             runs[f"{name}-{scenario}"] = webline.simulate(line, SECONDS, scenario=scenario).states
-    for name in BRANCHED:
-        branched = webline.load_branched(name)
-        runs[name] = webline.simulate(branched, SECONDS).states
-        for scenario in branched.spec.scenarios:
-            runs[f"{name}-{scenario}"] = webline.simulate(branched, SECONDS,
-                                                          scenario=scenario).states
     for family in CONTROLLERS:
         line = with_controller(webline.load_line("hswl"), family)  # type: ignore[arg-type]
         runs[f"hswl-{family}"] = webline.simulate(line, SECONDS).states

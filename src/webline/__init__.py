@@ -1,6 +1,6 @@
 """webline: model, simulate, analyse and control roll-to-roll (web handling) process lines.
 
-The front door: ``load_line`` (``load_branched`` for a line whose webs branch), ``simulate``,
+The front door: ``load_line`` (any line file: one web, or webs that branch), ``simulate``,
 ``Session``, ``CompiledController``, ``sweep``, ``monte_carlo``, ``linearize``,
 ``operating_point`` and their types; and, from the layers above it (``webline.twin`` and
 ``webline.studies``, imported only when one of them is first used, never by this module's
@@ -25,13 +25,15 @@ from webline.errors import (
 from webline.version import __version__
 
 if TYPE_CHECKING:
-    from webline.line import Line, load_line
+    from webline.line import Line
+    from webline.model.lines import load_line
     from webline.model.operating_point import OperatingPoint, operating_point
-    from webline.model.web_graph import BranchedLine, load_branched
+    from webline.model.web_graph import BranchedLine
     from webline.sim.compiled_control import CompiledController
     from webline.sim.linearize import linearize
     from webline.sim.reference import simulate_reference
     from webline.sim.results.result import Result
+    from webline.sim.results.run_result import RunResult
     from webline.sim.session import Session
     from webline.sim.simulate import simulate
     from webline.sim.sweeps.sweep import monte_carlo, sweep
@@ -40,14 +42,14 @@ if TYPE_CHECKING:
 _LAZY = {
     "Line": "webline.line",
     "CompiledController": "webline.sim.compiled_control",
-    "load_line": "webline.line",
+    "load_line": "webline.model.lines",
     "BranchedLine": "webline.model.web_graph",
-    "load_branched": "webline.model.web_graph",
     "OperatingPoint": "webline.model.operating_point",
     "operating_point": "webline.model.operating_point",
     "linearize": "webline.sim.linearize",
     "simulate_reference": "webline.sim.reference",
     "Result": "webline.sim.results.result",
+    "RunResult": "webline.sim.results.run_result",
     "simulate": "webline.sim.simulate",
     "Session": "webline.sim.session",
     "sweep": "webline.sim.sweeps.sweep",
@@ -74,6 +76,7 @@ __all__ = [
     "Measurements",
     "OperatingPoint",
     "Result",
+    "RunResult",
     "Session",
     "SimulationError",
     "SimulationInterrupted",
@@ -82,7 +85,6 @@ __all__ = [
     "benchmark",
     "fit",
     "linearize",
-    "load_branched",
     "load_line",
     "load_measurements",
     "monte_carlo",

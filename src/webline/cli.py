@@ -116,12 +116,13 @@ def run(
     (diverged), 130 interrupted by Ctrl-C, 143 by SIGTERM (what was computed is written, status
     interrupted).
     """
-    from webline.spec.load import file_is_branched
+    from webline.model.lines import load_line
 
-    if file_is_branched(line):  # stage 1 of branched lines: its own files (docs/branching.md)
+    loaded = load_line(line)
+    if loaded.branched:  # its own files (docs/branching.md)
         from webline.cli_branches import run_branched
 
-        run_branched(line, _duration(duration), scenario, out, force, quiet,
+        run_branched(loaded, _duration(duration), scenario, out, force, quiet,
                      svg=svg, units=units.value, sets=sets, data_format=data_format.value,
                      precision=precision.value,
                      family=None if controller is None else FAMILY_TYPES[controller.value])
@@ -135,7 +136,7 @@ def run(
         from webline.report.text.verdict_text import verdict_lines
         from webline.sim.simulate import simulate
 
-        scenario_line = _load(line, scenario, controller, sets)
+        scenario_line = _load(loaded, scenario, controller, sets)
         from webline.sim.user_objects import check_consent
 
         check_consent(scenario_line)  # (before anything is written: a refusal is one line)
@@ -199,12 +200,11 @@ def validate(line: LineArg) -> None:
     """Check a line file (and each of its scenarios): list every problem (up to 20) with its
     TOML line and exit 2, or print 'ok' and any warnings (unusual values, winder settings that
     cannot act, speed loops soft against the web) and exit 0."""
-    from webline.line import load_line
-    from webline.model.web_graph import load_branched
-    from webline.spec.load import file_is_branched
+    from webline.model.lines import load_line
 
-    if file_is_branched(line):  # docs/branching.md
-        branched = load_branched(line)
+    loaded = load_line(line)  # a LineFileError lists every problem, one a line (fail())
+    if loaded.branched:  # docs/branching.md
+        branched = loaded
         for name in branched.spec.scenarios:
             branched.with_scenario(name)
         code_notes(branched)
@@ -214,7 +214,6 @@ def validate(line: LineArg) -> None:
                    f"{len(branched.zones)} tension zones; scenarios: "
                    f"{', '.join(branched.spec.scenarios) or 'none'}")
         return
-    loaded = load_line(line)  # a LineFileError lists every problem, one a line (fail())
     for name in loaded.spec.scenarios:
         loaded.with_scenario(name)
     from webline.analysis.zone_loops import speed_leaks
@@ -259,17 +258,18 @@ def show(line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None
     """Show a line: sections, rollers, spans, drives, controllers and scenarios (a branched
     line: its webs, rollers, spans, drives and zones)."""
     from webline.cli_branches import show_branched, write_schematic
+    from webline.model.lines import load_line
     from webline.report.text.describe import line_tables
     from webline.report.text.display import Display
-    from webline.spec.load import file_is_branched
 
-    if file_is_branched(line):  # docs/branching.md, "Report"
-        print_tables(show_branched(line, scenario, schematic, units.value, sets), _console())
-        code_notes(line)
+    source = load_line(line)
+    if source.branched:  # docs/branching.md, "Report"
+        print_tables(show_branched(source, scenario, schematic, units.value, sets), _console())
+        code_notes(source)
         if schematic is not None:
             typer.echo(f"Schematic: {schematic}")
         return
-    loaded = _load(line, scenario, None, sets)
+    loaded = _load(source, scenario, None, sets)
     display = Display(units.value, loaded.spec.web.width)
     print_tables(line_tables(loaded, display), _console())
     code_notes(loaded)

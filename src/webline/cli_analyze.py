@@ -27,6 +27,7 @@ if TYPE_CHECKING:
     from webline.analysis.branch_across_roll import BranchRollModes
     from webline.analysis.certificate import Certificate
     from webline.line import Line
+    from webline.model.web_graph import BranchedLine
     from webline.report.text.display import Display
     from webline.sim.linear.roll_modes import RollModes
 
@@ -60,12 +61,13 @@ def analyze(
 
     Exit status: 0 ok (no closed-loop mode grows), 2 bad input, 3 unstable (one grows).
     """
-    from webline.spec.load import file_is_branched
+    from webline.model.lines import load_line
 
-    if file_is_branched(line):  # docs/branching.md, "Linear models"
+    source = load_line(line)
+    if source.branched:  # docs/branching.md, "Linear models"
         if figure is not None and not across_roll:
             raise BadInput("--figure: the map of the modes across the roll; give --across-roll")
-        _analyze_branched(line, scenario, at, as_json, units,
+        _analyze_branched(source, scenario, at, as_json, units,
                           (points, damping, figure) if across_roll else None, certificate,
                           sets=sets, family=None if controller is None
                           else FAMILY_TYPES[controller.value])
@@ -89,7 +91,7 @@ def analyze(
     from webline.sim.linear.stability import stability_findings
     from webline.verdict import Verdict
 
-    loaded = _load(line, scenario, controller, sets)
+    loaded = _load(source, scenario, controller, sets)
     t = analysis_time(loaded) if at is None else time_option(at, "--time", zero=True)
     display = Display(units.value, loaded.spec.web.width)
     point = operating_point(loaded, t)
@@ -128,8 +130,8 @@ def analyze(
         raise typer.Exit(verdict.exit_code)
 
 
-def _analyze_branched(source: str, scenario: str | None, at: str | None, as_json: bool,
-                      units: Units, across: tuple[int, float, str | None] | None,
+def _analyze_branched(source: str | BranchedLine, scenario: str | None, at: str | None,
+                      as_json: bool, units: Units, across: tuple[int, float, str | None] | None,
                       certificate: bool = False, *, sets: list[str] | None = None,
                       family: str | None = None) -> None:
     """``analyze`` of a branched line: operating point, closed-loop modes and the stability

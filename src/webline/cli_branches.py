@@ -20,8 +20,8 @@ FIGURE = "figures/tensions.png"
 REPORT = "report.html"
 
 
-def run_branched(source: str, seconds: float | None, scenario: str | None, out: Path | None,
-                 force: bool, quiet: bool, svg: bool = False, units: str = "si",
+def run_branched(source: str | BranchedLine, seconds: float | None, scenario: str | None,
+                 out: Path | None, force: bool, quiet: bool, svg: bool = False, units: str = "si",
                  sets: list[str] | None = None,
                  data_format: str = "netcdf", precision: str = "float64",
                  family: str | None = None) -> None:
@@ -87,7 +87,7 @@ def branch_units(units: str) -> Display:
     return Display(units)  # type: ignore[arg-type]
 
 
-def branched_line(source: str, scenario: str | None, sets: list[str] | None,
+def branched_line(source: str | BranchedLine, scenario: str | None, sets: list[str] | None,
                   family: str | None = None) -> BranchedLine:
     """Branched line ``source`` as a command runs it: with ``--controller`` (every drive on
     ``family``, its line-file type), ``scenario``, then every ``--set PATH=VALUE`` of
@@ -104,7 +104,7 @@ def branched_line(source: str, scenario: str | None, sets: list[str] | None,
     return line.replace(changes)
 
 
-def show_branched(source: str, scenario: str | None, schematic: Path | None,
+def show_branched(source: str | BranchedLine, scenario: str | None, schematic: Path | None,
                   units: str = "si", sets: list[str] | None = None) -> list:
     """The tables of branched line ``source`` (``report.text.branch_tables``) in ``units``,
     with ``scenario`` and ``sets`` (``--set``) applied; with ``schematic``, its schematic

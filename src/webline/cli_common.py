@@ -206,10 +206,10 @@ def print_tables(tables: list, console: Console) -> None:
         console.print(out)
 
 
-def _load(source: str, scenario: str | None, controller: ControllerFamily | None = None,
+def _load(source: str | Line, scenario: str | None, controller: ControllerFamily | None = None,
           sets: list[str] | None = None) -> Line:
-    """The line as a command runs it: loaded, with ``--controller``, ``--scenario`` and every
-    ``--set PATH=VALUE`` applied, in that order."""
+    """The single-path line as a command runs it: loaded (or as given), with
+    ``--controller``, ``--scenario`` and every ``--set PATH=VALUE`` applied, in that order."""
     from webline.line import load_line
 
     line = load_line(source)

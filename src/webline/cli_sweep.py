@@ -153,21 +153,20 @@ def write_outputs(ds: Any, folder: OutputFolder,
 def _display(line: str, system: str, spec: dict[str, Any]) -> Display:
     """The report's units: ``system``, forces per width of the line's web for the per-width
     systems (refused when the study changes the web's width: no one width to divide by)."""
-    from webline.line import load_line
+    from webline.model.lines import load_line
     from webline.report.text.display import Display
 
     if not system.endswith("per-width"):
         return Display(system)  # type: ignore[arg-type]
-    from webline.spec.load import file_is_branched
-
-    if file_is_branched(line):  # film, foil, laminate, lanes: each its own width
+    loaded = load_line(line)
+    if loaded.branched:  # film, foil, laminate, lanes: each its own width
         raise ArgumentError(f"--units {system}: a branched line's webs and lanes have their "
                             "own widths, so its tensions have no one width to be shown per; "
                             "choose si or imperial")
     if "web.width" in spec:
         raise ArgumentError(f"--units {system}: the study changes web.width, so its tensions "
                             "have no one width to be shown per; choose si or imperial")
-    return Display(system, load_line(line).spec.web.width)  # type: ignore[arg-type]
+    return Display(system, loaded.spec.web.width)  # type: ignore[arg-type]
 
 
 def sweep_command(

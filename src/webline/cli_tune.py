@@ -17,23 +17,6 @@ from webline.errors import WeblineError
 # the twin and simulation layers load inside the commands, so that --help stays fast
 
 
-#: why a command refuses a branched line: {command: reason}
-SINGLE_PATH_ONLY = {
-    "replay": "a twin's traces drive and are matched to a single-path line's signals",
-    "fit": "a twin's traces drive and are matched to a single-path line's signals",
-}
-
-
-def refuse_branched(command: str, line: str) -> None:
-    """One line, exit 2, where ``line`` is a branched line and ``command`` takes only
-    single-path lines (``SINGLE_PATH_ONLY``)."""
-    from webline.model.web_graph import source_is_branched
-
-    if source_is_branched(line):
-        raise BadInput(f"{line}: webs: webline {command}: not yet supported for a branched "
-                       f"line ([[webs]]): {SINGLE_PATH_ONLY[command]} (docs/branching.md)")
-
-
 def _uncertain(texts: list[str]) -> dict[str, str]:
     out = {}
     for text in texts:
@@ -57,7 +40,12 @@ def tune_command(
         "third to three times their values).")] = None,
     fit: Annotated[Path | None, typer.Option(
         "--fit", help="A fit's fit.json (or its folder): the robustness Monte Carlo draws its "
-        "parameters from normal(value, stderr).")] = None,
+        "parameters from normal(value, stderr). A fit whose verdict is not good is refused "
+        "(exit 2) unless --poor-fit widen.")] = None,
+    poor_fit: Annotated[str, typer.Option(
+        "--poor-fit", metavar="refuse|widen", help="What to do with a --fit whose verdict is "
+        "poor or failed: refuse it (exit 2), or widen its parameters to their bounds "
+        "(uniform draws).")] = "refuse",
     uncertain: Annotated[list[str] | None, typer.Option(
         "--uncertain", metavar="PATH=DIST", help="An uncertain parameter of the robustness "
         "Monte Carlo (repeatable), e.g. web.modulus='normal(4 GPa, 10 %)'; overrides --fit "
@@ -86,7 +74,9 @@ def tune_command(
     dists: dict[str, Any] | None = None
     notes: list[str] = []
     if fit is not None:
-        dists, notes = fit_uncertain(fit / "fit.json" if fit.is_dir() else fit)
+        if poor_fit not in ("refuse", "widen"):
+            raise BadInput(f"--poor-fit: expected refuse or widen, got {poor_fit!r}")
+        dists, notes = fit_uncertain(fit / "fit.json" if fit.is_dir() else fit, poor_fit)
     if uncertain:
         dists = {**(dists or {}), **_uncertain(uncertain)}
     folder = open_output(out, force, "tune", FILES)
@@ -119,13 +109,12 @@ def experiment_command(
         "--force", help="Write into a non-empty folder webline did not write.")] = False,
 ) -> None:
     """Simulate an identification test on LINE and write the traces to record."""
-    from webline.line import load_line
-    from webline.model.web_graph import load_branched, source_is_branched
+    from webline.model.lines import load_line
     from webline.twin.tuning.experiment import EXPERIMENTS, plan_experiment, write_experiment
     from webline.twin.tuning.experiment_branched import PLANNERS, write_branched_experiment
 
-    branched = source_is_branched(line)  # the same tests on its drives and zones
-    base: Any = load_branched(line) if branched else load_line(line)
+    base: Any = load_line(line)
+    branched = base.branched  # the same tests on its drives and zones
     write = write_branched_experiment if branched else write_experiment
 
     def planned(key: str) -> Any:

@@ -13,7 +13,6 @@ import typer
 from rich.markup import escape
 
 from webline.cli_common import LineArg, ScenarioOpt, _console, open_output
-from webline.cli_tune import refuse_branched
 from webline.errors import ArgumentError
 
 if TYPE_CHECKING:
@@ -71,8 +70,9 @@ def replay_command(
     from webline.report.outputs import default_folder
     from webline.twin.fitting.report import write_replay_report
     from webline.twin.traces.replay import replay
+    from webline.twin.traces.single_path import single_path_line
 
-    refuse_branched("replay", line)
+    single_path_line(line, "webline replay")  # (one line where its webs branch)
     measurements = _data(data, line, scenario, maps)
     result = replay(measurements.line, measurements)
     target = out or Path(default_folder(result.line.name, "replay"))
@@ -101,25 +101,35 @@ def fit_command(
     scenario: ScenarioOpt = None,
     maps: MapOpt = None,
     max_simulations: Annotated[int, typer.Option(
-        "--max-simulations", min=10, help="Stop after about this many simulations.")] = 400,
+        "--max-simulations", min=10, help="Stop after about this many simulations (of the "
+        "local stages; the global stage's come on top).")] = 400,
+    starts: Annotated[int, typer.Option(
+        "--starts", min=1, help="Starts of the global stage: the line's values and the best "
+        "of a Latin hypercube over the bounds, each fitted briefly; the best goes on (1: the "
+        "line's values only).")] = 8,
+    seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of the Latin hypercube.")] = 0,
+    accept_poor: Annotated[bool, typer.Option(
+        "--accept-poor", help="Exit 0 for a poor fit (its files still say it is poor).")] = False,
     force: ForceOpt = False,
 ) -> None:
     """Fit line parameters to measured data by weighted least squares: values, standard
-    errors, 95 % intervals, correlations, and the parameters the data cannot identify.
-    Writes fitted.toml (the line with the fitted values, annotated), fit.json and an HTML
-    report. Exit status: 0, 2 bad input."""
+    errors, 95 % intervals, correlations, the parameters the data cannot identify and a
+    verdict (good, poor, failed, with the reasons). Writes fitted.toml (the line with the
+    fitted values, annotated), fit.json and an HTML report, whatever the verdict. Exit
+    status: 0 good, 4 poor (0 with --accept-poor), 5 failed, 2 bad input."""
     from webline.report.outputs import default_folder
     from webline.twin.fitting.fit import fit
     from webline.twin.fitting.fit_files import write_fit_files
     from webline.twin.fitting.report import write_fit_report
+    from webline.twin.traces.single_path import single_path_line
 
-    refuse_branched("fit", line)
+    single_path_line(line, "webline fit")
     bounds = parse_pairs(free, "--free")
     measurements = _data(data, line, scenario, maps)
     from webline.line import load_line
 
     result = fit(load_line(line), measurements, bounds, scenario=scenario,
-                 max_simulations=max_simulations)
+                 max_simulations=max_simulations, starts=starts, seed=seed)
     target = out or Path(default_folder(result.line.name, "fit"))
     folder = open_output(target, force, "fit", FIT_FILES)
     for name in FIT_FILES:
@@ -131,3 +141,11 @@ def fit_command(
     console.print(escape(measurements.report()))
     console.print(escape(repr(result)))
     console.print(escape(f"report: {report}"))
+    from webline.twin.fitting.verdict import EXIT
+
+    status = result.verdict.status
+    if status != "good":
+        typer.echo(f"warning: {status.upper()} FIT, its values are not to be trusted: "
+                   + "; ".join(result.verdict.reasons), err=True)
+    if status == "failed" or (status == "poor" and not accept_poor):
+        raise typer.Exit(EXIT[status])

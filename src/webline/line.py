@@ -12,6 +12,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
+from typing import ClassVar, Literal
 
 import numpy as np
 
@@ -53,7 +54,11 @@ class Zone:
 
 @dataclass(frozen=True)
 class Line:
-    """A web line ready to simulate and analyse. Build it with ``load_line``."""
+    """A single-path web line ready to simulate and analyse. Build it with
+    ``webline.load_line``."""
+
+    #: a line of one web on one path (``model.web_graph.BranchedLine.branched`` is True)
+    branched: ClassVar[Literal[False]] = False
 
     spec: LineSpec
     source: str = "<python>"
@@ -255,7 +260,8 @@ class Line:
 
 
 def load_line(source: Line | str | Path | LineSpec | dict[str, object]) -> Line:
-    """Load a line from a TOML file, a built-in name (``"hswl"``), a dict or a ``LineSpec``.
+    """A single-path line from a TOML file, a built-in name (``"hswl"``), a dict or a
+    ``LineSpec`` (the front door's ``webline.load_line``, ``model.lines``, loads any line).
 
     Raises ``LineFileError`` naming the file, key path and problem for any malformed input.
     """

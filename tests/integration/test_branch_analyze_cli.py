@@ -64,9 +64,9 @@ def test_analyze_controller_family_gives_that_familys_closed_loop_modes():
         point = operating_point(plan, analysis_time(line))
         return np.linalg.eigvals(branch_linear_model(plan, point, "closed").a)
 
-    family = eigenvalues(with_branched_controller(webline.load_branched("laminator"),
+    family = eigenvalues(with_branched_controller(webline.load_line("laminator"),
                                                   "state_feedback"))
-    plain = eigenvalues(webline.load_branched("laminator"))
+    plain = eigenvalues(webline.load_line("laminator"))
     scale = np.max(np.abs(family))
     # every listed mode is an eigenvalue of the state-feedback closed loop to round-off
     # (1e-9 of the largest), and some lie far (0.1 1/s, 1e8 times that) from every PI mode

@@ -106,7 +106,7 @@ def test_a_calculator_off_its_rolls_diameter_by_more_than_the_tolerance_is_found
     finds it from the start with its largest signed error, 3 % does not."""
     result = _laminator_calculator({"diameter_tolerance": 0.01, "min_duration": "2 s"})
     ds = result.dataset
-    error = 2 * (ds["radius_calc"].sel(drive="rewind").values
+    error = 2 * (ds["control_radius"].sel(drive="rewind").values
                  - ds["radius"].sel(roll="rewind/laminate").values)
     assert np.all(np.abs(error / (2 * ds["radius"].values[:, -1]) - 0.02) < 1e-3)
     found = _found(result, "diameter_error")

@@ -21,7 +21,7 @@ def _slitter(diameter: dict, roller: str = "rewind_3") -> dict:
 
 def _run(diameter: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     ds = webline.simulate(load_branched(_slitter(diameter)), 6.0).dataset
-    return (ds.time.values, ds.radius_calc.sel(drive="rewind_3").values,
+    return (ds.time.values, ds.control_radius.sel(drive="rewind_3").values,
             ds.radius.sel(roll="rewind_3/lane_3").values)
 
 

@@ -207,14 +207,14 @@ def test_the_captions_of_lanes_on_one_shaft_state_their_sum_and_their_drift():
 def test_the_report_states_a_warning_and_the_drive_it_concerns():
     from webline.report.branch_report import report_html
 
-    line = webline.load_branched("laminator")
+    line = webline.load_line("laminator")
     data = line.spec.model_dump(exclude_none=True)
     # the rewind needs 15.96 N·m steady at 2.5 m/s (test_branches' torque-limit test) and more
     # to accelerate: a 16.2 N·m limit is reached during the ramp
     data["rollers"][6]["drive"]["torque_limit"] = 16.2
     data["speed"] = {"type": "ramp", "initial": 2.0, "final": 2.5, "start": 0.5,
                      "duration": 0.5}
-    result = webline.simulate(webline.load_branched(data), 2.0, raise_on_failure=False)
+    result = webline.simulate(webline.load_line(data), 2.0, raise_on_failure=False)
     page = unescape(report_html(result, {}))
     finding = next(f for f in result.verdict.findings if f.kind == "torque_limit")
     assert 'class="status warning"' in page and result.verdict.headline in page
@@ -362,11 +362,11 @@ def test_the_report_lists_the_lines_closed_loop_modes_and_names_the_least_damped
 def test_the_report_names_a_growing_closed_loop_mode():
     from webline.report.branch_report import report_html
 
-    data = webline.load_branched("laminator").spec.model_dump(exclude_none=True)
+    data = webline.load_line("laminator").spec.model_dump(exclude_none=True)
     # the rewind's tension gain 40x its tuned 7.6e-5 (m/s)/N: a 38 Hz mode of the rewind and
     # the laminate zone grows (docs/branching.md, "Linear models": +18.5 1/s continuous)
     data["rollers"][6]["controller"]["tension_kp"] = 3e-3
-    result = webline.simulate(webline.load_branched(data), 0.2, raise_on_failure=False)
+    result = webline.simulate(webline.load_line(data), 0.2, raise_on_failure=False)
     page = unescape(report_html(result, {}))
     assert "Unstable: closed-loop mode λ = 18.5 ± " in page
     assert "No closed-loop mode grows" not in page

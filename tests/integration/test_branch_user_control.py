@@ -55,7 +55,7 @@ def test_a_user_pi_reproduces_the_built_in_laminator_through_a_tension_step():
     # same float operations in the same order: the runs are equal to round-off. One
     # loadcell per zone makes even the order of the sums the same, so 1e-9 N (far below the
     # 30 N step and its transient) is a margin, not a fit (the runs agree to the bit here).
-    line = webline.load_branched("laminator").with_scenario("layer-upset")
+    line = webline.load_line("laminator").with_scenario("layer-upset")
     built_in = webline.simulate(line, 2.5)
     pi = UserPI()
     user = webline.simulate(line, 2.5, controller=pi)
@@ -80,7 +80,7 @@ def test_a_shaft_of_lanes_reads_the_sum_of_its_lanes_loadcells():
     # the sum of the lanes' loadcells and its reference their sum (200 N), the error the
     # built-in PI integrates. The user PI then reproduces the built-in run; the sum's order
     # differs from the built-in's sum of errors, so round-off (1e-9 of 300 N) is allowed.
-    line = webline.load_branched("slitter")
+    line = webline.load_line("slitter")
     built_in = webline.simulate(line, 1.0)
     pi = UserPI()
     user = webline.simulate(line, 1.0, controller=pi)
@@ -151,7 +151,7 @@ def test_bad_controller_arguments_are_one_line_naming_the_problem():
 def test_a_session_steps_as_simulate_runs_and_a_restore_repeats_the_same_numbers():
     # Stepping 200 + 0 + 300 ticks runs the same compiled loop on the same arrays as one
     # simulate(0.5 s): the same records to the bit, the last row the state at t = 0.5 s.
-    line = webline.load_branched("laminator").with_scenario("layer-upset")
+    line = webline.load_line("laminator").with_scenario("layer-upset")
     session = webline.Session(line)
     assert type(session).__name__ == "BranchSession"
     session.step(200)
@@ -188,7 +188,7 @@ def test_a_session_with_a_user_controller_equals_its_simulate_run():
     # The user PI on every drive: the same readings, commands and ticks as simulate's user
     # run, so the states are equal to the bit; the last record's user commands are the
     # held ones (the session does not call the controller for a tick it has not run).
-    line = webline.load_branched("laminator").with_scenario("layer-upset")
+    line = webline.load_line("laminator").with_scenario("layer-upset")
     run = webline.simulate(line, 0.3, controller=UserPI())
     session = webline.Session(line, controller=UserPI())
     session.step(300)
@@ -232,7 +232,7 @@ def test_run_takes_the_files_python_controller_and_the_controller_option(tmp_pat
     ran = CliRunner().invoke(app, ["run", "laminator", "-d", "0.3", "--controller",
                                    "state-feedback", "-o", str(tmp_path / "sf"), "-q"])
     assert ran.exit_code == 0, ran.output
-    expected = webline.simulate(with_branched_controller(webline.load_branched("laminator"),
+    expected = webline.simulate(with_branched_controller(webline.load_line("laminator"),
                                                          "state_feedback"), 0.3)
     written = xr.open_dataset(tmp_path / "sf" / "results.nc")["tension"].values
     assert np.array_equal(written, _tensions(expected))

@@ -51,7 +51,7 @@ def test_the_inertia_compensation_torque_is_j_a_over_r_n_at_a_sampled_tick():
     ds = result.dataset
     row = ds.sel(time=5.0, method="nearest")
     assert float(row["time"]) == pytest.approx(5.0, abs=1e-12)
-    radius = float(row["radius_calc"].sel(drive="rewind"))
+    radius = float(row["control_radius"].sel(drive="rewind"))
     true = float(row["radius"].sel(roll="rewind/laminate"))
     assert radius / true == pytest.approx(1.02, abs=1e-3)  # the guess, grown with the roll
     inertia = 0.3 + math.pi * RHO_LAMINATE * 1.0 * (radius ** 4 - CORE ** 4) / 2

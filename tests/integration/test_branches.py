@@ -118,7 +118,7 @@ def test_the_operating_point_is_steady_on_the_kernels_rhs():
     from webline.sim.branches.loop.plant import rhs
 
     for name in ("laminator", "slitter"):
-        plan = compile_branches(webline.load_branched(name))
+        plan = compile_branches(webline.load_line(name))
         point = operating_point(plan)
         dx = np.zeros(plan.n_x)
         rhs(point.x, point.torque, plan.wound, *plan.tables(), dx,
@@ -208,7 +208,7 @@ def test_the_slitter_knife_carries_the_sum_of_its_lanes():
     ("laminator", "flying-splice"), ("slitter", "start-up"), ("slitter", "thickness-profile")])
 def test_every_scenario_of_the_branched_lines_runs_to_its_end(line, scenario):
     result = webline.simulate(line, scenario=scenario)
-    duration = webline.load_branched(line).spec.scenarios[scenario].duration
+    duration = webline.load_line(line).spec.scenarios[scenario].duration
     assert result.failure is None and result.time[-1] == pytest.approx(duration)
     tension = result.dataset["tension"]
     assert float(tension.min()) > 0.0  # no span went slack
@@ -221,13 +221,13 @@ def test_every_scenario_of_the_branched_lines_runs_to_its_end(line, scenario):
 
 
 def test_a_drive_at_its_torque_limit_is_a_warning_of_the_verdict():
-    line = webline.load_branched("laminator")
+    line = webline.load_line("laminator")
     data = line.spec.model_dump(exclude_none=True)
     # the rewind needs r T + b ω = 0.08 x 180 + 0.05 x 2.5 / 0.08 = 15.96 N·m at 2.5 m/s
     data["rollers"][6]["drive"]["torque_limit"] = 16.2
     data["speed"] = {"type": "ramp", "initial": 2.0, "final": 2.5, "start": 0.5,
                      "duration": 0.5}  # accelerating it (0.3 kg m² at 12.5 rad/s²) needs more
-    result = webline.simulate(webline.load_branched(data), 2.0, raise_on_failure=False)
+    result = webline.simulate(webline.load_line(data), 2.0, raise_on_failure=False)
     found = [f for f in result.verdict.findings if f.kind == "torque_limit"]
     assert [f.where for f in found] == ["rewind"] and 0.5 <= found[0].time < 1.0
     assert result.verdict.status == "warning"

@@ -34,3 +34,49 @@ def test_python_quickstart_runs(tmp_path, monkeypatch):
     report = tmp_path / "out" / "mine" / "report.html"
     assert "lbf" in report.read_text(encoding="utf-8")
     assert (tmp_path / "speed-change.nc").stat().st_size > 0
+
+
+#: the README's Python example on the built-in laminator: its names for the hswl's
+LAMINATOR_NAMES = {
+    '"hswl"': '"laminator"',
+    '"speed-change"': '"layer-upset"',
+    '["span1"]': '["film_zone"]',
+    'span="span2"': 'span="foil_zone"',
+    '"rollers.process.controller.tension_bandwidth"':
+        '"rollers.rewind.controller.tension_bandwidth"',
+    '"web.ea": "9 kN"': '"webs.film.web.ea": "90 kN"',
+    '"spans.span2.length"': '"webs.film.spans.film_zone.length"',
+}
+#: what the example does that a branched line still refuses, one line each (issue 33)
+LAMINATOR_REFUSED = {
+    "op = webline.operating_point(softer)": "operating_point of 'laminator': not yet supported "
+                                            "for a branched line",
+}
+
+
+def test_python_quickstart_runs_on_the_laminator(tmp_path, monkeypatch):
+    """The same example on a branched line (issue 33): the same calls, with the laminator's
+    names; each statement it still refuses raises its one-line ``ArgumentError`` (listed in
+    ``LAMINATOR_REFUSED``) and the lines that use its value are skipped."""
+    import pytest
+
+    import webline
+
+    code = re.search(r"```python\n(.*?)```", README, re.S).group(1)
+    for hswl, laminator in LAMINATOR_NAMES.items():
+        assert hswl in code, hswl  # (the README changed: update the names)
+        code = code.replace(hswl, laminator)
+    for statement, refusal in LAMINATOR_REFUSED.items():
+        assert statement in code
+        name = statement.split(" = ")[0]
+        kept = [line for line in code.splitlines() if not re.search(rf"\b{name}\.", line)]
+        code = "\n".join(kept).replace(
+            statement, f"with _raises(_Error, match={refusal!r}):\n    {statement}")
+    monkeypatch.chdir(tmp_path)
+    namespace = {"_raises": pytest.raises, "_Error": webline.ArgumentError}
+    exec(compile(code, "README.md (laminator)", "exec"), namespace)
+    assert type(namespace["result"]).__name__ == "BranchResult"
+    assert namespace["result"].status in ("ok", "warning")
+    report = tmp_path / "out" / "mine" / "report.html"
+    assert "lbf" in report.read_text(encoding="utf-8")
+    assert (tmp_path / "speed-change.nc").stat().st_size > 0

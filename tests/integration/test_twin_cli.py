@@ -45,6 +45,52 @@ def test_fit_writes_fitted_line_and_json(log, tmp_path):
     assert (out / "fitted.toml").exists() and (out / "report.html").exists()
 
 
+POOR = ("--starts", "2", "--free", "rollers.infeed.inertia=0.1..0.5 kg*m**2")
+
+
+@pytest.fixture(scope="module")
+def poor(log, tmp_path_factory):
+    """The infeed's inertia is 0.7 kg m² in the log; bounds that stop at 0.5 leave it on its
+    upper bound with residuals above the noise: a poor fit (issue 36 item 1)."""
+    out = tmp_path_factory.mktemp("poor") / "fit"
+    result = invoke("fit", "converter", str(log), "-s", "startup", *POOR, "-o", str(out))
+    return result, out
+
+
+def test_a_poor_fit_exits_4_and_says_so_in_every_file(poor, log, tmp_path):
+    """Exit 4, POOR in fitted.toml and the report, the reasons in fit.json; --accept-poor
+    exits 0."""
+    result, out = poor
+    assert result.exit_code == 4, result.output
+    assert "warning: POOR FIT" in result.stderr and "at its upper bound" in result.stderr
+    data = json.loads((out / "fit.json").read_text())
+    assert data["verdict"] == "poor" and data["residual_scale"] > 1.5
+    assert any("rollers.infeed.inertia at its upper bound" in r for r in data["reasons"])
+    entry = data["parameters"]["rollers.infeed.inertia"]
+    assert entry["at_bound"] == "high" and entry["interval"] == "one-sided"
+    assert entry["ci95"][1] == pytest.approx(0.5)  # one-sided: up to the bound
+    text = (out / "fitted.toml").read_text()
+    assert "# VERDICT: POOR" in text and "POOR FIT to log.csv, not to be trusted" in text
+    assert "95 % interval" not in text
+    assert "POOR FIT" in (out / "report.html").read_text()
+    accepted = invoke("fit", "converter", str(log), "-s", "startup", *POOR, "--accept-poor",
+                      "-o", str(tmp_path / "accepted"))
+    assert accepted.exit_code == 0, accepted.output
+
+
+def test_tune_refuses_a_poor_fit(poor, tmp_path):
+    """tune --fit builds on good fits only (issue 36 item 8): one line naming the file, the
+    verdict and the way out, exit 2, before any candidate is simulated."""
+    _, out = poor
+    result = invoke("tune", "converter", "--fit", str(out / "fit.json"), "--out",
+                    str(tmp_path / "tuned"))
+    assert result.exit_code == 2, result.output
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and "fit.json: verdict: the fit is poor" in lines[0], result.stderr
+    assert "--poor-fit widen" in lines[0]
+    assert not (tmp_path / "tuned" / "tune.json").exists()
+
+
 def bad_file(tmp_path, header, rows):
     path = tmp_path / "bad.csv"
     path.write_text(",".join(header) + "\n" + "\n".join(

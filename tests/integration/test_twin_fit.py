@@ -49,12 +49,20 @@ def test_round_trip_every_parameter_within_its_95_percent_interval(round_trip):
 def test_fit_files_have_the_shape_tune_reads(round_trip, tmp_path):
     toml_path, json_path = write_fit_files(round_trip, tmp_path)
     data = json.loads(json_path.read_text())
-    assert set(data) == {"line", "data", "parameters", "correlation", "simulations", "cost",
-                         "converged"}
+    assert set(data) == {"line", "data", "verdict", "reasons", "residual_scale", "parameters",
+                         "correlation", "simulations", "cost", "converged", "starts",
+                         "effective_points", "correlation_time", "checks", "findings"}
+    assert data["verdict"] == "good" and data["reasons"] == []
+    # the model is right: every signal's residuals white at its noise
+    assert data["findings"] == [] and len(data["checks"]) == 17
+    assert all(0.8 < c["rms"] < 1.2 and c["p_white"] > 1e-3 for c in data["checks"])
+    assert data["starts"]["count"] == 8 and data["starts"]["reached_best"] >= 1
     assert set(data["parameters"]) == set(TRUTH)
     for entry in data["parameters"].values():
-        assert set(entry) == {"value", "unit", "stderr", "ci95", "identifiable"}
+        assert set(entry) == {"value", "unit", "stderr", "ci95", "interval", "at_bound",
+                              "bounds", "identifiable"}
         assert entry["ci95"][0] <= entry["value"] <= entry["ci95"][1]
+        assert entry["interval"] == "two-sided" and entry["at_bound"] is None
     assert data["parameters"]["web.modulus"]["unit"] == "Pa"
     assert np.array(data["correlation"]).shape == (5, 5)
     assert data == fit_json(round_trip)
@@ -64,6 +72,7 @@ def test_fit_files_have_the_shape_tune_reads(round_trip, tmp_path):
     assert fitted.spec.web.modulus == pytest.approx(round_trip.value[3])
     text = toml_path.read_text()
     assert "# fitted to log.csv" in text and "95 % interval" in text
+    assert "# VERDICT: GOOD" in text and "POOR" not in text
 
 
 def test_friction_from_one_constant_speed_is_not_identifiable(tmp_path):

@@ -58,9 +58,41 @@ def test_builtin_branched_lines_load_with_their_topology():
     assert lane.ea == pytest.approx(base.ea * 0.4 / 1.25, rel=1e-15)
 
 
-def test_load_line_refuses_a_branched_line_in_one_line():
-    with pytest.raises(LineFileError, match="webs: a branched line"):
-        webline.load_line("laminator")
+def test_load_line_loads_every_built_in_line_and_says_its_kind(tmp_path):
+    """The front door reads every line file; the file's format ([[webs]]) alone makes a
+    branched line, and the line says which it is (``branched``), the same as the file read
+    through the branched loader."""
+    from webline.line import Line
+    from webline.model.web_graph import BranchedLine
+    from webline.spec.load import builtin_lines
+
+    kinds = {name: webline.load_line(name).branched for name in builtin_lines()}
+    assert {name for name, branched in kinds.items() if branched} >= {"laminator", "slitter"}
+    assert kinds["hswl"] is False and kinds["converter"] is False
+    for name, branched in kinds.items():
+        assert isinstance(webline.load_line(name), BranchedLine if branched else Line)
+    assert webline.load_line("laminator").spec == load_branched("laminator").spec
+    path = tmp_path / "lam.toml"
+    path.write_text(resources.files("webline.data.lines").joinpath("laminator.toml")
+                    .read_text("utf-8"))
+    from_file = webline.load_line(path)
+    assert from_file.branched and from_file.source == str(path)
+    assert webline.load_line(LAMINATOR).branched  # a dict as read from TOML
+    assert webline.load_line(from_file.spec).spec == from_file.spec
+    with pytest.raises(webline.ArgumentError, match="line: expected"):
+        webline.load_line(3.5)  # type: ignore[arg-type]
+    assert "load_branched" not in dir(webline)
+
+
+def test_a_bad_branched_file_names_its_line_through_the_front_door(tmp_path):
+    data = changed(LAMINATOR, lambda d: d["webs"][0]["spans"][0].update(length="-1 m"))
+    import tomli_w
+
+    path = tmp_path / "bad.toml"
+    path.write_text(tomli_w.dumps(data))
+    with pytest.raises(LineFileError) as info:
+        webline.load_line(path)
+    assert str(path) in str(info.value) and "length" in str(info.value)
 
 
 def _set_dancer(d):

@@ -109,6 +109,23 @@ def test_fit_json_gives_truncated_normals(tmp_path) -> None:
     assert len(skipped) == 1 and "rollers.unwind.friction" in skipped[0]
 
 
+def test_a_poor_fit_is_refused_or_widened_to_its_bounds(tmp_path) -> None:
+    """Issue 36 item 8: a fit.json whose verdict is poor gives no normal(value, stderr);
+    --poor-fit widen draws each parameter uniformly over its bounds, and says so."""
+    path = tmp_path / "fit.json"
+    path.write_text(json.dumps({"verdict": "poor", "reasons": ["residuals 2.2 x the noise"],
+                                "parameters": {"rollers.rewind.drive.torque_lag": {
+                                    "value": 5e-4, "stderr": 1e-4, "bounds": [5e-4, 2e-2],
+                                    "identifiable": True}}}))
+    with pytest.raises(ArgumentError, match=r"fit\.json: verdict: the fit is poor \(resid"):
+        fit_uncertain(path)
+    dists, notes = fit_uncertain(path, "widen")
+    lag = dists["rollers.rewind.drive.torque_lag"]
+    assert lag.support() == pytest.approx((5e-4, 2e-2))
+    assert lag.mean() == pytest.approx(0.5 * (5e-4 + 2e-2))
+    assert "uniformly over their bounds" in notes[0]
+
+
 def test_bad_fit_json_names_the_file(tmp_path) -> None:
     path = tmp_path / "fit.json"
     path.write_text("{}")

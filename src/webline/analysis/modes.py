@@ -11,11 +11,12 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, cast
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from webline.line import Line, load_line
+from webline.line import Line
+from webline.model.lines import load_line
 from webline.sim.linear.linearize import LinearModel
 
 if TYPE_CHECKING:
@@ -93,12 +94,9 @@ def closed_loop_modes(line: Line | BranchedLine | str, t: float = 0.0) -> list[M
     ``sim.branches.linear`` (docs/branching.md, "Linear models")."""
     from webline.sim.core.plan import compile_plan
     from webline.sim.linear.linearize import plan_linear_model
-    from webline.sim.simulate import is_branched_line
-
-    if is_branched_line(line):
+    loaded = load_line(line)
+    if loaded.branched:
         from webline.sim.branches.linear import linear_model
 
-        return modes(linear_model(cast("BranchedLine | str", line), t, loop="closed"))
-
-    return modes(plan_linear_model(compile_plan(load_line(cast("Line | str", line))),
-                                   loop="closed", t=t))
+        return modes(linear_model(loaded, t, loop="closed"))
+    return modes(plan_linear_model(compile_plan(loaded), loop="closed", t=t))

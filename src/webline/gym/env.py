@@ -39,9 +39,9 @@ import numpy as np
 from gymnasium import spaces
 
 from webline.errors import ArgumentError, SimulationError
-from webline.line import Line, load_line
+from webline.line import Line
+from webline.model.lines import load_line
 from webline.sim.session import Session
-from webline.sim.simulate import is_branched_line
 from webline.sim.sweeps.distributions import draw
 from webline.sim.user_control import ControllerContext
 
@@ -86,18 +86,17 @@ class LineEnv(gymnasium.Env):
                  randomize: Mapping[str, Any] | None = None, failure_reward: float = -100.0,
                  allow_code: bool | None = None) -> None:
         self.base: Any
-        if is_branched_line(line):  # docs/controllers.md, "On a branched line"
-            from webline.model.web_graph import load_branched
-
+        loaded = load_line(line)
+        if loaded.branched:  # docs/controllers.md, "On a branched line"
             if randomize:
                 raise ArgumentError("randomize: not yet supported for a branched line (its "
                                     "parameters have no replace by path yet)")
-            self.base = load_branched(line)  # type: ignore[arg-type]
+            self.base = loaded
             rollers = self.base.spec.rollers
             names = [rollers[i].name for i in self.base.drives]
             tension = [rollers[i].name for i in self.base.drives if i in self.base.zones]
         else:
-            self.base = load_line(line)
+            self.base = loaded
             names = [self.base.node_name(i) for i in self.base.drives]
             tension = [self.base.node_name(i) for i in self.base.drives
                        if self.base.controlled_zone(i) is not None]

@@ -23,8 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from webline.errors import SimulationError
-from webline.line import Line, Zone, load_line
+from webline.errors import ArgumentError, SimulationError
+from webline.line import Line, Zone
+from webline.model.lines import load_line
 from webline.model.tension_ramp import ramp_factor
 from webline.physics import roll, roller
 from webline.physics.taper import spec_factor
@@ -98,8 +99,15 @@ def operating_point(line: Line | str, t: float | str = 0.0, *,
                     rewind_radius: float | str | None = None) -> OperatingPoint:
     """Equilibrium of ``line`` for its references at time ``t`` [s], rolls at the given radii
     [m] (default: initial radii). Accounts for a ramping line speed (inertial torque).
-    ``t`` and the radii take numbers [SI], strings with units (``"1 s"``) or pint quantities."""
-    line = load_line(line)
+    ``t`` and the radii take numbers [SI], strings with units (``"1 s"``) or pint quantities.
+    A branched line is refused in one line (``ArgumentError``): its operating point is in
+    ``webline analyze`` and ``webline.linearize`` (docs/branching.md, "Linear models")."""
+    loaded = load_line(line)
+    if loaded.branched:
+        raise ArgumentError(f"line: operating_point of {loaded.name!r}: not yet supported for a "
+                            "branched line ([[webs]]); its operating point is in 'webline "
+                            "analyze' and webline.linearize (docs/branching.md)")
+    line = loaded
     t = argument(t, "time", "t", ">=0")
     unwind_radius, rewind_radius = (None if r is None else argument(r, "length", name)
                                     for r, name in ((unwind_radius, "unwind_radius"),

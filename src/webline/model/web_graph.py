@@ -12,7 +12,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import Any, ClassVar, Literal, NoReturn
 
 from webline.errors import ArgumentError, LineFileError
 from webline.spec.branched.check import kind_of
@@ -20,13 +20,7 @@ from webline.spec.branched.schema import BranchedLineSpec, RollChangeSpec, WebPa
 from webline.spec.branched.values import set_roll_radii, set_values
 from webline.spec.branched.winder import check_roll_inertias, wound_web
 from webline.spec.check import web_ea
-from webline.spec.load import (
-    branched_from_dict,
-    file_is_branched,
-    is_branched,
-    parse_branched,
-    read_any,
-)
+from webline.spec.load import branched_from_dict, is_branched, parse_branched, read_any
 from webline.spec.schema import DrivenSpec, IdleSpec, RewindSpec, UnwindSpec
 
 #: the notebook's view of a branched line, resolved by name when first displayed, as
@@ -84,6 +78,9 @@ class Zone:
 @dataclass(frozen=True)
 class BranchedLine:
     """A checked branched line and its topology. ``roll_change``: a scenario's roll change."""
+
+    #: a line whose webs branch (``webline.line.Line.branched`` is False)
+    branched: ClassVar[Literal[True]] = True
 
     spec: BranchedLineSpec
     source: str = "<spec>"
@@ -296,10 +293,12 @@ class BranchedLine:
 
 def load_branched(source: BranchedLine | BranchedLineSpec | str | Path | dict[str, Any]
                   ) -> BranchedLine:
-    """A branched line from a TOML file, a built-in name (``"laminator"``), a dict or a spec.
+    """A branched line from a line object, a spec, a dict, a TOML file or a built-in name: the
+    loader behind ``webline.load_line`` (``model.lines``), for the modules that run only a
+    branched line.
 
     Raises ``LineFileError`` naming the file, key and problem for malformed input (a line
-    without ``[[webs]]`` included: load that with ``webline.load_line``)."""
+    without ``[[webs]]`` included)."""
     if isinstance(source, BranchedLine):
         return source
     if isinstance(source, BranchedLineSpec):
@@ -308,19 +307,14 @@ def load_branched(source: BranchedLine | BranchedLineSpec | str | Path | dict[st
         return _checked(BranchedLine(branched_from_dict(source, "<dict>"), "<dict>"))
     data, text, label = read_any(source)
     if not is_branched(data):
-        raise LineFileError(label, "webs", "not a branched line (no [[webs]]): load it with "
-                            "webline.load_line")
+        raise LineFileError(label, "webs", "not a branched line (no [[webs]])")
+    return branched_from_file(data, text, label)
+
+
+def branched_from_file(data: dict[str, Any], text: str, label: str) -> BranchedLine:
+    """The checked branched line of a line file's ``data`` (read from ``text``; problems carry
+    their TOML line), labelled ``label``."""
     return _checked(BranchedLine(parse_branched(data, text, label), label))
-
-
-def source_is_branched(source: object) -> bool:
-    """Whether ``source`` (a line object, a path or a built-in name) is a branched line;
-    False for anything that cannot be read (``load_line`` then says why)."""
-    if isinstance(source, BranchedLine | BranchedLineSpec):
-        return True
-    if isinstance(source, dict):
-        return is_branched(source)
-    return isinstance(source, str | Path) and file_is_branched(source)
 
 
 def _checked(line: BranchedLine) -> BranchedLine:

@@ -8,9 +8,10 @@ from typing import TYPE_CHECKING, Literal
 
 from webline.errors import ArgumentError
 from webline.line import Line
-from webline.model.web_graph import BranchedLine, source_is_branched
+from webline.model.lines import load_line
 
 if TYPE_CHECKING:
+    from webline.model.web_graph import BranchedLine
     from webline.sim.linear.linear_system import LinearSystem
 
 
@@ -31,20 +32,17 @@ def linearize(line: Line | BranchedLine | str | Path, t: float | str = 0.0, *,
     """
     from webline.spec.ranges import argument
 
-    if isinstance(line, BranchedLine) or (not isinstance(line, Line)
-                                          and source_is_branched(line)):
+    loaded = load_line(line)
+    if loaded.branched:
         t = argument(t, "time", "t", ">=0")
         if loop not in ("open", "closed"):
             raise ArgumentError(f"loop: must be 'open' or 'closed', got {loop!r}")
-        from webline.model.web_graph import load_branched
         from webline.sim.branches.linear import linearize_branched
         from webline.spec.branched.values import radius_changes
 
-        branched = load_branched(line)
-        branched = branched.replace(radius_changes(branched.spec, unwind_radius,
-                                                   rewind_radius))
+        branched = loaded.replace(radius_changes(loaded.spec, unwind_radius, rewind_radius))
         return linearize_branched(branched, t, loop=loop)
     from webline.sim.linear.linearize import linearize as linearize_chain
 
-    return linearize_chain(str(line) if isinstance(line, Path) else line, t, loop=loop,
+    return linearize_chain(loaded, t, loop=loop,
                            unwind_radius=unwind_radius, rewind_radius=rewind_radius)

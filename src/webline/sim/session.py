@@ -13,6 +13,7 @@ import numpy as np
 
 from webline.errors import ArgumentError, ControllerError, SimulationError
 from webline.line import Line, load_line
+from webline.model.lines import load_line as load_any
 from webline.sim.compiled_control import CompiledController
 from webline.sim.core import kernel
 from webline.sim.core.plan import compile_plan, equilibrium_plan_state
@@ -21,7 +22,7 @@ from webline.sim.core.user_step import C_STORED
 from webline.sim.elements import layout as L
 from webline.sim.results.failure import Failure, kernel_failure
 from webline.sim.results.result import Result
-from webline.sim.simulate import _result, choose_substeps, is_branched_line
+from webline.sim.simulate import _result, choose_substeps
 from webline.sim.user_control import (
     Group,
     UserLoop,
@@ -68,12 +69,12 @@ class Session:
 
     def __new__(cls, line: Line | str | Path | BranchedLine | None = None,
                 **options: Any) -> Any:
-        if line is not None and is_branched_line(line):  # (None: a copy being made)
-            from webline.model.web_graph import load_branched
+        loaded = None if line is None else load_any(line)  # (None: a copy being made)
+        if loaded is not None and loaded.branched:
             from webline.sim.branches.user.session import BranchSession
             from webline.sim.user_objects import branched_controllers
 
-            branched = load_branched(line)  # type: ignore[arg-type]
+            branched = loaded
             options["controller"] = branched_controllers(branched, options.get("controller"),
                                                          options.pop("allow_code", None))
             return BranchSession(branched, **options)

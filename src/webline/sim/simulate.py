@@ -9,7 +9,7 @@ import time
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
-from typing import TYPE_CHECKING, cast, overload
+from typing import TYPE_CHECKING, overload
 
 import numpy as np
 
@@ -20,7 +20,8 @@ from webline.errors import (
     SimulationError,
     SimulationInterrupted,
 )
-from webline.line import Line, load_line
+from webline.line import Line
+from webline.model.lines import load_line
 from webline.sim.compiled_control import CompiledController, run_compiled
 from webline.sim.core import kernel
 from webline.sim.core.plan import Plan, compile_plan, equilibrium_plan_state
@@ -34,7 +35,6 @@ from webline.sim.results.failure import Failure, kernel_failure
 from webline.sim.results.result import Result
 from webline.sim.user_control import Group, builtin_stand_in, run_user, user_groups, user_plan
 from webline.sim.user_objects import file_controllers
-from webline.spec.load import file_is_branched
 from webline.spec.ranges import argument, whole_argument
 
 if TYPE_CHECKING:  # a single-path run does not import the branched line's modules
@@ -122,18 +122,6 @@ def interrupt_text(signum: int, end: float) -> str:
     return f"interrupted by the user (Ctrl-C) at t = {end:.4g} s"
 
 
-def is_branched_line(line: object) -> bool:
-    """Whether ``line`` is a branched line, importing its modules only where it is not a
-    ``Line`` or a file (a single-path run's import time stays as it was)."""
-    if isinstance(line, Line):
-        return False
-    if isinstance(line, str | Path):
-        return file_is_branched(line)
-    from webline.model.web_graph import source_is_branched
-
-    return source_is_branched(line)
-
-
 @overload
 def simulate(line: BranchedLine, duration: float | str | None = None, *,
              scenario: str | None = None, sample_rate: float | str | None = None,
@@ -199,27 +187,25 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
     (docs/security.md). Without consent such a line is refused (``LineFileError``) before
     anything is imported. Objects passed as ``controller`` are the caller's own: no consent.
 
-    A branched line (``[[webs]]``, ``webline.load_branched``; docs/branching.md) runs through
+    A branched line (``[[webs]]``; docs/branching.md) runs through
     ``sim.branches`` and returns a ``BranchResult`` (an xarray Dataset and a verdict per web
     and lane; a user ``controller`` per drive or for all, docs/controllers.md "On a branched
     line"); ``progress`` is not yet supported there.
     """
-    if is_branched_line(line):
+    line = load_line(line)
+    if line.branched:
         if progress is not None:
             raise ArgumentError("progress: not yet supported for a branched line (its run "
                                 "returns to Python in chunks of 20 000 ticks)")
-        from webline.model.web_graph import load_branched
         from webline.sim.branches.run import simulate_branches  # scipy: only when needed
         from webline.sim.user_objects import branched_controllers
 
         sample_rate, substeps = session_settings(sample_rate, substeps)  # (as the chain's)
-        branched = load_branched(cast("BranchedLine", line))
-        controller = branched_controllers(branched, controller, allow_code)  # (and the file's)
-        return simulate_branches(branched, duration, scenario=scenario,
+        controller = branched_controllers(line, controller, allow_code)  # (and the file's)
+        return simulate_branches(line, duration, scenario=scenario,
                                  sample_rate=sample_rate, substeps=substeps,
                                  record_interval=record_interval,
                                  raise_on_failure=raise_on_failure, controller=controller)
-    line = load_line(cast("Line | str | Path", line))
     duration, sample_rate, record_interval = (  # units and checks as the CLI's
         None if value is None else argument(value, kind, name, within=key)
         for value, kind, name, key in ((duration, "time", "duration", "scenario.duration"),

@@ -163,10 +163,8 @@ def spec_from_dict(data: Any, file: str = "<dict>") -> LineSpec:
     if not isinstance(data, dict):
         raise LineFileError(file, "(top level)", "a line file must be a table of keys")
     if "webs" in data:
-        raise LineFileError(file, "webs", "a branched line ([[webs]]): not yet supported "
-                            "here (webline run, validate, analyze, tune and experiment; in Python "
-                            "webline.load_branched, webline.simulate and webline.linearize; "
-                            "docs/branching.md)")
+        raise LineFileError(file, "webs", "a branched line ([[webs]]): load it with "
+                            "webline.load_line (docs/branching.md)")
     try:  # forces per width (pli, N/m) need the web's width: read it first
         spec = LineSpec.model_validate(data, context={WEB_WIDTH: _web_width(data)})
     except ValidationError as exc:
@@ -218,16 +216,6 @@ def not_yet_branched(data: dict[str, Any]) -> list[str]:
         if isinstance(scenario, dict):
             keys += [f"scenarios.{name}.{key}" for key in _NOT_YET_SCENARIO if key in scenario]
     return keys
-
-
-def file_is_branched(source: str | Path) -> bool:
-    """Whether the line file at ``source`` (a path or a built-in line's name) is a branched
-    line; False where it cannot be read (loading it then says why). Reads the file's keys
-    only: a single-path line's run does not import the branched schema."""
-    try:
-        return is_branched(read_any(source)[0])
-    except LineFileError:
-        return False
 
 
 def read_any(source: str | Path) -> tuple[dict[str, Any], str, str]:
@@ -290,7 +278,12 @@ def _toml(text: str, label: str) -> dict[str, Any]:
 
 def parse_text(text: str, label: str) -> LineSpec:
     """The checked spec of a line file's ``text``; problems carry their TOML line."""
-    data = _toml(text, label)
+    return parse_text_data(_toml(text, label), text, label)
+
+
+def parse_text_data(data: dict[str, Any], text: str, label: str) -> LineSpec:
+    """The checked spec of a line file's ``data`` read from ``text``; problems carry their
+    TOML line."""
     try:
         return spec_from_dict(data, label)
     except LineFileError as exc:

@@ -46,7 +46,7 @@ from webline.control.gains import THESIS_GAINS, gains_from_closed
 from webline.control.lumped import without_idlers
 from webline.control.sections import section_models
 from webline.control.select import Family, with_controller
-from webline.line import Line
+from webline.line import Line, load_line
 from webline.sim.results.result import Result
 from webline.studies.output import pyplot, write_figure, write_table, write_text
 from webline.studies.result import StudyResult
@@ -164,7 +164,7 @@ def run(out_dir: Path, *, quick: bool = False) -> StudyResult:
     ``summary.txt`` under ``out_dir``."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    base = webline.load_line("hswl")
+    base = load_line("hswl")
     duration = QUICK_DURATION if quick else DURATION
     start = duration / 2
     rows: list[dict[str, object]] = []

@@ -16,6 +16,7 @@ import numpy as np
 
 import webline
 from webline.control.select import FAMILIES, with_controller
+from webline.line import load_line
 from webline.sim.sweeps.distributions import proportion_interval
 from webline.studies.output import finish, pyplot, save
 from webline.studies.result import StudyResult
@@ -45,7 +46,7 @@ def run(out_dir: Path, *, quick: bool = False) -> StudyResult:
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     n, duration = (8, 1.0) if quick else (200, 10.0)
-    base = webline.load_line("hswl").with_scenario("speed-change")
+    base = load_line("hswl").with_scenario("speed-change")
     base = base.replace(disturbances=[*[d.model_dump(exclude_none=True)
                                         for d in base.spec.disturbances],
                                       {"type": "measurement_noise", "tension": 0.0,

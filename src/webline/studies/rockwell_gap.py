@@ -31,6 +31,7 @@ from webline.analysis.drivetrain.gap_condition import (
     tension_deviation,
 )
 from webline.analysis.drivetrain.params import load_parameter_set
+from webline.line import load_line
 from webline.sim.core.plan import compile_plan
 from webline.sim.elements import layout as L
 
@@ -60,7 +61,7 @@ def slowdown_line(base: webline.Line, decel: float, p: dict[str, Any], *, gap: f
     data["disturbances"] = [] if ripple_hz is None else [
         {"type": "speed_ripple", "roller": "pull_roll", "amplitude": p["ripple"]["amplitude"],
          "frequency": ripple_hz}]
-    return webline.load_line(data)
+    return load_line(data)
 
 
 def pair(base: webline.Line, decel: float, p: dict[str, Any], gap: float, *,

@@ -31,6 +31,7 @@ import numpy as np
 
 import webline
 from webline.analysis.drivetrain.params import load_parameter_set
+from webline.line import load_line
 from webline.sim.results.result import Result
 from webline.studies import rockwell_gap
 from webline.studies.output import finish, pyplot, save
@@ -55,7 +56,7 @@ def case_line(speed_fpm: float, *, gap: float = 0.0, brake: float = 0.0,
               disturbances: list[dict[str, object]] | None = None) -> webline.Line:
     """The ``rockwell`` line at ``speed_fpm`` with backlash Δ = ``gap`` [rad], a ``brake``
     [N·m] on the rewind shaft and the given disturbance tables."""
-    data = copy.deepcopy(webline.load_line("rockwell").spec.model_dump(exclude_none=True))
+    data = copy.deepcopy(load_line("rockwell").spec.model_dump(exclude_none=True))
     data["speed"] = speed_fpm * FPM
     drive = data["rollers"][-1]["drive"]
     if gap > 0:
@@ -63,7 +64,7 @@ def case_line(speed_fpm: float, *, gap: float = 0.0, brake: float = 0.0,
     if brake > 0:
         drive["brake"] = brake
     data["disturbances"] = disturbances or []
-    return webline.load_line(data)
+    return load_line(data)
 
 
 def _amplitude(t: np.ndarray, y: np.ndarray, f: float) -> float:

@@ -28,7 +28,7 @@ import numpy as np
 
 import webline
 from webline.analysis import slip as an
-from webline.line import Line
+from webline.line import Line, load_line
 from webline.studies.output import pyplot, save
 from webline.studies.result import StudyResult
 from webline.studies.slip_chain import (
@@ -93,7 +93,7 @@ def with_operation(line: Line, speed: float, tensions: dict[int, float]) -> Line
     data["speed"] = speed
     for k, value in tensions.items():
         data["spans"][k]["tension"] = value
-    return webline.load_line(data)
+    return load_line(data)
 
 
 def steady_needs(line: Line, c: HswlContact) -> list[dict[str, Any]]:
@@ -210,7 +210,7 @@ def bearing_failure_line(line: Line, c: HswlContact, duration: float) -> list[di
             data["rollers"][i]["wrap"] = wrap
             data["rollers"][i]["contact"] = {"type": "traction", "friction": c.mu,
                                              "kinetic_friction": c.mu_k, "viscous": c.viscous}
-        r = webline.simulate(webline.load_line(data), duration)
+        r = webline.simulate(load_line(data), duration)
         step = r.tension[:, i] - r.tension[:, i - 1]
         step -= step[0]
         balance = r.web_unwound - r.web_rewound - (r.web_stored - r.web_stored[0])
@@ -232,7 +232,7 @@ def analyse(out_dir: Path, *, quick: bool = False) -> Analysis:
     """Run the study, write its figures into ``out_dir`` and return its tables."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    line = webline.load_line("hswl")
+    line = load_line("hswl")
     c = load_contact()
     if quick:
         c = HswlContact(**{**c.__dict__, "speeds": c.speeds[::2], "tensions": c.tensions[::2],

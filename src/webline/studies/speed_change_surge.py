@@ -30,7 +30,7 @@ import numpy as np
 
 import webline
 from webline.analysis.drivetrain.params import load_parameter_set
-from webline.line import Line
+from webline.line import Line, load_line
 from webline.studies.output import finish, pyplot, save
 from webline.studies.result import StudyResult
 
@@ -41,7 +41,7 @@ UNWIND = "rollers.unwind."
 def case_line(changes: dict[str, Any]) -> Line:
     """``hswl`` with its ``speed-change`` scenario and the unwind changed by ``changes``
     (paths below ``rollers.unwind.``)."""
-    line = webline.load_line("hswl").with_scenario("speed-change")
+    line = load_line("hswl").with_scenario("speed-change")
     return line.replace({UNWIND + key: value for key, value in changes.items()}) if changes \
         else line
 

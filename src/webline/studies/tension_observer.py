@@ -18,7 +18,7 @@ import numpy as np
 
 import webline
 from webline.control.select import with_controller
-from webline.line import Line
+from webline.line import Line, load_line
 from webline.sim.core.plan import compile_plan
 from webline.sim.drives.controllers import drive_inertia
 from webline.sim.drives.observer import observe
@@ -54,7 +54,7 @@ def replay(line: Line, result: webline.Result, ea_factor: float = 1.0,
     for r in data["rollers"]:
         if r["name"] == DRIVE:
             r["controller"] |= {"tension_feedback": "observer", "observer_ea": ea_factor * line.ea}
-    plan = compile_plan(webline.load_line(data))
+    plan = compile_plan(load_line(data))
     d = [line.node_name(i) for i in line.drives].index(DRIVE)
     i = line.drives[d]
     _, istate = plan.initial_state(plan.op)
@@ -79,7 +79,7 @@ def run(out_dir: Path, *, quick: bool = False) -> StudyResult:
     """Run every case at both speeds; figure of the estimate against the truth, table, summary."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    base = webline.load_line("hswl")
+    base = load_line("hswl")
     duration = QUICK_DURATION if quick else DURATION
     rows: list[dict[str, object]] = []
     traces = {}

@@ -19,7 +19,7 @@ import numpy as np
 
 import webline
 from webline.analysis.drivetrain.params import load_parameter_set
-from webline.line import Line
+from webline.line import Line, load_line
 from webline.studies.output import finish, pyplot, save
 from webline.studies.result import StudyResult
 
@@ -33,7 +33,7 @@ def case_line(case: str) -> Line:
     p = load_parameter_set("hswl_unwind_ramp_ch4")
     belts = load_parameter_set("hswl_unwind_belt_sec2_5")["belt_stiffness"]
     u = p["unwind_drive"]
-    data = webline.load_line("hswl").spec.model_dump(exclude_none=True)
+    data = load_line("hswl").spec.model_dump(exclude_none=True)
     data["speed"] = {"type": "ramp", **p["ramp"]}
     data["disturbances"] = [{"type": "wound_in_ripple", **p["wound_in_ripple"]}]
     data["scenarios"] = {}
@@ -46,7 +46,7 @@ def case_line(case: str) -> Line:
         unwind["drive"]["transmission"] = {"type": "belt", "stiffness": belts[case],
                                            "load_pulley_radius": u["load_pulley_radius"]}
     data["name"] = f"hswl-unwind-{case}"
-    return webline.load_line(data)
+    return load_line(data)
 
 
 def run(out_dir: Path, *, quick: bool = False) -> StudyResult:

@@ -14,10 +14,16 @@ from webline.sim.branches.dancers import dancer_nodes
 from webline.sim.branches.drives.drive_trains import train_signals
 from webline.sim.branches.findings.break_verdict import break_findings, intact, without_cut_jump
 from webline.sim.branches.findings.web_findings import felt_records, layer_tension, yield_findings
-from webline.sim.branches.findings.winder_states import diameter_findings, tension_findings
+from webline.sim.branches.findings.winder_states import (
+    diameter_findings,
+    drive_radius,
+    set_tension,
+    tension_findings,
+)
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.traction import slip_findings
 from webline.sim.branches.winder import splice_findings
+from webline.sim.results.run_result import RunResult
 from webline.spec.branched.check import kind_of
 from webline.verdict import Finding, Verdict
 from webline.version import __version__
@@ -30,26 +36,126 @@ if TYPE_CHECKING:
 
     import xarray as xr
 
+    from webline.model.web_graph import BranchedLine
     from webline.sim.branches.plan import BranchPlan
+    from webline.sim.results.events import EventStats
+
+#: the deprecated name of ``control_radius`` in a branched run's dataset (docs/branching.md
+#: used it until this release); kept in ``dataset``, left out of files and tables
+OLD_CONTROL_RADIUS = "radius_calc"
 
 
-@dataclass(frozen=True, eq=False)
-class BranchResult:
+@dataclass(frozen=True, eq=False, repr=False)
+class BranchResult(RunResult):
     """Records ``rec`` (rows [t, x..., torque command...]) of a run of ``plan``; ``failure``
-    says why it stopped early (None: it ran to its end)."""
+    says why it stopped early (None: it ran to its end). The names and methods of every run
+    (``RunResult``): ``status``, ``signals``, ``metrics()``, ``summary()``, ``plot()``."""
 
     plan: BranchPlan
     rec: np.ndarray
     failure: str | None
     settings: dict[str, float] = field(default_factory=dict)
+    time: np.ndarray = field(init=False)  #: [s] (the records' first column)
 
-    @property
-    def time(self) -> np.ndarray:
-        return self.rec[:, 0]
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "time", self.rec[:, 0])
 
     @property
     def states(self) -> np.ndarray:
         return self.rec[:, 1:1 + self.plan.n_x]
+
+    # --- the named views of every run (RunResult) -------------------------------------------
+
+    @property
+    def line(self) -> BranchedLine:
+        return self.plan.line
+
+    @property
+    def failure_text(self) -> str:
+        return self.failure or ""
+
+    @cached_property
+    def span_names(self) -> list[str]:
+        return [s.name for s in self.line.spans]
+
+    @cached_property
+    def node_names(self) -> list[str]:
+        return [r.name for r in self.line.spec.rollers]
+
+    @cached_property
+    def drive_names(self) -> list[str]:
+        return [self.node_names[i] for i in self.line.drives]
+
+    @cached_property
+    def roll_names(self) -> list[str]:
+        """Each roll as ``roller/web`` (a shaft's lanes one each)."""
+        return [str(name) for name in self.dataset["roll"].values]
+
+    @cached_property
+    def tension(self) -> np.ndarray:
+        return self.dataset["tension"].values
+
+    @cached_property
+    def tension_ref(self) -> np.ndarray:
+        """Tension reference of each loadcell (or dancer) span [N] as its drive sets it: the
+        taper applied to the radius its controller uses (``findings.winder_states``, as
+        ``Result.tension_ref``); NaN on spans without one."""
+        out = np.full(self.tension.shape, np.nan)
+        plan, ds = self.plan, self.dataset
+        for d in range(len(self.line.drives)):
+            used = drive_radius(plan, d, ds["radius"].values, ds["control_radius"].values)
+            first = int(plan.di[d, B.DI_CELLS])
+            for c in range(first, first + int(plan.di[d, B.DI_NCELLS])):
+                out[:, int(plan.cells[c, 0])] = set_tension(plan, d, c, self.time, used)
+        return out
+
+    @cached_property
+    def torque(self) -> np.ndarray:
+        return self.dataset["torque"].values
+
+    @cached_property
+    def torque_cmd(self) -> np.ndarray:
+        return self.dataset["torque_cmd"].values
+
+    @cached_property
+    def drive_speed(self) -> np.ndarray:
+        """Surface speed of each drive's roller [m/s] (a shaft's: the lane its drive
+        measures)."""
+        return self.dataset["speed"].values[:, self.line.drives]
+
+    @cached_property
+    def speed_ref(self) -> np.ndarray:
+        """Each drive's speed reference [m/s]: not recorded by a branched line's loop (NaN),
+        so ``summary()``'s speed errors are NaN."""
+        return np.full(self.torque.shape, np.nan)
+
+    @cached_property
+    def roll_radius(self) -> np.ndarray:
+        return self.dataset["radius"].values
+
+    @cached_property
+    def events(self) -> list[EventStats]:
+        """Slack (a span's stretch below zero while it is whole), torque-limit (a command at
+        its drive's limit, as the verdict counts it) and slip intervals per element
+        (``sim.results.events``; the branched loop's contacts stick or slip for the whole
+        run, a finding of the verdict, so no slip interval)."""
+        from webline.sim.results.events import event_stats
+
+        stretch = self.states[:, :len(self.span_names)]
+        return event_stats(self.time, [
+            ("slack", self.span_names, (stretch < 0.0) & intact(self.plan, self.time)),
+            ("torque_limit", self.drive_names,
+             np.abs(self.torque_cmd) >= self.plan.df[:, B.D_LIMIT]),
+            ("slip", self.node_names, np.zeros((len(self.time), len(self.node_names)), bool)),
+        ])
+
+    def summary(self) -> dict[str, dict[str, dict[str, float]]]:
+        """Per span: tension mean, standard deviation and, with a loadcell, its errors [N];
+        per drive: its largest torque [N·m] (its speed errors NaN: ``speed_ref``)
+        (``webline.sim.results.metrics.run_summary``)."""
+        from webline.sim.results.metrics import run_summary
+
+        return run_summary(self)
 
     @cached_property
     def dataset(self) -> xr.Dataset:
@@ -106,8 +212,8 @@ class BranchResult:
             "torque": var(("drive",), torque, "N*m", "motor torque"),
             "torque_cmd": var(("drive",), self.rec[:, 1 + plan.n_x:1 + plan.n_x + n_d], "N*m",
                               "torque command"),
-            "radius_calc": var(("drive",), self.rec[:, 1 + plan.n_x + n_d:], "m",
-                               "radius a diameter calculator gives its drive (0: none)"),
+            "control_radius": var(("drive",), self.rec[:, 1 + plan.n_x + n_d:], "m",
+                                  "radius a diameter calculator gives its drive (0: none)"),
             "web_in": var(("web",), q[:, 0::2], "m", "unstrained web in at the path's start"),
             "web_out": var(("web",), q[:, 1::2], "m", "unstrained web out at the path's end"),
             "web_stored": var(("web",), stored, "m", "unstrained web in the path's spans"),
@@ -123,6 +229,8 @@ class BranchResult:
                   "roll": roll_names, "drive": drives,
                   "core": [roll_names[j] for j in plan.cores[:, B.C_ROLL]],
                   "web": [w.name for w in line.spec.webs]}
+        data[OLD_CONTROL_RADIUS] = data["control_radius"].copy()
+        data[OLD_CONTROL_RADIUS].attrs["deprecated"] = "renamed control_radius"
         dancers = dancer_nodes(line)
         if dancers:  # (only where there are: the built-in lines' records stay as they were)
             data["dancer_position"] = var(("dancer",), x[:, o[B.O_DANCER]:o[B.O_DANCER_END]:2], "m",
@@ -142,10 +250,18 @@ class BranchResult:
     def to_xarray(self) -> xr.Dataset:
         return self.dataset
 
+    @property
+    def _filed(self) -> xr.Dataset:
+        """The dataset as files and tables give it (without the deprecated names)."""
+        return self.dataset.drop_vars(OLD_CONTROL_RADIUS)
+
     def to_dataframe(self) -> Any:
-        """Span tensions [N] as a pandas DataFrame: one row per record (index ``time`` [s]),
-        one column per span."""
-        return self.dataset["tension"].to_pandas()
+        """One row per record indexed by ``time`` [s], one column per signal and element
+        (``tension[film_zone]``, ``web_stored[film]``), SI, each column's unit in
+        ``.attrs["units"]`` (``sim.results.dataset_files.dataset_frame``)."""
+        from webline.sim.results.dataset_files import dataset_frame
+
+        return dataset_frame(self._filed)
 
     def to_netcdf(self, path: str | Path, precision: Literal["float64", "float32"] = "float64"
                   ) -> Path:
@@ -156,7 +272,7 @@ class BranchResult:
         from webline.sim.results.dataset_files import write_dataset
         from webline.spec.load import dump_spec
 
-        filed = self.dataset.assign_attrs(line_spec=dump_spec(self.plan.line.spec))
+        filed = self._filed.assign_attrs(line_spec=dump_spec(self.plan.line.spec))
         return write_dataset(filed, path, "netcdf", precision)
 
     def to_csv(self, path: str | Path) -> Path:
@@ -164,7 +280,7 @@ class BranchResult:
         first, atomically. Returns the path."""
         from webline.sim.results.dataset_files import write_dataset
 
-        return write_dataset(self.dataset, path, "csv")
+        return write_dataset(self._filed, path, "csv")
 
     @cached_property
     def verdict(self) -> Verdict:
@@ -208,9 +324,9 @@ class BranchResult:
         findings += slip_findings(self.plan.line, self.plan.nodes, self.plan.si)
         findings += end_stop_findings(self.plan, self.time, self.states)
         findings += tension_findings(self.plan, self.time, ds["tension"].values,  # [checks]
-                                     ds["radius"].values, ds["radius_calc"].values)
+                                     ds["radius"].values, ds["control_radius"].values)
         findings += diameter_findings(self.plan, self.time, ds["radius"].values,
-                                      ds["radius_calc"].values)
+                                      ds["control_radius"].values)
         limits = self.plan.df[:, B.D_LIMIT]
         for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit
             at_limit = np.nonzero(np.abs(ds["torque_cmd"].values[:, d]) >= limits[d])[0]

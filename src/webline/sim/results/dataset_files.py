@@ -6,7 +6,7 @@ one column per signal and element and its unit in the header; each written atomi
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
@@ -61,6 +61,18 @@ def dataset_columns(ds: xr.Dataset) -> list[tuple[str, str, np.ndarray]]:
         columns += [(f"{name}[{element}]", unit, values[:, j])
                     for j, element in enumerate(elements)]
     return columns
+
+
+def dataset_frame(ds: xr.Dataset) -> Any:
+    """``dataset_columns(ds)`` as a ``pandas.DataFrame`` indexed by ``time`` [s], the unit of
+    each column in ``.attrs["units"]`` (as ``result_files.signal_frame``)."""
+    import pandas as pd
+
+    columns = dataset_columns(ds)
+    frame = pd.DataFrame({name: values for name, _, values in columns},
+                         index=pd.Index(ds["time"].values, name="time"))
+    frame.attrs["units"] = {name: unit for name, unit, _ in columns}
+    return frame
 
 
 def write_dataset_csv(ds: xr.Dataset, path: str | Path) -> Path:

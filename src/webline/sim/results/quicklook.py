@@ -13,7 +13,6 @@ from typing import TYPE_CHECKING, Any, Protocol
 import numpy as np
 
 from webline.errors import ArgumentError
-from webline.line import Line
 from webline.sim.results.decimate import envelope
 
 if TYPE_CHECKING:
@@ -21,11 +20,11 @@ if TYPE_CHECKING:
 
 
 class Run(Protocol):
-    """What a quick look reads of a ``webline.sim.results.result.Result`` (named here rather than
-    imported: ``Result`` delegates to this module)."""
+    """What a quick look reads of a run (``webline.sim.results.run_result.RunResult``, named
+    here rather than imported: it delegates to this module), besides ``PANELS``' views."""
 
     @property
-    def line(self) -> Line: ...
+    def line(self) -> Any: ...
     @property
     def time(self) -> np.ndarray: ...
     @property
@@ -41,7 +40,7 @@ PANELS = {
     "tension": ("tension", "tension [N]", "span_names"),
     "speed": ("drive_speed", "web speed at drives [m/s]", "drive_names"),
     "torque": ("torque", "motor torque [N·m]", "drive_names"),
-    "radius": ("radius", "radius [m]", "node_names"),
+    "radius": ("roll_radius", "roll radius [m]", "roll_names"),
 }
 
 
@@ -63,10 +62,7 @@ def plot_result(result: Run, signals: Sequence[str] = ("tension", "speed")) -> F
     for ax, signal in zip(axes, signals, strict=True):
         attribute, label, names = PANELS[signal]
         values = getattr(result, attribute)
-        columns = range(values.shape[1])
-        if signal == "radius":  # the rolls: rollers keep their radius
-            columns = range(0, values.shape[1], max(1, values.shape[1] - 1))
-        for j in columns:
+        for j in range(values.shape[1]):
             ax.plot(*envelope(result.time, values[:, j]), lw=1.0,
                     label=literal(getattr(result, names)[j]))
         if signal == "tension":

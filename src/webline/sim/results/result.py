@@ -13,13 +13,13 @@ from webline.sim.core.plan import Plan
 from webline.sim.elements import layout as L
 from webline.sim.results.events import SlackEvent
 from webline.sim.results.failure import Failure
-from webline.sim.results.metrics import by_element, metrics_table, run_metrics, run_summary
+from webline.sim.results.metrics import run_summary
 from webline.sim.results.result_dataset import result_variables, to_xarray
 from webline.sim.results.result_files import Precision, signal_frame, write_csv, write_netcdf
+from webline.sim.results.run_result import RunResult
 
 if TYPE_CHECKING:
     import xarray as xr
-    from matplotlib.figure import Figure
 
     from webline.sim.linear.roll_modes import RollModes
     from webline.sim.results.events import EventStats
@@ -27,10 +27,10 @@ if TYPE_CHECKING:
 
 
 
-@dataclass(frozen=True)
-class Result:
-    """What ``webline.simulate`` computed. Arrays are SI; index signals by name via
-    ``to_xarray()`` or the properties below."""
+@dataclass(frozen=True, repr=False)
+class Result(RunResult):
+    """What ``webline.simulate`` computed for a single-path line (``RunResult``'s names and
+    methods). Arrays are SI; index signals by name via ``signals`` or the properties below."""
 
     plan: Plan
     time: np.ndarray  #: [s]
@@ -109,22 +109,25 @@ class Result:
         return run_roll_modes(self.line, self.time, rolls[:, 0], rolls[:, 1])
 
     @property
-    def status(self) -> str:
-        """``verdict.status``: ok, warning, unstable, failed or interrupted."""
-        return self.verdict.status
-
-    @property
-    def message(self) -> str:
-        """Why the run failed ('' if it did not), else the verdict's headline if not ok."""
-        if self.failure is not None:
-            return self.failure.message
-        return "" if self.verdict.ok else self.verdict.headline
+    def failure_text(self) -> str:
+        """Why the run stopped early ('' if it ran to its end)."""
+        return "" if self.failure is None else self.failure.message
 
     # --- named views -------------------------------------------------------------------
 
     @property
     def line(self):
         return self.plan.line
+
+    @cached_property
+    def roll_names(self) -> list[str]:
+        """The unwind and the rewind (``roll_radius``'s columns)."""
+        return [self.node_names[0], self.node_names[-1]]
+
+    @cached_property
+    def roll_radius(self) -> np.ndarray:
+        """Unwind and rewind radius [m], records x 2."""
+        return self._block(2, 2)
 
     @cached_property
     def span_names(self) -> list[str]:
@@ -317,29 +320,6 @@ class Result:
 
     # --- summaries and export ------------------------------------------------------------
 
-    def metric_arrays(self) -> dict[str, np.ndarray]:
-        """The metrics a sweep gives each of its cases (``webline.sim.results.metrics.run_metrics``;
-        the batch's equal these to 1e-12), each an array over spans, drives or nodes [N or
-        s], NaN where it does not apply (an error without a loadcell), and ``status``."""
-        totals = {(e.kind, e.where): e.total for e in self.events}
-        return run_metrics(self.time, self.tension, self.tension_ref, totals,
-                           self._element_names()) | {"status": np.array(self.status)}
-
-    def metrics(self):
-        """The metrics a sweep gives each case (``metric_arrays``) as a tidy
-        ``pandas.DataFrame``: columns ``element``, ``metric``, ``value`` [``unit``], ``unit``;
-        the verdict's status in ``.attrs["status"]``."""
-        return metrics_table(self.metric_arrays(), self._element_names(), self.status)
-
-    def metrics_by_element(self) -> dict[str, object]:
-        """``metric_arrays`` by name: each metric as {span, drive or node name: value} [N or
-        s], and ``status``."""
-        values = self.metric_arrays()
-        return {**by_element(values, self._element_names()), "status": self.status}
-
-    def _element_names(self) -> dict[str, list[str]]:
-        return {"span": self.span_names, "drive": self.drive_names, "node": self.node_names}
-
     def summary(self) -> dict[str, dict[str, dict[str, float]]]:
         """Per span: tension mean, standard deviation and largest error [N]; per drive: the
         mean of its speed reference (an open-loop drive's: its limiter's, docs/winder.md W7)
@@ -353,14 +333,6 @@ class Result:
         (``webline.sim.results.result_dataset``).
         A new Dataset each call; ``signals`` keeps one."""
         return to_xarray(self)
-
-    @cached_property
-    def signals(self) -> xr.Dataset:
-        """Every signal labelled: ``result.signals.tension`` is an xarray DataArray over
-        (time, span) with names as coordinates and units as attributes, so
-        ``result.signals.tension.sel(span="span2").plot()`` draws one span (``to_xarray()``,
-        built once)."""
-        return self.to_xarray()
 
     def to_netcdf(self, path: str | Path, precision: Precision = "float64") -> Path:
         """Write the dataset to NetCDF-4 (HDF5 via h5netcdf), zlib-compressed and chunked along
@@ -378,20 +350,6 @@ class Result:
         """Write one column per named signal (``tension[span1]`` ...) with a units header,
         atomically (a temporary file renamed into place). Returns the path."""
         return write_csv(result_variables(self), path)
-
-    def plot(self, signals: tuple[str, ...] = ("tension", "speed")) -> Figure:
-        """A matplotlib figure of ``signals`` over time [s]: "tension" (with the references
-        dashed), "speed", "torque", "radius"; long runs drawn as min/max envelopes, so peaks
-        survive (``webline.sim.results.quicklook``)."""
-        from webline.sim.results.quicklook import plot_result
-
-        return plot_result(self, signals)
-
-    def __repr__(self) -> str:
-        """A few lines: line, time span, records, verdict (``webline.sim.results.quicklook``)."""
-        from webline.sim.results.quicklook import result_text
-
-        return result_text(self)
 
     def _repr_html_(self) -> str:
         """Jupyter's display: line, duration, verdict and tension statistics per span."""

@@ -26,8 +26,9 @@ from typing import Any
 
 from webline.errors import ArgumentError, StudyError, StudyInterrupted
 from webline.files import atomic_write, atomic_write_text, write_failure
-from webline.line import Line, load_line
-from webline.model.web_graph import BranchedLine, load_branched, source_is_branched
+from webline.line import Line
+from webline.model.lines import load_line
+from webline.model.web_graph import BranchedLine
 from webline.sim.simulate import deferred_interrupt
 from webline.sim.sweeps.study_record import check_resume, study_record, write_text
 
@@ -145,7 +146,7 @@ def run_chunked(run: Callable[..., Any], line: Line | BranchedLine | str | Path,
     import xarray as xr
 
     source: Any = line
-    line = load_branched(source) if source_is_branched(source) else load_line(source)
+    line = load_line(source)
     chunk = chunk or CHUNK
     store = Path(store)
     store.mkdir(parents=True, exist_ok=True)

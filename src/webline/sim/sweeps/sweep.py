@@ -15,14 +15,15 @@ import time
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
-from typing import Any, cast
+from typing import Any
 
 import numpy as np
 
 from webline.errors import ArgumentError, LineFileError
 from webline.limits import check_case_count
 from webline.line import Line, load_line
-from webline.model.web_graph import BranchedLine, source_is_branched
+from webline.model.lines import load_line as load_any
+from webline.model.web_graph import BranchedLine
 from webline.sim.core.plan import compile_plan
 from webline.sim.simulate import MAX_RECORDS
 from webline.sim.sweeps.batch import BatchOutput, run_batch
@@ -191,11 +192,12 @@ def sweep(line: Line | BranchedLine | str | Path, values: Mapping[str, Sequence[
     if mode == "grid":
         attrs["shape"] = [len(c) for c in columns]
     what = {p: "the values" for p in paths}
-    if source_is_branched(line):  # docs/branching.md: each case in the branch kernel
+    line = load_any(line)
+    if line.branched:  # docs/branching.md: each case in the branch kernel
         check_branch_study(line, cases, what, duration=duration, scenario=scenario,
                            record=record, limit=work_limit)
     else:
-        base = _base(cast(Line | str | Path, line), scenario)
+        base = _base(line, scenario)
         probes = probe_values(base, cases, what, derive_line)
         _check_work(base, probes, len(cases), len(paths), duration, scenario, record,
                     work_limit)
@@ -226,11 +228,12 @@ def monte_carlo(line: Line | BranchedLine | str | Path, distributions: Mapping[s
         samples = draw(distributions, n, seed)
     except ValueError as exc:
         raise ArgumentError(str(exc)) from None
-    branched = source_is_branched(line)
-    if branched:
+    line = load_any(line)
+    branched = line.branched
+    if line.branched:
         bbase = branch_base(line, scenario)
     else:
-        base = _base(cast(Line | str | Path, line), scenario)
+        base = _base(line, scenario)
     for path, dist in distributions.items():
         if isinstance(dist, str):
             samples[path] = samples[path] * (
@@ -314,7 +317,7 @@ def _study(line: Line | BranchedLine | str | Path, cases: list[dict[str, object]
     """Run the cases here at once, or chunk by chunk into ``store`` and/or on Dask
     (``webline.sim.sweeps.chunks``)."""
     check_workers(workers)
-    run: Callable[..., Any] = run_branch_cases if source_is_branched(line) else run_cases
+    run: Callable[..., Any] = run_branch_cases if load_any(line).branched else run_cases
     if scheduler is None and store is None:
         ds = run(line, cases, workers=workers, progress=progress, **options)
         ds.attrs.update(attrs)

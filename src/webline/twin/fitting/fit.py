@@ -4,24 +4,28 @@ which parameters the data can identify."""
 
 from __future__ import annotations
 
-import itertools
 import math
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from webline.errors import ArgumentError
-from webline.line import Line, load_line
+from webline.line import Line
+from webline.twin.fitting.checks import ModelChecks, model_checks
 from webline.twin.fitting.free import FreeParameter, parse_free
 from webline.twin.fitting.identify import Identifiability, identifiability
+from webline.twin.fitting.intervals import honest_covariance, intervals
+from webline.twin.fitting.starts import GlobalStage, global_stage, latin_starts
+from webline.twin.fitting.verdict import Verdict, judge
 from webline.twin.traces.drive import driven_line
 from webline.twin.traces.measurements import Measurements
 from webline.twin.traces.replay import as_measurements
 from webline.twin.traces.runs import Run, common_substeps, compared_time, run_cases
+from webline.twin.traces.single_path import single_path_line
 from webline.twin.traces.weights import noise_levels
 
 #: forward-difference step of the Jacobian, as a share of each parameter's bounds
@@ -33,29 +37,10 @@ FAILED_RESIDUAL = 1e3
 #: of single samples a landscape of narrow valleys; its means lead into the right one, and
 #: the second stage then fits every sample from there
 SMOOTH_SECONDS = 0.1
-
-
-def signal_rows(r: np.ndarray) -> list[np.ndarray]:
-    """Per signal, the rows (in ``blocks(r, 1)``'s order) of its measured points."""
-    counts = np.isfinite(r).sum(axis=1)
-    edges = np.concatenate([[0], np.cumsum(counts)])
-    return [np.arange(a, b) for a, b in itertools.pairwise(edges)]
-
-
-def covariance(jac: np.ndarray, rows: list[np.ndarray], dof: int,
-               r: np.ndarray) -> np.ndarray:
-    """Covariance of the scaled parameters: the sandwich A⁻¹ (Σₛ vₛ JₛᵀJₛ) A⁻¹ with
-    A = JᵀJ and vₛ the residual variance of signal s (its noise level as estimated from the
-    data is only an estimate: a signal whose residuals are larger than its weight assumed
-    counts with its own scatter), scaled by m / dof for the parameters fitted."""
-    inverse = np.linalg.pinv(jac.T @ jac)
-    middle = np.zeros_like(inverse)
-    m = sum(len(idx) for idx in rows)
-    for idx in rows:
-        if len(idx):
-            part = jac[idx]
-            middle += float(np.mean(r[idx] ** 2)) * (part.T @ part)
-    return inverse @ middle @ inverse * (m / max(1, dof))
+#: starts of the global stage by default (the line's values and 7 Latin-hypercube points)
+STARTS = 8
+#: least-squares iterations each start of the global stage may take, at most
+START_ITERATIONS = 8
 
 
 def blocks(r: np.ndarray, window: int) -> np.ndarray:
@@ -79,10 +64,14 @@ class FitResult:
     """A fit's outcome; values and intervals in SI (``FreeParameter.unit``).
 
     ``value`` (a parameter the data do not identify keeps the line's: ``raw_value`` holds
-    the optimiser's number for it), ``stderr`` (from ``covariance``: (JᵀJ)⁻¹ at the
-    solution, each signal's part scaled by its own residual variance), ``ci95`` (value ±
-    t₀.₉₇₅,m-n · stderr; the bounds for a parameter the data do not identify) per
-    parameter; ``correlation`` (n × n);
+    the optimiser's number for it), ``stderr`` (``twin.fitting.intervals``: a batch-means
+    sandwich over blocks of the residuals' correlation time, at least the noise-only error
+    times the residual scale where it exceeds 1; ``stderr_noise`` the noise-only error
+    (JᵀJ)⁻¹ of earlier versions), ``ci95`` (value ± t₀.₉₇₅ · stderr with
+    ``effective_points`` - n degrees of freedom: the blocks; one-sided at a bound; the
+    bounds for a parameter the data do not identify: ``interval_kind`` says which,
+    ``at_bound`` "low"/"high"/"") per parameter; ``correlation`` (n × n);
+    ``correlation_time`` [s] of the residuals (the longest of the signals');
     ``identifiability`` (which parameters the data cannot separate, and why);
     ``simulations`` run; ``cost`` (½Σr², r in noise levels); ``converged`` (scipy's
     convergence test was met);
@@ -90,7 +79,9 @@ class FitResult:
     where the model misses something (the intervals then assume it does not);
     ``noise`` the noise level [SI] each signal was weighted by; ``before`` / ``after`` the
     compared signals with the line's and the fitted values; ``fitted_line`` the line as
-    loaded (no scenario) with the identified values."""
+    loaded (no scenario) with the identified values; ``global_stage`` (None for one start);
+    ``verdict`` good / poor / failed with its reasons (``twin.fitting.verdict``);
+    ``checks`` the residuals' whiteness and input correlation (``twin.fitting.checks``)."""
 
     line: Line
     fitted_line: Line
@@ -112,6 +103,14 @@ class FitResult:
     signals: tuple[str, ...]
     before: Run
     after: Run
+    global_stage: GlobalStage | None
+    verdict: Verdict
+    interval_kind: tuple[str, ...]
+    at_bound: tuple[str, ...]
+    stderr_noise: np.ndarray
+    effective_points: int
+    correlation_time: float
+    checks: ModelChecks
 
     @property
     def identifiable(self) -> np.ndarray:
@@ -144,21 +143,27 @@ class FitResult:
         rows = []
         for i, p in enumerate(self.parameters):
             if self.identifiable[i]:
+                side = self.at_bound[i]
+                mark = (f", one-sided: at its {'lower' if side == 'low' else 'upper'} bound"
+                        if side else "")
                 rows.append(f"  {p.path} = {self.value[i]:.4g} {p.unit} ± {self.stderr[i]:.2g} "
-                            f"(95 %: {self.ci95[i, 0]:.4g} .. {self.ci95[i, 1]:.4g})")
+                            f"(95 %: {self.ci95[i, 0]:.4g} .. {self.ci95[i, 1]:.4g}{mark})")
             else:
                 rows.append(f"  {p.path}: not identifiable from this data "
                             f"({self.identifiability.reasons[i]})")
         return (f"<webline Fit of {Path(self.data.source).name}: {len(self.parameters)} "
                 f"parameters, {self.simulations} simulations, cost {self.cost:.4g}, residuals "
                 f"{self.residual_scale:.3g} x the noise, "
-                f"{'converged' if self.converged else 'not converged'}>\n" + "\n".join(rows))
+                f"{'converged' if self.converged else 'not converged'}"
+                + (f", {self.global_stage.summary()}" if self.global_stage else "")
+                + ">\n" + "\n".join(rows) + "\n" + self.verdict.line()
+                + "".join(f"\nmodel check: {f}" for f in self.checks.findings))
 
 
 def fit(line: Line | str | Path, data: Measurements | str | Path,
         free: Mapping[str, object], *, scenario: str | None = None,
         signals: Sequence[str] | None = None, max_simulations: int = 400,
-        workers: int | None = 1) -> FitResult:
+        workers: int | None = 1, starts: int = STARTS, seed: int = 0) -> FitResult:
     """Fit the ``free`` parameters of ``line`` ({path: "LOW .. HIGH UNIT"}, paths as
     ``Line.replace`` takes them, ``*`` for every element: ``rollers.*.friction``) to the
     measured traces ``data`` (``Measurements`` or a file, see ``load_measurements``).
@@ -172,9 +177,15 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
     of each range), the n perturbed cases run as one batch (``workers`` threads; the
     compiled loop holds the GIL, so 1 by default). Stops after about ``max_simulations``
     simulations. ``signals`` limits the compared signals (default: every measured one).
+
+    Before it, a global stage (``twin.fitting.starts``): with ``starts`` > 1, local fits of
+    at most ``START_ITERATIONS`` iterations each (on the means of the first stage) from the
+    line's values and the ``starts - 1`` best of ``SCREEN * (starts - 1)`` Latin-hypercube
+    points over the bounds (``seed``); the best of them starts the local stages, and the
+    result says how many reached the best cost. ``starts=1``: the line's values only.
     """
     started = time.perf_counter()
-    line = original = load_line(line)
+    line = original = single_path_line(line, "fit")
     if scenario is not None:
         line = line.with_scenario(scenario)
     data = as_measurements(data, line)
@@ -240,9 +251,31 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
     x0 = np.clip([p.scaled(p.start) for p in params], 0.0, 1.0)
     before = cases([x0])[0][1]
     window = max(1, round(SMOOTH_SECONDS / data.sample_period))
-    coarse = stage(window, x0, max_simulations // 2) if window > 1 else None
-    solution = stage(1, coarse.x if coarse is not None else x0,
-                     max_simulations - count[0])
+    found: GlobalStage | None = None
+    if starts > 1:
+        def local(start: np.ndarray) -> tuple[np.ndarray, float]:
+            end = stage(window, start, START_ITERATIONS * (len(params) + 1))
+            return np.asarray(end.x), float(end.cost)
+
+        def screen(xs: np.ndarray) -> np.ndarray:
+            # batches of a Jacobian's size: the memo then holds no more runs than a fit's
+            size = len(params) + 1
+            return np.array([0.5 * float(np.sum(blocks(out[0], window) ** 2))
+                             for k in range(0, len(xs), size)
+                             for out in cases(list(xs[k:k + size]))])
+
+        spent = count[0]
+        chosen = latin_starts(x0, starts, screen, seed)
+        found = global_stage(chosen, local, lambda: count[0])
+        found = replace(found, simulations=count[0] - spent)
+        x_start = found.best
+        spent = count[0]
+    else:
+        spent = 0
+        x_start = x0
+    if window > 1:
+        x_start = stage(window, x_start, max_simulations // 2).x
+    solution = stage(1, x_start, max_simulations - (count[0] - spent))
     x = np.asarray(solution.x)
     r = blocks(cases([x])[0][0], 1)
     after = cases([x])[0][1]
@@ -250,18 +283,14 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
     m, n = len(r), len(params)
     spans = np.array([p.high - p.low for p in params])
     variance = float(r @ r) / max(1, m - n)
-    cov_x = covariance(jac, signal_rows(cases([x])[0][0]), m - n, r)
-    stderr = np.sqrt(np.clip(np.diag(cov_x), 0.0, None)) * spans
+    honest = honest_covariance(jac, cases([x])[0][0])
+    stderr = honest.stderr * spans
     value = np.array([p.unscaled(float(v)) for p, v in zip(params, x, strict=True)])
-    from scipy.stats import t as student
-
-    half = float(student.ppf(0.975, max(1, m - n))) * stderr
-    ci95 = np.column_stack([value - half, value + half])
-    scale = np.sqrt(np.clip(np.diag(cov_x), 1e-300, None))
-    correlation = np.clip(cov_x / np.outer(scale, scale), -1.0, 1.0)
-    ident = identifiability(jac, ci95, np.array([p.low for p in params]),
-                            np.array([p.high for p in params]), correlation,
-                            [p.path for p in params])
+    low, high = np.array([p.low for p in params]), np.array([p.high for p in params])
+    ci95, kinds, at = intervals(value, stderr, low, high, honest.blocks - n)
+    scale = np.sqrt(np.clip(np.diag(honest.cov), 1e-300, None))
+    correlation = np.clip(honest.cov / np.outer(scale, scale), -1.0, 1.0)
+    ident = identifiability(jac, ci95, low, high, correlation, [p.path for p in params])
     raw = value.copy()
     for i, p in enumerate(params):
         if not ident.identifiable[i]:
@@ -269,9 +298,18 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
             # and at most the standard deviation of a value spread evenly over them
             value[i] = min(max(p.start, p.low), p.high)
             ci95[i] = (p.low, p.high)
+            kinds[i], at[i] = "bounds", ""
             even = (p.high - p.low) / math.sqrt(12.0)
             stderr[i] = min(stderr[i], even) if math.isfinite(stderr[i]) else even
     fitted = driven_fitted(original, params, value, ident.identifiable)
+    weighted = cases([x])[0][0]
+    checks = model_checks(compared_time(data), dict(zip(names, weighted, strict=True)),
+                          dict(zip(names, measured, strict=True)))
+    verdict = judge(residual_scale=math.sqrt(variance), converged=bool(solution.status > 0),
+                    message=str(solution.message), failure=after.failure,
+                    at_bound=[(p.path, a) for p, a in zip(params, at, strict=True) if a],
+                    reached=found.reached if found else None,
+                    starts=found.count if found else None, lacks=checks.serious)
     return FitResult(
         line=line, fitted_line=fitted, data=data, parameters=tuple(params), value=value,
         raw_value=raw,
@@ -279,7 +317,10 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
         simulations=count[0], cost=0.5 * float(r @ r), converged=bool(solution.status > 0),
         message=str(solution.message), residual_scale=math.sqrt(variance),
         seconds=time.perf_counter() - started, noise=noise,
-        signals=tuple(names), before=before, after=after)
+        signals=tuple(names), before=before, after=after, global_stage=found,
+        verdict=verdict, interval_kind=tuple(kinds), at_bound=tuple(at),
+        stderr_noise=honest.stderr_noise * spans, effective_points=honest.blocks,
+        correlation_time=honest.tau * data.sample_period, checks=checks)
 
 
 def driven_fitted(line: Line, params: Sequence[FreeParameter], value: np.ndarray,

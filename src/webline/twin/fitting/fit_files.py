@@ -23,21 +23,41 @@ def _number(value: float) -> float | None:
 
 
 def fit_json(result: FitResult) -> dict[str, Any]:
-    """The ``fit.json`` object: ``{"line", "data", "parameters": {PATH: {"value", "unit",
-    "stderr", "ci95": [lo, hi], "identifiable"}}, "correlation", "simulations", "cost",
-    "converged"}``, values in SI."""
+    """The ``fit.json`` object: ``{"line", "data", "verdict" ("good"/"poor"/"failed"),
+    "reasons" [text], "residual_scale", "parameters": {PATH: {"value", "unit", "stderr",
+    "ci95": [lo, hi], "interval" ("two-sided"/"one-sided"/"bounds"), "at_bound"
+    ("low"/"high"/null), "bounds": [low, high], "identifiable"}}, "correlation",
+    "simulations", "cost", "converged", "starts": {"count", "reached_best"} (null: one
+    start), "effective_points", "correlation_time", "checks": [{"signal", "rms" (noise
+    levels), "correlation_time" [s], "p_white", "worst_window" [s, s], "worst_rms"}],
+    "findings": [text]}``, values in SI."""
+    kinds, at = result.interval_kind, result.at_bound
     parameters = {
         p.path: {"value": float(result.value[i]), "unit": p.unit,
                  "stderr": float(result.stderr[i]),
                  "ci95": [float(result.ci95[i, 0]), float(result.ci95[i, 1])],
+                 "interval": kinds[i], "at_bound": at[i] or None,
+                 "bounds": [float(p.low), float(p.high)],
                  "identifiable": bool(result.identifiable[i])}
         for i, p in enumerate(result.parameters)}
+    found = result.global_stage
     return {"line": result.line.name, "data": str(result.data.source),
+            "verdict": result.verdict.status, "reasons": list(result.verdict.reasons),
+            "residual_scale": _number(result.residual_scale),
             "parameters": parameters,
             "correlation": [[float(c) if math.isfinite(c) else 0.0 for c in row]
                             for row in result.correlation],
-            "simulations": int(result.simulations), "cost": float(result.cost),
-            "converged": bool(result.converged)}
+            "simulations": int(result.simulations), "cost": _number(result.cost),
+            "converged": bool(result.converged),
+            "starts": ({"count": found.count, "reached_best": found.reached}
+                       if found is not None else None),
+            "effective_points": int(result.effective_points),
+            "correlation_time": _number(result.correlation_time),
+            "checks": [{"signal": c.signal, "rms": _number(c.rms),
+                        "correlation_time": _number(c.correlation_time),
+                        "p_white": _number(c.p_white), "worst_window": list(c.window),
+                        "worst_rms": _number(c.window_rms)} for c in result.checks.signals],
+            "findings": list(result.checks.findings)}
 
 
 def annotation(result: FitResult, i: int) -> str:
@@ -47,7 +67,15 @@ def annotation(result: FitResult, i: int) -> str:
         return (f"not identifiable from {data} ({result.identifiability.reasons[i]}): "
                 f"kept the line's value")
     lo, hi = result.ci95[i]
-    return (f"fitted to {data}: {result.value[i]:.6g} {p.unit}, 95 % interval "
+    side = result.at_bound[i]
+    where = f" at its {'lower' if side == 'low' else 'upper'} bound" if side else ""
+    if not result.verdict.good:
+        # a poor fit's numbers are not an estimate with an interval: say so on each line
+        return (f"{result.verdict.status.upper()} FIT to {data}, not to be trusted: "
+                f"{result.value[i]:.6g} {p.unit}{where} (the interval "
+                f"{lo:.6g} .. {hi:.6g} assumes a model the data contradict)")
+    one = " (one-sided)" if side else ""
+    return (f"fitted to {data}: {result.value[i]:.6g} {p.unit}{where}, 95 % interval{one} "
             f"{lo:.6g} .. {hi:.6g}, stderr {result.stderr[i]:.3g}")
 
 
@@ -60,11 +88,15 @@ def fitted_toml(result: FitResult) -> str:
         row = _value_row(lines, p.path)
         if row is not None:
             lines[row] = f"{lines[row]}  # {annotation(result, i)}"
+    verdict = result.verdict
     header = [f"# Line {result.line.name!r} fitted by webline to {result.data.source}",
+              f"# VERDICT: {verdict.status.upper()}" + (
+                  " - " + "; ".join(verdict.reasons) if verdict.reasons else ""),
               f"# {result.simulations} simulations, cost {result.cost:.6g}, "
               f"{'converged' if result.converged else 'NOT converged'}; values in SI",
               *(f"# {p.path}: {annotation(result, i)}"
-                for i, p in enumerate(result.parameters)), ""]
+                for i, p in enumerate(result.parameters)),
+              *(f"# model check: {f}" for f in result.checks.findings), ""]
     return "\n".join(header + lines) + "\n"
 
 

@@ -23,8 +23,6 @@ if TYPE_CHECKING:
     from webline.twin.traces.measurements import Measurements
     from webline.twin.traces.replay import Replay
 
-#: residuals larger than this many noise levels (RMS) mean the model misses something
-MISFIT = 1.5
 #: a replayed signal whose NRMSE exceeds this is named in the status line as poorly matched
 POOR_NRMSE = 0.1
 
@@ -116,8 +114,10 @@ def write_fit_report(result: FitResult, out: Path) -> Path:
                      _g(result.stderr[i]) if ok else "—", _g(result.ci95[i, 0]),
                      _g(result.ci95[i, 1]),
                      "yes" if ok else "no: " + result.identifiability.reasons[i]))
-    values = make_table("parameters", "Fitted parameters (SI; an interval of a parameter that "
-                        "is not identifiable is its bounds)",
+    title = ("Fitted parameters" if result.verdict.good else
+             f"Values of a {result.verdict.status.upper()} fit, not to be trusted")
+    values = make_table("parameters", f"{title} (SI; an interval of a parameter that is not "
+                        "identifiable is its bounds, one at a bound is one-sided)",
                         ("parameter", "unit", "line", "fitted", "stderr", "95 % low",
                          "95 % high", "identifiable"), rows)
     short = [f"p{i + 1}" for i in range(len(result.parameters))]
@@ -139,14 +139,25 @@ def write_fit_report(result: FitResult, out: Path) -> Path:
               f"points; {'converged' if result.converged else 'not converged: ' + result.message}"
               + (f"; not identifiable from this data: {', '.join(unidentified)}"
                  if unidentified else ""))
-    misfit = result.residual_scale > MISFIT
-    if misfit:
-        status += (f"; the residuals are {result.residual_scale:.3g} x the signals' noise: the "
-                   "model misses something the data show, and the intervals assume it does "
-                   "not (docs/commissioning.md: when the fit is poor)")
-    css = "ok" if result.converged and not unidentified and not misfit else "warning"
+    verdict = result.verdict
+    status = (f"{verdict.status.upper()} FIT" + (": " + "; ".join(verdict.reasons)
+                                                  if verdict.reasons else "")
+              + (" (docs/commissioning.md: when the fit is poor)" if not verdict.good else "")
+              + f". Residuals {result.residual_scale:.3g} x the noise; " + status
+              + (f"; {result.global_stage.summary()}" if result.global_stage else ""))
+    css = {"good": "warning" if unidentified else "ok", "poor": "warning"}.get(
+        verdict.status, "failed")
     weights = make_table("weights", "Noise level each signal was weighted by (SI)",
                          ("signal", "noise σ"), [(n, _g(result.noise[n])) for n in names])
+    checks = make_table("checks", "Model checks: residuals per signal, largest first (RMS in "
+                        "noise levels; white residuals have p well above 0.001 and a "
+                        "correlation time near one sample)",
+                        ("signal", "RMS", "correlation time [s]", "whiteness p",
+                         "worst 0.5 s from [s]", "RMS there"),
+                        [(c.signal, _g(c.rms), _g(c.correlation_time), f"{c.p_white:.2g}",
+                          _g(c.window[0]), _g(c.window_rms)) for c in result.checks.signals])
+    findings = [Text("Model checks: " + "; ".join(result.checks.findings))] if \
+        result.checks.findings else []
     sections = [
         _data_section(result.data),
         Section("Fit", [values, correlation, weights]),
@@ -154,6 +165,7 @@ def write_fit_report(result: FitResult, out: Path) -> Path:
                                  "(blue)" + _which(names), overlay),
                            metrics_table(before, "before", "Before the fit"),
                            metrics_table(after, "after", "After the fit")]),
+        Section("Model checks", [*findings, checks]),
         Section("Residuals", [Image("residuals", "simulated - measured after the fit, with "
                                     "the ±2σ band of each signal's noise level"
                                     + _which(names), residuals)]),

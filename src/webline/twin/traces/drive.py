@@ -15,8 +15,6 @@ from webline.twin.traces.read import MeasurementError
 
 #: most points of a reference table built from a logged reference
 MAX_TABLE = 2000
-#: a measured speed used as the speed reference is averaged over bins of this length [s]
-MEASURED_BIN = 0.05
 #: a logged tension set point replaces the line's only where it differs by more than this
 #: share of the line's (a logged copy of the line's own set point changes nothing)
 SET_POINT_CHANGE = 0.005
@@ -30,15 +28,12 @@ class Driven:
     notes: tuple[str, ...]
 
 
-def reference_table(time: np.ndarray, values: np.ndarray,
-                    smooth: float = 0.0) -> dict[str, object]:
+def reference_table(time: np.ndarray, values: np.ndarray) -> dict[str, object]:
     """A ``table`` profile (SI) following a logged reference: its corners where it is
-    piecewise linear (a ramp logged exactly), else bin means of at most ``MAX_TABLE`` points
-    (a noisy or curved log), or bin means over ``smooth`` [s] if given (a measured speed
-    standing in for a reference: its noise must not reach the references and the inertia
-    compensation, which differentiates them); one point past the end continues the last
-    slope (a ramp cut by the end of the record still has its rate there, as the inertia
-    compensation needs)."""
+    piecewise linear (a ramp logged exactly, or ``twin.traces.ramps``'s reconstruction),
+    else bin means of at most ``MAX_TABLE`` points (a noisy or curved log); one point past
+    the end continues the last slope (a ramp cut by the end of the record still has its
+    rate there, as the inertia compensation needs)."""
     ok = np.isfinite(values)
     t, v = time[ok], values[ok]
     scale = max(float(np.max(np.abs(v))), 1e-12)
@@ -46,9 +41,7 @@ def reference_table(time: np.ndarray, values: np.ndarray,
     knots = np.unique(np.concatenate([[0], bends - 1, bends, bends + 1, [len(t) - 1]]))
     knots = knots[(knots >= 0) & (knots < len(t))]
     bins = MAX_TABLE
-    if smooth > 0 and len(t) > 1:
-        bins = min(MAX_TABLE, max(2, round((t[-1] - t[0]) / smooth)))
-    if len(knots) <= MAX_TABLE and not smooth:
+    if len(knots) <= MAX_TABLE:
         tt, vv = t[knots], v[knots]
     else:
         edges = np.linspace(0, len(t), bins + 1).astype(int)
@@ -74,14 +67,20 @@ def driven_line(data: Measurements, line: Line | None = None) -> Driven:
     changes: dict[str, object] = {}
     notes = []
     master = line.node_name(line.master)
-    for name, what, smooth in (
-            (f"speed_ref[{master}]", "logged speed reference", 0.0),
-            (f"speed[{master}]", f"measured speed of the master roller, {MEASURED_BIN * 1e3:g} "
-             "ms means", MEASURED_BIN)):
-        if name in data.signals:
-            changes["speed"] = reference_table(data.time, data.signals[name], smooth)
-            notes.append(f"line speed from {name} ({what})")
-            break
+    reference, measured = f"speed_ref[{master}]", f"speed[{master}]"
+    if reference in data.signals:
+        changes["speed"] = reference_table(data.time, data.signals[reference])
+        notes.append(f"line speed from {reference} (logged speed reference)")
+    elif measured in data.signals:
+        from webline.twin.traces.ramps import reconstructed
+        from webline.twin.traces.weights import noise_level
+
+        # at the file's own samples: the ticks between them are interpolated, not measured
+        values, times = data.signals[measured][::data.stride], data.time[::data.stride]
+        t, v, how = reconstructed(times, values, noise_level(values))
+        changes["speed"] = reference_table(t, v)
+        notes.append(f"line speed: no speed reference logged; reconstructed from {measured}, "
+                     f"the master roller's measured speed: {how}")
     else:
         notes.append("line speed: the line's own reference (no speed_ref or master speed "
                      "logged)")

@@ -10,9 +10,10 @@ from typing import Any
 
 import numpy as np
 
-from webline.line import Line, load_line
+from webline.line import Line
 from webline.twin.traces.read import MeasurementError, RawColumn, read_columns
 from webline.twin.traces.signals import Signal, is_ignored, line_signals, suggestions
+from webline.twin.traces.single_path import single_path_line
 
 #: a spacing longer than this many median sample periods is a gap: ticks inside it have no
 #: measurement (NaN) rather than an interpolation across it
@@ -98,7 +99,7 @@ def load_measurements(path: str | Path, line: Line | str | Path,
     file, column, problem) for an empty file, an unknown column, a unit of the wrong kind,
     time that does not increase, or a record too short to identify anything.
     """
-    line = load_line(line)
+    line = single_path_line(line, "load_measurements")
     label = str(path)
     columns = read_columns(Path(path))
     columns = _renamed(columns, dict(mapping or {}), label)

@@ -6,6 +6,13 @@ from typing import Any
 
 import numpy as np
 
+from webline.twin.traces.weights import noise_level
+
+#: R² is left blank (NaN, as the NRMSE of a constant signal) where the measured signal
+#: varies about its mean by no more than this many times its noise level: a flat signal's
+#: "total variation" is its noise, and 1 - SSE/SST then reads as -1e12 for a good match
+FLAT = 2.0
+
 #: the columns of ``signal_metrics``'s table
 COLUMNS = ("signal", "unit", "points", "rms", "max_abs", "nrmse", "bias", "r2")
 
@@ -13,7 +20,8 @@ COLUMNS = ("signal", "unit", "points", "rms", "max_abs", "nrmse", "bias", "r2")
 def one_signal(simulated: np.ndarray, measured: np.ndarray) -> dict[str, float]:
     """Metrics of ``simulated - measured`` over the points where both are finite: RMS, max
     abs error, bias (mean error) [the signal's unit], NRMSE (RMS over the measured range),
-    R² (1 - residual over total sum of squares of the measured signal about its mean)."""
+    R² (1 - residual over total sum of squares of the measured signal about its mean; NaN
+    for a flat signal, whose standard deviation is at most ``FLAT`` noise levels)."""
     ok = np.isfinite(simulated) & np.isfinite(measured)
     e, y = simulated[ok] - measured[ok], measured[ok]
     if not len(e):
@@ -22,6 +30,8 @@ def one_signal(simulated: np.ndarray, measured: np.ndarray) -> dict[str, float]:
     rms = float(np.sqrt(np.mean(e**2)))
     spread = float(np.ptp(y))
     total = float(np.sum((y - y.mean()) ** 2))
+    if total <= len(y) * (FLAT * noise_level(y)) ** 2:
+        total = 0.0  # a flat signal: no variation for R² to explain
     return {"points": int(ok.sum()), "rms": rms, "max_abs": float(np.max(np.abs(e))),
             "nrmse": rms / spread if spread > 0 else np.nan, "bias": float(np.mean(e)),
             "r2": 1.0 - float(np.sum(e**2)) / total if total > 0 else np.nan}

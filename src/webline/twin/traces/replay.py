@@ -9,12 +9,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from webline.line import Line, load_line
+from webline.line import Line
 from webline.twin.traces.drive import driven_line
 from webline.twin.traces.measurements import Measurements, load_measurements
 from webline.twin.traces.metrics import signal_metrics
 from webline.twin.traces.runs import Run, compared_time, run_case
 from webline.twin.traces.signals import si_unit
+from webline.twin.traces.single_path import single_path_line
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -67,7 +68,7 @@ def replay(line: Line | str | Path, data: Measurements | str | Path, *,
     the logged line speed, tension set points and initial roll radii replace the line's
     (``twin.traces.drive.driven_line``). The metrics are per signal: RMS, max abs error, NRMSE
     (RMS / measured range), bias (mean of simulated - measured), R², in SI units."""
-    line = load_line(line)
+    line = single_path_line(line, "replay")
     if scenario is not None:
         line = line.with_scenario(scenario)
     data = as_measurements(data, line)

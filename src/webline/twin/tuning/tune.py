@@ -131,11 +131,10 @@ CHAIN = LineOps(load=load_line, default_free=default_free, derive=derive_line,
 
 
 def line_ops(line: Any) -> LineOps:
-    """``CHAIN``, or for a branched line (``model.web_graph.source_is_branched``) its
-    ``tune_branched.BRANCHED``."""
-    from webline.model.web_graph import source_is_branched
+    """``CHAIN``, or for a branched line (``line.branched``) its ``tune_branched.BRANCHED``."""
+    from webline.model.lines import load_line as load_any
 
-    if source_is_branched(line):
+    if load_any(line).branched:
         from webline.twin.tuning.tune_branched import BRANCHED
 
         return BRANCHED

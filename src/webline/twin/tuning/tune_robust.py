@@ -56,10 +56,13 @@ class RobustCheck:
 
 
 def default_uncertain(line: Line) -> dict[str, str]:
-    """Uncertainties assumed when none are given [SI]: the web's modulus ±10 % (humidity and
-    temperature), every driven roller's and roll's rotating inertia ±10 %, every dancer's
-    damping ±30 % (one standard deviation each)."""
-    return {"web.modulus": f"normal({line.spec.web.modulus!r}, 10 %)", **rollers_uncertain(line)}
+    """Uncertainties assumed when none are given [SI]: the web's stiffness ±10 % (humidity and
+    temperature; its ``ea`` or ``modulus`` as the file gives it: hswl gives ``ea``), every
+    driven roller's and roll's rotating inertia ±10 %, every dancer's damping ±30 % (one
+    standard deviation each)."""
+    web = line.spec.web
+    key, value = ("ea", web.ea) if web.ea is not None else ("modulus", web.modulus)
+    return {f"web.{key}": f"normal({value!r}, 10 %)", **rollers_uncertain(line)}
 
 
 def rollers_uncertain(line: Any) -> dict[str, str]:
@@ -76,11 +79,15 @@ def rollers_uncertain(line: Any) -> dict[str, str]:
     return out
 
 
-def fit_uncertain(path: str | Path) -> tuple[dict[str, Any], list[str]]:
+def fit_uncertain(path: str | Path, poor_fit: str = "refuse",
+                  ) -> tuple[dict[str, Any], list[str]]:
     """Distributions from a fit's ``fit.json`` (``{"parameters": {PATH: {"value", "stderr",
     ...}}}``, SI): normal(value, stderr) (scipy frozen), truncated at 0 for a positive
-    value; and the paths left out (no finite positive stderr), each with why. Raises
-    ``ArgumentError`` naming the file and key for a bad file."""
+    value; and notes: the paths left out (no finite positive stderr), each with why. A fit
+    whose ``verdict`` is not "good" (issue 36) is refused (``ArgumentError`` naming the file,
+    the verdict and its reasons) unless ``poor_fit`` is "widen": then every parameter is
+    drawn uniformly over its ``bounds`` (the fit's values are not trusted), said in the
+    notes. Raises ``ArgumentError`` naming the file and key for a bad file."""
     from scipy import stats
 
     try:
@@ -93,6 +100,15 @@ def fit_uncertain(path: str | Path) -> tuple[dict[str, Any], list[str]]:
     except (ValueError, KeyError, TypeError):
         raise ArgumentError(f"{path}: parameters: expected a fit.json with a "
                             "'parameters' table of {value, stderr} per path") from None
+    verdict = data.get("verdict", "good")
+    if verdict != "good":
+        why = "; ".join(str(r) for r in data.get("reasons", [])) or "no reason given"
+        if poor_fit != "widen":
+            raise ArgumentError(f"{path}: verdict: the fit is {verdict} ({why}): tune does not "
+                                "build on it; fit again (docs/commissioning.md: when the fit is "
+                                "poor), or --poor-fit widen to draw its parameters over their "
+                                "bounds")
+        return _over_bounds(path, parameters, verdict)
     out: dict[str, Any] = {}
     skipped = []
     for name, entry in parameters.items():
@@ -109,6 +125,26 @@ def fit_uncertain(path: str | Path) -> tuple[dict[str, Any], list[str]]:
         else:
             out[name] = stats.norm(value, stderr)
     return out, skipped
+
+
+def _over_bounds(path: str | Path, parameters: dict[str, Any],
+                 verdict: str) -> tuple[dict[str, Any], list[str]]:
+    """Uniform distributions over each parameter's ``bounds`` [SI] of a fit not trusted."""
+    from scipy import stats
+
+    out: dict[str, Any] = {}
+    for name, entry in parameters.items():
+        try:
+            low, high = (float(v) for v in entry["bounds"])
+        except (KeyError, TypeError, ValueError):
+            raise ArgumentError(f"{path}: parameters.{name}.bounds: a {verdict} fit is widened "
+                                "to its bounds, and this one has none (fit it again)") from None
+        if not (math.isfinite(low) and math.isfinite(high) and low < high):
+            raise ArgumentError(f"{path}: parameters.{name}.bounds: expected LOW < HIGH, got "
+                                f"{low!r} .. {high!r}")
+        out[name] = stats.uniform(low, high - low)
+    return out, [f"the fit is {verdict}: its {len(out)} parameters are drawn uniformly over "
+                 "their bounds, not from its values (--poor-fit widen)"]
 
 
 def robustness(line: Any, uncertain: Mapping[str, Any], scenarios: Sequence[str], *,

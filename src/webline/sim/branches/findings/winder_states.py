@@ -30,12 +30,12 @@ def window_end(plan: BranchPlan) -> float:
 
 
 def drive_radius(plan: BranchPlan, d: int, radius: np.ndarray,
-                 radius_calc: np.ndarray) -> np.ndarray:
-    """The radius [m] drive ``d`` uses at each record: its calculator's (``radius_calc``,
+                 control_radius: np.ndarray) -> np.ndarray:
+    """The radius [m] drive ``d`` uses at each record: its calculator's (``control_radius``,
     records x drives) where it has one, else its roll's true one (``radius``, records x
     rolls; the lane it measures speed on), else its roller's."""
     if plan.df[d, B.D_DCALC] != B.DCALC_NONE:
-        return radius_calc[:, d]
+        return control_radius[:, d]
     j = int(plan.di[d, B.DI_ROLL])
     if j >= 0:
         return radius[:, j]
@@ -71,13 +71,13 @@ def _sentence(stats: IntervalStats, duration: float) -> tuple[str, dict[str, obj
 
 
 def tension_findings(plan: BranchPlan, time: np.ndarray, tension: np.ndarray,
-                     radius: np.ndarray, radius_calc: np.ndarray) -> list[Finding]:
+                     radius: np.ndarray, control_radius: np.ndarray) -> list[Finding]:
     """A ``warning`` ``tension_off_set`` per tension zone (each loadcell or dancer row of a
     drive: a web's or lane's zone) whose span tension stays more than ``tension_tolerance``
     x its set tension off it for at least ``min_duration`` in one go before a break. A
     drive that reads its loadcell is "measured" (the reading without its noise); an
     open-loop drive or a dancer in position control reads none: "true (no loadcell read)".
-    ``tension`` [N] records x spans, ``radius``, ``radius_calc`` [m] the dataset's."""
+    ``tension`` [N] records x spans, ``radius``, ``control_radius`` [m] the dataset's."""
     line, checks = plan.line, plan.line.spec.checks
     if len(time) < 2:
         return []
@@ -85,7 +85,7 @@ def tension_findings(plan: BranchPlan, time: np.ndarray, tension: np.ndarray,
     duration = float(time[-1] - time[0])
     out = []
     for d, i in enumerate(line.drives):
-        used = drive_radius(plan, d, radius, radius_calc)
+        used = drive_radius(plan, d, radius, control_radius)
         first, count = int(plan.di[d, B.DI_CELLS]), int(plan.di[d, B.DI_NCELLS])
         for c in range(first, first + count):
             k = int(plan.cells[c, 0])
@@ -115,7 +115,7 @@ def tension_findings(plan: BranchPlan, time: np.ndarray, tension: np.ndarray,
 
 
 def diameter_findings(plan: BranchPlan, time: np.ndarray, radius: np.ndarray,
-                      radius_calc: np.ndarray) -> list[Finding]:
+                      control_radius: np.ndarray) -> list[Finding]:
     """A ``warning`` ``diameter_error`` per diameter calculator whose diameter stays more
     than ``diameter_tolerance`` x its roll's true one off it for at least ``min_duration``
     in one go before a break (the roll: the lane its drive measures speed on), named by the
@@ -131,7 +131,7 @@ def diameter_findings(plan: BranchPlan, time: np.ndarray, radius: np.ndarray,
         if plan.df[d, B.D_DCALC] == B.DCALC_NONE or j < 0 or not before.any():
             continue
         true = radius[:, j]
-        error = 2.0 * (radius_calc[:, d] - true)
+        error = 2.0 * (control_radius[:, d] - true)
         mask = before & (np.abs(error) > checks.diameter_tolerance * 2.0 * true)
         stats = interval_stats(time, mask, checks.min_duration)
         if stats is None:

@@ -1,0 +1,129 @@
+"""Honest intervals of a fit: standard errors that include what the noise alone does not
+explain, and intervals that respect the bounds.
+
+The residuals of a fit are white noise only where the model is right and the simulation
+exact; a model error, a resampled log or a simulation step leaves residuals that are
+correlated over many samples (a record of 160 000 correlated points is not 160 000
+independent ones). The covariance here is a batch-means sandwich (a heteroscedasticity- and
+autocorrelation-consistent estimate): the scores Jₜ rₜ are summed over blocks of time several
+times the residuals' integrated correlation time τ (all signals of a block together, so a
+model error that moves several signals at once counts once), and
+
+    cov = A⁻¹ (Σ_b G_b G_bᵀ) A⁻¹ · m / (m - n),   A = JᵀJ,   G_b = Σ_{t ∈ b} Jₜ rₜ,
+
+which for white residuals of unit variance is A⁻¹ again. Each standard error is at least the
+noise-only one, A⁻¹, scaled by the residual scale where it exceeds 1 (the noise floor cannot
+be beaten; a smaller batch-means estimate is its own scatter). The t quantile takes the
+number of blocks less the parameters as its degrees of freedom: the effective sample size.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+#: blocks span this many integrated correlation times (the batch-means estimate of a
+#: variance is low by about τ/B for blocks of B samples)
+BLOCK_TIMES = 4.0
+#: at least this many blocks (and ``BLOCKS_PER_PARAMETER`` per parameter): fewer would make
+#: the covariance estimate itself too uncertain
+MIN_BLOCKS = 20
+BLOCKS_PER_PARAMETER = 5
+#: Sokal's window: the autocorrelation is summed up to the first lag M >= C τ(M)
+SOKAL_C = 5.0
+#: a parameter within this share of its range from a bound is "at" it
+NEAR_BOUND = 0.01
+
+
+def correlation_time(series: np.ndarray) -> float:
+    """Integrated autocorrelation time τ = 1 + 2 Σ ρ_k [samples] of ``series`` (NaN: not
+    measured, taken as zero after the mean is removed), summed over Sokal's window; 1 for
+    white noise."""
+    y = np.asarray(series, dtype=float)
+    ok = np.isfinite(y)
+    if ok.sum() < 8:
+        return 1.0
+    y = np.where(ok, y - float(np.mean(y[ok])), 0.0)
+    n = len(y)
+    spectrum = np.fft.rfft(y, 2 * n)
+    acov = np.fft.irfft(spectrum * np.conj(spectrum))[:n]
+    if acov[0] <= 0:
+        return 1.0
+    rho = acov[1 : n // 2] / acov[0]
+    taus = 1.0 + 2.0 * np.cumsum(rho)
+    window = np.flatnonzero(np.arange(1, len(taus) + 1) >= SOKAL_C * taus)
+    tau = float(taus[window[0]] if len(window) else taus[-1]) if len(taus) else 1.0
+    return max(1.0, tau)
+
+
+@dataclass(frozen=True)
+class Covariance:
+    """Covariance of the scaled parameters, standard errors [scaled], the block length
+    [compared points], the number of blocks (the effective sample size) and the correlation
+    time [compared points] the blocks were cut from."""
+
+    cov: np.ndarray
+    stderr: np.ndarray
+    stderr_noise: np.ndarray
+    block: int
+    blocks: int
+    tau: float
+
+
+def honest_covariance(jac: np.ndarray, r: np.ndarray) -> Covariance:
+    """The covariance of the module docstring for the Jacobian ``jac`` (rows: the finite
+    entries of ``r`` in row-major order; columns: scaled parameters) and the weighted
+    residuals ``r`` (signals x compared points, NaN: not measured)."""
+    finite = np.isfinite(r)
+    rows, times = np.nonzero(finite)
+    del rows
+    flat = r[finite]
+    m, n = jac.shape
+    points = r.shape[1]
+    tau = max(correlation_time(s) for s in r)
+    fewest = max(MIN_BLOCKS, BLOCKS_PER_PARAMETER * n)
+    block = max(1, min(math.ceil(BLOCK_TIMES * tau), points // fewest or 1))
+    ids = times // block
+    count = int(ids.max()) + 1 if len(ids) else 1
+    scores = np.zeros((count, n))
+    np.add.at(scores, ids, jac * flat[:, None])
+    inverse = np.linalg.pinv(jac.T @ jac)
+    cov = inverse @ (scores.T @ scores) @ inverse * (m / max(1, m - n))
+    scale = math.sqrt(float(flat @ flat) / max(1, m - n))
+    noise = np.sqrt(np.clip(np.diag(inverse), 0.0, None)) * max(1.0, scale)
+    sandwich = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    stderr = np.maximum(sandwich, noise)
+    # the correlation of the sandwich, its diagonal raised to the chosen standard errors
+    ratio = np.where(sandwich > 0, stderr / np.where(sandwich > 0, sandwich, 1.0), 1.0)
+    cov = cov * np.outer(ratio, ratio)
+    return Covariance(cov, stderr, np.sqrt(np.clip(np.diag(inverse), 0.0, None)), block, count, tau)
+
+
+def intervals(
+    value: np.ndarray, stderr: np.ndarray, low: np.ndarray, high: np.ndarray, dof: int
+) -> tuple[np.ndarray, list[str], list[str]]:
+    """95 % intervals [SI] of ``value`` ± t₀.₉₇₅(dof) ``stderr``, their kind per parameter
+    ("two-sided", or "one-sided" for a value at a bound: [bound, value + t₀.₉₅ stderr]
+    inward) and which bound each value is at ("low", "high" or "")."""
+    from scipy.stats import t as student
+
+    two = float(student.ppf(0.975, max(1, dof)))
+    one = float(student.ppf(0.95, max(1, dof)))
+    out = np.column_stack([value - two * stderr, value + two * stderr])
+    kinds, at = [], []
+    for i in range(len(value)):
+        near = NEAR_BOUND * (high[i] - low[i])
+        if value[i] <= low[i] + near:
+            out[i] = (low[i], value[i] + one * stderr[i])
+            kinds.append("one-sided")
+            at.append("low")
+        elif value[i] >= high[i] - near:
+            out[i] = (value[i] - one * stderr[i], high[i])
+            kinds.append("one-sided")
+            at.append("high")
+        else:
+            kinds.append("two-sided")
+            at.append("")
+    return out, kinds, at
