@@ -65,3 +65,11 @@ def six() -> webline.Line:
 def hswl_dict() -> dict:
     text = resources.files("webline.data.lines").joinpath("hswl.toml").read_text("utf-8")
     return tomllib.loads(text)
+
+
+@pytest.fixture(autouse=True)
+def _own_allow_list(tmp_path_factory: pytest.TempPathFactory,
+                    monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every test reads an empty per-user allow-list of code (docs/security.md), never the
+    real one of whoever runs the suite (subprocesses inherit it)."""
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path_factory.mktemp("config")))

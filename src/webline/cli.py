@@ -35,11 +35,13 @@ from webline.cli_common import (
     _console,
     _duration,
     _load,
+    code_notes,
     fail,
     handles_errors,
     open_output,
     print_tables,
     progress_bar,
+    runs_code,
     sigterm_as_interrupt,
 )
 from webline.cli_hints import WeblineGroup
@@ -84,6 +86,7 @@ def root(version: Annotated[bool, typer.Option(
 
 @app.command()
 @handles_errors
+@runs_code
 def run(
     line: LineArg = "hswl",
     duration: Annotated[str | None, typer.Option(
@@ -143,6 +146,9 @@ def run(
         from webline.sim.simulate import simulate
 
         scenario_line = _load(loaded, scenario, controller, sets)
+        from webline.sim.user_objects import check_consent
+
+        check_consent(scenario_line)  # (before anything is written: a refusal is one line)
         for warning in scenario_line.warnings:  # unusual values (webline.spec.ranges)
             typer.echo(f"warning: {scenario_line.source}: {warning}", err=True)
         seconds = _duration(duration)
@@ -210,6 +216,7 @@ def validate(line: LineArg) -> None:
         branched = loaded
         for name in branched.spec.scenarios:
             branched.with_scenario(name)
+        code_notes(branched)
         typer.echo(f"ok: {branched.source}: branched line {branched.name!r} with "
                    f"{len(branched.spec.webs)} webs, {len(branched.spec.rollers)} rollers, "
                    f"{len(branched.spans)} spans, {len(branched.drives)} drives, "
@@ -229,6 +236,7 @@ def validate(line: LineArg) -> None:
         typer.echo(f"warning: {loaded.source}: {warning}", err=True)
     for note in loaded.notes:  # what webline derived (a roll's inertia from its totals)
         typer.echo(f"note: {loaded.source}: {note}")
+    code_notes(loaded)
     scenarios = ", ".join(loaded.spec.scenarios) or "none"
     typer.echo(f"ok: {loaded.source}: line {loaded.name!r} with {loaded.n_nodes} rollers, "
                f"{loaded.n_spans} spans, {len(loaded.drives)} drives, {len(loaded.zones)} "
@@ -266,12 +274,14 @@ def show(line: LineArg, units: UnitsOpt = Units.si, scenario: ScenarioOpt = None
     source = load_line(line)
     if source.branched:  # docs/branching.md, "Report"
         print_tables(show_branched(source, scenario, schematic, units.value, sets), _console())
+        code_notes(source)
         if schematic is not None:
             typer.echo(f"Schematic: {schematic}")
         return
     loaded = _load(source, scenario, None, sets)
     display = Display(units.value, loaded.spec.web.width)
     print_tables(line_tables(loaded, display), _console())
+    code_notes(loaded)
     if schematic is not None:
         write_schematic(loaded, schematic, display)
         typer.echo(f"Schematic: {schematic}")
@@ -334,12 +344,12 @@ def study(
 
 app.command("sweep")(handles_errors(
     sweep_command, resume="the same command with --resume goes on from the chunks stored"))
-app.command("replay")(handles_errors(replay_command))
-app.command("fit")(handles_errors(fit_command))
-app.command("tune")(handles_errors(tune_command))
-app.command("experiment")(handles_errors(experiment_command))
-app.command("taper")(handles_errors(taper_command))
-app.command("benchmark")(handles_errors(benchmark_command))
+app.command("replay")(handles_errors(runs_code(replay_command)))
+app.command("fit")(handles_errors(runs_code(fit_command)))
+app.command("tune")(handles_errors(runs_code(tune_command)))
+app.command("experiment")(handles_errors(runs_code(experiment_command)))
+app.command("taper")(handles_errors(runs_code(taper_command)))
+app.command("benchmark")(handles_errors(runs_code(benchmark_command)))
 app.command("warm")(handles_errors(warm_command))
 
 

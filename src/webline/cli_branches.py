@@ -35,13 +35,14 @@ def run_branched(source: str | BranchedLine, seconds: float | None, scenario: st
     "On a branched line")."""
     display = branch_units(units)
     line = branched_line(source, scenario, sets, family)
+    from webline.sim.user_objects import branched_controllers, check_consent
+
+    check_consent(line)  # (before anything is written: a refusal is one line)
     name = results_name(data_format)  # type: ignore[arg-type]
     folder = open_output(out or Path("out") / (line.name + (f"-{scenario}" if scenario else "")),
                          force, "run", (name, "summary.json", FIGURE, REPORT))
     if seconds is None and scenario:
         seconds = line.spec.scenarios[scenario].duration
-    from webline.sim.user_objects import branched_controllers
-
     with progress_bar(not quiet, f"simulating {line.name}") as progress:
         result = simulate_branches(line, seconds, raise_on_failure=False,
                                    controller=branched_controllers(line, None), progress=progress)

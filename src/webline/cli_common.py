@@ -4,8 +4,12 @@ tables and progress bar, and loading a line as a command runs it (``--controller
 
 from __future__ import annotations
 
+import faulthandler
 import functools
+import inspect
 import signal
+import sys
+import typing
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from enum import StrEnum
@@ -113,6 +117,48 @@ def handles_errors(command: F, *, resume: str = "") -> F:
     return wrapper  # type: ignore[return-value]
 
 
+AllowCodeOpt = Annotated[bool, typer.Option(
+    "--allow-code", help="Run the Python code the line file names (type = \"python\" "
+    "controllers) from the line file's own folder; without it such a line is refused "
+    "before anything is imported (docs/security.md).")]
+
+
+def _no_debugger(*args: object, **kwargs: object) -> None:
+    """``breakpoint()`` in a command-line run: an error (the controller that called it fails
+    the run, named) instead of a debugger's prompt."""
+    raise RuntimeError("breakpoint() called during a command-line run, which opens no "
+                       "debugger; debug the controller from Python (webline.simulate)")
+
+
+def runs_code(command: F) -> F:
+    """``command`` with an ``--allow-code`` option: within it, runs may import the Python
+    code their line file names from its own folder (``spec.code_consent.allowing_code``),
+    and ``breakpoint()`` raises instead of waiting for a debugger."""
+    from webline.spec.code_consent import allowing_code
+
+    @functools.wraps(command)
+    def wrapper(*args: object, allow_code: bool = False, **kwargs: object) -> None:
+        hook = sys.breakpointhook
+        sys.breakpointhook = _no_debugger  # (a prompt would wait forever on a terminal)
+        if not faulthandler.is_enabled():  # a compiled law that crashes the process: its
+            faulthandler.enable()  # stack (law_kernel) is printed, docs/controllers.md
+        try:
+            with allowing_code(allow_code):
+                command(*args, **kwargs)
+        finally:
+            sys.breakpointhook = hook
+
+    hints = typing.get_type_hints(command, include_extras=True)  # (typer reads them)
+    signature = inspect.signature(command)
+    option = inspect.Parameter("allow_code", inspect.Parameter.KEYWORD_ONLY, default=False,
+                               annotation=AllowCodeOpt)
+    wrapper.__signature__ = signature.replace(  # type: ignore[attr-defined]
+        parameters=[*(p.replace(annotation=hints.get(p.name, p.annotation))
+                      for p in signature.parameters.values()), option])
+    wrapper.__annotations__ = {**hints, "allow_code": AllowCodeOpt}
+    return wrapper  # type: ignore[return-value]
+
+
 @contextmanager
 def sigterm_as_interrupt() -> Iterator[Callable[[], bool]]:
     """Within the block SIGTERM stops the command as Ctrl-C does
@@ -175,6 +221,22 @@ def _load(source: str | Line, scenario: str | None, controller: ControllerFamily
         line = line.with_scenario(scenario)
     changes = parse_sets(sets)
     return line.replace(changes) if changes else line
+
+
+def code_notes(line: object) -> None:
+    """Tell (stderr, a ``note:`` each) which Python code a line (or branched line, or a path
+    or name of one) names: ``validate`` and ``show`` never import it, ``run`` only with
+    ``--allow-code`` or the allow-list (docs/security.md)."""
+    from webline.sim.user_objects import named_code
+
+    if isinstance(line, str):  # (a branched line's source: its names only)
+        from webline.model.web_graph import load_branched
+
+        line = load_branched(line)
+    for key, text in named_code(line):  # type: ignore[arg-type]
+        typer.echo(f"note: {line.source}: {key} names Python code {text!r}; it was not "  # type: ignore[attr-defined]
+                   "imported, and runs only with --allow-code or the allow-list "
+                   "(docs/security.md)", err=True)
 
 
 def parse_sets(sets: list[str] | None) -> dict[str, object]:

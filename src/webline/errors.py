@@ -80,6 +80,13 @@ class ControllerError(SimulationError):
     message names it and the tick, ``partial`` holds the run up to that tick."""
 
 
+class LawCompileError(WeblineError):
+    """numba cannot compile a user's control law (``sim.compiled_control``): bad input, named
+    with numba's reason (exit status 2)."""
+
+    exit_code = 2
+
+
 class StudyError(WeblineError):
     """A study stopped before its end (a full disk, its workers lost, a damaged chunk); the
     message says what ``--resume`` will continue from (exit status 1)."""

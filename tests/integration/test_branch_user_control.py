@@ -131,8 +131,8 @@ def test_a_failing_controller_stops_the_run_in_one_line_naming_it_and_the_tick(
         webline.simulate("laminator", 0.1, controller=controller)
     assert "\n" not in str(caught.value)
     partial = caught.value.partial
-    if t_last is None:
-        assert len(partial.time) == 0
+    if t_last is None:  # failed at tick 0: the start alone is kept (the CLI writes it)
+        assert len(partial.time) == 1 and partial.time[0] == 0.0
     else:  # the run up to the tick before the failing one
         assert partial.time[-1] == pytest.approx(t_last)
     returned = webline.simulate("laminator", 0.1, controller=controller,
@@ -223,7 +223,7 @@ def test_run_takes_the_files_python_controller_and_the_controller_option(tmp_pat
     path = _laminator_with(tmp_path, 'controller = { type = "python", object = '
                                      '"user_pi_module.py:UserPI" }')
     out = tmp_path / "out"
-    ran = CliRunner().invoke(app, ["run", path, "-d", "0.3", "-o", str(out), "-q"])
+    ran = CliRunner().invoke(app, ["run", path, "-d", "0.3", "-o", str(out), "-q", "--allow-code"])
     assert ran.exit_code == 0, ran.output
     written = xr.open_dataset(out / "results.nc")["tension"].values
     # the file's python PI on the rewind, the compiled PI on the others: the built-in run
@@ -252,7 +252,8 @@ def test_a_bad_python_controller_in_a_branched_file_is_one_line_exit_2(
     from webline.cli import app
 
     path = _laminator_with(tmp_path, controller)
-    ran = CliRunner().invoke(app, ["run", path, "-d", "0.1", "-o", str(tmp_path / "o")])
+    ran = CliRunner().invoke(app, ["run", path, "-d", "0.1", "-o", str(tmp_path / "o"),
+                                   "--allow-code"])
     assert ran.exit_code == 2
     lines = [line for line in ran.output.splitlines() if line.strip()]
     assert len(lines) == 1 and key in lines[0] and problem in lines[0], ran.output

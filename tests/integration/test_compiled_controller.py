@@ -14,7 +14,8 @@ import pytest
 
 import webline
 from webline import CompiledController
-from webline.errors import ControllerError, LineFileError
+from webline.errors import ControllerError, LawCompileError, LineFileError
+from webline.sim.compiled_control import CHECKED_HINT
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -165,7 +166,7 @@ def test_law_that_raises_named_with_tick_and_message() -> None:
         webline.simulate(webline.load_line("hswl"), 1.0, controller={"rewind": ctrl})
     message = str(info.value)
     assert message == ("controller 'rewind' (compiled law raises) raised ValueError: gain "
-                       "table empty at tick 250 (t = 0.25 s)")
+                       "table empty at tick 250 (t = 0.25 s)" + CHECKED_HINT)
     assert info.value.partial.time[-1] == pytest.approx(0.249)
 
 
@@ -179,8 +180,8 @@ def uses_python(t: float, meas: np.ndarray, refs: np.ndarray, params: np.ndarray
 
 def test_law_that_does_not_compile_is_one_error_naming_it() -> None:
     """A law numba cannot compile (it reads a Python dict) stops the run before it starts
-    with one line naming the function and numba's reason."""
-    with pytest.raises(ControllerError) as info:
+    with one line naming the function and numba's reason: bad input (exit 2)."""
+    with pytest.raises(LawCompileError) as info:
         webline.simulate(webline.load_line("hswl"), 0.1,
                          controller={"rewind": CompiledController(uses_python)})
     message = str(info.value)
@@ -215,7 +216,7 @@ def test_line_file_function(tmp_path: Path) -> None:
     command = float(torque.params[0])
     path = _line_file(tmp_path, {"function": "laws.py:hold", "params": [command],
                                  "states": 1})
-    from_file = webline.simulate(webline.load_line(path), 0.2)
+    from_file = webline.simulate(webline.load_line(path), 0.2, allow_code=True)
     assert _worst(from_file.states, direct.states) < 1e-12  # the same law, the same run
 
 
@@ -226,7 +227,7 @@ def test_line_file_object_factory_of_a_compiled_law(tmp_path: Path) -> None:
     (tmp_path / "pi.py").write_text((EXAMPLES / "user_pi_numba.py").read_text())
     path = _line_file(tmp_path, {"object": "pi.py:cascaded_pi"})
     builtin = webline.simulate(webline.load_line("hswl"), 1.0)
-    assert _worst(webline.simulate(webline.load_line(path), 1.0).states,
+    assert _worst(webline.simulate(webline.load_line(path), 1.0, allow_code=True).states,
                   builtin.states) < 1e-9
 
 
@@ -241,7 +242,7 @@ def test_line_file_bad_function_is_one_line_error(tmp_path: Path, controller: di
     (tmp_path / "laws.py").write_text("def law(t, meas, refs, params, state, out):\n"
                                       "    out[0] = 0.0\n")
     with pytest.raises(LineFileError) as info:
-        webline.simulate(_line_file(tmp_path, controller), 0.1)
+        webline.simulate(_line_file(tmp_path, controller), 0.1, allow_code=True)
     assert says in str(info.value) and "rollers[4].controller" in str(info.value)
 
 
@@ -308,18 +309,18 @@ def test_session_calls_the_law_from_python() -> None:
     assert _worst(stepped[:n], builtin.states[:n]) < 1e-9
 
 
-def test_cli_law_that_does_not_compile_exits_1_with_one_line(tmp_path: Path) -> None:
-    """``webline run`` on a line file whose ``function`` numba cannot compile: exit 1, one
-    line naming the function."""
+def test_cli_law_that_does_not_compile_exits_2_with_one_line(tmp_path: Path) -> None:
+    """``webline run`` on a line file whose ``function`` numba cannot compile: bad input,
+    exit 2, one line naming the function."""
     import subprocess
 
     (tmp_path / "laws.py").write_text("def law(t, meas, refs, params, state, out):\n"
                                       "    out[0] = 'fast'\n")
     path = _line_file(tmp_path, {"function": "laws.py:law"})
     done = subprocess.run([str(Path(sys.executable).parent / "webline"), "run", str(path),
-                           "--duration", "0.1", "-o", str(tmp_path / "out")],
+                           "--allow-code", "--duration", "0.1", "-o", str(tmp_path / "out")],
                           capture_output=True, text=True, timeout=600)
-    assert done.returncode == 1, done.stderr
+    assert done.returncode == 2, done.stderr
     lines = [s for s in (done.stdout + done.stderr).splitlines() if "numba cannot compile" in s]
     assert len(lines) == 1 and "compiled law law" in lines[0], done.stdout + done.stderr
 

@@ -158,7 +158,7 @@ def test_line_file_python_controller(tmp_path: Path) -> None:
 
     path = tmp_path / "line.toml"
     path.write_bytes(tomli_w.dumps(data).encode())
-    user = webline.simulate(webline.load_line(path), 1.0)
+    user = webline.simulate(webline.load_line(path), 1.0, allow_code=True)
     builtin = webline.simulate(source, 1.0)
     scale = np.max(np.abs(builtin.states), axis=0)
     assert np.max(np.abs(user.states - builtin.states) / scale) < 1e-9
@@ -168,16 +168,21 @@ def test_line_file_python_controller(tmp_path: Path) -> None:
     ("nowhere_module_xyz:Ctrl", "cannot import 'nowhere_module_xyz'"),
     ("missing.py:Ctrl", "cannot import 'missing.py'"),
     ("math:nothing", "'math' has no 'nothing'"),
-    ("math:pi", "neither a controller nor a class"),
+    ("math:pi", "neither a controller nor a controller class"),
 ])
 def test_line_file_bad_object_is_one_clear_error(obj: str, says: str) -> None:
-    """A bad object path is a LineFileError (exit 2) naming the key and the problem."""
+    """A bad object path is a LineFileError (exit 2) naming the key and the problem (the
+    installed modules trusted, docs/security.md, so that the names are looked at)."""
+    from webline.spec.code_consent import trusted_file
+
+    trusted_file().parent.mkdir(parents=True, exist_ok=True)
+    trusted_file().write_text('modules = ["math", "nowhere_module_xyz"]\n')
     source = webline.load_line("hswl")
     rollers = [r.model_dump(exclude_none=True) for r in source.spec.rollers]
     rollers[-1]["controller"] = {"type": "python", "object": obj}
     line = source.replace(rollers=rollers)
     with pytest.raises(LineFileError) as info:
-        webline.simulate(line, 0.1)
+        webline.simulate(line, 0.1, allow_code=True)
     assert info.value.key == f"rollers[{len(rollers) - 1}].controller.object"
     assert says in str(info.value) and "\n" not in str(info.value)
     assert info.value.exit_code == 2
@@ -245,7 +250,7 @@ def test_cli_bad_object_exit_2_and_failing_controller_exit_1(tmp_path: Path) -> 
         "    def reset(self, context):\n        pass\n"
         "    def __call__(self, t, m, r):\n"
         "        if t > 0.05:\n            raise RuntimeError('boom')\n        return 0.0\n")
-    command = [str(Path(sys.executable).parent / "webline"), "run"]
+    command = [str(Path(sys.executable).parent / "webline"), "run", "--allow-code"]
     done = subprocess.run([*command, str(_line_file(tmp_path, "bad.py:Nope")), "--duration",
                            "0.1", "-o", str(tmp_path / "a")], capture_output=True, text=True,
                           timeout=600)

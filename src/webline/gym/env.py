@@ -14,6 +14,17 @@ Reward per step: -(``tension_weight`` x Σ ((T - T_ref) / T_ref)² + ``effort_we
 (τ / τ_limit)²) over the agent drives (tension relative to its reference, torque relative to
 the limit). An episode ends (``terminated``) when the line leaves physical validity or fails,
 with the run's verdict and message in ``info``, and is truncated at ``duration`` [s].
+
+Nothing non-finite goes in or out. An action must have the action space's shape (one value
+per agent drive; another shape is one ``ArgumentError`` naming the expected shape), be real
+numbers and finite: a NaN or infinite action is refused (``ArgumentError``), never clipped
+into a command, since it is a bug of the agent that a clip would hide. Where the plant's
+readings (or, at a failure, its state) become non-finite, the observation is zeros there
+and the episode ends (``terminated``) with the terminal reward ``failure_reward`` (default
+-100, below what any finite step of a run near its references earns), ``info["verdict"]``
+"failed".
+An environment can be deep-copied and pickled with its state (``Session``), so gymnasium's
+process-based ``AsyncVectorEnv`` works.
 ``randomize`` maps line paths to webline distributions (``"normal(9 kN, 5 %)"``,
 docs/sweeps.md), drawn anew at each ``reset`` from the environment's seeded generator.
 """
@@ -61,7 +72,9 @@ class LineEnv(gymnasium.Env):
     its paths, ``BranchedLine.replace``); ``drives``: the names the agent
     commands (default: every tension-controlling drive); ``scenario``; ``duration`` [s] of an
     episode; ``ticks_per_step``; ``action_scale`` [-]; ``tension_weight``, ``effort_weight``
-    [-]; ``randomize``: {line path: distribution}.
+    [-]; ``randomize``: {line path: distribution}; ``failure_reward``: the terminal reward
+    of an episode whose readings became non-finite; ``allow_code``: consent to the Python
+    code the line file names (docs/security.md).
     """
 
     metadata = {"render_modes": []}  # noqa: RUF012 (gymnasium declares it on Env)
@@ -70,7 +83,8 @@ class LineEnv(gymnasium.Env):
                  scenario: str | None = None, duration: float = 5.0,
                  ticks_per_step: int = 10, action_scale: float = 0.2,
                  tension_weight: float = 1.0, effort_weight: float = 0.01,
-                 randomize: Mapping[str, Any] | None = None) -> None:
+                 randomize: Mapping[str, Any] | None = None, failure_reward: float = -100.0,
+                 allow_code: bool | None = None) -> None:
         self.base: Any
         loaded = load_line(line)
         if loaded.branched:  # docs/controllers.md, "On a branched line"
@@ -94,6 +108,9 @@ class LineEnv(gymnasium.Env):
         self.action_scale = action_scale
         self.weights = (tension_weight, effort_weight)
         self.randomize = dict(randomize or {})
+        if not np.isfinite(failure_reward):
+            raise ArgumentError(f"failure_reward: must be finite, got {failure_reward}")
+        self.failure_reward, self.allow_code = float(failure_reward), allow_code
         draw(self.randomize, 1, 0)  # a bad distribution fails here, not at the first reset
         n = len(self.drive_names)
         self.action_space = spaces.Box(-1.0, 1.0, (n,), dtype=np.float32)
@@ -111,13 +128,14 @@ class LineEnv(gymnasium.Env):
             drawn = {path: float(values[0]) for path, values in sample.items()}
             line = line.replace(drawn)
         self.agents = {name: _Agent() for name in self.drive_names}
-        self.session = Session(line, controller=self.agents, scenario=self.scenario)
+        self.session = Session(line, controller=self.agents, scenario=self.scenario,
+                               allow_code=self.allow_code)
         return self._observation(), {"parameters": drawn, "t": 0.0}
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool,
                                                 dict[str, Any]]:
         assert self.session is not None, "call reset first"
-        action = np.clip(np.asarray(action, dtype=float), -1.0, 1.0)
+        action = np.clip(self._checked(action), -1.0, 1.0)
         effort = 0.0
         for a, agent in zip(action, self.agents.values(), strict=True):
             assert agent.context is not None
@@ -141,11 +159,40 @@ class LineEnv(gymnasium.Env):
             if np.isfinite(t_ref) and t_ref != 0.0:
                 error += ((agent.measured[1] - t_ref) / t_ref) ** 2
         reward = -(self.weights[0] * error + self.weights[1] * effort)
+        if not (np.isfinite(reward) and all(np.isfinite(a.measured).all()
+                                            for a in self.agents.values())
+                and (not terminated or np.isfinite(list(self.session.state.values())).all())):
+            terminated, reward = True, self.failure_reward  # (documented: module docstring)
+            info.setdefault("verdict", "failed")
+            info.setdefault("message", "the readings became non-finite")
         truncated = not terminated and self.session.t >= self.duration - 1e-12
         if truncated:
             info["verdict"] = self.session.result().verdict.status
         info["t"] = self.session.t
         return self._observation(), float(reward), terminated, truncated, info
+
+    def _checked(self, action: object) -> np.ndarray:
+        """``action`` as floats of the action space's shape, finite; else ``ArgumentError``
+        naming what was expected."""
+        shape = self.action_space.shape
+        expected = (f"one value in [-1, 1] per agent drive ({', '.join(self.drive_names)}), "
+                    f"shape {shape}")
+        try:
+            values = np.asarray(action)
+        except Exception:  # a ragged list: no array of it
+            values = np.asarray(None)
+        if values.shape != shape:
+            got = (f"shape {values.shape}" if values.dtype != object
+                   else type(action).__name__)
+            raise ArgumentError(f"action: expected {expected}, got {got}")
+        if values.dtype.kind not in "biuf":
+            raise ArgumentError(f"action: expected real numbers ({expected}), got dtype "
+                                f"{values.dtype}")
+        values = values.astype(float)
+        if not np.isfinite(values).all():
+            raise ArgumentError(f"action: must be finite, got {values.tolist()} (a NaN or "
+                                f"infinite action is the agent's bug: refused, not clipped)")
+        return values
 
     def _observation(self) -> np.ndarray:
         out = []

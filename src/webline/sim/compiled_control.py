@@ -33,10 +33,11 @@ import numba as nb
 import numpy as np
 from numba.core.dispatcher import Dispatcher
 
-from webline.errors import ArgumentError, ControllerError
+from webline.errors import ArgumentError, LawCompileError
 from webline.sim.core import law_kernel
 from webline.sim.core.law_kernel import buffer_layout, law_hook
 from webline.sim.core.plan import Plan
+from webline.sim.core.user_protocol import ENDINGS, reset_all
 from webline.sim.drives.user_loop import N_MEASURED, N_REFERENCES, STATUS_USER_NONFINITE
 from webline.sim.elements import layout as L
 from webline.sim.user_control import (
@@ -65,21 +66,34 @@ class CompiledController:
     (zeros), its initial values, or ``state(context) -> values``; ``name``: what errors call
     it (default the function's name). ``params`` and ``state`` after ``reset`` are the arrays
     the law is given (``state`` holds the memory where the run ended).
+
+    ``checked``: the law's checked mode, for finding a fault: every array index is checked
+    (an out-of-bounds one raises ``IndexError`` and ends the run with ``ControllerError``
+    naming it, where an unchecked law writes over memory, which can crash the process) and
+    a non-finite ``state`` after a call ends it too; slower (documented in
+    docs/controllers.md), so meant for debugging.
     """
 
     def __init__(self, law: Callable[..., None], *, params: Values = (),
-                 state: int | Values = 0, name: str | None = None) -> None:
+                 state: int | Values = 0, name: str | None = None,
+                 checked: bool = False) -> None:
         py_func = getattr(law, "py_func", law)
         if not callable(py_func):
             raise ArgumentError(f"CompiledController: law must be a function, "
                                 f"not a {type(law).__name__}")
         self.law_source = law
+        self.checked = bool(checked)
         self.name = name or getattr(py_func, "__qualname__", repr(py_func))
         self.params_given, self.state_given = params, state
         self.params = np.zeros(0)
         self.state = np.zeros(0)
         self.torques = np.zeros(0)
         self._law: Any = None
+
+    def __getstate__(self) -> dict[str, Any]:
+        """Copied or pickled without its compiled form (compiled again where used: numba's
+        cache makes that quick)."""
+        return {**self.__dict__, "_law": None}
 
     @property
     def kind(self) -> str:
@@ -88,10 +102,11 @@ class CompiledController:
 
     @property
     def law(self) -> Any:
-        """The law as a numba dispatcher, compiled for ``SIGNATURE`` (``ControllerError``
-        naming the function if numba cannot compile it)."""
+        """The law as a numba dispatcher, compiled for ``SIGNATURE`` (``LawCompileError``,
+        bad input, naming the function if numba cannot compile it)."""
         if self._law is None:
-            self._law = compile_law(self.law_source, self.name)
+            self._law = (compile_checked(self.law_source, self.name) if self.checked
+                         else compile_law(self.law_source, self.name))
         return self._law
 
     def reset(self, context: ControllerContext) -> None:
@@ -133,10 +148,39 @@ def compile_law(law: Callable[..., None], name: str) -> Any:
     try:
         law.compile(SIGNATURE)
     except Exception as exc:  # numba's errors on the user's code: one line naming it
-        raise ControllerError(f"compiled law {name}: numba cannot compile {name}(t, meas, "
+        raise LawCompileError(f"compiled law {name}: numba cannot compile {name}(t, meas, "
                               f"refs, params, state, out) with float64 arrays: "
                               f"{_first_line(exc)}") from None
     return law
+
+
+@functools.cache
+def compile_checked(law: Callable[..., None], name: str) -> Any:
+    """``law``'s checked mode (``CompiledController``): compiled with bounds checks, wrapped
+    in a law that raises where the state becomes non-finite; ``LawCompileError`` as
+    ``compile_law``."""
+    py_func = getattr(law, "py_func", law)
+    inner = nb.njit(boundscheck=True, error_model="python")(py_func)
+
+    def checked(t: float, meas: np.ndarray, refs: np.ndarray, params: np.ndarray,
+                state: np.ndarray, out: np.ndarray) -> None:
+        inner(t, meas, refs, params, state, out)
+        for i in range(state.size):
+            if not math.isfinite(state[i]):
+                raise FloatingPointError("state became non-finite (checked mode)")
+
+    try:
+        return compile_law(nb.njit(boundscheck=True, error_model="python")(checked), name)
+    except LawCompileError:
+        raise
+    except Exception as exc:  # numba's errors on the user's code
+        raise LawCompileError(f"compiled law {name}: numba cannot compile it in checked "
+                              f"mode: {_first_line(exc)}") from None
+
+
+#: what the error of a compiled law that failed recommends
+CHECKED_HINT = ("; to find it, run the law in checked mode (checked = true in the line "
+                "file, CompiledController(..., checked=True): bounds and NaN checks, slower)")
 
 
 def _first_line(exc: Exception) -> str:
@@ -167,8 +211,11 @@ def run_compiled(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: n
     controllers: list[CompiledController] = []
     for g in groups:
         assert isinstance(g.controller, CompiledController)
-        g.controller.reset(context_for(plan, g, istate0))
         controllers.append(g.controller)
+    ended = reset_all(groups, lambda g: context_for(plan, g, istate0))
+    if ended is not None:  # (a ``params(context)`` or ``state(context)`` of the user's)
+        return UserRun(0, STATUS_USER_NONFINITE, 0.0, -1, x0.copy(), istate0.copy(),
+                       ended[1], ended[0].name)
     users = tuple(d for g in groups for d in g.drives)
     hook = law_hook(users, tuple((c.law, len(g.drives), c.params.size, c.state.size)
                                  for c, g in zip(controllers, groups, strict=True)))
@@ -206,10 +253,16 @@ def run_compiled(plan: Plan, groups: Sequence[Group], x0: np.ndarray, istate0: n
         drive = plan.line.node_name(plan.line.drives[where])
         run.where, run.controller = -1, group.name
         run.error = controller_error(group, tick, t_fail, None, f"returned a non-finite "
-                                     f"torque for {drive}")
+                                     f"torque for {drive}") + _hint(group)
         if raised:
-            run.error = _raised(group, groups, tick, t_fail, buf, layout)
+            run.error = _raised(group, groups, tick, t_fail, buf, layout) + _hint(group)
     return run
+
+
+def _hint(group: Group) -> str:
+    """``CHECKED_HINT`` for an unchecked law (nothing for one in checked mode)."""
+    ctrl = group.controller
+    return "" if isinstance(ctrl, CompiledController) and ctrl.checked else CHECKED_HINT
 
 
 def _raised(group: Group, groups: Sequence[Group], tick: int, t: float, buf: np.ndarray,
@@ -232,7 +285,7 @@ def _raised(group: Group, groups: Sequence[Group], tick: int, t: float, buf: np.
         if py_func is not None:
             py_func(t, buf[m:m + N_MEASURED * k].copy(), buf[r:r + N_REFERENCES * k].copy(),
                     ctrl.params.copy(), ctrl.state.copy(), np.zeros(k))
-    except Exception as exc:  # the user's law, run in Python: its own error
+    except ENDINGS as exc:  # the user's law, run in Python: its own error
         return controller_error(group, tick, t, exc)
     return controller_error(group, tick, t, None, "raised an exception in compiled code "
                             "(numba keeps no message; run the law in Python to see it)")

@@ -4,7 +4,6 @@ loop, notebooks). The plant and the built-in controllers still run compiled betw
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,18 +17,21 @@ from webline.model.lines import load_line as load_any
 from webline.sim.compiled_control import CompiledController
 from webline.sim.core import kernel
 from webline.sim.core.plan import compile_plan, equilibrium_plan_state
+from webline.sim.core.session_contract import check_snapshot, session_settings
 from webline.sim.core.user_step import C_STORED
 from webline.sim.elements import layout as L
 from webline.sim.results.failure import Failure, kernel_failure
 from webline.sim.results.result import Result
 from webline.sim.simulate import _result, choose_substeps
 from webline.sim.user_control import (
+    Group,
     UserLoop,
     builtin_stand_in,
     user_groups,
     user_plan,
 )
 from webline.sim.user_objects import file_controllers
+from webline.spec.ranges import reference_argument, session_identity
 
 if TYPE_CHECKING:
     from webline.model.web_graph import BranchedLine
@@ -41,52 +43,85 @@ FIRST_ROWS = 4096
 @dataclass(frozen=True)
 class Snapshot:
     """Everything a session needs to go back to a tick (``Session.restore``), compiled laws'
-    ``state`` included; a Python controller's own memory is its to keep."""
+    ``state`` included; a Python controller's own memory is its to keep. ``identity``: the
+    digest of the line and plan it came from (``spec.ranges.session_identity``), ``line``
+    that line's name: a session of another line or plan refuses it."""
 
     floats: np.ndarray
     ints: np.ndarray
     records: np.ndarray
     law_states: tuple[np.ndarray, ...] = ()
+    identity: str = ""
+    line: str = ""
 
 
 class Session:
     """``line`` at its operating point, advanced by ``step``. ``controller`` as in
     ``simulate`` (one object for every drive, or a dict per drive name); ``scenario``,
-    ``sample_rate`` [Hz] and ``substeps`` as there. Every tick is recorded (``result``).
-    A branched line (``[[webs]]``) gives a ``sim.branches.user.session.BranchSession``, with
-    the same methods and a ``BranchResult``."""
+    ``sample_rate`` [Hz], ``substeps`` and ``allow_code`` (consent to the line file's own
+    Python code, docs/security.md) as there, checked as there. Every tick is recorded
+    (``result``). A branched line (``[[webs]]``) gives a
+    ``sim.branches.user.session.BranchSession``, with the same methods and a
+    ``BranchResult``.
 
-    def __new__(cls, line: Line | str | Path | BranchedLine, **options: Any) -> Any:
-        loaded = load_any(line)
-        if loaded.branched:
+    ``copy.deepcopy`` and ``pickle`` copy a session with its state, records and controllers
+    (their memory included: they are copied, not reset; pickling needs them picklable)."""
+
+    def __new__(cls, line: Line | str | Path | BranchedLine | None = None,
+                **options: Any) -> Any:
+        loaded = None if line is None else load_any(line)  # (None: a copy being made)
+        if loaded is not None and loaded.branched:
             from webline.sim.branches.user.session import BranchSession
             from webline.sim.user_objects import branched_controllers
 
             branched = loaded
-            options["controller"] = branched_controllers(branched, options.get("controller"))
+            options["controller"] = branched_controllers(branched, options.get("controller"),
+                                                         options.pop("allow_code", None))
             return BranchSession(branched, **options)
         return super().__new__(cls)
 
     def __init__(self, line: Line | str | Path, *, controller: object | Mapping[str, object]
                  | None = None, scenario: str | None = None, sample_rate: float | None = None,
-                 substeps: int | None = None) -> None:
+                 substeps: int | None = None, allow_code: bool | None = None) -> None:
+        rate, steps = session_settings(sample_rate, substeps)
         line = load_line(line)
         if scenario is not None:
             line = line.with_scenario(scenario)
-        plan = compile_plan(line, sample_rate=sample_rate)
-        groups = user_groups(line, controller, file_controllers(line))
-        self.substeps = substeps or choose_substeps(builtin_stand_in(plan))
+        groups = user_groups(line, controller, file_controllers(line, allow_code))
+        self._start(line, rate, steps, groups, reset=True)
+
+    def _start(self, line: Line, rate: float | None, steps: int | None,
+               groups: list[Group], reset: bool) -> None:
+        """Build the session of ``line`` (its scenario applied) at sample rate ``rate``
+        [Hz] (None: the file's) with ``steps`` RK4 sub-steps (None: chosen) and user
+        ``groups``; ``reset=False`` leaves the controllers as they are (a copy's)."""
+        plan = compile_plan(line, sample_rate=rate)
+        self._built = (line, rate, groups)
+        self.substeps = steps or choose_substeps(builtin_stand_in(plan))
         self.plan = user_plan(plan, [d for g in groups for d in g.drives]) if groups else plan
         x, istate = equilibrium_plan_state(self.plan)
         self._width = kernel.record_width(self.plan.n_x, self.plan.drives.shape[0],
                                           self.plan.nodes.shape[0])
         self._rec = np.empty((FIRST_ROWS, self._width))
         self._loop = UserLoop(self.plan, groups, x, istate, kernel.initial_slip(self.plan, x),
-                              self.substeps, 1, self._width)
+                              self.substeps, 1, self._width, reset=reset)
         self._views = self._loop.packed.views
         #: the compiled laws, whose memory (``state``) snapshots keep
         self._laws = [g.controller for g in groups if isinstance(g.controller,
                                                                   CompiledController)]
+        self.identity = session_identity(
+            line.spec.model_dump_json(exclude_none=True), self.plan.dt, self.substeps,
+            [(g.name, g.drives) for g in groups])
+
+    def __getstate__(self) -> dict[str, Any]:
+        line, rate, groups = self._built
+        return {"line": line, "rate": rate, "substeps": self.substeps, "groups": groups,
+                "snapshot": self.snapshot()}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self._start(state["line"], state["rate"], state["substeps"], state["groups"],
+                    reset=False)
+        self.restore(state["snapshot"])
 
     @property
     def t(self) -> float:
@@ -133,11 +168,15 @@ class Session:
             out |= {f"measured.{n}": float(v) for n, v in zip(names, meas, strict=True)}
         return out
 
-    def set_reference(self, name: str, value: float) -> None:
-        """From now on, hold reference ``name`` at ``value`` [SI]: ``"speed"`` (the line
-        speed [m/s]) or a zone's tension [N] by the name of its loadcell span
-        (``"<span>.tension"``). The reference steps there at the next tick."""
+    def set_reference(self, name: str, value: float | str) -> None:
+        """From now on, hold reference ``name`` at ``value`` [SI, or a string with units]:
+        ``"speed"`` (the line speed [m/s]) or a zone's tension [N] by the name of its
+        loadcell span (``"<span>.tension"``), in the ranges of the line file's ``speed``
+        and ``spans[].tension`` (``spec.ranges.reference_argument``). The reference steps
+        there at the next tick."""
         line = self.plan.line
+        value = reference_argument(name, value) if name == "speed" or name.endswith(
+            ".tension") else value
         if name == "speed":
             p = 0
         else:
@@ -146,8 +185,6 @@ class Session:
                 raise ArgumentError(f"set_reference: no reference {name!r}; there are "
                                     f"speed, {', '.join(spans)}")
             p = 1 + spans.index(name)
-        if not math.isfinite(value):
-            raise ArgumentError(f"set_reference: {name} must be finite, got {value}")
         off = self._views["prof_off"]
         self._views["prof_v"][off[p]:off[p + 1]] = value
 
@@ -166,17 +203,20 @@ class Session:
         stored = int(self._loop.control[C_STORED])
         return Snapshot(self._loop.packed.floats.copy(), self._loop.packed.ints.copy(),
                         self._rec[:stored].copy(),
-                        tuple(law.state.copy() for law in self._laws))
+                        tuple(law.state.copy() for law in self._laws), self.identity,
+                        self.plan.line.name)
 
     def restore(self, snap: Snapshot) -> None:
-        """Go back to ``snap`` (of this session)."""
+        """Go back to ``snap`` (of this session, or of a copy of it; another line's or
+        plan's is refused in one line, ``ArgumentError``)."""
+        check_snapshot(snap, Snapshot, self.identity, self.plan.line.name)
         self._loop.packed.floats[:] = snap.floats
         self._loop.packed.ints[:] = snap.ints
         for law, state in zip(self._laws, snap.law_states, strict=True):
             law.state[:] = state
         self._rec = np.empty((max(FIRST_ROWS, 2 * len(snap.records) + 2), self._width))
         self._rec[:len(snap.records)] = snap.records
-        self._loop.failed = None  # type: ignore[assignment]
+        self._loop.failed = None
 
     def result(self) -> Result:
         """The ``Result`` of the ticks run so far."""

@@ -24,6 +24,7 @@ from webline.model.lines import load_line
 from webline.sim.compiled_control import CompiledController, run_compiled
 from webline.sim.core import kernel
 from webline.sim.core.plan import Plan, compile_plan, equilibrium_plan_state
+from webline.sim.core.session_contract import session_settings
 from webline.sim.elements import layout as L
 from webline.sim.elements.web_state import slip_column
 from webline.sim.linear import budget
@@ -118,7 +119,8 @@ def simulate(line: BranchedLine, duration: float | str | None = None, *,
              substeps: int | None = None, record_interval: float | str | None = None,
              progress: Callable[[float], None] | None = None,
              raise_on_failure: bool = True,
-             controller: object | Mapping[str, object] | None = None) -> BranchResult: ...
+             controller: object | Mapping[str, object] | None = None,
+             allow_code: bool | None = None) -> BranchResult: ...
 
 
 @overload
@@ -127,7 +129,8 @@ def simulate(line: Line | str | Path, duration: float | str | None = None, *,
              substeps: int | None = None, record_interval: float | str | None = None,
              progress: Callable[[float], None] | None = None,
              raise_on_failure: bool = True,
-             controller: object | Mapping[str, object] | None = None) -> Result: ...
+             controller: object | Mapping[str, object] | None = None,
+             allow_code: bool | None = None) -> Result: ...
 
 
 def simulate(line: Line | BranchedLine | str | Path, duration: float | str | None = None, *,
@@ -136,6 +139,7 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
              progress: Callable[[float], None] | None = None,
              raise_on_failure: bool = True,
              controller: object | Mapping[str, object] | None = None,
+             allow_code: bool | None = None,
              ) -> Result | BranchResult:
     """Simulate ``line`` for ``duration`` [s] from equilibrium at its initial references.
 
@@ -168,6 +172,12 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
     (``partial``: the run so far). The step is chosen for the line with its built-in
     controllers in place of the user's (``substeps`` overrides it).
 
+    ``allow_code``: consent to import the Python code the line file names (its
+    ``type = "python"`` controllers) from the line file's own folder; None: as the
+    surrounding ``spec.code_consent.allowing_code`` says, or the per-user allow-list
+    (docs/security.md). Without consent such a line is refused (``LineFileError``) before
+    anything is imported. Objects passed as ``controller`` are the caller's own: no consent.
+
     A branched line (``[[webs]]``; docs/branching.md) runs through
     ``sim.branches`` and returns a ``BranchResult`` (an xarray Dataset and a verdict per web
     and lane; a user ``controller`` per drive or for all, docs/controllers.md "On a branched
@@ -178,7 +188,8 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
         from webline.sim.branches.run import simulate_branches  # scipy: only when needed
         from webline.sim.user_objects import branched_controllers
 
-        controller = branched_controllers(line, controller)  # (and the file's)
+        sample_rate, substeps = session_settings(sample_rate, substeps)  # (as the chain's)
+        controller = branched_controllers(line, controller, allow_code)  # (and the file's)
         return simulate_branches(line, duration, scenario=scenario,
                                  sample_rate=sample_rate, substeps=substeps,
                                  record_interval=record_interval,
@@ -198,7 +209,7 @@ def simulate(line: Line | BranchedLine | str | Path, duration: float | str | Non
         duration = 10.0
     plan = compile_plan(line, sample_rate=sample_rate)
     n_ticks = max(1, round(duration / plan.dt))
-    groups = user_groups(line, controller, file_controllers(line))
+    groups = user_groups(line, controller, file_controllers(line, allow_code))
     if substeps is None:
         substeps = choose_substeps(builtin_stand_in(plan))
     else:
@@ -275,6 +286,9 @@ def _user_result(plan: Plan, groups: list[Group], x: np.ndarray, istate: np.ndar
         run = run_compiled(plan, groups, x, istate, slipping, n_ticks, substeps, every, buffer)
     else:  # one tick at a time through Python (a compiled law called from there)
         run = run_user(plan, groups, x, istate, slipping, n_ticks, substeps, every, buffer)
+    if run.error is not None and run.stored == 0:  # (a reset failed): the start alone
+        run.stored = kernel.run(builtin_stand_in(plan), x.copy(), istate.copy(),
+                                slipping.copy(), 0, 0, substeps, every, True, buffer)[1]
     records = buffer[:run.stored].copy() if run.stored < len(buffer) - 2 else buffer[:run.stored]
     if run.interrupted and run.error is None:
         end = float(records[-1, 0]) if len(records) else 0.0

@@ -25,6 +25,7 @@ from webline.line import Line
 from webline.model.operating_point import OperatingPoint
 from webline.sim.core.plan import Plan
 from webline.sim.core.user_protocol import (  # (here too, where the docs name them)
+    ENDINGS,
     MEASURED,
     REFERENCES,
     Controller,
@@ -33,6 +34,7 @@ from webline.sim.core.user_protocol import (  # (here too, where the docs name t
     NamedReadings,
     argument_groups,
     controller_error,
+    reset_all,
 )
 from webline.sim.core.user_protocol import shape_of as _shape
 from webline.sim.core.user_step import (
@@ -145,11 +147,13 @@ class UserLoop:
     """A run of ``plan`` (user drives ``FAMILY_USER``, commanded by ``groups``) from the
     state ``x0``, ``istate0``, ``slip0``, one tick at a time: ``tick`` calls the controllers
     with the sampled measurements, then the compiled step (``sim.core.user_step``). Records go
-    every ``every`` ticks into the ``rec`` each call is given, from row ``stored``."""
+    every ``every`` ticks into the ``rec`` each call is given, from row ``stored``.
+    ``reset=False``: the controllers are not reset (a copied session's, whose memory they
+    carry)."""
 
     def __init__(self, plan: Plan, groups: Sequence[Group], x0: np.ndarray,
                  istate0: np.ndarray, slip0: np.ndarray, substeps: int, every: int,
-                 record_width: int) -> None:
+                 record_width: int, reset: bool = True) -> None:
         self.plan, self.groups = plan, list(groups)
         self.users = np.array([d for g in groups for d in g.drives], dtype=np.int64)
         self.packed = packed_run(plan, x0, istate0, slip0, self.users, record_width)
@@ -164,7 +168,10 @@ class UserLoop:
                                                N_REFERENCES * (first + k)],
                                self.commands[first:first + k], k))
             first += k
-            g.controller.reset(context_for(plan, g))
+        self.failed: tuple[str, str, float] | None = None
+        ended = reset_all(groups, lambda g: context_for(plan, g)) if reset else None
+        if ended is not None:  # a reset that failed ends the run before its first tick
+            self.failed = (ended[0].name, ended[1], 0.0)
         self.control[C_SUBSTEPS], self.control[C_EVERY] = substeps, every
         self.control[C_MEASURE] = 1
         self.step(self.packed.floats, self.packed.ints, np.empty((1, record_width)))  # tick 0
@@ -184,12 +191,14 @@ class UserLoop:
         """The controllers' commands of the next tick, then that tick (``last``: only
         sampled and recorded, as a run's end); the error of a controller that failed (one
         line), else None."""
+        if self.failed is not None:  # (its reset failed)
+            return self.failed[1]
         j = int(self.control[C_TICK])
         t = j * self.plan.dt
         for g, meas, refs, cmds, k in self.views:
             try:
                 torque = g.controller(t, meas, refs)
-            except Exception as exc:  # the user's code: any error stops the run, named
+            except ENDINGS as exc:  # the user's code: any error (sys.exit too) ends the run
                 return self.failed_with(g, controller_error(g, j, t, exc))
             try:
                 cmds[:] = torque
@@ -225,7 +234,7 @@ class UserLoop:
     def outcome(self) -> UserRun:
         """Where the run stands (``UserRun``)."""
         v = self.packed.views
-        failed = getattr(self, "failed", None)
+        failed = self.failed
         if failed is not None:
             return UserRun(int(self.control[C_STORED]), STATUS_USER_NONFINITE, failed[2], -1,
                            v["x"].copy(), v["istate"].copy(), failed[1], failed[0])

@@ -114,7 +114,8 @@ class PythonControllerSpec(Strict):
     file) naming a class or factory, called with ``parameters`` as keyword arguments, or a
     controller object itself (then ``parameters`` must be empty). Or ``function``: a
     control law numba compiles into the loop (``sim.compiled_control``), given ``params``
-    and ``states`` values of memory."""
+    and ``states`` values of memory, ``checked`` for its checked mode. The code runs only
+    with the user's consent (``spec.code_consent``, docs/security.md)."""
 
     type: Literal["python"]
     object: Annotated[str, Field(pattern=_TARGET)] | None = None
@@ -122,6 +123,8 @@ class PythonControllerSpec(Strict):
     function: Annotated[str, Field(pattern=_TARGET)] | None = None
     params: list[float] = Field(default_factory=list)
     states: Annotated[int, Field(ge=0, le=1_000_000)] = 0
+    #: a ``function``'s checked mode: bounds and NaN checks, slower (docs/controllers.md)
+    checked: bool = False
 
     @model_validator(mode="after")
     def _object_or_function(self) -> PythonControllerSpec:
@@ -133,6 +136,8 @@ class PythonControllerSpec(Strict):
                              "parameters")
         if self.function is not None and self.parameters:
             raise ValueError("parameters go with object; a function takes params and states")
+        if self.object is not None and self.checked:
+            raise ValueError("checked goes with function (a compiled law's checked mode)")
         return self
 
 

@@ -140,3 +140,22 @@ def argument(value: object, kind: str, name: str, bound: str = ">0",
     if problem:
         raise ArgumentError(f"{name}: {problem}")
     return number
+
+
+def reference_argument(name: str, value: object) -> float:
+    """A reference set by hand (``Session.set_reference``) as SI: ``"speed"`` [m/s] in the
+    range of the line file's ``speed`` key, a zone's ``"<span>.tension"`` [N] in that of
+    ``spans[].tension``, with the same messages; numbers [SI] or strings with units."""
+    if name == "speed":
+        return argument(value, "speed", f"set_reference: {name}", ">=0", "line.speed")
+    return argument(value, "force", f"set_reference: {name}", ">0", "span.tension")
+
+
+def session_identity(spec_json: str, *settings: object) -> str:
+    """A short digest of a line's resolved spec (``spec_json``) and a session's plan
+    ``settings`` (sample period, sub-steps, user drives): what a snapshot is checked
+    against before it is restored."""
+    import hashlib
+
+    text = spec_json + "|" + "|".join(repr(s) for s in settings)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]

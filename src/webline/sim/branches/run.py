@@ -96,6 +96,9 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
         if not n_rec:
             raise
         interrupted = True
+    if users is not None and users.failed is not None and not n_rec:  # (a reset failed)
+        rec[0] = users.sample(0)[0]  # the start alone
+        n_rec = 1
     failure = (strength_failure(plan, x, t_fail) if status == B.STATUS_STRENGTH
                else None if status == B.STATUS_OK else users.failed[1]
                if users is not None and users.failed is not None

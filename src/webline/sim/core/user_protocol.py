@@ -11,7 +11,12 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 
 from webline.control.pi import PIGains
-from webline.errors import ArgumentError
+from webline.errors import ArgumentError, WeblineError
+
+#: what a user's code may raise that ends the run as its failure (``ControllerError``): every
+#: exception, and ``SystemExit`` (``sys.exit`` in a controller) and ``GeneratorExit``; a
+#: debugger's ``BdbQuit`` is an ``Exception``. Only ``KeyboardInterrupt`` stops a run as Ctrl-C.
+ENDINGS: tuple[type[BaseException], ...] = (Exception, SystemExit, GeneratorExit)
 
 MEASURED = ("speed", "tension", "radius", "inertia")  # in ``user_loop.U_*`` order
 REFERENCES = ("speed_reference", "tension_reference")
@@ -124,9 +129,26 @@ def shape_of(value: object) -> str:
 
 
 def controller_error(group: Group, tick: int, t: float, exc: BaseException | None,
-                     what: str = "") -> str:
-    """One sentence: which controller failed, how, at which tick and time [s]."""
+                     what: str = "", where: str = "") -> str:
+    """One sentence: which controller failed, how (in ``where``, e.g. "reset(context)"), at
+    which tick and time [s]; its drives named."""
     if exc is not None:
-        what = f"raised {type(exc).__name__}: {exc}"
+        what = f"raised {type(exc).__name__}: {exc}".rstrip(": ")
+        if where:
+            what += f" in {where}"
     kind = getattr(group.controller, "kind", type(group.controller).__name__)
     return f"controller {group.name!r} ({kind}) {what} at tick {tick} (t = {t:.6g} s)"
+
+
+def reset_all(groups: Sequence[Group], context: Any) -> tuple[Group, str] | None:
+    """Call each group's ``reset(context(group))``; the first that fails ends it: (its
+    group, the one-line error naming it, tick 0) — webline's own errors (a compiled law's
+    bad parameters: bad input) pass through as they are."""
+    for g in groups:
+        try:
+            g.controller.reset(context(g))
+        except WeblineError:
+            raise
+        except ENDINGS as exc:  # the user's code: it ends the run, named
+            return g, controller_error(g, 0, 0.0, exc, where="reset(context)")
+    return None

@@ -28,6 +28,7 @@ from webline.sim.branches.loop import transmission as TR
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.plan import BranchPlan
 from webline.sim.core.user_protocol import (
+    ENDINGS,
     MEASURED,
     REFERENCES,
     DriveInfo,
@@ -35,6 +36,7 @@ from webline.sim.core.user_protocol import (
     NamedReadings,
     argument_groups,
     controller_error,
+    reset_all,
     shape_of,
 )
 
@@ -119,7 +121,7 @@ class BranchUserLoop:
 
     def __init__(self, plan: BranchPlan, point: BranchPoint, groups: Sequence[Group],
                  x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
-                 cmd: np.ndarray, substeps: int, every: int) -> None:
+                 cmd: np.ndarray, substeps: int, every: int, reset: bool = True) -> None:
         self.plan = user_branch_plan(plan, groups)
         self.groups = list(groups)
         # the live arrays in one buffer and their scratch copy in another: one copy a tick
@@ -152,8 +154,11 @@ class BranchUserLoop:
                                x.size + self.users[first:first + k] * istate.shape[1]
                                + B.I_UCMD))
             first += k
-            g.controller.reset(branch_context(self.plan, point, g, istate))
         self.failed: tuple[str, str, float] | None = None
+        ended = (reset_all(groups, lambda g: branch_context(self.plan, point, g, istate))
+                 if reset else None)  # (reset=False: a copied session's controllers)
+        if ended is not None:  # a reset that failed ends the run before its first tick
+            self.failed = (ended[0].name, ended[1], 0.0)
         self.stored_in_chunk = 0  # records ``ticks`` wrote in its current call
         #: the names of ``readings``, as the controllers' contexts name them
         self.measurement_names = tuple(
@@ -185,6 +190,8 @@ class BranchUserLoop:
         tick, recording into ``rec`` (``last``: the run's end, only sampled and recorded).
         Returns (records, status, time of failure) as ``BranchPlan.run``; a controller that
         fails leaves ``failed`` (its name, the error line, the time) and status -1."""
+        if self.failed is not None:  # (its reset failed)
+            return 0, -1, self.failed[2]
         self.scratch_buffer[:] = self.live_buffer
         self._call(self.scratch, self.rec_s, tick, 0, True)
         self.scratch_buffer.take(self.reading_at, out=self.readings, mode="clip")
@@ -204,7 +211,7 @@ class BranchUserLoop:
         """Call ``g``'s controller; its commands in ``_last``, or the error line."""
         try:
             torque: Any = g.controller(t, meas, refs)
-        except Exception as exc:  # the user's code: any error stops the run, named
+        except ENDINGS as exc:  # the user's code: any error (sys.exit too) ends the run
             return controller_error(g, tick, t, exc)
         values = torque
         if not (type(torque) is np.ndarray and torque.shape == (k,)):  # (the fast path)

@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -20,6 +21,9 @@ from webline.sim.branches.loop import layout as B
 from webline.sim.branches.result import BranchResult
 from webline.sim.branches.run import _failure_text, plan_and_step, start_state
 from webline.sim.branches.user.loop import BranchUserLoop, branch_groups
+from webline.sim.core.session_contract import check_snapshot, session_settings
+from webline.sim.core.user_protocol import Group
+from webline.spec.ranges import reference_argument, session_identity
 
 #: records the session's buffer starts with; it doubles when full
 FIRST_ROWS = 4096
@@ -36,6 +40,8 @@ class BranchSnapshot:
     records: np.ndarray
     prof_v: np.ndarray
     nodes: np.ndarray
+    identity: str = ""
+    line: str = ""
 
 
 class BranchSession:
@@ -46,17 +52,38 @@ class BranchSession:
     def __init__(self, line: BranchedLine, *, controller: object | Mapping[str, object]
                  | None = None, scenario: str | None = None, sample_rate: float | None = None,
                  substeps: int | None = None) -> None:
+        rate, steps = session_settings(sample_rate, substeps)
         if scenario is not None:
             line = line.with_scenario(scenario)
-        plan, point, self.substeps = plan_and_step(line, sample_rate, substeps)
+        self._start(line, rate, steps, branch_groups(line, controller), reset=True)
+
+    def _start(self, line: BranchedLine, rate: float | None, steps: int | None,
+               groups: list[Group], reset: bool) -> None:
+        """As ``Session._start``."""
+        plan, point, self.substeps = plan_and_step(line, rate, steps)
         fill_draw(plan, point, always=True)  # set_reference moves the draw as a step would
+        self._built = (line, rate, groups)
         x, istate = start_state(plan, point)
-        self._loop = BranchUserLoop(plan, point, branch_groups(line, controller), x, istate,
+        self._loop = BranchUserLoop(plan, point, groups, x, istate,
                                     plan.wound.copy(), np.zeros(len(plan.events)),
-                                    point.torque.copy(), self.substeps, 1)
+                                    point.torque.copy(), self.substeps, 1, reset=reset)
         self.plan = self._loop.plan
         self._rec = np.empty((FIRST_ROWS, 1 + plan.n_x + 2 * plan.di.shape[0]))
         self._tick, self._stored, self._status, self._t_fail = 0, 0, B.STATUS_OK, math.nan
+        self.identity = session_identity(
+            line.spec.model_dump_json(exclude_none=True), line.scenario, self.plan.dt,
+            self.substeps, [(g.name, g.drives) for g in groups])
+
+    def __getstate__(self) -> dict[str, Any]:
+        line, rate, groups = self._built
+        return {"line": line, "rate": rate, "substeps": self.substeps, "groups": groups,
+                "snapshot": self.snapshot(), "status": (self._status, self._t_fail)}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self._start(state["line"], state["rate"], state["substeps"], state["groups"],
+                    reset=False)
+        self.restore(state["snapshot"])
+        self._status, self._t_fail = state["status"]
 
     @property
     def t(self) -> float:
@@ -69,6 +96,9 @@ class BranchSession:
         fails; the session cannot go on from either but by ``restore``."""
         if n < 0 or int(n) != n:
             raise ArgumentError(f"step: n must be a whole number >= 0, got {n}")
+        if self._tick == 0 and self._status == B.STATUS_OK and self._loop.failed is not None:
+            raise ControllerError(f"{self.plan.line.name}: {self._loop.failed[1]}",
+                                  partial=self.result())  # (a reset that failed)
         if self._status != B.STATUS_OK or self._loop.failed is not None:
             raise SimulationError(f"{self.plan.line.name}: the session stopped at t = "
                                   f"{self.t:.6g} s; restore a snapshot to go on")
@@ -132,17 +162,14 @@ class BranchSession:
             out[f"measured.{name}"] = float(value)
         return out
 
-    def set_reference(self, name: str, value: float) -> None:
-        """From now on, hold reference ``name`` at ``value`` [SI]: ``"speed"`` (the line
-        speed [m/s]) or a zone's tension [N] by the name of its loadcell span
-        (``"<span>.tension"``). The reference steps there at the next tick."""
+    def set_reference(self, name: str, value: float | str) -> None:
+        """As ``Session.set_reference`` (the line file's ranges and messages)."""
         plan, line = self.plan, self.plan.line
         spans = {f"{line.spans[int(k)].name}.tension": int(p) for k, p, *_ in plan.cells}
         if name != "speed" and name not in spans:
             raise ArgumentError(f"set_reference: no reference {name!r}; there are "
                                 f"speed, {', '.join(spans)}")
-        if not math.isfinite(value):
-            raise ArgumentError(f"set_reference: {name} must be finite, got {value}")
+        value = reference_argument(name, value)
         p = 0 if name == "speed" else spans[name]
         plan.prof_v[plan.prof_off[p]:plan.prof_off[p + 1]] = value
 
@@ -160,10 +187,12 @@ class BranchSession:
         """The session now (state, controller memory, references, records)."""
         return BranchSnapshot(self._loop.live_buffer.copy(), self._tick,
                               self._rec[:self._stored].copy(), self.plan.prof_v.copy(),
-                              self.plan.nodes.copy())
+                              self.plan.nodes.copy(), self.identity, self.plan.line.name)
 
     def restore(self, snap: BranchSnapshot) -> None:
-        """Go back to ``snap`` (of this session)."""
+        """Go back to ``snap`` (of this session or a copy of it; another's is refused in one
+        line, ``ArgumentError``)."""
+        check_snapshot(snap, BranchSnapshot, self.identity, self.plan.line.name)
         self._loop.live_buffer[:] = snap.live
         self.plan.prof_v[:] = snap.prof_v
         self.plan.nodes[:] = snap.nodes
