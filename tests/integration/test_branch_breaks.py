@@ -22,7 +22,10 @@ AT, STOP = 1.0, 5.0  # the break [s] and the stop ramp [s]
 
 
 def _with_break(name: str, brk: dict, duration: float, **scenario: object) -> BranchedLine:
+    """``name`` with a scenario "b" of the break ``brk``, held at zero speed unless it says
+    (the hold these tests derive; the default stall hold: test_stall_tension)."""
     data = load_branched(name).spec.model_dump(exclude_none=True)
+    brk = {"hold": "zero_speed", **brk}
     data["scenarios"] = {"b": {"duration": duration, "break": brk, **scenario}}
     return load_branched(data)
 
@@ -266,13 +269,10 @@ def test_a_freed_rewind_is_found_by_its_diameter_running_the_wrong_way():
 
 def test_the_brakes_hold_the_line_after_the_stop():
     """``hold = "brakes"``: torque off and each driven roller's brake (its torque limit x
-    ratio) set at the end of the ramp: Coulomb friction smoothed over max(0.1 rad/s,
-    2 ms x brake / J). A brake holding a load τ_L lets its roller creep at
-    ω_s atanh(τ_L / brake): the unwind, held by its intact zone's 300 N at 0.4 m
-    (120 N·m of 400 N·m, J = 70.8 kg·m² with its web, ω_s = 0.1 rad/s), at most
-    0.1 atanh(0.3) x 0.4 m = 0.012 m/s (measured 3.4 mm/s: the held zone relaxes as it
-    creeps); the others' loads are lighter. So half a second after the stop every driven
-    roller is below 0.02 m/s, the verdict says stopped, every torque command is 0."""
+    ratio) set at the end of the ramp: static friction at rest (the unwind, held by its
+    intact zone's 300 N at 0.4 m, 120 N·m of 400 N·m, does not turn: it crept at 3.4 mm/s
+    under the smoothed Coulomb brake before issue 35). So half a second after the stop every
+    driven roller is below 0.02 m/s, the verdict says stopped, every torque command is 0."""
     line = _with_break("slitter", {"span": "lane_1_span", "at": AT, "stop_time": STOP,
                                    "hold": "brakes"}, 8.0)
     result = webline.simulate(line, scenario="b")

@@ -103,6 +103,18 @@ class BranchedLine:
         return {w.name: k for k, w in enumerate(self.spec.webs)}
 
     @cached_property
+    def exact(self) -> bool:
+        """Whether the spans conserve web mass exactly (``web.transport``, one for the line:
+        the value any ``web`` table of it states, "exact" where none does)."""
+        return "first-order" not in self.transport_stated().values()
+
+    def transport_stated(self) -> dict[str, str]:
+        """``web.transport`` where a web table of the line states it: key -> value."""
+        tables = [("web", self.spec.web)] + [(f"webs.{w.name}.web", w.web) for w in self.spec.webs]
+        return {f"{key}.transport": table.transport for key, table in tables
+                if table is not None and "transport" in table.model_fields_set}
+
+    @cached_property
     def materials(self) -> tuple[Material, ...]:
         """The material of every web (module docstring of ``spec.branched.schema``)."""
         out: dict[str, Material] = {}
@@ -329,6 +341,10 @@ def _checked(line: BranchedLine) -> BranchedLine:
     def fail(key: str, problem: str) -> NoReturn:
         raise LineFileError(line.source, key, problem)
 
+    stated = line.transport_stated()
+    if len(set(stated.values())) > 1:  # one transport per line: its webs meet at nips
+        fail(next(iter(stated)), "every web of a line has one transport; the line file "
+             f"states {', '.join(f'{k} = {v!r}' for k, v in stated.items())}")
     check_roll_inertias(line.spec, {i: line.wound_web(i) for i in {r.node for r in line.rolls}},
                         fail)  # (totals need the webs' materials: J1)
     return line

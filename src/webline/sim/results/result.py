@@ -91,11 +91,15 @@ class Result:
         if self.roll_modes is not None:  # a run across a roll: its modes along the way
             extra += self.roll_modes.findings()
         end = float(self.time[-1]) if len(self.time) else 0.0
+        broken = np.isfinite(self.plan.spans[:, L.S_BREAK])
+        intact = [z.loadcell for z in self.line.zones if not broken[z.first:z.last].any()]
         return run_verdict(self.plan, self.failure, [e.summary() for e in self.events], end,
                            self.break_monitor,
                            after_stop_from_records(self.time,
                                                    self.surface_speed[:, list(self.line.drives)],
-                                                   self.drive_names), extra)
+                                                   self.drive_names, self.tension[:, intact],
+                                                   [self.line.span_name(k) for k in intact]),
+                           extra)
 
     @cached_property
     def roll_modes(self) -> RollModes | None:
@@ -297,8 +301,12 @@ class Result:
 
     @cached_property
     def web_stored(self) -> np.ndarray:
-        """Unstrained web held in the spans [m] (first order in strain, as 6.8 assumes)."""
-        return (self.span_lengths * (1.0 - self.stretch / self.line.ea)).sum(axis=1)
+        """Unstrained web held in the spans [m]: L/(1 + ε) with exact transport, L (1 - ε)
+        with the thesis's first-order one (``physics.span.stored_length``)."""
+        ea = self.line.ea
+        if self.line.exact:
+            return (self.span_lengths * ea / (ea + self.stretch)).sum(axis=1)
+        return (self.span_lengths * (1.0 - self.stretch / ea)).sum(axis=1)
 
     @cached_property
     def span_lengths(self) -> np.ndarray:
