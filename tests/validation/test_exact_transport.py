@@ -134,3 +134,25 @@ def test_the_thesis_lines_state_the_first_order_form():
         line = webline.load_line(name)
         assert not line.exact
         assert webline.simulate(line, 0.01).plan.offsets[L.O_EXACT] == 0
+
+
+@pytest.mark.parametrize("transport", ["exact", "first-order"])
+def test_a_branched_line_conserves_each_web_in_both_forms(transport):
+    """The slitter (three lanes off one web, two on a shared shaft), its base web's table
+    set to ``transport`` (one for the line: a dump writes every table's): every web's and
+    lane's length is conserved with that form's flows and stored web, to 1e-7 m."""
+    from webline.sim.branches.loop import layout as B
+
+    data = webline.load_branched("slitter").spec.model_dump(exclude_none=True)
+    tables = [data.get("web")] + [w.get("web") for w in data["webs"]]
+    for table in (t for t in tables if t is not None):
+        table["transport"] = transport
+    line = webline.load_branched(data)
+    assert line.exact == (transport == "exact")
+    assert webline.load_branched(line.spec.model_dump(exclude_none=True)).exact == line.exact
+    result = webline.simulate(line, 3.0)
+    assert result.plan.offsets[B.O_EXACT] == int(line.exact)
+    ds = result.dataset
+    balance = ds["web_stored"] + ds["web_out"] - ds["web_in"]
+    assert float(ds["web_in"].isel(time=-1).min()) > 0.5  # (the ramp from rest: 1 m by 3 s)
+    assert float(np.max(np.abs(balance - balance.isel(time=0)))) < 1e-7

@@ -180,7 +180,10 @@ class Plan:
         for d, i in enumerate(op.drives):
             up = int(self.drives[d, L.D_UPREF])
             t_up = self.web[L.W_T0] if up < 0 else self.profile_value(up, op.time) * ramp
-            feedforward = op.line_speed * draw_ratio(ea, t_up, t_master, self.line.exact)
+            if self.line.exact:  # (``physics.span.draw_ratio``)
+                feedforward = op.line_speed * draw_ratio(ea, t_up, t_master, True)
+            else:  # (6.22, as written before exact transport: the same last bits)
+                feedforward = op.line_speed * (ea - t_master) / (ea - t_up)
             istate[d, L.I_TENSION] = self.drives[d, L.D_SIGMA] * (op.speed[i] - feedforward)
         return x, istate
 
