@@ -45,8 +45,14 @@ def test_fast_path_matches_reference_through_a_web_break(hold):
     # 292 N, 4e-4): the 1e-3 of the reference there
     tol = 1e-3 if hold == "brakes" else 2e-5
     assert np.abs(fast.tension - ref.tension).max() < tol * scale
-    assert np.abs(fast.speed - ref.speed).max() < tol * np.abs(ref.speed).max()
+    if hold == "brakes":  # a roller inside the stick band (>= 0.1 rad/s) is held at once: the
+        # paths enter it up to a step apart, their speeds then differ by up to r x 0.1 rad/s
+        # (rockwell's largest radius, 5 in: 0.0127 m/s; measured 0.0097 m/s, once)
+        band = 0.1 * max(r.radius for r in line.spec.rollers)
+        assert np.abs(fast.speed - ref.speed).max() < band
+    else:
+        assert np.abs(fast.speed - ref.speed).max() < tol * np.abs(ref.speed).max()
     held = ref.time > 0.21
-    if hold != "zero_speed":
+    if hold in ("brakes", "off"):
         assert np.all(fast.torque_cmd[held] == 0.0)
     np.testing.assert_array_equal(fast.torque_cmd == 0.0, ref.torque_cmd == 0.0)

@@ -81,7 +81,7 @@ class Result:
         (``webline.sim.results.findings``)."""
         from webline.sim.results.findings import run_verdict
         from webline.sim.results.splice_findings import splice_findings
-        from webline.sim.results.winder_findings import after_stop_from_records
+        from webline.sim.results.winder_findings import after_stop_from_records, intact_loadcells
         from webline.sim.results.winder_states import winder_state_findings
         from webline.sim.results.yield_findings import yield_findings
 
@@ -91,8 +91,7 @@ class Result:
         if self.roll_modes is not None:  # a run across a roll: its modes along the way
             extra += self.roll_modes.findings()
         end = float(self.time[-1]) if len(self.time) else 0.0
-        broken = np.isfinite(self.plan.spans[:, L.S_BREAK])
-        intact = [z.loadcell for z in self.line.zones if not broken[z.first:z.last].any()]
+        intact = intact_loadcells(self.plan)
         return run_verdict(self.plan, self.failure, [e.summary() for e in self.events], end,
                            self.break_monitor,
                            after_stop_from_records(self.time,

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -34,7 +35,7 @@ class AfterStop:
     each after it, ``names`` theirs, ``settled`` [s] the time from which every one stayed
     below the rest limit (None: still above it at the end); ``loss`` [N] the largest
     tension lost by each intact zone after it (its tension at the stop less its least after
-    it, by the zone's loadcell span; empty where the records were not kept: a batch)."""
+    it, by the zone's loadcell span)."""
 
     peak: np.ndarray
     names: list[str]
@@ -61,6 +62,12 @@ def after_stop_from_records(time: np.ndarray, speed: np.ndarray, names: list[str
         return AfterStop(np.abs(speed[after]).max(axis=0), names, settled,
                          zone_losses(tension[after], zones) if tension is not None else {})
     return read
+
+
+def intact_loadcells(plan: Any) -> list[int]:
+    """The loadcell span of every tension zone of ``plan``'s line that no web break cuts."""
+    broken = np.isfinite(plan.spans[:, L.S_BREAK])
+    return [z.loadcell for z in plan.line.zones if not broken[z.first:z.last].any()]
 
 
 def zone_losses(tension: np.ndarray, zones: Sequence[str]) -> dict[str, float]:
