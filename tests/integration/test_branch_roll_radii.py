@@ -41,9 +41,9 @@ def test_every_roll_of_a_laminator_starts_at_the_scenarios_radius_with_its_hand_
     tension, omega = ds["tension"], ds["omega"]
     ea, v = 103.5e3, 2.5
     # the film leaves its roll at the wound-in 100 N and meets the nip (2.5 m/s) at 120 N:
-    # span equation (6.8) at rest, v_roll (EA - 100) = v_nip (EA - 120)
+    # the span's exact mass balance (E-6.6), v_roll/(EA + 100) = v_nip/(EA + 120)
     assert float(omega.sel(node="unwind_film")) == pytest.approx(
-        v * (ea - 120) / (ea - 100) / 0.2, rel=1e-9)
+        v * (ea + 100) / (ea + 120) / 0.2, rel=1e-9)
     assert float(omega.sel(node="rewind")) == pytest.approx(v / 0.1, rel=1e-3)  # strain < 3e-4
     # torque balance of each roll at constant speed (B4): the unwind brakes its first span's
     # pull, r T - b ω; the rewind drives its last span, r T + b ω (b = 0.05 N m s). The roll's

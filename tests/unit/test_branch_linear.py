@@ -37,7 +37,9 @@ def _at(name: str, scenario: str | None = None, t: float = 0.0):
 
 def _hand_jacobian(plan, point) -> np.ndarray:
     """A of (B1)-(B4) derived by hand, radii frozen, at a taut ``point``:
-    L dx_k/dt = EA (v_b - v_a) + s_in v_a - x_k v_b, v = r ω, s_in per (B2)/(B3);
+    L dx_k/dt = EA (v_b - v_a) + s_in v_a - x_k v_b (first-order transport), or exactly
+    L dx_k/dt = (EA + x_k) v_b - (EA + x_k)² v_a / (EA + s_in) (docs/errata.md E-6.6),
+    v = r ω, s_in per (B2)/(B3);
     J dω_i/dt = n τ - b ω - c tanh(ω/ω_s) + Σ arm x; dτ/dt = (u - τ)/lag."""
     x, o = point.x, plan.offsets
     keep = kept_states(plan)
@@ -63,11 +65,19 @@ def _hand_jacobian(plan, point) -> np.ndarray:
             sources = [(frm, plan.sf[k, B.SF_SHARE])]
         s_in = (plan.wound[plan.si[k, B.S_WEB]] if src == B.SRC_WOUND
                 else sum(share * x[j] for j, share in sources))
-        a[k, k] = -vb / length
-        for j, share in sources:
-            a[k, j] += share * va / length
-        a[k, col[off_w + na]] += ra * (s_in - ea) / length
-        a[k, col[off_w + nb]] += rb * (ea - x[k]) / length
+        if plan.offsets[B.O_EXACT]:
+            grow, carried = ea + x[k], ea + s_in
+            a[k, k] = (vb - 2.0 * grow * va / carried) / length
+            for j, share in sources:
+                a[k, j] += share * grow**2 * va / carried**2 / length
+            a[k, col[off_w + na]] -= ra * grow**2 / carried / length
+            a[k, col[off_w + nb]] += rb * grow / length
+        else:
+            a[k, k] = -vb / length
+            for j, share in sources:
+                a[k, j] += share * va / length
+            a[k, col[off_w + na]] += ra * (s_in - ea) / length
+            a[k, col[off_w + nb]] += rb * (ea - x[k]) / length
         ja = node_inertia(na, x, o, plan.nodes, plan.rolls)
         jb = node_inertia(nb, x, o, plan.nodes, plan.rolls)
         a[col[off_w + na], k] += ra / ja
@@ -263,3 +273,17 @@ def test_closed_loop_modes_takes_a_branched_line():
     assert found[0].eigenvalue == pytest.approx(-2.5, rel=1e-3)
     assert found[0].dominant in ("lane_1_span_tension", "lane_2_span_tension")
     assert all(m.damping > 0 for m in found)
+
+
+def test_the_first_order_jacobian_matches_the_hand_derived_one():
+    """The same check with the thesis's first-order transport (``web.transport``)."""
+    data = load_branched("slitter").spec.model_dump(exclude_none=True)
+    for web in [data.get("web")] + [w.get("web") for w in data["webs"]]:
+        if web is not None:
+            web["transport"] = "first-order"
+    plan = compile_branches(load_branched(data))
+    assert plan.offsets[B.O_EXACT] == 0
+    point = operating_point(plan, 0.0)
+    a, _, _ = plant_matrices(plan, point)
+    hand = _hand_jacobian(plan, point)
+    assert np.max(np.abs(a - hand)) < 1e-7 * np.max(np.abs(hand))

@@ -8,6 +8,7 @@ import pytest
 from fd_helpers import jacobian, plant_derivative
 
 import webline
+from webline.physics.span import draw_ratio
 from webline.sim.elements import layout as L
 
 
@@ -38,7 +39,7 @@ def continuous_pi(plan, op, z, xi, refs):
         up = int(row[L.D_UPREF])
         t_up = line.unwind.wound_in_tension if up < 0 else refs[up]
         t_m = refs[int(plan.offsets[6])]
-        ff = refs[0] * (line.ea - t_m) / (line.ea - t_up)
+        ff = refs[0] * draw_ratio(line.ea, t_up, t_m, line.exact)
         gain = 1.0
         if row[L.D_ADAPTIVE]:
             gain = op.inertia[i] / (row[L.D_GAINNORM] * plan.nodes[i, L.N_RATIO] * op.radius[i])

@@ -24,7 +24,7 @@ def test_fast_path_matches_reference_over_60s_ramp(hswl):
     np.testing.assert_allclose(fast.speed, ref.speed, rtol=1e-6)
 
 
-@pytest.mark.parametrize("hold", ["zero_speed", "brakes", "off"])
+@pytest.mark.parametrize("hold", ["stall_tension", "zero_speed", "brakes", "off"])
 def test_fast_path_matches_reference_through_a_web_break(hold):
     """rockwell's dancer span breaks at 0.1 s; the monitor (loadcell below 20 %) detects it
     and the line ramps to a stop in 0.1 s, then the drives hold (zero speed, brakes, or
@@ -39,10 +39,20 @@ def test_fast_path_matches_reference_through_a_web_break(hold):
     broken = ref.time >= 0.1
     assert np.all(ref.tension[broken, :2] == 0.0)  # the reference knows the break
     scale = np.abs(ref.tension).max()
-    # measured 2.8e-4 N of 141 N (2e-6) through a break at 0.2 s: RK4 at the 1 ms tick
-    assert np.abs(fast.tension - ref.tension).max() < 2e-5 * scale
-    assert np.abs(fast.speed - ref.speed).max() < 2e-5 * np.abs(ref.speed).max()
+    # measured 2.8e-4 N of 141 N (2e-6) through a break at 0.2 s: RK4 at the 1 ms tick. A
+    # set brake is static friction (W8): where a roller sticks or slips the right-hand side
+    # jumps, which fixed-step RK4 meets to O(h) and DOP853 resolves (measured 0.12 N of
+    # 292 N, 4e-4): the issue's 1e-3 of the reference there
+    tol = 1e-3 if hold == "brakes" else 2e-5
+    assert np.abs(fast.tension - ref.tension).max() < tol * scale
+    if hold == "brakes":  # a roller inside the stick band (>= 0.1 rad/s) is held at once: the
+        # paths enter it up to a step apart, their speeds then differ by up to r x 0.1 rad/s
+        # (rockwell's largest radius, 5 in: 0.0127 m/s; measured 0.0097 m/s, once)
+        band = 0.1 * max(r.radius for r in line.spec.rollers)
+        assert np.abs(fast.speed - ref.speed).max() < band
+    else:
+        assert np.abs(fast.speed - ref.speed).max() < tol * np.abs(ref.speed).max()
     held = ref.time > 0.21
-    if hold != "zero_speed":
+    if hold in ("brakes", "off"):
         assert np.all(fast.torque_cmd[held] == 0.0)
     np.testing.assert_array_equal(fast.torque_cmd == 0.0, ref.torque_cmd == 0.0)

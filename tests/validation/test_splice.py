@@ -69,22 +69,25 @@ def test_the_splice_puts_the_new_roll_in_the_old_ones_place(base):
 
 
 def test_web_length_is_conserved_across_the_splices(slackened, base):
-    """Σ L_k (1 - s_k/EA) + rewound - unwound is constant through both splices, the slack
+    """Σ L_k/(1 + s_k/EA) + rewound - unwound is constant through both splices, the slack
     they add included (the splice books it on the roll's web-length integral): to 1e-7 m,
     as the dancer's test (RK4 at 1 ms keeps it to ~1e-11 m over 70 m of web)."""
     for result in (slackened, base):
         balance = result.web_unwound - result.web_rewound - (result.web_stored
                                                              - result.web_stored[0])
         assert np.abs(balance).max() < 1e-7
-    # the slack lowers the stretch of the span next to the roll by EA·slack/L at the splice:
-    # the runs are identical up to that tick, so to rounding (1e-9 N)
+    # the slack adds to the span's stored web L/(1 + s/EA) (exact transport, E-6.6; EA·slack/L
+    # off the stretch to first order): the runs are identical up to that tick, so to
+    # rounding (1e-9 N)
     ea = base.line.ea
     for t, k, length in ((4.0, 0, None), (REWIND_SPLICE, -1, 2.0)):
         j = record(base, t)
         if length is None:  # the unwind span ends at the dancer: its length moves with it
             length = slackened.span_lengths[j, k]
-        drop = base.stretch[j, k] - slackened.stretch[j, k]
-        assert drop == pytest.approx(ea * 0.002 / length, abs=1e-9 * ea)
+        s = base.stretch[j, k]
+        drop = s - slackened.stretch[j, k]
+        after = length * ea / (length * ea / (ea + s) + 0.002) - ea
+        assert drop == pytest.approx(s - after, abs=1e-9 * ea)
 
 
 def test_speed_mismatch_disturbance_against_first_principles(base, matched):

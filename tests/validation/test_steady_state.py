@@ -44,11 +44,13 @@ def test_steady_state_matches_operating_point(name, hswl, six):
 
 
 def test_equilibrium_speeds_follow_mass_flow(six):
-    """(6.22)/(6.31)/(6.36): v_i = v_master (EA - T_master^up)/(EA - T_i^up)."""
+    """(6.22)/(6.31)/(6.36): v_i = v_master (EA - T_master^up)/(EA - T_i^up) to first order;
+    ``six`` conserves web mass exactly (E-6.6): v_i/(EA + T_i^up) is the same at every node."""
     op = webline.operating_point(six)
     ea = six.ea
     upstream = np.concatenate(([six.unwind.wound_in_tension], op.tension))
-    flow = op.speed * (ea - upstream)
+    assert six.exact
+    flow = op.speed / (ea + upstream)
     np.testing.assert_allclose(flow, flow[six.master], rtol=1e-14)
     assert op.speed[six.master] == pytest.approx(5.0)  # 300 m/min
 

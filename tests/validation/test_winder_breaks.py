@@ -79,8 +79,8 @@ def test_brakes_hold_the_rollers_after_the_stop():
     line = line.replace({"disturbances.0.hold": "brakes"})
     result = webline.simulate(line, 12.0)
     speeds, line_speed = _after_stop(result)
-    # a set brake is Coulomb friction of the drive's torque limit (smoothed over 0.1 rad/s):
-    # holding a fraction of it, the roller creeps at well under 1 % of line speed
+    # a set brake is static friction of the drive's torque limit at rest: held below it, the
+    # roller does not turn (tests/validation/test_brakes_hold.py)
     assert np.abs(speeds).max() < REST * line_speed
     brk = next(d for d in line.spec.disturbances if d.type == "web_break")
     held = result.time >= result.break_monitor[0] + brk.stop_time
@@ -163,12 +163,15 @@ def test_frozen_trims_fall_with_the_line_speed_during_the_stop():
 
 def test_an_intact_open_loop_zone_holds_at_most_its_standstill_tension():
     """rockwell's unwind zone breaks; its open-loop rewind zone stays intact. Held at zero
-    speed with its torque limited to the standstill torque 0.5 T_ref R / n, the rewind pays
-    out web while the zone pulls harder, and the zone ends taut at no more than 0.5 T_ref
-    (measured 19.8 N of 22.2 N: the speed PI holds wherever the motion stops), at rest."""
+    speed (``hold = "zero_speed"``, the hold before issue 35) with its torque limited to the
+    standstill torque 0.5 T_ref R / n, the rewind pays out web while the zone pulls harder,
+    and the zone ends taut at no more than 0.5 T_ref (measured 19.8 N of 22.2 N: the speed PI
+    holds wherever the motion stops), at rest. The default stall hold holds 0.5 T_ref itself
+    (tests/validation/test_stall_tension.py)."""
     line = _open_loop_rockwell()
     line = line.replace({"disturbances": [{"type": "web_break", "span": "dancer_span",
-                                           "at": 2.0, "stop_time": 2.0}]})
+                                           "at": 2.0, "stop_time": 2.0,
+                                           "hold": "zero_speed"}]})
     result = webline.simulate(line, 12.0)
     k = line.zones[-1].loadcell
     stall = 0.5 * result.tension_ref[0, k]

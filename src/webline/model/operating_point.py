@@ -7,6 +7,9 @@ the node (the wound-in tension for the unwind), so
 
     v_i = v_master · (EA - T_master^up) / (EA - T_i^up)            (6.22, 6.31, 6.36)
 
+(exact mass conservation, ``web.transport = "exact"``: v_k/(1 + ε_k^up) is the same for every
+node, v_i = v_master (EA + T_i^up)/(EA + T_master^up), ``physics.span.draw_ratio``)
+
 and each driven node's torque balance gives its equilibrium motor torque
 
     n_i u_i = J_i dω_i/dt - r_i (T_i^down - T_i^up) + friction(ω_i) + n_i² b_m ω_i
@@ -28,6 +31,7 @@ from webline.line import Line, Zone
 from webline.model.lines import load_line
 from webline.model.tension_ramp import ramp_factor
 from webline.physics import roll, roller
+from webline.physics.span import draw_ratio
 from webline.physics.taper import spec_factor
 from webline.profiles import breakpoints, pwl_slope, pwl_value
 from webline.spec.nip import shaft_terms
@@ -186,7 +190,7 @@ def _equilibrium_motion(line: Line, tension: list[float], v_line: float, a_line:
         upstream = [t0, *tension]
         if line.nonlinear:  # mass flow carries strain: the stretch EA·ε of each tension
             upstream = [line.stretch_of(up) for up in upstream]
-        ratio = [(ea - upstream[master]) / (ea - up) for up in upstream]
+        ratio = [draw_ratio(ea, up, upstream[master], line.exact) for up in upstream]
         speed = [v_line * q for q in ratio]
         omega = [v / r_i for v, r_i in zip(speed, r, strict=True)]
         accel = [a_line * q / r_i for q, r_i in zip(ratio, r, strict=True)]

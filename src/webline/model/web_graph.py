@@ -100,6 +100,15 @@ class BranchedLine:
         return {w.name: k for k, w in enumerate(self.spec.webs)}
 
     @cached_property
+    def exact(self) -> bool:
+        """Whether the spans conserve web mass exactly (``web.transport``): one transport for
+        the line, whose webs meet at nips and knives; the thesis's first-order form where
+        any of its ``web`` tables asks for it (a dump writes every table's, the default
+        "exact" included, so a line that asked for it keeps it)."""
+        tables = [self.spec.web] + [w.web for w in self.spec.webs]
+        return all(table.transport == "exact" for table in tables if table is not None)
+
+    @cached_property
     def materials(self) -> tuple[Material, ...]:
         """The material of every web (module docstring of ``spec.branched.schema``)."""
         out: dict[str, Material] = {}

@@ -153,11 +153,19 @@ class Session:
     @property
     def measurements(self) -> dict[str, float]:
         """What the line's sensors would read at ``t`` without noise: every span's tension
-        [N] (``"<span>.tension"``) and every roller's surface speed [m/s]
+        [N] (``"<span>.tension"``: what its rollers feel, 0 while slack or broken, as a
+        ``Result``'s ``tension``) and every roller's surface speed [m/s]
         (``"<node>.speed"``), and the user drives' sampled measurements (noise included) by
         the names of docs/controllers.md, prefixed ``"measured."``."""
         line, x, off = self.plan.line, self._views["x"], self.plan.offsets
-        out = {f"{line.span_name(k)}.tension": float(x[k]) for k in range(line.n_spans)}
+        if off[L.O_KV]:  # a damper or a nonlinear law: the kernel's own felt tensions
+            from webline.sim.core.viscoelastic import felt_tension
+
+            tension = felt_tension(self.plan, np.array([self.t]), x[None, :],
+                                   self._views["slip"][None, :].astype(float))[0]
+        else:  # a slack span carries nothing (its stretch is negative)
+            tension = np.maximum(x[:line.n_spans], 0.0)
+        out = {f"{line.span_name(k)}.tension": float(tension[k]) for k in range(line.n_spans)}
         for i in range(line.n_nodes):
             radius = (x[off[L.O_RADIUS]] if i == 0 else x[off[L.O_RADIUS] + 1]
                       if i == line.n_nodes - 1 else self.plan.nodes[i, L.N_RADIUS])

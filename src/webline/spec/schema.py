@@ -86,6 +86,9 @@ class WebSpec(Strict):
     ``strength`` [N]: the tension at which the web breaks (a run stops there, failed);
     ``tension_limit`` [N]: a tension the line should stay below (a warning where exceeded).
     ``stress_strain``: the stress-strain law (``spec.web_law``; none: linear, T = EA ε).
+    ``transport``: how a span's tension follows the speeds (docs/line-file.md): ``"exact"``
+    conservation of web mass, d/dt[L/(1 + ε)] = v_in/(1 + ε_in) - v_out/(1 + ε), or the
+    thesis's ``"first-order"`` form (6.8, errata E-6.6), right to within ε² of a draw.
     """
 
     thickness: Length
@@ -96,6 +99,7 @@ class WebSpec(Strict):
     strength: Force | None = None
     tension_limit: Force | None = None
     stress_strain: StressStrainSpec | None = None
+    transport: Literal["exact", "first-order"] = "exact"
 
 
 # --- drives and controllers ---------------------------------------------------------------

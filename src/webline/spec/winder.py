@@ -154,9 +154,12 @@ class WebBreak(Strict):
     growing, a rewind's shrinking) by more than ``diameter_threshold`` [m] (0: off) beyond
     its extreme so far, or (``overspeed``) an open-loop roll at its speed limit, and reacts
     by ramping the line to a stop in ``stop_time`` [s], tension loops frozen. Then the
-    drives ``hold`` (docs/winder.md W8): ``"zero_speed"``: every speed loop holds zero speed,
-    an open-loop roll's torque limited to its ``standstill_tension`` (a fraction of its
-    zone's set tension) on the tension side; ``"brakes"``: torque off and a holding brake of
+    drives ``hold`` (docs/winder.md W8): ``"stall_tension"``: each roll's drive holds its
+    stall tension as a torque, ``standstill_tension`` (a fraction of its zone's set tension)
+    x R / n, as winder drives do at standstill (a speed limiter catches a roll the web no
+    longer holds), every other drive zero speed; ``"zero_speed"``: every speed loop holds
+    zero speed, an open-loop roll's torque limited to its standstill tension on the tension
+    side; ``"brakes"``: torque off and a holding brake of
     ``brake_torque_fraction`` x each drive's torque limit set on every driven roller;
     ``"off"``: torque off, nothing holds."""
 
@@ -167,7 +170,7 @@ class WebBreak(Strict):
     stop_time: Annotated[float, si("time", ">0")] = 2.0
     diameter_threshold: Annotated[float, si("length", ">=0")] = 0.005
     overspeed: bool = True
-    hold: Literal["zero_speed", "brakes", "off"] = "zero_speed"
+    hold: Literal["stall_tension", "zero_speed", "brakes", "off"] = "stall_tension"
     standstill_tension: Fraction = 0.5
     brake_torque_fraction: Annotated[float, Field(gt=0.0, le=10.0)] = 1.0
 

@@ -57,7 +57,8 @@ def disturbance_table(line: BranchedLine,
     return np.array(rows, dtype=float).reshape(-1, B.DS_COLS)
 
 
-HOLDS = {"zero_speed": B.HOLD_ZERO_SPEED, "off": B.HOLD_OFF, "brakes": B.HOLD_BRAKES}
+HOLDS = {"zero_speed": B.HOLD_ZERO_SPEED, "off": B.HOLD_OFF, "brakes": B.HOLD_BRAKES,
+         "stall_tension": B.HOLD_STALL}
 
 
 def web_break(line: BranchedLine) -> WebBreak | None:

@@ -186,6 +186,8 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
     z0 = np.concatenate([_guess(plan, refs) / t_scale, np.ones(n_n), np.ones(n_c),
                          np.zeros(n_d)])
     found = root(residual, z0, method="hybr", options={"xtol": XTOL})
+    if not found.success or np.max(np.abs(residual(found.x))) > 1e-9:  # (a slow start: hybr's
+        found = root(residual, found.x, method="lm", options={"xtol": XTOL})  # trust region)
     if not found.success or np.max(np.abs(residual(found.x))) > 1e-9:
         raise SimulationError(f"{plan.line.name}: no steady operating point found at "
                               f"{speed:.4g} m/s ({found.message})")

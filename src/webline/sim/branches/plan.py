@@ -160,7 +160,8 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     off_dn = off_c + len(cores) + len(eccentric)  # dancers: 2 states each (docs/branching.md)
     n_dn = len(dancer_nodes(line))
     offsets = np.array([off_w, off_r, off_tq, off_q, off_c, off_c + len(cores),
-                        off_dn + 2 * n_dn, -1, 0, 0, 0, off_dn, off_dn + 2 * n_dn, 0, 0],
+                        off_dn + 2 * n_dn, -1, 0, 0, 0, off_dn, off_dn + 2 * n_dn, 0, 0,
+                        int(line.exact)],
                        dtype=np.int64)
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):

@@ -178,7 +178,9 @@ class BranchResult(RunResult):
         q = x[:, o[B.O_WEB]:o[B.O_CORE]]
         core_omega = x[:, o[B.O_CORE]:o[B.O_ANGLE]]
         lengths = span_lengths(plan, x)  # beside a dancer: L + g (y - y_set)
-        stored = np.stack([np.sum(lengths[:, s] * (1.0 - x[:, s] / ea[s]), axis=1)
+        held = (ea / (ea + x[:, :n_s]) if line.exact  # L/(1 + ε), else L (1 - ε) (E-6.6)
+                else 1.0 - x[:, :n_s] / ea)
+        stored = np.stack([np.sum(lengths[:, s] * held[:, s], axis=1)
                            for s in (line.web_spans(w) for w in range(len(line.spec.webs)))],
                           axis=1)
         layer_names, layer_values, layer_strains = [], [], []
@@ -334,7 +336,8 @@ class BranchResult(RunResult):
         findings += splice_findings(line, self.plan.dt, self.time, ds["tension"].values)
         findings += yield_findings(self.plan, self.time, self.states)
         findings += compressed_findings(self.plan, self.time, self.states)
-        findings += break_findings(self.plan, self.time, ds["speed"].values, self.settings)
+        findings += break_findings(self.plan, self.time, ds["speed"].values, self.settings,
+                                   ds["tension"].values)
         findings += slip_findings(self.plan.line, self.plan.nodes, self.plan.si)
         findings += end_stop_findings(self.plan, self.time, self.states)
         findings += tension_findings(self.plan, self.time, ds["tension"].values,  # [checks]

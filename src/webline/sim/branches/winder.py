@@ -36,9 +36,10 @@ def winder_columns(line: BranchedLine, di: np.ndarray, df: np.ndarray,
         roller = line.spec.rollers[i]
         spec = getattr(roller, "winder", None)
         df[d, B.D_COMPFP] = -1.0
+        if isinstance(roller, UnwindSpec | RewindSpec):  # (a roll's stall tension uses it, W8)
+            df[d, B.D_DIR] = -1.0 if isinstance(roller, UnwindSpec) else 1.0
         if spec is None:
             continue
-        df[d, B.D_DIR] = -1.0 if isinstance(roller, UnwindSpec) else 1.0
         df[d, B.D_COMPJ] = 1.0 if spec.inertia_compensation else 0.0
         df[d, B.D_COMPCS], df[d, B.D_COMPB] = spec.static_friction, spec.viscous_friction
         if spec.friction_table is not None:

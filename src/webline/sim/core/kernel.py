@@ -29,10 +29,10 @@ from webline.sim.drives.controllers import control_tick
 from webline.sim.drives.dancer_taper import load_factor
 from webline.sim.drives.user_loop import STATUS_USER_NONFINITE, user_nonfinite
 from webline.sim.elements import layout as L
-from webline.sim.elements.break_hold import brake_drag, brake_torque
+from webline.sim.elements.break_hold import brake_band, brake_drag
 from webline.sim.elements.dancer_loop import dancer_rate, span_motion
 from webline.sim.elements.envelope import envelope, node_arm
-from webline.sim.elements.friction_loop import STICK_SPEED, breakaway, table_torque
+from webline.sim.elements.friction_loop import STICK_SPEED, breakaway, stick, table_torque
 from webline.sim.elements.signals import jit, loop_njit, njit, profile_at
 from webline.sim.elements.splice import apply_splices
 from webline.sim.elements.transmission_loop import compliant_torque
@@ -47,6 +47,9 @@ if TYPE_CHECKING:
 
 _tension: Any = jit(span.tension)
 _kv_tension: Any = jit(span.kelvin_voigt_tension)
+_exact_rate: Any = jit(span.exact_stretch_rate)
+_length_change: Any = jit(span.length_change_rate)
+_unstrained_flow: Any = jit(span.unstrained_flow)
 _law_tension: Any = jit(web_law.law_tension)
 _law_stretch: Any = jit(web_law.law_stretch)
 _roll_inertia: Any = jit(roll.roll_inertia)
@@ -104,16 +107,26 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
 
     s0 = _law_stretch(t0, web[L.W_COLS:]) if offsets[L.O_LAW] else t0  # wound-in strain x EA
     t_in = s0
+    exact = offsets[L.O_EXACT] != 0  # exact mass conservation, else thesis 6.8 (E-6.6)
     for k in range(n_spans):
         v_in, v_out, t_out = work[sp + k], work[sp + k + 1], work[te + k]
-        flow = ea * (v_out - v_in) + t_in * v_in - t_out * v_out
         if offsets[L.O_BREAK] and drag[2 * n_nodes + k] != 0.0:
             dx[k] = 0.0
-        elif ns[k, L.NS_DANCER] >= 0 or ns[k + 1, L.NS_DANCER] >= 0:
-            length, rate = span_motion(k, x, ns, nodes, spans)
-            dx[k] = (flow + (ea - x[k]) * rate) / length  # docs/winder.md (D1)
+        elif exact:
+            moving = ns[k, L.NS_DANCER] >= 0 or ns[k + 1, L.NS_DANCER] >= 0
+            length, rate = spans[k, L.S_LENGTH], 0.0
+            if moving:
+                length, rate = span_motion(k, x, ns, nodes, spans)
+            dx[k] = _exact_rate(length, ea, v_in, v_out, t_in, t_out, x[k])
+            if moving:  # docs/winder.md (D1)
+                dx[k] += _length_change(ea, x[k], rate, length, True)
         else:
-            dx[k] = flow * spans[k, L.S_INVLENGTH]
+            flow = ea * (v_out - v_in) + t_in * v_in - t_out * v_out
+            if ns[k, L.NS_DANCER] >= 0 or ns[k + 1, L.NS_DANCER] >= 0:
+                length, rate = span_motion(k, x, ns, nodes, spans)
+                dx[k] = (flow + (ea - x[k]) * rate) / length  # docs/winder.md (D1)
+            else:
+                dx[k] = flow * spans[k, L.S_INVLENGTH]
         t_in = t_out
     t_last = work[te + n_spans - 1]  # the strain the rewind winds in, damper or not
     for k in range(n_spans if offsets[L.O_KV] else 0):  # the rollers feel T = F(s) + τ ds/dt
@@ -144,15 +157,6 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
                 torque += n * (x[off_tq + d] - n * drives[d, L.D_BMOTOR] * omega)
             else:
                 torque += compliant_torque(d, x, ds, offsets, drives, dx)
-        if (offsets[L.O_FRICTION] and nodes[i, L.N_BREAKAWAY] > 0.0
-                and abs(omega) < STICK_SPEED):  # at rest: static friction (F2)
-            stuck, torque = breakaway(i, omega, torque + dry, nodes)
-            if stuck:  # held at rest: ω decays to 0 in a control period
-                dx[off_w + i] = -omega / nodes[i, L.N_STICKTAU]
-                ecc_state = ns[i, L.NS_ECCSTATE]
-                if ecc_state >= 0:
-                    dx[ecc_state] = omega
-                continue
         inertia = 0.0
         if i == 0 or i == last:  # J(R) of the mean radius, also for an out-of-round roll
             radius = work[i]
@@ -160,9 +164,26 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
                 radius = x[off_r] if i == 0 else x[off_r + 1]
             inertia = _roll_inertia(nodes[i, L.N_JCONST], radius, nodes[i, L.N_CORE], width,
                                     nodes[i, L.N_RHO])  # the web's or the totals' (J1)
-        if offsets[L.O_BREAK] and d >= 0 and drag[n_nodes + i] != 0.0:  # a set brake (W8)
-            torque -= brake_torque(drag[n_nodes + i], omega,
-                                   1.0 / inertia if inertia > 0.0 else nodes[i, L.N_INVJ])
+        set_brake = drag[n_nodes + i] if offsets[L.O_BREAK] and d >= 0 else 0.0  # (W8)
+        holding = set_brake + (drag[i] if ns[i, L.NS_DRAG] >= 0 else 0.0)  # and a drag (4.12)
+        stuck = False
+        if holding != 0.0 and abs(omega) < brake_band(
+                holding, 1.0 / inertia if inertia > 0.0 else nodes[i, L.N_INVJ]):
+            limit = set_brake + coulomb  # at rest a brake is static friction (W8, F2)
+            if offsets[L.O_FRICTION]:
+                limit += nodes[i, L.N_BREAKAWAY]
+            stuck, torque = stick(torque + dry, limit)
+        elif set_brake != 0.0:  # turning: Coulomb friction of the set brake
+            torque -= set_brake if omega > 0.0 else -set_brake
+        elif (offsets[L.O_FRICTION] and nodes[i, L.N_BREAKAWAY] > 0.0
+                and abs(omega) < STICK_SPEED):  # at rest: static friction (F2)
+            stuck, torque = breakaway(i, omega, torque + dry, nodes)
+        if stuck:  # held at rest: ω decays to 0 in a control period
+            dx[off_w + i] = -omega / nodes[i, L.N_STICKTAU]
+            ecc_state = ns[i, L.NS_ECCSTATE]
+            if ecc_state >= 0:
+                dx[ecc_state] = omega
+            continue
         if i == 0 or i == last:
             dx[off_w + i] = torque / inertia
         else:
@@ -185,9 +206,13 @@ def rhs(t0: float, x: np.ndarray, cmd: np.ndarray, drag: np.ndarray, slipping: n
                 pull = work[te + i - 1] + work[te + i]
             dancer_rate(i, x, ns, nodes, pull, drag[n_nodes + i], dx)
 
-    inv_ea = 1.0 / ea
-    dx[off_q] = v_unwind * (1.0 - s0 * inv_ea)
-    dx[off_q + 1] = v_rewind * (1.0 - t_last * inv_ea)
+    if exact:  # unstrained web in and out: v/(1 + ε)
+        dx[off_q] = _unstrained_flow(v_unwind, ea, s0, True)
+        dx[off_q + 1] = _unstrained_flow(v_rewind, ea, t_last, True)
+    else:  # v (1 - ε), written as before so that first-order runs keep their last bits
+        inv_ea = 1.0 / ea
+        dx[off_q] = v_unwind * (1.0 - s0 * inv_ea)
+        dx[off_q + 1] = v_rewind * (1.0 - t_last * inv_ea)
 
 
 @jit

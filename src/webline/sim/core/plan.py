@@ -12,6 +12,7 @@ from webline.control.pi import PIGains
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint, operating_point
 from webline.model.tension_ramp import ramp_profile
+from webline.physics.span import draw_ratio
 from webline.profiles import breakpoints, pwl_slope, pwl_value
 from webline.sim.core import dancer as dancers
 from webline.sim.core import winder
@@ -179,7 +180,10 @@ class Plan:
         for d, i in enumerate(op.drives):
             up = int(self.drives[d, L.D_UPREF])
             t_up = self.web[L.W_T0] if up < 0 else self.profile_value(up, op.time) * ramp
-            feedforward = op.line_speed * (ea - t_master) / (ea - t_up)
+            if self.line.exact:  # (``physics.span.draw_ratio``)
+                feedforward = op.line_speed * draw_ratio(ea, t_up, t_master, True)
+            else:  # (6.22, as written before exact transport: the same last bits)
+                feedforward = op.line_speed * (ea - t_master) / (ea - t_up)
             istate[d, L.I_TENSION] = self.drives[d, L.D_SIGMA] * (op.speed[i] - feedforward)
         return x, istate
 
@@ -339,7 +343,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     felt = bool(np.any(span_table[:, L.S_TAU] > 0.0)) or line.nonlinear
     offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
                         off_tr, noisy, need_eq, breaks, felt, spliced, friction,
-                        own_density, line.nonlinear],
+                        own_density, line.nonlinear, line.exact],
                        dtype=np.int64)
     wound = np.array([[d.amplitude, d.frequency, d.phase] for d in spec.disturbances
                       if isinstance(d, WoundInRipple)]).reshape(-1, 3)

@@ -13,7 +13,8 @@ from webline.physics.taper import KINDS
 from webline.sim.elements import layout as L
 from webline.spec.winder import WebBreak
 
-HOLDS = {"off": L.HOLD_OFF, "zero_speed": L.HOLD_ZERO_SPEED, "brakes": L.HOLD_BRAKES}
+HOLDS = {"off": L.HOLD_OFF, "zero_speed": L.HOLD_ZERO_SPEED, "brakes": L.HOLD_BRAKES,
+         "stall_tension": L.HOLD_STALL}
 
 
 def taper_profiles(line: Line) -> list[tuple[np.ndarray, np.ndarray]]:

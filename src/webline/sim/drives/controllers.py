@@ -38,6 +38,7 @@ from webline.sim.elements.friction_loop import table_torque
 from webline.sim.elements.signals import gaussian, jit, profile_at, profile_slope_at
 
 _tension: Any = jit(span.tension)
+_draw: Any = jit(span.draw_ratio)
 _roll_inertia: Any = jit(roll.roll_inertia)
 _radius_rate: Any = jit(roll.radius_rate)
 _friction: Any = jit(roller.friction_torque)
@@ -110,7 +111,7 @@ def reference_state(a_line: float, refs: np.ndarray, ds: np.ndarray, offsets: np
         t_master = web[L.W_T0] if master == 0 else span_ref[master - 1]
         for i in range(n_spans + 1):
             t_up = web[L.W_T0] if i == 0 else span_ref[i - 1]
-            ratio = (ea - t_master) / (ea - t_up)
+            ratio = _draw(ea, t_up, t_master, offsets[L.O_EXACT] != 0)
             v_ref[i] = refs[0] * ratio
             a_ref[i] = a_line * ratio
         if sweep == 1:
@@ -232,7 +233,8 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
             t_meas = dancer_measurement(d, x, ns, ds, nodes, refs)
         if stopping < 1.0 and ds[d, L.DS_ROLE] == L.ROLE_TENSION:  # tension loops frozen
             t_meas = refs[ds[d, L.DS_REF]]
-            fade_trim(d, dt, stopping, istate, web)
+            if stopping > 0.0 or web[L.W_BHOLD] != L.HOLD_STALL:  # (the stall hold's
+                fade_trim(d, dt, stopping, istate, web)  # speed limiter integrates there)
         gain = 1.0
         if ds[d, L.DS_ADAPTIVE] > 0:
             inertia = drive_inertia(d, i, radius, ns, ds, nodes, drives, web)
@@ -351,9 +353,12 @@ def decentralized_command(d: int, i: int, dt: float, radius: float, v_meas: floa
         feedback += friction * x_v / (radius * ratio)
     raw = u_eq + comp + feedback
     u = _saturate(raw, drives[d, L.D_LIMIT])
-    if adaptive and u == raw:
+    # the estimates freeze at a break's detection, as a branched line's: a stop is not the
+    # running line they learn (the laminator's b̂ ran from 0.05 to 24 N·m·s in one)
+    learning = u == raw and not (offsets[L.O_BREAK] and istate[d, L.I_DETECT] >= 0.0)
+    if adaptive and learning:
         adapt(d, dt, x_v, v_ref[i] / radius, gain, ratio, istate, drives)
-    if mrac and u == raw:
+    if mrac and learning:
         mrac_adapt(d, dt, x_t, x_v, istate, drives)
     out[0, d] = u
     out[1, d] = v_ref[i]

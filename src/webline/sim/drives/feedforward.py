@@ -4,11 +4,15 @@ is told the reference the built-in PI would follow)."""
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
+from webline.physics.span import draw_ratio
 from webline.sim.elements import layout as L
 from webline.sim.elements.signals import jit
+
+_draw: Any = jit(draw_ratio)
 
 
 @jit
@@ -21,7 +25,11 @@ def speed_feedforward(d: int, t: float, ds: np.ndarray, offsets: np.ndarray, web
     ea = web[L.W_EA]
     up = ds[d, L.DS_UPREF]
     t_up = web[L.W_T0] if up < 0 else refs[up]
-    ref = refs[0] * (ea - refs[offsets[L.O_MASTER_UP]]) / (ea - t_up)
+    t_m = refs[offsets[L.O_MASTER_UP]]
+    if offsets[L.O_EXACT]:  # v/(1 + ε) the same at every node (``physics.span.draw_ratio``)
+        ref = refs[0] * _draw(ea, t_up, t_m, True)
+    else:  # (6.22), written as before so that first-order runs keep their last bits
+        ref = refs[0] * (ea - t_m) / (ea - t_up)
     for r in range(speed_ripple.shape[0]):
         if int(speed_ripple[r, 0]) == d:
             ref += speed_ripple[r, 1] * math.sin(2.0 * math.pi * speed_ripple[r, 2] * t

@@ -31,14 +31,21 @@ def table_torque(i: int, omega: float, nodes: np.ndarray) -> float:
 
 
 @jit
-def breakaway(i: int, omega: float, applied: float, nodes: np.ndarray) -> tuple[bool, float]:
-    """(stuck, torque [N·m]) of node ``i`` at rest (|ω| < STICK_SPEED) with break-away
-    torque B under the ``applied`` torque (web, drive and viscous, no dry friction): stuck
-    while |applied| <= B, else applied less B against it (Karnopp's model, F2)."""
-    limit = nodes[i, L.N_BREAKAWAY]
+def stick(applied: float, limit: float) -> tuple[bool, float]:
+    """(stuck, torque [N·m]) of a roller at rest held by static friction up to ``limit``
+    [N·m] under the ``applied`` torque (web, drive and viscous, no dry friction): stuck
+    while |applied| <= limit, else applied less the limit against it (Karnopp's model, F2;
+    a set brake's too, W8)."""
     if abs(applied) <= limit:
         return True, 0.0
     return False, applied - limit if applied > 0.0 else applied + limit
+
+
+@jit
+def breakaway(i: int, omega: float, applied: float, nodes: np.ndarray) -> tuple[bool, float]:
+    """(stuck, torque [N·m]) of node ``i`` at rest (|ω| < STICK_SPEED) with break-away
+    torque B under the ``applied`` torque (``stick``, F2)."""
+    return stick(applied, nodes[i, L.N_BREAKAWAY])
 
 
 @jit

@@ -143,6 +143,7 @@ W_COLS = 21
 BREAK_TENSION, BREAK_DANCER, BREAK_DIAMETER = 1, 2, 3  # how the monitor detected a break
 BREAK_OVERSPEED = 4  # an open-loop roll at its speed limit (W7)
 HOLD_OFF, HOLD_ZERO_SPEED, HOLD_BRAKES = 0, 1, 2  # what the drives do after the stop (W8)
+HOLD_STALL = 3  # the rolls' drives hold their stall tension as a torque, the others zero speed
 
 # the integer ``offsets`` array: where state blocks start (spans at 0, node speeds, the two roll
 # radii, motor torques, eccentric angles, web-length integrals), the master's upstream
@@ -157,6 +158,7 @@ O_FRICTION = 14  # 1 if a roller or a compensation has a friction table or a bre
 O_OWNRHO = 15  # 1 if a roll has its own wound density, from its totals (J1)
 O_LAW = 16  # 1 if the web's stress-strain law is nonlinear: T = F(s) (``physics.web_law``),
 # the law's array after the W_COLS scalars of the web table
+O_EXACT = 17  # 1 if spans conserve web mass exactly (``web.transport``), 0: thesis 6.8 (E-6.6)
 
 # kernel status codes; with each failure the kernel returns where it happened: the span
 # (strength, runaway stretch), node (runaway speed) or drive (runaway motor speed), else -1

@@ -98,7 +98,11 @@ def splice(end: int, i: int, r_new: float, gain: float, slack: float, x: np.ndar
     k = 0 if end == 0 else n_n - 2  # the span next to the roll
     carried = x[k] if x[k] > 0.0 else 0.0  # the tension the old roll carried
     length = span_motion(k, x, ns, nodes, spans)[0]
-    x[k] -= web[L.W_EA] * slack / length  # u = L (1 - s/EA) grows by the slack
+    ea = web[L.W_EA]
+    if offsets[L.O_EXACT]:  # u = L/(1 + s/EA) grows by the slack (E-6.6)
+        x[k] = length * ea / (length * ea / (ea + x[k]) + slack) - ea
+    else:
+        x[k] -= ea * slack / length  # u = L (1 - s/EA) grows by the slack
     x[offsets[L.O_WEB] + end] += slack if end == 0 else -slack
     d = ns[i, L.NS_DRIVE]
     n = drives[d, L.D_RATIO]

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from webline.physics.span import length_change_rate
 from webline.sim.core.dancer import dancer_nodes
 from webline.sim.core.plan import Plan
 from webline.sim.elements import layout as L
@@ -22,7 +23,8 @@ def plant_rows(a: np.ndarray, e: np.ndarray, plan: Plan, stretch: np.ndarray,
     stretches ``stretch`` = EA ε [N] (the tensions of a linear web; an equilibrium: the
     spans' flows balance, so only the lengthening rate enters their rows); the dancer states
     start at row ``first``. Span k next to a dancer: d(stretch_k)/dt gains
-    (EA - s_k) g_k v_y / (L_k + g_k y), g_k its strand gain; the carriage:
+    (EA - s_k) g_k v_y / (L_k + g_k y) (exact transport: EA + s_k), g_k its strand gain;
+    the carriage:
     M dv_y/dt = -(g_in T_in + g_out T_out) - k y - c v_y (end stops inactive at the set
     position; T the felt tensions, ``viscoelastic.felt_rows``).
     """
@@ -35,7 +37,7 @@ def plant_rows(a: np.ndarray, e: np.ndarray, plan: Plan, stretch: np.ndarray,
             length = plan.spans[k, L.S_LENGTH] + gain * y
             a[k, :] *= plan.spans[k, L.S_LENGTH] / length  # the span is L + g y long here
             e[k, :] *= plan.spans[k, L.S_LENGTH] / length
-            a[k, vel] = (ea - stretch[k]) * gain / length
+            a[k, vel] = length_change_rate(ea, stretch[k], gain, length, plan.line.exact)
         inv_m = row[L.N_DINVM]
         a[vel, i - 1] = -row[L.N_DGIN] * inv_m
         a[vel, i] = -row[L.N_DGOUT] * inv_m

@@ -73,12 +73,14 @@ def plan_plant(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
     e = np.zeros((n, 1))
     for k in range(n_s):  # L ds_k/dt = EA (v_{k+1} - v_k) + s_{k-1} v_k - s_k v_{k+1}
         length = plan.spans[k, L.S_LENGTH]
-        a[ws + k, ws + k] = -v[k + 1] / length
+        d_s, d_up, d_out, d_in = _span_slopes(ea, s[k], s_up[k], v[k], v[k + 1], line.exact)
+        a[ws + k, ws + k] = d_s / length
         if k > 0:
-            a[ws + k, ws + k - 1] = v[k] / length
-        a[ws + k, wn + k + 1] = (ea - s[k]) * r[k + 1] / length
-        a[ws + k, wn + k] = -(ea - s_up[k]) * r[k] / length
-    e[ws, 0] = v[0] / plan.spans[0, L.S_LENGTH]
+            a[ws + k, ws + k - 1] = d_up / length
+        a[ws + k, wn + k + 1] = d_out * r[k + 1] / length
+        a[ws + k, wn + k] = d_in * r[k] / length
+    e[ws, 0] = _span_slopes(ea, s[0], s_up[0], v[0], v[1], line.exact)[1] / plan.spans[
+        0, L.S_LENGTH]
     if line.nonlinear:  # the wound-in tension enters as its stretch: ds0/dT0 = 1 / F'(s0)
         e[ws, 0] /= law_slope(s_up[0], line.law)
     for i in range(n_n):  # J dω/dt = r (T_out - T_in) + shaft torque - b ω - c tanh(ω/ωc)
@@ -108,6 +110,20 @@ def plan_plant(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
     c[:n_s] = viscoelastic.felt_rows(plan, a, e, slopes)  # T = F(s) (+ τ ds/dt, Kelvin-Voigt)
     c[n_s:, wn:wn + n_n] = np.diag(r)
     return a, b, e, c
+
+
+def _span_slopes(ea: float, s: float, s_in: float, v_in: float, v_out: float,
+                 exact: bool) -> tuple[float, float, float, float]:
+    """L x the partial derivatives of a taut span's d(stretch)/dt with respect to its stretch
+    ``s``, the stretch ``s_in`` carried in, and the speeds out and in [N/s per N, per m/s]:
+    thesis 6.8 (-v_out, v_in, EA - s, -(EA - s_in)), or exact mass conservation
+    (``physics.span.exact_stretch_rate``, L ds/dt = (EA + s) v_out - (EA + s)² v_in/(EA + s_in),
+    whose flows need not balance: a line speeding up)."""
+    if not exact:
+        return -v_out, v_in, ea - s, -(ea - s_in)
+    grow, carried = ea + s, ea + s_in
+    return (v_out - 2.0 * grow * v_in / carried, grow * grow * v_in / carried**2, grow,
+            -grow * grow / carried)
 
 
 def load_inertia(plan: Plan, op: OperatingPoint, i: int) -> float:

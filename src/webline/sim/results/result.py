@@ -82,7 +82,7 @@ class Result(RunResult):
         (``webline.sim.results.findings``)."""
         from webline.sim.results.findings import run_verdict
         from webline.sim.results.splice_findings import splice_findings
-        from webline.sim.results.winder_findings import after_stop_from_records
+        from webline.sim.results.winder_findings import after_stop_from_records, intact_loadcells
         from webline.sim.results.winder_states import winder_state_findings
         from webline.sim.results.yield_findings import yield_findings
 
@@ -94,11 +94,14 @@ class Result(RunResult):
         if self.wound_roll is not None:  # the rewind's roll stresses (docs/wound-roll.md)
             extra += self.wound_roll.findings()
         end = float(self.time[-1]) if len(self.time) else 0.0
+        intact = intact_loadcells(self.plan)
         return run_verdict(self.plan, self.failure, [e.summary() for e in self.events], end,
                            self.break_monitor,
                            after_stop_from_records(self.time,
                                                    self.surface_speed[:, list(self.line.drives)],
-                                                   self.drive_names), extra)
+                                                   self.drive_names, self.tension[:, intact],
+                                                   [self.line.span_name(k) for k in intact]),
+                           extra)
 
     @cached_property
     def wound_roll(self) -> WoundRoll | None:
@@ -312,8 +315,12 @@ class Result(RunResult):
 
     @cached_property
     def web_stored(self) -> np.ndarray:
-        """Unstrained web held in the spans [m] (first order in strain, as 6.8 assumes)."""
-        return (self.span_lengths * (1.0 - self.stretch / self.line.ea)).sum(axis=1)
+        """Unstrained web held in the spans [m]: L/(1 + ε) with exact transport, L (1 - ε)
+        with the thesis's first-order one (``physics.span.stored_length``)."""
+        ea = self.line.ea
+        if self.line.exact:
+            return (self.span_lengths * ea / (ea + self.stretch)).sum(axis=1)
+        return (self.span_lengths * (1.0 - self.stretch / ea)).sum(axis=1)
 
     @cached_property
     def span_lengths(self) -> np.ndarray:

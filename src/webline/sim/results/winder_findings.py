@@ -3,8 +3,9 @@ when the monitor detected it, the stop and whether the driven rollers came to re
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -23,36 +24,56 @@ METHODS = {L.BREAK_TENSION: "tension below its threshold",
 REST_FRACTION = 0.02
 
 HOLD_TEXT = {"zero_speed": "the drives holding zero speed", "brakes": "brakes set",
-             "off": "torque off"}
+             "off": "torque off",
+             "stall_tension": "the rolls holding their stall tension, the other drives zero "
+                              "speed"}
 
 
 @dataclass(frozen=True)
 class AfterStop:
     """The driven rollers after a break's stop: ``peak`` [m/s] the largest surface speed of
     each after it, ``names`` theirs, ``settled`` [s] the time from which every one stayed
-    below the rest limit (None: still above it at the end)."""
+    below the rest limit (None: still above it at the end); ``loss`` [N] the largest
+    tension lost by each intact zone after it (its tension at the stop less its least after
+    it, by the zone's loadcell span)."""
 
     peak: np.ndarray
     names: list[str]
     settled: float | None
+    loss: dict[str, float] = field(default_factory=dict)
 
 
 #: (stop time [s], rest limit [m/s]) -> the driven rollers after the stop
 AfterStopReader = Callable[[float, float], AfterStop]
 
 
-def after_stop_from_records(time: np.ndarray, speed: np.ndarray, names: list[str]
-                            ) -> AfterStopReader:
+def after_stop_from_records(time: np.ndarray, speed: np.ndarray, names: list[str],
+                            tension: np.ndarray | None = None,
+                            zones: Sequence[str] = ()) -> AfterStopReader:
     """``AfterStopReader`` of a run's records: times [s] and the driven rollers' surface
-    speeds [m/s] (time x roller)."""
+    speeds [m/s] (time x roller); ``tension`` [N] (time x zone) of the intact zones named
+    ``zones`` (their loadcell spans)."""
     def read(stop: float, limit: float) -> AfterStop:
         after = time >= stop
         moving = np.abs(speed[after]).max(axis=1) >= limit
         t = time[after]
         settled = None if moving[-1] else float(t[np.flatnonzero(moving)[-1] + 1]
                                                  if moving.any() else t[0])
-        return AfterStop(np.abs(speed[after]).max(axis=0), names, settled)
+        return AfterStop(np.abs(speed[after]).max(axis=0), names, settled,
+                         zone_losses(tension[after], zones) if tension is not None else {})
     return read
+
+
+def intact_loadcells(plan: Any) -> list[int]:
+    """The loadcell span of every tension zone of ``plan``'s line that no web break cuts."""
+    broken = np.isfinite(plan.spans[:, L.S_BREAK])
+    return [z.loadcell for z in plan.line.zones if not broken[z.first:z.last].any()]
+
+
+def zone_losses(tension: np.ndarray, zones: Sequence[str]) -> dict[str, float]:
+    """The largest tension [N] each zone (named by ``zones``, a column of ``tension``,
+    records x zone from the stop on) lost after the stop: its first value less its least."""
+    return {name: float(tension[0, z] - tension[:, z].min()) for z, name in enumerate(zones)}
 
 
 def rest_limits(line: Line) -> list[tuple[float, float]]:
@@ -120,15 +141,26 @@ def _rest(after_stop: AfterStopReader, line_speed: float, hold: str, stop: float
     details: dict[str, object] = {
         "largest_driven_speed_after_stop_m_per_s": peak, "fastest_after_stop": name,
         "rest_fraction": REST_FRACTION, "line_speed_m_per_s": line_speed,
-        "at_rest_from_s": state.settled}
+        "at_rest_from_s": state.settled,
+        "largest_tension_loss_after_stop_N": dict(state.loss)}
     share = peak / line_speed if line_speed > 0 else float("inf")
+    lost = loss_text(state.loss)
     if peak < limit:
         return details, (f"stopped by t = {stop:.4g} s, {HOLD_TEXT[hold]}: every driven "
                          f"roller stayed below {REST_FRACTION:.0%} of line speed after it "
-                         f"(largest {name}, {peak:.3g} m/s, {share:.2%})")
+                         f"(largest {name}, {peak:.3g} m/s, {share:.2%}){lost}")
     since = ("still above it at the end" if state.settled is None
              else f"all below it from t = {state.settled:.4g} s on")
     return details, (f"ramped down by t = {stop:.4g} s, {HOLD_TEXT[hold]}, but did not come "
                      f"to rest: after it {name} turned at up to {peak:.3g} m/s "
                      f"({share:.1%} of line speed; rest is below {REST_FRACTION:.0%}), "
-                     f"{since}")
+                     f"{since}{lost}")
+
+
+def loss_text(loss: dict[str, float]) -> str:
+    """Words on the intact zones' largest tension loss after the stop ('' without one)."""
+    if not loss:
+        return ""
+    worst = max(loss, key=lambda name: loss[name])
+    return (f"; the intact zones lost at most {loss[worst]:.3g} N of their tension after it "
+            f"({worst})")

@@ -276,7 +276,7 @@ def _compiled_batch(node_rows: tuple[tuple[int, ...], ...],
                                 n_x, n_d, ns, offsets, nodes[c], drives[c], web[c], prof_t[c],
                                 prof_v[c], prof_off[c])
                 if offsets[L.O_BREAK] and n_d > 0:  # the rollers after a break's stop
-                    S.reduce_after_stop(rec, n_rec, acc[c], stop_base, stops[c],
+                    S.reduce_after_stop(rec, felt, kv, n_rec, acc[c], stop_base, stops[c],
                                         istate[c, 0, L.I_DETECT], ds, ns, offsets, nodes[c])
                 if n_rec > 0:
                     t_last = rec[n_rec - 1, 0]
@@ -355,7 +355,7 @@ def run_batch(plans: list[Plan], states: list[tuple[np.ndarray, np.ndarray, np.n
     base = lay.event_base
     acc[:, base + lay.n_events:base + 3 * lay.n_events] = math.nan  # first, open start
     S.start_columns(acc, lay.state_base, lay.n_slots)
-    acc[:, lay.stop_base + lay.n_drives::lay.n_drives + 1] = math.nan  # settled: not yet
+    lay.stop_columns(acc)  # settled: not yet; no tension at a stop yet
     traces = np.full((n_c, n_trace if trace_every > 0 else 0, lay.n_spans), math.nan)
     status = np.zeros(n_c, dtype=np.int64)
     t_fail = np.full(n_c, math.nan)

@@ -4,9 +4,12 @@ breaks' rollers after the stop (``webline.sim.sweeps.batch_states``)."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
-from webline.sim.sweeps.batch_states import SLOT_COLS, n_slots
+import numpy as np
+
+from webline.sim.sweeps.batch_states import SLOT_COLS, n_slots, stop_stride
 
 # accumulator layout per case: blocks of per-element columns (``Accumulators``)
 (A_SUMSQ, A_PEAK, A_TMIN, A_TMAX, A_SETTLE, A_LASTOUT) = range(6)  # per span
@@ -57,8 +60,23 @@ class Layout:
         return self.state_base + SLOT_COLS * self.n_slots
 
     @property
+    def stop_stride(self) -> int:
+        """Columns per web break after the stop: each driven roller's largest speed, the
+        time all settled, then each span's tension at the stop and its least after it."""
+        return stop_stride(self.n_drives, self.n_spans)
+
+    @property
     def width(self) -> int:
-        return self.stop_base + self.n_breaks * (self.n_drives + 1)
+        return self.stop_base + self.n_breaks * self.stop_stride
+
+    def stop_columns(self, acc: np.ndarray) -> None:
+        """Start values of every break's columns in ``acc`` (cases x columns): speeds 0, the
+        settled time NaN (not yet), the tension at the stop NaN (none yet), its least +inf."""
+        d, s = self.n_drives, self.n_spans
+        for j in range(self.n_breaks):
+            b = self.stop_base + j * self.stop_stride
+            acc[:, b + d:b + d + 1 + s] = math.nan
+            acc[:, b + d + 1 + s:b + d + 1 + 2 * s] = math.inf
 
     def event_slices(self) -> dict[str, tuple[int, int]]:
         """(first element, count) of each kind of event among the event elements."""

@@ -26,7 +26,12 @@ from webline.sim.drives.controllers import taper_at
 from webline.sim.elements import layout as L
 from webline.sim.elements.envelope import node_arm
 from webline.sim.elements.signals import jit, profile_at
-from webline.sim.results.winder_findings import AfterStop, AfterStopReader, rest_limits
+from webline.sim.results.winder_findings import (
+    AfterStop,
+    AfterStopReader,
+    intact_loadcells,
+    rest_limits,
+)
 from webline.sim.results.winder_states import (
     DANCER,
     TENSION,
@@ -185,24 +190,38 @@ def finish_states(acc: np.ndarray, base: int, table: np.ndarray, t_last: float) 
 
 
 @jit
-def reduce_after_stop(rec: np.ndarray, n_rec: int, acc: np.ndarray, base: int,
-                      stops: np.ndarray, detected: float, ds: np.ndarray, ns: np.ndarray,
-                      offsets: np.ndarray, nodes: np.ndarray) -> None:
+def stop_stride(n_drives: int, n_spans: int) -> int:
+    """Accumulator columns per web break after its stop (``reduce_after_stop``)."""
+    return n_drives + 1 + 2 * n_spans
+
+
+@jit
+def reduce_after_stop(rec: np.ndarray, felt: np.ndarray, kv: bool, n_rec: int,
+                      acc: np.ndarray, base: int, stops: np.ndarray, detected: float,
+                      ds: np.ndarray, ns: np.ndarray, offsets: np.ndarray,
+                      nodes: np.ndarray) -> None:
     """Fold ``n_rec`` records into each break's columns from ``base`` of ``acc`` (per
     break, the driven rollers' largest |r ω| [m/s] at and after its stop, then the time [s]
-    from which all stayed below its rest limit: ``after_stop_from_records``), the monitor
-    having detected the break at ``detected`` [s] (< 0: not yet)."""
+    from which all stayed below its rest limit, then each span's tension [N] at the stop
+    and its least after it: ``after_stop_from_records``), the monitor having detected the
+    break at ``detected`` [s] (< 0: not yet); ``felt``: the felt tensions where ``kv``."""
     if detected < 0.0:
         return
     n_d = ds.shape[0]
+    n_s = ns.shape[0] - 1
     omega = offsets[L.O_OMEGA]
     for j in range(stops.shape[0]):
         stop, limit = detected + stops[j, 0], stops[j, 1]
-        b = base + j * (n_d + 1)
+        b = base + j * stop_stride(n_d, n_s)
         for r in range(n_rec):
             t = rec[r, 0]
             if t < stop:
                 continue
+            for k in range(n_s):  # as a Result's tension: felt, or the clipped stretch
+                tension = felt[r, k] if kv else max(rec[r, 1 + k], 0.0)
+                if math.isnan(acc[b + n_d + 1 + k]):
+                    acc[b + n_d + 1 + k] = tension
+                acc[b + n_d + 1 + n_s + k] = min(acc[b + n_d + 1 + n_s + k], tension)
             fastest = 0.0
             for d in range(n_d):
                 i = ds[d, L.DS_NODE]
@@ -242,14 +261,18 @@ def batch_after_stop(plan: Plan, row: np.ndarray, base: int, detected: float
     limit ``break_findings`` asks for (None where nothing was detected: it asks for none)."""
     if detected < 0.0:
         return None
-    n_d = plan.drives.shape[0]
+    n_d, n_s = plan.drives.shape[0], plan.line.n_spans
     names = [plan.line.node_name(i) for i in plan.line.drives]
     kept = {(detected + stop_time, limit): j
             for j, (stop_time, limit) in enumerate(rest_limits(plan.line))}
+    intact = intact_loadcells(plan)
 
     def read(stop: float, limit: float) -> AfterStop:
-        b = base + kept[(stop, limit)] * (n_d + 1)
+        b = base + kept[(stop, limit)] * stop_stride(n_d, n_s)
         settled = float(row[b + n_d])
-        return AfterStop(row[b:b + n_d].copy(), names, None if math.isnan(settled) else settled)
+        first, least = b + n_d + 1, b + n_d + 1 + n_s
+        loss = {plan.line.span_name(k): float(row[first + k] - row[least + k]) for k in intact}
+        return AfterStop(row[b:b + n_d].copy(), names, None if math.isnan(settled) else settled,
+                         loss)
     return read
 

@@ -11,6 +11,7 @@ import numpy as np
 
 from webline.sim.branches.disturb import web_break
 from webline.sim.branches.loop import layout as B
+from webline.sim.results.winder_findings import loss_text, zone_losses
 from webline.spec.branched.check import kind_of
 from webline.spec.winder import WebBreak
 from webline.verdict import Finding
@@ -44,14 +45,17 @@ def intact(plan: BranchPlan, time: np.ndarray) -> np.ndarray:
 
 
 def break_findings(plan: BranchPlan, time: np.ndarray, speed: np.ndarray,
-                   settings: dict[str, float]) -> list[Finding]:
+                   settings: dict[str, float], tension: np.ndarray | None = None
+                   ) -> list[Finding]:
     """The verdict on a web break (W5, W8), one finding per web or lane it cuts: where and
     when it broke, what found it (the loadcell's span or the drive) and after how long, the
     stop ramp's end and whether every driven roller then stayed below ``REST_FRACTION`` of
     the line speed at the break (else the fastest and its speed); a warning, or ``failed``
     where nothing found the break by the end of the run. None where the run ends before it.
     ``time`` [s] and ``speed`` [m/s] (records x nodes, surface speeds) are the run's,
-    ``settings`` its ``detection``."""
+    ``settings`` its ``detection``, ``tension`` [N] (records x spans) its span tensions:
+    with them, the largest tension each intact zone lost after the stop (by its first
+    loadcell span's name)."""
     line = plan.line
     item = web_break(line)
     if item is None or not len(time) or time[-1] < item.at:
@@ -78,6 +82,13 @@ def break_findings(plan: BranchPlan, time: np.ndarray, speed: np.ndarray,
         text += f"still ramping down at the end of the run (stop at t = {stop:.4g} s)"
     else:
         text += _after_stop(plan, time, speed, item, stop, after, details)
+        if tension is not None:
+            kept = [z for z in line.zones.values()
+                    if z.loadcells and not cut[list(z.spans)].any()]  # the intact zones
+            names = [line.spans[z.loadcells[0]].name for z in kept]
+            columns = tension[after][:, [z.loadcells[0] for z in kept]]
+            details["largest_tension_loss_after_stop_N"] = zone_losses(columns, names)
+            text += loss_text(zone_losses(columns, names))
     return [Finding("warning", "web_break", line.spec.webs[w].name,
                     f"{text}; it cuts {_kind(plan, w)}", item.at, details) for w in webs]
 
@@ -96,7 +107,8 @@ def _after_stop(plan: BranchPlan, time: np.ndarray, speed: np.ndarray, item: Web
     details.update({"largest_driven_speed_after_stop_m_per_s": peak,
                     "fastest_after_stop": name, "rest_m_per_s": rest})
     hold = {"zero_speed": "holding zero speed", "off": "with their torque off",
-            "brakes": "with their torque off and brakes set"}[item.hold]
+            "brakes": "with their torque off and brakes set",
+            "stall_tension": "holding zero speed, the rolls their stall tension"}[item.hold]
     if not len(moving):
         return (f"stopped by t = {stop:.4g} s, the drives {hold}: every driven roller "
                 f"stayed below {100 * REST_FRACTION:.3g}% of line speed after it (largest "

@@ -7,18 +7,12 @@ winder.md W5-W8). Tables in ``sim.branches.loop.layout`` (SF_BREAK, D_B*, I_DETE
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.break_limits import overspeed_drive
+from webline.sim.elements.break_hold import STALL_SPEED_LIMIT
 from webline.sim.elements.signals import jit, profile_at
-
-#: a set brake is Coulomb friction smoothed over at least the speed its load would give the
-#: roller in this time [s], as the chain's ``sim.elements.break_hold`` (docs/winder.md W8):
-#: the explicit RK4 step stays stable on a light roller under a strong brake
-BRAKE_SMOOTHING_TIME = 2e-3
 
 
 @jit
@@ -40,15 +34,6 @@ def cut(t: float, x: np.ndarray, wound: np.ndarray, sf: np.ndarray, n_w: int, n_
         for d in range(di.shape[0]):
             wound[n_w + n_n + n_s + di[d, B.DI_NODE]] = (
                 df[d, B.D_BBRAKE] * df[d, B.D_LIMIT] * df[d, B.D_RATIO])
-
-
-@jit
-def brake_torque(brake: float, omega: float, inertia: float) -> float:
-    """Torque [N·m] of a set brake ``brake`` [N·m] on a roller of ``inertia`` [kg·m²]
-    turning at ``omega`` [rad/s]: Coulomb friction, tanh-smoothed over
-    max(0.1 rad/s, ``BRAKE_SMOOTHING_TIME`` x brake / inertia)."""
-    smoothing = max(0.1, BRAKE_SMOOTHING_TIME * brake / inertia)
-    return brake * math.tanh(omega / smoothing)
 
 
 @jit
@@ -115,8 +100,9 @@ def held_command(d: int, dt: float, v_meas: float, gain: float, istate: np.ndarr
     """Drive ``d``'s torque command [N·m] once the line has stopped (W8): ``zero_speed``: its
     speed PI on 0 - ``v_meas`` [m/s] (trim and feed-forward off, the integrator carrying on
     from the torque of the stop, conditional integration as running, ``gain`` the adaptive
-    factor); ``off`` and ``brakes``: no torque (the brake acts in the plant)."""
-    if df[d, B.D_BHOLD] != B.HOLD_ZERO_SPEED:
+    factor; also a drive other than a roll's in the ``stall_tension`` hold); ``off`` and
+    ``brakes``: no torque (the brake acts in the plant)."""
+    if df[d, B.D_BHOLD] != B.HOLD_ZERO_SPEED and df[d, B.D_BHOLD] != B.HOLD_STALL:
         return 0.0
     limit = df[d, B.D_LIMIT]
     error = -v_meas
@@ -128,15 +114,34 @@ def held_command(d: int, dt: float, v_meas: float, gain: float, istate: np.ndarr
 
 
 @jit
+def stall_command(d: int, dt: float, v_meas: float, gain: float, radius: float,
+                  tension_ref: float, istate: np.ndarray, df: np.ndarray) -> float:
+    """Torque command [N·m] of roll drive ``d`` holding its stall tension after the stop (W8
+    ``"stall_tension"``), as the chain's ``break_hold.stall_command``: D_DIR x σ T_ref R / n
+    (``tension_ref`` [N] its zone's set tension, ``radius`` [m] the one the drive uses), the
+    speed loop's proportional gain damping the roll about rest, less what a speed limiter
+    takes off where the roll runs away faster than ``STALL_SPEED_LIMIT`` (integral, in the
+    tension integrator, faded to zero by the stop)."""
+    direction, limit = df[d, B.D_DIR], df[d, B.D_LIMIT]
+    stall = min(df[d, B.D_BSTALL] * tension_ref * radius / df[d, B.D_RATIO], limit)
+    excess = direction * v_meas - STALL_SPEED_LIMIT
+    trim = istate[d, B.I_TENSION] - df[d, B.D_KIS] * gain * excess * dt
+    istate[d, B.I_TENSION] = min(trim, 0.0)
+    torque = direction * max(stall + istate[d, B.I_TENSION], 0.0) - df[d, B.D_KPS] * gain * v_meas
+    return min(max(torque, -limit), limit)
+
+
+@jit
 def web_flows(dx: np.ndarray, off_q: int, webs: np.ndarray, sf: np.ndarray,
               broken: np.ndarray, v_a: np.ndarray, v_b: np.ndarray, s_in: np.ndarray,
-              tension: np.ndarray) -> None:
+              tension: np.ndarray, exact: bool) -> None:
     """The web-length counters of a line with a break (``rhs``): per web, the unstrained web
     entering its intact spans where they start after the web's start or a broken span,
     v_a (1 - s_in/EA), and leaving them where they end before its end or a broken span,
     v_b (1 - T/EA). So Σ_intact L (1 - x/EA) + out - in stays constant once cut: the web in
     a broken span (frozen, x = 0) no longer counts, and what crosses the cut ends is counted
-    as it leaves or joins the intact web. ``broken``: 1 per broken span [-]."""
+    as it leaves or joins the intact web. ``broken``: 1 per broken span [-]; ``exact``:
+    v/(1 + ε) in place of v (1 - ε) (``physics.span.unstrained_flow``)."""
     for w in range(webs.shape[0]):
         first, last = webs[w, B.WB_FIRST], webs[w, B.WB_LAST]
         inv_ea = sf[first, B.SF_INVEA]
@@ -145,8 +150,10 @@ def web_flows(dx: np.ndarray, off_q: int, webs: np.ndarray, sf: np.ndarray,
             if broken[k] != 0.0:
                 continue
             if k == first or broken[k - 1] != 0.0:
-                flow_in += v_a[k] * (1.0 - s_in[k] * inv_ea)
+                flow_in += (v_a[k] / (1.0 + s_in[k] * inv_ea) if exact
+                            else v_a[k] * (1.0 - s_in[k] * inv_ea))
             if k == last or broken[k + 1] != 0.0:
-                flow_out += v_b[k] * (1.0 - tension[k] * inv_ea)
+                flow_out += (v_b[k] / (1.0 + tension[k] * inv_ea) if exact
+                             else v_b[k] * (1.0 - tension[k] * inv_ea))
         dx[off_q + 2 * w] = flow_in
         dx[off_q + 2 * w + 1] = flow_out

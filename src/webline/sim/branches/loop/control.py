@@ -18,7 +18,12 @@ from webline.sim.branches.loop.break_limits import (
     standstill_hold,
     stop_acceleration,
 )
-from webline.sim.branches.loop.breaks import break_monitor, fade_trim, held_command
+from webline.sim.branches.loop.breaks import (
+    break_monitor,
+    fade_trim,
+    held_command,
+    stall_command,
+)
 from webline.sim.branches.loop.dancer import position_error, sensed_tension
 from webline.sim.branches.loop.decentral import decentral_command, reference_changes
 from webline.sim.branches.loop.draw import draw_factor, start_references
@@ -184,7 +189,8 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             e_t += factor * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - measured
         if offsets[B.O_BREAK] and stopping < 1.0:  # tension loops frozen, trims faded
             e_t = 0.0
-            fade_trim(d, dt, stopping, istate, df)
+            if stopping > 0.0 or df[d, B.D_BHOLD] != B.HOLD_STALL:  # (the stall hold's
+                fade_trim(d, dt, stopping, istate, df)  # speed limiter integrates there)
         istate[d, B.I_FACTOR] = factor  # (the decentralized drives' references read it)
         if di[d, B.DI_FAMILY] != B.FAMILY_PI:  # state feedback, adaptive, MRAC
             if di[d, B.DI_FAMILY] == B.FAMILY_USER:  # a user's Python controller (loop.user)
@@ -195,7 +201,8 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
                                    dist, prof_t, prof_v, prof_off, sigma_t, seed, noisy)
                 continue
             if offsets[B.O_BREAK] and stopping == 0.0 and df[d, B.D_BHOLD] != (
-                    B.HOLD_ZERO_SPEED):  # stopped, "off" or "brakes": no torque (W8)
+                    B.HOLD_ZERO_SPEED) and df[d, B.D_BHOLD] != B.HOLD_STALL:  # "off", "brakes":
+                # no torque (W8; in the zero-speed and stall holds: their law at rest)
                 cmd[d] = 0.0
                 continue
             x_t = -e_t
@@ -227,7 +234,10 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
             gain = inertia / (
                 df[d, B.D_RATIO] * radius) / df[d, B.D_GAINNORM]
         if offsets[B.O_BREAK] and stopping == 0.0:  # stopped: the drives hold (W8)
-            if standstill_hold(d, di, df):  # an open-loop roll: its standstill torque
+            if df[d, B.D_BHOLD] == B.HOLD_STALL and df[d, B.D_DIR] != 0.0:  # a roll
+                cmd[d] = stall_command(d, dt, v_meas, gain, radius, zone_reference(
+                    d, t, factor, di, cells, prof_t, prof_v, prof_off), istate, df)
+            elif standstill_hold(d, di, df):  # an open-loop roll: its standstill torque
                 cmd[d] = held_open_loop(d, dt, v_meas, gain, radius, zone_reference(
                     d, t, factor, di, cells, prof_t, prof_v, prof_off), istate, df)
             else:

@@ -32,12 +32,16 @@ def span_motion(k: int, x: np.ndarray, nodes: np.ndarray, si: np.ndarray,
 
 @jit
 def moving_span_rate(k: int, x: np.ndarray, fixed_rate: float, nodes: np.ndarray,
-                     si: np.ndarray, sf: np.ndarray) -> float:
+                     si: np.ndarray, sf: np.ndarray, exact: bool) -> float:
     """d(stretch)/dt [N/s] of span ``k`` beside a dancer from ``fixed_rate``, the rate
     ``physics.span.stretch_rate`` gives at its file length: L ds/dt = EA (v_b - v_a) +
     T_in v_a - T v_b + (EA - s) dL/dt (docs/winder.md D1: d/dt[L (1 - s/EA)] is the web
-    in less the web out)."""
+    in less the web out). ``exact``: ``fixed_rate`` from ``physics.span.exact_stretch_rate``,
+    whose (EA + s)² factor makes it L/L' x the moving span's, which gains (EA + s) dL/dt / L
+    (d/dt[L/(1 + ε)])."""
     length, rate = span_motion(k, x, nodes, si, sf)
+    if exact:
+        return (fixed_rate * sf[k, B.SF_LENGTH] + (sf[k, B.SF_EA] + x[k]) * rate) / length
     return (fixed_rate * sf[k, B.SF_LENGTH] + (sf[k, B.SF_EA] - x[k]) * rate) / length
 
 

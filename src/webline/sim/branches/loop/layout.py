@@ -118,6 +118,7 @@ D_BREAK = D_DIR + 1
 D_BTHRESH, D_BSTOP, D_BHOLD, D_BDIAM, D_BBRAKE = range(D_BREAK, D_BREAK + 5)
 D_COLS = D_BREAK + 5
 HOLD_ZERO_SPEED, HOLD_OFF, HOLD_BRAKES = range(3)
+HOLD_STALL = 3  # the rolls' drives hold their stall tension as a torque, the others zero speed
 DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = range(3)
 
 # controller memory per drive
@@ -187,6 +188,8 @@ D_COLS = D_COLS + 7
 # cells (int): a third column, the dancer node whose position the drive's loop reads (-1: a
 # loadcell)
 O_DANCER, O_DANCER_END = O_FRICTION + 1, O_FRICTION + 2
+# 1 where the spans conserve web mass exactly (``web.transport``), 0: thesis 6.8 (E-6.6)
+O_EXACT = O_DANCER_END + 3  # (after O_LAYER, O_LAYER_END below)
 S_DANCEA, S_DANCEB, S_DOUT = S_COLS, S_COLS + 1, S_COLS + 2
 S_COLS += 3
 SF_GAINA, SF_GAINB = SF_COLS, SF_COLS + 1

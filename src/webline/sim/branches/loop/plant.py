@@ -18,11 +18,15 @@ from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop import traction as T
 from webline.sim.branches.loop import transmission as TR
 from webline.sim.branches.loop import web_law as W
-from webline.sim.branches.loop.breaks import brake_torque, web_flows
+from webline.sim.branches.loop.breaks import web_flows
+from webline.sim.elements.break_hold import brake_band
+from webline.sim.elements.friction_loop import stick
 from webline.sim.elements.signals import jit
 
 _tension: Any = jit(span.tension)
 _stretch_rate: Any = jit(span.stretch_rate)
+_exact_rate: Any = jit(span.exact_stretch_rate)
+_unstrained_flow: Any = jit(span.unstrained_flow)
 _roll_inertia: Any = jit(roll.roll_inertia)
 _radius_rate: Any = jit(roll.radius_rate)
 _friction: Any = jit(roller.friction_torque)
@@ -147,10 +151,15 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         s_in[k] = carried_in(k, x, tension, wound, si, sf, layers, elastic)
         if has_law and si[k, B.S_SRC] == B.SRC_WOUND:
             s_in[k] = W.law_stretch(k, s_in[k], si, lawi, lawf, laws)  # a tension in: F⁻¹
-        dx[k] = _stretch_rate(sf[k, B.SF_LENGTH], sf[k, B.SF_EA], v_a[k], v_b[k], s_in[k],
-                              tension[k])
+        if offsets[B.O_EXACT]:  # exact mass conservation (docs/errata.md E-6.6)
+            dx[k] = _exact_rate(sf[k, B.SF_LENGTH], sf[k, B.SF_EA], v_a[k], v_b[k], s_in[k],
+                                tension[k], x[k])
+        else:
+            dx[k] = _stretch_rate(sf[k, B.SF_LENGTH], sf[k, B.SF_EA], v_a[k], v_b[k], s_in[k],
+                                  tension[k])
         if has_dancer and (si[k, B.S_DANCEA] >= 0 or si[k, B.S_DANCEB] >= 0):
-            dx[k] = D.moving_span_rate(k, x, dx[k], nodes, si, sf)  # its length moves (D1)
+            dx[k] = D.moving_span_rate(k, x, dx[k], nodes, si, sf,
+                                       offsets[B.O_EXACT] != 0)  # its length moves (D1)
         if has_kv:
             felt[k] = W.felt(k, x, dx, elastic, sf)
         if offsets[B.O_BREAK] and wound[n_w + n_n + k] != 0.0:  # cut: frozen, carries nothing
@@ -181,10 +190,22 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         d = int(nodes[i, B.N_DRIVE])
         if d >= 0:
             total += nodes[i, B.N_RATIO] * x[off_tq + d]
-            if offsets[B.O_BREAK] and wound[n_w + n_n + n_s + i] != 0.0:  # a holding brake
-                total -= brake_torque(wound[n_w + n_n + n_s + i], omega, inertia[i] if
-                                      nodes[i, B.N_ROLLS] > 0.0 else nodes[i, B.N_JCONST])
-        if offsets[B.O_FRICTION]:  # a friction table; held at rest by a break-away torque
+        set_brake = wound[n_w + n_n + n_s + i] if offsets[B.O_BREAK] and d >= 0 else 0.0
+        holding = set_brake + wound[n_w + i]  # a holding brake (W8) and a drag (4.12)
+        if holding != 0.0 and abs(omega) < brake_band(holding, 1.0 / (
+                inertia[i] if nodes[i, B.N_ROLLS] > 0.0 else nodes[i, B.N_JCONST])):
+            limit = set_brake + coulomb  # at rest a brake is static friction (W8, F2)
+            applied = total + (_friction(omega, 0.0, coulomb) if coulomb != 0.0 else 0.0)
+            if offsets[B.O_FRICTION]:  # (a friction table is dry friction too)
+                limit += nodes[i, B.N_BREAKAWAY]
+                applied += T.table_torque(i, omega, nodes)
+            held, total = stick(applied, limit)
+            if held:  # ω decays to 0 in a control period
+                dx[off_w + i] = -omega / nodes[i, B.N_STICKTAU]
+                continue
+        elif set_brake != 0.0:  # turning: Coulomb friction of the set brake
+            total -= set_brake if omega > 0.0 else -set_brake
+        elif offsets[B.O_FRICTION]:  # a friction table; held at rest by a break-away torque
             held, total = T.measured_friction(i, omega, total, coulomb, nodes)
             if held:  # ω decays to 0 in a control period
                 dx[off_w + i] = -omega / nodes[i, B.N_STICKTAU]
@@ -199,10 +220,16 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         L.layer_rates(x, dx, lawi, lawf, sf, tension, s_in, v_a, v_b, wound,
                       n_w + n_n if offsets[B.O_BREAK] else -1, nodes, si, has_dancer)
     if offsets[B.O_BREAK]:  # a cut web: its intact spans' ends (sim.branches.disturb)
-        web_flows(dx, off_q, webs, sf, wound[n_w + n_n:], v_a, v_b, s_in, tension)
+        web_flows(dx, off_q, webs, sf, wound[n_w + n_n:], v_a, v_b, s_in, tension,
+                  offsets[B.O_EXACT] != 0)
         return
     for w in range(webs.shape[0]):  # unstrained web in and out: v (1 - ε) at each end
         first, last = webs[w, B.WB_FIRST], webs[w, B.WB_LAST]
+        if offsets[B.O_EXACT]:  # v/(1 + ε)
+            ea = sf[first, B.SF_EA]
+            dx[off_q + 2 * w] = _unstrained_flow(v_a[first], ea, s_in[first], True)
+            dx[off_q + 2 * w + 1] = _unstrained_flow(v_b[last], ea, tension[last], True)
+            continue
         inv_ea = sf[first, B.SF_INVEA]
         dx[off_q + 2 * w] = v_a[first] * (1.0 - s_in[first] * inv_ea)
         dx[off_q + 2 * w + 1] = v_b[last] * (1.0 - tension[last] * inv_ea)

@@ -77,6 +77,17 @@ def update_slip(t: float, dt: float, measured: np.ndarray, offsets: np.ndarray,
 
 
 @jit
+def table_torque(i: int, omega: float, nodes: np.ndarray) -> float:
+    """Friction torque [N·m] of node ``i``'s friction table at ``omega`` [rad/s] (F1; 0
+    without one)."""
+    n = int(nodes[i, B.N_FRICN])
+    if n == 0:
+        return 0.0
+    return _table_friction(omega, nodes[i, B.N_FRICW:B.N_FRICW + n],
+                           nodes[i, B.N_FRICT:B.N_FRICT + n])[0]
+
+
+@jit
 def measured_friction(i: int, omega: float, total: float, coulomb: float,
                       nodes: np.ndarray) -> tuple[bool, float]:
     """(held, torque [N·m]) of node ``i`` with the torque ``total`` on it (web, drive,

@@ -120,7 +120,11 @@ def splice(e: int, x: np.ndarray, istate: np.ndarray, offsets: np.ndarray, nodes
         carried = x[k] if x[k] > 0.0 else 0.0
         torque += direction * carried * (r_new - x[r_j])
         x[r_j] = r_new
-        x[k] -= sf[k, B.SF_EA] * slack / span_motion(k, x, nodes, si, sf)[0]
+        ea, length = sf[k, B.SF_EA], span_motion(k, x, nodes, si, sf)[0]
+        if offsets[B.O_EXACT]:  # u = L/(1 + s/EA) grows by the slack (E-6.6)
+            x[k] = length * ea / (length * ea / (ea + x[k]) + slack) - ea
+        else:  # u = L (1 - s/EA)
+            x[k] -= ea * slack / length
         x[offsets[B.O_WEB] + 2 * w + (0 if direction < 0.0 else 1)] -= direction * slack
     d = int(nodes[i, B.N_DRIVE])
     if d < 0:
