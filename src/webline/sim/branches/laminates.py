@@ -99,7 +99,8 @@ def layer_lengths(
 ) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
     """(names, in, out, stored) [m] of each layer's unstrained length per laminate web at
     each record: in at its first span, out at its last, stored in its spans
-    Σ L (1 - u / EA_r) (``lengths``: each span's length at each record)."""
+    Σ L EA_r/(EA_r + u), or Σ L (1 - u / EA_r) with first-order transport (errata E-6.6;
+    ``lengths``: each span's length at each record)."""
     line = plan.line
     names, into, out, stored = [], [], [], []
     for name, t_first, t_last in layer_names(plan):
@@ -109,11 +110,12 @@ def layer_lengths(
         out.append(states[:, plan.lawi[t_last, B.LI_LOUT]])
         j = t_first - int(plan.si[line.web_spans(w)[0], B.S_LAW0])
         ea = plan.lawf[t_first, B.LF_EA]
+        held = [layer_stretch(plan, int(plan.si[k, B.S_LAW0]) + j, states) / ea
+                 for k in line.web_spans(w)]
         stored.append(
             sum(
-                lengths[:, k]
-                * (1.0 - layer_stretch(plan, int(plan.si[k, B.S_LAW0]) + j, states) / ea)
-                for k in line.web_spans(w)
+                lengths[:, k] * (1.0 / (1.0 + e) if line.exact else 1.0 - e)
+                for k, e in zip(line.web_spans(w), held, strict=True)
             )
         )
     n = len(states)

@@ -65,12 +65,18 @@ def layer_rates(
     nodes: np.ndarray,
     si: np.ndarray,
     has_dancer: bool,
+    exact: bool,
 ) -> None:
     """d/dt of every layer's offset [N/s] and of its unstrained length in and out [m/s]
     (module docstring); ``tension``: the spans' clipped stretches (a slack span leaves
     unstrained), ``s_in``: their stretches in; ``wound[cut0 + k]`` non-zero where span k is
     broken (its offsets stay; ``cut0`` < 0: no break in the run). Beside a dancer the span's
-    length L moves: L do/dt = v_a o_in - v_b o - o dL/dt (docs/winder.md D1, per layer)."""
+    length L moves: L do/dt = v_a o_in - v_b o - o dL/dt (docs/winder.md D1, per layer).
+
+    ``exact`` (``web.transport``, errata E-6.6): each layer's own mass balance,
+    d/dt[L EA/(EA + u)] = v_a EA/(EA + u_in) - v_b EA/(EA + u_out), solved for its stretch
+    u = a s + o: du/dt = (EA + u)/L [dL/dt + (EA + u)(v_b/(EA + u_out) - v_a/(EA + u_in))],
+    and do/dt = du/dt - a ds/dt with the laminate's ds/dt (already in ``dx``)."""
     for t in range(lawi.shape[0]):
         state = lawi[t, B.LI_STATE]
         if state < 0:
@@ -84,15 +90,26 @@ def layer_rates(
         o_in = u_in - a * s_in[k]
         o = x[state]
         broken = cut0 >= 0 and wound[cut0 + k] != 0.0
-        rate = v_a[k] * o_in - v_b[k] * o
+        length, moving = sf[k, B.SF_LENGTH], 0.0
         if has_dancer and (si[k, B.S_DANCEA] >= 0 or si[k, B.S_DANCEB] >= 0):
             length, moving = span_motion(k, x, nodes, si, sf)
-            dx[state] = (rate - o * moving) / length
+        ea = lawf[t, B.LF_EA]
+        if exact:
+            u = a * x[k] + o
+            u_out = a * tension[k] + o
+            flows = v_b[k] / (ea + u_out) - v_a[k] / (ea + u_in)
+            dx[state] = (ea + u) * (moving + (ea + u) * flows) / length - a * dx[k]
         else:
-            dx[state] = rate / sf[k, B.SF_LENGTH]
+            dx[state] = (v_a[k] * o_in - v_b[k] * o - o * moving) / length
         if broken:
             dx[state] = 0.0
-        inv_ea = 1.0 / lawf[t, B.LF_EA]
+        if exact:
+            if lawi[t, B.LI_LIN] >= 0:
+                dx[lawi[t, B.LI_LIN]] = v_a[k] * ea / (ea + u_in)
+            if lawi[t, B.LI_LOUT] >= 0:
+                dx[lawi[t, B.LI_LOUT]] = v_b[k] * ea / (ea + a * tension[k] + o)
+            continue
+        inv_ea = 1.0 / ea
         if lawi[t, B.LI_LIN] >= 0:
             dx[lawi[t, B.LI_LIN]] = v_a[k] * (1.0 - u_in * inv_ea)
         if lawi[t, B.LI_LOUT] >= 0:

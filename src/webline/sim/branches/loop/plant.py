@@ -218,7 +218,8 @@ def rhs(x: np.ndarray, cmd: np.ndarray, wound: np.ndarray, offsets: np.ndarray,
         dx[off_tq + d] = (cmd[d] - x[off_tq + d]) * df[d, B.D_INVLAG]
     if offsets[B.O_LAYER] < offsets[B.O_LAYER_END]:  # bonded layers (frozen: folds away)
         L.layer_rates(x, dx, lawi, lawf, sf, tension, s_in, v_a, v_b, wound,
-                      n_w + n_n if offsets[B.O_BREAK] else -1, nodes, si, has_dancer)
+                      n_w + n_n if offsets[B.O_BREAK] else -1, nodes, si, has_dancer,
+                      offsets[B.O_EXACT] != 0)
     if offsets[B.O_BREAK]:  # a cut web: its intact spans' ends (sim.branches.disturb)
         web_flows(dx, off_q, webs, sf, wound[n_w + n_n:], v_a, v_b, s_in, tension,
                   offsets[B.O_EXACT] != 0)
