@@ -164,11 +164,12 @@ def load_module(
     """The module ``name`` of the line file ``source``, imported only where ``permit``
     allows it (nothing is imported before that decision)."""
     path = permit(name, source, key, named, allow_code)
-    return importlib.import_module(name) if path is None else _import_file(path)
+    return importlib.import_module(name) if path is None else import_file(path)
 
 
-def _import_file(path: Path) -> ModuleType:
-    """The module of the ``.py`` file ``path`` (imported once per process)."""
+def import_file(path: Path) -> ModuleType:
+    """The module of the ``.py`` file ``path`` (imported once per process). No consent is
+    asked here: callers ask first (``resolve``) or the user named the file themselves."""
     if not path.is_file():
         raise FileNotFoundError(f"no file {path}")
     digest = hashlib.sha1(str(path).encode(), usedforsecurity=False).hexdigest()[:12]
