@@ -162,7 +162,8 @@ def test_twin_commands_refuse_a_branched_line_in_one_line(args):
     result = invoke(*args)
     assert result.exit_code == 2, result.output
     assert len(result.output.strip().splitlines()) == 1
-    assert f"webs: webline {args[0]}: not yet supported for a branched line" in result.output
+    assert (f"line: webline {args[0]} of 'laminator': not yet supported for a branched line"
+            in result.output)
 
 
 def test_branched_gain_margin_is_the_gain_that_destabilises_the_sampled_loop():

@@ -263,8 +263,8 @@ def test_front_door_routes_each_kind_of_line_and_names_what_stage_1_lacks(tmp_pa
                     encoding="utf-8")
     result = webline.simulate(path, 0.05)  # a file path: dispatched on its [[webs]]
     assert type(result).__name__ == "BranchResult" and result.time[-1] == pytest.approx(0.05)
-    with pytest.raises(webline.ArgumentError, match="progress: not yet supported for a "
-                                                    "branched line"):
-        webline.simulate(path, 0.05, progress=lambda done, total: None)
+    shares: list[float] = []  # progress(share of the run done), as on a single-path run
+    webline.simulate(path, 0.05, progress=shares.append)
+    assert shares and shares[-1] == pytest.approx(1.0) and shares == sorted(shares)
     with pytest.raises(webline.ArgumentError, match="controller: object is not a controller"):
         webline.simulate(path, 0.05, controller=object())

@@ -514,8 +514,8 @@ def test_error_in_a_file_names_its_path(tmp_path: Path) -> None:
                     encoding="utf-8")
     with pytest.raises(LineFileError) as info:
         load_line(path)
-    # the TOML line of the key (line 102 of the HSWL file) follows the path
-    assert str(info.value) == f"{path}:102: spans[1].length: must be > 0, got '-33 ft'"
+    # the TOML line of the key (line 104 of the HSWL file) follows the path
+    assert str(info.value) == f"{path}:104: spans[1].length: must be > 0, got '-33 ft'"
 
 
 def test_valid_file_on_disk_loads(tmp_path: Path) -> None:

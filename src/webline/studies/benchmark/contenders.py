@@ -168,4 +168,6 @@ def _module(name: str) -> object:
         return importlib.import_module(name)
     from webline.spec.code_consent import import_file
 
+    if not Path(name).is_file():
+        raise FileNotFoundError(f"no file {name}")
     return import_file(Path(name).resolve())
