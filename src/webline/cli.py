@@ -217,6 +217,11 @@ def validate(line: LineArg) -> None:
         branched = loaded
         for name in branched.spec.scenarios:
             branched.with_scenario(name)
+        from webline.analysis.dancer_modes import unstable_carriages
+
+        with contextlib.suppress(ValueError, ArithmeticError):  # (as below: D2 of winder.md)
+            for mode in unstable_carriages(branched):
+                typer.echo(f"warning: {branched.source}: {mode.message()}", err=True)
         code_notes(branched)
         typer.echo(f"ok: {branched.source}: branched line {branched.name!r} with "
                    f"{len(branched.spec.webs)} webs, {len(branched.spec.rollers)} rollers, "

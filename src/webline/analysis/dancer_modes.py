@@ -5,12 +5,17 @@ loadcell it loads) can be driven unstable by the torque lag; ``webline validate`
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from webline.line import Line, load_line
+from webline.line import Line
+from webline.model.lines import load_line
 from webline.sim.core.dancer import dancer_nodes
 from webline.sim.linear.linearize import linear_model
+
+if TYPE_CHECKING:
+    from webline.model.web_graph import BranchedLine
 
 
 @dataclass(frozen=True)
@@ -40,22 +45,29 @@ class CarriageMode:
                 "tension loop); give the carriage damping or soften the zone's tension loop")
 
 
-def carriage_modes(line: Line | str) -> list[CarriageMode]:
+def carriage_modes(line: Line | BranchedLine | str) -> list[CarriageMode]:
     """Each dancer's closed-loop carriage mode at the line's operating point: the eigenvalue
     of the closed-loop linear model with the largest participation factor |v_k w_k| (right
-    and left eigenvectors, unit-free) summed over the carriage's position and velocity."""
+    and left eigenvectors, unit-free) summed over the carriage's position and velocity. Any
+    line: a branched one's dancers through its own linear model (same state names)."""
     line = load_line(line)
-    nodes = dancer_nodes(line)
-    if not nodes:
+    if line.branched:
+        from webline.sim.branches.dancers import dancer_nodes as branched_dancers
+        from webline.sim.branches.linear import linear_model as branched_model
+
+        names = [line.spec.rollers[i].name for i in branched_dancers(line)]
+        model = branched_model(line) if names else None
+    else:
+        names = [line.node_name(i) for i in dancer_nodes(line)]
+        model = linear_model(line) if names else None
+    if model is None:
         return []
-    model = linear_model(line)
     values, right = np.linalg.eig(model.a)
     left = np.linalg.inv(right)  # rows: the left eigenvectors, w_k v_k = 1
     participation = np.abs(right * left.T)  # [state, mode]
     participation /= participation.sum(axis=0, keepdims=True)
     out = []
-    for i in nodes:
-        name = line.node_name(i)
+    for name in names:
         rows = [model.states.index(f"{name}_{part}") for part in ("position", "velocity")]
         share = participation[rows].sum(axis=0)
         k = int(np.argmax(share))
@@ -63,6 +75,6 @@ def carriage_modes(line: Line | str) -> list[CarriageMode]:
     return out
 
 
-def unstable_carriages(line: Line | str) -> list[CarriageMode]:
+def unstable_carriages(line: Line | BranchedLine | str) -> list[CarriageMode]:
     """The dancers whose carriage mode has damping below zero (``carriage_modes``)."""
     return [mode for mode in carriage_modes(line) if mode.eigenvalue.real > 0.0]
