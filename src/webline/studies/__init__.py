@@ -22,6 +22,7 @@ from webline.studies import (
     speed_change_surge,
     tension_observer,
     unwind_belt_ramp,
+    wound_roll_band,
 )
 from webline.studies.result import StudyResult
 
@@ -42,6 +43,7 @@ STUDIES: dict[str, Callable[..., StudyResult]] = {
     "robustness": robustness.run,
     "tension-observer": tension_observer.run,
     "speed-change-surge": speed_change_surge.run,
+    "wound-roll-band": wound_roll_band.run,
 }
 
 
