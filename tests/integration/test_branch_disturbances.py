@@ -88,10 +88,9 @@ def test_a_wound_in_ripple_enters_the_unwinds_span_as_its_equation_says():
     L ds/dt = (EA + s)² [v_b/(EA + s) - v_a/(EA + s_in)] (docs/errata.md E-6.6; the span is
     taut, T = s), with the wound-in tension s_in = 280 N + 20 N sin(2π 2 Hz t) at each RK4
     stage's time (the chain's rule, docs/errata.md "One loop"), integrated on its own from the
-    recorded speeds
-    of the unwind and the guide, gives the run's tension to 0.1 % of its ripple (measured
-    3e-5: the speeds are linear between records, the kernel's RK4 stages see its own); and
-    the ripple is at 2 Hz."""
+    recorded speeds of the unwind and the guide, gives the run's tension to 0.1 % of its
+    ripple (measured 3e-5: the speeds are linear between records, the kernel's RK4 stages see
+    its own; the first-order equation (6.8) is 2.5 % off); and the ripple is at 2 Hz."""
     ripple = {"type": "wound_in_ripple", "amplitude": 20.0, "frequency": 2.0}
     line = load_branched(_slitter(ripple))
     assert line.exact  # the equation below is the exact one
