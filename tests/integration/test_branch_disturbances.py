@@ -84,14 +84,17 @@ def test_noise_and_ripples_in_chunks_are_the_run_in_one_piece(monkeypatch):
 
 
 def test_a_wound_in_ripple_enters_the_unwinds_span_as_its_equation_says():
-    """The unwind's first span (B1), L dT/dt = EA (v_b - v_a) + s_in v_a - T v_b, with the
-    wound-in tension s_in = 280 N + 20 N sin(2π 2 Hz t) at each RK4 stage's time (the
-    chain's rule, docs/errata.md "One loop"), integrated on its own from the recorded speeds
-    of the unwind and the guide, gives the run's tension to 0.1 % of its ripple (measured
-    3e-5: the speeds are linear between records, the kernel's RK4 stages see its own); and
-    the ripple is at 2 Hz."""
+    """The unwind's first span (B1) in the slitter's (default) exact transport,
+    L ds/dt = (EA + s)² [v_b/(EA + s) - v_a/(EA + s_in)] (docs/errata.md E-6.6; the span is
+    taut, T = s), with the wound-in tension s_in = 280 N + 20 N sin(2π 2 Hz t) at each RK4
+    stage's time (the chain's rule, docs/errata.md "One loop"), integrated on its own from the
+    recorded speeds of the unwind and the guide, gives the run's tension to 0.1 % of its
+    ripple (measured 3e-5: the speeds are linear between records, the kernel's RK4 stages see
+    its own; the first-order equation (6.8) is 2.5 % off); and the ripple is at 2 Hz."""
     ripple = {"type": "wound_in_ripple", "amplitude": 20.0, "frequency": 2.0}
-    ds = webline.simulate(load_branched(_slitter(ripple)), 4.0).dataset
+    line = load_branched(_slitter(ripple))
+    assert line.exact  # the equation below is the exact one
+    ds = webline.simulate(line, 4.0).dataset
     t = ds.time.values
     first = ds.tension.sel(span="base[0]").values
     v_a, v_b = ds.speed.sel(node="unwind").values, ds.speed.sel(node="guide").values
@@ -104,7 +107,8 @@ def test_a_wound_in_ripple_enters_the_unwinds_span_as_its_equation_says():
             va = v_a[n] + share * (v_a[n + 1] - v_a[n])
             vb = v_b[n] + share * (v_b[n + 1] - v_b[n])
             s_in = 280.0 + 20.0 * np.sin(2 * np.pi * 2.0 * (t[n] + share * dt))
-            return (ea * (vb - va) + s_in * va - x * vb) / length
+            grow = ea + x
+            return grow * grow * (vb / grow - va / (ea + s_in)) / length
 
         k1 = rate(own[n], 0.0)
         k2 = rate(own[n] + 0.5 * dt * k1, 0.5)

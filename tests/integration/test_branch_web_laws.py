@@ -278,12 +278,15 @@ def test_a_lane_of_a_laminate_carries_its_share_of_the_layers_laws():
     """The laminator's laminate slit at a knife into two 0.5 m lanes (φ = 0.5 each: the
     laminate is 1 m wide) on one shaft, the foil on its power law: at the operating point
     each lane's tension, the 90 N its loadcell holds, is φ (T_film(ε_film) + T_foil(ε_foil))
-    at the layers' own strains, which mass conservation of each layer gives from the nip's
-    and the lane's roll's speeds alone, ε = 1 - v_nip / v_lane (1 - ε_up) (ε_up the layer's
-    zone strain; 1e-6 N: the first order's round-off of the speeds' ratio); the knife span
-    carries the lanes' layers at their strains."""
+    at the layers' own strains, which exact mass conservation of each layer (the line's
+    default transport, docs/errata.md E-6.6) gives from the nip's and the lane's roll's speeds
+    alone: v_nip / (1 + ε_up) = v_lane / (1 + ε), ε = (1 + ε_up) v_lane / v_nip - 1 (ε_up the
+    layer's zone strain; 1e-6 N, measured 7e-11 N); the knife span carries the lanes' layers
+    at their strains (measured 2e-11 N; the first-order form, ε = 1 - v_nip / v_b (1 - ε_up),
+    is 4e-5 N off there)."""
     line = laminated_then_slit(
         lambda data: data["webs"][1]["web"].__setitem__("stress_strain", POWER))
+    assert line.exact
     plan = compile_branches(line)
     x = operating_point(plan).x
     names = [r.name for r in line.spec.rollers]
@@ -292,7 +295,7 @@ def test_a_lane_of_a_laminate_carries_its_share_of_the_layers_laws():
     foil_up = x[_span(line, "foil_zone")] / EA_FOIL
 
     def laminate(v_b: float) -> float:
-        film, foil = (1.0 - v_nip / v_b * (1.0 - e) for e in (film_up, foil_up))
+        film, foil = ((1.0 + e) * v_b / v_nip - 1.0 for e in (film_up, foil_up))
         return EA_FILM * film + EA_FOIL * 1e-4 * (foil / 1e-4) ** 1.5
 
     omega = x[plan.offsets[0] + names.index("rewind")]
@@ -323,10 +326,12 @@ def test_a_study_judges_each_case_on_its_foils_yield():
 
 def test_a_damped_first_span_feels_the_wound_in_tension_through_its_rate():
     """A Kelvin-Voigt first span (the film unwind's, τ = 5 ms) with the film's loadcell on it:
-    T = s + τ ds/dt and (B1) L ds/dt = ... + s_in v_a with s_in the wound-in tension, so
-    ∂T/∂T0 = τ v_a / L (v_a the unwind's surface speed 2.5 m/s, L 1.5 m): 8.33e-3, which the
-    closed loop's loadcell reads (Kw, Gw) and no elastic span has. Central differences of
-    1 N on rates affine in T0: exact to rounding (1e-9)."""
+    T = s + τ ds/dt and (B1) in the laminator's exact transport (docs/errata.md E-6.6),
+    L ds/dt = (EA + s)² [v_b/(EA + s) - v_a/(EA + T0)] with T0 the wound-in tension, so
+    ∂T/∂T0 = τ v_a / L ((EA + s)/(EA + T0))² (v_a the unwind's surface speed 2.5 m/s, L 1.5 m,
+    s = 120 N, T0 = 100 N): 8.33e-3 (first order, thesis 6.8: τ v_a / L), which the closed
+    loop's loadcell reads (Kw, Gw) and no elastic span has. Central differences of 1 N on a
+    rate whose second derivative in T0 is 2/(EA + T0) of its first: 1e-10 relative (1e-9)."""
     from webline.sim.branches.findings.web_findings import felt_wound_rows
     from webline.sim.branches.linear import wound_gains, wound_webs
 
@@ -340,8 +345,12 @@ def test_a_damped_first_span_feels_the_wound_in_tension_through_its_rate():
     film = wound_webs(plan).index(0)
     from webline.sim.branches.loop import layout as B
 
+    assert line.exact
     v_a = point.x[plan.offsets[B.O_OMEGA] + 0] * line.rolls[0].radius  # unwind ω x radius
-    assert felt[0, film] == pytest.approx(5e-3 * v_a / 1.5, rel=1e-9)
+    s, wound_in = point.x[0], 100.0  # the first span's stretch; laminator.toml's film roll
+    assert s == pytest.approx(120.0, abs=1e-6)  # the loadcell's, steady (T = s)
+    strain = ((EA_FILM + s) / (EA_FILM + wound_in)) ** 2
+    assert felt[0, film] == pytest.approx(5e-3 * v_a / 1.5 * strain, rel=1e-9)
     assert np.count_nonzero(felt) == 1  # no other span feels it directly
     kw, gw = wound_gains(plan, point)
     assert kw[0, film] != 0.0 and gw[len(line.drives), film] != 0.0  # the unwind's PI

@@ -143,13 +143,13 @@ def test_a_branched_line_conserves_each_web_in_both_forms(transport):
     lane's length is conserved with that form's flows and stored web, to 1e-7 m."""
     from webline.sim.branches.loop import layout as B
 
-    data = webline.load_branched("slitter").spec.model_dump(exclude_none=True)
+    data = webline.load_line("slitter").spec.model_dump(exclude_none=True)
     tables = [data.get("web")] + [w.get("web") for w in data["webs"]]
     for table in (t for t in tables if t is not None):
         table["transport"] = transport
-    line = webline.load_branched(data)
+    line = webline.load_line(data)
     assert line.exact == (transport == "exact")
-    assert webline.load_branched(line.spec.model_dump(exclude_none=True)).exact == line.exact
+    assert webline.load_line(line.spec.model_dump(exclude_none=True)).exact == line.exact
     result = webline.simulate(line, 3.0)
     assert result.plan.offsets[B.O_EXACT] == int(line.exact)
     ds = result.dataset

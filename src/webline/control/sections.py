@@ -8,8 +8,9 @@ its total length: idle rollers are taken as massless and frictionless here (the 
 ``webline.linearize`` keeps them).
 
 With v = r ω and the roll's velocity-squared term cancelled by the controller (the f_i of
-6.39, 6.42), linearising the span equation (6.8) and the node's torque balance at the
-operating point gives dx_i/dt = A_i x_i + B_i U_i + Σ_j A_ij x_j, with B_i = (0, n r/J)
+6.39, 6.42), linearising the span equation in the thesis's first-order form (6.8; also on a
+line in exact transport: a design model, docs/errata.md E-6.6) and the node's torque balance
+at the operating point gives dx_i/dt = A_i x_i + B_i U_i + Σ_j A_ij x_j, with B_i = (0, n r/J)
 (motor torque positive in the web direction, E-6.3).
 """
 
