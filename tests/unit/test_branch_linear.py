@@ -12,6 +12,7 @@ import pytest
 
 from webline.model.web_graph import load_branched
 from webline.physics.roller import COULOMB_SMOOTHING
+from webline.physics.web_law import law_slope
 from webline.sim.branches.equilibrium import operating_point
 from webline.sim.branches.linear import (
     analysis_time,
@@ -80,8 +81,10 @@ def _hand_jacobian(plan, point) -> np.ndarray:
             a[k, col[off_w + nb]] += rb * (ea - x[k]) / length
         ja = node_inertia(na, x, o, plan.nodes, plan.rolls)
         jb = node_inertia(nb, x, o, plan.nodes, plan.rolls)
-        a[col[off_w + na], k] += ra / ja
-        a[col[off_w + nb], k] -= rb / jb
+        for j, slope in _felt_slopes(plan, x, k):  # d felt / d state (a span's own: 1)
+            a[col[off_w + na], col[j]] += ra * slope / ja
+            a[col[off_w + nb], col[j]] -= rb * slope / jb
+        _layer_rows(plan, x, k, a, col, (ra, rb, va, vb), sources)
     for i in range(plan.nodes.shape[0]):
         inertia = node_inertia(i, x, o, plan.nodes, plan.rolls)
         omega = x[off_w + i]
@@ -95,6 +98,67 @@ def _hand_jacobian(plan, point) -> np.ndarray:
             a[col[off_w + i], tq] = plan.nodes[i, B.N_RATIO] / inertia
             a[tq, tq] = -plan.df[d, B.D_INVLAG]
     return a
+
+
+def _terms(plan, k: int) -> list[int]:
+    """Law terms of span ``k`` with an offset state (a bonded laminate's layers)."""
+    first = plan.si[k, B.S_LAW0]
+    return [t for t in range(first, first + plan.si[k, B.S_NLAW])
+            if plan.si[k, B.S_NLAW] > 1 and plan.lawi[t, B.LI_STATE] >= 0]
+
+
+def _felt_slopes(plan, x, k: int) -> list[tuple[int, float]]:
+    """(state, d felt_k / d state): 1 on the span's own stretch, or for bonded layers
+    T = Σ c F_r(u), u = a s + o: dT/ds = Σ c a F_r'(u), dT/do = c F_r'(u)."""
+    terms = _terms(plan, k)
+    if not terms:
+        return [(k, 1.0)]
+    out, ds = [], 0.0
+    for t in terms:
+        state = plan.lawi[t, B.LI_STATE]
+        scale, factor = plan.lawf[t, B.LF_SCALE], plan.lawf[t, B.LF_FACTOR]
+        slope = factor * law_slope(scale * x[k] + x[state],
+                                   plan.laws[plan.lawi[t, B.LI_START]:])
+        ds += scale * slope
+        out.append((int(state), slope))
+    return [(k, ds), *out]
+
+
+def _layer_rows(plan, x, k: int, a, col, ends, sources) -> None:
+    """Rows of span ``k``'s layer offsets o = u - a s, each layer's stretch u advected as a
+    span's is (same form as (B1), the layer's own EA, its stretch in u_in = a_up s_up +
+    o_up): exactly L du/dt = (EA + u) v_b - (EA + u)² v_a / (EA + u_in), first-order
+    L do/dt = v_a o_in - v_b o with o_in = u_in - a s_in; do/dt = du/dt - a ds/dt."""
+    ra, rb, va, vb = ends
+    o, length = plan.offsets, plan.sf[k, B.SF_LENGTH]
+    na, nb, off_w = plan.si[k, B.S_A], plan.si[k, B.S_B], o[B.O_OMEGA]
+    for t in _terms(plan, k):
+        row, scale = col[plan.lawi[t, B.LI_STATE]], plan.lawf[t, B.LF_SCALE]
+        up, upscale = plan.lawi[t, B.LI_UP], plan.lawf[t, B.LF_UPSCALE]
+        ins = [(up, upscale)] + ([(plan.lawi[t, B.LI_UPSTATE], 1.0)]
+                                 if plan.lawi[t, B.LI_UPSTATE] >= 0 else [])
+        own = [(k, scale), (plan.lawi[t, B.LI_STATE], 1.0)]
+        if o[B.O_EXACT]:
+            ea = plan.lawf[t, B.LF_EA]
+            grow = ea + scale * x[k] + x[plan.lawi[t, B.LI_STATE]]
+            carried = ea + sum(d * x[j] for j, d in ins)
+            for j, d in own:
+                a[row, col[j]] += d * (vb - 2.0 * grow * va / carried) / length
+            for j, d in ins:
+                a[row, col[j]] += d * grow**2 * va / carried**2 / length
+            a[row, col[off_w + na]] -= ra * grow**2 / carried / length
+            a[row, col[off_w + nb]] += rb * grow / length
+            a[row, :] -= scale * a[k, :]  # less the laminate's a ds/dt (its row is done)
+        else:  # o_in = u_in - a s_in, s_in = Σ share x_j over the span's sources (B2)
+            offset = x[plan.lawi[t, B.LI_STATE]]
+            o_in = sum(d * x[j] for j, d in ins) - scale * sum(d * x[j] for j, d in sources)
+            for j, d in ins:
+                a[row, col[j]] += d * va / length
+            for j, d in sources:
+                a[row, col[j]] -= scale * d * va / length
+            a[row, row] -= vb / length
+            a[row, col[off_w + na]] += ra * o_in / length
+            a[row, col[off_w + nb]] -= rb * offset / length
 
 
 @pytest.mark.parametrize("name", ["laminator", "slitter"])
@@ -111,7 +175,9 @@ def test_finite_difference_jacobian_matches_the_hand_derived_one(name):
     # and each entry to 1e-6 relative where it is not tiny
     big = np.abs(hand) > 1e-6 * scale
     assert np.allclose(a[big], hand[big], rtol=1e-6)
-    assert np.allclose(b[kept_states(plan) >= plan.offsets[B.O_TORQUE]],
+    kept = kept_states(plan)
+    torques = (kept >= plan.offsets[B.O_TORQUE]) & (kept < plan.offsets[B.O_WEB])
+    assert np.allclose(b[torques],
                        np.diag(plan.df[:, B.D_INVLAG]), rtol=1e-9)
 
 
@@ -256,7 +322,19 @@ def test_webline_linearize_takes_a_branched_line():
     assert system.nstates == len(model.states) and "film_zone_tension_ref" in system.input_labels
     # the same matrix, so the same modes (modes: slowest first; the film zone's at |λ| 6.8)
     assert np.allclose(system.A, model.a, rtol=0, atol=1e-9 * np.max(np.abs(model.a)))
-    assert [m.dominant for m in modes(system)][:3] == [
+    # slowest are the bonded layers' strain differences, which no loadcell feels (T = Σ c u):
+    # each is carried out of its span at -v_b/L (the layers' offset rows); then the loops
+    found = modes(system)
+    plan, point = _at("laminator")
+    for m, span in zip(found[:4], ["laminate_zone"] * 2 + ["laminate[1]"] * 2, strict=True):
+        k = next(s.index for s in plan.line.spans if s.name == span)
+        node, end = plan.si[k, B.S_B], plan.si[k, B.S_ARMB]
+        radius = point.x[plan.offsets[B.O_RADIUS] + end] if end >= 0 else plan.nodes[
+            node, B.N_RADIUS]
+        v_b = radius * point.x[plan.offsets[B.O_OMEGA] + node]
+        assert m.dominant.startswith(f"{span}/") and m.dominant.endswith("_offset")
+        assert m.eigenvalue == pytest.approx(-v_b / plan.sf[k, B.SF_LENGTH], rel=1e-6)
+    assert [m.dominant for m in found][4:7] == [
         "rewind_tension_integral", "unwind_foil_tension_integral",
         "unwind_film_tension_integral"]
     with pytest.raises(webline.ArgumentError, match=r"unwind_radius: 0\.05 m must be above"):
@@ -275,9 +353,11 @@ def test_closed_loop_modes_takes_a_branched_line():
     assert all(m.damping > 0 for m in found)
 
 
-def test_the_first_order_jacobian_matches_the_hand_derived_one():
-    """The same check with the thesis's first-order transport (``web.transport``)."""
-    data = load_branched("slitter").spec.model_dump(exclude_none=True)
+@pytest.mark.parametrize("name", ["slitter", "laminator"])
+def test_the_first_order_jacobian_matches_the_hand_derived_one(name):
+    """The same check with the thesis's first-order transport (``web.transport``), the
+    laminator's bonded layers' first-order rows too."""
+    data = load_branched(name).spec.model_dump(exclude_none=True)
     for web in [data.get("web")] + [w.get("web") for w in data["webs"]]:
         if web is not None:
             web["transport"] = "first-order"

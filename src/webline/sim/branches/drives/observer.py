@@ -120,14 +120,24 @@ def observer_rows(plan: BranchPlan, point: BranchPoint, kept: np.ndarray,
         arm_a, arm_b = _arm(plan, x, k, a, B.S_ARMA), _arm(plan, x, k, b, B.S_ARMB)
         length, ea = row[B.FB_OBS_LENGTH], row[B.FB_OBS_EA]
         t_in = _reference_in(plan, x, k, row)
-        # L dT̂/dt = EA (v_b - v_a) + T_in v_a - T̂ v_b + L l_T (ω - ω̂), v from the measured ω
-        gx[t_hat, column[off_w + b]] += (ea - x[k]) * arm_b / length
-        gx[t_hat, column[off_w + a]] -= (ea - t_in) * arm_a / length
-        gi[t_hat, t_hat] = -arm_b * x[off_w + b] / length
+        # L dT̂/dt = EA (v_b - v_a) + T_in v_a - T̂ v_b + L l_T (ω - ω̂), v from the measured ω;
+        # exactly (E-6.6) (EA + T̂) v_b - (EA + T̂)² v_a/(EA + T_in) for the first three terms
+        v_a, v_b = arm_a * x[off_w + a], arm_b * x[off_w + b]
+        if plan.offsets[B.O_EXACT]:
+            grow, carried = ea + x[k], ea + t_in
+            gx[t_hat, column[off_w + b]] += grow * arm_b / length
+            gx[t_hat, column[off_w + a]] -= grow**2 / carried * arm_a / length
+            gi[t_hat, t_hat] = (v_b - 2.0 * grow * v_a / carried) / length
+            by_t_in = grow**2 / carried**2 * v_a / length  # ∂(dT̂/dt)/∂T_in [1/s]
+        else:
+            gx[t_hat, column[off_w + b]] += (ea - x[k]) * arm_b / length
+            gx[t_hat, column[off_w + a]] -= (ea - t_in) * arm_a / length
+            gi[t_hat, t_hat] = -v_b / length
+            by_t_in = v_a / length
         gx[t_hat, column[off_w + i]] += row[B.FB_OBS_LT]
         gi[t_hat, w_hat] = -row[B.FB_OBS_LT]
         sensitivity = plan.refs[:len(plan.line.spans), 1:]  # per span, per loadcell reference
-        gr[t_hat, 1:] += _sources_in(plan, k) @ sensitivity * arm_a * x[off_w + a] / length
+        gr[t_hat, 1:] += _sources_in(plan, k) @ sensitivity * by_t_in
         # J dω̂/dt = ±a T̂ + n τ - b ω̂ (+ the others at their references) + J l_ω (ω - ω̂)
         inertia = float(node_inertia(i, x, plan.offsets, plan.nodes, plan.rolls))
         sign = 1.0 if a == i else -1.0

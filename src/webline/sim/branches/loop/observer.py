@@ -6,6 +6,8 @@ with the motor torque and every other span on the node at its reference tension 
 junction's too), and corrects both with the speed residual ω_meas - ω̂:
 
     L dT̂/dt = EA (v_b - v_a) + T_in v_a - T̂ v_b + L l_T (ω_meas - ω̂)
+    (with exact transport, ``web.transport``, errata E-6.6: the plant's exact (B1),
+    (EA + T̂) v_b - (EA + T̂)² v_a/(EA + T_in), in place of the first three terms)
     J dω̂/dt = ± a_k T̂ + Σ_others ± a T_ref + n τ - b ω̂ - c tanh(ω̂/ω_s) + J l_ω (ω_meas - ω̂)
 
 T_in at its reference (the previous span's, a laminate's layers' sum, a lane's share of its
@@ -19,12 +21,13 @@ from typing import Any
 
 import numpy as np
 
-from webline.physics import roller
+from webline.physics import roller, span
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import arm, node_inertia
 from webline.sim.elements.signals import jit
 
 _friction: Any = jit(roller.friction_torque)
+_exact_rate: Any = jit(span.exact_stretch_rate)
 
 
 @jit
@@ -63,8 +66,11 @@ def observe(d: int, i: int, dt: float, omega_meas: float, x: np.ndarray,
     else:  # a lane: its share of the base web at the knife
         t_in = sf[k, B.SF_SHARE] * reference_tension(frm, refs)
     t_hat, w_hat = istate[d, B.I_THAT], istate[d, B.I_WHAT]
-    dt_hat = (fb[d, B.FB_OBS_EA] * (v_b - v_a) + t_in * v_a - t_hat * v_b) / fb[
-        d, B.FB_OBS_LENGTH]
+    ea, length = fb[d, B.FB_OBS_EA], fb[d, B.FB_OBS_LENGTH]
+    if offsets[B.O_EXACT]:  # the line's transport, as the plant's (B1) (errata E-6.6)
+        dt_hat = _exact_rate(length, ea, v_a, v_b, t_in, t_hat, t_hat)
+    else:
+        dt_hat = (ea * (v_b - v_a) + t_in * v_a - t_hat * v_b) / length
     web_torque = 0.0  # every span on the node: T̂ for the observed one, the others' references
     for s in range(si.shape[0]):
         if si[s, B.S_A] != i and si[s, B.S_B] != i:
