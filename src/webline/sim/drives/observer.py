@@ -5,7 +5,7 @@ observer integrates the span equation (6.8) with the *measured* web speeds of it
 and the torque balance of its own roller with the motor torque and the known interconnection
 (the other neighbouring span at its reference tension):
 
-    L dT̂/dt = EA (v_{k+1} - v_k) + T_{k-1} v_k - T̂ v_{k+1}
+    L dT̂/dt = EA (v_{k+1} - v_k) + T_{k-1} v_k - T̂ v_{k+1}   (exact transport: its exact form)
     J dω̂/dt = r (T_out - T_in) + n τ - b ω̂ - c sgn ω̂     (T̂ in place of span k)
 
 and corrects both with the speed residual ω_meas - ω̂: T̂ += l_T (ω - ω̂) dt, ω̂ += l_ω (ω - ω̂) dt.
@@ -21,11 +21,12 @@ from typing import Any
 
 import numpy as np
 
-from webline.physics import roller
+from webline.physics import roller, span
 from webline.sim.elements import layout as L
 from webline.sim.elements.signals import gaussian, jit
 
 _friction: Any = jit(roller.friction_torque)
+_exact_rate: Any = jit(span.exact_stretch_rate)
 
 
 @jit
@@ -47,7 +48,10 @@ def observe(d: int, i: int, dt: float, tick: int, radius: float, inertia: float,
     t_before = web[L.W_T0] if k == 0 else span_ref[k - 1]
     length = drives[d, L.D_OBS_LENGTH]
     ea = drives[d, L.D_OBS_EA]
-    dt_hat = (ea * (v_out - v_in) + t_before * v_in - t_hat * v_out) / length
+    if offsets[L.O_EXACT]:  # the line's own transport (E-6.6): else a bias ~(T_in² - T²)/EA
+        dt_hat = _exact_rate(length, ea, v_in, v_out, t_before, t_hat, t_hat)
+    else:
+        dt_hat = (ea * (v_out - v_in) + t_before * v_in - t_hat * v_out) / length
     if upstream:  # own roller: T_out = T̂, T_in = the span before
         t_in = 0.0 if i == 0 else span_ref[i - 1]  # an unwind roll: no span before it
         net = radius * (t_hat - t_in)
