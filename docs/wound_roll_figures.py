@@ -18,22 +18,9 @@ import numpy as np
 import webline
 from webline.analysis.roll_taper import design_roll, design_taper, with_taper
 from webline.report.plots.wound_roll import wound_roll_figure
+from webline.studies.wound_roll_band import ROLL, STEP  # the page's roll table and step
 
 IMG = Path(__file__).resolve().parent / "img"
-#: the page's roll table (assumed values, explained on the page)
-ROLL = {
-    "k1": "1.5 kPa",
-    "k2": 120,
-    "core": {"modulus": "3 GPa", "inner_radius": "76 mm"},
-    "min_hoop": "-0.2 MPa",
-    "max_pressure": "1 MPa",
-    "core_rating": "2 MPa",
-}
-STEP = {
-    "type": "steps",
-    "initial": "150 N",
-    "steps": [{"time": "4 s", "value": "200 N"}, {"time": "6 s", "value": "150 N"}],
-}
 
 
 def _mpa(x: float) -> str:
