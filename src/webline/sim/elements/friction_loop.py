@@ -20,14 +20,22 @@ STICK_SPEED = 0.1 * roller.COULOMB_SMOOTHING
 
 
 @jit
+def row_table_torque(row: np.ndarray, omega: float, n_col: int, w_col: int,
+                     t_col: int) -> float:
+    """Friction torque [N·m] at ``omega`` [rad/s] of the friction table a node-table ``row``
+    holds: its point count at column ``n_col``, speeds from ``w_col``, torques from ``t_col``
+    (F1; 0 without one). Either loop's layout: the chain's and a branched line's."""
+    n = int(row[n_col])
+    if n == 0:
+        return 0.0
+    return _table_friction(omega, row[w_col:w_col + n], row[t_col:t_col + n])[0]
+
+
+@jit
 def table_torque(i: int, omega: float, nodes: np.ndarray) -> float:
     """Friction torque [N·m] of node ``i``'s friction table at ``omega`` [rad/s] (F1; 0
     without one)."""
-    n = int(nodes[i, L.N_FRICN])
-    if n == 0:
-        return 0.0
-    return _table_friction(omega, nodes[i, L.N_FRICW:L.N_FRICW + n],
-                           nodes[i, L.N_FRICT:L.N_FRICT + n])[0]
+    return row_table_torque(nodes[i], omega, L.N_FRICN, L.N_FRICW, L.N_FRICT)
 
 
 @jit

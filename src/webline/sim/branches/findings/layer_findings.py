@@ -38,6 +38,16 @@ def layer_strains(plan: BranchPlan, w: int, states: np.ndarray) -> list[tuple[in
     return out
 
 
+def episode(plan: BranchPlan, time: np.ndarray, mask: np.ndarray,
+            spans: list[int]) -> tuple[float, float, list[str]]:
+    """(first record's time [s], the records' time summed [s], the spans' names) where
+    ``mask`` (records x a web's ``spans``) holds: what a finding over records says."""
+    step = np.diff(time, append=time[-1])
+    rows = np.any(mask, axis=1)
+    names = [plan.line.spans[spans[j]].name for j in np.nonzero(mask.any(axis=0))[0]]
+    return float(time[np.argmax(rows)]), float(step[rows].sum()), names
+
+
 def compressed_findings(plan: BranchPlan, time: np.ndarray, states: np.ndarray) -> list[Finding]:
     """A ``warning`` ``layer_compressed`` per bonded layer whose own strain went below zero
     in a laminate's (or its lanes') spans: the layer (its raw web), the spans, the first
@@ -49,7 +59,6 @@ def compressed_findings(plan: BranchPlan, time: np.ndarray, states: np.ndarray) 
     line = plan.line
     if len(time) == 0:
         return []
-    step = np.diff(time, append=time[-1])
     out: list[Finding] = []
     for w, web in enumerate(line.spec.webs):
         spans = line.web_spans(w)
@@ -57,13 +66,10 @@ def compressed_findings(plan: BranchPlan, time: np.ndarray, states: np.ndarray) 
             below = strain < 0.0
             if not below.any():
                 continue
-            rows = np.any(below, axis=1)
-            first = float(time[np.argmax(rows)])
+            first, duration, names = episode(plan, time, below, spans)
             at = np.unravel_index(int(np.argmin(strain)), strain.shape)
             low = float(mirrored_tension(line, r, np.array([strain[at] * line.materials[r].ea]))[0])
-            names = [line.spans[spans[j]].name for j in np.nonzero(below.any(axis=0))[0]]
             raw = line.spec.webs[r].name
-            duration = float(step[rows].sum())
             out.append(
                 Finding(
                     "warning",

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from webline.sim.branches.findings.layer_findings import layer_strains
+from webline.sim.branches.findings.layer_findings import episode, layer_strains
 from webline.sim.branches.laminates import layer_stretch, layer_terms, mirrored_tension
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import rhs
@@ -33,7 +33,6 @@ def yield_findings(plan: BranchPlan, time: np.ndarray, states: np.ndarray) -> li
     line = plan.line
     if len(time) == 0:
         return []
-    step = np.diff(time, append=time[-1])
     out: list[Finding] = []
     for w, web in enumerate(line.spec.webs):
         spans = line.web_spans(w)
@@ -48,12 +47,9 @@ def yield_findings(plan: BranchPlan, time: np.ndarray, states: np.ndarray) -> li
             beyond = strain > limit
             if not beyond.any():
                 continue
-            rows = np.any(beyond, axis=1)
-            first = float(time[np.argmax(rows)])
-            duration = float(step[rows].sum())
+            first, duration, names = episode(plan, time, beyond, spans)
             at = np.unravel_index(int(np.argmax(strain)), strain.shape)
             peak, peak_s = float(strain[at]), float(time[at[0]])
-            names = [line.spans[spans[j]].name for j in np.nonzero(beyond.any(axis=0))[0]]
             laminate = kind_of(web) == "laminate"
             where = line.spec.webs[r].name if laminate else web.name
             label = (f"web {where} (a layer of laminate {web.name})" if laminate

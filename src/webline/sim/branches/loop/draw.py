@@ -37,6 +37,14 @@ def refs_rows(n_s: int, n_d: int) -> int:
 
 
 @jit
+def _reference_now(owner: int, c: int, t: float, istate: np.ndarray, cells: np.ndarray,
+                   prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray) -> float:
+    """Loadcell ``c``'s reference [N] as drive ``owner``'s loop reads it at ``t`` [s]: its
+    profile times the drive's taper and ramp factor of the last tick (``I_FACTOR``)."""
+    return istate[owner, B.I_FACTOR] * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off)
+
+
+@jit
 def draw_factor(
     d: int,
     t: float,
@@ -64,10 +72,8 @@ def draw_factor(
             k = refs[row, 1 + c]
             if k == 0.0:
                 continue
-            change = (
-                istate[owner, B.I_FACTOR] * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off)
-                - refs[start, 1 + c]
-            )
+            change = (_reference_now(owner, c, t, istate, cells, prof_t, prof_v, prof_off)
+                      - refs[start, 1 + c])
             factor *= 1.0 + k * change if k < 0.0 else 1.0 / (1.0 - k * change)
     return factor
 
@@ -92,6 +98,5 @@ def start_references(
         return
     for owner in range(di.shape[0]):
         for c in range(di[owner, B.DI_CELLS], di[owner, B.DI_CELLS] + di[owner, B.DI_NCELLS]):
-            refs[start, 1 + c] = istate[owner, B.I_FACTOR] * profile_at(
-                cells[c, 1], t, prof_t, prof_v, prof_off
-            )
+            refs[start, 1 + c] = _reference_now(owner, c, t, istate, cells, prof_t, prof_v,
+                                                prof_off)

@@ -12,13 +12,12 @@ import numpy as np
 
 from webline.physics import roller, slip, span
 from webline.sim.branches.loop import layout as B
-from webline.sim.elements.friction_loop import STICK_SPEED
+from webline.sim.elements.friction_loop import STICK_SPEED, row_table_torque, stick
 from webline.sim.elements.signals import jit
 
 _tension: Any = jit(span.tension)
 _slip_state: Any = jit(slip.slip_state)
 _slip_velocity: Any = jit(slip.slip_velocity)
-_table_friction: Any = jit(roller.table_friction)
 _friction: Any = jit(roller.friction_torque)
 
 
@@ -80,11 +79,7 @@ def update_slip(t: float, dt: float, measured: np.ndarray, offsets: np.ndarray,
 def table_torque(i: int, omega: float, nodes: np.ndarray) -> float:
     """Friction torque [N·m] of node ``i``'s friction table at ``omega`` [rad/s] (F1; 0
     without one)."""
-    n = int(nodes[i, B.N_FRICN])
-    if n == 0:
-        return 0.0
-    return _table_friction(omega, nodes[i, B.N_FRICW:B.N_FRICW + n],
-                           nodes[i, B.N_FRICT:B.N_FRICT + n])[0]
+    return row_table_torque(nodes[i], omega, B.N_FRICN, B.N_FRICW, B.N_FRICT)
 
 
 @jit
@@ -94,16 +89,10 @@ def measured_friction(i: int, omega: float, total: float, coulomb: float,
     viscous and Coulomb friction): its friction table's torque taken off (F1); at rest
     (|ω| < STICK_SPEED) with a break-away torque B, held while the torque without the dry
     friction stays within B, else that torque less B against it (Karnopp's model, F2)."""
-    n = int(nodes[i, B.N_FRICN])
-    table = 0.0
-    if n > 0:
-        table = _table_friction(omega, nodes[i, B.N_FRICW:B.N_FRICW + n],
-                                nodes[i, B.N_FRICT:B.N_FRICT + n])[0]
+    table = table_torque(i, omega, nodes)
     total -= table
     limit = nodes[i, B.N_BREAKAWAY]
     if limit > 0.0 and abs(omega) < STICK_SPEED:
-        applied = total + table + (_friction(omega, 0.0, coulomb) if coulomb != 0.0 else 0.0)
-        if abs(applied) <= limit:
-            return True, 0.0
-        return False, applied - limit if applied > 0.0 else applied + limit
+        return stick(total + table + (_friction(omega, 0.0, coulomb) if coulomb != 0.0 else 0.0),
+                     limit)
     return False, total
