@@ -11,8 +11,8 @@ import numpy as np
 
 from webline.line import Line
 from webline.model.lines import load_line
-from webline.sim.core.dancer import dancer_nodes
-from webline.sim.linear.linearize import linear_model
+from webline.sim.linearize import linearize
+from webline.spec.schema import DancerSpec
 
 if TYPE_CHECKING:
     from webline.model.web_graph import BranchedLine
@@ -48,27 +48,20 @@ class CarriageMode:
 def carriage_modes(line: Line | BranchedLine | str) -> list[CarriageMode]:
     """Each dancer's closed-loop carriage mode at the line's operating point: the eigenvalue
     of the closed-loop linear model with the largest participation factor |v_k w_k| (right
-    and left eigenvectors, unit-free) summed over the carriage's position and velocity. Any
-    line: a branched one's dancers through its own linear model (same state names)."""
+    and left eigenvectors, unit-free) summed over the carriage's position and velocity, for
+    any line (``webline.linearize``)."""
     line = load_line(line)
-    if line.branched:
-        from webline.sim.branches.dancers import dancer_nodes as branched_dancers
-        from webline.sim.branches.linear import linear_model as branched_model
-
-        names = [line.spec.rollers[i].name for i in branched_dancers(line)]
-        model = branched_model(line) if names else None
-    else:
-        names = [line.node_name(i) for i in dancer_nodes(line)]
-        model = linear_model(line) if names else None
-    if model is None:
+    names = [r.name for r in line.spec.rollers if isinstance(r, DancerSpec)]
+    if not names:
         return []
-    values, right = np.linalg.eig(model.a)
+    system = linearize(line)  # (any line: its closed loop with the same state names)
+    values, right = np.linalg.eig(system.A)
     left = np.linalg.inv(right)  # rows: the left eigenvectors, w_k v_k = 1
     participation = np.abs(right * left.T)  # [state, mode]
     participation /= participation.sum(axis=0, keepdims=True)
     out = []
     for name in names:
-        rows = [model.states.index(f"{name}_{part}") for part in ("position", "velocity")]
+        rows = [system.state_labels.index(f"{name}_{part}") for part in ("position", "velocity")]
         share = participation[rows].sum(axis=0)
         k = int(np.argmax(share))
         out.append(CarriageMode(name, complex(values[k]), float(share[k])))
