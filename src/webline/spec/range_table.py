@@ -269,6 +269,8 @@ RANGES: dict[str, Range] = {
                                    "interlayer pressures that block or emboss: 0.1-10 MPa"),
     "roll_stress.core_rating": _r("pressure", (1.0, 1e11), (1e5, 1e9),
                                   "paper cores 1-10 MPa, steel and fibre cores more"),
+    "roll_stress.at_radii": _r(LEN, (1e-3, 10.0), (0.02, 2.0),
+                               "radii within rolls of 40 mm to 4 m diameter"),
     "roll_stress.band": _r("dimensionless", (0.0, 1.0), (0.01, 0.5),
                            "a band 1-50 % off the steady roll's pressure"),
     "roll_core.modulus": _r("pressure", (1e5, 1e12), (1e8, 3e11),
