@@ -104,13 +104,14 @@ class Result(RunResult):
                            extra)
 
     @cached_property
-    def wound_roll(self) -> WoundRoll | None:
-        """The rewind's wound roll at the end of the run: wound-on tension per layer,
-        pressure and hoop stress (``webline.sim.results.wound_roll``), for a rewind with a
-        ``roll_stress`` table, else None."""
+    def wound_rolls(self) -> dict[str, WoundRoll]:
+        """The rewind's wound roll at the end of the run, by the rewind's name (empty without
+        a ``roll_stress`` table): wound-on tension per layer, pressure and hoop stress
+        (``webline.sim.results.wound_roll``)."""
         from webline.sim.results.wound_roll import run_wound_roll
 
-        return run_wound_roll(self)
+        roll = run_wound_roll(self)
+        return {} if roll is None else {roll.where: roll}
 
     @cached_property
     def roll_modes(self) -> RollModes | None:

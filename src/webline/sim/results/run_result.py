@@ -24,6 +24,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from webline.sim.results.events import EventStats
+    from webline.sim.results.wound_roll import WoundRoll
     from webline.verdict import Verdict
 
 
@@ -96,6 +97,12 @@ class RunResult(ABC):
     def roll_radius(self) -> np.ndarray:
         """Wound radius of each roll [m], records x rolls."""
 
+    @property
+    @abstractmethod
+    def wound_rolls(self) -> dict[str, WoundRoll]:
+        """The wound roll of each rewind with a ``roll_stress`` table (a shaft's lanes one
+        each), by roll name, at the end of the run (``sim.results.wound_roll``)."""
+
     @abstractmethod
     def to_xarray(self) -> xr.Dataset:
         """Every signal over time with element coordinates, units as attributes."""
@@ -111,6 +118,12 @@ class RunResult(ABC):
         (``drives``); ``webline.sim.results.metrics.run_summary``."""
 
     # --- shared ------------------------------------------------------------------------------
+
+    @property
+    def wound_roll(self) -> WoundRoll | None:
+        """The line's first wound roll (``wound_rolls``; a single-path line has at most one:
+        its rewind's), or None where no rewind has a ``roll_stress`` table."""
+        return next(iter(self.wound_rolls.values()), None)
 
     @property
     def status(self) -> str:
