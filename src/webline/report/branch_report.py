@@ -39,7 +39,8 @@ def write_branch_report(result: BranchResult, out_dir: Path, *,
                         folder: OutputFolder | None = None, results_file: Path | None = None,
                         svg: bool = False, display: Display = SI) -> ReportFiles:
     """Write ``figures/KEY.png`` (and ``figures/KEY.svg`` with ``svg``) for every figure,
-    ``summary.json`` (settings, verdict, per web its span tensions and length balance) and a
+    ``summary.json`` (settings, verdict, per web its span tensions and length balance, each
+    wound roll's numbers: ``WoundRoll.summary``) and a
     self-contained ``report.html`` for ``result`` into ``out_dir``, each atomically; with
     ``folder`` (the ``OutputFolder`` of ``out_dir``) each joins its manifest. The figures and
     the report's tables and captions are in ``display``'s units ('si' or 'imperial');
@@ -62,6 +63,7 @@ def write_branch_report(result: BranchResult, out_dir: Path, *,
     summary = {"line": line.name, "scenario": line.scenario, "webline_version": __version__,
                "settings": result.settings, "verdict": result.verdict.as_dict(),
                "webs": result.web_summary(), "splices": splice_summary(result),
+               "wound_rolls": [roll.summary() for roll in result.wound_rolls.values()],
                "failure": result.failure}
     summary_path = atomic_write_text(target("summary.json"),
                                      json.dumps(summary, indent=1) + "\n")
@@ -146,7 +148,10 @@ def report_html(result: BranchResult, images: dict[str, Image],
                  "limit and the run went to its end.")])]),
         Section("Line", [*tables[:1], *([images["schematic"]] if "schematic" in images else []),
                          *tables[1:]]),
-        Section("Time plots", [image for key, image in images.items() if key != "schematic"]),
+        Section("Time plots", [image for key, image in images.items()
+                               if key != "schematic" and not key.startswith("wound_roll")]),
+        *([Section("Wound rolls", rolls)] if (rolls := [
+            image for key, image in images.items() if key.startswith("wound_roll")]) else []),
         Section("Closed-loop modes", modes_parts(result)),
         Section("Run", [make_table("run", "Settings", ["key", "value"], run_rows)]),
         Section("Resolved line file", [Text(dump_spec(spec), pre=True, fold="The line as it "

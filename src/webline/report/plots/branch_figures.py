@@ -1,7 +1,7 @@
 """Figures of a branched line's run (docs/branching.md): the schematic, tensions per web and
 lane against their references, the layers of each laminate, surface speeds, roll and lane
-radii, motor torques against their limits. Each figure comes with a caption computed from
-the numbers it draws (``branch_figure_jobs``)."""
+radii, motor torques against their limits, and each wound roll's stresses. Each figure comes
+with a caption computed from the numbers it draws (``branch_figure_jobs``)."""
 
 from __future__ import annotations
 
@@ -15,12 +15,14 @@ from webline.report.plots.branch_schematic import WEB_COLORS, branch_schematic
 from webline.report.plots.figures import FigureJob, ReportFigure
 from webline.report.plots.frame import framed_figure
 from webline.report.plots.mpl_text import legend_label, literal
+from webline.report.plots.wound_roll import wound_roll_caption, wound_roll_figure
 from webline.report.text.branch_tables import SI, junction_kind, shaft_lanes, small_length
 from webline.report.text.display import Display, number_text
 from webline.sim.branches.findings.break_verdict import stop_factor
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.result import BranchResult
 from webline.sim.results.decimate import envelope
+from webline.sim.results.wound_roll import WoundRoll
 
 
 def _plot(ax: Axes, time: np.ndarray, values: np.ndarray, *fmt: str, **style: object) -> list:
@@ -308,4 +310,16 @@ def branch_figure_jobs(result: BranchResult, display: Display = SI) -> list[Figu
     if len(result.dataset["roll"]):
         jobs.append(one("radii", radii_caption, radii_figure))
     jobs.append(one("torques", torques_caption, torques_figure))
+    for name, roll in result.wound_rolls.items():  # each rewound roll (docs/wound-roll.md)
+        jobs.append(_wound_roll_job(roll_figure_key(name), roll))
     return jobs
+
+
+def roll_figure_key(name: str) -> str:
+    """The figure key (and file name) of roll ``name`` (``roller/web``): ``wound_roll_``
+    and the name with its slash as an underscore."""
+    return "wound_roll_" + name.replace("/", "_")
+
+
+def _wound_roll_job(key: str, roll: WoundRoll) -> FigureJob:
+    return lambda: [ReportFigure(key, wound_roll_caption(roll), wound_roll_figure(roll))]

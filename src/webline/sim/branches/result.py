@@ -295,13 +295,16 @@ class BranchResult(RunResult):
                   ) -> Path:
         """Write every signal to NetCDF-4, compressed and chunked along time as a single-path
         run's file, float signals as ``precision`` (time stays float64), the resolved line
-        file in attribute ``line_spec`` (TOML, SI), atomically. Returns the path
+        file in attribute ``line_spec`` (TOML, SI), each wound roll per layer in the group
+        ``wound_roll/ROLLER/WEB`` (``wound_rolls``), atomically. Returns the path
         (``sim.results.dataset_files``)."""
         from webline.sim.results.dataset_files import write_dataset
         from webline.spec.load import dump_spec
 
         filed = self._filed.assign_attrs(line_spec=dump_spec(self.plan.line.spec))
-        return write_dataset(filed, path, "netcdf", precision)
+        rolls = {f"wound_roll/{name}": roll.to_xarray()
+                 for name, roll in self.wound_rolls.items()}
+        return write_dataset(filed, path, "netcdf", precision, rolls)
 
     def to_csv(self, path: str | Path) -> Path:
         """Write one column per signal and element (``tension[film_zone] [N]`` ...), time
