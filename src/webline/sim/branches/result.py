@@ -364,8 +364,8 @@ class BranchResult(RunResult):
         for j, roll in enumerate(line.rolls):  # each roll's under its web or lane (its
             wound = rolls.get(roll_name(self.plan, j))  # message names the roll)
             if wound is not None:
-                web = line.spec.webs[roll.web].name
-                findings += [replace(f, where=web) for f in wound.findings()]
+                owner = line.spec.webs[roll.web].name
+                findings += [replace(f, where=owner) for f in wound.findings()]
         limits = self.plan.df[:, B.D_LIMIT]
         for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit
             at_limit = np.nonzero(np.abs(ds["torque_cmd"].values[:, d]) >= limits[d])[0]

@@ -12,6 +12,7 @@ import numpy as np
 
 from webline.sim.branches.loop import layout as B
 from webline.sim.results.wound_roll import WoundRoll, recorded_roll
+from webline.spec.schema import RewindSpec
 
 if TYPE_CHECKING:
     from webline.sim.branches.plan import BranchPlan
@@ -52,7 +53,7 @@ def branch_wound_rolls(plan: BranchPlan, time: np.ndarray, radius: np.ndarray,
     for j, roll in enumerate(line.rolls):
         rewind = line.spec.rollers[roll.node]
         spec = getattr(rewind, "roll_stress", None)
-        if roll.direction < 0.0 or spec is None:
+        if not isinstance(rewind, RewindSpec) or spec is None:
             continue
         material = line.materials[roll.web]
         entering = line.web_spans(roll.web)[-1]
@@ -66,6 +67,6 @@ def branch_wound_rolls(plan: BranchPlan, time: np.ndarray, radius: np.ndarray,
             core_radius=rewind.core_radius, thickness=material.thickness,
             width=material.width,
             modulus=material.ea / (material.width * material.thickness),
-            set_tension=base, taper=getattr(rewind, "taper", None),
+            set_tension=base, taper=rewind.taper,
             taper_acts=cell is not None)
     return out
