@@ -117,3 +117,33 @@ def test_a_snapshot_outside_the_roll_is_refused(radius: str, problem: str) -> No
     with pytest.raises(LineFileError, match=problem):
         line.replace({"rollers.rewind_shaft.roll_stress": {**TABLE,
                                                            "at_radii": ["0.1 m", radius]}})
+
+
+def test_after_a_rewind_splice_the_roll_is_the_one_passed_on() -> None:
+    """The laminator's rewind spliced at 2 s from a 0.3 m roll onto a new 0.16 m core: the
+    roll is the finished one (as on a chain), its surface at the radius it had at the
+    splice, the layers the run wound all wound before it."""
+    import copy
+    import tomllib
+    from importlib import resources
+
+    from webline.model.web_graph import load_branched
+
+    data = tomllib.loads(resources.files("webline.data.lines").joinpath("laminator.toml")
+                         .read_text("utf-8"))
+    data = copy.deepcopy(data)
+    data.pop("scenarios", None)
+    rewind = data["rollers"][6]
+    rewind |= {"radius": "0.3 m", "roll_stress": {"k1": "5 kPa", "k2": 100}}
+    data["disturbances"] = [{"type": "flying_splice", "roll": "rewind", "at": "2 s",
+                             "new_diameter": "0.16 m"}]
+    result = webline.simulate(load_branched(data), 3.0)
+    radius = result.dataset["radius"].sel(roll="rewind/laminate").values
+    j = int(np.searchsorted(result.time, 2.0 - 1e-9))
+    assert radius[j] == pytest.approx(0.08)  # the new core on the shaft
+    roll = result.wound_roll
+    assert roll.stress.radius[0] == pytest.approx(0.0762)  # the old roll's core
+    assert roll.stress.outer_radius == pytest.approx(radius[j - 1], abs=32e-6)
+    # 2 s at 150 m/min wind 5 m: 5 m x 32 um / (2 pi 0.3 m) = 2.7 layers, before the splice
+    wound = roll.layers.time[roll.layers.in_run]
+    assert 2 <= wound.size <= 3 and wound.max() < 2.0
