@@ -203,3 +203,13 @@ def test_a_lay_on_nip_adds_mu_n_over_h_to_every_layer() -> None:
     )
     np.testing.assert_allclose(nip.layers.stress - plain.layers.stress, 0.3 * 2000.0 / W / H)
     assert nip.stress.core_pressure > plain.stress.core_pressure
+
+
+def test_a_snapshot_at_the_finished_surface_is_the_finished_roll() -> None:
+    """A diameter of 200.01 mm is 800.2 layers of 25 um over the 80 mm core: the roll has
+    800, and a snapshot at its stated surface (100.005 mm) is the finished roll, not missed."""
+    roll = _snapshot_roll([0.100005], diameter=0.20001)
+    assert roll.missed == () and len(roll.stress.radius) == 800
+    (snap,) = roll.snapshots
+    np.testing.assert_array_equal(snap.stress.pressure, roll.stress.pressure)
+    np.testing.assert_array_equal(snap.stress.hoop, roll.stress.hoop)

@@ -78,7 +78,9 @@ class WoundRoll:
     def to_xarray(self) -> Any:
         """The roll per layer (dimension ``layer``, coordinate ``radius`` [m]): wound-on
         tension [N] and stress [Pa], the time each layer was wound [s] (NaN outside the run),
-        pressure and hoop stress [Pa], and the steady roll's pressure [Pa]."""
+        pressure and hoop stress [Pa], and the steady roll's pressure [Pa]; with snapshots
+        (dimension ``at_radius`` [m]) their ``at_time`` [s], ``at_pressure`` and ``at_hoop``
+        [Pa] per layer (NaN above each snapshot's layers)."""
         import xarray as xr
 
         plain = self.group_variables()
@@ -315,11 +317,14 @@ def wound_roll(
         k1, k2 = float(spec.radial_modulus or 0.0), 0.0
     e_t = spec.tangential_modulus or modulus
 
-    # the roll when its surface passed each asked radius: once its layer m reaching it is on
+    # the roll when its surface passed each asked radius: once the layer m reaching it is on;
+    # a radius less than a layer beyond the roll (its diameter rounded to whole layers) is
+    # the finished roll's, one further is missed
     n = len(layers.radius)
     reach = [math.ceil((r - core_radius) / thickness - 1e-9) - 1 for r in spec.at_radii]
-    kept = [(r, max(0, m)) for r, m in zip(spec.at_radii, reach, strict=True) if m < n]
-    missed = tuple(r for r, m in zip(spec.at_radii, reach, strict=True) if m >= n)
+    kept = [(r, min(max(0, m), n - 1)) for r, m in zip(spec.at_radii, reach, strict=True)
+            if m <= n]
+    missed = tuple(r for r, m in zip(spec.at_radii, reach, strict=True) if m > n)
 
     def solve(wound_on: np.ndarray, during: tuple[int, ...] = ()) -> RollStress:
         return roll_stress(
