@@ -147,3 +147,23 @@ def test_after_a_rewind_splice_the_roll_is_the_one_passed_on() -> None:
     # 2 s at 150 m/min wind 5 m: 5 m x 32 um / (2 pi 0.3 m) = 2.7 layers, before the splice
     wound = roll.layers.time[roll.layers.in_run]
     assert 2 <= wound.size <= 3 and wound.max() < 2.0
+
+
+def test_a_differential_shafts_lanes_wind_at_slip_torque_over_radius() -> None:
+    """Lanes on a differential (slip) shaft have no set tension: each is held at Q / R by
+    its clutch (docs/branching.md, "Differential shafts"), so its steady roll winds the
+    layers the run did not at Q / r (a hyperbolic taper of the slip), and the run's layers
+    at their recorded tension, Q / R within 3 % (the cores' acceleration and drag)."""
+    q = 8.0  # [N·m]: 100 N at the lanes' starting radius of 80 mm
+    line = webline.load_line("slitter").replace({
+        "rollers.rewind_shaft.shaft": {"type": "differential", "slip_torque": f"{q} N*m",
+                                       "overspeed": 0.02, "core_inertia": "0.005 kg*m**2"},
+        "rollers.rewind_shaft.roll_stress": TABLE,
+    })
+    roll = webline.simulate(line, 2.0).wound_rolls["rewind_shaft/lane_1"]
+    lay = roll.layers
+    out = ~lay.in_run
+    np.testing.assert_allclose(lay.tension[out], q / lay.radius[out], rtol=1e-12)
+    np.testing.assert_allclose(lay.tension[lay.in_run], q / lay.radius[lay.in_run], rtol=0.03)
+    # Q / r falls outwards: the steady roll's outer layers are wound softer than its inner
+    assert roll.steady.wound_on[-1] == pytest.approx(q / 0.15 / (WIDTH * H), rel=1e-3)

@@ -6,6 +6,7 @@ theirs, a band from a tension transient traced to its time in the run)."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -388,7 +389,7 @@ def recorded_roll(
     thickness: float,
     width: float,
     modulus: float,
-    set_tension: float,
+    set_tension: float | Callable[[np.ndarray], np.ndarray],
     taper: Any,
     taper_acts: bool = True,
 ) -> WoundRoll:
@@ -397,7 +398,9 @@ def recorded_roll(
     ``tension`` [N]; the web's ``thickness``, ``width`` [m] and ``modulus`` [Pa] on it; the
     roll's ``core_radius`` [m]; ``set_tension`` [N] its zone's set tension at the end and
     ``taper`` its ``TaperSpec`` or None, which give the steady roll (``taper_acts`` False:
-    no tension loop applies it, only its ``max_diameter`` counts).
+    no tension loop applies it, only its ``max_diameter`` counts); ``set_tension`` may be a
+    function of the radius [m] instead, the steady tension itself (a differential shaft's
+    slip torque over the radius).
 
     After a flying splice of the rewind the roll is the finished one it passed on (the last
     roll the splices completed, its diameter at its splice); else the roll on the shaft at
@@ -415,6 +418,8 @@ def recorded_roll(
     acting = taper if taper_acts else None
 
     def steady(r: np.ndarray) -> np.ndarray:
+        if callable(set_tension):
+            return set_tension(r)
         return set_tension * np.array([spec_factor(acting, core, x) for x in np.ravel(r)])
 
     if finished is not None:

@@ -6,6 +6,7 @@ thickness and modulus, its zone's set tension for that web and the rewind's tape
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -39,13 +40,20 @@ def _set_cell(plan: BranchPlan, node: int, span_web: int) -> int | None:
     return None
 
 
+def _slip_tension(torque: float) -> Callable[[np.ndarray], np.ndarray]:
+    """A differential shaft's lane tension [N] at radius r [m]: its clutch's slip torque
+    ``torque`` [N·m] over r (the clutch slips all run long)."""
+    return lambda r: torque / np.asarray(r, dtype=float)
+
+
 def branch_wound_rolls(plan: BranchPlan, time: np.ndarray, radius: np.ndarray,
                        tension: np.ndarray) -> dict[str, WoundRoll]:
     """Each rewound roll with a ``roll_stress`` table, by ``roll_name``: ``time`` [s],
     ``radius`` [m] (records x rolls) and span ``tension`` [N] (records x spans) as the run
     recorded them. Its steady roll takes its zone's set tension for its web at the end of
-    the run (before taper; without a tension loop on that web, as on a differential shaft,
-    the last recorded tension) times the rewind's taper."""
+    the run (before taper; without a tension loop on that web, the last recorded tension)
+    times the rewind's taper; a lane on a differential shaft its slip torque over the
+    radius."""
     line = plan.line
     out: dict[str, WoundRoll] = {}
     if len(time) < 2:
@@ -58,9 +66,13 @@ def branch_wound_rolls(plan: BranchPlan, time: np.ndarray, radius: np.ndarray,
         material = line.materials[roll.web]
         entering = line.web_spans(roll.web)[-1]
         cell = _set_cell(plan, roll.node, roll.web)
-        end = float(time[-1])
-        base = (float(tension[-1, entering]) if cell is None
-                else plan.profile(int(plan.cells[cell, 1]), end))
+        base: float | Callable[[np.ndarray], np.ndarray]
+        if rewind.shaft is not None:  # a differential shaft: each lane at Q / its radius
+            base = _slip_tension(rewind.shaft.slip_torque)
+        elif cell is None:
+            base = float(tension[-1, entering])
+        else:
+            base = plan.profile(int(plan.cells[cell, 1]), float(time[-1]))
         name = roll_name(plan, j)
         out[name] = recorded_roll(
             name, spec, time=time, radius=radius[:, j], tension=tension[:, entering],
