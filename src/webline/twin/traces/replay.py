@@ -18,8 +18,9 @@ from webline.twin.traces.runs import Run, compared_time, run_case
 from webline.twin.traces.signals import si_unit
 
 if TYPE_CHECKING:
-    from webline.model.web_graph import BranchedLine
     from matplotlib.figure import Figure
+
+    from webline.model.web_graph import BranchedLine
 
 
 @dataclass(frozen=True)

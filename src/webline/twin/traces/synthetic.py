@@ -25,9 +25,10 @@ if TYPE_CHECKING:
 NOISE = {"tension": 0.5, "speed": 2e-3, "torque": 0.02}
 
 
-def synthetic_csv(path: str | Path, line: Line | BranchedLine | str, *, changes: Mapping[str, object],
-                  duration: float, scenario: str | None = None, rate: float = 200.0,
-                  offset: float = 0.0, seed: int = 0,
+def synthetic_csv(path: str | Path, line: Line | BranchedLine | str, *,
+                  changes: Mapping[str, object], duration: float,
+                  scenario: str | None = None, rate: float = 200.0, offset: float = 0.0,
+                  seed: int = 0,
                   noise: Mapping[str, float] | None = None,
                   signals: tuple[str, ...] = ("tension", "speed", "torque")) -> Path:
     """Simulate ``line`` with ``changes`` for ``duration`` [s] and write what a logger at
