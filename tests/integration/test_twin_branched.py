@@ -1,8 +1,8 @@
-"""Replay and fit on a branched line (issue 33 item 3, issue 36 item 10): the laminator's own
-identification record (``webline experiment tension-step``, docs/commissioning.md) made on a
-"true" laminator whose film is 12 % stiffer and whose nip roller is 20 % heavier than the
-line file says, cut to its first step (the film zone's set point 120 -> 132 N at 1 s, back at
-15 s) and logged with white sensor noise of known size.
+"""Replay and fit on branched lines (issue 33 item 3, issue 36 item 10): each line's own
+identification record (``webline experiment tension-step``, docs/branching.md "Replay and
+fit") made on a "true" line whose web is 12 % stiffer and whose master roller is 20 %
+heavier than the line file says, cut after its first step (the unwind zone's set point up
+10 % at 1 s and back) and logged with white sensor noise of known size.
 
 The twin reads the record as it reads a single-path line's (the same loader, drive, replay
 and fit): the true line replayed leaves the noise, the file's line does not, and the fit
@@ -11,6 +11,7 @@ finds the two changed values.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -24,29 +25,56 @@ from webline.twin.tuning.experiment_branched import write_branched_experiment
 
 pytestmark = pytest.mark.slow
 
-#: the line file's film EA [N] and nip inertia [kg m²] and the true machine's
-FILE_EA, FILE_INERTIA = 103.5e3, 0.5
-TRUE_EA, TRUE_INERTIA = 1.12 * FILE_EA, 1.2 * FILE_INERTIA
-#: the record's length [s]: the film zone's step up and back (the other zones' steps follow)
-CUT = 16.0
-FREE = {"webs.film.web.ea": "50 .. 200 kN", "rollers.nip.inertia": "0.2 .. 1.5 kg*m**2"}
+
+@dataclass(frozen=True)
+class Case:
+    """A branched line, the paths of its web's EA and its master's inertia, their file values
+    [N, kg m²], the free bounds, the record's length [s] (its first step up and back) and its
+    unwind and master drives."""
+
+    line: str
+    ea_path: str
+    inertia_path: str
+    ea: float
+    inertia: float
+    free: dict[str, str]
+    cut: float
+    unwind: str
+    master: str
+
+    @property
+    def truth(self) -> tuple[float, float]:
+        return 1.12 * self.ea, 1.2 * self.inertia
+
+    def true_line(self) -> webline.BranchedLine:
+        ea, inertia = self.truth
+        return webline.load_line(self.line).replace({self.ea_path: ea,
+                                                     self.inertia_path: inertia})
 
 
-def truth() -> webline.BranchedLine:
-    return webline.load_line("laminator").replace(
-        {"webs.film.web.ea": TRUE_EA, "rollers.nip.inertia": TRUE_INERTIA})
+CASES = {
+    # the film's EA (the laminate's follows); the nip is the master; film step 1 s .. 15 s
+    "laminator": Case("laminator", "webs.film.web.ea", "rollers.nip.inertia", 103.5e3, 0.5,
+                      {"webs.film.web.ea": "50 .. 200 kN",
+                       "rollers.nip.inertia": "0.2 .. 1.5 kg*m**2"}, 16.0, "unwind_film", "nip"),
+    # the base web's EA (the lanes' follow by their width); the pull roll; step 1 s .. 9 s
+    "slitter": Case("slitter", "web.ea", "rollers.pull.inertia", 281.25e3, 0.4,
+                    {"web.ea": "100 .. 600 kN", "rollers.pull.inertia": "0.1 .. 1.5 kg*m**2"},
+                    10.0, "unwind", "pull"),
+}
 
 
-@pytest.fixture(scope="module")
-def record(tmp_path_factory) -> Path:
-    """The experiment's results.csv (every 1 ms tick, references logged exactly, as a PLC
-    logs them) cut at ``CUT``, its loadcells', encoders' and torques' columns with noise
-    (``synthetic.NOISE``)."""
-    folder = tmp_path_factory.mktemp("experiment")
-    _, result = write_branched_experiment(truth(), "tension-step", folder)
+@pytest.fixture(scope="module", params=list(CASES))
+def case(request, tmp_path_factory) -> tuple[Case, Path]:
+    """A case and its record: the experiment's results.csv (every 1 ms tick, references
+    logged exactly, as a PLC logs them) cut at ``cut``, its loadcells', encoders' and
+    torques' columns with noise (``synthetic.NOISE``)."""
+    case = CASES[request.param]
+    folder = tmp_path_factory.mktemp(case.line)
+    _, result = write_branched_experiment(case.true_line(), "tension-step", folder)
     assert result.failure is None
     frame = pd.read_csv(folder / "results.csv")
-    frame = frame[frame["time [s]"] <= CUT].copy()
+    frame = frame[frame["time [s]"] <= case.cut].copy()
     # what a machine logs: loadcells (the spans with a set point), encoders, drive torques
     cells = {c.replace("tension_ref[", "tension[") for c in frame if c.startswith("tension_ref[")}
     frame = frame[[c for c in frame if c.partition("[")[0] not in ("tension", "torque_cmd")
@@ -58,7 +86,7 @@ def record(tmp_path_factory) -> Path:
             frame[column] += rng.normal(0.0, NOISE[kind], len(frame))
     path = folder / "record.csv"
     frame.to_csv(path, index=False, float_format="%.9g")
-    return path
+    return case, path
 
 
 def rms_over_noise(replayed: Replay) -> dict[str, float]:
@@ -67,34 +95,38 @@ def rms_over_noise(replayed: Replay) -> dict[str, float]:
             for row in replayed.metrics.itertuples()}
 
 
-def test_the_true_line_replayed_leaves_the_noise_and_the_files_line_does_not(record):
-    """Replayed, the true laminator leaves each signal's noise: RMS error 0.97-1.03 x the
-    noise added (16 001 points of white noise give its RMS to 0.56 %, so 5 standard errors;
-    a model error of 0.3 x the noise would add 4.5 %). The file's laminator, softer film and
-    lighter nip, misses the unwind's torque at the film's step (the unwound web's strain
-    sets the roll's speed, so its torque, through EA; more than 3 x the noise) and the nip's
-    torque as the steps move the nip's load (more than 1.1 x)."""
-    true = rms_over_noise(webline.replay(truth(), record))
-    assert {"tension", "speed", "torque"} <= {name.partition("[")[0] for name in true}
-    assert len(true) == 3 + 7 + 4  # loadcell spans, rollers, drives
+def test_the_true_line_replayed_leaves_the_noise_and_the_files_line_does_not(case):
+    """Replayed, the true line leaves each signal's noise: RMS error 0.97-1.03 x the noise
+    added (10 001-16 001 points of white noise give its RMS to 0.7 % or better, so more than
+    4 standard errors; a model error of 0.3 x the noise would add 4.5 %). The file's line,
+    softer web and lighter master, misses the unwind's torque at the step (the unwound web's
+    strain sets the roll's speed, so its torque, through EA; more than 3 x the noise; 6.4 x
+    on the laminator, 23 x on the slitter) and the master's torque as the step moves its load
+    (more than 1.1 x the true line's)."""
+    case, record = case
+    true = rms_over_noise(webline.replay(case.true_line(), record))
+    line = webline.load_line(case.line)
+    loadcells = {p for p in true if p.startswith("tension[")}
+    assert len(true) == len(loadcells) + len(line.spec.rollers) + len(line.drives)
     for signal, ratio in true.items():
         assert 0.97 < ratio < 1.03, (signal, ratio)
-    files = rms_over_noise(webline.replay("laminator", record))
-    assert files["torque[unwind_film]"] > 3.0, files
-    assert files["torque[nip]"] > 1.1 * true["torque[nip]"], files
+    files = rms_over_noise(webline.replay(case.line, record))
+    assert files[f"torque[{case.unwind}]"] > 3.0, files
+    assert files[f"torque[{case.master}]"] > 1.1 * true[f"torque[{case.master}]"], files
 
 
-def test_fit_finds_the_films_ea_and_the_nips_inertia(record):
-    """From the file's values, the fit of the film's EA and the nip's inertia reaches the noise
-    (residual scale 0.9-1.1) and finds both within 1 % of the truth and inside their 95 %
-    intervals, with the verdict good: the same fit as on a single-path line, its paths the
-    branched line file's (``webs.NAME.web.ea``)."""
-    fitted = webline.fit("laminator", record, FREE, starts=1)
+def test_fit_finds_the_webs_ea_and_the_masters_inertia(case):
+    """From the file's values, the fit of the web's EA and the master's inertia reaches the
+    noise (residual scale 0.9-1.1) and finds both within 1 % of the truth and inside their
+    95 % intervals, with the verdict good: the same fit as on a single-path line, its paths
+    the branched line file's (``webs.NAME.web.ea``, ``web.ea``); the fitted line is the
+    file's with the values set."""
+    case, record = case
+    fitted = webline.fit(case.line, record, case.free, starts=1)
     assert fitted.verdict.status == "good", fitted
     assert 0.9 < fitted.residual_scale < 1.1, fitted
-    for i, true in enumerate((TRUE_EA, TRUE_INERTIA)):
+    for i, true in enumerate(case.truth):
         assert fitted.value[i] == pytest.approx(true, rel=0.01), fitted
         assert fitted.ci95[i, 0] <= true <= fitted.ci95[i, 1], fitted
-    # the fitted line is the file's branched line with the two values set
     assert fitted.fitted_line.branched
     assert fitted.fitted_line.materials[0].ea == pytest.approx(fitted.value[0], rel=1e-12)
