@@ -102,11 +102,17 @@ def driven_line(data: Measurements, line: Line | BranchedLine | None = None) -> 
             changes[point.path] = reference_table(data.time, logged)
             notes.append(f"tension set point of {point.span} from {name}")
     for roll in view.rolls:
-        if roll.signal in data.signals and np.isfinite(data.signals[roll.signal][0]):
-            radius = float(data.signals[roll.signal][0])
-            if abs(radius - roll.radius) > 1e-4:
-                changes[roll.path] = radius
-                notes.append(f"initial radius from {roll.signal}: {radius:.4g} m")
+        if roll.signal not in data.signals or not np.isfinite(data.signals[roll.signal][0]):
+            continue
+        radius = float(data.signals[roll.signal][0])
+        if abs(radius - roll.radius) <= 1e-4:
+            continue
+        if roll.path:
+            changes[roll.path] = radius
+            notes.append(f"initial radius from {roll.signal}: {radius:.4g} m")
+        else:
+            notes.append(f"{roll.signal}: a lane on a shaft of several keeps the line's "
+                         f"radius ({roll.radius:.4g} m; logged {radius:.4g} m)")
     try:
         driven = line.replace(changes) if changes else line
     except LineFileError as exc:  # a logged reference the line file cannot take

@@ -38,7 +38,8 @@ class SetPoint:
 @dataclass(frozen=True)
 class RollStart:
     """A roll whose starting radius a log may give: the ``signal`` that measures it
-    (``radius[rewind]``), the line file's ``radius`` [m] and its ``path``."""
+    (``radius[rewind]``), the line file's ``radius`` [m] and its ``path`` ("" where the
+    line file has no value of that roll alone: a lane on a shaft of several)."""
 
     signal: str
     radius: float
@@ -117,11 +118,11 @@ def _branched(line: Any) -> Layout:
         for node, zone in line.zones.items() for s in zone.loadcells)
     roll_names = tuple(f"{names['node'][r.node]}/{webs[r.web].name}" for r in line.rolls)
     per_node = [r.node for r in line.rolls]
-    # a roll's radius is its roller's in the line file: a shaft of several lanes has one per
-    # lane there (its lanes' radii), so only a roller that holds one roll takes a logged one
+    # a roll's radius is its roller's in the line file, shared by a shaft's lanes: only a
+    # roller that holds one roll takes a logged one
     rolls = tuple(RollStart(f"radius[{name}]", float(r.radius),
-                            f"rollers.{names['node'][r.node]}.radius")
-                  for name, r in zip(roll_names, line.rolls, strict=True)
-                  if per_node.count(r.node) == 1)
+                            f"rollers.{names['node'][r.node]}.radius"
+                            if per_node.count(r.node) == 1 else "")
+                  for name, r in zip(roll_names, line.rolls, strict=True))
     return Layout({"span": spans, **names, "roll": roll_names}, BRANCHED_DIMS,
                   BRANCHED_MISSING, names["node"][line.master], set_points, rolls)
