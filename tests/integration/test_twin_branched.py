@@ -19,6 +19,7 @@ import pandas as pd
 import pytest
 
 import webline
+from webline.twin.fitting.fit_files import write_fit_files
 from webline.twin.traces.replay import Replay
 from webline.twin.traces.synthetic import NOISE
 from webline.twin.tuning.experiment_branched import write_branched_experiment
@@ -115,12 +116,12 @@ def test_the_true_line_replayed_leaves_the_noise_and_the_files_line_does_not(cas
     assert files[f"torque[{case.master}]"] > 1.1 * true[f"torque[{case.master}]"], files
 
 
-def test_fit_finds_the_webs_ea_and_the_masters_inertia(case):
+def test_fit_finds_the_webs_ea_and_the_masters_inertia(case, tmp_path):
     """From the file's values, the fit of the web's EA and the master's inertia reaches the
     noise (residual scale 0.9-1.1) and finds both within 1 % of the truth and inside their
     95 % intervals, with the verdict good: the same fit as on a single-path line, its paths
     the branched line file's (``webs.NAME.web.ea``, ``web.ea``); the fitted line is the
-    file's with the values set."""
+    file's with the values set, and ``fitted.toml`` writes it, each value annotated."""
     case, record = case
     fitted = webline.fit(case.line, record, case.free, starts=1)
     assert fitted.verdict.status == "good", fitted
@@ -130,3 +131,13 @@ def test_fit_finds_the_webs_ea_and_the_masters_inertia(case):
         assert fitted.ci95[i, 0] <= true <= fitted.ci95[i, 1], fitted
     assert fitted.fitted_line.branched
     assert fitted.fitted_line.materials[0].ea == pytest.approx(fitted.value[0], rel=1e-12)
+    # fitted.toml: the branched line file, each fitted value's own line annotated
+    toml, _ = write_fit_files(fitted, tmp_path)
+    text = toml.read_text(encoding="utf-8")
+    for i, path in enumerate(case.free):
+        row = next(r for r in text.splitlines() if r.startswith(f"{path.split('.')[-1]} = ")
+                   and "# fitted" in r)
+        assert float(row.split("=")[1].split("#")[0]) == pytest.approx(fitted.value[i],
+                                                                      rel=1e-9), path
+    again = webline.load_line(toml)
+    assert again.materials[0].ea == pytest.approx(fitted.value[0], rel=1e-9)
