@@ -46,7 +46,7 @@ def parse_pairs(items: list[str] | None, option: str, sep: str = "=") -> dict[st
 
 def _data(data: str, line: str, scenario: str | None,
           maps: list[str] | None) -> Measurements:
-    from webline.line import load_line
+    from webline.model.lines import load_line
     from webline.twin.traces.measurements import load_measurements
 
     base = load_line(line)
@@ -70,9 +70,7 @@ def replay_command(
     from webline.report.outputs import default_folder
     from webline.twin.fitting.report import write_replay_report
     from webline.twin.traces.replay import replay
-    from webline.twin.traces.single_path import single_path_line
 
-    single_path_line(line, "webline replay")  # (one line where its webs branch)
     measurements = _data(data, line, scenario, maps)
     result = replay(measurements.line, measurements)
     target = out or Path(default_folder(result.line.name, "replay"))
@@ -121,12 +119,10 @@ def fit_command(
     from webline.twin.fitting.fit import fit
     from webline.twin.fitting.fit_files import write_fit_files
     from webline.twin.fitting.report import write_fit_report
-    from webline.twin.traces.single_path import single_path_line
 
-    single_path_line(line, "webline fit")
     bounds = parse_pairs(free, "--free")
     measurements = _data(data, line, scenario, maps)
-    from webline.line import load_line
+    from webline.model.lines import load_line
 
     result = fit(load_line(line), measurements, bounds, scenario=scenario,
                  max_simulations=max_simulations, starts=starts, seed=seed)

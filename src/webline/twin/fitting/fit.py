@@ -9,12 +9,13 @@ import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from webline.errors import ArgumentError
 from webline.line import Line
+from webline.model.lines import load_line
 from webline.twin.fitting.checks import ModelChecks, model_checks
 from webline.twin.fitting.free import FreeParameter, parse_free
 from webline.twin.fitting.identify import Identifiability, identifiability
@@ -25,8 +26,10 @@ from webline.twin.traces.drive import driven_line
 from webline.twin.traces.measurements import Measurements
 from webline.twin.traces.replay import as_measurements
 from webline.twin.traces.runs import Run, common_substeps, compared_time, run_cases
-from webline.twin.traces.single_path import single_path_line
 from webline.twin.traces.weights import noise_levels
+
+if TYPE_CHECKING:
+    from webline.model.web_graph import BranchedLine
 
 #: forward-difference step of the Jacobian, as a share of each parameter's bounds
 FD_STEP = 1e-3
@@ -83,8 +86,8 @@ class FitResult:
     ``verdict`` good / poor / failed with its reasons (``twin.fitting.verdict``);
     ``checks`` the residuals' whiteness and input correlation (``twin.fitting.checks``)."""
 
-    line: Line
-    fitted_line: Line
+    line: Line | BranchedLine
+    fitted_line: Line | BranchedLine
     data: Measurements
     parameters: tuple[FreeParameter, ...]
     value: np.ndarray
@@ -160,7 +163,7 @@ class FitResult:
                 + "".join(f"\nmodel check: {f}" for f in self.checks.findings))
 
 
-def fit(line: Line | str | Path, data: Measurements | str | Path,
+def fit(line: Line | BranchedLine | str | Path, data: Measurements | str | Path,
         free: Mapping[str, object], *, scenario: str | None = None,
         signals: Sequence[str] | None = None, max_simulations: int = 400,
         workers: int | None = 1, starts: int = STARTS, seed: int = 0) -> FitResult:
@@ -185,7 +188,7 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
     result says how many reached the best cost. ``starts=1``: the line's values only.
     """
     started = time.perf_counter()
-    line = original = single_path_line(line, "fit")
+    line = original = load_line(line)
     if scenario is not None:
         line = line.with_scenario(scenario)
     data = as_measurements(data, line)
@@ -323,8 +326,8 @@ def fit(line: Line | str | Path, data: Measurements | str | Path,
         correlation_time=honest.tau * data.sample_period, checks=checks)
 
 
-def driven_fitted(line: Line, params: Sequence[FreeParameter], value: np.ndarray,
-                  identifiable: np.ndarray) -> Line:
+def driven_fitted(line: Line | BranchedLine, params: Sequence[FreeParameter],
+                  value: np.ndarray, identifiable: np.ndarray) -> Line | BranchedLine:
     """``line`` (as loaded, without the scenario the fit ran) with each identifiable parameter
     set to its fitted value (the others keep the line's: the data gave them no confident
     value)."""

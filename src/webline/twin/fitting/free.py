@@ -6,11 +6,14 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from webline.errors import ArgumentError, LineFileError
 from webline.line import Line
 from webline.spec.paths import split_path
+
+if TYPE_CHECKING:
+    from webline.model.web_graph import BranchedLine
 
 
 @dataclass(frozen=True)
@@ -104,7 +107,7 @@ def _bounds(text: object, path: str) -> tuple[str, str]:
     return low, high
 
 
-def _si(line: Line, path: str, value: str) -> float:
+def _si(line: Line | BranchedLine, path: str, value: str) -> float:
     """``value`` set at ``path`` of ``line`` and read back in SI (the line file's own check
     of the unit's kind and range)."""
     try:
@@ -131,7 +134,7 @@ def si_unit_of(text: str) -> str:
     return ""
 
 
-def parse_free(line: Line, free: Mapping[str, object]) -> list[FreeParameter]:
+def parse_free(line: Line | BranchedLine, free: Mapping[str, object]) -> list[FreeParameter]:
     """The free parameters of ``free`` (path -> "LOW .. HIGH UNIT"), wildcards expanded, in
     order. Raises ``ArgumentError`` naming the path for an unknown path, bounds that are not
     LOW < HIGH, or values the line refuses."""
