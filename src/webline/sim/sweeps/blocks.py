@@ -23,13 +23,14 @@ BLOCK = 256
 FIRST_BLOCK = 16
 
 
-def blocks_of(n: int, largest: int = BLOCK) -> list[range]:
+def blocks_of(n: int, largest: int | None = None) -> list[range]:
     """Consecutive ranges covering ``n`` cases: ``FIRST_BLOCK``, then doubling to ``largest``
-    (at most ``BLOCK``)."""
+    (default and at most ``BLOCK``)."""
+    largest = BLOCK if largest is None else min(largest, BLOCK)
     out, lo, size = [], 0, min(FIRST_BLOCK, largest)
     while lo < n:
         out.append(range(lo, min(n, lo + size)))
-        lo, size = lo + size, min(largest, BLOCK, 2 * size)
+        lo, size = lo + size, min(largest, 2 * size)
     return out
 
 
