@@ -8,8 +8,8 @@ where one is strong, the model likely lacks something the data show."""
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -139,3 +139,21 @@ def model_checks(
                     )
     rows.sort(key=lambda c: -c.rms)
     return ModelChecks(tuple(rows), tuple(findings), tuple(serious))
+
+
+def merged_checks(parts: Sequence[tuple[str, ModelChecks]]) -> ModelChecks:
+    """The checks of a fit's records as one: a single record's as they are; several
+    records' with each signal and finding named ``LABEL: ...`` by its record, signals largest
+    residual first."""
+    if len(parts) == 1:
+        return parts[0][1]
+
+    def named(label: str, items: Sequence[str]) -> list[str]:
+        return [f"{label}: {item}" for item in items]
+
+    rows = [replace(c, signal=f"{label}: {c.signal}") for label, checks in parts
+            for c in checks.signals]
+    rows.sort(key=lambda c: -c.rms)
+    return ModelChecks(tuple(rows),
+                       tuple(f for label, c in parts for f in named(label, c.findings)),
+                       tuple(f for label, c in parts for f in named(label, c.serious)))
