@@ -83,16 +83,17 @@ def record_labels(sources: Sequence[str]) -> list[str]:
     return out
 
 
-def scenario_list(scenario: str | Sequence[str | None] | None, count: int) -> list[str | None]:
+def scenario_list(scenario: str | Sequence[str | None] | None, count: int,
+                  option: str = "scenario") -> list[str | None]:
     """One scenario per record: None or one name for all, or a list of one per record
-    (``ArgumentError`` when its length is neither)."""
+    (``ArgumentError`` naming ``option`` when its length is neither)."""
     if scenario is None or isinstance(scenario, str):
         return [scenario] * count
     chosen = list(scenario)
     if len(chosen) == 1:
         return chosen * count
     if len(chosen) != count:
-        raise ArgumentError(f"scenario: {len(chosen)} scenarios for {count} records: give "
+        raise ArgumentError(f"{option}: {len(chosen)} scenarios for {count} records: give "
                             "one for all, or one per record in the records' order")
     return chosen
 
