@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -54,7 +55,7 @@ class FitRecord:
         """Compared points per mean of the first (smoothed) stage: ``SMOOTH_SECONDS``."""
         return max(1, round(SMOOTH_SECONDS / self.data.sample_period))
 
-    @property
+    @cached_property
     def points(self) -> int:
         """Measured points compared (every signal's)."""
         return int(np.isfinite(self.measured).sum())
@@ -66,11 +67,15 @@ class FitRecord:
     def weighted(self, run: Run) -> np.ndarray:
         """(simulated - measured) / noise per signal and compared point; ``FAILED_RESIDUAL``
         where the simulation did not reach, NaN where nothing was measured."""
-        simulated = np.stack([run.values[n] for n in self.names])
-        weight = np.array([1.0 / self.noise[n] for n in self.names])[:, None]
-        r = np.where(np.isfinite(simulated), (simulated - self.measured) * weight,
-                     FAILED_RESIDUAL)
-        return np.where(np.isfinite(self.measured), r, np.nan)
+        r = np.empty_like(self.measured)
+        for i, name in enumerate(self.names):  # in place: no temporaries of the whole record
+            np.subtract(run.values[name], self.measured[i], out=r[i])
+            r[i] *= 1.0 / self.noise[name]
+        if np.count_nonzero(np.isfinite(r)) < self.points:  # the run stopped: NaN from there
+            # on, a large residual wherever something was measured
+            reached = np.isfinite(np.stack([run.values[n] for n in self.names]))
+            r[~reached & np.isfinite(self.measured)] = FAILED_RESIDUAL
+        return r
 
 
 def record_labels(sources: Sequence[str]) -> list[str]:
