@@ -38,6 +38,7 @@ from webline.spec.nip import shaft_terms
 from webline.spec.ranges import argument
 from webline.spec.roll_inertia import roll_constants
 from webline.spec.schema import IdleSpec, RewindSpec, RollerDrag, UnwindSpec
+from webline.spec.sensors import LoadcellSensor
 
 
 @dataclass(frozen=True)
@@ -129,6 +130,10 @@ def operating_point(line: Line | str, t: float | str = 0.0, *,
         tension[list(zone.spans)] = pwl_value(*breakpoints(ref), t) * _taper(line, zone, radii)
     if line.spec.control.tension_ramp is not None:  # the ramp at start and stop (R1)
         tension *= ramp_factor(line, t)
+    for sensor in line.spec.sensors:  # a loop holds its loadcell's reading on the reference
+        if isinstance(sensor, LoadcellSensor):
+            k = next(k for k in range(line.n_spans) if line.span_name(k) == sensor.span)
+            tension[k] = (tension[k] - sensor.offset) / sensor.gain
     tension_l, speed_l, omega_l, accel_l = _equilibrium_motion(line, tension.tolist(), v_line,
                                                                a_line, radii, inertia, drags)
     tension, speed = np.array(tension_l), np.array(speed_l)

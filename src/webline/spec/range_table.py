@@ -310,6 +310,11 @@ RANGES: dict[str, Range] = {
                                              "an encoder's count per sample"),
     "measurement_noise.seed": _r("integer", (0.0, 2.0**53), (0.0, 2.0**53),
                                  "the plan stores it as a float (exact to 2^53)"),
+    "loadcell.gain": _r("dimensionless", (0.01, 100.0), (0.8, 1.25),
+                        "a calibrated loadcell reads within a few per cent"),
+    "loadcell.offset": _r(FORCE, (-1e6, 1e6), (-1e3, 1e3), "a zero drift of the amplifier"),
+    "encoder.scale": _r("dimensionless", (0.01, 100.0), (0.8, 1.25),
+                        "a roller diameter or pulse count off by a few per cent"),
 }
 
 #: schema model name -> the sections of ``RANGES`` its fields look up, first match first
@@ -355,6 +360,8 @@ SECTIONS: dict[str, tuple[str, ...]] = {
     "SpeedRipple": ("speed_ripple",),
     "RollerDrag": ("roller_drag",),
     "MeasurementNoise": ("measurement_noise",),
+    "LoadcellSensor": ("loadcell",),
+    "EncoderSensor": ("encoder",),
     "ControlSpec": ("control",),
     "ScenarioSpec": ("scenario",),
     "BranchedLineSpec": ("line",),

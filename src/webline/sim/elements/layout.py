@@ -98,7 +98,10 @@ D_COMPFN, D_COMPFW, D_COMPFT = 65, 66, 71
 # ... and the diameter calculator's presets while running (W2a): how many, their times [s]
 # and diameters [m] (0: the true one), 4 slots
 D_PRESETN, D_PRESETT, D_PRESETD = 76, 77, 81
-D_COLS = 85
+# ... and the sensors it reads (spec.sensors; read only where O_SENSORS is 1): its loadcell's
+# gain [-] and offset [N] (the controller reads gain T + offset) and its encoder's scale [-]
+D_TGAIN, D_TOFFSET, D_VSCALE = 85, 86, 87
+D_COLS = 88
 DSOURCE_MASTER, DSOURCE_REFERENCE = -1, -2
 DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = 0, 1, 2
 DANCER_NONE, DANCER_POSITION, DANCER_TENSION = 0, 1, 2
@@ -159,6 +162,7 @@ O_OWNRHO = 15  # 1 if a roll has its own wound density, from its totals (J1)
 O_LAW = 16  # 1 if the web's stress-strain law is nonlinear: T = F(s) (``physics.web_law``),
 # the law's array after the W_COLS scalars of the web table
 O_EXACT = 17  # 1 if spans conserve web mass exactly (``web.transport``), 0: thesis 6.8 (E-6.6)
+O_SENSORS = 18  # 1 if a sensor is other than ideal (spec.sensors): D_TGAIN, D_TOFFSET, D_VSCALE
 
 # kernel status codes; with each failure the kernel returns where it happened: the span
 # (strength, runaway stretch), node (runaway speed) or drive (runaway motor speed), else -1

@@ -41,19 +41,24 @@ def _speed_state(plan: Plan, d: int, i: int) -> int:
 
 def _tension_sensor(plan: Plan, d: int) -> tuple[int, float]:
     """(linear state, d(measured tension)/d(state)) of drive ``d``'s tension measurement: its
-    zone's loadcell span (1), or a dancer (``sim.core.dancer.measurement_row``)."""
+    zone's loadcell span (its gain, ``spec.sensors``), or a dancer
+    (``sim.core.dancer.measurement_row``)."""
     line = plan.line
     n_c = int(np.sum(plan.drives[:, L.D_TSTATE] >= 0))
     first = line.n_spans + line.n_nodes + len(line.drives) + 2 * n_c
     found = dancers.measurement_row(plan, d, first)
-    return found if found is not None else (int(plan.drives[d, L.D_LOADCELL]), 1.0)
+    if found is not None:
+        return found
+    return int(plan.drives[d, L.D_LOADCELL]), float(plan.drives[d, L.D_TGAIN])
 
 
 def _speed_scale(plan: Plan, d: int) -> float:
-    """Ratio between the measured angular speed and the roller's (n for a motor encoder)."""
+    """The measured speed's state per measured roller speed: n for a motor encoder, over
+    the encoder's scale (``spec.sensors``)."""
+    scale = float(plan.drives[d, L.D_VSCALE])
     if plan.linear_motor_state(d) is not None and plan.drives[d, L.D_FEEDBACK] > 0:
-        return float(plan.drives[d, L.D_RATIO])
-    return 1.0
+        return float(plan.drives[d, L.D_RATIO]) / scale
+    return 1.0 / scale
 
 
 def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
