@@ -313,6 +313,9 @@ RANGES: dict[str, Range] = {
     "loadcell.gain": _r("dimensionless", (0.01, 100.0), (0.8, 1.25),
                         "a calibrated loadcell reads within a few per cent"),
     "loadcell.offset": _r(FORCE, (-1e6, 1e6), (-1e3, 1e3), "a zero drift of the amplifier"),
+    "loadcell.delay": _r("time", (0.0, 10.0), (0.0, 0.05),
+                         "an amplifier's filter and a fieldbus: milliseconds"),
+    "encoder.delay": _r("time", (0.0, 10.0), (0.0, 0.05), "a fieldbus cycle: milliseconds"),
     "encoder.scale": _r("dimensionless", (0.01, 100.0), (0.8, 1.25),
                         "a roller diameter or pulse count off by a few per cent"),
 }

@@ -12,30 +12,34 @@ from typing import Annotated, Literal, NoReturn
 from pydantic import Field
 
 from webline.spec.disturbances import Name
-from webline.spec.quantities import Strict, si
+from webline.spec.quantities import Strict, TimeNonNeg, si
 
 
 class LoadcellSensor(Strict):
     """A loadcell on a zone's tension span: its controller reads ``gain`` T + ``offset``
-    [N] where the web carries T [N]. ``span``: the span whose tension reference marks it
-    (the zone's loadcell span)."""
+    [N] where the web carries T [N], ``delay`` [s] late (rounded to whole controller
+    samples). ``span``: the span whose tension reference marks it (the zone's loadcell
+    span)."""
 
     name: Name
     type: Literal["loadcell"]
     span: Name
     gain: Annotated[float, si("dimensionless", ">0")] = 1.0
     offset: Annotated[float, si("force")] = 0.0
+    delay: TimeNonNeg = 0.0
 
 
 class EncoderSensor(Strict):
     """The speed encoder of a driven roller or roll: its drive's speed loop, the diameter
     calculator and a result's ``speed_measured`` read ``scale`` x the true surface speed
-    (a wrong roller diameter or pulse count in the drive's parameters)."""
+    (a wrong roller diameter or pulse count in the drive's parameters); the speed loop reads
+    it ``delay`` [s] late (rounded to whole controller samples)."""
 
     name: Name
     type: Literal["encoder"]
     roller: Name
     scale: Annotated[float, si("dimensionless", ">0")] = 1.0
+    delay: TimeNonNeg = 0.0
 
 
 SensorSpec = Annotated[LoadcellSensor | EncoderSensor, Field(discriminator="type")]

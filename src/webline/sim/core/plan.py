@@ -20,7 +20,7 @@ from webline.sim.core.drive_table import drive_table, transmission, transmission
 from webline.sim.elements import layout as L
 from webline.sim.elements import splice
 from webline.sim.elements.friction_loop import friction_columns
-from webline.sim.elements.sensor_loop import sensor_columns
+from webline.sim.elements.sensor_loop import fill_delays, sensor_columns
 from webline.spec.nip import shaft_terms
 from webline.spec.roll_inertia import roll_constants
 from webline.spec.schema import (
@@ -187,6 +187,11 @@ class Plan:
                 feedforward = op.line_speed * (ea - t_master) / (ea - t_up)
             measured = self.drives[d, L.D_VSCALE] * op.speed[i]  # as its encoder reads it
             istate[d, L.I_TENSION] = self.drives[d, L.D_SIGMA] * (measured - feedforward)
+        if self.offsets[L.O_SENSORS]:  # the delayed readings start at the initial state's
+            loadcells = self.drives[:, L.D_LOADCELL].astype(int)
+            fill_delays(self.drives, istate, np.where(loadcells >= 0, op.tension[loadcells],
+                                                      np.nan),
+                        istate[:, L.I_RADIUS] * op.omega[list(op.drives)])
         return x, istate
 
 
@@ -316,7 +321,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     winder.diameter_columns(drives, line)
     winder.compensation_columns(drives, line)
     friction = friction_columns(nodes, drives, line, 1.0 / rate)
-    sensors = sensor_columns(drives, line)  # calibrated loadcells and encoders
+    sensors = sensor_columns(drives, line, 1.0 / rate)  # calibrated loadcells, encoders
     master_up = 1 + line.zone_of_span(line.master - 1)
     web = np.zeros(L.W_COLS)
     web[L.W_EA] = line.ea

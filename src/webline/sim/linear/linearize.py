@@ -145,7 +145,10 @@ def _decentralized_rows(plan: Plan, op: OperatingPoint, d: int, i: int, refs: np
     if row[L.D_ADAPTIVE] > 0:
         gain = op.inertia[i] / (ratio * radius) / row[L.D_GAINNORM]
     kx[_speed_state(plan, d, i)] = -gain * row[L.D_KV] * radius / _speed_scale(plan, d)
-    speed_per_line = op.speed[i] / op.line_speed if op.line_speed else 1.0
+    # the node's reference speed per line reference: the draw (the op's speeds are the web's,
+    # slower than the reference by the master encoder's scale, spec.sensors)
+    master_scale = plan.drives[line.drives.index(line.master), L.D_VSCALE]
+    speed_per_line = master_scale * op.speed[i] / op.line_speed if op.line_speed else 1.0
     kr[0] = gain * row[L.D_KV] * speed_per_line
     if row[L.D_FAMILY] == L.FAMILY_ADAPTIVE:  # b̂ (ω - ω_ref)/n with b̂ frozen at its guess
         kx[_speed_state(plan, d, i)] += row[L.D_BMODEL] / (ratio * _speed_scale(plan, d))

@@ -178,13 +178,15 @@ class Result(RunResult):
     @cached_property
     def tension_measured(self) -> np.ndarray:
         """Span tensions [N] as the loadcells show them, without their noise: gain T +
-        offset on a calibrated loadcell's span (``spec.sensors``), ``tension`` elsewhere.
+        offset, delayed, on a calibrated loadcell's span (``spec.sensors``), ``tension``
+        elsewhere.
         ``tension`` stays the web's true tension."""
         if not self.plan.offsets[L.O_SENSORS]:
             return self.tension
         from webline.sim.elements.sensor_loop import measured_tensions
 
-        return measured_tensions(self.line, self.plan.drives, self.tension)
+        return measured_tensions(self.line, self.plan.drives, self.plan.dt, self.time,
+                                 self.tension)
 
     @cached_property
     def tension_ref(self) -> np.ndarray:
@@ -254,13 +256,15 @@ class Result(RunResult):
     @cached_property
     def speed_measured(self) -> np.ndarray:
         """Web speed at each node [m/s] as the encoders show it, without their noise: its
-        scale x ``speed`` on a driven node with a calibrated encoder (``spec.sensors``),
+        scale x ``speed``, delayed, on a driven node with a calibrated encoder
+        (``spec.sensors``),
         ``speed`` elsewhere."""
         if not self.plan.offsets[L.O_SENSORS]:
             return self.speed
         from webline.sim.elements.sensor_loop import measured_speeds
 
-        return measured_speeds(self.line, self.plan.drives, self.speed)
+        return measured_speeds(self.line, self.plan.drives, self.plan.dt, self.time,
+                               self.speed)
 
     @cached_property
     def speed_ref(self) -> np.ndarray:
