@@ -133,3 +133,12 @@ def test_a_branched_line_refuses_sensors_in_one_line():
     with pytest.raises(LineFileError, match=r"sensors: .*single-path lines only"):
         webline.load_line("laminator").replace(
             {"sensors": [{"name": "a", "type": "encoder", "roller": "nip"}]})
+
+
+def test_a_loadcell_on_a_zone_a_dancer_holds_is_refused():
+    """The converter's unwind zone is held by its dancer (the loadcell only monitors): a
+    calibration there would not act in the loop, so it is refused naming the key."""
+    line = webline.load_line("converter").replace(
+        {"sensors": [{"name": "a", "type": "loadcell", "span": "unwind_span", "gain": 1.02}]})
+    with pytest.raises(LineFileError, match=r"sensors\[0\]\.span: .*with a dancer"):
+        webline.simulate(line, 0.1)

@@ -42,6 +42,7 @@ def sensor_columns(drives: np.ndarray, line: Line, dt: float) -> bool:
             k = spans[sensor.span]
             for d in range(len(line.drives)):
                 if int(drives[d, L.D_LOADCELL]) == k:
+                    _loop_reads_loadcell(line, drives, d, s)
                     drives[d, L.D_TGAIN], drives[d, L.D_TOFFSET] = sensor.gain, sensor.offset
                     drives[d, L.D_TDELAY] = samples
         else:
@@ -49,6 +50,19 @@ def sensor_columns(drives: np.ndarray, line: Line, dt: float) -> bool:
             drives[d, L.D_VSCALE], drives[d, L.D_VDELAY] = sensor.scale, samples
     ideal = np.array([1.0, 0.0, 1.0, 0.0, 0.0])
     return bool(np.any(drives[:, L.D_TGAIN:L.D_VDELAY + 1] != ideal))
+
+
+def _loop_reads_loadcell(line: Line, drives: np.ndarray, d: int, s: int) -> None:
+    """``LineFileError`` where drive ``d``'s zone is held by something other than the
+    loadcell of sensor ``s`` (a dancer, an observer, open-loop control): its calibration
+    would not act, and the operating point would hold the wrong tension."""
+    reader = ("a dancer" if drives[d, L.D_DANCER] >= 0 else "a tension observer"
+              if drives[d, L.D_OBS] > 0 else "open-loop (indirect) control"
+              if drives[d, L.D_FAMILY] == L.FAMILY_OPEN_LOOP else "")
+    if reader:
+        raise LineFileError(line.source, f"sensors[{s}].span",
+                            f"roller {line.node_name(line.drives[d])!r} controls this zone "
+                            f"with {reader}, not this loadcell: its calibration would not act")
 
 
 def fill_delays(drives: np.ndarray, istate: np.ndarray, tension: np.ndarray,
