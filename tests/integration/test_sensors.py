@@ -142,3 +142,22 @@ def test_a_loadcell_on_a_zone_a_dancer_holds_is_refused():
         {"sensors": [{"name": "a", "type": "loadcell", "span": "unwind_span", "gain": 1.02}]})
     with pytest.raises(LineFileError, match=r"sensors\[0\]\.span: .*with a dancer"):
         webline.simulate(line, 0.1)
+
+
+def test_show_and_the_report_list_the_calibrated_sensors():
+    """``webline show`` and the report's line section: a sensors table in the chosen units
+    (here the offset in lbf: 0.5 lbf = 2.224 N)."""
+    from webline.report.text.describe import line_tables
+    from webline.report.text.display import Display
+
+    line = webline.load_line("hswl").replace({"sensors": [
+        {"name": "lc2", "type": "loadcell", "span": "span2", "gain": 1.03,
+         "offset": "-0.5 lbf", "delay": "3 ms"},
+        {"name": "enc", "type": "encoder", "roller": "master", "scale": 1.02}]})
+    imperial = Display("imperial", line.spec.web.width)
+    (table,) = [t for t in line_tables(line, imperial) if t.key == "sensors"]
+    assert tuple(table.rows[0][:3]) == ("lc2", "loadcell", "span span2")
+    assert "1.03 x T - 0.5 lbf" in table.rows[0][3] and "late" in table.rows[0][3]
+    assert table.rows[1][3] == "1.02 x v"
+    assert not [t for t in line_tables(webline.load_line("hswl"), imperial)
+                if t.key == "sensors"]
