@@ -234,7 +234,8 @@ def _sections(result: Result, display: Display, images: dict[str, Image], analys
                 ("results file (SI)", str(results_file.name) if results_file else "(none)")]
     line_parts = [described["line"], described["rollers"], described["spans"],
                   described["drives"], described["zones"],
-                  *([described["winder"]] if "winder" in described else [])]
+                  *([described["winder"]] if "winder" in described else []),
+                  *([described["sensors"]] if "sensors" in described else [])]
     summary_parts = [*summary_tables(result, display), *_verdict_parts(result)]
     if summarised(line):  # hundreds of rows: the first and last of each table
         line_parts = [condensed(p) for p in line_parts]

@@ -1,6 +1,8 @@
 """The free parameters of a fit: ``{"rollers.unwind.inertia": "0.5 .. 5 kg*m**2"}`` read into
 paths with SI bounds, the line's value as the start, and wildcards expanded
-(``rollers.*.friction``: one parameter per roller that has a friction)."""
+(``rollers.*.friction``: one parameter per roller that has a friction). A sensor's
+calibration is a path like any other (``sensors.NAME.gain``, ``spec.sensors``) once the line
+file declares the sensor."""
 
 from __future__ import annotations
 
@@ -146,6 +148,10 @@ def parse_free(line: Line | BranchedLine, free: Mapping[str, object]) -> list[Fr
             raise ArgumentError(f"free {pattern}: matches no value of line {line.name!r}")
         for path in paths:
             start = lookup(data, path)
+            if start is None and path.startswith("sensors."):
+                raise ArgumentError(f"free {path}: line {line.name!r} declares no such sensor; "
+                                    "add it to the line file's [[sensors]] (ideal: gain 1, "
+                                    "offset 0, scale 1; docs/line-file.md, sensors)")
             if not isinstance(start, int | float):
                 raise ArgumentError(f"free {path}: no single number there in line "
                                     f"{line.name!r} (a path such as rollers.NAME.inertia)")

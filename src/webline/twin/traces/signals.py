@@ -17,11 +17,13 @@ if TYPE_CHECKING:
     from webline.model.web_graph import BranchedLine
     from webline.sim.results.run_result import RunResult
 
-#: signal kind -> (element dimension, unit kind of ``webline.units``, ``Result`` attribute)
+#: signal kind -> (element dimension, unit kind of ``webline.units``, ``Result`` attribute);
+#: a log's tension and speed are what its loadcells and encoders show: they compare with the
+#: readings of the line's sensors (``spec.sensors``; the true values where none is calibrated)
 COMPARED: dict[str, tuple[str, str, str]] = {
-    "tension": ("span", "force", "tension"),
+    "tension": ("span", "force", "tension_measured"),
     "tension_ref": ("span", "force", "tension_ref"),
-    "speed": ("node", "speed", "speed"),
+    "speed": ("node", "speed", "speed_measured"),
     "surface_speed": ("node", "speed", "surface_speed"),
     "omega": ("node", "angular_frequency", "omega"),
     "radius": ("node", "length", "radius"),
@@ -39,7 +41,8 @@ IGNORED = ("slack", "slipping", "slip_velocity", "slip_power", "twist", "contact
            "friction_estimate", "control_radius", "equilibrium_input", "inertia",
            "web_unwound", "web_rewound", "web_stored", "mrac_gain_tension", "mrac_gain_speed",
            "mrac_bias", "strain", "layer_tension", "layer_strain", "web_in", "web_out",
-           "layer_in", "layer_out", "layer_stored", "core_omega", "radius_calc")
+           "layer_in", "layer_out", "layer_stored", "core_omega", "radius_calc",
+           "tension_measured", "speed_measured")
 #: references: they drive a replay, and are compared only to show they were followed
 REFERENCES = ("tension_ref", "speed_ref")
 
