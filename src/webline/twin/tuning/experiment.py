@@ -132,19 +132,18 @@ def accel_ramps(line: Line) -> ExperimentPlan:
                     * radius / inertia)
 
     def design(level: float, ramp: float) -> StepDesign:
-        return chain_step(line.replace({"speed": level}), ["line_speed_ref"], v / 3.0, ramp)
+        return chain_step(line.replace({"speed": level}), {"line_speed_ref": v / 3.0}, ramp)
 
     speed, duration, derivation, rate = speed_ramps(v, accel, tau_s, design)
     return ExperimentPlan(EXPERIMENTS["accel-ramps"], line.replace({"speed": speed}), duration,
                           derivation, ("speed[*]", "torque[*]", "tension[*]"), *rate)
 
 
-def chain_step(line: Line, inputs: list[str], size: float, ramp: float | None = None
-               ) -> StepDesign:
-    """``design_step`` on ``line``'s closed loop at its operating point: a step of ``size``
-    on its ``inputs`` (``line_speed_ref`` [m/s], ``zoneN_tension_ref`` [N])."""
+def chain_step(line: Line, steps: dict[str, float], ramp: float | None = None) -> StepDesign:
+    """``design_step`` on ``line``'s closed loop at its operating point: ``steps`` of its
+    inputs (``line_speed_ref`` [m/s], ``zoneN_tension_ref`` [N]: the size of each)."""
     plan = compile_plan(line)
-    return design_step(plan_linear_model(plan), inputs, size,
+    return design_step(plan_linear_model(plan), steps,
                        [line.spec.rollers[i].name for i in line.drives], plan.op.torque,
                        plan.drives[:, L.D_LIMIT], ramp)
 
@@ -214,7 +213,7 @@ def tension_step(line: Line) -> ExperimentPlan:
         if not isinstance(ref, float | int):
             raise ArgumentError(f"{line.name}: spans.{name}.tension: tension-step needs a "
                                 "constant set point to step from")
-        design = chain_step(line, [f"zone{z + 1}_tension_ref"], STEP * ref)
+        design = chain_step(line, {f"zone{z + 1}_tension_ref": STEP * ref})
         changes[f"spans.{name}.tension"], t, words = step_table(name, float(ref), t, design)
         stepped.append(words)
         designs.append(design)

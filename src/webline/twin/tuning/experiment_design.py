@@ -9,7 +9,8 @@ So one step response, computed once, gives for every candidate ramp
 * the drives' torques: the shortest ramp whose torques stay within ``TORQUE_SHARE`` of each
   drive's limit, from the operating point's torque, going up and coming back;
 * the settling time: the last time any logged signal (tensions, speeds, torques) is outside
-  ``SETTLE_BAND`` of its largest excursion around its final value;
+  ``SETTLE_BAND`` of its steady change (of ``SETTLE_BAND`` of its largest excursion where
+  it has almost none);
 * the logging rate: ``SAMPLES_PER_PERIOD`` samples per period of the fastest closed-loop mode
   that moves a logged signal by more than its sensor noise (``twin.traces.synthetic.NOISE``:
   a mode below the noise cannot be resolved, one above it must be, or the record aliases
@@ -20,7 +21,7 @@ So one step response, computed once, gives for every candidate ramp
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -98,15 +99,15 @@ def _step_response(a: np.ndarray, b: np.ndarray, horizon: float, steps: int
     return np.arange(steps + 1) * dt, x
 
 
-def design_step(model: LinearModel, inputs: Sequence[str], size: float, drives: Sequence[str],
+def design_step(model: LinearModel, steps: Mapping[str, float], drives: Sequence[str],
                 torque: np.ndarray, limit: np.ndarray, ramp: float | None = None) -> StepDesign:
-    """A step of ``size`` [input units] on every input named in ``inputs`` of the closed loop
-    ``model``, applied as a ramp: the shortest multiple of ``RAMP_GRID`` [s] that keeps each
+    """Steps of the closed loop ``model``'s inputs (``steps``: name -> size [input units]),
+    together, applied as a ramp: the shortest multiple of ``RAMP_GRID`` [s] that keeps each
     drive's torque (``drives``' names; ``torque`` [N·m] at the operating point, ``limit``
     [N·m]) within ``TORQUE_SHARE`` of its limit on the way up and back, or the given
     ``ramp`` [s]; its settling time and logging rate (module docstring)."""
     u = np.zeros(len(model.inputs))
-    for name in inputs:
+    for name, size in steps.items():
         u[model.inputs.index(name)] = size
     values, right = np.linalg.eig(model.a)
     rates = np.abs(values.real)
@@ -150,11 +151,14 @@ def design_step(model: LinearModel, inputs: Sequence[str], size: float, drives: 
 
 def _settled(time: np.ndarray, response: np.ndarray) -> float:
     """The last time [s] any signal of ``response`` [time, signal] is outside
-    ``SETTLE_BAND`` of its largest excursion around its final value."""
+    ``SETTLE_BAND`` of its steady change (a draw's speed change is ~T/EA of the speed's
+    transient: a hold read for it must wait for that), or of ``SETTLE_BAND`` of its largest
+    excursion where it comes back (nearly) to where it was."""
     away = np.abs(response - response[-1])
     size = away.max(axis=0)
     moving = size > 1e-12 * max(float(np.abs(response).max()), 1e-300)
-    outside = np.any(away[:, moving] > SETTLE_BAND * size[moving], axis=1)
+    band = SETTLE_BAND * np.maximum(np.abs(response[-1]), SETTLE_BAND * size)
+    outside = np.any(away[:, moving] > band[moving], axis=1)
     return float(time[np.flatnonzero(outside)[-1] + 1]) if outside.any() else 0.0
 
 
