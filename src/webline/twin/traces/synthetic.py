@@ -11,7 +11,7 @@ import numpy as np
 
 from webline.line import Line, load_line
 from webline.sim.simulate import simulate
-from webline.twin.traces.signals import line_signals, simulated
+from webline.twin.traces.signals import Signal, line_signals, simulated
 
 #: white sensor noise (standard deviation) by signal kind [SI]: a loadcell amplifier's
 #: ~0.25 % of a 200 N reading, an encoder-derived surface speed, a drive's torque estimate
@@ -35,13 +35,7 @@ def synthetic_csv(path: str | Path, line: Line | str, *, changes: Mapping[str, o
     result = simulate(truth, duration, record_interval=1.0 / rate)
     rng = np.random.default_rng(seed)
     levels = {**NOISE, **(noise or {})}
-    loadcells = {truth.span_name(z.loadcell) for z in truth.zones}
-    master = truth.node_name(truth.master)
-    known = line_signals(truth)
-    chosen = [s for s in known.values()
-              if (s.kind in signals and (s.kind != "tension" or s.element in loadcells))
-              or s.name == f"speed_ref[{master}]"
-              or (s.kind == "tension_ref" and s.element in loadcells)]
+    chosen = logged_signals(truth, signals)
     values = simulated(result, chosen)
     columns = {"time [s]": result.time + offset}
     for s in chosen:
@@ -56,3 +50,16 @@ def synthetic_csv(path: str | Path, line: Line | str, *, changes: Mapping[str, o
     path = Path(path)
     pd.DataFrame(columns).to_csv(path, index=False, float_format="%.9g")
     return path
+
+
+def logged_signals(line: Line, signals: tuple[str, ...] = ("tension", "speed", "torque")
+                   ) -> list[Signal]:
+    """What a logger on ``line`` records of the ``signals`` kinds: the loadcell tensions,
+    every roller's speed, every drive's torque; and the master's speed reference and the
+    loadcells' tension references (a PLC logs them)."""
+    loadcells = {line.span_name(z.loadcell) for z in line.zones}
+    master = line.node_name(line.master)
+    return [s for s in line_signals(line).values()
+            if (s.kind in signals and (s.kind != "tension" or s.element in loadcells))
+            or s.name == f"speed_ref[{master}]"
+            or (s.kind == "tension_ref" and s.element in loadcells)]

@@ -233,8 +233,9 @@ def step_table(name: str, ref: float, t: float, design: StepDesign
     line-file table, the time after it [s], the derivation's line for ``name``)."""
     hold = _up(max(design.settle, MIN_HOLD))
     top, ramp = ref * (1 + STEP), design.ramp
-    table = {"type": "table", "time": [0.0, t, t + ramp, t + hold, t + hold + ramp],
-             "value": [ref, ref, top, top, ref]}
+    table: dict[str, object] = {
+        "type": "table", "time": [0.0, t, t + ramp, t + hold, t + hold + ramp],
+        "value": [ref, ref, top, top, ref]}
     words = (f"{name} {ref:g} -> {top:g} N at {t:g} s, back at {t + hold:g} s: "
              f"{design.words()}; held {hold:g} s")
     return table, t + 2.0 * hold, words

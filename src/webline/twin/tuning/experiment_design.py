@@ -113,8 +113,8 @@ def design_step(model: LinearModel, steps: Mapping[str, float], drives: Sequence
     rates = np.abs(values.real)
     slowest = float(np.min(rates[rates > 1e-9 * rates.max()]))
     horizon = min(HORIZON_DECAYS / slowest, HORIZON_MAX)
-    steps = int(min(max(20.0 * horizon * float(np.abs(values).max()), 2000), 40000))
-    t, x = _step_response(model.a, model.b @ u, horizon, steps)
+    ticks = int(min(max(20.0 * horizon * float(np.abs(values).max()), 2000), 40000))
+    t, x = _step_response(model.a, model.b @ u, horizon, ticks)
     rows, torque_rows, noise = logged_rows(model, drives)
     y = x @ rows.T  # [time, signal]
     dt = t[1]
