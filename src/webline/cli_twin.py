@@ -110,6 +110,11 @@ def fit_command(
     seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of the Latin hypercube.")] = 0,
     accept_poor: Annotated[bool, typer.Option(
         "--accept-poor", help="Exit 0 for a poor fit (its files still say it is poor).")] = False,
+    interval_method: Annotated[str, typer.Option(
+        "--intervals", help="wald: value ± t x the honest standard error; profile: "
+        "profile-likelihood intervals, for confidence regions that are not ellipsoids "
+        "(each parameter's profile refits the others: some tens of simulations each).")
+    ] = "wald",
     force: ForceOpt = False,
 ) -> None:
     """Fit line parameters to measured data by weighted least squares: values, standard
@@ -124,12 +129,15 @@ def fit_command(
     from webline.twin.traces.single_path import single_path_line
 
     single_path_line(line, "webline fit")
+    if interval_method not in ("wald", "profile"):
+        raise ArgumentError(f"--intervals: 'wald' or 'profile', got {interval_method!r}")
     bounds = parse_pairs(free, "--free")
     measurements = _data(data, line, scenario, maps)
     from webline.line import load_line
 
     result = fit(load_line(line), measurements, bounds, scenario=scenario,
-                 max_simulations=max_simulations, starts=starts, seed=seed)
+                 max_simulations=max_simulations, starts=starts, seed=seed,
+                 profile=interval_method == "profile")
     target = out or Path(default_folder(result.line.name, "fit"))
     folder = open_output(target, force, "fit", FIT_FILES)
     for name in FIT_FILES:
