@@ -151,6 +151,9 @@ def chain_step(line: Line, steps: dict[str, float], ramp: float | None = None) -
 def rate_of(designs: list[StepDesign]) -> tuple[float, str]:
     """The logging rate [Hz] a test of these steps needs, and why."""
     top = max(designs, key=lambda d: d.rate)
+    if top.fastest == 0.0:
+        return top.rate, (f"10 samples across each {top.ramp:g} s ramp (no closed-loop mode "
+                          "moves a logged signal above its noise)")
     why = (f"10 samples per period of its fastest visible closed-loop mode "
            f"({top.fastest / (2 * math.pi):.3g} Hz, {top.fastest_state}) and across each "
            f"{top.ramp:g} s ramp")

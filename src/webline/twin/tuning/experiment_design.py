@@ -60,9 +60,11 @@ class StepDesign:
 
     def words(self) -> str:
         """One line for the derivation."""
+        short = (f" (above the {100 * TORQUE_SHARE:.0f} % aimed at: the operating point "
+                 "leaves too little)" if self.peak_share > TORQUE_SHARE else "")
         return (f"ramp {self.ramp:g} s (torques at most {100 * self.peak_share:.0f} % of "
-                f"the limit, {self.peak_drive}), settled {self.settle:.3g} s after its "
-                f"start (linearized closed loop)")
+                f"the limit, {self.peak_drive}{short}), settled {self.settle:.3g} s after "
+                f"its start (linearized closed loop)")
 
 
 def nice_rate(rate: float) -> float:
@@ -123,7 +125,7 @@ def design_step(model: LinearModel, steps: Mapping[str, float], drives: Sequence
 
     def ramped(width: float) -> tuple[np.ndarray, np.ndarray]:
         """(time, response) to the ramp of ``width`` [s], on past its end by the horizon."""
-        lag = round(width / dt)
+        lag = max(1, round(width / dt))
         tail = integral[-1] + final * dt * np.arange(1, lag + 1)[:, None]
         whole = np.vstack([integral, tail])
         behind = np.vstack([np.zeros((lag, y.shape[1])), whole[:len(whole) - lag]])
