@@ -121,6 +121,11 @@ def fit_command(
     seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of the Latin hypercube.")] = 0,
     accept_poor: Annotated[bool, typer.Option(
         "--accept-poor", help="Exit 0 for a poor fit (its files still say it is poor).")] = False,
+    interval_method: Annotated[str, typer.Option(
+        "--intervals", help="wald: value ± t x the honest standard error; profile: "
+        "profile-likelihood intervals, for confidence regions that are not ellipsoids "
+        "(each parameter's profile refits the others: some tens of simulations each).")
+    ] = "wald",
     force: ForceOpt = False,
 ) -> None:
     """Fit line parameters to one or more measured records by weighted least squares:
@@ -137,6 +142,8 @@ def fit_command(
     from webline.twin.fitting.records import scenario_list
     from webline.twin.fitting.report import fit_figure_names, write_fit_report
 
+    if interval_method not in ("wald", "profile"):
+        raise ArgumentError(f"--intervals: 'wald' or 'profile', got {interval_method!r}")
     bounds = parse_pairs(free, "--free")
     chosen = scenario_list(scenarios or None, len(data), "--scenario")
     measurements = [_data(path, line, scenario, maps)
@@ -145,7 +152,7 @@ def fit_command(
 
     result = fit(load_line(line), measurements, bounds, scenario=chosen,
                  per_record=per_record or (), max_simulations=max_simulations,
-                 starts=starts, seed=seed)
+                 starts=starts, seed=seed, profile=interval_method == "profile")
     target = out or Path(default_folder(result.line.name, "fit"))
     files = (*FIT_FILES, *fit_figure_names(len(result.records)))
     folder = open_output(target, force, "fit", files)

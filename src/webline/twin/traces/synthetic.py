@@ -15,7 +15,7 @@ from webline.model.lines import load_line
 from webline.profiles import breakpoints
 from webline.sim.simulate import simulate
 from webline.twin.traces.layout import layout
-from webline.twin.traces.signals import line_signals, simulated
+from webline.twin.traces.signals import Signal, line_signals, simulated
 
 if TYPE_CHECKING:
     from webline.model.web_graph import BranchedLine
@@ -43,14 +43,8 @@ def synthetic_csv(path: str | Path, line: Line | BranchedLine | str, *,
     result = simulate(truth, duration, record_interval=1.0 / rate)
     rng = np.random.default_rng(seed)
     levels = {**NOISE, **(noise or {})}
-    view = layout(truth)
-    loadcells = {point.span for point in view.set_points}
-    master = view.master
-    known = line_signals(truth)
-    chosen = [s for s in known.values()
-              if (s.kind in signals and (s.kind != "tension" or s.element in loadcells))
-              or s.name == f"speed_ref[{master}]"
-              or (s.kind == "tension_ref" and s.element in loadcells)]
+    master = layout(truth).master
+    chosen = logged_signals(truth, signals)
     values = simulated(result, chosen)
     reference = f"speed_ref[{master}]"
     if reference in values and not np.isfinite(values[reference]).any():
@@ -70,3 +64,17 @@ def synthetic_csv(path: str | Path, line: Line | BranchedLine | str, *,
     path = Path(path)
     pd.DataFrame(columns).to_csv(path, index=False, float_format="%.9g")
     return path
+
+
+def logged_signals(line: Line | BranchedLine,
+                   signals: tuple[str, ...] = ("tension", "speed", "torque")) -> list[Signal]:
+    """What a logger on ``line`` (single-path or branched) records of the ``signals`` kinds:
+    the loadcell tensions, every roller's speed, every drive's torque; and the master's speed
+    reference and the loadcells' tension references (a PLC logs them)."""
+    view = layout(line)
+    loadcells = {point.span for point in view.set_points}
+    master = view.master
+    return [s for s in line_signals(line).values()
+            if (s.kind in signals and (s.kind != "tension" or s.element in loadcells))
+            or s.name == f"speed_ref[{master}]"
+            or (s.kind == "tension_ref" and s.element in loadcells)]
