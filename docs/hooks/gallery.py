@@ -13,6 +13,7 @@
 from __future__ import annotations
 
 import ast
+import logging
 import os
 import re
 import subprocess
@@ -27,6 +28,7 @@ from typing import Any
 from mkdocs.exceptions import PluginError
 from mkdocs.structure.files import File, Files
 
+LOG = logging.getLogger("mkdocs.hooks.gallery")
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
 GALLERY = "gallery"
@@ -105,8 +107,8 @@ def example_page(example: Example) -> str:
     parts = [f"# {example.name}.py\n", f"{example.summary}\n"]
     if example.description:
         parts.append(f"{example.description}\n")
-    parts.append(f"Run it from a clone: `python examples/{example.name}.py` (the page shows the "
-                 f"run made when this site was built, {example.seconds:.1f} s).\n")
+    parts.append(f"Run it from a clone: `python examples/{example.name}.py` (the output and "
+                 "figures below are those of its run when this site was built).\n")
     parts.append(f"## Code\n\n```python\n{example.code.rstrip()}\n```\n")
     parts.append(f"## Output\n\n```text\n{example.output.rstrip() or '(nothing printed)'}\n```\n")
     if example.figures:
@@ -137,6 +139,9 @@ def build_gallery(config: Any) -> list[File]:
     workers = max(1, min(4, os.cpu_count() or 1))
     with ThreadPoolExecutor(workers) as pool:
         examples = list(pool.map(run_example, scripts))
+    for example in examples:
+        LOG.info("gallery: examples/%s.py ran in %.1f s, %d figure(s)", example.name,
+                 example.seconds, len(example.figures))
     files = [File.generated(config, f"{GALLERY}/index.md", content=index_page(examples))]
     for example in examples:
         files.append(File.generated(config, f"{GALLERY}/{example.name}.md",
