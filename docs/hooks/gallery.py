@@ -1,10 +1,11 @@
 """mkdocs hooks of the webline site (mkdocs.yml ``hooks:``).
 
-* **The gallery**: every script of ``examples/`` runs at build (a subprocess each, as a user
-  runs it, several at once) and gets a page ``gallery/<name>.md`` with its description, its
-  code, what it printed and the figures it drew (matplotlib pyplot figures left open when it
-  ends, saved as PNG next to the page); ``gallery/index.md`` lists them with a thumbnail. An
-  example that fails fails the build, naming the script and the end of its stderr.
+* **The gallery**: every script of ``examples/`` runs at build, in a few worker processes that
+  start with the build and run while the tutorials execute, and gets a page
+  ``gallery/<name>.md`` with its description, its code, what it printed and the figures it
+  drew (matplotlib pyplot figures left open when it ends, saved as PNG next to the page);
+  ``gallery/index.md`` lists them with a thumbnail. An example that fails fails the build,
+  naming the script and the end of its traceback.
 * **Links in the tutorials**: the executed notebooks (mkdocs-jupyter) are rendered by
   nbconvert, which leaves a Markdown link such as ``../sweeps.md`` as written; here it becomes
   the page's URL, as mkdocs does for its own pages.
@@ -13,14 +14,13 @@
 from __future__ import annotations
 
 import ast
+import json
 import logging
 import os
 import re
 import subprocess
 import sys
 import tempfile
-import time
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -32,22 +32,40 @@ LOG = logging.getLogger("mkdocs.hooks.gallery")
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
 GALLERY = "gallery"
-#: longest one example may run at build [s] (the slowest takes a few seconds once compiled)
-TIMEOUT = 600
-#: runs the example as ``python examples/x.py`` would (``__main__``, its folder on sys.path),
-#: then saves the pyplot figures it left open; ``plt.show()`` does nothing under Agg
-RUNNER = """
-import runpy, sys, warnings
+#: longest the examples may run at build, all together [s] (a few seconds each, compiled)
+TIMEOUT = 900
+#: a worker: runs each script it is given as ``python examples/x.py`` would (``__main__``, its
+#: folder on sys.path), one after the other in one interpreter (the imports of webline and its
+#: compiled loops are paid once per worker, not once per example); writes what each printed,
+#: its error if any and its time to ``<name>.json`` and the pyplot figures it left open to
+#: ``<name>-<k>.png``, then closes them (``plt.show()`` does nothing under Agg)
+WORKER = """
+import contextlib, io, json, runpy, sys, time, traceback, warnings
+from pathlib import Path
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 warnings.filterwarnings("ignore", message=".*non-interactive.*")
-script, folder = sys.argv[1:3]
-sys.argv = [script]
-sys.path.insert(0, str(__import__("pathlib").Path(script).parent))
-runpy.run_path(script, run_name="__main__")
-for number in plt.get_fignums():
-    plt.figure(number).savefig(f"{folder}/{number}.png", dpi=90, bbox_inches="tight")
+folder = Path(sys.argv[1])
+for script in sys.argv[2:]:
+    path, printed, error = Path(script), io.StringIO(), ""
+    sys.argv, started = [script], time.perf_counter()
+    sys.path.insert(0, str(path.parent))
+    try:
+        with contextlib.redirect_stdout(printed):
+            runpy.run_path(script, run_name="__main__")
+    except SystemExit as exit_:
+        if exit_.code not in (0, None):
+            error = f"exit {exit_.code}"
+    except Exception:
+        error = traceback.format_exc()
+    finally:
+        sys.path.remove(str(path.parent))
+    for k, number in enumerate(plt.get_fignums(), 1):
+        plt.figure(number).savefig(folder / f"{path.stem}-{k}.png", dpi=90, bbox_inches="tight")
+    plt.close("all")
+    (folder / f"{path.stem}.json").write_text(json.dumps(
+        {"output": printed.getvalue(), "error": error, "seconds": time.perf_counter() - started}))
 """
 
 
@@ -79,27 +97,62 @@ def _split_docstring(source: str) -> tuple[str, str, str]:
     return " ".join(summary.split()), rest.strip(), code
 
 
-def run_example(path: Path) -> Example:
-    """Run one example in a fresh interpreter; its figures go through a temporary folder."""
-    env = {**os.environ, "MPLBACKEND": "Agg"}
-    source = path.read_text(encoding="utf-8")
-    summary, description, code = _split_docstring(source)
-    with tempfile.TemporaryDirectory() as folder:
-        started = time.perf_counter()
-        try:
-            done = subprocess.run([sys.executable, "-c", RUNNER, str(path), folder], env=env,
-                                  cwd=folder, capture_output=True, text=True, timeout=TIMEOUT,
-                                  check=False)
-        except subprocess.TimeoutExpired as error:
-            raise PluginError(f"gallery: examples/{path.name} ran past {TIMEOUT} s") from error
-        seconds = time.perf_counter() - started
-        if done.returncode != 0:
-            tail = "\n".join(done.stderr.strip().splitlines()[-15:])
-            raise PluginError(f"gallery: examples/{path.name} failed (exit "
-                              f"{done.returncode}):\n{tail}")
-        pngs = sorted(Path(folder).glob("*.png"), key=lambda p: int(p.stem))
-        figures = tuple(p.read_bytes() for p in pngs)
-    return Example(path.stem, summary, description, code, done.stdout, figures, seconds)
+class Runs:
+    """The examples running in the background while the rest of the site (the tutorials'
+    notebooks first) is built: a few worker processes, each given every n-th script."""
+
+    def __init__(self, scripts: list[Path]) -> None:
+        self.scripts = scripts
+        self.folder = tempfile.TemporaryDirectory(prefix="webline-gallery-")
+        workers = max(1, min(4, os.cpu_count() or 1, len(scripts)))
+        env = {**os.environ, "MPLBACKEND": "Agg"}
+        self.processes = []
+        for k in range(workers):  # stderr to a file: a full pipe would stall a worker
+            with open(Path(self.folder.name) / f"worker-{k}.err", "w") as stderr:
+                self.processes.append(subprocess.Popen(
+                    [sys.executable, "-c", WORKER, self.folder.name,
+                     *map(str, scripts[k::workers])],
+                    cwd=self.folder.name, env=env, stdout=subprocess.DEVNULL, stderr=stderr))
+        self.examples: list[Example] | None = None
+
+    def wait(self) -> list[Example]:
+        """Every example after its run (waits for the workers the first time)."""
+        if self.examples is None:
+            try:
+                for k, process in enumerate(self.processes):
+                    if process.wait(timeout=TIMEOUT) != 0:
+                        err = Path(self.folder.name) / f"worker-{k}.err"
+                        tail = "\n".join(err.read_text().strip().splitlines()[-15:])
+                        raise PluginError(f"gallery: a worker running examples/ stopped (exit "
+                                          f"{process.returncode}):\n{tail}")
+                self.examples = [self._example(path) for path in self.scripts]
+            except subprocess.TimeoutExpired as error:
+                raise PluginError(f"gallery: the examples ran past {TIMEOUT} s") from error
+            finally:
+                self.stop()
+        return self.examples
+
+    def _example(self, path: Path) -> Example:
+        folder = Path(self.folder.name)
+        run = json.loads((folder / f"{path.stem}.json").read_text(encoding="utf-8"))
+        if run["error"]:
+            tail = "\n".join(run["error"].strip().splitlines()[-15:])
+            raise PluginError(f"gallery: examples/{path.name} failed:\n{tail}")
+        pngs = sorted(folder.glob(f"{path.stem}-*.png"),
+                      key=lambda p: int(p.stem.rpartition("-")[2]))
+        summary, description, code = _split_docstring(path.read_text(encoding="utf-8"))
+        LOG.info("gallery: examples/%s ran in %.1f s, %d figure(s)", path.name,
+                 run["seconds"], len(pngs))
+        return Example(path.stem, summary, description, code, run["output"],
+                       tuple(p.read_bytes() for p in pngs), run["seconds"])
+
+    def stop(self) -> None:
+        """End the workers still running (a failed build) and remove their folder."""
+        for process in self.processes:
+            if process.poll() is None:
+                process.kill()
+                process.wait()
+        self.folder.cleanup()
 
 
 def example_page(example: Example) -> str:
@@ -133,30 +186,45 @@ def index_page(examples: list[Example]) -> str:
     return "\n".join(parts)
 
 
-def build_gallery(config: Any) -> list[File]:
-    """Run every example (a few at once) and return the gallery's generated files."""
-    scripts = sorted(EXAMPLES.glob("*.py"))
-    workers = max(1, min(4, os.cpu_count() or 1))
-    with ThreadPoolExecutor(workers) as pool:
-        examples = list(pool.map(run_example, scripts))
-    for example in examples:
-        LOG.info("gallery: examples/%s.py ran in %.1f s, %d figure(s)", example.name,
-                 example.seconds, len(example.figures))
-    files = [File.generated(config, f"{GALLERY}/index.md", content=index_page(examples))]
-    for example in examples:
-        files.append(File.generated(config, f"{GALLERY}/{example.name}.md",
-                                    content=example_page(example)))
-        for k, png in enumerate(example.figures, 1):
-            files.append(File.generated(config, f"{GALLERY}/{example.name}-{k}.png",
-                                        content=png))
-    return files
+#: the runs of the build in progress (a module global: mkdocs calls hooks as functions)
+_RUNS: dict[str, Runs] = {}
 
 
 def on_files(files: Files, config: Any) -> Files:
-    """Add the gallery's pages and figures to the site."""
-    for file in build_gallery(config):
-        files.append(file)
+    """Start the examples and add the gallery's pages (their Markdown comes when they ran)."""
+    scripts = sorted(EXAMPLES.glob("*.py"))
+    if "build" in _RUNS:
+        _RUNS.pop("build").stop()
+    _RUNS["build"] = Runs(scripts)
+    files.append(File.generated(config, f"{GALLERY}/index.md", content="# Gallery\n"))
+    for path in scripts:
+        files.append(File.generated(config, f"{GALLERY}/{path.stem}.md",
+                                    content=f"# {path.name}\n"))
     return files
+
+
+def on_page_markdown(markdown: str, page: Any, config: Any, files: Files) -> str:
+    """A gallery page's Markdown, after the examples ran; the first such page also adds their
+    figures to the site's files."""
+    uri = page.file.src_uri
+    if not uri.startswith(f"{GALLERY}/"):
+        return markdown
+    runs = _RUNS["build"]
+    if runs.examples is None:
+        for example in runs.wait():
+            for k, png in enumerate(example.figures, 1):
+                files.append(File.generated(config, f"{GALLERY}/{example.name}-{k}.png",
+                                            content=png))
+    examples = {example.name: example for example in runs.wait()}
+    if uri == f"{GALLERY}/index.md":
+        return index_page(list(examples.values()))
+    return example_page(examples[Path(uri).stem])
+
+
+def on_build_error(error: Exception) -> None:
+    """A failed build leaves no example running."""
+    if "build" in _RUNS:
+        _RUNS.pop("build").stop()
 
 
 _LINK = re.compile(r'href="(?![a-z]+:|#|/)([^"#]+\.md)(#[^"]*)?"')

@@ -99,3 +99,39 @@ def test_gallery_index_links_every_example(site: Path) -> None:
     index = _page(site, "gallery")
     for name in EXAMPLES:
         assert f'href="{name}/"' in index, name
+
+
+def _gallery_hook(monkeypatch: pytest.MonkeyPatch) -> object:
+    """docs/hooks/gallery.py as a module (mkdocs loads it by path and registers it, as here)."""
+    pytest.importorskip("mkdocs")
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("gallery_hook",
+                                                  ROOT / "docs" / "hooks" / "gallery.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    monkeypatch.setitem(sys.modules, "gallery_hook", module)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_gallery_run_keeps_output_and_figures_and_refuses_a_failing_example(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """An example's printed lines and pyplot figures are kept (``plt.show()`` is harmless, a
+    ``sys.exit(0)`` is a success); an example that raises fails the build with its name and
+    the exception, even when its worker's other example ran fine."""
+    hook = _gallery_hook(monkeypatch)
+    good = tmp_path / "good.py"
+    good.write_text('"""Draws a line.\n\nRun: python good.py\n"""\nimport sys\n'
+                    "import matplotlib.pyplot as plt\nprint('drawn')\nplt.plot([0, 1])\n"
+                    "plt.figure()\nplt.show()\nsys.exit(0)\n", encoding="utf-8")
+    bad = tmp_path / "bad.py"
+    bad.write_text("print('before')\nraise ValueError('broken on purpose')\n", encoding="utf-8")
+    (example,) = hook.Runs([good]).wait()  # type: ignore[attr-defined]
+    assert example.output == "drawn\n" and example.summary == "Draws a line."
+    assert len(example.figures) == 2 and all(f[:8] == PNG for f in example.figures)
+    assert example.code.startswith("import sys")  # the docstring is the page's text, not code
+    from mkdocs.exceptions import PluginError
+
+    with pytest.raises(PluginError, match=r"(?s)bad\.py failed.*broken on purpose"):
+        hook.Runs([good, bad]).wait()  # type: ignore[attr-defined]
