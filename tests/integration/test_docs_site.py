@@ -3,8 +3,9 @@
 tutorial's figures and printed output and a gallery page per example with its figure.
 
 One build (a minute or two: five notebooks and eleven examples run) is shared by the tests of
-this file. Needs the ``docs`` and ``notebook`` extras (in ``dev``); skipped without them
-locally, a failure in CI."""
+this file; with ``WEBLINE_DOCS_SITE`` naming a folder that ``make docs`` just built (``site``),
+the tests check that build instead of making their own. Needs the ``docs`` and ``notebook``
+extras (in ``dev``); skipped without them locally, a failure in CI."""
 
 from __future__ import annotations
 
@@ -38,6 +39,10 @@ pytestmark = pytest.mark.slow
 @pytest.fixture(scope="module")
 def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The site built once into a temporary folder with this tree's webline."""
+    built = os.environ.get("WEBLINE_DOCS_SITE")
+    if built:
+        assert (Path(built) / "index.html").is_file(), f"WEBLINE_DOCS_SITE={built}: no site"
+        return Path(built)
     for module in ("mkdocs", "mkdocs_jupyter", "material", "mkdocstrings"):
         try:
             __import__(module)
