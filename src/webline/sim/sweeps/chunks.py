@@ -22,15 +22,17 @@ from __future__ import annotations
 import json
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from webline.errors import ArgumentError, StudyError, StudyInterrupted
 from webline.files import atomic_write, atomic_write_text, write_failure
 from webline.line import Line
 from webline.model.lines import load_line
-from webline.model.web_graph import BranchedLine
 from webline.sim.simulate import deferred_interrupt
 from webline.sim.sweeps.study_record import check_resume, study_record, write_text
+
+if TYPE_CHECKING:  # annotations only: a single-path study never loads the branched line
+    from webline.model.web_graph import BranchedLine
 
 #: cases per chunk (task): large enough that a task's overhead (ms) is negligible
 CHUNK = 256

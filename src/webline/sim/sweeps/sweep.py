@@ -15,7 +15,7 @@ import time
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -23,16 +23,9 @@ from webline.errors import ArgumentError, LineFileError
 from webline.limits import check_case_count
 from webline.line import Line, load_line
 from webline.model.lines import load_line as load_any
-from webline.model.web_graph import BranchedLine
 from webline.sim.core.plan import compile_plan
 from webline.sim.linear.steps import record_every
 from webline.sim.sweeps.batch import BatchOutput, run_batch
-from webline.sim.sweeps.branch_study import (
-    branch_base,
-    branch_line_scale,
-    check_branch_study,
-    run_branch_cases,
-)
 from webline.sim.sweeps.cases import (
     Built,
     build_cases,
@@ -45,6 +38,9 @@ from webline.sim.sweeps.study_grid import as_grid
 from webline.sim.sweeps.study_work import check_study_work
 from webline.sim.sweeps.sweep_dataset import Collector
 from webline.spec.ranges import argument, whole_argument
+
+if TYPE_CHECKING:  # a single-path study loads neither the branched line nor its kernel
+    from webline.model.web_graph import BranchedLine
 
 #: Cases built and run together, at most: their plans are built while the block before runs
 #: in compiled code (which releases the GIL), and dropped after it, so memory stays bounded.
@@ -194,6 +190,8 @@ def sweep(line: Line | BranchedLine | str | Path, values: Mapping[str, Sequence[
     what = {p: "the values" for p in paths}
     line = load_any(line)
     if line.branched:  # docs/branching.md: each case in the branch kernel
+        from webline.sim.sweeps.branch_study import check_branch_study
+
         check_branch_study(line, cases, what, duration=duration, scenario=scenario,
                            record=record, limit=work_limit)
     else:
@@ -230,7 +228,13 @@ def monte_carlo(line: Line | BranchedLine | str | Path, distributions: Mapping[s
         raise ArgumentError(str(exc)) from None
     line = load_any(line)
     branched = line.branched
-    if line.branched:
+    if line.branched:  # the branch kernel's modules (and scipy.optimize): a branched line only
+        from webline.sim.sweeps.branch_study import (
+            branch_base,
+            branch_line_scale,
+            check_branch_study,
+        )
+
         bbase = branch_base(line, scenario)
     else:
         base = _base(line, scenario)
@@ -317,7 +321,11 @@ def _study(line: Line | BranchedLine | str | Path, cases: list[dict[str, object]
     """Run the cases here at once, or chunk by chunk into ``store`` and/or on Dask
     (``webline.sim.sweeps.chunks``)."""
     check_workers(workers)
-    run: Callable[..., Any] = run_branch_cases if load_any(line).branched else run_cases
+    run: Callable[..., Any] = run_cases
+    if load_any(line).branched:
+        from webline.sim.sweeps.branch_study import run_branch_cases
+
+        run = run_branch_cases
     if scheduler is None and store is None:
         ds = run(line, cases, workers=workers, progress=progress, **options)
         ds.attrs.update(attrs)
