@@ -140,3 +140,11 @@ def test_gallery_run_keeps_output_and_figures_and_refuses_a_failing_example(
 
     with pytest.raises(PluginError, match=r"(?s)bad\.py failed.*broken on purpose"):
         hook.Runs([good, bad]).wait()  # type: ignore[attr-defined]
+
+
+def test_how_to_cite_names_webline_and_the_thesis(site: Path) -> None:
+    """The site's How to cite page holds CITATION.cff itself: webline's entry and the thesis's
+    (its type and institution), so the page cannot drift from the file."""
+    page = html.unescape(re.sub(r"<[^>]+>", "", _page(site, "cite")))  # text of the highlighting
+    assert "cff-version: 1.2.0" in page and 'title: "webline:' in page
+    assert "type: thesis" in page and "Oklahoma State University" in page
