@@ -73,6 +73,8 @@ def test_tutorial_page_shows_its_outputs(site: Path, name: str) -> None:
     outputs = page[page.find('class="jp-Cell'):]  # the notebook's cells, after the theme's
     assert NOTEBOOK_FIGURE.search(outputs), f"{name}: no figure among the outputs"
     assert TUTORIAL_OUTPUT[name] in html.unescape(outputs), f"{name}: output not shown"
+    # nbconvert leaves Markdown links as written; the hook turns them into the pages' URLs
+    assert not re.findall(r'href="[^"]*\.md[#"]', outputs), f"{name}: a link to a .md file"
 
 
 def test_every_tutorial_is_checked() -> None:
