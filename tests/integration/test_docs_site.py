@@ -73,6 +73,8 @@ def test_tutorial_page_shows_its_outputs(site: Path, name: str) -> None:
     outputs = page[page.find('class="jp-Cell'):]  # the notebook's cells, after the theme's
     assert NOTEBOOK_FIGURE.search(outputs), f"{name}: no figure among the outputs"
     assert TUTORIAL_OUTPUT[name] in html.unescape(outputs), f"{name}: output not shown"
+    # nbconvert leaves Markdown links as written; the hook turns them into the pages' URLs
+    assert not re.findall(r'href="[^"]*\.md[#"]', outputs), f"{name}: a link to a .md file"
 
 
 def test_every_tutorial_is_checked() -> None:
@@ -140,3 +142,11 @@ def test_gallery_run_keeps_output_and_figures_and_refuses_a_failing_example(
 
     with pytest.raises(PluginError, match=r"(?s)bad\.py failed.*broken on purpose"):
         hook.Runs([good, bad]).wait()  # type: ignore[attr-defined]
+
+
+def test_how_to_cite_names_webline_and_the_thesis(site: Path) -> None:
+    """The site's How to cite page holds CITATION.cff itself: webline's entry and the thesis's
+    (its type and institution), so the page cannot drift from the file."""
+    page = html.unescape(re.sub(r"<[^>]+>", "", _page(site, "cite")))  # text of the highlighting
+    assert "cff-version: 1.2.0" in page and 'title: "webline:' in page
+    assert "type: thesis" in page and "Oklahoma State University" in page
