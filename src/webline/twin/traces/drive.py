@@ -20,6 +20,11 @@ if TYPE_CHECKING:
 
 #: most points of a reference table built from a logged reference
 MAX_TABLE = 2000
+#: a corner of a logged reference: its second difference over the ticks (the change of slope
+#: times the tick) above this share of its largest value; below it is the log's rounding (a
+#: 9-digit CSV: 2e-9, float32: 2e-7), not a corner (a ramp of 0.1 % of the scale per second
+#: starting on 1 ms ticks is 1e-6)
+BEND = 1e-6
 #: a logged tension set point replaces the line's only where it differs by more than this
 #: share of the line's (a logged copy of the line's own set point changes nothing)
 SET_POINT_CHANGE = 0.005
@@ -42,7 +47,7 @@ def reference_table(time: np.ndarray, values: np.ndarray) -> dict[str, object]:
     ok = np.isfinite(values)
     t, v = time[ok], values[ok]
     scale = max(float(np.max(np.abs(v))), 1e-12)
-    bends = np.flatnonzero(np.abs(np.diff(v, 2)) > 1e-9 * scale) + 1
+    bends = np.flatnonzero(np.abs(np.diff(v, 2)) > BEND * scale) + 1
     knots = np.unique(np.concatenate([[0], bends - 1, bends, bends + 1, [len(t) - 1]]))
     knots = knots[(knots >= 0) & (knots < len(t))]
     bins = MAX_TABLE

@@ -60,12 +60,6 @@ class Signal:
     column: int
 
 
-def elements(line: Line | BranchedLine, dim: str) -> list[str]:
-    """Element names of a dimension (span, node, drive, dancer, roll) in the order the line's
-    runs record them (``twin.traces.layout``)."""
-    return list(layout(line).elements[dim])
-
-
 def line_signals(line: Line | BranchedLine) -> dict[str, Signal]:
     """Every comparable signal of ``line`` by name (``tension[process_span]`` ...): the kinds
     its runs record, each on its elements (a branched line's radii per roll,
