@@ -14,7 +14,7 @@ from webline.errors import WeblineError
 from webline.files import atomic_write_bytes, atomic_write_text
 from webline.model.web_graph import BranchedLine
 from webline.report.outputs import OutputFolder, ReportFiles
-from webline.report.plots.branch_figures import branch_figure_jobs, largest_deviation
+from webline.report.plots.branch_figures import branch_figure_jobs, deviation_text
 from webline.report.render import render_figures
 from webline.report.text.branch_tables import (
     SI,
@@ -79,10 +79,9 @@ def status_text(result: BranchResult, display: Display = SI) -> str:
         return (f"The run stopped early: {result.failure}; everything computed until "
                 f"t = {duration:.4g} s is shown.")
     text = f"Run completed: {duration:.4g} s simulated."
-    error, span, when = largest_deviation(result)
-    if span:
-        text += (f" Largest deviation from a tension reference: "
-                 f"{display.text(error, 'force')} in {span} at t = {number_text(when)} s.")
+    deviation = deviation_text(result, display)
+    if deviation:
+        text += f" Largest deviation from a tension reference: {deviation}."
     return text
 
 

@@ -78,6 +78,19 @@ class RunResult(ABC):
         """Span tensions [N], records x spans."""
 
     @property
+    def tension_measured(self) -> np.ndarray:
+        """Span tensions [N] as the loadcells show them, records x spans: the true tensions
+        where the line has no calibrated sensor (``spec.sensors``; a single-path run
+        overrides this with the readings)."""
+        return self.tension
+
+    @property
+    def speed_measured(self) -> np.ndarray:
+        """Web speed at each node [m/s] as the encoders show it, records x nodes: the true
+        speeds where the line has no calibrated sensor."""
+        return np.asarray(self.signals["speed"].values)
+
+    @property
     @abstractmethod
     def tension_ref(self) -> np.ndarray:
         """Each loadcell span's tension reference [N] (NaN on spans without a loadcell)."""

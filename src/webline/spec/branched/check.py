@@ -79,6 +79,9 @@ def check_branched(spec: BranchedLineSpec, file: str) -> None:
 
 
 def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
+    if spec.sensors:
+        fail("sensors", "sensor calibrations act on single-path lines only, for now "
+             "(docs/line-file.md, sensors): remove [[sensors]] from a line with [[webs]]")
     for i, roller in enumerate(spec.rollers):
         key = f"rollers[{i}]"
         dancer = getattr(roller, "dancer", None)
