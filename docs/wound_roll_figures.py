@@ -14,9 +14,8 @@ number the page quotes.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import sys
+from pathlib import Path
 
 import numpy as np
 
