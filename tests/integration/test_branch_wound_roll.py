@@ -167,3 +167,19 @@ def test_a_differential_shafts_lanes_wind_at_slip_torque_over_radius() -> None:
     np.testing.assert_allclose(lay.tension[lay.in_run], q / lay.radius[lay.in_run], rtol=0.03)
     # Q / r falls outwards: the steady roll's outer layers are wound softer than its inner
     assert roll.steady.wound_on[-1] == pytest.approx(q / 0.15 / (WIDTH * H), rel=1e-3)
+
+
+def test_a_narrower_lane_winds_at_its_own_width() -> None:
+    """lane_3 slit 300 mm wide at the same 100 N: its wound-on stress is T / (w h) over its
+    own width, 4/3 of the 400 mm lanes', and so is its outer layer's pressure."""
+    line = webline.load_line("slitter").replace({
+        "rollers.rewind_shaft.roll_stress": TABLE, "rollers.rewind_3.roll_stress": TABLE,
+        "webs.lane_3.width": "300 mm",
+    })
+    rolls = webline.simulate(line, 1.0).wound_rolls
+    narrow, wide = rolls["rewind_3/lane_3"], rolls["rewind_shaft/lane_1"]
+    out = ~narrow.layers.in_run
+    np.testing.assert_allclose(narrow.layers.stress[out], 100.0 / (0.3 * H), rtol=1e-12)
+    assert narrow.stress.pressure[-1] / wide.stress.pressure[-1] == pytest.approx(4 / 3,
+                                                                                  rel=1e-12)
+    assert np.all(narrow.stress.pressure > wide.stress.pressure)

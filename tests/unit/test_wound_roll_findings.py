@@ -213,3 +213,29 @@ def test_a_snapshot_at_the_finished_surface_is_the_finished_roll() -> None:
     (snap,) = roll.snapshots
     np.testing.assert_array_equal(snap.stress.pressure, roll.stress.pressure)
     np.testing.assert_array_equal(snap.stress.hoop, roll.stress.hoop)
+
+
+def test_a_run_that_ran_away_winds_its_roll_up_to_its_last_finite_record() -> None:
+    """Records non-finite from 8 s on (a diverged run): the roll takes the records before,
+    the rest of it the steady tension, and no NaN reaches the stresses."""
+    from webline.sim.results.wound_roll import recorded_roll
+
+    t, r, ten = _records(0.0)
+    late = t >= 8.0
+    r, ten = np.where(late, np.nan, r), np.where(late, np.inf, ten)
+    roll = recorded_roll(
+        "rewind",
+        RollStressSpec(k1=1.5e3, k2=120.0, diameter=0.2),
+        time=t,
+        radius=r,
+        tension=ten,
+        core_radius=RC,
+        thickness=H,
+        width=W,
+        modulus=4e9,
+        set_tension=120.0,
+        taper=None,
+    )
+    assert np.isfinite(roll.stress.pressure).all() and np.isfinite(roll.stress.hoop).all()
+    assert np.nanmax(roll.layers.time) < 8.0
+    np.testing.assert_allclose(roll.layers.tension, 120.0, rtol=1e-12)

@@ -405,6 +405,10 @@ def recorded_roll(
     After a flying splice of the rewind the roll is the finished one it passed on (the last
     roll the splices completed, its diameter at its splice); else the roll on the shaft at
     the end, completed to the table's ``diameter`` (default the taper's ``max_diameter``)."""
+    # a run that ran away (non-finite records) wound its roll up to its last finite record
+    bad = np.flatnonzero(~(np.isfinite(radius) & np.isfinite(tension)))
+    if bad.size:
+        time, radius, tension = time[: bad[0]], radius[: bad[0]], tension[: bad[0]]
     # a splice puts a new core on the shaft: the radius falls by more than a few layers
     drops = np.flatnonzero(np.diff(radius) < -10.0 * thickness)
     core, finished = core_radius, None
