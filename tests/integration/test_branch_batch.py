@@ -89,3 +89,57 @@ def test_a_case_that_cannot_be_built_fails_alone_in_its_block() -> None:
                                               {"webs.film.web.ea": "130 kN"}), 0.5)
     np.testing.assert_allclose(ds.tension_peak_error.values[2],
                                case_metrics(alone)["tension_peak_error"], rtol=RTOL, atol=0)
+
+
+def _equal_alone(built, outputs, seconds: float) -> None:
+    for j, result in batch_results(built, outputs, seconds).items():
+        alone = simulate_branches(built.lines[j], seconds, raise_on_failure=False)
+        assert result.failure == alone.failure
+        assert result.rec.shape == alone.rec.shape
+        scale = np.max(np.abs(alone.rec), axis=0)
+        assert np.all(np.abs(result.rec - alone.rec) <= RTOL * scale)
+
+
+def test_cases_of_other_sample_rates_share_a_batch_with_their_own_ticks() -> None:
+    # 1 kHz and 500 Hz: one structure (dt is a per-case number), 300 and 150 ticks into
+    # one record buffer sized for the longer; each case stores its own rows only
+    base = load_branched("slitter")
+    built = build_branch_cases(base, [{"control.sample_rate": r} for r in ("1 kHz", "500 Hz")],
+                               0.3, derive_branched)
+    assert [p.dt for p in built.plans] == [1e-3, 2e-3] and built.n_ticks == [300, 150]
+    outputs = run_branch_block(built, workers=2)
+    assert [idx for idx, _ in outputs] == [[0, 1]]
+    _equal_alone(built, outputs, 0.3)
+
+
+def test_cases_of_other_structures_run_in_their_own_batches() -> None:
+    # a drive on another controller family is another compiled structure (its family is
+    # frozen into the loop): the block runs two batches, each case still its run alone
+    from webline.control.select import with_branched_controller
+
+    def derive(base, change):
+        return with_branched_controller(base, change["family"]) if change else base
+
+    built = build_branch_cases(load_branched("slitter"), [{}, {"family": "state_feedback"}, {}],
+                               0.3, derive)
+    outputs = run_branch_block(built, workers=2)
+    assert sorted(idx for idx, _ in outputs) == [[0, 2], [1]]
+    _equal_alone(built, outputs, 0.3)
+
+
+def test_one_thread_and_two_give_the_same_study_bit_for_bit(monkeypatch) -> None:
+    # blocks of 1, 2 cases (patched): built, run and collected overlapping on two threads,
+    # or in turn on one; progress after each block
+    import xarray as xr
+
+    from webline.sim.sweeps import blocks
+
+    monkeypatch.setattr(blocks, "FIRST_BLOCK", 1)
+    monkeypatch.setattr(blocks, "BLOCK", 2)
+    cases = [{"web.ea": v} for v in ("250 kN", "281.25 kN", "300 kN")]
+    done: list[int] = []
+    two = run_branch_cases("slitter", cases, duration=0.3, workers=2,
+                           progress=lambda d, n: done.append(d))
+    one = run_branch_cases("slitter", cases, duration=0.3, workers=1)
+    assert done == [1, 3]
+    xr.testing.assert_identical(one, two)
