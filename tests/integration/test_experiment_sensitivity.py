@@ -59,3 +59,10 @@ def test_bad_identify_is_one_line_exit_2(tmp_path, args, words):
     assert result.exit_code == 2, result.output
     assert words in result.stderr and len(result.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "o").exists()  # said before anything was run or written
+
+
+def test_a_branched_line_is_told_the_check_is_single_path(tmp_path):
+    result = CliRunner().invoke(app, ["experiment", "laminator", "tension-step", "-o",
+                                      str(tmp_path / "o"), "--identify", "webs.film.ea"])
+    assert result.exit_code == 2
+    assert "sensitivity check simulates a single-path line" in result.stderr
