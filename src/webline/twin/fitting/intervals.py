@@ -20,7 +20,7 @@ number of blocks less the parameters as its degrees of freedom: the effective sa
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -63,7 +63,8 @@ def correlation_time(series: np.ndarray) -> float:
 class Covariance:
     """Covariance of the scaled parameters, standard errors [scaled], the block length
     [compared points], the number of blocks (the effective sample size) and the correlation
-    time [compared points] the blocks were cut from."""
+    time [compared points] the blocks were cut from (the longest record's; ``taus`` each
+    record's)."""
 
     cov: np.ndarray
     stderr: np.ndarray
@@ -71,23 +72,35 @@ class Covariance:
     block: int
     blocks: int
     tau: float
+    taus: tuple[float, ...] = ()
 
 
-def honest_covariance(jac: np.ndarray, r: np.ndarray) -> Covariance:
+def honest_covariance(jac: np.ndarray, r: np.ndarray | Sequence[np.ndarray]) -> Covariance:
     """The covariance of the module docstring for the Jacobian ``jac`` (rows: the finite
     entries of ``r`` in row-major order; columns: scaled parameters) and the weighted
-    residuals ``r`` (signals x compared points, NaN: not measured)."""
-    finite = np.isfinite(r)
-    rows, times = np.nonzero(finite)
-    del rows
-    flat = r[finite]
+    residuals ``r`` (signals x compared points, NaN: not measured), or a list of them, one
+    per record of a joint fit (rows in the list's order): each record is cut into blocks of
+    its own correlation time, and no block spans two records (their noise is independent).
+    ``block`` and ``tau`` are the longest record's."""
+    records = [r] if isinstance(r, np.ndarray) else list(r)
     m, n = jac.shape
-    points = r.shape[1]
-    tau = max(correlation_time(s) for s in r)
-    fewest = max(MIN_BLOCKS, BLOCKS_PER_PARAMETER * n)
-    block = max(1, min(math.ceil(BLOCK_TIMES * tau), points // fewest or 1))
-    ids = times // block
-    count = int(ids.max()) + 1 if len(ids) else 1
+    ids_all, flats, taus, lengths = [], [], [], []
+    first = 0
+    for part in records:
+        finite = np.isfinite(part)
+        _, times = np.nonzero(finite)
+        tau = max((correlation_time(s) for s in part), default=1.0)
+        fewest = max(MIN_BLOCKS, BLOCKS_PER_PARAMETER * n)
+        block = max(1, min(math.ceil(BLOCK_TIMES * tau), part.shape[1] // fewest or 1))
+        ids = times // block
+        ids_all.append(ids + first)
+        first += int(ids.max()) + 1 if len(ids) else 0
+        flats.append(part[finite])
+        taus.append(tau)
+        lengths.append(block)
+    flat = np.concatenate(flats) if flats else np.empty(0)
+    ids = np.concatenate(ids_all) if ids_all else np.empty(0, dtype=int)
+    count = max(1, first)
     scores = np.zeros((count, n))
     np.add.at(scores, ids, jac * flat[:, None])
     inverse = np.linalg.pinv(jac.T @ jac)
@@ -99,7 +112,10 @@ def honest_covariance(jac: np.ndarray, r: np.ndarray) -> Covariance:
     # the correlation of the sandwich, its diagonal raised to the chosen standard errors
     ratio = np.where(sandwich > 0, stderr / np.where(sandwich > 0, sandwich, 1.0), 1.0)
     cov = cov * np.outer(ratio, ratio)
-    return Covariance(cov, stderr, np.sqrt(np.clip(np.diag(inverse), 0.0, None)), block, count, tau)
+    longest = int(np.argmax(taus)) if taus else 0
+    return Covariance(cov, stderr, np.sqrt(np.clip(np.diag(inverse), 0.0, None)),
+                      lengths[longest] if lengths else 1, count,
+                      taus[longest] if taus else 1.0, tuple(taus))
 
 
 def intervals(

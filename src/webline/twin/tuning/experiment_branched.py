@@ -12,8 +12,9 @@ held by a dancer in position control or a differential shaft's drive, which hold
 only, is left out);
 ``dancer-step`` steps each dancer's load by 10 %. The traces (``results.csv``: every span's
 tension, every roller's surface speed, every drive's torque and command, each dancer's
-position, with webline's names and units) lay out the test to run on the machine; replay
-and fit take a single-path line's traces.
+position, each loadcell's tension set point and the master's speed reference, with webline's
+names and units) lay out the test to run on the machine, and ``replay`` and ``fit`` read them
+back as they read a single-path line's.
 """
 
 from __future__ import annotations
@@ -175,9 +176,12 @@ SIGNALS = (("tension", "span"), ("speed", "node"), ("torque", "drive"),
            ("torque_cmd", "drive"), ("dancer_position", "dancer"))
 
 
-def results_csv(dataset: Any, path: Path) -> None:
+def results_csv(result: Any, path: Path) -> None:
     """One column per signal and element, ``tension[film_zone] [N]``, time first (the
-    chain's ``results.csv`` layout)."""
+    chain's ``results.csv`` layout), and the references a replay is driven by, as a PLC logs
+    them: each loadcell span's tension set point (``tension_ref[film_zone]``) and the
+    master's speed reference, the line's speed (``speed_ref[nip]``)."""
+    dataset = result.dataset
     headers, columns = ["time [s]"], [dataset["time"].values]
     for name, dim in SIGNALS:
         if name not in dataset:
@@ -187,6 +191,13 @@ def results_csv(dataset: Any, path: Path) -> None:
         for j, element in enumerate(dataset[dim].values):
             headers.append(f"{name}[{element}] [{unit}]")
             columns.append(var.values[:, j])
+    for j, span in enumerate(result.span_names):
+        if np.isfinite(result.tension_ref[:, j]).all():
+            headers.append(f"tension_ref[{span}] [N]")
+            columns.append(result.tension_ref[:, j])
+    master = result.line.spec.rollers[result.line.master].name
+    headers.append(f"speed_ref[{master}] [m/s]")
+    columns.append(np.interp(result.time, *breakpoints(result.line.spec.speed)))
     np.savetxt(path, np.column_stack(columns), delimiter=",", header=",".join(headers),
                comments="", fmt="%.9g")
 
@@ -208,7 +219,7 @@ def write_branched_experiment(line: BranchedLine, name: str, out: Path,
     result = simulate_branches(plan.line, plan.duration, raise_on_failure=False,
                                record_interval=1.0 / plan.logging_rate)
     ds = result.dataset
-    results_csv(ds, place("results.csv"))
+    results_csv(result, place("results.csv"))
     data = plan.as_dict() | {"line": line.name, "verdict": result.verdict.headline}
     place("experiment.json").write_text(json.dumps(data, indent=2), encoding="utf-8")
     shown = ("speed", "torque") if name == "accel-ramps" else ("tension", "speed")
