@@ -92,6 +92,8 @@ def tune_command(
     for note in (*notes, *result.notes):
         typer.echo(f"note: {note}")
     typer.echo(result.summary())
+    for text in result.robust.lines()[1:]:  # each constraint's worst over the draws
+        typer.echo(text)
     typer.echo(str(folder.path.resolve()))
     if not result.holds:
         raise typer.Exit(1)

@@ -129,6 +129,11 @@ def test_tune_cli_on_a_branched_line_writes_the_chain_files(tmp_path):
     data = json.loads((out / "tune.json").read_text())
     assert data["robustness"]["draws"] == 2
     assert list(data["robustness"]["distributions"]) == ["webs.film.web.ea"]
+    # the draws meet the nominal's constraints, each reported at its worst over the draws
+    worst = data["robustness"]["worst_over_draws"]
+    assert [w["name"] for w in worst] == [c["name"] for c in data["after"]["constraints"]]
+    assert all(w["holds"] and w["draws_missing"] == 0 for w in worst)
+    assert "worst over the draws: phase margin [deg]" in result.output
     assert {p["path"] for p in data["free"]} == {
         f"rollers.{d}.controller.{k}_bandwidth" for d, k in (
             ("unwind_film", "speed"), ("unwind_film", "tension"), ("unwind_foil", "speed"),

@@ -13,7 +13,8 @@ import webline
 from webline.errors import ArgumentError
 from webline.sim.core.plan import compile_plan
 from webline.sim.elements import layout as L
-from webline.twin.tuning.tune_robust import fit_uncertain
+from webline.twin.tuning.tune_constraints import Constraint
+from webline.twin.tuning.tune_robust import fit_uncertain, worst_over_draws
 from webline.twin.tuning.tune_space import (
     default_free,
     frozen_gains,
@@ -139,3 +140,20 @@ def test_front_door_names_tune() -> None:
     from webline.twin.tuning.tune import tune
 
     assert webline.tune is tune
+
+
+def test_worst_over_draws_keeps_each_constraints_worst_and_counts_draws() -> None:
+    """A "<=" constraint's worst is its largest value, a ">=" one's its smallest, NaN (not
+    computed) worse than any; a draw missing one constraint in two scenarios counts once."""
+    def draw(pm: float, saturation: tuple[float, float]) -> list[Constraint]:
+        return [Constraint("torque", saturation[0], 0.01, "<=", "a"),
+                Constraint("torque", saturation[1], 0.01, "<=", "b"),
+                Constraint("phase", pm, 40.0, ">=", "rewind")]
+
+    worst, missing = worst_over_draws([draw(45.0, (0.0, 0.02)), draw(38.0, (0.03, 0.05)),
+                                       draw(math.nan, (0.0, 0.0)), draw(39.0, (0.0, 0.0))])
+    by_name = {c.name: c for c in worst}
+    assert [c.name for c in worst] == ["torque", "phase"]
+    assert by_name["torque"].value == 0.05 and by_name["torque"].where == "draw 1, b"
+    assert math.isnan(by_name["phase"].value) and by_name["phase"].where == "draw 2, rewind"
+    assert missing == {"torque": 2, "phase": 3}

@@ -117,16 +117,11 @@ class TuneResult:
                 f"draws)")
 
 
-def _chain_robustness(line: Line, dists: Mapping[str, Any], names: Sequence[str],
-                      limits: Limits, n: int, seed: int, workers: int | None) -> RobustCheck:
-    return robustness(line, dists, names, limits=limits, n=n, seed=seed, workers=workers)
-
-
 #: what ``tune`` does with a single-path line
 CHAIN = LineOps(load=load_line, default_free=default_free, derive=derive_line,
                 frozen_gains=frozen_gains, run_cases=run_cases,
                 set_tension=lambda line: compile_plan(line).op.tension,
-                stability=stability_constraints, robustness=_chain_robustness,
+                stability=stability_constraints,
                 default_uncertain=default_uncertain)
 
 
@@ -305,4 +300,9 @@ def _check(ops: LineOps, base: Any, e: Evaluation, names: Sequence[str],
            workers: int | None) -> RobustCheck:
     plain = ops.derive(base, e.values)
     explicit = ops.derive(plain, ops.frozen_gains(plain))
-    return ops.robustness(explicit, dists, names, limits, samples, seed, workers)
+
+    def stability(line: Any, values: dict[str, float]) -> list[Constraint]:
+        return ops.stability(ops.derive(line, values), limits)  # as the nominal's
+
+    return robustness(explicit, dists, names, limits=limits, n=samples, seed=seed,
+                      stability=stability, workers=workers)

@@ -18,7 +18,7 @@ The chain's tuning (``tune``) with a branched line's pieces (``BRANCHED``):
   at ``Limits.roll_points`` points across the rolls (``roll_points``: every web runs at the
   line speed, so one wound length places every unwind and rewind);
 * robustness: the chain's Monte Carlo (``tune_robust.robustness``, branched sweeps), each
-  draw's stability checked as above;
+  draw's modes, damping and margins checked as above (``stability_constraints``);
 * the tuned line keeps its gains explicit (``frozen_gains``), a roll's scheduled speed gains
   tabulated over its diameter (``gain_table``).
 """
@@ -54,7 +54,7 @@ from webline.twin.tuning.tune_constraints import (
     record_point,
     worst_constraints,
 )
-from webline.twin.tuning.tune_robust import RobustCheck, robustness, rollers_uncertain
+from webline.twin.tuning.tune_robust import rollers_uncertain
 from webline.twin.tuning.tune_space import FreeParameter, LineOps, pi_bandwidths
 from webline.twin.tuning.tune_space import gain_table as chain_gain_table
 
@@ -183,26 +183,6 @@ def stability_constraints(line: BranchedLine, limits: Limits) -> list[Constraint
     return worst_constraints(worst, limits)
 
 
-def instability(line: BranchedLine, values: dict[str, float], points: int = 3) -> str | None:
-    """Why branched ``line`` with ``values`` [SI] at their paths is unstable at one of
-    ``points`` points across its rolls (a continuous or sampled closed-loop mode with
-    Re λ >= 0), or None."""
-    drawn = derive_branched(line, values)
-    for where, radii in roll_points(drawn, points):
-        *_, t, eig, _, sampled = closed_loop_modes(derive_branched(drawn, radii))
-        worst = max(float(eig.real.max()), sampled)
-        if worst >= 0.0:
-            return f"unstable at t = {t:g} s, {where} (largest real part {worst:.3g} 1/s)"
-    return None
-
-
-def _robustness(line: BranchedLine, dists: Mapping[str, Any], names: Sequence[str],
-                limits: Limits, n: int, seed: int, workers: int | None) -> RobustCheck:
-    return robustness(line, dists, names, limits=limits, n=n, seed=seed, workers=workers,
-                      instability=lambda drawn, values: instability(drawn, values,
-                                                                    limits.roll_points))
-
-
 def default_uncertain(line: BranchedLine) -> dict[str, str]:
     """Uncertainties assumed when none are given (``tune_robust.default_uncertain``'s, per
     web): every raw web's stiffness ±10 % (its ``ea`` or ``modulus`` as the file gives it;
@@ -269,5 +249,5 @@ def _run_cases(line: BranchedLine, cases: Sequence[Mapping[str, object]], *,
 
 BRANCHED = LineOps(load=load_branched, default_free=default_free, derive=derive_branched,
                    frozen_gains=frozen_gains, run_cases=_run_cases, set_tension=set_tension,
-                   stability=stability_constraints, robustness=_robustness,
+                   stability=stability_constraints,
                    default_uncertain=default_uncertain)

@@ -114,8 +114,13 @@ def report_html(result: TuneResult, data: dict[str, Any], images: list[Image]) -
                        [(k, f"{result.before.terms.get(k, math.nan):.4g}", f"{v:.4g}")
                         for k, v in result.after.terms.items()])
     r = result.robust
-    robust = Text(f"Robustness: {r.passed} of {r.n} Monte Carlo draws stayed stable and within "
-                  f"limits (required {r.required:.0%}): {'holds' if r.holds else 'FAILS'}. "
+    over_draws = make_table(
+        "robust", f"The same constraints on the {r.n} robustness draws (worst over the draws)",
+        ("constraint", "worst", "limit", "draws missing it", "where"),
+        [(c.name, f"{c.value:.4g}", f"{c.sense} {c.limit:g}",
+          f"{r.missing.get(c.name, 0)} of {r.n}", c.where) for c in r.worst])
+    robust = Text(f"Robustness: {r.passed} of {r.n} Monte Carlo draws met every constraint "
+                  f"(required {r.required:.0%}): {'holds' if r.holds else 'FAILS'}. "
                   "Distributions: " + "; ".join(f"{p}: {d}" for p, d in r.distributions.items())
                   + ("" if not r.reasons else ". First failures: " + "; ".join(r.reasons)))
     sections = [Section("Objective", (Text(f"{OBJECTIVE}, over {', '.join(result.scenarios)}: "
@@ -123,7 +128,7 @@ def report_html(result: TuneResult, data: dict[str, Any], images: list[Image]) -
                                            f"{result.after.objective:.4g} after "
                                            f"({result.evaluations} candidates evaluated, "
                                            f"{result.seconds:.0f} s)."), terms)),
-                Section("Constraints", (constraints, robust)),
+                Section("Constraints", (constraints, robust, over_draws)),
                 Section("Tuned values", (free, gains)),
                 Section("Figures", tuple(images)),
                 *([Section("Notes", tuple(Text(n) for n in result.notes))] if result.notes

@@ -62,9 +62,7 @@ def tuned_toml(result: TuneResult) -> str:
     for c in result.after.constraints:
         lines.append(f"#   {c.name}: {c.value:.4g} {c.sense} {c.limit:g} "
                      f"({'holds' if c.holds else 'FAILS'}) {c.where}")
-    r = result.robust
-    lines.append(f"# Robustness: {r.passed} of {r.n} draws stable and within limits "
-                 f"(required {r.required:.0%}): {'holds' if r.holds else 'FAILS'}.")
+    lines += [f"# {text}" for text in result.robust.lines()]
     return "\n".join(lines) + "\n\n" + dump_spec(result.tuned.spec)
 
 

@@ -1,11 +1,15 @@
 """Robustness of a tuned line: a Monte Carlo over its uncertain parameters.
 
 Each draw is the tuned line (its gains explicit, so they stay as commissioned) with the
-uncertain parameters drawn; it passes when it is stable at every checked point of the roll
-(every closed-loop mode in the left half plane) and, in every scenario, no torque sits at its
-limit longer than allowed and the run neither fails nor goes unstable. The distributions come
-in webline's language (``"normal(4 GPa, 10 %)"``, as ``webline.monte_carlo`` takes them) or
-from a fit's ``fit.json`` (normal(value, stderr), truncated at zero for a positive value).
+uncertain parameters drawn, checked against the same constraints as the nominal line: in
+every scenario no torque sits at its limit longer than allowed and the run neither fails nor
+goes unstable (``tune_constraints.run_constraints``), and at every checked point of the roll
+its modes, their damping and every drive's loop margins meet the limits (the line's own
+``stability(line, limits)``, the function that checks the nominal; linear, so cheap). A draw
+passes when every constraint holds; the check keeps, per constraint, its worst value over the
+draws and how many draws miss it. The distributions come in webline's language
+(``"normal(4 GPa, 10 %)"``, as ``webline.monte_carlo`` takes them) or from a fit's
+``fit.json`` (normal(value, stderr), truncated at zero for a positive value).
 """
 
 from __future__ import annotations
@@ -13,7 +17,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -21,10 +25,8 @@ import numpy as np
 
 from webline.errors import ArgumentError
 from webline.line import Line
-from webline.sim.sweeps.cases import derive_line
 from webline.sim.sweeps.sweep import monte_carlo
-from webline.twin.tuning.tune_constraints import Limits, controller_modes
-from webline.twin.tuning.tune_space import line_at_roll, roll_radii
+from webline.twin.tuning.tune_constraints import Constraint, Limits, run_constraints
 
 #: draws whose failures are described in the result, at most
 REASONS_KEPT = 5
@@ -32,14 +34,18 @@ REASONS_KEPT = 5
 
 @dataclass(frozen=True)
 class RobustCheck:
-    """``passed`` of ``n`` draws stayed stable and within limits; ``required`` share [1];
-    ``distributions`` as given (text); ``reasons``: why the first failing draws failed."""
+    """``passed`` of ``n`` draws met every constraint; ``required`` share [1];
+    ``distributions`` as given (text); ``reasons``: why the first failing draws failed (each
+    constraint missed, its value and limit); ``worst``: each constraint's worst value over
+    the draws (``where`` names the draw); ``missing``: {constraint name: draws missing it}."""
 
     n: int
     passed: int
     required: float
     distributions: dict[str, str]
     reasons: tuple[str, ...] = field(default_factory=tuple)
+    worst: tuple[Constraint, ...] = field(default_factory=tuple)
+    missing: dict[str, int] = field(default_factory=dict)
 
     @property
     def share(self) -> float:
@@ -52,7 +58,21 @@ class RobustCheck:
     def as_dict(self) -> dict[str, object]:
         return {"draws": self.n, "passed": self.passed, "share": self.share,
                 "required_share": self.required, "holds": self.holds,
-                "distributions": self.distributions, "first_failures": list(self.reasons)}
+                "distributions": self.distributions, "first_failures": list(self.reasons),
+                "worst_over_draws": [c.as_dict() | {"draws_missing": self.missing.get(c.name, 0)}
+                                     for c in self.worst]}
+
+    def lines(self) -> list[str]:
+        """The check in words: the share, then each constraint's worst value over the draws
+        (for the terminal, ``tuned.toml``'s header and the report)."""
+        out = [f"robustness: {self.passed} of {self.n} draws met every constraint (required "
+               f"{self.required:.0%}): {'holds' if self.holds else 'FAILS'}"]
+        for c in self.worst:
+            missed = self.missing.get(c.name, 0)
+            out.append(f"  worst over the draws: {c.name} {c.value:.4g} {c.sense} {c.limit:g} "
+                       + (f"(FAILS in {missed} of {self.n} draws; {c.where})" if missed
+                          else f"(holds in every draw; {c.where})"))
+        return out
 
 
 def default_uncertain(line: Line) -> dict[str, str]:
@@ -148,58 +168,71 @@ def _over_bounds(path: str | Path, parameters: dict[str, Any],
 
 
 def robustness(line: Any, uncertain: Mapping[str, Any], scenarios: Sequence[str], *,
-               limits: Limits, n: int, seed: int, workers: int | None = None,
-               instability: Callable[[Any, dict[str, float]], str | None] | None = None,
-               ) -> RobustCheck:
+               limits: Limits, n: int, seed: int,
+               stability: Callable[[Any, dict[str, float]], list[Constraint]],
+               workers: int | None = None) -> RobustCheck:
     """Monte Carlo of ``n`` draws (``seed``) of ``uncertain`` on ``line`` (gains explicit)
-    over ``scenarios`` (module docstring). ``instability(line, drawn values)``: why the drawn
-    line is unstable, or None (default ``chain_instability``; a branched line's:
-    ``tune_branched``)."""
-    def unstable(drawn: Any, values: dict[str, float]) -> str | None:
-        if instability is not None:
-            return instability(drawn, values)
-        return chain_instability(drawn, values, limits.roll_points)
-
+    over ``scenarios`` (module docstring); ``stability(line, drawn values [SI])``: the
+    stability constraints of the line with the drawn values at their paths, as the nominal
+    line's are computed (``tune.LineOps.stability`` of the derived line)."""
     text = {p: d if isinstance(d, str) else _describe(d) for p, d in uncertain.items()}
     if not uncertain or n == 0:
         return RobustCheck(0, 0, limits.robust_share, text)
-    ok = np.ones(n, dtype=bool)
-    why: dict[int, str] = {}
+    checks: list[list[Constraint]] = [[] for _ in range(n)]
     drawn: dict[str, np.ndarray] = {}
     for scenario in scenarios:
         ds = monte_carlo(line, dict(uncertain), n, seed=seed, scenario=scenario,
                          workers=workers)
         drawn = {p: np.asarray(ds[p].values, dtype=float) for p in uncertain}
-        share = np.asarray(ds.torque_limit_time.values) / float(ds.attrs["duration"])
+        drives = [str(d) for d in ds.drive.values]
         for c in range(n):
             status = str(ds.status.values[c])
-            if status in ("failed", "unstable"):
-                ok[c] = False
-                why.setdefault(c, f"{scenario}: {ds.headline.values[c]}")
-            elif share[c].max() > limits.saturation_share:
-                ok[c] = False
-                d = int(np.argmax(share[c]))
-                why.setdefault(c, f"{scenario}: {ds.drive.values[d]} at its torque limit "
-                                  f"{share[c, d]:.1%} of the run")
+            run = run_constraints(scenario, status, np.asarray(ds.torque_limit_time.values[c]),
+                                  drives, float(ds.attrs["duration"]), limits)
+            if status in ("failed", "unstable"):  # the verdict says why
+                run[-1] = replace(run[-1], where=f"{scenario}: {ds.headline.values[c]}")
+            checks[c] += run
     for c in range(n):
-        reason = unstable(line, {p: float(drawn[p][c]) for p in uncertain})
-        if reason is not None:
-            ok[c] = False
-            why.setdefault(c, reason)
-    reasons = tuple(f"draw {c}: {why[c]}" for c in sorted(why)[:REASONS_KEPT])
-    return RobustCheck(n, int(ok.sum()), limits.robust_share, text, reasons)
+        checks[c] += stability(line, {p: float(drawn[p][c]) for p in uncertain})
+    failing = [c for c in range(n) if not all(k.holds for k in checks[c])]
+    reasons = tuple(f"draw {c}: " + "; ".join(_missed(k) for k in checks[c] if not k.holds)
+                    for c in failing[:REASONS_KEPT])
+    worst, missing = worst_over_draws(checks)
+    return RobustCheck(n, n - len(failing), limits.robust_share, text, reasons, worst, missing)
 
 
-def chain_instability(line: Line, values: dict[str, float], points: int = 3) -> str | None:
-    """Why single-path ``line`` with ``values`` [SI] at their paths is unstable at one of
-    ``points`` points across the roll (a closed-loop mode with Re λ >= 0), or None."""
-    drawn_line = derive_line(line, values)
-    for ru, rw in roll_radii(line, points):
-        eig, _ = controller_modes(line_at_roll(drawn_line, ru, rw))
-        if eig.real.max() >= 0.0:
-            return (f"unstable at unwind r = {ru:.3g} m, rewind r = {rw:.3g} m "
-                    f"(largest real part {eig.real.max():.3g} 1/s)")
-    return None
+def worst_over_draws(checks: Sequence[Sequence[Constraint]],
+                     ) -> tuple[tuple[Constraint, ...], dict[str, int]]:
+    """(each constraint's worst value over the draws, by name, in the order first met, its
+    ``where`` prefixed with the draw's index; {name: draws in which it fails}) of the
+    constraints ``checks[draw]`` (a name met twice in one draw, as in two scenarios, counts
+    that draw once)."""
+    worst: dict[str, Constraint] = {}
+    missing: dict[str, int] = {}
+    for c, constraints in enumerate(checks):
+        failed: set[str] = set()
+        for k in constraints:
+            here = replace(k, where=f"draw {c}, {k.where}" if k.where else f"draw {c}")
+            old = worst.get(k.name)
+            if old is None or _worse(here, old):
+                worst[k.name] = here
+            if not k.holds:
+                failed.add(k.name)
+        for name in failed:
+            missing[name] = missing.get(name, 0) + 1
+    return tuple(worst.values()), missing
+
+
+def _worse(a: Constraint, b: Constraint) -> bool:
+    """Whether ``a`` is worse than ``b`` (the same constraint): NaN is worst."""
+    if math.isnan(a.value) or math.isnan(b.value):
+        return math.isnan(a.value) and not math.isnan(b.value)
+    return a.value < b.value if a.sense == ">=" else a.value > b.value
+
+
+def _missed(k: Constraint) -> str:
+    where = f", {k.where}" if k.where else ""
+    return f"{k.name} {k.value:.4g}, limit {k.sense} {k.limit:g}{where}"
 
 
 def _describe(dist: Any) -> str:

@@ -43,8 +43,8 @@ class LineOps:
     ``derive(line, {path: value})``, its ``frozen_gains``, ``run_cases(line, cases, *,
     scenario, workers)`` (a Dataset with ``tension_rms_error`` (case, span), ``status``,
     ``torque_limit_time`` (case, drive)), ``set_tension(line)`` [N] per span, its
-    ``stability(line, limits)`` constraints, ``robustness(line, dists, scenarios, limits,
-    n, seed, workers)`` and ``default_uncertain(line)``."""
+    ``stability(line, limits)`` constraints (the nominal's and each robustness draw's) and
+    ``default_uncertain(line)``."""
 
     load: Callable[[Any], Any]
     default_free: Callable[[Any], list[FreeParameter]]
@@ -53,7 +53,6 @@ class LineOps:
     run_cases: Callable[..., Any]
     set_tension: Callable[[Any], np.ndarray]
     stability: Callable[[Any, Any], list[Any]]
-    robustness: Callable[..., Any]
     default_uncertain: Callable[[Any], dict[str, str]]
 
 
