@@ -82,6 +82,11 @@ def main() -> None:
                          starts=args.starts)
         seconds, cpu = time.perf_counter() - started, time.process_time() - cpu
     print(result)
+    for i, p in enumerate(result.parameters):
+        lo, hi = result.ci95[i]
+        print(f"  {p.path}: true {truth[p.path]:.6g}, fitted {result.value[i]:.6g} "
+              f"({100 * (result.value[i] / truth[p.path] - 1):+.3g} %), 95 % {lo:.6g} .. "
+              f"{hi:.6g}: {'inside' if lo <= truth[p.path] <= hi else 'OUTSIDE'}")
     inside = sum(result.ci95[i, 0] <= truth[p.path] <= result.ci95[i, 1]
                  for i, p in enumerate(result.parameters))
     worst = max(abs(result.value[i] / truth[p.path] - 1) for i, p in enumerate(result.parameters))
