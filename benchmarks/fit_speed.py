@@ -93,8 +93,9 @@ def main() -> None:
     print(f"fit of {len(truth)} parameters to {len(paths)} record(s) of {args.duration:g} s "
           f"of {args.line} traces, {args.starts} starts: {seconds:.1f} s wall, {cpu:.1f} s of "
           f"CPU, {result.simulations} simulations ({seconds / result.simulations * 1e3:.0f} ms "
-          f"each), {inside}/{len(truth)} true values inside their 95 % intervals, largest "
-          f"error {100 * worst:.2g} %, verdict {result.verdict.status}, "
+          f"each; {result.global_stage.simulations if result.global_stage else 0} of them in "
+          f"the global stage), {inside}/{len(truth)} true values inside their 95 % intervals, "
+          f"largest error {100 * worst:.2g} %, verdict {result.verdict.status}, "
           f"{args.workers or os.cpu_count()} thread(s)")
     print(f"machine: {os.cpu_count()} cores, load average before the fit "
           f"{load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
