@@ -11,7 +11,8 @@ machine's core count and load average (at the start and at the end):
 (a) one core (the process pinned to one CPU): the per-case cost of
     ``simulate(line.replace(case), 10)`` in a loop (today's way) and of ``webline.monte_carlo``
     with ``workers=1``, as wall time and as CPU time of the thread, best of ``--repeat``
-    interleaved rounds; their ratio (goal <= 0.5), its range round by round (the spread the
+    interleaved rounds, and the kernel alone (the batch's own work per case beside it: goal
+    < 20 %); their ratio (goal <= 0.5), its range round by round (the spread the
     machine's load makes), and where a batch case's time goes (plans in Python, compiled
     batch, verdicts and Dataset); the floor of the ratio (the compiled batch alone over a
     loop case) and the time per case the goal leaves for the plans; for scale, the same
@@ -23,12 +24,15 @@ machine's core count and load average (at the start and at the end):
     built beforehand, nothing shared), which a VM whose cores slow each other down keeps
     below 2;
 (c) a 2-process, 1-thread-each ``LocalCluster``: its start-up and the workers' warm-up (import,
-    loading the compiled loop) timed apart, then the same cases in chunks (256 cases, or a
-    quarter of them if fewer than 1024) through ``webline.sim.sweeps.chunks.run_chunked`` (chunk
-    files written and merged), against the local batch on 2 threads without files
-    (efficiency, goal >= 0.8) and with the same chunk files;
+    loading the compiled loop) timed apart, then the same cases in the chunks a study on Dask
+    takes (``chunks.task_chunk``: at least a second of kernel work each) through
+    ``webline.sim.sweeps.chunks.run_chunked`` (chunk files written and merged), against the
+    local batch on 2 threads without files (efficiency, goal >= 0.8) and with the same chunk
+    files;
 (d) the peak resident memory of a fresh process running ``--memory-cases`` cases (default
-    10 000) without traces (``resource.getrusage``; goal < 1 GB).
+    10 000) without traces (``resource.getrusage``; goal < 1 GB), its wall time (goal <= 15 s
+    on 2 cores) and that time over the kernel-only floor measured here (the compiled batch
+    alone on every core, cases built beforehand, times the cases; goal <= 1.25).
 
 On a machine shared with other work the numbers are noisy (CPU time less so than wall time):
 compare them with the load average printed beside them.
@@ -114,6 +118,30 @@ def one_core(line: object, cases: int, loop_cases: int, repeat: int) -> dict[str
     return {**best, **split, "round_min": min(rounds), "round_max": max(rounds)}
 
 
+def kernel_floor(line: object, cases: int, workers: int, repeat: int) -> tuple[float, float]:
+    """The kernel-only floor of a case: (wall [s] per case of ``batch.run_batch`` alone on
+    ``workers`` threads, its CPU [s] per case), on ``cases`` cases built beforehand, best of
+    ``repeat``: what a study would cost if building the cases and collecting their metrics
+    were free."""
+    import numpy as np
+
+    from webline.sim.sweeps.batch import run_batch
+    from webline.sim.sweeps.cases import build_cases
+    from webline.sim.sweeps.distributions import draw
+
+    samples = draw(DISTS, cases, seed=5)["web.ea"]
+    built = build_cases(line, [{"web.ea": float(v)} for v in samples], DURATION)  # type: ignore[arg-type]
+    wall, cpu = math.inf, math.inf
+    for _ in range(repeat):
+        states = [(x.copy(), i.copy(), s.copy()) for x, i, s in built.states]
+        started, used = time.perf_counter(), time.process_time()
+        run_batch(built.plans, states, np.array(built.n_ticks), np.array(built.substeps),
+                  np.array(built.every), workers=workers)
+        wall = min(wall, (time.perf_counter() - started) / cases)
+        cpu = min(cpu, (time.process_time() - used) / cases)
+    return wall, cpu
+
+
 def compiled_scaling(line: object, cases: int, cores: int, repeat: int) -> float:
     """Speed-up [1] of ``batch.run_batch`` alone on ``cores`` threads over one thread, on
     ``cases`` cases built beforehand (no Python in the timed part), best of ``repeat``: what
@@ -192,6 +220,11 @@ def main() -> None:
     print(f"    floor: the compiled batch alone (simulate's own RK4 steps, which the 1e-12 "
           f"equality requires) is {floor:.2f} of a loop case; the goal leaves "
           f"{room * 1e3:.2f} ms/case for the plans, which take {a['build'] * 1e3:.2f}")
+    _, kernel_cpu = kernel_floor(line, cases, 1, repeat)
+    overhead = a["batch_cpu"] / kernel_cpu - 1.0
+    print(f"    kernel alone      {kernel_cpu * 1e3:7.2f} ms/case CPU (cases built beforehand); "
+          f"the batch's own work per case {overhead * 100:.0f} % of it (goal < 20 %: "
+          f"{'met' if overhead < 0.2 else 'not met'})")
     print(f"    (for scale: a loop that also computes the batch's metrics and verdict, "
           f"{a['metrics_loop_cpu'] * 1e3:.2f} ms CPU/case, one round: batch / that "
           f"{a['batch_cpu'] / a['metrics_loop_cpu']:.2f})")
@@ -232,9 +265,11 @@ def main() -> None:
 
         samples = draw(DISTS, cases, seed=3)["web.ea"]
         case_list = [{"web.ea": float(v)} for v in samples]
-        from webline.sim.sweeps.chunks import CHUNK
+        from webline.sim.sweeps.chunks import task_chunk
+        from webline.sim.sweeps.study_work import case_work
 
-        chunk = min(CHUNK, max(1, -(-cases // 4)))  # at least 4 chunks for the 2 workers
+        steps = case_work(line, DURATION).rk4_steps  # type: ignore[arg-type]
+        chunk = task_chunk(cases, steps)  # what a study on Dask takes (>= 1 s of work each)
         started = time.perf_counter()
         cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                dashboard_address=None)
@@ -263,7 +298,8 @@ def main() -> None:
         efficiency = local / dask
         print(f"(c) Dask LocalCluster, 2 processes x 1 thread: start-up {start_up:.2f} s, "
               f"workers' warm-up {warm:.2f} s (both left out below)")
-        print(f"    {cases} cases in chunks of {chunk} (files written and merged): "
+        print(f"    {cases} cases in chunks of {chunk} ({chunk * steps:.3g} RK4 steps each; "
+              f"files written and merged): "
               f"{dask * 1e3:.2f} ms/case; local batch on 2 threads {local * 1e3:.2f} ms/case "
               f"(with the same chunk files {local_chunked * 1e3:.2f})")
         print(f"    efficiency {efficiency:.2f}   (goal >= 0.8: "
@@ -277,6 +313,12 @@ def main() -> None:
     print(f"(d) {n} cases without traces, all cores: peak memory {float(peak):.0f} MB "
           f"(goal < 1000 MB: {'met' if float(peak) < 1000 else 'not met'}), "
           f"{float(seconds):.1f} s")
+    floor = kernel_floor(line, min(int(n), 1024), cores, repeat)[0] * int(n)
+    ratio = float(seconds) / floor
+    print(f"    kernel-only floor (the compiled batch alone on {cores} threads, cases built "
+          f"beforehand) {floor:.1f} s; the study / floor {ratio:.2f}   (goal <= 1.25: "
+          f"{'met' if ratio <= 1.25 else 'not met'}; <= 15 s on 2 cores: "
+          f"{'met' if float(seconds) <= 15 else 'not met'})")
     print(f"load average {_load()} at the end")
 
 

@@ -46,7 +46,7 @@ def parse_pairs(items: list[str] | None, option: str, sep: str = "=") -> dict[st
 
 def _data(data: str, line: str, scenario: str | None,
           maps: list[str] | None) -> Measurements:
-    from webline.line import load_line
+    from webline.model.lines import load_line
     from webline.twin.traces.measurements import load_measurements
 
     base = load_line(line)
@@ -70,9 +70,7 @@ def replay_command(
     from webline.report.outputs import default_folder
     from webline.twin.fitting.report import write_replay_report
     from webline.twin.traces.replay import replay
-    from webline.twin.traces.single_path import single_path_line
 
-    single_path_line(line, "webline replay")  # (one line where its webs branch)
     measurements = _data(data, line, scenario, maps)
     result = replay(measurements.line, measurements)
     target = out or Path(default_folder(result.line.name, "replay"))
@@ -123,6 +121,11 @@ def fit_command(
     seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of the Latin hypercube.")] = 0,
     accept_poor: Annotated[bool, typer.Option(
         "--accept-poor", help="Exit 0 for a poor fit (its files still say it is poor).")] = False,
+    interval_method: Annotated[str, typer.Option(
+        "--intervals", help="wald: value ± t x the honest standard error; profile: "
+        "profile-likelihood intervals, for confidence regions that are not ellipsoids "
+        "(each parameter's profile refits the others: some tens of simulations each).")
+    ] = "wald",
     force: ForceOpt = False,
 ) -> None:
     """Fit line parameters to one or more measured records by weighted least squares:
@@ -138,18 +141,18 @@ def fit_command(
     from webline.twin.fitting.fit_files import write_fit_files
     from webline.twin.fitting.records import scenario_list
     from webline.twin.fitting.report import fit_figure_names, write_fit_report
-    from webline.twin.traces.single_path import single_path_line
 
-    single_path_line(line, "webline fit")
+    if interval_method not in ("wald", "profile"):
+        raise ArgumentError(f"--intervals: 'wald' or 'profile', got {interval_method!r}")
     bounds = parse_pairs(free, "--free")
     chosen = scenario_list(scenarios or None, len(data), "--scenario")
     measurements = [_data(path, line, scenario, maps)
                     for path, scenario in zip(data, chosen, strict=True)]
-    from webline.line import load_line
+    from webline.model.lines import load_line
 
     result = fit(load_line(line), measurements, bounds, scenario=chosen,
                  per_record=per_record or (), max_simulations=max_simulations,
-                 starts=starts, seed=seed)
+                 starts=starts, seed=seed, profile=interval_method == "profile")
     target = out or Path(default_folder(result.line.name, "fit"))
     files = (*FIT_FILES, *fit_figure_names(len(result.records)))
     folder = open_output(target, force, "fit", files)

@@ -278,8 +278,8 @@ def test_ctrl_c_on_a_local_cluster_stops_within_seconds(tmp_path) -> None:
     out = tmp_path / "out"
     proc = subprocess.Popen(
         [sys.executable, "-c", "from webline.cli import main; main()", "sweep", "hswl", "--set",
-         "web.ea=normal(9 kN, 5 %)", "--samples", "2000", "-d", "0.3", "--scheduler", "local",
-         "--workers", "2", "-q", "-o", str(out)],
+         "web.ea=normal(9 kN, 5 %)", "--samples", "2000", "-d", "10", "--scheduler", "local",
+         "--workers", "2", "-q", "-o", str(out)],  # 4 tasks of 500 cases (chunks.task_chunk)
         env={**os.environ, "PYTHONPATH": src}, stderr=subprocess.PIPE, start_new_session=True)
     deadline = time.monotonic() + 180
     while not list((out / "chunks").glob("chunk-*.nc")) and time.monotonic() < deadline:

@@ -66,6 +66,7 @@ def test_dask_local_cluster_equals_local_run(reference, monkeypatch) -> None:
     from webline.sim.sweeps import chunks
 
     monkeypatch.setattr(chunks, "CHUNK", 4)  # 3 tasks over 2 worker processes
+    monkeypatch.setattr(chunks, "TASK_RK4_STEPS", 0)  # (else one task: the cases are short)
     ds = webline.monte_carlo("hswl", DISTS, N, seed=11, duration=0.3, scheduler="local",
                              workers=2)
     assert_same(ds, reference)
@@ -84,6 +85,7 @@ def test_killed_worker_chunks_are_recomputed(reference, monkeypatch) -> None:
     from webline.sim.sweeps import chunks
 
     monkeypatch.setattr(chunks, "CHUNK", 2)  # 5 tasks over 2 worker processes
+    monkeypatch.setattr(chunks, "TASK_RK4_STEPS", 0)
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                       dashboard_address=None) as cluster, Client(cluster) as client:
         killed = []

@@ -13,13 +13,10 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-import matplotlib
-
-matplotlib.use("Agg")
-
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.ticker import FuncFormatter
 
 from webline.analysis.modes import Mode
 from webline.profiles import breakpoints
@@ -31,7 +28,7 @@ from webline.report.plots.big_lines import (
     torque_summary,
 )
 from webline.report.plots.frame import framed_figure, make_room_for_title
-from webline.report.plots.mpl_text import legend_label, literal
+from webline.report.plots.mpl_text import legend_label, literal, power_label
 from webline.report.plots.roll_figures import roll_modes_caption, roll_modes_figure
 from webline.report.plots.schematic import schematic
 from webline.report.plots.winder_figures import winder_figures
@@ -237,6 +234,7 @@ def poles_figure(modes: Sequence[Mode]) -> Figure:
     ax.axvline(0.0, color="k", lw=0.8)
     ax.axhline(0.0, color="k", lw=0.5)
     ax.set_xscale("symlog", linthresh=10.0)
+    ax.xaxis.set_major_formatter(FuncFormatter(power_label))  # plain text, not mathtext
     ax.set_xlabel("real part [1/s] (symmetric log scale)")
     ax.set_ylabel("imaginary part [rad/s]")
     ax.grid(True, alpha=0.3)

@@ -26,14 +26,13 @@ import functools
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, Literal, TypeVar, get_args
+from typing import TYPE_CHECKING, Any, Literal, TypeVar, get_args
 
 import numpy as np
 from pydantic import BaseModel, TypeAdapter, ValidationError
 
 from webline.errors import ArgumentError, LineFileError
 from webline.line import Line
-from webline.model.web_graph import BranchedLine
 from webline.sim.core import kernel
 from webline.sim.core.plan import Plan, compile_plan, equilibrium_plan_state
 from webline.sim.linear import budget
@@ -45,6 +44,9 @@ from webline.spec.check import check_spec
 from webline.spec.paths import set_parts, split_path
 from webline.spec.ranges import range_for
 from webline.spec.schema import LineSpec
+
+if TYPE_CHECKING:  # annotations only: a single-path study never loads the branched line
+    from webline.model.web_graph import BranchedLine
 
 #: top-level tables a case may change one key of in place (everything else: Line.replace)
 _TABLES = ("web", "control")
@@ -77,7 +79,7 @@ def _element(items: Sequence[Any], part: str | int) -> int:
 
 #: a path with more values than this is checked at its extremes only (ranges are intervals)
 CHECK_ALL_BELOW = 64
-AnyLine = TypeVar("AnyLine", Line, BranchedLine)
+AnyLine = TypeVar("AnyLine", Line, "BranchedLine")
 
 
 def probe_values(base: AnyLine, cases: Sequence[Mapping[str, object]],

@@ -22,18 +22,26 @@ from __future__ import annotations
 import json
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from webline.errors import ArgumentError, StudyError, StudyInterrupted
 from webline.files import atomic_write, atomic_write_text, write_failure
 from webline.line import Line
 from webline.model.lines import load_line
-from webline.model.web_graph import BranchedLine
 from webline.sim.simulate import deferred_interrupt
 from webline.sim.sweeps.study_record import check_resume, study_record, write_text
 
+if TYPE_CHECKING:  # annotations only: a single-path study never loads the branched line
+    from webline.model.web_graph import BranchedLine
+
 #: cases per chunk (task): large enough that a task's overhead (ms) is negligible
 CHUNK = 256
+#: kernel work a Dask task holds at least [RK4 steps]: about a second of one core (HSWL's
+#: loop runs ~5e6 steps/s on the project's machine), so that a task's own costs (a worker
+#: process importing and loading the loop once, the chunk file, the scheduler's round trip)
+#: stay small beside it (issue 37: 32-case chunks of 10 s HSWL ran at 0.31 of the local
+#: batch's speed)
+TASK_RK4_STEPS = 5_000_000
 #: the store's record of its study (cases and settings), checked by ``resume``
 STUDY_FILE = "study.json"
 #: how often Dask retries a chunk whose worker died
@@ -41,6 +49,32 @@ RETRIES = 3
 #: the chunk files' format: NetCDF-3 through scipy writes and reads a chunk of 256 cases in
 #: about 13 ms, HDF5 (h5netcdf) in about 300 ms, which was a quarter of the chunk's own work
 ENGINE = "scipy"
+
+
+def task_chunk(n_cases: int, case_steps: int) -> int:
+    """Cases per chunk of a study run on Dask: ``CHUNK``, or more where ``CHUNK`` cases hold
+    less than ``TASK_RK4_STEPS`` of kernel work (``case_steps`` [RK4 steps] each, the study's
+    estimate, ``study_work``); then the cases are split into as many chunks as hold that much
+    each (one chunk if the whole study holds less), the last at least half as large as the
+    others, so that no task is left nearly empty."""
+    if CHUNK * case_steps >= TASK_RK4_STEPS:
+        return CHUNK
+    tasks = max(1, n_cases * case_steps // TASK_RK4_STEPS)
+    even = -(-n_cases // tasks)
+    # chunks are a fixed stride of cases: the first size from ``even`` up whose remainder
+    # (the last chunk) is none or at least half a chunk
+    return next((size for size in range(even, 2 * even)
+                 if n_cases % size == 0 or n_cases % size >= size / 2), even)
+
+
+def stored_chunk(store: Path) -> int | None:
+    """The chunk size recorded in ``store``'s study record, None without a readable one (a
+    resumed study keeps the chunks it was started with, whichever scheduler runs it now)."""
+    try:
+        chunk = json.loads((store / STUDY_FILE).read_text()).get("chunk")
+    except (OSError, ValueError, AttributeError):
+        return None
+    return chunk if isinstance(chunk, int) and chunk > 0 else None
 
 
 def _read_chunk(path: Path) -> Any:
@@ -137,18 +171,25 @@ def _client(scheduler: Any, workers: int | None) -> tuple[Any, Any]:
 def run_chunked(run: Callable[..., Any], line: Line | BranchedLine | str | Path,
                 cases: Sequence[Mapping[str, object]], *, store: str | Path,
                 resume: bool = False, scheduler: Any = None, workers: int | None = None,
-                chunk: int | None = None,
+                chunk: int | None = None, case_steps: int | None = None,
                 progress: Callable[[int, int], None] | None = None,
                 attrs: Mapping[str, Any] | None = None, **options: Any) -> Any:
     """``run`` (``sweep.run_cases``) of ``line`` over ``cases`` chunk by chunk into ``store``
     (module docstring); ``options`` are ``run_cases``'s (duration, scenario, record). Without
-    ``scheduler`` the chunks run here on ``workers`` threads. Returns the merged Dataset."""
+    ``scheduler`` the chunks run here on ``workers`` threads. ``chunk``: cases per chunk;
+    default the resumed store's, else ``CHUNK``, on a ``scheduler`` ``task_chunk`` of
+    ``case_steps`` (a case's RK4 steps, as the study's check estimated them). Returns the
+    merged Dataset."""
     import xarray as xr
 
     source: Any = line
     line = load_line(source)
-    chunk = chunk or CHUNK
     store = Path(store)
+    if chunk is None:
+        chunk = stored_chunk(store) if resume else None
+    if chunk is None:
+        chunk = CHUNK if scheduler is None or case_steps is None else task_chunk(
+            len(cases), case_steps)
     store.mkdir(parents=True, exist_ok=True)
     record = study_record(line, cases, chunk, options)
     manifest_path = store / STUDY_FILE

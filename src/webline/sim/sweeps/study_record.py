@@ -15,12 +15,14 @@ import hashlib
 import json
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from webline.errors import ArgumentError
 from webline.line import Line
-from webline.model.web_graph import BranchedLine
 from webline.version import __version__
+
+if TYPE_CHECKING:  # annotations only: a single-path study never loads the branched line
+    from webline.model.web_graph import BranchedLine
 
 #: differences named in a refusal, at most
 SHOWN = 3

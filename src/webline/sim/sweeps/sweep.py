@@ -13,9 +13,8 @@ import itertools
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -23,16 +22,11 @@ from webline.errors import ArgumentError, LineFileError
 from webline.limits import check_case_count
 from webline.line import Line, load_line
 from webline.model.lines import load_line as load_any
-from webline.model.web_graph import BranchedLine
 from webline.sim.core.plan import compile_plan
+from webline.sim.linear.budget import StudyWork
 from webline.sim.linear.steps import record_every
 from webline.sim.sweeps.batch import BatchOutput, run_batch
-from webline.sim.sweeps.branch_study import (
-    branch_base,
-    branch_line_scale,
-    check_branch_study,
-    run_branch_cases,
-)
+from webline.sim.sweeps.blocks import blocks_of, run_blocks
 from webline.sim.sweeps.cases import (
     Built,
     build_cases,
@@ -46,21 +40,8 @@ from webline.sim.sweeps.study_work import check_study_work
 from webline.sim.sweeps.sweep_dataset import Collector
 from webline.spec.ranges import argument, whole_argument
 
-#: Cases built and run together, at most: their plans are built while the block before runs
-#: in compiled code (which releases the GIL), and dropped after it, so memory stays bounded.
-BLOCK = 256
-#: The first block's size: nothing runs while it is built, so it is small; blocks then
-#: double up to ``BLOCK``.
-FIRST_BLOCK = 16
-
-
-def blocks_of(n: int) -> list[range]:
-    """Consecutive ranges covering ``n`` cases: ``FIRST_BLOCK``, then doubling to ``BLOCK``."""
-    out, lo, size = [], 0, FIRST_BLOCK
-    while lo < n:
-        out.append(range(lo, min(n, lo + size)))
-        lo, size = lo + size, min(BLOCK, 2 * size)
-    return out
+if TYPE_CHECKING:  # a single-path study loads neither the branched line nor its kernel
+    from webline.model.web_graph import BranchedLine
 
 
 def run_cases(line: Line | str | Path, cases: Sequence[Mapping[str, object]], *,
@@ -114,24 +95,7 @@ def run_cases(line: Line | str | Path, cases: Sequence[Mapping[str, object]], *,
         if progress is not None:
             progress(block.stop, len(cases))
 
-    blocks = blocks_of(len(cases))
-    if workers == 1:  # one core: build, run and collect in turn
-        for block in blocks:
-            built = build(block)
-            collect(block, built, run(built))
-    elif blocks:
-        # the compiled batch of block b runs (GIL released) while this thread collects
-        # block b - 1 and builds block b + 1
-        with ThreadPoolExecutor(1) as runner:
-            built = build(blocks[0])
-            pending = (blocks[0], built, runner.submit(run, built))
-            for block in blocks[1:]:
-                built = build(block)
-                done_block, done_built, future = pending
-                outputs = future.result()
-                pending = (block, built, runner.submit(run, built))
-                collect(done_block, done_built, outputs)
-            collect(pending[0], pending[1], pending[2].result())
+    run_blocks(blocks_of(len(cases)), build, run, collect, workers)
     ds = out.dataset(duration, trace_every * base_plan.dt)
     # where the time went [s]; with more than one worker the three overlap
     ds.attrs.update({f"seconds_{k}": v for k, v in seconds.items()})
@@ -194,16 +158,18 @@ def sweep(line: Line | BranchedLine | str | Path, values: Mapping[str, Sequence[
     what = {p: "the values" for p in paths}
     line = load_any(line)
     if line.branched:  # docs/branching.md: each case in the branch kernel
-        check_branch_study(line, cases, what, duration=duration, scenario=scenario,
+        from webline.sim.sweeps.branch_study import check_branch_study
+
+        work = check_branch_study(line, cases, what, duration=duration, scenario=scenario,
                            record=record, limit=work_limit)
     else:
         base = _base(line, scenario)
         probes = probe_values(base, cases, what, derive_line)
-        _check_work(base, probes, len(cases), len(paths), duration, scenario, record,
-                    work_limit)
+        work = _check_work(base, probes, len(cases), len(paths), duration, scenario, record,
+                           work_limit)
     ds = _study(line, cases, attrs, duration=duration, scenario=scenario, record=record,
                 workers=workers, progress=progress, scheduler=scheduler, store=store,
-                resume=resume)
+                resume=resume, case_steps=work.case.rk4_steps)
     from webline.sim.sweeps.study_view import as_study  # xarray: loaded when a study returns
 
     return as_study(as_grid(ds, paths, attrs["shape"]) if mode == "grid" else ds)
@@ -230,7 +196,13 @@ def monte_carlo(line: Line | BranchedLine | str | Path, distributions: Mapping[s
         raise ArgumentError(str(exc)) from None
     line = load_any(line)
     branched = line.branched
-    if line.branched:
+    if line.branched:  # the branch kernel's modules (and scipy.optimize): a branched line only
+        from webline.sim.sweeps.branch_study import (
+            branch_base,
+            branch_line_scale,
+            check_branch_study,
+        )
+
         bbase = branch_base(line, scenario)
     else:
         base = _base(line, scenario)
@@ -243,18 +215,18 @@ def monte_carlo(line: Line | BranchedLine | str | Path, distributions: Mapping[s
                                       for c in range(n)]
     what = {p: f"the samples of {distributions[p]}" for p in distributions}
     if branched:
-        check_branch_study(line, cases, what, duration=duration,
-                           scenario=scenario, record=record, limit=work_limit)
+        work = check_branch_study(line, cases, what, duration=duration,
+                                  scenario=scenario, record=record, limit=work_limit)
     else:
         probes = probe_values(base, cases, what, derive_line)
-        _check_work(base, probes, n, len(distributions), duration, scenario, record,
-                    work_limit)
+        work = _check_work(base, probes, n, len(distributions), duration, scenario, record,
+                           work_limit)
     from webline.sim.sweeps.study_view import as_study
 
     return as_study(_study(line, cases, {"mode": "monte_carlo", "seed": seed},
                                duration=duration, scenario=scenario, record=record,
                                workers=workers, progress=progress, scheduler=scheduler,
-                               store=store, resume=resume))
+                               store=store, resume=resume, case_steps=work.case.rk4_steps))
 
 
 def _base(line: Line | str | Path, scenario: str | None) -> Line:
@@ -289,9 +261,9 @@ def _line_scale(base: Line, path: str, dist: str) -> float:
 
 def _check_work(base: Line, probes: Sequence[Line], n_cases: int, n_paths: int,
                 duration: float | str | None, scenario: str | None,
-                record: float | str | None, limit: bool) -> None:
+                record: float | str | None, limit: bool) -> StudyWork:
     """Refuse a study beyond a run's budget in any probed case, or beyond the study's
-    (``sim.sweeps.study_work.check_study_work``), before any case runs."""
+    (``sim.sweeps.study_work.check_study_work``), before any case runs; its estimate."""
     if scenario is not None and duration is None:
         duration = base.spec.scenarios[scenario].duration
     seconds = 10.0 if duration is None else argument(duration, "time", "duration",
@@ -300,8 +272,8 @@ def _check_work(base: Line, probes: Sequence[Line], n_cases: int, n_paths: int,
     if record is not None:
         interval = argument(record, "time", "record", within=None)
         n_trace = int(seconds / interval) + 1
-    check_study_work(base, probes, n_cases, seconds, n_paths=n_paths, n_trace=n_trace,
-                     limit=limit)
+    return check_study_work(base, probes, n_cases, seconds, n_paths=n_paths, n_trace=n_trace,
+                            limit=limit)
 
 
 def check_workers(workers: object) -> None:
@@ -313,11 +285,17 @@ def check_workers(workers: object) -> None:
 def _study(line: Line | BranchedLine | str | Path, cases: list[dict[str, object]],
            attrs: dict[str, Any], *,
            scheduler: Any, store: str | Path | None, resume: bool, workers: int | None,
-           progress: Callable[[int, int], None] | None, **options: Any) -> Any:
+           progress: Callable[[int, int], None] | None, case_steps: int,
+           **options: Any) -> Any:
     """Run the cases here at once, or chunk by chunk into ``store`` and/or on Dask
-    (``webline.sim.sweeps.chunks``)."""
+    (``webline.sim.sweeps.chunks``; ``case_steps``, a case's estimated RK4 steps, sizes the
+    chunks of a Dask study)."""
     check_workers(workers)
-    run: Callable[..., Any] = run_branch_cases if load_any(line).branched else run_cases
+    run: Callable[..., Any] = run_cases
+    if load_any(line).branched:
+        from webline.sim.sweeps.branch_study import run_branch_cases
+
+        run = run_branch_cases
     if scheduler is None and store is None:
         ds = run(line, cases, workers=workers, progress=progress, **options)
         ds.attrs.update(attrs)
@@ -329,6 +307,8 @@ def _study(line: Line | BranchedLine | str | Path, cases: list[dict[str, object]
 
         with tempfile.TemporaryDirectory(prefix="webline-study-") as folder:
             return run_chunked(run, line, cases, store=folder, scheduler=scheduler,
-                               workers=workers, progress=progress, attrs=attrs, **options)
+                               workers=workers, progress=progress, attrs=attrs,
+                               case_steps=case_steps, **options)
     return run_chunked(run, line, cases, store=store, resume=resume, scheduler=scheduler,
-                       workers=workers, progress=progress, attrs=attrs, **options)
+                       workers=workers, progress=progress, attrs=attrs, case_steps=case_steps,
+                       **options)

@@ -131,7 +131,7 @@ def _value_row(lines: list[str], path: str) -> int | None:
     if len(parts) < 2:
         return None
     section, key = parts[0], parts[-1]
-    arrays = {"rollers", "spans", "disturbances"}
+    arrays = {"rollers", "spans", "disturbances", "webs"}  # (webs: a branched line's)
     element = parts[1] if section in arrays else None
     inner = parts[2:-1] if section in arrays else parts[1:-1]
     want = ".".join([section, *inner])

@@ -11,6 +11,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -22,6 +23,9 @@ from webline.twin.traces.measurements import Measurements
 from webline.twin.traces.replay import as_measurements
 from webline.twin.traces.runs import Run, compared_time
 from webline.twin.traces.weights import noise_levels
+
+if TYPE_CHECKING:
+    from webline.model.web_graph import BranchedLine
 
 #: residual [noise levels] of a point a failed simulation did not reach
 FAILED_RESIDUAL = 1e3
@@ -43,8 +47,8 @@ class FitRecord:
     label: str
     scenario: str | None
     data: Measurements
-    line: Line
-    driven: Line
+    line: Line | BranchedLine
+    driven: Line | BranchedLine
     notes: tuple[str, ...]
     names: tuple[str, ...]
     measured: np.ndarray
@@ -103,7 +107,7 @@ def scenario_list(scenario: str | Sequence[str | None] | None, count: int,
     return chosen
 
 
-def prepare_records(line: Line, data: Sequence[Measurements | str | Path],
+def prepare_records(line: Line | BranchedLine, data: Sequence[Measurements | str | Path],
                     scenarios: Sequence[str | None],
                     signals: Sequence[str] | None) -> list[FitRecord]:
     """The records of ``data`` (one scenario each) on ``line``; ``signals`` limits the
