@@ -88,7 +88,8 @@ EXPERIMENTS = {e.name: e for e in (
                "limit x n r / J (and no shorter than 5 speed-loop time constants); holds at "
                "1/3, 2/3 and 3/3 of the line speed until the linearized closed loop has "
                "settled to 1 % (at least 2 s)"),
-    Experiment("tension-step", "a +10 % step of each loadcell zone's tension set point",
+    Experiment("tension-step", "a +10 % step of each loadcell zone's tension set point, "
+               "ramped within the drives' torque limits",
                ("web modulus EA (the draw per tension)", "each tension loop's bandwidth "
                 "and damping"),
                "each step a ramp keeping every drive within 80 % of its torque limit, held "

@@ -1,4 +1,5 @@
-"""Which parameters a planned experiment can identify, checked before it is run: the
+"""Which parameters a planned experiment (on any line, single-path or branched) can identify,
+checked before it is run: the
 sensitivities of the signals it logs to each requested parameter, from simulations of the
 planned test with each parameter moved by ``STEP`` of its value (of its bounds' width where
 it is 0; finite differences of the full nonlinear line, on the ticks of the logging rate the
@@ -26,6 +27,7 @@ import numpy as np
 
 from webline.errors import ArgumentError
 from webline.line import Line
+from webline.model.web_graph import BranchedLine
 from webline.sim.simulate import simulate
 from webline.twin.fitting.free import FreeParameter, parse_free
 from webline.twin.fitting.identify import identifiability
@@ -73,7 +75,7 @@ class Sensitivity:
             for i, p in enumerate(self.paths)]}
 
 
-def requested(line: Line, identify: Sequence[str]) -> list[FreeParameter]:
+def requested(line: Line | BranchedLine, identify: Sequence[str]) -> list[FreeParameter]:
     """The parameters of ``identify``: ``PATH`` (bounds the value / and x ``DEFAULT_FACTOR``)
     or ``PATH=LOW..HIGH UNIT`` as ``fit --free`` takes them, ``*`` wildcards expanded."""
     from webline.twin.fitting.free import expand, lookup
@@ -102,7 +104,8 @@ def requested(line: Line, identify: Sequence[str]) -> list[FreeParameter]:
     return out
 
 
-def _logged(line: Line, duration: float, rate: float, substeps: int) -> np.ndarray:
+def _logged(line: Line | BranchedLine, duration: float, rate: float, substeps: int
+            ) -> np.ndarray:
     """The logged signals of ``line`` run for ``duration`` [s] at ``rate`` [Hz], each over
     its sensor noise, end to end."""
     result = simulate(line, duration, record_interval=1.0 / rate, substeps=substeps,
@@ -119,9 +122,6 @@ def check_plan(plan: ExperimentPlan, identify: Sequence[str]) -> Sensitivity:
     """Which of ``identify`` (``requested``'s forms) ``plan`` can identify (module
     docstring): n + 1 simulations of the planned test."""
     line = plan.line
-    if getattr(line, "branched", False):
-        raise ArgumentError("identify: the sensitivity check simulates a single-path line "
-                            "(fit and replay take single-path records)")
     params = requested(line, identify)
     values = np.array([p.start for p in params])
     scale = np.array([abs(p.start) or p.high - p.low for p in params])
