@@ -88,7 +88,7 @@ def replay_command(
 
 
 DataListArg = Annotated[list[str], typer.Argument(
-    metavar="DATA...", help="One or more measurement files (CSV, Parquet or NetCDF, as for "
+    metavar="DATA", help="One or more measurement files (CSV, Parquet or NetCDF, as for "
     "replay), fitted jointly: shared parameters to every record, each record driven by its "
     "own logged references.")]
 
@@ -103,9 +103,9 @@ def fit_command(
     out: Annotated[Path | None, typer.Option(
         "--out", "-o", help="Output folder; default out/LINE-fit.")] = None,
     scenarios: Annotated[list[str] | None, typer.Option(
-        "--scenario", "-s", help="A named scenario of the line file (see 'webline show'): "
-        "given once, every record's; given once per record, the records' in their order "
-        "(repeatable).")] = None,
+        "--scenario", "-s", metavar="SCENARIO", help="A named scenario of the line file (see "
+        "'webline show'): given once, every record's; given once per record, the records' in "
+        "their order (repeatable).")] = None,
     per_record: Annotated[list[str] | None, typer.Option(
         "--per-record", metavar="PATH", help="A --free PATH fitted once per record, not "
         "shared (an initial roll radius, a sensor offset that differs between the records); "

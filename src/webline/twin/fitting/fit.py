@@ -270,7 +270,9 @@ def fit(line: Line | BranchedLine | str | Path,
                              workers, substeps[k])
             count[0] += len(todo)
             for key, run in zip(todo, runs, strict=True):
-                memo[k][key] = (record.weighted(run), run)
+                # the compared signals only: a run's full result (every state at every
+                # compared point) would hold GBs over a memo of long records
+                memo[k][key] = (record.weighted(run), replace(run, result=None))
             if len(memo[k]) > 4 * len(params) + 8:  # keep memory bounded: drop the oldest
                 wanted = set(keys)
                 old = [key for key in memo[k] if key not in wanted]

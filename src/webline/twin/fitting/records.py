@@ -127,11 +127,13 @@ def prepare_records(line: Line | BranchedLine, data: Sequence[Measurements | str
     for label, (scenario, on, measurements) in zip(labels, loaded, strict=True):
         names = (tuple(measurements.names) if signals is None else
                  tuple(n for n in signals if n in measurements.signals))
+        if not names:
+            raise ArgumentError(f"{measurements.source}: no measured signal to compare"
+                                + (" among signals=" + ", ".join(signals) if signals else ""))
         stride = measurements.stride
         values = {n: measurements.signals[n][::stride] for n in names}
         driven = driven_line(measurements, on)
-        measured = (np.stack([values[n] for n in names]) if names else
-                    np.empty((0, len(compared_time(measurements)))))
+        measured = np.stack([values[n] for n in names])
         records.append(FitRecord(label, scenario, measurements, on, driven.line,
                                  driven.notes, names, measured, noise_levels(values)))
     return records

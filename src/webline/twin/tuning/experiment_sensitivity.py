@@ -12,7 +12,8 @@ test's record would see at the truth. With white noise the least-squares covaria
 scaled parameters is (SᵀS)⁻¹: a 95 % interval per parameter, and the correlations. The verdict is
 the fit's own (``twin.fitting.identify``): a parameter the signals do not depend on, one in a
 near-zero singular direction of the column-normalised S, one whose interval is wider than its
-bounds or which correlates with another beyond 0.95 cannot be identified by this test. The
+bounds or which correlates with another beyond 0.95 (its interval wider than a tenth of its
+bounds) cannot be identified by this test. The
 intervals are those of sensor noise alone (the best case: a model error or correlated noise
 only widens them), so a parameter called identifiable here may still be fitted loosely, but
 one called not identifiable will not be fitted from this test.
