@@ -106,7 +106,7 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
         j = plan.di[d, B.DI_ROLL]
         if j >= 0:
             arms[plan.di[d, B.DI_NODE]] = x[off_r + j]
-    tables = (plan.offsets, nodes, *plan.tables()[2:])
+    tables = (plan.tables()[0], nodes, *plan.tables()[2:])
     dx = np.zeros(plan.n_x)
     work = plan.scratch()
     cmd = np.zeros(n_d)

@@ -92,10 +92,15 @@ class BranchPlan:
         return int(self.offsets[B.O_N])
 
     def tables(self) -> tuple[np.ndarray, ...]:
-        """The tables ``kernel.rhs`` takes after ``wound``, in order."""
-        return (self.offsets, self.nodes, self.si, self.sf, self.layers, self.rolls, self.webs,
-                self.di, self.df, self.cores, self.clutch, self.lawi, self.lawf, self.laws,
-                self.kv)
+        """The tables ``kernel.rhs`` takes after ``wound``, in order; the integer ones as
+        read-only views. The compiled loop holds those as constants, which numba types as
+        read-only arrays: ``rhs`` called from Python (operating point, linear model, findings)
+        with the same types reuses the loop's compiled ``rhs`` instead of compiling all of it
+        again for writable arrays (issue 37: the first run's compile time)."""
+        return tuple(_read_only(a) if a.dtype.kind == "i" else a for a in (
+            self.offsets, self.nodes, self.si, self.sf, self.layers, self.rolls, self.webs,
+            self.di, self.df, self.cores, self.clutch, self.lawi, self.lawf, self.laws,
+            self.kv))
 
     def scratch(self) -> np.ndarray:
         """Scratch for ``kernel.rhs``."""
@@ -143,6 +148,13 @@ class BranchPlan:
     def profile(self, p: int, t: float) -> float:
         a, b = self.prof_off[p], self.prof_off[p + 1]
         return float(np.interp(t, self.prof_t[a:b], self.prof_v[a:b]))
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    """A read-only view of ``array`` (the plan's own table stays writable for its set-up)."""
+    view = array.view()
+    view.setflags(write=False)
+    return view
 
 
 def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> BranchPlan:
