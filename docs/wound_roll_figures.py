@@ -2,15 +2,19 @@
 number the page quotes.
 
     .venv/bin/python docs/wound_roll_figures.py      # writes docs/img/wound-roll-*.png
+    .venv/bin/python docs/wound_roll_figures.py slitter    # one part of it only
 
 1. The commissioning task: a taper for a 600 mm roll of 25 µm film (``design_taper``), the
    untapered roll for comparison, and the roll of a run with the chosen taper.
 2. A tension step during winding (the study of the page's "In a run"): the band it leaves.
 3. The converter's flying-splice scenario: what of its transients reaches the roll.
+4. The slitter (a branched line): each lane's roll, snapshots during winding, and the shaft's
+   taper designed for one lane.
 """
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -86,8 +90,41 @@ def flying_splice() -> None:
             print("flying splice:", f.message)
 
 
+def slitter() -> None:
+    table = {"k1": "5 kPa", "k2": 100, "diameter": "0.3 m"}
+    line = webline.load_line("slitter").replace({
+        "rollers.rewind_shaft.roll_stress": {**table, "at_radii": ["85 mm", "0.12 m"]},
+        "rollers.rewind_3.roll_stress": table,
+        "webs.lane_3.spans.lane_3_span.tension": "150 N",
+    })
+    result = webline.simulate(line, 2.0)
+    for name, roll in result.wound_rolls.items():
+        s = roll.stress
+        print(f"slitter {name}: {len(s.radius)} layers, core {_mpa(s.core_pressure)}, min hoop "
+              f"{_mpa(s.hoop.min())} at r = {1e3 * s.radius[s.hoop.argmin()]:.4g} mm")
+        for snap in roll.snapshots:
+            print(f"  at r = {1e3 * snap.radius:.4g} mm: {len(snap.stress.radius)} layers, core "
+                  f"{_mpa(snap.stress.core_pressure)}")
+    wound_roll_figure(result.wound_rolls["rewind_shaft/lane_1"]).savefig(
+        IMG / "wound-roll-slitter.png", dpi=90)
+    shaft = webline.load_line("slitter").replace({"rollers.rewind_shaft.roll_stress": {
+        "k1": "1.5 kPa", "k2": 120, "core": {"modulus": "3 GPa", "inner_radius": "70 mm"},
+        "min_hoop": "-0.4 MPa", "diameter": "0.4 m"}})
+    lane = "rewind_shaft/lane_1"
+    best = design_taper(shaft, roll=lane)[0]
+    for less in (0.0, 0.05):
+        tapered = with_taper(shaft, best, roll=lane)
+        node = tapered.node_index["rewind_shaft"]  # type: ignore[union-attr]
+        tapered = tapered.replace({"rollers.rewind_shaft.taper.taper":
+                                   tapered.spec.rollers[node].taper.taper - less})
+        roll = webline.simulate(tapered, 2.0).wound_rolls[lane]
+        print(f"slitter shaft taper {best.form} {best.taper:.3f} - {less}: min hoop "
+              f"{_mpa(roll.stress.hoop.min())}")
+
+
 if __name__ == "__main__":
     IMG.mkdir(exist_ok=True)
-    commissioning()
-    step_band()
-    flying_splice()
+    parts = {"commissioning": commissioning, "step": step_band, "splice": flying_splice,
+             "slitter": slitter}
+    for part in sys.argv[1:] or parts:
+        parts[part]()

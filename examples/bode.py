@@ -6,6 +6,7 @@ Run: python examples/bode.py
 """
 
 import control
+import matplotlib.pyplot as plt
 import numpy as np
 
 import webline
@@ -20,4 +21,17 @@ gain_db = 20 * np.log10(np.abs(magnitude))
 bandwidth = omega[np.argmax(gain_db < gain_db[0] - 3.0)]
 print(f"{reference} -> span2_tension: {gain_db[0]:.2f} dB at {omega[0]:.2g} rad/s, "
       f"-3 dB bandwidth {bandwidth:.2f} rad/s ({bandwidth / (2 * np.pi):.2f} Hz)")
-# control.bode_plot(path) draws the Bode plot with matplotlib.
+
+# the Bode plot of the same path (control.bode_plot(path) draws it too)
+fig, (gain_ax, phase_ax) = plt.subplots(2, 1, sharex=True, figsize=(7, 5), layout="constrained")
+gain_ax.semilogx(omega, gain_db)
+gain_ax.axvline(bandwidth, color="k", ls="--", lw=0.8, label=f"-3 dB at {bandwidth:.2f} rad/s")
+gain_ax.set_ylabel("gain [dB]")
+gain_ax.legend()
+phase_ax.semilogx(omega, np.degrees(np.unwrap(phase)))
+phase_ax.set_ylabel("phase [deg]")
+phase_ax.set_xlabel("frequency [rad/s]")
+fig.suptitle(f"hswl closed loop: {reference} -> span2_tension")
+for ax in (gain_ax, phase_ax):
+    ax.grid(alpha=0.3, which="both")
+plt.show()

@@ -18,6 +18,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+import matplotlib.pyplot as plt
 import numpy as np
 
 import webline
@@ -72,6 +73,13 @@ def main() -> None:
     dob = webline.simulate(line, scenario="speed-change", controller=DisturbanceObserverPI())
     print(f"hswl speed-change: relative tension RMS built-in PI {tension_rms(builtin):.3g}, "
           f"DOB-PI {tension_rms(dob):.3g}; verdicts {builtin.status}, {dob.status}")
+    _, ax = plt.subplots(figsize=(8, 3.5), layout="constrained")
+    for name, result in (("built-in PI", builtin), ("DOB-PI", dob)):
+        result.signals.tension.sel(span="span2").plot(ax=ax, label=name, lw=1.0)
+    ax.set_title("hswl speed change: tension of span2")
+    ax.legend()
+    ax.grid(alpha=0.3)
+    plt.show()
 
 
 if __name__ == "__main__":

@@ -12,6 +12,8 @@ from __future__ import annotations
 import tempfile
 from pathlib import Path
 
+import matplotlib.pyplot as plt
+
 import webline
 from webline.twin.traces.synthetic import synthetic_csv
 
@@ -35,3 +37,16 @@ with tempfile.TemporaryDirectory() as folder:
         low, high = result.ci95[i]
         inside = "inside" if low <= TRUTH[p.path] <= high else "OUTSIDE"
         print(f"{p.path}: true {TRUTH[p.path]:.4g} {p.unit} {inside} the 95 % interval")
+
+    # the chill roll's torque: recorded, replayed with the line file, and with the fitted line
+    after = webline.replay(result.fitted_line, data)
+    _, ax = plt.subplots(figsize=(8, 3.5), layout="constrained")
+    ax.plot(before.time, before.measured["torque[chill]"], color="0.6", lw=0.8, label="recorded")
+    ax.plot(before.time, before.run.values["torque[chill]"], label="line file")
+    ax.plot(after.time, after.run.values["torque[chill]"], "--", label="fitted line")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("torque[chill] [N·m]")
+    ax.set_title("converter start-up: the fit closes the gap to the recording")
+    ax.legend()
+    ax.grid(alpha=0.3)
+    plt.show()

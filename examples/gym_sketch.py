@@ -9,6 +9,7 @@ episode earns more reward. Needs the optional extra: pip install 'webline[gym]'.
 
 from __future__ import annotations
 
+import matplotlib.pyplot as plt
 import numpy as np
 
 import webline.gym  # noqa: F401 - registers webline/Line-v0
@@ -34,14 +35,25 @@ def main() -> None:
     n = env.action_space.shape[0]
     rng = np.random.default_rng(0)
     best = np.zeros(2 * n)
-    kept = 0
+    kept, rewards = 0, []
     for trial in range(8):  # candidate and incumbent on the same drawn line (seed)
         candidate = best + rng.normal(0.0, [2.0, 0.005] * n)
-        if episode(env, candidate, seed=trial) > episode(env, best, seed=trial):
+        tried, incumbent = episode(env, candidate, seed=trial), episode(env, best, seed=trial)
+        if tried > incumbent:
             best, kept = candidate, kept + 1
+        rewards.append((incumbent, tried))
     start, end = episode(env, np.zeros(2 * n), seed=99), episode(env, best, seed=99)
     print(f"random search, 8 trials, {kept} kept: reward on a new line {start:.4g} at K = 0, "
           f"{end:.4g} at the found K")
+    _, ax = plt.subplots(figsize=(7, 3.2), layout="constrained")
+    ax.plot([r[0] for r in rewards], "o-", label="incumbent K")
+    ax.plot([r[1] for r in rewards], "x", label="candidate K")
+    ax.set_xlabel("trial (each on its own drawn line)")
+    ax.set_ylabel("episode reward")
+    ax.set_title("random search of a linear policy on webline/Line-v0 (hswl)")
+    ax.legend()
+    ax.grid(alpha=0.3)
+    plt.show()
 
 
 if __name__ == "__main__":

@@ -4,6 +4,8 @@ keys as a line file), simulated through a speed ramp, with its tension statistic
 Run: python examples/own_line.py
 """
 
+import matplotlib.pyplot as plt
+
 import webline
 
 line = webline.load_line({
@@ -35,3 +37,10 @@ print(f"verdict: {result.status}")
 for span, stats in result.summary()["spans"].items():
     error = f", largest error {stats['max_abs_error']:.2f} N" if "max_abs_error" in stats else ""
     print(f"{span:12s} mean {stats['mean']:7.2f} N  std {stats['std']:5.2f} N{error}")
+
+# tensions through the speed ramp (1 s to 5 s), one line per span
+_, ax = plt.subplots(figsize=(8, 3.5), layout="constrained")
+result.signals.tension.plot.line(ax=ax, x="time", lw=1.0)
+ax.set_title("film-line: span tensions through the speed ramp")
+ax.grid(alpha=0.3)
+plt.show()

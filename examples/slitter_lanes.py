@@ -8,6 +8,7 @@ Run: python examples/slitter_lanes.py
 
 import math
 
+import matplotlib.pyplot as plt
 import numpy as np
 
 import webline
@@ -30,3 +31,14 @@ print(f"drift rate {measured:.2f} N/s (first order: {first_order:.2f} N/s at r =
 # the lanes part until each is more than 20 % off its set 100 N ([checks] tension_tolerance)
 findings = sorted(f"{f.kind} {f.where}" for f in result.verdict.findings)
 print(f"verdict: {result.verdict.status} ({'; '.join(findings) or 'no findings'})")
+
+_, ax = plt.subplots(figsize=(8, 3.5), layout="constrained")
+ax.plot(t, lane_1, label="lane_1 (1 % thicker)")
+ax.plot(t, lane_2, label="lane_2")
+ax.plot(t, (lane_1 + lane_2) / 2, "k--", lw=0.8, label="their mean (the drive holds it)")
+ax.set_xlabel("time [s]")
+ax.set_ylabel("tension [N]")
+ax.set_title("slitter: two lanes on one rewind shaft drift apart")
+ax.legend()
+ax.grid(alpha=0.3)
+plt.show()

@@ -15,6 +15,7 @@ The command is the equilibrium command plus the LQR's: u = u_eq - K [x, ∫e].
 from __future__ import annotations
 
 import control
+import matplotlib.pyplot as plt
 import numpy as np
 from scipy.linalg import expm
 
@@ -75,10 +76,16 @@ def main() -> None:
     builtin = webline.simulate(line, scenario="speed-change")
     lqr = webline.simulate(line, scenario="speed-change", controller=IntegralLQR(),
                            raise_on_failure=False)
+    _, ax = plt.subplots(figsize=(8, 3.5), layout="constrained")
     for name, result in (("built-in PI", builtin), ("integral LQR", lqr)):
         error = result.tension - result.tension[0]
         print(f"{name:13s} verdict {result.status:8s} largest tension deviation "
               f"{float(np.max(np.abs(error))):.3g} N")
+        result.signals.tension.sel(span="span2").plot(ax=ax, label=name, lw=1.0)
+    ax.set_title("hswl speed change: tension of span2")
+    ax.legend()
+    ax.grid(alpha=0.3)
+    plt.show()
 
 
 if __name__ == "__main__":

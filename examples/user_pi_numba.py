@@ -12,6 +12,7 @@ run to round-off.
 
 from __future__ import annotations
 
+import matplotlib.pyplot as plt
 import numpy as np
 
 import webline
@@ -86,6 +87,14 @@ def main() -> None:
     worst = float(np.max(np.abs(user.states - builtin.states) / scale))
     print(f"hswl, 2 s: compiled user PI vs built-in PI, largest difference {worst:.2g} "
           f"of each state's range; verdict: {user.status}")
+    # the difference stays at round-off through the run (a zero would not show on a log axis)
+    _, ax = plt.subplots(figsize=(8, 3), layout="constrained")
+    ax.semilogy(user.time, np.max(np.abs(user.states - builtin.states) / scale, axis=1) + 1e-18)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("largest |difference| / range")
+    ax.set_title("hswl: compiled user PI against the built-in PI, largest state difference")
+    ax.grid(alpha=0.3, which="both")
+    plt.show()
 
 
 if __name__ == "__main__":

@@ -12,7 +12,7 @@ from webline.cli_common import BadInput, open_output, parse_sets, progress_bar
 from webline.files import atomic_write
 from webline.model.web_graph import BranchedLine, load_branched
 from webline.report.results_file import results_name
-from webline.report.text.display import Display
+from webline.report.writer import branch_display
 from webline.sim.branches.run import simulate_branches
 from webline.sim.branches.winder import splice_summary
 
@@ -33,7 +33,7 @@ def run_branched(source: str | BranchedLine, seconds: float | None, scenario: st
     every drive runs this controller family (``--controller``, its line-file type) instead
     of the file's; the file's python controllers run as in ``simulate`` (docs/controllers.md,
     "On a branched line")."""
-    display = branch_units(units)
+    display = branch_display(units)
     line = branched_line(source, scenario, sets, family)
     from webline.sim.user_objects import branched_controllers, check_consent
 
@@ -57,10 +57,11 @@ def run_branched(source: str | BranchedLine, seconds: float | None, scenario: st
                                  svg=svg, display=display).report
     folder.finish()
     if not quiet:
-        for web in result.web_summary():
+        for w, web in enumerate(result.web_summary()):
             table = web["spans"]
             assert isinstance(table, dict)
-            f, unit = display.factor("force"), display.unit("force")
+            shown = display.at_width(line.materials[w].width)  # (per width: its own)
+            f, unit = shown.factor("force"), shown.unit("force")
             spans = ", ".join(f"{name} {f * v['min_N']:.4g}-{f * v['max_N']:.4g} {unit}"
                               for name, v in table.items())
             typer.echo(f"{web['kind']} {web['web']}: {spans}")
@@ -77,15 +78,6 @@ def run_branched(source: str | BranchedLine, seconds: float | None, scenario: st
     typer.echo(result.verdict.headline, err=True)
     if result.verdict.exit_code:
         raise typer.Exit(result.verdict.exit_code)
-
-
-def branch_units(units: str) -> Display:
-    """The ``Display`` of ``--units`` for a branched line: 'si' or 'imperial'; a per-width
-    system is bad input (each web and lane has its own width)."""
-    if units not in ("si", "imperial"):
-        raise BadInput(f"--units {units}: a branched line is shown in 'si' or 'imperial' units "
-                       "(not per width: each web and lane has its own width)")
-    return Display(units)  # type: ignore[arg-type]
 
 
 def branched_line(source: str | BranchedLine, scenario: str | None, sets: list[str] | None,
@@ -110,7 +102,7 @@ def show_branched(source: str | BranchedLine, scenario: str | None, schematic: P
     """The tables of branched line ``source`` (``report.text.branch_tables``) in ``units``,
     with ``scenario`` and ``sets`` (``--set``) applied; with ``schematic``, its schematic
     written there (PNG, or SVG/PDF by the file's suffix)."""
-    display = branch_units(units)
+    display = branch_display(units)
     line = branched_line(source, scenario, sets)
     from webline.report.text.branch_tables import line_tables
 

@@ -7,11 +7,15 @@ Registered on the app by ``webline.cli``; it imports nothing from there (no cycl
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from webline.cli_common import BadInput, LineArg, SetOpt, _load, time_option
+
+if TYPE_CHECKING:
+    from webline.line import Line
+    from webline.model.web_graph import BranchedLine
 
 #: findings of the simulated roll that reject a taper (a band is reported, not a rejection)
 LIMIT_KINDS = ("roll_hoop", "roll_pressure", "roll_core")
@@ -50,17 +54,33 @@ def taper_command(
             "--check/--no-check", help="Simulate the line with the taper and compute its roll."
         ),
     ] = True,
+    roll: Annotated[
+        str | None,
+        typer.Option(
+            "--roll",
+            help="The roll to design for on a branched line: ROLLER/WEB (a lane on a "
+            "shaft), or a rewind winding one roll (default: the line's only rewound roll).",
+        ),
+    ] = None,
     sets: SetOpt = None,
     force: Annotated[bool, typer.Option("--force", help="Overwrite the output file.")] = False,
 ) -> None:
     """Design LINE's rewind taper so that the roll meets the limits of its roll_stress table
-    with the most tension, check it by simulating, and write it into a line file. Exit 0 when
+    with the most tension, check it by simulating, and write it into a line file. On a
+    branched line, the taper of --roll's rewind (a shaft's, for all its lanes). Exit 0 when
     the simulated roll meets its limits, 1 when it does not or no taper does."""
     from webline.analysis.roll_taper import design_roll, design_taper, with_taper
+    from webline.model.lines import load_line
     from webline.spec.load import dump_spec
     from webline.units import to_si
 
-    base = _load(line, None, None, sets)
+    loaded = load_line(line)
+    if loaded.branched:
+        from webline.cli_branches import branched_line
+
+        base: Line | BranchedLine = branched_line(loaded, None, sets)
+    else:
+        base = _load(loaded, None, None, sets)
     try:
         d = None if diameter is None else to_si(diameter, "length")
     except Exception as exc:  # pint's errors name the unit
@@ -69,16 +89,16 @@ def taper_command(
     target = out or Path(f"{base.name}-taper.toml")
     if target.exists() and not force:
         raise BadInput(f"{target}: exists (--force to overwrite)")
-    design = design_roll(base, d)
+    design = design_roll(base, d, roll)
     lim = design.limits
     typer.echo(
-        f"{base.rewind.name}: roll {1e3 * design.core_radius:.4g}-"
+        f"{design.roll_name}: roll {1e3 * design.core_radius:.4g}-"
         f"{1e3 * design.outer_radius:.4g} mm of {1e6 * design.thickness:.4g} um web at "
         f"{design.tension:.4g} N x taper; limits: hoop >= {lim.min_hoop / 1e6:.3g} MPa"
         + (f", pressure <= {lim.max_pressure / 1e6:.3g} MPa" if lim.max_pressure else "")
         + (f", core <= {lim.core_rating / 1e6:.3g} MPa" if lim.core_rating else "")
     )
-    choices = design_taper(base, tuple(form or ("linear", "hyperbolic")), d)
+    choices = design_taper(base, tuple(form or ("linear", "hyperbolic")), d, roll)
     for c in choices:
         if c.taper is None:
             typer.echo(f"{c.form}: no taper up to 0.9 meets the limits ({'; '.join(c.below)})")
@@ -95,17 +115,17 @@ def taper_command(
             "the core or relax the limits"
         )
         raise typer.Exit(1)
-    tapered = with_taper(base, best, d)
+    tapered = with_taper(base, best, d, roll)
     ok = True
     if check:
         import webline
 
         result = webline.simulate(tapered, run_s)
-        roll = result.wound_roll
-        found = [f for f in result.verdict.findings if f.kind.startswith("roll_")]
-        ok = roll is not None and not any(f.kind in LIMIT_KINDS for f in found)
-        if roll is not None:
-            s = roll.stress
+        wound = result.wound_rolls.get(design.roll_name)
+        found = wound.findings() if wound is not None else []
+        ok = wound is not None and not any(f.kind in LIMIT_KINDS for f in found)
+        if wound is not None:
+            s = wound.stress
             typer.echo(
                 f"check: {run_s:g} s of {base.name} with {best.form} taper "
                 f"{best.taper:.3f}: min hoop {s.hoop.min() / 1e6:.3g} MPa, max pressure "

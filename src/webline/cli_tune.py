@@ -6,6 +6,7 @@ Registered on the app by ``webline.cli``; it imports nothing from there (no cycl
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -107,6 +108,10 @@ def experiment_command(
         "on LINE.")] = False,
     force: Annotated[bool, typer.Option(
         "--force", help="Write into a non-empty folder webline did not write.")] = False,
+    identify: Annotated[list[str] | None, typer.Option(
+        "--identify", help="Parameters the test should identify, checked before it runs "
+        "(sensitivities of the logged signals): PATH or PATH=LOW..HIGH UNIT, comma-"
+        "separated or repeated, e.g. rollers.process.inertia,web.ea.")] = None,
 ) -> None:
     """Simulate an identification test on LINE and write the traces to record."""
     from webline.model.lines import load_line
@@ -134,9 +139,27 @@ def experiment_command(
         raise BadInput("give an experiment NAME or --list")
     if name not in EXPERIMENTS:
         raise BadInput(f"no experiment named {name!r}; known: {', '.join(EXPERIMENTS)}")
+    check = None
+    if identify:
+        from webline.twin.tuning.experiment_sensitivity import check_plan
+
+        wanted = [item for text in identify for item in text.split(",") if item.strip()]
+        check = check_plan(planned(name), wanted)  # before anything is written
+        typer.echo(f"sensitivity check of {name} on {base.name} (condition number "
+                   f"{check.condition:.3g}):")
+        for text in check.lines():
+            typer.echo(f"  {text}")
+        missed = [p for p, ok in zip(check.paths, check.identifiable, strict=True) if not ok]
+        if missed:
+            typer.echo(f"warning: {name} cannot identify {', '.join(missed)}: choose another "
+                       "test for them (webline experiment LINE --list)")
     folder = open_output(out or Path("out") / f"experiment-{name}", force, "experiment",
                          ("results.csv", "experiment.json"))
     plan, result = write(base, name, folder.path, folder.claim)
+    if check is not None:
+        path = folder.path / "experiment.json"
+        data = json.loads(path.read_text(encoding="utf-8")) | {"sensitivity": check.as_dict()}
+        path.write_text(json.dumps(data, indent=2), encoding="utf-8")
     folder.finish()
     typer.echo(f"{name} on {base.name}: {plan.duration:g} s; identifies "
                f"{'; '.join(plan.experiment.identifies)}")

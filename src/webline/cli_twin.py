@@ -29,7 +29,7 @@ ForceOpt = Annotated[bool, typer.Option(
     "command's output there.")]
 
 REPLAY_FILES = ("report.html", "metrics.csv", "replay.png")
-FIT_FILES = ("fitted.toml", "fit.json", "report.html", "fit.png", "residuals.png")
+FIT_FILES = ("fitted.toml", "fit.json", "report.html")
 
 
 def parse_pairs(items: list[str] | None, option: str, sep: str = "=") -> dict[str, str]:
@@ -46,7 +46,7 @@ def parse_pairs(items: list[str] | None, option: str, sep: str = "=") -> dict[st
 
 def _data(data: str, line: str, scenario: str | None,
           maps: list[str] | None) -> Measurements:
-    from webline.line import load_line
+    from webline.model.lines import load_line
     from webline.twin.traces.measurements import load_measurements
 
     base = load_line(line)
@@ -70,9 +70,7 @@ def replay_command(
     from webline.report.outputs import default_folder
     from webline.twin.fitting.report import write_replay_report
     from webline.twin.traces.replay import replay
-    from webline.twin.traces.single_path import single_path_line
 
-    single_path_line(line, "webline replay")  # (one line where its webs branch)
     measurements = _data(data, line, scenario, maps)
     result = replay(measurements.line, measurements)
     target = out or Path(default_folder(result.line.name, "replay"))
@@ -89,16 +87,29 @@ def replay_command(
     console.print(escape(f"report: {report}"))
 
 
+DataListArg = Annotated[list[str], typer.Argument(
+    metavar="DATA...", help="One or more measurement files (CSV, Parquet or NetCDF, as for "
+    "replay), fitted jointly: shared parameters to every record, each record driven by its "
+    "own logged references.")]
+
+
 def fit_command(
     line: LineArg,
-    data: DataArg,
+    data: DataListArg,
     free: Annotated[list[str], typer.Option(
         "--free", metavar="PATH=LOW..HIGH", help="A parameter to fit and its bounds, e.g. "
         "--free 'rollers.unwind.inertia=0.5..5 kg*m**2' (repeatable; * for every element: "
         "rollers.*.friction).")],
     out: Annotated[Path | None, typer.Option(
         "--out", "-o", help="Output folder; default out/LINE-fit.")] = None,
-    scenario: ScenarioOpt = None,
+    scenarios: Annotated[list[str] | None, typer.Option(
+        "--scenario", "-s", help="A named scenario of the line file (see 'webline show'): "
+        "given once, every record's; given once per record, the records' in their order "
+        "(repeatable).")] = None,
+    per_record: Annotated[list[str] | None, typer.Option(
+        "--per-record", metavar="PATH", help="A --free PATH fitted once per record, not "
+        "shared (an initial roll radius, a sensor offset that differs between the records); "
+        "reported as PATH@FILE (repeatable).")] = None,
     maps: MapOpt = None,
     max_simulations: Annotated[int, typer.Option(
         "--max-simulations", min=10, help="Stop after about this many simulations (of the "
@@ -110,35 +121,49 @@ def fit_command(
     seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of the Latin hypercube.")] = 0,
     accept_poor: Annotated[bool, typer.Option(
         "--accept-poor", help="Exit 0 for a poor fit (its files still say it is poor).")] = False,
+    interval_method: Annotated[str, typer.Option(
+        "--intervals", help="wald: value ± t x the honest standard error; profile: "
+        "profile-likelihood intervals, for confidence regions that are not ellipsoids "
+        "(each parameter's profile refits the others: some tens of simulations each).")
+    ] = "wald",
     force: ForceOpt = False,
 ) -> None:
-    """Fit line parameters to measured data by weighted least squares: values, standard
-    errors, 95 % intervals, correlations, the parameters the data cannot identify and a
-    verdict (good, poor, failed, with the reasons). Writes fitted.toml (the line with the
-    fitted values, annotated), fit.json and an HTML report, whatever the verdict. Exit
-    status: 0 good, 4 poor (0 with --accept-poor), 5 failed, 2 bad input."""
+    """Fit line parameters to one or more measured records by weighted least squares:
+    values, standard errors, 95 % intervals, correlations, the parameters the data cannot
+    identify and a verdict (good, poor, failed, with the reasons; a record whose own
+    residuals are above the noise makes it poor). Several records are fitted jointly: e.g.
+    an accel-ramps and a tension-step test, -s given once per file. Writes fitted.toml (the
+    line with the fitted shared values, annotated), fit.json and an HTML report, whatever
+    the verdict. Exit status: 0 good, 4 poor (0 with --accept-poor), 5 failed, 2 bad
+    input."""
     from webline.report.outputs import default_folder
     from webline.twin.fitting.fit import fit
     from webline.twin.fitting.fit_files import write_fit_files
-    from webline.twin.fitting.report import write_fit_report
-    from webline.twin.traces.single_path import single_path_line
+    from webline.twin.fitting.records import scenario_list
+    from webline.twin.fitting.report import fit_figure_names, write_fit_report
 
-    single_path_line(line, "webline fit")
+    if interval_method not in ("wald", "profile"):
+        raise ArgumentError(f"--intervals: 'wald' or 'profile', got {interval_method!r}")
     bounds = parse_pairs(free, "--free")
-    measurements = _data(data, line, scenario, maps)
-    from webline.line import load_line
+    chosen = scenario_list(scenarios or None, len(data), "--scenario")
+    measurements = [_data(path, line, scenario, maps)
+                    for path, scenario in zip(data, chosen, strict=True)]
+    from webline.model.lines import load_line
 
-    result = fit(load_line(line), measurements, bounds, scenario=scenario,
-                 max_simulations=max_simulations, starts=starts, seed=seed)
+    result = fit(load_line(line), measurements, bounds, scenario=chosen,
+                 per_record=per_record or (), max_simulations=max_simulations,
+                 starts=starts, seed=seed, profile=interval_method == "profile")
     target = out or Path(default_folder(result.line.name, "fit"))
-    folder = open_output(target, force, "fit", FIT_FILES)
-    for name in FIT_FILES:
+    files = (*FIT_FILES, *fit_figure_names(len(result.records)))
+    folder = open_output(target, force, "fit", files)
+    for name in files:
         folder.claim(name)
     write_fit_files(result, target)
     report = write_fit_report(result, target)
     folder.finish()
     console = _console()
-    console.print(escape(measurements.report()))
+    for m in measurements:
+        console.print(escape(m.report()))
     console.print(escape(repr(result)))
     console.print(escape(f"report: {report}"))
     from webline.twin.fitting.verdict import EXIT

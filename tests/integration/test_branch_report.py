@@ -276,8 +276,10 @@ def test_write_report_writes_a_branched_runs_report_from_python(tmp_path, upset)
     assert upset.verdict.headline in unescape(files.report.read_text("utf-8"))
     assert {p.name for p in files.figures} == {f"{k}.png" for k in (
         "schematic", "tensions", "layers", "speeds", "radii", "torques")}
-    with pytest.raises(webline.ArgumentError, match="not per width"):
-        write_report(upset, tmp_path / "other", units="si-per-width")
+    per_width = write_report(upset, tmp_path / "other", units="si-per-width")
+    assert "N/m" in unescape(per_width.report.read_text("utf-8"))
+    with pytest.raises(webline.ArgumentError, match="expected one of"):
+        write_report(upset, tmp_path / "bad", units="pli")  # type: ignore[arg-type]
 
 
 def test_the_report_in_imperial_units_shows_the_runs_numbers_converted(upset):
@@ -312,12 +314,58 @@ def test_run_and_show_take_units_for_a_branched_line(tmp_path):
     assert result.exit_code == 0, result.output
     assert "lbf" in result.output and "units: imperial" in (
         tmp_path / "run" / "report.html").read_text("utf-8")
-    bad = CliRunner().invoke(app, ["run", "laminator", "-d", "0.2", "--out",
-                                   str(tmp_path / "bad"), "--units", "imperial-per-width"])
-    assert bad.exit_code == 2
-    assert "--units imperial-per-width" in bad.output and "own width" in bad.output
     shown = CliRunner().invoke(app, ["show", "slitter", "--units", "imperial"])
     assert shown.exit_code == 0 and "EA [lbf]" in shown.output
+
+
+LBF, INCH = 4.4482216152605, 0.0254  # [N], [m]: pint's
+PLI = LBF / INCH  # 1 pli in N/m (175.13)
+
+
+def test_per_width_units_divide_each_web_and_lane_by_its_own_width() -> None:
+    """``--units si-per-width`` / ``imperial-per-width`` on a branched line (issue 33 item 3):
+    each web's and lane's tensions are divided by its own width (the slitter: base 1.25 m,
+    lanes 0.4 m; a laminate: its narrower layer's), as ``webline analyze`` already does;
+    lengths and torques stay in the base system."""
+    from webline.report.plots.branch_figures import tensions_figure
+    from webline.report.text.branch_tables import line_tables
+    from webline.report.text.display import Display
+
+    run = webline.simulate("slitter", 0.3)
+    line = run.plan.line
+    widths = [m.width for m in line.materials]
+    assert widths == [1.25, 0.4, 0.4, 0.4]
+    per_width = Display("si-per-width", 1.0)
+    drawn = tensions_figure(run, per_width)
+    si = tensions_figure(run)
+    for w, (ax, ax_si) in enumerate(zip(drawn.axes, si.axes, strict=True)):  # one per web
+        for ln, ln_si in zip(ax.get_lines(), ax_si.get_lines(), strict=True):
+            np.testing.assert_allclose(ln.get_ydata(), ln_si.get_ydata() / widths[w],
+                                       rtol=1e-12, atol=0.0)
+        assert ax.get_ylabel() == "tension [N/m]"
+    webs = next(t for t in line_tables(line, Display("imperial-per-width", 1.0))
+                if t.key == "webs")
+    assert "EA [pli]" in webs.columns
+    for row, m in zip(webs.rows, line.materials, strict=True):
+        assert float(row[4]) == pytest.approx(m.ea / m.width / PLI, rel=1e-3)  # 4 digits
+
+
+def test_run_and_show_in_pli_on_the_slitter(tmp_path) -> None:
+    # the slitter's lanes hold 100 N on 400 mm: 250 N/m = 1.4275 pli each; its unwind zone
+    # 300 N on 1.25 m: 240 N/m = 1.370 pli (docs/branching.md, "Report")
+    shown = CliRunner().invoke(app, ["show", "slitter", "--units", "imperial-per-width"])
+    assert shown.exit_code == 0, shown.output
+    assert f"{240 / PLI:.4g} pli" in shown.output and f"{250 / PLI:.4g} pli" in shown.output
+    run = CliRunner().invoke(app, ["run", "slitter", "-d", "0.3", "--out", str(tmp_path / "r"),
+                                   "--units", "imperial-per-width"])
+    assert run.exit_code == 0, run.output
+    lane = next(ln for ln in run.output.splitlines() if ln.startswith("lane lane_3"))
+    low, high = (float(v) for v in lane.split()[-2].split("-"))
+    assert low == pytest.approx(250 / PLI, rel=2e-3) and high == pytest.approx(250 / PLI,
+                                                                               rel=2e-3)
+    assert lane.endswith("pli")
+    report = unescape((tmp_path / "r" / "report.html").read_text("utf-8"))
+    assert "units: imperial-per-width" in report and "pli" in report
 
 
 def test_a_tree_that_merges_then_splits_is_drawn_with_both_junctions_in_their_places():

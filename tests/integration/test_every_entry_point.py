@@ -2,8 +2,7 @@
 ``simulate``, ``Session``, ``sweep``, ``monte_carlo``, ``replay``, ``fit``, ``experiment``,
 ``tune``, ``benchmark``, gym ``make`` with ``randomize``, ``analyze`` and ``report`` on
 ``hswl``, ``converter``, ``laminator`` and ``slitter`` give the same result type with the same
-methods; where one is still refused on a branched line, the refusal is one line naming the
-key and the reason, and it is listed in ``REFUSED``.
+methods (none is refused on a branched line any more).
 
 Runs are short (0.1-0.3 s simulated; a tune of 2 evaluations): what is checked is the
 interface, the physics of each entry point has its own tests.
@@ -26,12 +25,6 @@ from webline.cli import app
 pytestmark = pytest.mark.slow
 
 LINES = ("hswl", "converter", "laminator", "slitter")
-
-#: entry points still refused on a branched line: (entry point, the refusal's key, its reason)
-REFUSED = {
-    "replay": ("line", "a twin's traces drive and are matched to a single-path line's signals"),
-    "fit": ("line", "a twin's traces drive and are matched to a single-path line's signals"),
-}
 
 #: what every run's result offers, whatever its line (``webline.RunResult``)
 RUN_METHODS = (
@@ -105,13 +98,6 @@ def check_run(result, line) -> None:
     assert f"line {line.name!r}" in repr(result) and result.status in repr(result)
 
 
-def refusal(exc: Exception, entry: str) -> None:
-    """``exc`` is the one-line refusal ``REFUSED`` lists for ``entry``."""
-    key, reason = REFUSED[entry]
-    text = str(exc)
-    assert "\n" not in text and text.startswith(f"{key}") and reason in text, text
-
-
 @pytest.fixture(scope="module", params=LINES)
 def line(request):
     return webline.load_line(request.param)
@@ -152,33 +138,27 @@ def test_sweep_and_monte_carlo_give_the_same_metrics(line) -> None:
 
 
 def test_replay_and_fit(line, tmp_path: Path) -> None:
-    if line.branched:
-        for entry, call in (
-            ("replay", lambda: webline.replay(line, tmp_path / "x.csv")),
-            ("fit", lambda: webline.fit(line, tmp_path / "x.csv", {})),
-        ):
-            with pytest.raises(webline.ArgumentError) as info:
-                call()
-            refusal(info.value, entry)
-            extra = ["--free", "web.ea"] if entry == "fit" else []  # (fit's one required option)
-            done = CliRunner().invoke(app, [entry, line.name, str(tmp_path / "x.csv"), *extra])
-            assert done.exit_code == 2 and done.output.count("\n") == 1, done.output
-            assert REFUSED[entry][1] in done.output
-        return
     # (long enough to identify: 5 time constants of the slowest loop, 1.25 s on converter)
     run = webline.simulate(line, 1.5)
     logged = run.to_csv(tmp_path / "results.csv")
     replayed = webline.replay(line, logged)
     tension = replayed.metrics[replayed.metrics.signal.str.startswith("tension[")]
-    assert len(tension) == len(line.spec.spans)
+    assert len(tension) == len(run.span_names)
     # the line replays its own log: each tension within 0.1 % of its mean (RMS; the replay
     # drives the line by the logged references, the run by the file's profiles)
     assert (tension.rms.values < 1e-3 * run.tension.mean(axis=0)).all(), tension
-    drive = line.node_name(line.drives[-1])
+    drive = run.drive_names[-1]
     fitted = webline.fit(
         line, logged, {f"rollers.{drive}.friction": "0.001 .. 1 N*m*s"}, max_simulations=6
     )
     assert type(fitted).__name__ == "FitResult"
+    for entry, extra in (("replay", []), ("fit", ["--free", f"rollers.{drive}.friction="
+                                                  "0.001..1 N*m*s", "--max-simulations",
+                                                  "10", "--starts", "1", "--accept-poor"])):
+        done = CliRunner().invoke(app, [entry, line.name, str(logged), "--out",
+                                        str(tmp_path / entry), *extra])
+        assert done.exit_code == 0, done.output
+        assert (tmp_path / entry / "report.html").is_file()
 
 
 def test_experiment_and_analyze_commands(line, tmp_path: Path) -> None:

@@ -176,10 +176,10 @@ def test_monte_carlo_same_seed_same_study_on_1_and_2_workers() -> None:
 def test_blocks_overlapping_on_threads_give_the_one_thread_results(monkeypatch) -> None:
     # blocks of 1, 2, 2, 2 cases: each is built while the one before runs compiled, and
     # collected while the next runs; the numbers do not depend on that order
-    from webline.sim.sweeps import sweep
+    from webline.sim.sweeps import blocks
 
-    monkeypatch.setattr(sweep, "FIRST_BLOCK", 1)
-    monkeypatch.setattr(sweep, "BLOCK", 2)
+    monkeypatch.setattr(blocks, "FIRST_BLOCK", 1)
+    monkeypatch.setattr(blocks, "BLOCK", 2)
     cases = [{"web.ea": f"{ea} lbf"} for ea in (1800, 1900, 2000, 2100, 2200, 2300, 2400)]
     done: list[int] = []
     two = run_cases("hswl", cases, duration=0.5, workers=2,

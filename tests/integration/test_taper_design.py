@@ -75,6 +75,7 @@ def test_no_roll_stress_table_is_one_clear_line() -> None:
         (["--form", "spiral"], "--form 'spiral'"),
         (["--diameter", "big"], "--diameter 'big'"),
         (["--diameter", "0.1 m"], "must be larger than the core"),
+        (["--roll", "unwind"], "--roll 'unwind': converter winds one roll, on 'rewind'"),
     ],
 )
 def test_bad_options_are_one_clear_line(args: list[str], says: str, tmp_path) -> None:

@@ -50,8 +50,16 @@ def test_fit_files_have_the_shape_tune_reads(round_trip, tmp_path):
     toml_path, json_path = write_fit_files(round_trip, tmp_path)
     data = json.loads(json_path.read_text())
     assert set(data) == {"line", "data", "verdict", "reasons", "residual_scale", "parameters",
-                         "correlation", "simulations", "cost", "converged", "starts",
-                         "effective_points", "correlation_time", "checks", "findings"}
+                         "records", "correlation", "correlation_order", "simulations",
+                         "cost", "converged", "starts", "effective_points",
+                         "correlation_time", "checks", "findings"}
+    # one record: its residual scale is the fit's (n parameters act on it alone), no
+    # parameter of its own
+    [record] = data["records"]
+    assert record["label"] == "log.csv" and record["parameters"] == {}
+    assert record["scenario"] == "startup" and data["data"] == [record["data"]]
+    assert record["residual_scale"] == pytest.approx(data["residual_scale"], rel=1e-12)
+    assert data["correlation_order"] == list(TRUTH)
     assert data["verdict"] == "good" and data["reasons"] == []
     # the model is right: every signal's residuals white at its noise
     assert data["findings"] == [] and len(data["checks"]) == 17

@@ -14,8 +14,8 @@ from webline.errors import LineFileError
 from webline.sim.core.plan import compile_plan
 from webline.sim.linear.linearize import fastest_mode, plan_linear_model
 from webline.sim.simulate import choose_substeps
+from webline.sim.sweeps.blocks import BLOCK, FIRST_BLOCK, blocks_of
 from webline.sim.sweeps.cases import batch_rates, case_value, derive_line
-from webline.sim.sweeps.sweep import BLOCK, FIRST_BLOCK, blocks_of
 
 CHANGES = [
     {"web.ea": "1800 lbf"},
@@ -95,3 +95,6 @@ def test_blocks_cover_every_case_once_and_grow() -> None:
         if n > FIRST_BLOCK:
             assert sizes[0] == FIRST_BLOCK and sizes[1] == min(2 * FIRST_BLOCK, n - FIRST_BLOCK)
     assert max(len(b) for b in blocks_of(5000)) == BLOCK
+    # a cap below the first block (a branched study's records: ``branch_batch.block_size``)
+    assert [len(b) for b in blocks_of(7, largest=3)] == [3, 3, 1]
+    assert [len(b) for b in blocks_of(100, largest=20)][:3] == [FIRST_BLOCK, 20, 20]

@@ -37,8 +37,19 @@ def test_a_wildcard_gives_one_parameter_per_element(converter):
     ({"web.modulus": "2 .. 6 m/s"}, "web.modulus"),
     ({"web.modulus": "4 GPa"}, "LOW .. HIGH"),
     ({"rollers.*.nothing": "1 .. 2"}, "matches no value"),
+    ({"sensors.lc.gain": "0.9 .. 1.1"}, "declares no such sensor"),
 ])
 def test_bad_free_parameters_name_the_path(converter, free, fragment):
     with pytest.raises(ArgumentError) as exc:
         parse_free(converter, free)
     assert fragment in str(exc.value)
+
+
+def test_a_declared_sensors_gain_is_free_like_any_value(converter):
+    """``sensors.NAME.gain`` of a declared loadcell (docs/line-file.md, sensors): dimensionless
+    bounds, the file's gain as the start."""
+    span = converter.span_name(converter.zones[0].loadcell)
+    line = converter.replace({"sensors": [{"name": "lc", "type": "loadcell", "span": span,
+                                           "gain": 1.01}]})
+    (p,) = parse_free(line, {"sensors.lc.gain": "0.9 .. 1.1"})
+    assert (p.low, p.high, p.unit, p.start) == (0.9, 1.1, "", 1.01)

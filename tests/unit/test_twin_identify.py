@@ -50,3 +50,22 @@ def test_an_interval_wider_than_the_bounds_is_named():
     result = verdict(rng.normal(size=(100, 2)), ci95=ci95)
     assert list(result.identifiable) == [True, False]
     assert "wider than its bounds" in result.reasons[1]
+
+
+def test_correlated_parameters_with_narrow_intervals_are_identified():
+    """Two estimates correlated -0.996 (as EA and a span length through their ratio): each
+    still identified where its interval is a small share of its bounds (the standard
+    errors carry the correlation), each named where the interval is wide."""
+    rng = np.random.default_rng(4)
+    a, b = rng.normal(size=(400, 1)), rng.normal(size=(400, 1))
+    jac = np.hstack([a, a + 0.09 * b])
+    cov = np.linalg.pinv(jac.T @ jac)
+    d = np.sqrt(np.diag(cov))
+    correlation = cov / np.outer(d, d)
+    assert abs(correlation[0, 1]) > 0.99
+    narrow = identifiability(jac, np.tile([0.50, 0.55], (2, 1)), np.zeros(2), np.ones(2),
+                             correlation, ["p0", "p1"])
+    assert narrow.identifiable.all(), narrow.reasons
+    wide = identifiability(jac, np.tile([0.30, 0.70], (2, 1)), np.zeros(2), np.ones(2),
+                           correlation, ["p0", "p1"])
+    assert not wide.identifiable.any() and "correlation -0.99" in wide.reasons[0]

@@ -83,14 +83,85 @@ def test_limits_name_their_numbers() -> None:
     assert kinds["roll_pressure"].details["max_pressure_Pa"] == roll.stress.pressure.max()
 
 
-def test_a_branched_line_refuses_roll_stress_in_one_line() -> None:
-    """Its runs do not compute the roll yet: the table is refused, not ignored."""
+def _snapshot_roll(at_radii: list[float], **table: object):
+    """The 10 s records with a 20 N dip, constant E_r = 60 MPa and a fibre core, kept at
+    ``at_radii`` [m] (the records reach 87.4 mm)."""
+    spec = RollStressSpec(
+        model="constant",
+        radial_modulus=60e6,
+        core={"modulus": 3e9, "inner_radius": 0.07},  # type: ignore[arg-type]
+        at_radii=at_radii,
+        **table,  # type: ignore[arg-type]
+    )
+    t, r, ten = _records(20.0)
+    return wound_roll(
+        "rewind",
+        spec,
+        time=t,
+        radius=r,
+        tension=ten,
+        core_radius=RC,
+        thickness=H,
+        width=W,
+        modulus=4e9,
+        steady_tension=lambda x: np.full(np.shape(x), 120.0),
+    )
+
+
+def test_snapshot_equals_the_closed_form_of_the_roll_truncated_there() -> None:
+    """at_radii: the roll when its surface passed 85.5 and 86.5 mm (wound in the run, the
+    second after the dip) is the constant-modulus closed form (Altmann-type superposition,
+    ``linear_roll_stress``) of its first m layers, m = (r - r_c)/h, to 1e-6."""
+    from webline.physics.roll_stress import core_modulus, linear_roll_stress
+
+    roll = _snapshot_roll([0.0855, 0.0865], diameter=0.2)
+    assert roll.missed == ()
+    for snap, r in zip(roll.snapshots, (0.0855, 0.0865), strict=True):
+        m = round((r - RC) / H)
+        assert len(snap.stress.radius) == m
+        closed = linear_roll_stress(
+            roll.layers.stress[:m],
+            RC,
+            H,
+            tangential_modulus=4e9,
+            radial_modulus=60e6,
+            poisson=0.01,
+            core_stiffness=core_modulus(3e9, 0.3, 0.07, RC),
+        )
+        np.testing.assert_allclose(snap.stress.pressure, closed.pressure, rtol=1e-6)
+        scale = np.abs(closed.hoop).max()
+        np.testing.assert_allclose(snap.stress.hoop, closed.hoop, rtol=0, atol=1e-6 * scale)
+        # when: the time its last layer (laid on r - h) was wound, on the growth law r(t)
+        laid = r - H
+        assert snap.time == pytest.approx(math.pi * (laid**2 - 0.085**2) / (H * 5.0), abs=1e-3)
+    # the finished roll (to 100 mm) presses its core harder: the layers above press too
+    assert roll.snapshots[1].stress.core_pressure < roll.stress.core_pressure
+    xr_roll = roll.to_xarray()
+    assert xr_roll.at_pressure.shape == (2, len(roll.stress.radius))
+    assert np.isnan(xr_roll.at_pressure.values[0, m:]).all()
+
+
+def test_a_snapshot_the_roll_never_reached_is_a_finding() -> None:
+    """Without a diameter the roll ends where the records end (87.4 mm): a snapshot asked
+    at 90 mm is not taken, and the verdict says so with both radii."""
+    roll = _snapshot_roll([0.0855, 0.09])
+    assert roll.missed == (0.09,)
+    assert [s.radius for s in roll.snapshots] == [0.0855]
+    (found,) = [f for f in roll.findings() if f.kind == "roll_snapshot"]
+    assert "no snapshot at r = 90 mm" in found.message
+    assert found.details["outer_radius_m"] == pytest.approx(roll.stress.outer_radius)
+
+
+def test_a_snapshot_outside_the_chain_roll_is_refused() -> None:
     import webline
     from webline.errors import LineFileError
 
-    line = webline.load_line("laminator")
-    with pytest.raises(LineFileError, match=r"rollers\[6\]\.roll_stress: .*single-path"):
-        line.replace({"rollers.rewind.roll_stress": {"k1": "1 kPa", "k2": 100}})
+    line = webline.load_line("converter")
+    table = {"k1": "1 kPa", "k2": 100, "diameter": "0.5 m"}
+    with pytest.raises(LineFileError, match=r"roll_stress\.at_radii\[0\]: .* inside the core"):
+        line.replace({"rollers.rewind.roll_stress": {**table, "at_radii": ["1 mm"]}})
+    with pytest.raises(LineFileError, match=r"at_radii\[0\]: 0\.3 m is beyond the finished"):
+        line.replace({"rollers.rewind.roll_stress": {**table, "at_radii": ["0.3 m"]}})
 
 
 def test_a_model_missing_its_keys_is_one_clear_line() -> None:
@@ -132,3 +203,39 @@ def test_a_lay_on_nip_adds_mu_n_over_h_to_every_layer() -> None:
     )
     np.testing.assert_allclose(nip.layers.stress - plain.layers.stress, 0.3 * 2000.0 / W / H)
     assert nip.stress.core_pressure > plain.stress.core_pressure
+
+
+def test_a_snapshot_at_the_finished_surface_is_the_finished_roll() -> None:
+    """A diameter of 200.01 mm is 800.2 layers of 25 um over the 80 mm core: the roll has
+    800, and a snapshot at its stated surface (100.005 mm) is the finished roll, not missed."""
+    roll = _snapshot_roll([0.100005], diameter=0.20001)
+    assert roll.missed == () and len(roll.stress.radius) == 800
+    (snap,) = roll.snapshots
+    np.testing.assert_array_equal(snap.stress.pressure, roll.stress.pressure)
+    np.testing.assert_array_equal(snap.stress.hoop, roll.stress.hoop)
+
+
+def test_a_run_that_ran_away_winds_its_roll_up_to_its_last_finite_record() -> None:
+    """Records non-finite from 8 s on (a diverged run): the roll takes the records before,
+    the rest of it the steady tension, and no NaN reaches the stresses."""
+    from webline.sim.results.wound_roll import recorded_roll
+
+    t, r, ten = _records(0.0)
+    late = t >= 8.0
+    r, ten = np.where(late, np.nan, r), np.where(late, np.inf, ten)
+    roll = recorded_roll(
+        "rewind",
+        RollStressSpec(k1=1.5e3, k2=120.0, diameter=0.2),
+        time=t,
+        radius=r,
+        tension=ten,
+        core_radius=RC,
+        thickness=H,
+        width=W,
+        modulus=4e9,
+        set_tension=120.0,
+        taper=None,
+    )
+    assert np.isfinite(roll.stress.pressure).all() and np.isfinite(roll.stress.hoop).all()
+    assert np.nanmax(roll.layers.time) < 8.0
+    np.testing.assert_allclose(roll.layers.tension, 120.0, rtol=1e-12)

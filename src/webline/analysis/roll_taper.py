@@ -7,7 +7,11 @@ load from above); less taper keeps more tension, which the web and process want 
 no air entrained, tight outer layers). So for each form the design is the least taper whose
 roll meets every limit of the rewind's ``roll_stress`` table, found by bisection on the
 steady roll; the form kept is the one winding the most tension (the largest mean wound-on
-stress). ``check_taper`` then runs the line with it and computes the roll from the run.
+stress). ``webline taper`` then runs the line with it and computes the roll from the run.
+
+A branched line's roll is one of its rewinds' (a shaft's lanes one each, ``roller/web``): its
+web's (lane's, laminate's) width, thickness and modulus, its zone's set tension for that web;
+the taper is the rewind's (on a shaft of several lanes: the shaft's, for all of them).
 """
 
 from __future__ import annotations
@@ -19,10 +23,12 @@ import numpy as np
 
 from webline.errors import ArgumentError
 from webline.line import Line
+from webline.model.web_graph import BranchedLine
 from webline.physics.roll_stress import RollStress, core_modulus, roll_stress
 from webline.physics.taper import HYPERBOLIC, LINEAR, taper_factor
 from webline.physics.wound_on import wound_on_stress
 from webline.spec.roll_stress import RollStressSpec
+from webline.spec.schema import RewindSpec
 
 #: the taper of each form is searched in [0, MAX_TAPER] (a factor of 0.1 at the end: little
 #: tension is left to wind with)
@@ -64,7 +70,9 @@ class Limits:
 class RollDesign:
     """The steady roll model of a rewind: set tension ``tension`` [N], web ``width``,
     ``thickness`` [m] and in-plane modulus ``modulus`` [Pa], roll from ``core_radius`` to
-    ``outer_radius`` [m], its ``spec`` (the ``roll_stress`` table)."""
+    ``outer_radius`` [m], its ``spec`` (the ``roll_stress`` table); ``rewind`` the roller
+    whose taper it designs, ``roll_name`` the roll (the rewind's name, on a branched line
+    ``roller/web``: ``RunResult.wound_rolls``'s key)."""
 
     tension: float
     width: float
@@ -73,6 +81,8 @@ class RollDesign:
     core_radius: float
     outer_radius: float
     spec: RollStressSpec
+    rewind: str = ""
+    roll_name: str = ""
 
     @property
     def limits(self) -> Limits:
@@ -127,10 +137,69 @@ class TaperChoice:
     roll: RollStress | None
 
 
-def design_roll(line: Line, diameter: float | None = None) -> RollDesign:
-    """The steady roll model of ``line``'s rewind (its ``roll_stress`` table; ``diameter``
-    [m] of the finished roll overrides the table's and the taper's)."""
+@dataclass(frozen=True)
+class _Site:
+    """What the design needs of a roll: its rewind, name, web width, thickness [m], in-plane
+    modulus [Pa] and zone's set tension profile."""
+
+    rewind: RewindSpec
+    name: str
+    width: float
+    thickness: float
+    modulus: float
+    profile: object
+
+
+def _chain_site(line: Line, roll: str | None) -> _Site:
     rewind = line.rewind
+    if roll is not None and roll != rewind.name:
+        raise ArgumentError(f"--roll {roll!r}: {line.name} winds one roll, on {rewind.name!r}")
+    web = line.spec.web
+    zone = line.zones[line.zone_of_span(line.n_spans - 1)]
+    return _Site(rewind, rewind.name, web.width, web.thickness,
+                 line.ea / (web.width * web.thickness), line.spec.spans[zone.loadcell].tension)
+
+
+def _branched_site(line: BranchedLine, roll: str | None) -> _Site:
+    """The rewound roll ``roll`` (``roller/web``, or a rewind's name where it winds one
+    roll; None: the line's only rewound roll)."""
+    rollers, webs = line.spec.rollers, line.spec.webs
+    wound = [r for r in line.rolls if isinstance(rollers[r.node], RewindSpec)]
+    names = [f"{rollers[r.node].name}/{webs[r.web].name}" for r in wound]
+    picked = [k for k, n in enumerate(names) if roll in (None, n, n.split("/")[0])]
+    if len(picked) != 1:
+        rolls = ", ".join(names) or "none"
+        if roll is None:
+            raise ArgumentError(
+                f"{line.name} winds several rolls ({rolls}): choose one with --roll ROLLER/WEB")
+        if picked:  # a shaft of several lanes
+            lanes = ", ".join(names[k] for k in picked)
+            raise ArgumentError(f"--roll {roll!r}: the shaft winds {len(picked)} lanes "
+                                f"({lanes}): choose one with --roll ROLLER/WEB")
+        raise ArgumentError(f"--roll {roll!r}: no rewound roll of {line.name} by that name "
+                            f"(its rolls: {rolls})")
+    r, name = wound[picked[0]], names[picked[0]]
+    rewind = rollers[r.node]
+    assert isinstance(rewind, RewindSpec)
+    zone = line.zones.get(r.node)
+    cells = [s for s in (zone.loadcells if zone else ()) if line.spans[s].web == r.web]
+    if not cells:
+        raise ArgumentError(f"--roll {name}: {rewind.name} holds no tension loop on "
+                            f"{webs[r.web].name} (a differential shaft sets its lanes' "
+                            "tension by slip torque): no taper to design")
+    m = line.materials[r.web]
+    return _Site(rewind, name, m.width, m.thickness, m.ea / (m.width * m.thickness),
+                 line.span_tension_spec(cells[0]))
+
+
+def design_roll(line: Line | BranchedLine, diameter: float | None = None,
+                roll: str | None = None) -> RollDesign:
+    """The steady roll model of ``line``'s rewind (its ``roll_stress`` table; ``diameter``
+    [m] of the finished roll overrides the table's and the taper's); on a branched line
+    the roll ``roll`` (``roller/web``, or a rewind winding one roll; None: the only one)."""
+    site = _branched_site(line, roll) if isinstance(line, BranchedLine) else _chain_site(
+        line, roll)
+    rewind = site.rewind
     spec = rewind.roll_stress
     if spec is None:
         raise ArgumentError(
@@ -149,20 +218,19 @@ def design_roll(line: Line, diameter: float | None = None) -> RollDesign:
             f"{line.name}: the finished roll ({d:g} m) must be larger than "
             f"the core ({2.0 * rewind.core_radius:g} m)"
         )
-    web = line.spec.web
-    zone = line.zones[line.zone_of_span(line.n_spans - 1)]
-    profile = line.spec.spans[zone.loadcell].tension
     from webline.profiles import breakpoints
 
-    _, values = breakpoints(profile)
+    _, values = breakpoints(site.profile)
     return RollDesign(
         float(values[-1]),
-        web.width,
-        web.thickness,
-        line.ea / (web.width * web.thickness),
+        site.width,
+        site.thickness,
+        site.modulus,
         rewind.core_radius,
         0.5 * d,
         spec,
+        rewind.name,
+        site.name,
     )
 
 
@@ -198,25 +266,33 @@ def least_taper(design: RollDesign, form: str) -> TaperChoice:
 
 
 def design_taper(
-    line: Line, forms: tuple[str, ...] = ("linear", "hyperbolic"), diameter: float | None = None
+    line: Line | BranchedLine,
+    forms: tuple[str, ...] = ("linear", "hyperbolic"),
+    diameter: float | None = None,
+    roll: str | None = None,
 ) -> list[TaperChoice]:
-    """Each form's least taper meeting the rewind's roll limits, the best (most mean wound-on
-    stress) first; forms without a feasible taper last."""
+    """Each form's least taper meeting the roll's limits (``design_roll``'s roll), the best
+    (most mean wound-on stress) first; forms without a feasible taper last."""
     for form in forms:
         if form not in FORMS:
             raise ArgumentError(f"--form {form!r}: expected one of {', '.join(FORMS)}")
-    design = design_roll(line, diameter)
+    design = design_roll(line, diameter, roll)
     choices = [least_taper(design, form) for form in forms]
     return sorted(choices, key=lambda c: (c.taper is None, -np.nan_to_num(c.mean_stress)))
 
 
-def with_taper(line: Line, choice: TaperChoice, diameter: float | None = None) -> Line:
-    """``line`` with its rewind wound at ``choice``'s taper (its ``diameter`` the finished
-    roll's, as the design used)."""
+def with_taper(
+    line: Line | BranchedLine,
+    choice: TaperChoice,
+    diameter: float | None = None,
+    roll: str | None = None,
+) -> Line | BranchedLine:
+    """``line`` with the rewind of ``design_roll``'s roll wound at ``choice``'s taper (its
+    ``diameter`` the finished roll's, as the design used)."""
     if choice.taper is None:
         raise ArgumentError(f"no {choice.form} taper up to {MAX_TAPER} meets the roll limits")
-    design = design_roll(line, diameter)
-    name = line.rewind.name
+    design = design_roll(line, diameter, roll)
+    name = design.rewind
     taper: dict[str, object] = {"type": choice.form, "taper": round(choice.taper, 6)}
     if choice.form == "linear":
         taper["max_diameter"] = 2.0 * design.outer_radius

@@ -38,6 +38,7 @@ from webline.spec.nip import shaft_terms
 from webline.spec.ranges import argument
 from webline.spec.roll_inertia import roll_constants
 from webline.spec.schema import IdleSpec, RewindSpec, RollerDrag, UnwindSpec
+from webline.spec.sensors import LoadcellSensor
 
 
 @dataclass(frozen=True)
@@ -45,7 +46,7 @@ class OperatingPoint:
     """Equilibrium of a line at one instant of its references (SI throughout)."""
 
     time: float
-    line_speed: float  #: master reference speed [m/s]
+    line_speed: float  #: master reference speed [m/s] (its encoder's reading: spec.sensors)
     tension: np.ndarray  #: per span [N]
     speed: np.ndarray  #: web speed per node [m/s]
     omega: np.ndarray  #: angular speed per node [rad/s]
@@ -129,8 +130,15 @@ def operating_point(line: Line | str, t: float | str = 0.0, *,
         tension[list(zone.spans)] = pwl_value(*breakpoints(ref), t) * _taper(line, zone, radii)
     if line.spec.control.tension_ramp is not None:  # the ramp at start and stop (R1)
         tension *= ramp_factor(line, t)
-    tension_l, speed_l, omega_l, accel_l = _equilibrium_motion(line, tension.tolist(), v_line,
-                                                               a_line, radii, inertia, drags)
+    scale = 1.0  # the master's encoder: its loop holds the reading on the line reference
+    for sensor in line.spec.sensors:  # a loop holds its loadcell's reading on the reference
+        if isinstance(sensor, LoadcellSensor):
+            k = next(k for k in range(line.n_spans) if line.span_name(k) == sensor.span)
+            tension[k] = (tension[k] - sensor.offset) / sensor.gain
+        elif sensor.roller == line.node_name(line.master):
+            scale = sensor.scale
+    tension_l, speed_l, omega_l, accel_l = _equilibrium_motion(
+        line, tension.tolist(), v_line / scale, a_line / scale, radii, inertia, drags)
     tension, speed = np.array(tension_l), np.array(speed_l)
     omega, accel = np.array(omega_l), np.array(accel_l)
     if np.any(tension <= 0.0):

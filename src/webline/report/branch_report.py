@@ -14,7 +14,7 @@ from webline.errors import WeblineError
 from webline.files import atomic_write_bytes, atomic_write_text
 from webline.model.web_graph import BranchedLine
 from webline.report.outputs import OutputFolder, ReportFiles
-from webline.report.plots.branch_figures import branch_figure_jobs, largest_deviation
+from webline.report.plots.branch_figures import branch_figure_jobs, deviation_text
 from webline.report.render import render_figures
 from webline.report.text.branch_tables import (
     SI,
@@ -39,7 +39,8 @@ def write_branch_report(result: BranchResult, out_dir: Path, *,
                         folder: OutputFolder | None = None, results_file: Path | None = None,
                         svg: bool = False, display: Display = SI) -> ReportFiles:
     """Write ``figures/KEY.png`` (and ``figures/KEY.svg`` with ``svg``) for every figure,
-    ``summary.json`` (settings, verdict, per web its span tensions and length balance) and a
+    ``summary.json`` (settings, verdict, per web its span tensions and length balance, each
+    wound roll's numbers: ``WoundRoll.summary``) and a
     self-contained ``report.html`` for ``result`` into ``out_dir``, each atomically; with
     ``folder`` (the ``OutputFolder`` of ``out_dir``) each joins its manifest. The figures and
     the report's tables and captions are in ``display``'s units ('si' or 'imperial');
@@ -62,6 +63,7 @@ def write_branch_report(result: BranchResult, out_dir: Path, *,
     summary = {"line": line.name, "scenario": line.scenario, "webline_version": __version__,
                "settings": result.settings, "verdict": result.verdict.as_dict(),
                "webs": result.web_summary(), "splices": splice_summary(result),
+               "wound_rolls": [roll.summary() for roll in result.wound_rolls.values()],
                "failure": result.failure}
     summary_path = atomic_write_text(target("summary.json"),
                                      json.dumps(summary, indent=1) + "\n")
@@ -77,10 +79,9 @@ def status_text(result: BranchResult, display: Display = SI) -> str:
         return (f"The run stopped early: {result.failure}; everything computed until "
                 f"t = {duration:.4g} s is shown.")
     text = f"Run completed: {duration:.4g} s simulated."
-    error, span, when = largest_deviation(result)
-    if span:
-        text += (f" Largest deviation from a tension reference: "
-                 f"{display.text(error, 'force')} in {span} at t = {number_text(when)} s.")
+    deviation = deviation_text(result, display)
+    if deviation:
+        text += f" Largest deviation from a tension reference: {deviation}."
     return text
 
 
@@ -146,7 +147,10 @@ def report_html(result: BranchResult, images: dict[str, Image],
                  "limit and the run went to its end.")])]),
         Section("Line", [*tables[:1], *([images["schematic"]] if "schematic" in images else []),
                          *tables[1:]]),
-        Section("Time plots", [image for key, image in images.items() if key != "schematic"]),
+        Section("Time plots", [image for key, image in images.items()
+                               if key != "schematic" and not key.startswith("wound_roll")]),
+        *([Section("Wound rolls", rolls)] if (rolls := [
+            image for key, image in images.items() if key.startswith("wound_roll")]) else []),
         Section("Closed-loop modes", modes_parts(result)),
         Section("Run", [make_table("run", "Settings", ["key", "value"], run_rows)]),
         Section("Resolved line file", [Text(dump_spec(spec), pre=True, fold="The line as it "

@@ -23,7 +23,7 @@ from webline.report.plots.big_lines import condensed, summarised
 from webline.report.plots.figures import figure_jobs
 from webline.report.render import render_figures
 from webline.report.text.describe import line_tables
-from webline.report.text.display import Display, System
+from webline.report.text.display import SYSTEMS, Display, System
 from webline.report.text.html import Image, Section, Text, render
 from webline.report.text.tables import (
     Table,
@@ -104,13 +104,13 @@ def _target(out_dir: Path, folder: OutputFolder | None, relative: str) -> Path:
 
 
 def branch_display(units: str) -> Display:
-    """The ``Display`` of a branched line's report: 'si' or 'imperial' (a per-width system is
-    refused: each web and lane has its own width)."""
-    if units not in ("si", "imperial"):
-        raise ArgumentError(f"units={units!r}: a branched line's report is in 'si' or "
-                            "'imperial' units (not per width: each web and lane has its own "
-                            "width)")
-    return Display(units)  # type: ignore[arg-type]
+    """The ``Display`` of a branched line's tables and report. A per-width system
+    ('si-per-width': N/m, 'imperial-per-width': pli) comes with a unit width: each web's and
+    lane's forces are divided by its own width where they are shown (``Display.at_width``),
+    everything else is in the system's base."""
+    if units not in SYSTEMS:
+        raise ArgumentError(f"units={units!r}: expected one of {', '.join(SYSTEMS)}")
+    return Display(units, 1.0 if units.endswith("-per-width") else None)
 
 
 def write_report(result: Result | BranchResult, out_dir: Path, *, units: System = "si",
@@ -234,7 +234,8 @@ def _sections(result: Result, display: Display, images: dict[str, Image], analys
                 ("results file (SI)", str(results_file.name) if results_file else "(none)")]
     line_parts = [described["line"], described["rollers"], described["spans"],
                   described["drives"], described["zones"],
-                  *([described["winder"]] if "winder" in described else [])]
+                  *([described["winder"]] if "winder" in described else []),
+                  *([described["sensors"]] if "sensors" in described else [])]
     summary_parts = [*summary_tables(result, display), *_verdict_parts(result)]
     if summarised(line):  # hundreds of rows: the first and last of each table
         line_parts = [condensed(p) for p in line_parts]

@@ -30,6 +30,7 @@ from webline.spec.schema import (
     WebSpec,
     WoundInRipple,
 )
+from webline.spec.sensors import check_sensors
 from webline.spec.splice import check_splices
 from webline.spec.web_law import stretch_at
 from webline.spec.web_law_checks import check_web_law, law_array, table_modulus
@@ -148,6 +149,11 @@ def check_spec(spec: LineSpec, file: str) -> None:
                          f"{below} (the web would break, strain >= 100 %)")
 
     _check_disturbances(spec.disturbances, spec, "disturbances", fail)
+    check_sensors(spec.sensors, [s.name or f"span{k + 1}" for k, s in enumerate(spec.spans)],
+                  {s.name or f"span{k + 1}" for k, s in enumerate(spec.spans)
+                   if s.tension is not None},
+                  {r.name for r in rollers if not isinstance(r, IdleSpec)},
+                  {r.name for r in rollers}, fail)
     for name, scenario in spec.scenarios.items():
         key = f"scenarios.{name}"
         if not 0 < len(name) <= 100:

@@ -269,6 +269,8 @@ RANGES: dict[str, Range] = {
                                    "interlayer pressures that block or emboss: 0.1-10 MPa"),
     "roll_stress.core_rating": _r("pressure", (1.0, 1e11), (1e5, 1e9),
                                   "paper cores 1-10 MPa, steel and fibre cores more"),
+    "roll_stress.at_radii": _r(LEN, (1e-3, 10.0), (0.02, 2.0),
+                               "radii within rolls of 40 mm to 4 m diameter"),
     "roll_stress.band": _r("dimensionless", (0.0, 1.0), (0.01, 0.5),
                            "a band 1-50 % off the steady roll's pressure"),
     "roll_core.modulus": _r("pressure", (1e5, 1e12), (1e8, 3e11),
@@ -310,6 +312,14 @@ RANGES: dict[str, Range] = {
                                              "an encoder's count per sample"),
     "measurement_noise.seed": _r("integer", (0.0, 2.0**53), (0.0, 2.0**53),
                                  "the plan stores it as a float (exact to 2^53)"),
+    "loadcell.gain": _r("dimensionless", (0.01, 100.0), (0.8, 1.25),
+                        "a calibrated loadcell reads within a few per cent"),
+    "loadcell.offset": _r(FORCE, (-1e6, 1e6), (-1e3, 1e3), "a zero drift of the amplifier"),
+    "loadcell.delay": _r("time", (0.0, 10.0), (0.0, 0.05),
+                         "an amplifier's filter and a fieldbus: milliseconds"),
+    "encoder.delay": _r("time", (0.0, 10.0), (0.0, 0.05), "a fieldbus cycle: milliseconds"),
+    "encoder.scale": _r("dimensionless", (0.01, 100.0), (0.8, 1.25),
+                        "a roller diameter or pulse count off by a few per cent"),
 }
 
 #: schema model name -> the sections of ``RANGES`` its fields look up, first match first
@@ -355,6 +365,8 @@ SECTIONS: dict[str, tuple[str, ...]] = {
     "SpeedRipple": ("speed_ripple",),
     "RollerDrag": ("roller_drag",),
     "MeasurementNoise": ("measurement_noise",),
+    "LoadcellSensor": ("loadcell",),
+    "EncoderSensor": ("encoder",),
     "ControlSpec": ("control",),
     "ScenarioSpec": ("scenario",),
     "BranchedLineSpec": ("line",),

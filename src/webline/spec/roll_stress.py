@@ -38,6 +38,8 @@ class RollStressSpec(Strict):
     starring / telescoping risk; default 0), ``max_pressure`` [Pa] (interlayer pressure:
     crushing, blocking), ``core_rating`` [Pa] (pressure the core takes), ``band`` [-]: a band
     whose pressure departs from the steady-wound roll's by more than this fraction.
+    ``at_radii`` [m]: radii at which the roll is also kept as it was when its surface passed
+    them (snapshots during winding), each above the core and within the finished roll.
     """
 
     model: Literal["pfeiffer", "constant"] = "pfeiffer"
@@ -54,6 +56,7 @@ class RollStressSpec(Strict):
     max_pressure: Modulus | None = None
     core_rating: Modulus | None = None
     band: Annotated[float, Field(gt=0.0, le=1.0)] = 0.05
+    at_radii: list[Length] = Field(default_factory=list)
 
 
 def check_roll_stress(rewind: Any, key: str, fail: Callable[[str, str], Any]) -> None:
@@ -84,3 +87,17 @@ def check_roll_stress(rewind: Any, key: str, fail: Callable[[str, str], Any]) ->
             f"the finished roll must be larger than the core "
             f"({2.0 * rewind.core_radius:g} m), got {spec.diameter:g} m",
         )
+    taper = getattr(rewind, "taper", None)
+    diameter = spec.diameter or (taper.max_diameter if taper is not None else None)
+    for i, r in enumerate(spec.at_radii):
+        if r <= rewind.core_radius:
+            fail(
+                f"{key}.at_radii[{i}]",
+                f"{r:g} m is inside the core (core radius {rewind.core_radius:g} m): a "
+                "snapshot is taken as the roll's surface passes a radius above it",
+            )
+        if diameter is not None and r > 0.5 * diameter:
+            fail(
+                f"{key}.at_radii[{i}]",
+                f"{r:g} m is beyond the finished roll (radius {0.5 * diameter:g} m)",
+            )

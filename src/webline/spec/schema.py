@@ -61,6 +61,7 @@ from webline.spec.quantities import (  # noqa: F401 - re-exported for users of t
 )
 from webline.spec.roll_inertia import RollInertiaSpec
 from webline.spec.roll_stress import RollStressSpec
+from webline.spec.sensors import SensorSpec
 from webline.spec.splice import FlyingSplice, SpliceEvent  # noqa: F401
 from webline.spec.web_law import StressStrainSpec
 from webline.spec.winder import (  # noqa: F401
@@ -327,4 +328,6 @@ class LineSpec(Strict):
     control: ControlSpec = ControlSpec()
     checks: StateChecksSpec = StateChecksSpec()
     disturbances: list[DisturbanceSpec] = Field(default_factory=list)
+    #: the loadcells and encoders the controllers read, with their calibration (spec.sensors)
+    sensors: list[SensorSpec] = Field(default_factory=list)
     scenarios: dict[str, ScenarioSpec] = Field(default_factory=dict)

@@ -1,7 +1,7 @@
 """Figures of a branched line's run (docs/branching.md): the schematic, tensions per web and
 lane against their references, the layers of each laminate, surface speeds, roll and lane
-radii, motor torques against their limits. Each figure comes with a caption computed from
-the numbers it draws (``branch_figure_jobs``)."""
+radii, motor torques against their limits, and each wound roll's stresses. Each figure comes
+with a caption computed from the numbers it draws (``branch_figure_jobs``)."""
 
 from __future__ import annotations
 
@@ -15,12 +15,21 @@ from webline.report.plots.branch_schematic import WEB_COLORS, branch_schematic
 from webline.report.plots.figures import FigureJob, ReportFigure
 from webline.report.plots.frame import framed_figure
 from webline.report.plots.mpl_text import legend_label, literal
-from webline.report.text.branch_tables import SI, junction_kind, shaft_lanes, small_length
+from webline.report.plots.wound_roll import wound_roll_caption, wound_roll_figure
+from webline.report.text.branch_tables import (
+    SI,
+    force_label,
+    junction_kind,
+    shaft_lanes,
+    small_length,
+    span_display,
+)
 from webline.report.text.display import Display, number_text
 from webline.sim.branches.findings.break_verdict import stop_factor
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.result import BranchResult
 from webline.sim.results.decimate import envelope
+from webline.sim.results.wound_roll import WoundRoll
 
 
 def _plot(ax: Axes, time: np.ndarray, values: np.ndarray, *fmt: str, **style: object) -> list:
@@ -58,6 +67,24 @@ def largest_deviation(result: BranchResult) -> tuple[float, str, float]:
     return best
 
 
+def deviation_text(result: BranchResult, display: Display) -> str:
+    """'12.3 N in film_zone at t = 2.1 s' of ``largest_deviation`` in ``display``'s units (per
+    width: of that span's web); '' without one."""
+    error, span, when = largest_deviation(result)
+    if not span:
+        return ""
+    line = result.plan.line
+    k = [s.name for s in line.spans].index(span)
+    return (f"{span_display(display, line, k).text(error, 'force')} in {span} at "
+            f"t = {number_text(when)} s")
+
+
+def web_width(result: BranchResult, web: str) -> float:
+    """The width [m] of web or lane ``web`` (a laminate's: its narrowest layer's)."""
+    line = result.plan.line
+    return line.materials[[w.name for w in line.spec.webs].index(web)].width
+
+
 def tensions_figure(result: BranchResult, display: Display = SI) -> Figure:
     """One axes per web (raw web, laminate, lane): the tension [N] of each of its spans
     against time [s], loadcell spans' references dotted (a laminate's layers: ``layers_figure``).
@@ -69,8 +96,9 @@ def tensions_figure(result: BranchResult, display: Display = SI) -> Figure:
     axes = np.atleast_1d(fig.subplots(len(webs), 1, sharex=True))
     t = ds["time"].values
     names = list(ds["span"].values)
-    f = display.factor("force")
     for ax, web in zip(axes, webs, strict=True):
+        shown = display.at_width(web_width(result, str(web)))  # (per width: its own)
+        f = shown.factor("force")
         spans = ds["tension"].sel(span=ds["span_web"] == web)
         for name in spans["span"].values:
             line = _plot(ax, t, f * spans.sel(span=name).values, label=legend_label(str(name)))
@@ -80,9 +108,9 @@ def tensions_figure(result: BranchResult, display: Display = SI) -> Figure:
                         label=legend_label(f"{name} reference"))
         low, high = f * float(spans.values.min()), f * float(spans.values.max())
         ax.set_title(literal(f"{web}: span tensions {low:.4g} to {high:.4g} "
-                             f"{display.unit('force')}"), fontsize=9,
+                             f"{shown.unit('force')}"), fontsize=9,
                      color=WEB_COLORS[webs.index(web) % len(WEB_COLORS)])  # its schematic colour
-        ax.set_ylabel(display.label("tension", "force"))
+        ax.set_ylabel(shown.label("tension", "force"))
         ax.legend(fontsize=7, loc="best")
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel("time [s]")
@@ -90,11 +118,12 @@ def tensions_figure(result: BranchResult, display: Display = SI) -> Figure:
 
 
 def tensions_caption(result: BranchResult, display: Display = SI) -> str:
-    error, span, when = largest_deviation(result)
+    deviation = deviation_text(result, display)
     text = "Tension of every span, one panel per web and lane; loadcell references dotted."
-    if span:
-        text += (f" Largest deviation from a reference: {display.text(error, 'force')} in "
-                 f"{span} at t = {number_text(when)} s.")
+    if display.per_width:
+        text += " Tensions per width of their own web or lane."
+    if deviation:
+        text += f" Largest deviation from a reference: {deviation}."
     return text + "".join(f" {sentence}." for sentence in shaft_sums(result, display))
 
 
@@ -105,14 +134,19 @@ def shaft_sums(result: BranchResult, display: Display = SI) -> list[str]:
     tension = result.dataset["tension"].values
     refs = references(result)
     out = []
-    f, unit = display.factor("force"), display.unit("force")
     for zone in line.zones.values():
         if len(zone.loadcells) < 2:
             continue
         cells = list(zone.loadcells)
         error = np.abs(tension[:, cells].sum(axis=1) - sum(refs[k] for k in cells))
-        lanes = ", ".join(f"{line.spans[k].name} {number_text(f * tension[:, k].min())} to "
-                          f"{number_text(f * tension[:, k].max())} {unit}" for k in cells)
+        lanes = ", ".join(
+            f"{line.spans[k].name} {number_text(shown.value(tension[:, k].min(), 'force'))} "
+            f"to {shown.text(tension[:, k].max(), 'force')}"
+            for k in cells for shown in [span_display(display, line, k)])  # (its own width)
+        # the sum per width of the lanes together (their widths add on the shaft)
+        together = display.at_width(sum(line.materials[line.spans[k].web].width
+                                        for k in cells))
+        f, unit = together.factor("force"), together.unit("force")
         out.append(f"{line.spec.rollers[zone.node].name} holds the sum of "
                    f"{' + '.join(line.spans[k].name for k in cells)} within "
                    f"{number_text(f * float(error.max()) if len(error) else float('nan'))} "
@@ -127,16 +161,20 @@ def layers_figure(result: BranchResult, display: Display = SI) -> Figure:
     fig = framed_figure(8.0, 1.0 + 1.9 * len(spans), rows=len(spans))
     axes = np.atleast_1d(fig.subplots(len(spans), 1, sharex=True))
     t = ds["time"].values
-    f = display.factor("force")
+    line = result.plan.line
     for ax, span in zip(axes, spans, strict=True):
+        k = [s.name for s in line.spans].index(span)
+        f = span_display(display, line, k).factor("force")  # (per width: the laminate's)
         _plot(ax, t, f * ds["tension"].sel(span=span).values, color="#333333",
                 label=legend_label(f"{span} (laminate)"))
         for name in ds["layer_span"].values:
             if str(name).split("/")[0] == span:
+                layer = str(name).split("/")[1]
+                f = display.at_width(web_width(result, layer)).factor("force")  # (its own)
                 _plot(ax, t, f * ds["layer_tension"].sel(layer_span=name).values,
-                        label=legend_label(f"layer {str(name).split('/')[1]}"))
+                        label=legend_label(f"layer {layer}"))
         ax.set_title(literal(f"{span}: layer tensions (bonded at the nip)"), fontsize=9)
-        ax.set_ylabel(display.label("tension", "force"))
+        ax.set_ylabel(force_label(display, "tension"))
         ax.legend(fontsize=7, loc="best")
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel("time [s]")
@@ -146,10 +184,11 @@ def layers_figure(result: BranchResult, display: Display = SI) -> Figure:
 def layers_caption(result: BranchResult, display: Display = SI) -> str:
     ds = result.dataset
     parts = []
-    f, unit = display.factor("force"), display.unit("force")
     for name in ds["layer_span"].values:
-        values = f * ds["layer_tension"].sel(layer_span=name).values
-        parts.append(f"{name} {number_text(values.min())} to {number_text(values.max())} {unit}")
+        shown = display.at_width(web_width(result, str(name).split("/")[1]))  # (its own)
+        values = ds["layer_tension"].sel(layer_span=name).values
+        parts.append(f"{name} {number_text(shown.value(values.min(), 'force'))} to "
+                     f"{shown.text(values.max(), 'force')}")
     how = "its own law at the strain it was bonded with at the nip plus the laminate's draw"
     return f"Each layer's tension in a laminate span, {how}: " + ", ".join(parts) + "."
 
@@ -308,4 +347,16 @@ def branch_figure_jobs(result: BranchResult, display: Display = SI) -> list[Figu
     if len(result.dataset["roll"]):
         jobs.append(one("radii", radii_caption, radii_figure))
     jobs.append(one("torques", torques_caption, torques_figure))
+    for name, roll in result.wound_rolls.items():  # each rewound roll (docs/wound-roll.md)
+        jobs.append(_wound_roll_job(roll_figure_key(name), roll))
     return jobs
+
+
+def roll_figure_key(name: str) -> str:
+    """The figure key (and file name) of roll ``name`` (``roller/web``): ``wound_roll_``
+    and the name with its slash as an underscore."""
+    return "wound_roll_" + name.replace("/", "_")
+
+
+def _wound_roll_job(key: str, roll: WoundRoll) -> FigureJob:
+    return lambda: [ReportFigure(key, wound_roll_caption(roll), wound_roll_figure(roll))]

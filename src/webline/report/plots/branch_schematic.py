@@ -13,10 +13,6 @@ element carries a ``gid`` naming what it is (``web:NAME``, ``junction:ROLLER``,
 
 from __future__ import annotations
 
-import matplotlib
-
-matplotlib.use("Agg")
-
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Rectangle

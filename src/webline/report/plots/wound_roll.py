@@ -21,13 +21,20 @@ def wound_roll_caption(roll: WoundRoll) -> str:
         f"stress against radius ({len(s.radius)} layers, core pressure "
         f"{s.core_pressure / 1e6:.3g} MPa; bands from the run shaded), and its "
         "cross-section coloured by pressure."
+        + (
+            f" Dash-dotted: the pressure when the roll's surface passed "
+            f"{', '.join(f'{1e3 * x.radius:.4g}' for x in roll.snapshots)} mm."
+            if roll.snapshots
+            else ""
+        )
     )
 
 
 def wound_roll_figure(roll: WoundRoll) -> Figure:
     """Left: pressure and hoop stress [MPa] against radius [mm], the steady roll's pressure
-    dashed, the limits dotted, the layers the run wound and its bands shaded. Right: the
-    roll's cross-section coloured by pressure."""
+    dashed, the pressure at each snapshot (``at_radii``) dash-dotted, the limits dotted, the
+    layers the run wound and its bands shaded. Right: the roll's cross-section coloured by
+    pressure."""
     s, spec = roll.stress, roll.spec
     fig = Figure(figsize=(11.0, 4.6))
     grid = fig.add_gridspec(
@@ -45,6 +52,16 @@ def wound_roll_figure(roll: WoundRoll) -> Figure:
         label="pressure, steady tension",
     )
     ax.plot(r_mm, s.hoop / 1e6, color="C3", lw=1.0, label="hoop stress")
+    for k, snap in enumerate(roll.snapshots):  # the roll as it was at chosen radii
+        when = "" if np.isnan(snap.time) else f", t = {snap.time:.4g} s"
+        ax.plot(
+            1e3 * snap.stress.radius,
+            snap.stress.pressure / 1e6,
+            color=f"C{4 + k % 6}",
+            lw=0.9,
+            ls="-.",
+            label=f"pressure when r = {1e3 * snap.radius:.4g} mm{when}",
+        )
     ax.axhline(spec.min_hoop / 1e6, color="C3", lw=0.8, ls=":", label="hoop limit")
     if spec.max_pressure is not None:
         ax.axhline(spec.max_pressure / 1e6, color="C0", lw=0.8, ls=":", label="pressure limit")

@@ -18,12 +18,12 @@ from webline.report.text.tables import Table, make_table
 
 def web_display(display: Display, width: float) -> Display:
     """``display`` for the tensions of a web ``width`` [m] wide (its own per-width)."""
-    return Display(display.system, width) if display.per_width else display
+    return display.at_width(width)
 
 
 def base_display(display: Display) -> Display:
     """``display`` without the per-width: the system that lengths, speeds, torques take."""
-    return Display("imperial" if display.system.startswith("imperial") else "si")
+    return display.base()
 
 
 def _tension_display(display: Display) -> Display:

@@ -76,13 +76,26 @@ def inertia_text(inertia: object, display: Display = SI) -> str:
     return number_text(j * float(inertia))  # type: ignore[arg-type]
 
 
+def span_display(display: Display, line: BranchedLine, k: int) -> Display:
+    """``display`` for the tension of span ``k``: per width of its own web or lane in a
+    per-width system (``Display.at_width``)."""
+    return display.at_width(line.materials[line.spans[k].web].width)
+
+
+def force_label(display: Display, name: str) -> str:
+    """A column label of forces on the webs: per width (N/m, pli) in a per-width system,
+    each row divided by its own web's width."""
+    return display.at_width(1.0).label(name, "force")
+
+
 def line_tables(line: BranchedLine, display: Display = SI) -> list[Table]:
-    """The line's tables in ``display``'s units ('si' or 'imperial'): line, webs, rollers,
+    """The line's tables in ``display``'s units ('si' or 'imperial', or per width: each web's
+    EA and each span's tension reference per its own web's width): line, webs, rollers,
     spans, drives and their zones, scenarios."""
     spec = line.spec
     small, small_unit = small_length(display)
     thin, thin_unit = thin_length(display)
-    force, length = display.factor("force"), display.factor("length")
+    length = display.factor("length")
     about = make_table("line", "Line", ["key", "value"], [
         ("name", line.name), ("description", spec.description or "–"),
         ("source", spec.source or "–"), ("file", line.source),
@@ -96,7 +109,8 @@ def line_tables(line: BranchedLine, display: Display = SI) -> list[Table]:
         origin = (f"layers {' + '.join(web.layers or [])}" if web.layers else
                   f"slit from {web.slit_from}" if web.slit_from else "unwind")
         webs.append((web.name, kind_of(web), origin, " → ".join(web.path),
-                     number_text(m.ea * force), number_text(m.thickness * thin),
+                     number_text(m.ea * display.at_width(m.width).factor("force")),
+                     number_text(m.thickness * thin),
                      number_text(m.width * small)))
     rollers = []
     for i, roller in enumerate(spec.rollers):
@@ -111,7 +125,8 @@ def line_tables(line: BranchedLine, display: Display = SI) -> list[Table]:
         ref = line.span_tension_spec(span.index)
         spans.append((span.name, spec.webs[span.web].name, spec.rollers[span.a].name,
                        spec.rollers[span.b].name, number_text(span.length * length),
-                       profile_text(ref, "force", display) if ref is not None else "–",
+                       profile_text(ref, "force", span_display(display, line, span.index))
+                       if ref is not None else "–",
                        "yes" if span.index in cells else "no"))
     drives = []
     for i in line.drives:
@@ -130,7 +145,7 @@ def line_tables(line: BranchedLine, display: Display = SI) -> list[Table]:
                  for i in line.drives)  # compliant or braked drives: their columns
     drives = [row[:5] + (row[5:] if trains else ()) for row in drives]
     return [about,
-            make_table("webs", "Webs", ["web", "kind", "from", "path", display.label("EA", "force"),
+            make_table("webs", "Webs", ["web", "kind", "from", "path", force_label(display, "EA"),
                                         f"thickness [{thin_unit}]", f"width [{small_unit}]"],
                        webs),
             make_table("rollers", "Rollers", [
@@ -153,9 +168,11 @@ def verdict_table(result: BranchResult, display: Display = SI) -> Table:
     largest deviation from their reference, length-balance drift (in ``display``'s units) and
     the verdict's findings about it (``BranchResult.verdict``, whose messages are SI)."""
     findings = result.verdict.findings
-    force, length = display.factor("force"), display.factor("length")
+    length = display.factor("length")
     rows = []
-    for web in result.web_summary():
+    materials = result.plan.line.materials
+    for w, web in enumerate(result.web_summary()):
+        force = display.at_width(materials[w].width).factor("force")
         table = web["spans"]
         assert isinstance(table, dict)
         low = min(v["min_N"] for v in table.values())
@@ -168,8 +185,8 @@ def verdict_table(result: BranchResult, display: Display = SI) -> Table:
                      number_text(length * float(web["length_balance_drift_m"]), 2),  # type: ignore[arg-type]
                      "; ".join(about) or "ok"))
     return make_table("verdict", "Verdict per web and lane", [
-        "web", "kind", display.label("span tensions", "force"),
-        display.label("largest deviation from reference", "force"),
+        "web", "kind", force_label(display, "span tensions"),
+        force_label(display, "largest deviation from reference"),
         display.label("length balance drift", "length"), "findings"], rows)
 
 

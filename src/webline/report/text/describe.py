@@ -14,12 +14,33 @@ from webline.spec.schema import IdleSpec, RewindSpec, UnwindSpec
 def line_tables(line: Line, display: Display) -> list[Table]:
     """Tables describing ``line``: overview, rollers, spans, drives and controllers, zones,
     winder functions (dancers, taper, diameter calculation, compensation, open loop, break
-    monitoring), disturbances and scenarios, every quantity in the chosen units."""
+    monitoring), calibrated sensors, disturbances and scenarios, every quantity in the chosen
+    units."""
     tables = [_overview(line, display), _rollers(line, display), _spans(line, display),
               _drives(line, display), zones_table(line)]
     winder = winder_table(line, display)
-    return tables + ([winder] if winder.rows else []) + [_disturbances(line, display),
-                                                          _scenarios(line)]
+    sensors = ([sensors_table(line, display)] if getattr(line.spec, "sensors", None) else [])
+    return tables + ([winder] if winder.rows else []) + sensors + [
+        _disturbances(line, display), _scenarios(line)]
+
+
+def sensors_table(line: Line, d: Display) -> Table:
+    """The calibrated sensors (``spec.sensors``): what each measures and what its controller
+    reads there."""
+    rows = []
+    for s in line.spec.sensors:
+        if s.type == "loadcell":
+            where = f"span {s.span}"
+            sign = "+" if s.offset >= 0 else "-"
+            reads = f"{s.gain:g} x T {sign} {d.text(abs(s.offset), 'force')}"
+        else:
+            where = f"roller {s.roller}"
+            reads = f"{s.scale:g} x v"
+        if s.delay > 0:
+            reads += f", {d.text(s.delay, 'time')} late"
+        rows.append([s.name, s.type, where, reads])
+    return make_table("sensors", "Sensors (what the controllers read)",
+                      ["sensor", "type", "measures", "reads"], rows)
 
 
 def _overview(line: Line, d: Display) -> Table:

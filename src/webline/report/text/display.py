@@ -42,6 +42,16 @@ class Display:
         """True if forces are shown per width of web."""
         return self.system.endswith("-per-width")
 
+    def at_width(self, width: float) -> Display:
+        """This system for forces on a web ``width`` [m] wide: a per-width system divides by
+        that width (a branched line's webs and lanes each have their own); the others are
+        themselves."""
+        return Display(self.system, width) if self.per_width else self
+
+    def base(self) -> Display:
+        """This system without the per-width ('si' or 'imperial'): forces not on one web."""
+        return Display("imperial" if self.system.startswith("imperial") else "si")
+
     def _factor_unit(self, kind: str) -> tuple[float, str]:
         base = "imperial" if self.system.startswith("imperial") else "si"
         if self.per_width and kind == "force":

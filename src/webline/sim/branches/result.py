@@ -3,7 +3,7 @@ web and lane computed from them."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -21,6 +21,7 @@ from webline.sim.branches.findings.winder_states import (
     set_tension,
     tension_findings,
 )
+from webline.sim.branches.findings.wound_rolls import roll_name
 from webline.sim.branches.laminates import layer_lengths, layer_strain
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.traction import slip_findings
@@ -41,6 +42,7 @@ if TYPE_CHECKING:
     from webline.model.web_graph import BranchedLine
     from webline.sim.branches.plan import BranchPlan
     from webline.sim.results.events import EventStats
+    from webline.sim.results.wound_roll import WoundRoll
 
 #: the deprecated name of ``control_radius`` in a branched run's dataset (docs/branching.md
 #: used it until this release); kept in ``dataset``, left out of files and tables
@@ -150,6 +152,17 @@ class BranchResult(RunResult):
              np.abs(self.torque_cmd) >= self.plan.df[:, B.D_LIMIT]),
             ("slip", self.node_names, np.zeros((len(self.time), len(self.node_names)), bool)),
         ])
+
+    @cached_property
+    def wound_rolls(self) -> dict[str, WoundRoll]:
+        """The roll of each rewind with a ``roll_stress`` table, and of each lane on a shared
+        shaft, by roll name ``roller/web`` (``findings.wound_rolls``, the chain's roll from
+        this roll's own records)."""
+        from webline.sim.branches.findings.wound_rolls import branch_wound_rolls
+
+        ds = self.dataset
+        return branch_wound_rolls(self.plan, self.time, ds["radius"].values,
+                                  ds["tension"].values)
 
     def summary(self) -> dict[str, dict[str, dict[str, float]]]:
         """Per span: tension mean, standard deviation and, with a loadcell, its errors [N];
@@ -282,13 +295,16 @@ class BranchResult(RunResult):
                   ) -> Path:
         """Write every signal to NetCDF-4, compressed and chunked along time as a single-path
         run's file, float signals as ``precision`` (time stays float64), the resolved line
-        file in attribute ``line_spec`` (TOML, SI), atomically. Returns the path
+        file in attribute ``line_spec`` (TOML, SI), each wound roll per layer in the group
+        ``wound_roll/ROLLER/WEB`` (``wound_rolls``), atomically. Returns the path
         (``sim.results.dataset_files``)."""
         from webline.sim.results.dataset_files import write_dataset
         from webline.spec.load import dump_spec
 
         filed = self._filed.assign_attrs(line_spec=dump_spec(self.plan.line.spec))
-        return write_dataset(filed, path, "netcdf", precision)
+        rolls = {f"wound_roll/{name}": roll.to_xarray()
+                 for name, roll in self.wound_rolls.items()}
+        return write_dataset(filed, path, "netcdf", precision, rolls)
 
     def to_csv(self, path: str | Path) -> Path:
         """Write one column per signal and element (``tension[film_zone] [N]`` ...), time
@@ -344,6 +360,12 @@ class BranchResult(RunResult):
                                      ds["radius"].values, ds["control_radius"].values)
         findings += diameter_findings(self.plan, self.time, ds["radius"].values,
                                       ds["control_radius"].values)
+        rolls = self.wound_rolls
+        for j, roll in enumerate(line.rolls):  # each roll's under its web or lane (its
+            wound = rolls.get(roll_name(self.plan, j))  # message names the roll)
+            if wound is not None:
+                owner = line.spec.webs[roll.web].name
+                findings += [replace(f, where=owner) for f in wound.findings()]
         limits = self.plan.df[:, B.D_LIMIT]
         for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit
             at_limit = np.nonzero(np.abs(ds["torque_cmd"].values[:, d]) >= limits[d])[0]

@@ -62,10 +62,8 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     plan, point, substeps = plan_and_step(line, rate, substeps)
     n_ticks = max(1, round(duration / plan.dt))
     every = record_every(n_ticks, plan.dt, every_s)
-    x, istate = start_state(plan, point)
-    n_d = plan.di.shape[0]
-    rec = new_records(n_ticks, every, plan.n_x, n_d)
-    wound, done, cmd = plan.wound.copy(), np.zeros(len(plan.events)), point.torque.copy()
+    x, istate, wound, done, cmd = run_start(plan, point)
+    rec = new_records(n_ticks, every, plan.n_x, plan.di.shape[0])
     users = None
     if controller is not None:  # user controllers: one tick at a time (sim.branches.user)
         from webline.sim.branches.user.loop import BranchUserLoop, branch_groups
@@ -99,15 +97,12 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
     if users is not None and users.failed is not None and not n_rec:  # (a reset failed)
         rec[0] = users.sample(0)[0]  # the start alone
         n_rec = 1
-    failure = (strength_failure(plan, x, t_fail) if status == B.STATUS_STRENGTH
-               else None if status == B.STATUS_OK else users.failed[1]
-               if users is not None and users.failed is not None
-               else _failure_text(status, t_fail))
+    failure = (users.failed[1] if status not in (B.STATUS_OK, B.STATUS_STRENGTH)
+               and users is not None and users.failed is not None
+               else run_failure(plan, x, status, t_fail))
     if interrupted:
         failure = f"interrupted by the user (Ctrl-C) at t = {rec[n_rec - 1, 0]:.4g} s"
-    result = BranchResult(plan, rec[:n_rec].copy(), failure,
-                          {"duration": duration, "dt": plan.dt, "substeps": substeps,
-                           "record_every": every, **detection(plan, istate)})
+    result = run_result(plan, rec[:n_rec].copy(), failure, istate, duration, substeps, every)
     if failure is not None and raise_on_failure:
         if users is not None and users.failed is not None:
             raise ControllerError(f"{line.name}: {failure}", partial=result)
@@ -147,6 +142,34 @@ def start_state(plan: BranchPlan, point: BranchPoint) -> tuple[np.ndarray, np.nd
     start_memory(plan, istate)  # the decentralized families' (sim.branches.drives.decentral)
     start_observers(plan, istate, x)  # (section observers: at the initial state)
     return x, istate
+
+
+def run_start(plan: BranchPlan, point: BranchPoint) -> tuple[np.ndarray, ...]:
+    """What ``kernel.advance`` advances in place from the start of a run of ``plan`` at
+    ``point``: the state, the controller memory (``start_state``), the wound-in tensions and
+    drags, the roll changes made (none) and the torque commands (the operating point's)."""
+    x, istate = start_state(plan, point)
+    return x, istate, plan.wound.copy(), np.zeros(len(plan.events)), point.torque.copy()
+
+
+def run_failure(plan: BranchPlan, x: np.ndarray, status: int, t_fail: float) -> str | None:
+    """Why a run of ``plan`` that ended with ``status`` (``layout`` STATUS_*) at ``t_fail``
+    [s] in state ``x`` stopped, in words; None for a run that ran to its end."""
+    if status == B.STATUS_OK:
+        return None
+    if status == B.STATUS_STRENGTH:
+        return strength_failure(plan, x, t_fail)
+    return _failure_text(status, t_fail)
+
+
+def run_result(plan: BranchPlan, records: np.ndarray, failure: str | None,
+               istate: np.ndarray, duration: float, substeps: int,
+               every: int) -> BranchResult:
+    """The ``BranchResult`` of a run of ``plan`` for ``duration`` [s] that stored
+    ``records`` and ended with controller memory ``istate``."""
+    return BranchResult(plan, records, failure,
+                        {"duration": duration, "dt": plan.dt, "substeps": substeps,
+                         "record_every": every, **detection(plan, istate)})
 
 
 def _failure_text(status: int, t_fail: float) -> str:

@@ -20,6 +20,7 @@ from webline.sim.core.drive_table import drive_table, transmission, transmission
 from webline.sim.elements import layout as L
 from webline.sim.elements import splice
 from webline.sim.elements.friction_loop import friction_columns
+from webline.sim.elements.sensor_loop import fill_delays, sensor_columns
 from webline.spec.nip import shaft_terms
 from webline.spec.roll_inertia import roll_constants
 from webline.spec.schema import (
@@ -184,7 +185,13 @@ class Plan:
                 feedforward = op.line_speed * draw_ratio(ea, t_up, t_master, True)
             else:  # (6.22, as written before exact transport: the same last bits)
                 feedforward = op.line_speed * (ea - t_master) / (ea - t_up)
-            istate[d, L.I_TENSION] = self.drives[d, L.D_SIGMA] * (op.speed[i] - feedforward)
+            measured = self.drives[d, L.D_VSCALE] * op.speed[i]  # as its encoder reads it
+            istate[d, L.I_TENSION] = self.drives[d, L.D_SIGMA] * (measured - feedforward)
+        if self.offsets[L.O_SENSORS]:  # the delayed readings start at the initial state's
+            loadcells = self.drives[:, L.D_LOADCELL].astype(int)
+            fill_delays(self.drives, istate, np.where(loadcells >= 0, op.tension[loadcells],
+                                                      np.nan),
+                        istate[:, L.I_RADIUS] * op.omega[list(op.drives)])
         return x, istate
 
 
@@ -314,6 +321,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     winder.diameter_columns(drives, line)
     winder.compensation_columns(drives, line)
     friction = friction_columns(nodes, drives, line, 1.0 / rate)
+    sensors = sensor_columns(drives, line, 1.0 / rate)  # calibrated loadcells, encoders
     master_up = 1 + line.zone_of_span(line.master - 1)
     web = np.zeros(L.W_COLS)
     web[L.W_EA] = line.ea
@@ -343,7 +351,7 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     felt = bool(np.any(span_table[:, L.S_TAU] > 0.0)) or line.nonlinear
     offsets = np.array([0, off_w, off_r, off_tq, off_th, off_q, master_up, line.master,
                         off_tr, noisy, need_eq, breaks, felt, spliced, friction,
-                        own_density, line.nonlinear, line.exact],
+                        own_density, line.nonlinear, line.exact, sensors],
                        dtype=np.int64)
     wound = np.array([[d.amplitude, d.frequency, d.phase] for d in spec.disturbances
                       if isinstance(d, WoundInRipple)]).reshape(-1, 3)

@@ -35,6 +35,7 @@ from webline.sim.elements.break_hold import fade_trim, held_command, stop_accele
 from webline.sim.elements.dancer_loop import dancer_measurement
 from webline.sim.elements.envelope import node_radius
 from webline.sim.elements.friction_loop import table_torque
+from webline.sim.elements.sensor_loop import delayed, loadcell_reading
 from webline.sim.elements.signals import gaussian, jit, profile_at, profile_slope_at
 
 _tension: Any = jit(span.tension)
@@ -219,10 +220,15 @@ def control_tick(tick: int, dt: float, x: np.ndarray, istate: np.ndarray, ns: np
         # the motor's encoder, across a compliant transmission (a rigid drive has no motor
         # state: its motor speed is ratio x roller speed, the same measurement as the load's)
         v_meas = measured_speed(d, i, tick, radius, x, ds, offsets, drives, web)
+        if offsets[L.O_SENSORS]:  # the encoder's delay (spec.sensors)
+            v_meas = delayed(d, tick, v_meas, L.I_VBUF, drives[d, L.D_VDELAY], istate)
         loadcell = ds[d, L.DS_LOADCELL]
         t_meas = 0.0
         if loadcell >= 0:
             t_meas = _tension(x[loadcell])
+            if offsets[L.O_SENSORS]:  # the loadcell's calibration and delay (spec.sensors)
+                t_meas = delayed(d, tick, loadcell_reading(d, t_meas, drives), L.I_TBUF,
+                                 drives[d, L.D_TDELAY], istate)
             if offsets[L.O_NOISE] and web[L.W_NOISE_T] > 0.0:
                 t_meas += web[L.W_NOISE_T] * gaussian(seed, tick, 2 * d + 1)
         if drives[d, L.D_OBS] > 0.0:  # a section observer replaces the loadcell

@@ -23,11 +23,13 @@ def measured_speed(d: int, i: int, tick: int, radius: float, x: np.ndarray, ds: 
                    offsets: np.ndarray, drives: np.ndarray, web: np.ndarray) -> float:
     """Surface speed [m/s] drive ``d`` on node ``i`` measures at tick ``tick`` with the radius
     ``radius`` [m] it knows: r ω of its encoder (the motor's / n across a compliant
-    transmission with motor-side feedback), plus the speed noise of channel 2 d, rounded to
-    the speed resolution."""
+    transmission with motor-side feedback) times its encoder's scale (``spec.sensors``), plus
+    the speed noise of channel 2 d, rounded to the speed resolution."""
     v_meas = radius * x[offsets[L.O_OMEGA] + i]
     if ds[d, L.DS_FEEDBACK] > 0 and ds[d, L.DS_TSTATE] >= 0:
         v_meas = radius * x[ds[d, L.DS_TSTATE]] / drives[d, L.D_RATIO]
+    if offsets[L.O_SENSORS]:  # the encoder's scale (spec.sensors)
+        v_meas *= drives[d, L.D_VSCALE]
     if offsets[L.O_NOISE]:
         if web[L.W_NOISE_V] > 0.0:
             v_meas += web[L.W_NOISE_V] * gaussian(int(web[L.W_SEED]), tick, 2 * d)
@@ -40,7 +42,8 @@ def measured_omega(d: int, i: int, tick: int, radius: float, x: np.ndarray, ds: 
                    offsets: np.ndarray, drives: np.ndarray, web: np.ndarray) -> float:
     """Angular speed [rad/s] of node ``i`` as drive ``d``'s encoder gives it: the same
     measurement as ``measured_speed`` (its noise and resolution, over ``radius`` [m])."""
-    if not offsets[L.O_NOISE] and not (ds[d, L.DS_FEEDBACK] > 0 and ds[d, L.DS_TSTATE] >= 0):
+    if not (offsets[L.O_NOISE] or offsets[L.O_SENSORS]) and not (
+            ds[d, L.DS_FEEDBACK] > 0 and ds[d, L.DS_TSTATE] >= 0):
         return x[offsets[L.O_OMEGA] + i]
     return measured_speed(d, i, tick, radius, x, ds, offsets, drives, web) / radius
 

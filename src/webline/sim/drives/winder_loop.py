@@ -7,6 +7,7 @@ import numpy as np
 
 from webline.sim.elements import layout as L
 from webline.sim.elements.friction_loop import compensation_table
+from webline.sim.elements.sensor_loop import loadcell_reading
 from webline.sim.elements.signals import jit
 
 
@@ -90,6 +91,7 @@ def break_monitor(t: float, x: np.ndarray, istate: np.ndarray, ns: np.ndarray,
             closed = ds[d, L.DS_FAMILY] != L.FAMILY_OPEN_LOOP  # open loop reads no loadcell
             if loadcell >= 0 and ds[d, L.DS_ROLE] == L.ROLE_TENSION and closed:  # dancers too
                 tension = x[loadcell] if x[loadcell] > 0.0 else 0.0
+                tension = loadcell_reading(d, tension, drives)  # what it shows (1 T + 0: T)
                 if tension < web[L.W_BTHRESH] * refs[ds[d, L.DS_REF]]:
                     method = L.BREAK_TENSION
         for i in range(ns.shape[0]):

@@ -98,7 +98,12 @@ D_COMPFN, D_COMPFW, D_COMPFT = 65, 66, 71
 # ... and the diameter calculator's presets while running (W2a): how many, their times [s]
 # and diameters [m] (0: the true one), 4 slots
 D_PRESETN, D_PRESETT, D_PRESETD = 76, 77, 81
-D_COLS = 85
+# ... and the sensors it reads (spec.sensors; read only where O_SENSORS is 1): its loadcell's
+# gain [-] and offset [N] (the controller reads gain T + offset), its encoder's scale [-],
+# and the delay of each signal in whole controller samples (at most MAX_DELAY)
+D_TGAIN, D_TOFFSET, D_VSCALE, D_TDELAY, D_VDELAY = 85, 86, 87, 88, 89
+D_COLS = 90
+MAX_DELAY = 32  # the longest sensor delay [controller samples]: 32 ms at 1 kHz
 DSOURCE_MASTER, DSOURCE_REFERENCE = -1, -2
 DCALC_NONE, DCALC_SPEED_RATIO, DCALC_THICKNESS = 0, 1, 2
 DANCER_NONE, DANCER_POSITION, DANCER_TENSION = 0, 1, 2
@@ -122,7 +127,12 @@ FAMILY_USER = 5
 # or largest (rewind) calculated radius so far [m] (0: none yet), for BREAK_DIAMETER
 (I_SPEED, I_TENSION, I_FRICTION, I_KT, I_KV, I_BIAS, I_THAT, I_WHAT, I_RADIUS, I_DETECT,
  I_METHOD, I_REXTREME) = range(12)
-I_COLS = 12
+# ... and the last MAX_DELAY + 1 readings of its loadcell [N] and of its encoder [m/s], ring
+# buffers indexed by tick (sim.elements.sensor_loop.delayed)
+DELAY_SLOTS = MAX_DELAY + 1
+I_TBUF = 12
+I_VBUF = I_TBUF + DELAY_SLOTS
+I_COLS = I_VBUF + DELAY_SLOTS
 
 # line-wide scalars
 (W_EA, W_THICK, W_WIDTH, W_DENSITY, W_T0, W_NOISE_T, W_NOISE_V, W_SEED,
@@ -159,6 +169,7 @@ O_OWNRHO = 15  # 1 if a roll has its own wound density, from its totals (J1)
 O_LAW = 16  # 1 if the web's stress-strain law is nonlinear: T = F(s) (``physics.web_law``),
 # the law's array after the W_COLS scalars of the web table
 O_EXACT = 17  # 1 if spans conserve web mass exactly (``web.transport``), 0: thesis 6.8 (E-6.6)
+O_SENSORS = 18  # 1 if a sensor is other than ideal (spec.sensors): D_TGAIN ... D_VDELAY
 
 # kernel status codes; with each failure the kernel returns where it happened: the span
 # (strength, runaway stretch), node (runaway speed) or drive (runaway motor speed), else -1

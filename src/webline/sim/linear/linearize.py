@@ -41,19 +41,24 @@ def _speed_state(plan: Plan, d: int, i: int) -> int:
 
 def _tension_sensor(plan: Plan, d: int) -> tuple[int, float]:
     """(linear state, d(measured tension)/d(state)) of drive ``d``'s tension measurement: its
-    zone's loadcell span (1), or a dancer (``sim.core.dancer.measurement_row``)."""
+    zone's loadcell span (its gain, ``spec.sensors``), or a dancer
+    (``sim.core.dancer.measurement_row``)."""
     line = plan.line
     n_c = int(np.sum(plan.drives[:, L.D_TSTATE] >= 0))
     first = line.n_spans + line.n_nodes + len(line.drives) + 2 * n_c
     found = dancers.measurement_row(plan, d, first)
-    return found if found is not None else (int(plan.drives[d, L.D_LOADCELL]), 1.0)
+    if found is not None:
+        return found
+    return int(plan.drives[d, L.D_LOADCELL]), float(plan.drives[d, L.D_TGAIN])
 
 
 def _speed_scale(plan: Plan, d: int) -> float:
-    """Ratio between the measured angular speed and the roller's (n for a motor encoder)."""
+    """The measured speed's state per measured roller speed: n for a motor encoder, over
+    the encoder's scale (``spec.sensors``)."""
+    scale = float(plan.drives[d, L.D_VSCALE])
     if plan.linear_motor_state(d) is not None and plan.drives[d, L.D_FEEDBACK] > 0:
-        return float(plan.drives[d, L.D_RATIO])
-    return 1.0
+        return float(plan.drives[d, L.D_RATIO]) / scale
+    return 1.0 / scale
 
 
 def controller_matrices(plan: Plan, op: OperatingPoint) -> tuple[np.ndarray, ...]:
@@ -140,7 +145,10 @@ def _decentralized_rows(plan: Plan, op: OperatingPoint, d: int, i: int, refs: np
     if row[L.D_ADAPTIVE] > 0:
         gain = op.inertia[i] / (ratio * radius) / row[L.D_GAINNORM]
     kx[_speed_state(plan, d, i)] = -gain * row[L.D_KV] * radius / _speed_scale(plan, d)
-    speed_per_line = op.speed[i] / op.line_speed if op.line_speed else 1.0
+    # the node's reference speed per line reference: the draw (the op's speeds are the web's,
+    # slower than the reference by the master encoder's scale, spec.sensors)
+    master_scale = plan.drives[line.drives.index(line.master), L.D_VSCALE]
+    speed_per_line = master_scale * op.speed[i] / op.line_speed if op.line_speed else 1.0
     kr[0] = gain * row[L.D_KV] * speed_per_line
     if row[L.D_FAMILY] == L.FAMILY_ADAPTIVE:  # b̂ (ω - ω_ref)/n with b̂ frozen at its guess
         kx[_speed_state(plan, d, i)] += row[L.D_BMODEL] / (ratio * _speed_scale(plan, d))

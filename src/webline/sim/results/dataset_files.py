@@ -5,6 +5,7 @@ one column per signal and element and its unit in the header; each written atomi
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -21,10 +22,12 @@ Format = Literal["netcdf", "csv"]
 
 
 def write_dataset(ds: xr.Dataset, path: str | Path, fmt: Format = "netcdf",
-                  precision: Precision = "float64") -> Path:
+                  precision: Precision = "float64",
+                  groups: Mapping[str, xr.Dataset] | None = None) -> Path:
     """Write ``ds`` (dimension ``time`` first in every signal, ``units`` in each signal's
     attributes) to ``path`` as ``fmt``: 'netcdf' (float signals as ``precision``) or 'csv'
-    (9 significant digits, whatever ``precision``). Returns the path."""
+    (9 significant digits, whatever ``precision``). ``groups``: more datasets, each in its
+    NetCDF group by name (``a/b`` nests; not in a CSV). Returns the path."""
     if precision not in ("float64", "float32"):
         raise ArgumentError(f"precision: must be 'float64' or 'float32', got {precision!r}")
     if fmt == "csv":
@@ -41,8 +44,13 @@ def write_dataset(ds: xr.Dataset, path: str | Path, fmt: Format = "netcdf",
             rule.update(compression="gzip", compression_opts=COMPLEVEL, shuffle=True,
                         chunksizes=(min(n_time, TIME_CHUNK), *var.shape[1:]))
         encoding[str(name)] = rule
-    return atomic_write(Path(path), lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf",
-                                                              encoding=encoding))
+
+    def write(tmp: Path) -> None:
+        ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding)
+        for name, group in (groups or {}).items():
+            group.to_netcdf(tmp, mode="a", group=name, engine="h5netcdf")
+
+    return atomic_write(Path(path), write)
 
 
 def dataset_columns(ds: xr.Dataset) -> list[tuple[str, str, np.ndarray]]:

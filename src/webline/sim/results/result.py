@@ -104,13 +104,14 @@ class Result(RunResult):
                            extra)
 
     @cached_property
-    def wound_roll(self) -> WoundRoll | None:
-        """The rewind's wound roll at the end of the run: wound-on tension per layer,
-        pressure and hoop stress (``webline.sim.results.wound_roll``), for a rewind with a
-        ``roll_stress`` table, else None."""
+    def wound_rolls(self) -> dict[str, WoundRoll]:
+        """The rewind's wound roll at the end of the run, by the rewind's name (empty without
+        a ``roll_stress`` table): wound-on tension per layer, pressure and hoop stress
+        (``webline.sim.results.wound_roll``)."""
         from webline.sim.results.wound_roll import run_wound_roll
 
-        return run_wound_roll(self)
+        roll = run_wound_roll(self)
+        return {} if roll is None else {roll.where: roll}
 
     @cached_property
     def roll_modes(self) -> RollModes | None:
@@ -176,6 +177,19 @@ class Result(RunResult):
         return np.maximum(self.stretch, 0.0)
 
     @cached_property
+    def tension_measured(self) -> np.ndarray:
+        """Span tensions [N] as the loadcells show them, without their noise: gain T +
+        offset, delayed, on a calibrated loadcell's span (``spec.sensors``), ``tension``
+        elsewhere.
+        ``tension`` stays the web's true tension."""
+        if not self.plan.offsets[L.O_SENSORS]:
+            return self.tension
+        from webline.sim.elements.sensor_loop import measured_tensions
+
+        return measured_tensions(self.line, self.plan.drives, self.plan.dt, self.time,
+                                 self.tension)
+
+    @cached_property
     def tension_ref(self) -> np.ndarray:
         """Tension reference of each loadcell span [N] (NaN on spans without a loadcell), the
         rewind's taper applied to the diameter its controller uses (the calculated one where
@@ -239,6 +253,19 @@ class Result(RunResult):
     def speed(self) -> np.ndarray:
         """Web speed at each node [m/s]: the surface speed less any slip."""
         return self.surface_speed - self.slip_velocity
+
+    @cached_property
+    def speed_measured(self) -> np.ndarray:
+        """Web speed at each node [m/s] as the encoders show it, without their noise: its
+        scale x ``speed``, delayed, on a driven node with a calibrated encoder
+        (``spec.sensors``),
+        ``speed`` elsewhere."""
+        if not self.plan.offsets[L.O_SENSORS]:
+            return self.speed
+        from webline.sim.elements.sensor_loop import measured_speeds
+
+        return measured_speeds(self.line, self.plan.drives, self.plan.dt, self.time,
+                               self.speed)
 
     @cached_property
     def speed_ref(self) -> np.ndarray:

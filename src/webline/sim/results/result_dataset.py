@@ -73,6 +73,9 @@ def result_variables(result: Any) -> ResultVariables:
         data |= {"mrac_gain_tension": (dims_drive, gains[:, :, 0]),
                  "mrac_gain_speed": (dims_drive, gains[:, :, 1]),
                  "mrac_bias": (dims_drive, gains[:, :, 2])}
+    if result.line.spec.sensors:  # what the calibrated sensors show (spec.sensors)
+        data |= {"tension_measured": (dims_span, result.tension_measured),
+                 "speed_measured": (dims_node, result.speed_measured)}
     names = {"span": result.span_names, "node": result.node_names,
              "drive": result.drive_names, "roll": [result.node_names[0], result.node_names[-1]]}
     if result.dancer_names:

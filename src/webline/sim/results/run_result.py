@@ -24,6 +24,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from webline.sim.results.events import EventStats
+    from webline.sim.results.wound_roll import WoundRoll
     from webline.verdict import Verdict
 
 
@@ -77,6 +78,19 @@ class RunResult(ABC):
         """Span tensions [N], records x spans."""
 
     @property
+    def tension_measured(self) -> np.ndarray:
+        """Span tensions [N] as the loadcells show them, records x spans: the true tensions
+        where the line has no calibrated sensor (``spec.sensors``; a single-path run
+        overrides this with the readings)."""
+        return self.tension
+
+    @property
+    def speed_measured(self) -> np.ndarray:
+        """Web speed at each node [m/s] as the encoders show it, records x nodes: the true
+        speeds where the line has no calibrated sensor."""
+        return np.asarray(self.signals["speed"].values)
+
+    @property
     @abstractmethod
     def tension_ref(self) -> np.ndarray:
         """Each loadcell span's tension reference [N] (NaN on spans without a loadcell)."""
@@ -96,6 +110,12 @@ class RunResult(ABC):
     def roll_radius(self) -> np.ndarray:
         """Wound radius of each roll [m], records x rolls."""
 
+    @property
+    @abstractmethod
+    def wound_rolls(self) -> dict[str, WoundRoll]:
+        """The wound roll of each rewind with a ``roll_stress`` table (a shaft's lanes one
+        each), by roll name, at the end of the run (``sim.results.wound_roll``)."""
+
     @abstractmethod
     def to_xarray(self) -> xr.Dataset:
         """Every signal over time with element coordinates, units as attributes."""
@@ -111,6 +131,12 @@ class RunResult(ABC):
         (``drives``); ``webline.sim.results.metrics.run_summary``."""
 
     # --- shared ------------------------------------------------------------------------------
+
+    @property
+    def wound_roll(self) -> WoundRoll | None:
+        """The line's first wound roll (``wound_rolls``; a single-path line has at most one:
+        its rewind's), or None where no rewind has a ``roll_stress`` table."""
+        return next(iter(self.wound_rolls.values()), None)
 
     @property
     def status(self) -> str:

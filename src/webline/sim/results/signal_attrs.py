@@ -14,7 +14,7 @@ SIGNAL_UNITS = {
     "surface_speed": "m/s", "slipping": "", "slip_velocity": "m/s", "slip_power": "W",
     "web_rewound": "m", "web_stored": "m", "wound_in": "N",
     "mrac_gain_tension": "m", "mrac_gain_speed": "N*s", "mrac_bias": "N*m",
-    "dancer_position": "m",
+    "dancer_position": "m", "tension_measured": "N", "speed_measured": "m/s",
 }
 
 
@@ -38,6 +38,8 @@ LONG_NAMES = {
     "mrac_gain_speed": "MRAC adapted gain on the speed deviation",
     "mrac_bias": "MRAC adapted bias (equilibrium input error)",
     "dancer_position": "dancer carriage position (0 and its stroke: the end stops)",
+    "tension_measured": "span tension as its loadcell shows it (gain, offset; no noise)",
+    "speed_measured": "web speed as its drive's encoder shows it (scale; no noise)",
 }
 #: flag meanings (CF) of the integer-coded signals
 FLAGS = {"slack": ([0, 1], "taut slack"), "slipping": ([0, 1], "stuck slipping")}

@@ -6,6 +6,7 @@ theirs, a band from a tension transient traced to its time in the run)."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -37,41 +38,64 @@ def bands(mask: np.ndarray) -> list[Band]:
 
 
 @dataclass(frozen=True)
+class Snapshot:
+    """The roll as it was when its surface passed ``radius`` [m] (``roll_stress.at_radii``):
+    its ``stress`` (the layers on by then, the last one reaching ``radius``) and ``time`` [s]
+    that last layer was wound (NaN: outside the run)."""
+
+    radius: float
+    time: float
+    stress: RollStress
+
+    def summary(self) -> dict[str, object]:
+        """Plain numbers for summary.json (SI)."""
+        s = self.stress
+        return {
+            "radius_m": self.radius,
+            "time_s": None if math.isnan(self.time) else self.time,
+            "layers": len(s.radius),
+            "core_pressure_Pa": s.core_pressure,
+            "max_pressure_Pa": float(s.pressure.max()),
+            "min_hoop_Pa": float(s.hoop.min()),
+        }
+
+
+@dataclass(frozen=True)
 class WoundRoll:
     """The rewind ``where``'s roll at the end of a run: its ``layers`` (wound-on tension per
     layer, ``physics.wound_on``), its ``stress`` and, for comparison, ``steady``: the same
-    roll wound at the steady set tension (times the taper) throughout; ``spec`` its table."""
+    roll wound at the steady set tension (times the taper) throughout; ``spec`` its table;
+    ``snapshots`` the roll at the table's ``at_radii`` during winding, ``missed`` those of
+    them [m] the finished roll never reached (no snapshot)."""
 
     where: str
     layers: WoundLayers
     stress: RollStress
     steady: RollStress
     spec: RollStressSpec
+    snapshots: tuple[Snapshot, ...] = ()
+    missed: tuple[float, ...] = ()
 
     def to_xarray(self) -> Any:
         """The roll per layer (dimension ``layer``, coordinate ``radius`` [m]): wound-on
         tension [N] and stress [Pa], the time each layer was wound [s] (NaN outside the run),
-        pressure and hoop stress [Pa], and the steady roll's pressure [Pa]."""
+        pressure and hoop stress [Pa], and the steady roll's pressure [Pa]; with snapshots
+        (dimension ``at_radius`` [m]) their ``at_time`` [s], ``at_pressure`` and ``at_hoop``
+        [Pa] per layer (NaN above each snapshot's layers)."""
         import xarray as xr
 
-        lay, s = self.layers, self.stress
-        coords = {"layer": np.arange(len(lay.radius)), "radius": ("layer", lay.radius)}
+        plain = self.group_variables()
+        coords = {k: plain.pop(k) for k in ("layer", "radius", "at_radius") if k in plain}
         return xr.Dataset(
-            {
-                "wound_on_tension": ("layer", lay.tension, {"units": "N"}),
-                "wound_on_stress": ("layer", lay.stress, {"units": "Pa"}),
-                "wound_time": ("layer", lay.time, {"units": "s"}),
-                "pressure": ("layer", s.pressure, {"units": "Pa"}),
-                "hoop": ("layer", s.hoop, {"units": "Pa"}),
-                "steady_pressure": ("layer", self.steady.pressure, {"units": "Pa"}),
-            },
+            plain,
             coords=coords,
-            attrs={"rewind": self.where, "thickness_m": s.thickness},
+            attrs={"rewind": self.where, "thickness_m": self.stress.thickness},
         )
 
     def group_variables(self) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]]:
         """``to_xarray``'s variables and coordinates as plain arrays (the results file's
-        ``wound_roll`` group)."""
+        ``wound_roll`` group): per layer, and per snapshot (``at_radius``) its time and the
+        pressure and hoop stress of its layers (NaN above them)."""
         lay, s = self.layers, self.stress
         one = ("layer",)
         return {
@@ -83,6 +107,26 @@ class WoundRoll:
             "pressure": (one, s.pressure, {"units": "Pa"}),
             "hoop": (one, s.hoop, {"units": "Pa"}),
             "steady_pressure": (one, self.steady.pressure, {"units": "Pa"}),
+        } | self._snapshot_variables()
+
+    def _snapshot_variables(self) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]]:
+        """The snapshots as (at_radius, layer) arrays, NaN on the layers not yet wound."""
+        if not self.snapshots:
+            return {}
+        n = len(self.stress.radius)
+        pressure = np.full((len(self.snapshots), n), np.nan)
+        hoop = np.full((len(self.snapshots), n), np.nan)
+        for j, snap in enumerate(self.snapshots):
+            pressure[j, : len(snap.stress.radius)] = snap.stress.pressure
+            hoop[j, : len(snap.stress.radius)] = snap.stress.hoop
+        two = ("at_radius", "layer")
+        return {
+            "at_radius": (("at_radius",), np.array([x.radius for x in self.snapshots]),
+                          {"units": "m"}),
+            "at_time": (("at_radius",), np.array([x.time for x in self.snapshots]),
+                        {"units": "s"}),
+            "at_pressure": (two, pressure, {"units": "Pa"}),
+            "at_hoop": (two, hoop, {"units": "Pa"}),
         }
 
     def summary(self) -> dict[str, object]:
@@ -103,6 +147,7 @@ class WoundRoll:
                 float(self.layers.stress.min()),
                 float(self.layers.stress.max()),
             ],
+            "snapshots": [x.summary() for x in self.snapshots],
         }
 
     def findings(self) -> list[Finding]:
@@ -191,6 +236,18 @@ class WoundRoll:
                     },
                 )
             )
+        for r in self.missed:
+            out.append(
+                Finding(
+                    "warning",
+                    "roll_snapshot",
+                    self.where,
+                    f"{self.where}: no snapshot at r = {1e3 * r:.4g} mm (roll_stress.at_radii): "
+                    f"the finished roll ends at {1e3 * s.outer_radius:.4g} mm",
+                    None,
+                    {"radius_m": r, "outer_radius_m": s.outer_radius},
+                )
+            )
         return out
 
     def _finding(
@@ -261,7 +318,16 @@ def wound_roll(
         k1, k2 = float(spec.radial_modulus or 0.0), 0.0
     e_t = spec.tangential_modulus or modulus
 
-    def solve(wound_on: np.ndarray) -> RollStress:
+    # the roll when its surface passed each asked radius: once the layer m reaching it is on;
+    # a radius less than a layer beyond the roll (its diameter rounded to whole layers) is
+    # the finished roll's, one further is missed
+    n = len(layers.radius)
+    reach = [math.ceil((r - core_radius) / thickness - 1e-9) - 1 for r in spec.at_radii]
+    kept = [(r, min(max(0, m), n - 1)) for r, m in zip(spec.at_radii, reach, strict=True)
+            if m <= n]
+    missed = tuple(r for r, m in zip(spec.at_radii, reach, strict=True) if m > n)
+
+    def solve(wound_on: np.ndarray, during: tuple[int, ...] = ()) -> RollStress:
         return roll_stress(
             wound_on,
             core_radius,
@@ -271,20 +337,23 @@ def wound_roll(
             k2=k2,
             poisson=spec.poisson,
             core_stiffness=core,
+            during=during,
         )
 
-    stress = solve(layers.stress)
+    stress = solve(layers.stress, tuple(m for _, m in kept))
     steady = solve(
         wound_on_stress(steady_tension(layers.radius), width, thickness, nip, spec.nip_friction)
     )
-    return WoundRoll(name, layers, stress, steady, spec)
+    snapshots = tuple(
+        Snapshot(float(r), float(layers.time[m]), at)
+        for (r, m), at in zip(kept, stress.during, strict=True)
+    )
+    return WoundRoll(name, layers, stress, steady, spec, snapshots, missed)
 
 
 def run_wound_roll(result: Any) -> WoundRoll | None:
     """The wound roll of a single-path run's rewind (``Result``), or None without a
-    ``roll_stress`` table. After a flying splice of the rewind the roll is the finished one
-    it passed on (the last roll the splices completed, its diameter at its splice); else the
-    roll on the shaft at the end, completed to the table's ``diameter``."""
+    ``roll_stress`` table (``recorded_roll``)."""
     line = result.line
     rewind = line.rewind
     spec = getattr(rewind, "roll_stress", None)
@@ -292,12 +361,57 @@ def run_wound_roll(result: Any) -> WoundRoll | None:
         return None
     web = line.spec.web
     last = line.n_spans - 1
-    time, radius, tension = result.time, result.radius[:, -1], result.tension[:, last]
-    base = _set_tension(line, last, float(time[-1]), float(tension[-1]))
-    taper = rewind.taper if line.controlled_zone(line.n_nodes - 1) is not None else None
+    tension = result.tension[:, last]
+    return recorded_roll(
+        rewind.name,
+        spec,
+        time=result.time,
+        radius=result.radius[:, -1],
+        tension=tension,
+        core_radius=rewind.core_radius,
+        thickness=web.thickness,
+        width=web.width,
+        modulus=line.ea / (web.width * web.thickness),
+        set_tension=_set_tension(line, last, float(result.time[-1]), float(tension[-1])),
+        taper=rewind.taper,
+        taper_acts=line.controlled_zone(line.n_nodes - 1) is not None,
+    )
+
+
+def recorded_roll(
+    name: str,
+    spec: RollStressSpec,
+    *,
+    time: np.ndarray,
+    radius: np.ndarray,
+    tension: np.ndarray,
+    core_radius: float,
+    thickness: float,
+    width: float,
+    modulus: float,
+    set_tension: float | Callable[[np.ndarray], np.ndarray],
+    taper: Any,
+    taper_acts: bool = True,
+) -> WoundRoll:
+    """The roll ``name`` a run wound, whatever the line (a chain's rewind, a branched line's
+    rewind or lane on a shaft): its records ``time`` [s], roll ``radius`` [m] and entering
+    ``tension`` [N]; the web's ``thickness``, ``width`` [m] and ``modulus`` [Pa] on it; the
+    roll's ``core_radius`` [m]; ``set_tension`` [N] its zone's set tension at the end and
+    ``taper`` its ``TaperSpec`` or None, which give the steady roll (``taper_acts`` False:
+    no tension loop applies it, only its ``max_diameter`` counts); ``set_tension`` may be a
+    function of the radius [m] instead, the steady tension itself (a differential shaft's
+    slip torque over the radius).
+
+    After a flying splice of the rewind the roll is the finished one it passed on (the last
+    roll the splices completed, its diameter at its splice); else the roll on the shaft at
+    the end, completed to the table's ``diameter`` (default the taper's ``max_diameter``)."""
+    # a run that ran away (non-finite records) wound its roll up to its last finite record
+    bad = np.flatnonzero(~(np.isfinite(radius) & np.isfinite(tension)))
+    if bad.size:
+        time, radius, tension = time[: bad[0]], radius[: bad[0]], tension[: bad[0]]
     # a splice puts a new core on the shaft: the radius falls by more than a few layers
-    drops = np.flatnonzero(np.diff(radius) < -10.0 * web.thickness)
-    core, finished = rewind.core_radius, None
+    drops = np.flatnonzero(np.diff(radius) < -10.0 * thickness)
+    core, finished = core_radius, None
     if drops.size:
         start = int(drops[-2]) + 1 if drops.size > 1 else 0
         stop = int(drops[-1]) + 1
@@ -305,23 +419,27 @@ def run_wound_roll(result: Any) -> WoundRoll | None:
         finished = float(radius[-1])
         core = min(core, float(radius[0]))
 
+    acting = taper if taper_acts else None
+
     def steady(r: np.ndarray) -> np.ndarray:
-        return base * np.array([spec_factor(taper, core, x) for x in np.ravel(r)])
+        if callable(set_tension):
+            return set_tension(r)
+        return set_tension * np.array([spec_factor(acting, core, x) for x in np.ravel(r)])
 
     if finished is not None:
         spec = spec.model_copy(update={"diameter": 2.0 * finished})
-    elif spec.diameter is None and rewind.taper is not None and rewind.taper.max_diameter:
-        spec = spec.model_copy(update={"diameter": rewind.taper.max_diameter})
+    elif spec.diameter is None and taper is not None and taper.max_diameter:
+        spec = spec.model_copy(update={"diameter": taper.max_diameter})
     return wound_roll(
-        rewind.name,
+        name,
         spec,
         time=time,
         radius=radius,
         tension=tension,
         core_radius=core,
-        thickness=web.thickness,
-        width=web.width,
-        modulus=line.ea / (web.width * web.thickness),
+        thickness=thickness,
+        width=width,
+        modulus=modulus,
         steady_tension=steady,
     )
 

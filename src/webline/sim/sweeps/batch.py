@@ -21,8 +21,6 @@ from __future__ import annotations
 
 import functools
 import math
-import os
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any
 
@@ -52,6 +50,7 @@ from webline.sim.sweeps.batch_layout import (
     SPAN_BLOCKS,
     Layout,
 )
+from webline.sim.sweeps.blocks import over_ranges
 
 #: Ticks per chunk of a case: the record buffer holds this many rows (x ~30 columns), small
 #: enough to stay in cache, large enough that a chunk's call overhead (ns) is negligible.
@@ -304,7 +303,7 @@ class BatchOutput:
     monitor: np.ndarray
 
 
-def _stack(arrays: list[np.ndarray]) -> np.ndarray:
+def stack_cases(arrays: list[np.ndarray]) -> np.ndarray:
     """Stack per-case arrays of one shape; pad 1-D ones of different lengths (profiles)."""
     if all(a.shape == arrays[0].shape for a in arrays):
         return np.ascontiguousarray(np.stack(arrays))
@@ -340,7 +339,7 @@ def run_batch(plans: list[Plan], states: list[tuple[np.ndarray, np.ndarray, np.n
     x = np.ascontiguousarray(np.stack([s[0] for s in states]))
     istate = np.ascontiguousarray(np.stack([s[1] for s in states]))
     slipping = np.ascontiguousarray(np.stack([s[2] for s in states]))
-    tables = [_stack([getattr(p, name) for p in plans]) for name in (
+    tables = [stack_cases([getattr(p, name) for p in plans]) for name in (
         "nodes", "spans", "drives", "web", "wound_ripple", "speed_ripple", "prof_t", "prof_v")]
     prof_off = np.ascontiguousarray(np.stack([p.prof_off for p in plans]))
     dt = np.array([p.dt for p in plans])
@@ -382,15 +381,7 @@ def run_batch(plans: list[Plan], states: list[tuple[np.ndarray, np.ndarray, np.n
                    np.zeros(n_n, dtype=np.int64), np.zeros((4, max(n_x, 3 * n_n))))
         loop(lo, hi, *args, *scratch, acc, traces, status, t_fail, where)
 
-    workers = workers or os.cpu_count() or 1
-    size = max(1, math.ceil(n_c / (4 * workers)))  # several ranges per thread: balance
-    bounds = [(lo, min(n_c, lo + size)) for lo in range(0, n_c, size)]
-    if workers == 1:
-        for lo, hi in bounds:
-            task(lo, hi)
-    else:
-        with ThreadPoolExecutor(workers) as pool:
-            list(pool.map(lambda b: task(*b), bounds))
+    over_ranges(n_c, workers, task)
     monitor = (istate[:, 0, [L.I_DETECT, L.I_METHOD]] if istate.shape[1]
                else np.tile([-1.0, 0.0], (n_c, 1)))  # as ``simulate`` reads it
     return BatchOutput(lay, acc, status, t_fail, where, x, traces, monitor)

@@ -9,8 +9,10 @@ per span, so per lane, the tension error's RMS and peak, min and max tension, se
 slack time; per drive, time at its torque limit), plus each loadcell's final error; its status
 is its run's verdict, and ``web_status`` the verdict per web and lane (a failed run fails every
 web). A case that cannot be built or run is one ``failed`` row with its reason; the others go
-on. Cases run one after another in this process (the branch loop holds the GIL); a Dask
-scheduler (``--scheduler local``) runs chunks of them in parallel processes.
+on. The cases run batched as the chain's (``branch_batch``: many cases of one structure in one
+compiled call, on every core, block by block through ``blocks``), each equal to its run alone
+(``simulate_branches``) to round-off; chunks, a store and Dask are the chain's
+(``sim.sweeps.chunks``).
 """
 
 from __future__ import annotations
@@ -28,10 +30,19 @@ from webline.sim.branches.equilibrium import operating_point
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.plan import compile_branches
 from webline.sim.branches.result import BranchResult
-from webline.sim.branches.run import fastest_rate, simulate_branches
+from webline.sim.branches.run import fastest_rate
 from webline.sim.linear import budget
 from webline.sim.linear.steps import record_every, substeps_for
 from webline.sim.results.metrics import METRICS, run_metrics
+from webline.sim.sweeps.blocks import blocks_of, run_blocks
+from webline.sim.sweeps.branch_batch import (
+    BranchBatch,
+    BranchBuilt,
+    batch_results,
+    block_size,
+    build_branch_cases,
+    run_branch_block,
+)
 from webline.sim.sweeps.cases import case_value, path_unit, probe_values
 from webline.sim.sweeps.sweep_dataset import _coordinate
 from webline.spec.ranges import argument
@@ -124,25 +135,32 @@ def run_branch_cases(line: Any, cases: Sequence[Mapping[str, object]], *,
                      record: float | str | None = None, workers: int | None = None,
                      progress: Callable[[int, int], None] | None = None) -> Any:
     """Run ``line`` once per mapping of changes in ``cases`` for ``duration`` [s] (default:
-    the scenario's, else 10 s); the Dataset over ``case`` (module docstring). ``workers`` is
-    accepted for the chain's signature (the cases run in turn here)."""
-    del workers, record  # checked by check_branch_study; one process runs its cases in turn
+    the scenario's, else 10 s); the Dataset over ``case`` (module docstring). The cases run
+    batched, block by block (``branch_batch``, ``blocks.run_blocks``), on ``workers`` threads
+    (default: every core); ``progress``, if given, is called with (cases done, cases) after
+    each block."""
+    del record  # refused by check_branch_study
     base = branch_base(line, scenario)
     seconds = _seconds(base, duration, scenario)
     paths = list(dict.fromkeys(p for c in cases for p in c))
     out = _Collector(base, len(cases), paths)
-    for c, changes in enumerate(cases):
-        try:
-            case = derive_branched(base, changes)
-            result = simulate_branches(case, seconds, raise_on_failure=False)
-        except (WeblineError, ValueError, ArithmeticError) as exc:  # this case only
-            out.fail(c, changes, exc)
-        else:
-            if result.failure is not None and result.failure.startswith("interrupted"):
-                raise KeyboardInterrupt  # Ctrl-C stops the study (its saved chunks stay)
-            out.add(c, case, result)
+
+    def build(block: range) -> BranchBuilt:
+        return build_branch_cases(base, [cases[c] for c in block], seconds, derive_branched)
+
+    def run(built: BranchBuilt) -> list[tuple[list[int], BranchBatch]]:
+        return run_branch_block(built, workers)
+
+    def collect(block: range, built: BranchBuilt,
+                outputs: list[tuple[list[int], BranchBatch]]) -> None:
+        for j, exc in built.failed.items():
+            out.fail(block[j], cases[block[j]], exc)
+        for j, result in batch_results(built, outputs, seconds).items():
+            out.add(block[built.ok[j]], built.lines[j], result)
         if progress is not None:
-            progress(c + 1, len(cases))
+            progress(block.stop, len(cases))
+
+    run_blocks(blocks_of(len(cases), block_size(base, seconds)), build, run, collect, workers)
     return out.dataset(seconds)
 
 

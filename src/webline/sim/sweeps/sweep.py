@@ -13,7 +13,6 @@ import itertools
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -27,6 +26,7 @@ from webline.sim.core.plan import compile_plan
 from webline.sim.linear.budget import StudyWork
 from webline.sim.linear.steps import record_every
 from webline.sim.sweeps.batch import BatchOutput, run_batch
+from webline.sim.sweeps.blocks import blocks_of, run_blocks
 from webline.sim.sweeps.cases import (
     Built,
     build_cases,
@@ -42,22 +42,6 @@ from webline.spec.ranges import argument, whole_argument
 
 if TYPE_CHECKING:  # a single-path study loads neither the branched line nor its kernel
     from webline.model.web_graph import BranchedLine
-
-#: Cases built and run together, at most: their plans are built while the block before runs
-#: in compiled code (which releases the GIL), and dropped after it, so memory stays bounded.
-BLOCK = 256
-#: The first block's size: nothing runs while it is built, so it is small; blocks then
-#: double up to ``BLOCK``.
-FIRST_BLOCK = 16
-
-
-def blocks_of(n: int) -> list[range]:
-    """Consecutive ranges covering ``n`` cases: ``FIRST_BLOCK``, then doubling to ``BLOCK``."""
-    out, lo, size = [], 0, FIRST_BLOCK
-    while lo < n:
-        out.append(range(lo, min(n, lo + size)))
-        lo, size = lo + size, min(BLOCK, 2 * size)
-    return out
 
 
 def run_cases(line: Line | str | Path, cases: Sequence[Mapping[str, object]], *,
@@ -111,24 +95,7 @@ def run_cases(line: Line | str | Path, cases: Sequence[Mapping[str, object]], *,
         if progress is not None:
             progress(block.stop, len(cases))
 
-    blocks = blocks_of(len(cases))
-    if workers == 1:  # one core: build, run and collect in turn
-        for block in blocks:
-            built = build(block)
-            collect(block, built, run(built))
-    elif blocks:
-        # the compiled batch of block b runs (GIL released) while this thread collects
-        # block b - 1 and builds block b + 1
-        with ThreadPoolExecutor(1) as runner:
-            built = build(blocks[0])
-            pending = (blocks[0], built, runner.submit(run, built))
-            for block in blocks[1:]:
-                built = build(block)
-                done_block, done_built, future = pending
-                outputs = future.result()
-                pending = (block, built, runner.submit(run, built))
-                collect(done_block, done_built, outputs)
-            collect(pending[0], pending[1], pending[2].result())
+    run_blocks(blocks_of(len(cases)), build, run, collect, workers)
     ds = out.dataset(duration, trace_every * base_plan.dt)
     # where the time went [s]; with more than one worker the three overlap
     ds.attrs.update({f"seconds_{k}": v for k, v in seconds.items()})

@@ -20,6 +20,7 @@ from webline.spec.branched.values import check_roll_radii
 from webline.spec.branched.web_law import check_web_laws
 from webline.spec.branched.winder import check_splices, check_winders
 from webline.spec.dancer import DancerCarriage
+from webline.spec.roll_stress import check_roll_stress
 from webline.spec.schema import (
     DrivenSpec,
     IdleSpec,
@@ -78,6 +79,9 @@ def check_branched(spec: BranchedLineSpec, file: str) -> None:
 
 
 def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
+    if spec.sensors:
+        fail("sensors", "sensor calibrations act on single-path lines only, for now "
+             "(docs/line-file.md, sensors): remove [[sensors]] from a line with [[webs]]")
     for i, roller in enumerate(spec.rollers):
         key = f"rollers[{i}]"
         dancer = getattr(roller, "dancer", None)
@@ -86,9 +90,7 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
         _check_diameter(spec, i, roller, fail)
         if isinstance(roller, RewindSpec):
             check_taper(roller.taper, f"{key}.taper", fail)
-            if roller.roll_stress is not None:
-                fail(f"{key}.roll_stress", "the wound roll's stresses are computed on "
-                     "single-path lines only, for now (docs/wound-roll.md)")
+            check_roll_stress(roller, f"{key}.roll_stress", fail)
             if roller.taper is not None and roller.shaft is not None:
                 fail(f"{key}.taper", "a differential shaft has no tension loop to taper (its "
                      "lanes' tension is slip_torque / radius)")

@@ -18,6 +18,7 @@ from webline.spec.control_schema import ControllerSpec  # noqa: F401 - used by R
 from webline.spec.disturbances import DisturbanceSpec, Name
 from webline.spec.quantities import Force, Length, SpeedProfile, Strict, Time, TimeNonNeg
 from webline.spec.schema import ControlSpec, RollerSpec, SpanSpec, Text, WebSpec
+from webline.spec.sensors import SensorSpec
 from webline.spec.splice import SpliceEvent
 from webline.spec.winder import BreakEvent, StateChecksSpec
 
@@ -94,3 +95,5 @@ class BranchedLineSpec(Strict):
     #: thresholds of the verdict's winder-state findings, per web and lane zone, roll and
     #: dancer (docs/branching.md, "Winder states in the verdict")
     checks: StateChecksSpec = StateChecksSpec()
+    #: refused for now (``check_branched``): sensors act in the single-path loop only
+    sensors: list[SensorSpec] = Field(default_factory=list)

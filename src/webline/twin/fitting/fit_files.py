@@ -22,31 +22,47 @@ def _number(value: float) -> float | None:
     return float(value) if math.isfinite(value) else None
 
 
+def _parameter(result: FitResult, i: int) -> dict[str, Any]:
+    p, kinds, at = result.parameters[i], result.interval_kind, result.at_bound
+    return {"value": float(result.value[i]), "unit": p.unit,
+            "stderr": float(result.stderr[i]),
+            "ci95": [float(result.ci95[i, 0]), float(result.ci95[i, 1])],
+            "interval": kinds[i], "at_bound": at[i] or None,
+            "bounds": [float(p.low), float(p.high)],
+            "identifiable": bool(result.identifiable[i])}
+
+
 def fit_json(result: FitResult) -> dict[str, Any]:
-    """The ``fit.json`` object: ``{"line", "data", "verdict" ("good"/"poor"/"failed"),
-    "reasons" [text], "residual_scale", "parameters": {PATH: {"value", "unit", "stderr",
-    "ci95": [lo, hi], "interval" ("two-sided"/"one-sided"/"bounds"), "at_bound"
-    ("low"/"high"/null), "bounds": [low, high], "identifiable"}}, "correlation",
-    "simulations", "cost", "converged", "starts": {"count", "reached_best"} (null: one
-    start), "effective_points", "correlation_time", "checks": [{"signal", "rms" (noise
-    levels), "correlation_time" [s], "p_white", "worst_window" [s, s], "worst_rms"}],
-    "findings": [text]}``, values in SI."""
-    kinds, at = result.interval_kind, result.at_bound
-    parameters = {
-        p.path: {"value": float(result.value[i]), "unit": p.unit,
-                 "stderr": float(result.stderr[i]),
-                 "ci95": [float(result.ci95[i, 0]), float(result.ci95[i, 1])],
-                 "interval": kinds[i], "at_bound": at[i] or None,
-                 "bounds": [float(p.low), float(p.high)],
-                 "identifiable": bool(result.identifiable[i])}
-        for i, p in enumerate(result.parameters)}
+    """The ``fit.json`` object: ``{"line", "data" [each record's file], "verdict"
+    ("good"/"poor"/"failed"), "reasons" [text], "residual_scale" (joint), "parameters"
+    (the shared ones, what ``webline tune --fit`` reads): {PATH: {"value", "unit",
+    "stderr", "ci95": [lo, hi], "interval" ("two-sided"/"one-sided"/"bounds"), "at_bound"
+    ("low"/"high"/null), "bounds": [low, high], "identifiable"}}, "records": [{"label",
+    "data", "scenario", "points", "residual_scale", "correlation_time" [s], "parameters"
+    (the record's own, as above)}], "correlation" (every coordinate, in
+    "correlation_order": PATH or PATH@RECORD), "simulations", "cost", "converged",
+    "starts": {"count", "reached_best"} (null: one start), "effective_points",
+    "correlation_time", "checks": [{"signal" ("RECORD: SIGNAL" for several records),
+    "rms" (noise levels), "correlation_time" [s], "p_white", "worst_window" [s, s],
+    "worst_rms"}], "findings": [text]}``, values in SI."""
     found = result.global_stage
-    return {"line": result.line.name, "data": str(result.data.source),
+    records = [{"label": r.label, "data": str(r.data.source), "scenario": r.record.scenario,
+                "points": r.record.points, "residual_scale": _number(r.residual_scale),
+                "correlation_time": _number(r.correlation_time),
+                "parameters": {p.path: _parameter(result, i)
+                               for i, p in enumerate(result.parameters)
+                               if result.owner[i] == k}}
+               for k, r in enumerate(result.records)]
+    return {"line": result.line.name, "data": [str(r.data.source) for r in result.records],
             "verdict": result.verdict.status, "reasons": list(result.verdict.reasons),
             "residual_scale": _number(result.residual_scale),
-            "parameters": parameters,
+            "parameters": {p.path: _parameter(result, i)
+                           for i, p in enumerate(result.parameters)
+                           if result.owner[i] is None},
+            "records": records,
             "correlation": [[float(c) if math.isfinite(c) else 0.0 for c in row]
                             for row in result.correlation],
+            "correlation_order": list(result.labels),
             "simulations": int(result.simulations), "cost": _number(result.cost),
             "converged": bool(result.converged),
             "starts": ({"count": found.count, "reached_best": found.reached}
@@ -61,8 +77,9 @@ def fit_json(result: FitResult) -> dict[str, Any]:
 
 
 def annotation(result: FitResult, i: int) -> str:
-    """The comment of parameter ``i``: interval and data file, or why it was not fitted."""
-    p, data = result.parameters[i], Path(result.data.source).name
+    """The comment of parameter ``i``: interval and data file(s), or why it was not fitted."""
+    p, owner = result.parameters[i], result.owner[i]
+    data = result.sources if owner is None else result.records[owner].label
     if not result.identifiable[i]:
         return (f"not identifiable from {data} ({result.identifiability.reasons[i]}): "
                 f"kept the line's value")
@@ -80,22 +97,28 @@ def annotation(result: FitResult, i: int) -> str:
 
 
 def fitted_toml(result: FitResult) -> str:
-    """The fitted line as TOML (SI, ``dump_spec``), a header listing every parameter and a
-    comment on each fitted value's line (where the value has a line of its own)."""
+    """The fitted line as TOML (SI, ``dump_spec``), a header listing every parameter (each
+    record's own too: their values belong to the record, not to the line) and each record's
+    residual scale, and a comment on each shared value's line (where it has a line of its
+    own)."""
     text = dump_spec(result.fitted_line.spec)
     lines = text.splitlines()
     for i, p in enumerate(result.parameters):
-        row = _value_row(lines, p.path)
+        row = _value_row(lines, p.path) if result.owner[i] is None else None
         if row is not None:
             lines[row] = f"{lines[row]}  # {annotation(result, i)}"
     verdict = result.verdict
-    header = [f"# Line {result.line.name!r} fitted by webline to {result.data.source}",
+    sources = ", ".join(str(r.data.source) for r in result.records)
+    header = [f"# Line {result.line.name!r} fitted by webline to {sources}",
               f"# VERDICT: {verdict.status.upper()}" + (
                   " - " + "; ".join(verdict.reasons) if verdict.reasons else ""),
               f"# {result.simulations} simulations, cost {result.cost:.6g}, "
               f"{'converged' if result.converged else 'NOT converged'}; values in SI",
-              *(f"# {p.path}: {annotation(result, i)}"
-                for i, p in enumerate(result.parameters)),
+              *(f"# record {r.label}: residuals {r.residual_scale:.3g} x the noise"
+                + (f" (scenario {r.record.scenario})" if r.record.scenario else "")
+                for r in result.records if len(result.records) > 1),
+              *(f"# {result.labels[i]}: {annotation(result, i)}"
+                for i in range(len(result.parameters))),
               *(f"# model check: {f}" for f in result.checks.findings), ""]
     return "\n".join(header + lines) + "\n"
 
@@ -108,7 +131,7 @@ def _value_row(lines: list[str], path: str) -> int | None:
     if len(parts) < 2:
         return None
     section, key = parts[0], parts[-1]
-    arrays = {"rollers", "spans", "disturbances"}
+    arrays = {"rollers", "spans", "disturbances", "webs"}  # (webs: a branched line's)
     element = parts[1] if section in arrays else None
     inner = parts[2:-1] if section in arrays else parts[1:-1]
     want = ".".join([section, *inner])

@@ -1,16 +1,21 @@
 """The free parameters of a fit: ``{"rollers.unwind.inertia": "0.5 .. 5 kg*m**2"}`` read into
 paths with SI bounds, the line's value as the start, and wildcards expanded
-(``rollers.*.friction``: one parameter per roller that has a friction)."""
+(``rollers.*.friction``: one parameter per roller that has a friction). A sensor's
+calibration is a path like any other (``sensors.NAME.gain``, ``spec.sensors``) once the line
+file declares the sensor."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from webline.errors import ArgumentError, LineFileError
 from webline.line import Line
 from webline.spec.paths import split_path
+
+if TYPE_CHECKING:
+    from webline.model.web_graph import BranchedLine
 
 
 @dataclass(frozen=True)
@@ -104,7 +109,7 @@ def _bounds(text: object, path: str) -> tuple[str, str]:
     return low, high
 
 
-def _si(line: Line, path: str, value: str) -> float:
+def _si(line: Line | BranchedLine, path: str, value: str) -> float:
     """``value`` set at ``path`` of ``line`` and read back in SI (the line file's own check
     of the unit's kind and range)."""
     try:
@@ -131,7 +136,7 @@ def si_unit_of(text: str) -> str:
     return ""
 
 
-def parse_free(line: Line, free: Mapping[str, object]) -> list[FreeParameter]:
+def parse_free(line: Line | BranchedLine, free: Mapping[str, object]) -> list[FreeParameter]:
     """The free parameters of ``free`` (path -> "LOW .. HIGH UNIT"), wildcards expanded, in
     order. Raises ``ArgumentError`` naming the path for an unknown path, bounds that are not
     LOW < HIGH, or values the line refuses."""
@@ -143,6 +148,10 @@ def parse_free(line: Line, free: Mapping[str, object]) -> list[FreeParameter]:
             raise ArgumentError(f"free {pattern}: matches no value of line {line.name!r}")
         for path in paths:
             start = lookup(data, path)
+            if start is None and path.startswith("sensors."):
+                raise ArgumentError(f"free {path}: line {line.name!r} declares no such sensor; "
+                                    "add it to the line file's [[sensors]] (ideal: gain 1, "
+                                    "offset 0, scale 1; docs/line-file.md, sensors)")
             if not isinstance(start, int | float):
                 raise ArgumentError(f"free {path}: no single number there in line "
                                     f"{line.name!r} (a path such as rollers.NAME.inertia)")

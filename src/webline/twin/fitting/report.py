@@ -95,60 +95,101 @@ def write_replay_report(replay: Replay, out: Path) -> Path:
     return atomic_write_text(out / "report.html", html)
 
 
+def fit_figure_names(records: int) -> tuple[str, ...]:
+    """The figure files of a fit's report: ``fit.png`` and ``residuals.png`` for one record,
+    ``fit-K.png`` and ``residuals-K.png`` for record K (from 1) of several."""
+    if records == 1:
+        return ("fit.png", "residuals.png")
+    return tuple(f"{kind}-{k}.png" for k in range(1, records + 1) for kind in ("fit", "residuals"))
+
+
+def _record_sections(result: FitResult, out: Path) -> tuple[list[Section], list[Section]]:
+    """Per record: (its data and weights; its overlays, metrics and residuals), the figures
+    written into ``out``."""
+    from webline.twin.traces.metrics import signal_metrics
+    from webline.twin.traces.signals import si_unit
+
+    several = len(result.records) > 1
+    files = fit_figure_names(len(result.records))
+    data, traces = [], []
+    for k, record in enumerate(result.records):
+        names = list(record.signals)
+        measured = record.record.measured_signals()
+        tag = f" ({record.label})" if several else ""
+        key = f"-{k + 1}" if several else ""
+        overlay = _png(overlay_figure(record.time, measured, record.after.values, names,
+                                      f"fit{tag}: measured, before and after",
+                                      record.before.values))
+        residuals = _png(residual_figure(record.time, record.residuals(), record.noise,
+                                         f"residuals{tag} after the fit (simulated - measured)"))
+        atomic_write_bytes(out / files[2 * k], overlay)
+        atomic_write_bytes(out / files[2 * k + 1], residuals)
+        units = {n: si_unit(n) for n in names}
+        before = signal_metrics(record.before.values, measured, units)
+        after = signal_metrics(record.after.values, measured, units)
+        weights = make_table(f"weights{key}", f"Noise level each signal{tag} was weighted by "
+                             "(SI)", ("signal", "noise σ"),
+                             [(n, _g(record.noise[n])) for n in names])
+        head = [Text(f"Residuals {record.residual_scale:.3g} x the noise"
+                     + (f"; scenario {record.record.scenario}" if record.record.scenario
+                        else "") + "; driven by: " + "; ".join(record.record.notes))]
+        data.append(Section(f"Data{tag}", [Text(record.data.report(), pre=True), *head,
+                                           weights]))
+        traces.append(Section(f"Traces{tag}", [
+            Image(f"fit{key}", "measured (grey), the line's values (dashed), fitted (blue)"
+                  + _which(names), overlay),
+            metrics_table(before, f"before{key}", "Before the fit"),
+            metrics_table(after, f"after{key}", "After the fit"),
+            Image(f"residuals{key}", "simulated - measured after the fit, with the ±2σ band "
+                  "of each signal's noise level" + _which(names), residuals)]))
+    return data, traces
+
+
 def write_fit_report(result: FitResult, out: Path) -> Path:
-    """``out/report.html`` (data, fitted values and intervals, correlations, overlays before
-    and after, residuals) and its figures as PNG; the report's path."""
+    """``out/report.html`` (per record: its data, weights, overlays before and after,
+    metrics and residuals; the fitted values and intervals, correlations and model checks)
+    and its figures as PNG (``fit_figure_names``); the report's path."""
     out.mkdir(parents=True, exist_ok=True)
-    names = list(result.signals)
-    measured = {n: result.data.signals[n][::result.data.stride] for n in names}
-    overlay = _png(overlay_figure(result.time, measured, result.after.values, names,
-                                  "fit: measured, before and after", result.before.values))
-    residuals = _png(residual_figure(result.time, result.residuals(), result.noise,
-                                     "residuals after the fit (simulated - measured)"))
-    atomic_write_bytes(out / "fit.png", overlay)
-    atomic_write_bytes(out / "residuals.png", residuals)
+    data, traces = _record_sections(result, out)
     rows = []
     for i, p in enumerate(result.parameters):
         ok = bool(result.identifiable[i])
-        rows.append((p.path, p.unit, _g(p.start), _g(result.value[i]) if ok else "—",
+        rows.append((result.labels[i], p.unit, _g(p.start), _g(result.value[i]) if ok else "—",
                      _g(result.stderr[i]) if ok else "—", _g(result.ci95[i, 0]),
                      _g(result.ci95[i, 1]),
                      "yes" if ok else "no: " + result.identifiability.reasons[i]))
     title = ("Fitted parameters" if result.verdict.good else
              f"Values of a {result.verdict.status.upper()} fit, not to be trusted")
     values = make_table("parameters", f"{title} (SI; an interval of a parameter that is not "
-                        "identifiable is its bounds, one at a bound is one-sided)",
+                        "identifiable is its bounds, one at a bound is one-sided; PATH@RECORD "
+                        "is fitted to that record alone)",
                         ("parameter", "unit", "line", "fitted", "stderr", "95 % low",
                          "95 % high", "identifiable"), rows)
     short = [f"p{i + 1}" for i in range(len(result.parameters))]
     correlation = make_table("correlation", "Correlation of the estimates (" + ", ".join(
-        f"{s} = {p.path}" for s, p in zip(short, result.parameters, strict=True)) + ")",
+        f"{s} = {label}" for s, label in zip(short, result.labels, strict=True)) + ")",
         ("", *short), [(s, *(f"{c:+.3f}" for c in row))
                        for s, row in zip(short, result.correlation, strict=True)])
-    from webline.twin.traces.metrics import signal_metrics
-    from webline.twin.traces.signals import si_unit
-
-    units = {n: si_unit(n) for n in names}
-    before = signal_metrics(result.before.values, measured, units)
-    after = signal_metrics(result.after.values, measured, units)
-    unidentified = [p.path for i, p in enumerate(result.parameters)
+    unidentified = [result.labels[i] for i in range(len(result.parameters))
                     if not result.identifiable[i]]
+    points = sum(r.record.points for r in result.records)
     status = (f"{len(result.parameters) - len(unidentified)} of {len(result.parameters)} "
               f"parameters identified; {result.simulations} simulations, cost "
-              f"{result.cost:.4g} over {sum(np.isfinite(m).sum() for m in measured.values())} "
-              f"points; {'converged' if result.converged else 'not converged: ' + result.message}"
+              f"{result.cost:.4g} over {points} points"
+              + (f" of {len(result.records)} records" if len(result.records) > 1 else "")
+              + f"; {'converged' if result.converged else 'not converged: ' + result.message}"
               + (f"; not identifiable from this data: {', '.join(unidentified)}"
                  if unidentified else ""))
     verdict = result.verdict
+    each = "".join(f", {r.label} {r.residual_scale:.3g}" for r in result.records
+                   if len(result.records) > 1)
     status = (f"{verdict.status.upper()} FIT" + (": " + "; ".join(verdict.reasons)
                                                   if verdict.reasons else "")
               + (" (docs/commissioning.md: when the fit is poor)" if not verdict.good else "")
-              + f". Residuals {result.residual_scale:.3g} x the noise; " + status
+              + f". Residuals {result.residual_scale:.3g} x the noise{each}; " + status
               + (f"; {result.global_stage.summary()}" if result.global_stage else ""))
     css = {"good": "warning" if unidentified else "ok", "poor": "warning"}.get(
         verdict.status, "failed")
-    weights = make_table("weights", "Noise level each signal was weighted by (SI)",
-                         ("signal", "noise σ"), [(n, _g(result.noise[n])) for n in names])
     checks = make_table("checks", "Model checks: residuals per signal, largest first (RMS in "
                         "noise levels; white residuals have p well above 0.001 and a "
                         "correlation time near one sample)",
@@ -158,18 +199,8 @@ def write_fit_report(result: FitResult, out: Path) -> Path:
                           _g(c.window[0]), _g(c.window_rms)) for c in result.checks.signals])
     findings = [Text("Model checks: " + "; ".join(result.checks.findings))] if \
         result.checks.findings else []
-    sections = [
-        _data_section(result.data),
-        Section("Fit", [values, correlation, weights]),
-        Section("Traces", [Image("fit", "measured (grey), the line's values (dashed), fitted "
-                                 "(blue)" + _which(names), overlay),
-                           metrics_table(before, "before", "Before the fit"),
-                           metrics_table(after, "after", "After the fit")]),
-        Section("Model checks", [*findings, checks]),
-        Section("Residuals", [Image("residuals", "simulated - measured after the fit, with "
-                                    "the ±2σ band of each signal's noise level"
-                                    + _which(names), residuals)]),
-    ]
-    html = render(f"webline fit: {result.line.name}", str(result.data.source), status, css,
+    sections = [*data, Section("Fit", [values, correlation]), *traces,
+                Section("Model checks", [*findings, checks])]
+    html = render(f"webline fit: {result.line.name}", result.sources, status, css,
                   sections, f"webline {__version__}", headline="fit")
     return atomic_write_text(out / "report.html", html)

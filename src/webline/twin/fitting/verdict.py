@@ -44,6 +44,7 @@ def judge(
     reached: int | None = None,
     starts: int | None = None,
     lacks: Sequence[str] = (),
+    records: Sequence[tuple[str, float]] = (),
 ) -> Verdict:
     """The verdict of a fit: ``failure`` (the fitted line's simulation failed: "" if not) or a
     residual scale that is not finite is ``failed``, as is a fit that neither converged nor
@@ -52,7 +53,10 @@ def judge(
     ``reached`` of ``starts`` starts found the best cost (said when only one did, as a
     caution, not a reason). ``lacks``: model checks that say the model lacks something
     (``twin.fitting.checks``: correlated residuals well above the noise over a window,
-    which the residual scale over the whole record can hide) make it ``poor`` too."""
+    which the residual scale over the whole record can hide) make it ``poor`` too.
+    ``records``: (label, residual scale) of each record of a joint fit: a record above
+    ``MISFIT`` makes it ``poor`` even where the joint scale is not (a short record the model
+    misses can hide under a long one it matches)."""
     if failure or not math.isfinite(residual_scale):
         return Verdict(
             "failed",
@@ -63,6 +67,13 @@ def judge(
         reasons.append(
             f"residuals {residual_scale:.3g} x the noise (above {MISFIT:g}): the "
             "model misses something the data show"
+        )
+    if len(records) > 1:
+        reasons.extend(
+            f"{label}: residuals {scale:.3g} x the noise (above {MISFIT:g}): the model "
+            "misses something this record shows"
+            for label, scale in records
+            if not math.isfinite(scale) or scale > MISFIT
         )
     for path, side in at_bound:
         reasons.append(

@@ -6,14 +6,17 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from webline.line import Line
+from webline.model.lines import load_line
 from webline.twin.traces.read import MeasurementError, RawColumn, read_columns
 from webline.twin.traces.signals import Signal, is_ignored, line_signals, suggestions
-from webline.twin.traces.single_path import single_path_line
+
+if TYPE_CHECKING:
+    from webline.model.web_graph import BranchedLine
 
 #: a spacing longer than this many median sample periods is a gap: ticks inside it have no
 #: measurement (NaN) rather than an interpolation across it
@@ -35,7 +38,7 @@ class Measurements:
     ``notes`` what the loading did (resampling, gaps, NaNs dropped, columns not compared)."""
 
     source: str
-    line: Line
+    line: Line | BranchedLine
     time: np.ndarray
     signals: dict[str, np.ndarray]
     units: dict[str, str]
@@ -83,7 +86,7 @@ class Measurements:
                 f"over {self.duration:.4g} s ({len(self.notes)} notes)>\n  {shown}")
 
 
-def load_measurements(path: str | Path, line: Line | str | Path,
+def load_measurements(path: str | Path, line: Line | BranchedLine | str | Path,
                       mapping: Mapping[str, str] | None = None) -> Measurements:
     """Read measured traces for ``line`` from a CSV, Parquet or NetCDF file.
 
@@ -99,7 +102,7 @@ def load_measurements(path: str | Path, line: Line | str | Path,
     file, column, problem) for an empty file, an unknown column, a unit of the wrong kind,
     time that does not increase, or a record too short to identify anything.
     """
-    line = single_path_line(line, "load_measurements")
+    line = load_line(line)
     label = str(path)
     columns = read_columns(Path(path))
     columns = _renamed(columns, dict(mapping or {}), label)
@@ -184,12 +187,12 @@ def load_measurements(path: str | Path, line: Line | str | Path,
     return Measurements(label, line, ticks, signals, units, period, offset, tuple(notes))
 
 
-def line_dt(line: Line) -> float:
+def line_dt(line: Line | BranchedLine) -> float:
     """The line's controller period [s]."""
     return 1.0 / float(line.spec.control.sample_rate)
 
 
-def slowest_loop(line: Line) -> float:
+def slowest_loop(line: Line | BranchedLine) -> float:
     """Time constant [s] of the line's slowest controller loop (1 / the lowest bandwidth of
     any controller), 1 s where no controller states one."""
     rates = []
@@ -202,7 +205,7 @@ def slowest_loop(line: Line) -> float:
     return 1.0 / min(rates) if rates else 1.0
 
 
-def _check_length(line: Line, label: str, duration: float, samples: int) -> None:
+def _check_length(line: Line | BranchedLine, label: str, duration: float, samples: int) -> None:
     need = MIN_TIME_CONSTANTS * slowest_loop(line)
     if duration < need or samples < MIN_SAMPLES:
         raise MeasurementError(label, "time", (

@@ -10,15 +10,17 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from webline.line import Line
+from webline.model.lines import load_line
 from webline.twin.traces.drive import driven_line
 from webline.twin.traces.measurements import Measurements, load_measurements
 from webline.twin.traces.metrics import signal_metrics
 from webline.twin.traces.runs import Run, compared_time, run_case
 from webline.twin.traces.signals import si_unit
-from webline.twin.traces.single_path import single_path_line
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+
+    from webline.model.web_graph import BranchedLine
 
 
 @dataclass(frozen=True)
@@ -27,7 +29,7 @@ class Replay:
     (``time`` [s]), the metrics table (``twin.traces.metrics.COLUMNS``, SI) and what drove it."""
 
     data: Measurements
-    line: Line
+    line: Line | BranchedLine
     run: Run
     time: np.ndarray
     metrics: Any
@@ -55,12 +57,12 @@ class Replay:
                 f"{len(frame)} signals compared{worst}>")
 
 
-def as_measurements(data: Measurements | str | Path, line: Line) -> Measurements:
+def as_measurements(data: Measurements | str | Path, line: Line | BranchedLine) -> Measurements:
     """``data`` loaded for ``line`` if it is a path."""
     return data if isinstance(data, Measurements) else load_measurements(data, line)
 
 
-def replay(line: Line | str | Path, data: Measurements | str | Path, *,
+def replay(line: Line | BranchedLine | str | Path, data: Measurements | str | Path, *,
            scenario: str | None = None) -> Replay:
     """Simulate ``line`` driven by the references logged in ``data`` (a ``Measurements`` or
     a file path, see ``load_measurements``) and compare it with every measured signal.
@@ -68,7 +70,7 @@ def replay(line: Line | str | Path, data: Measurements | str | Path, *,
     the logged line speed, tension set points and initial roll radii replace the line's
     (``twin.traces.drive.driven_line``). The metrics are per signal: RMS, max abs error, NRMSE
     (RMS / measured range), bias (mean of simulated - measured), R², in SI units."""
-    line = single_path_line(line, "replay")
+    line = load_line(line)
     if scenario is not None:
         line = line.with_scenario(scenario)
     data = as_measurements(data, line)

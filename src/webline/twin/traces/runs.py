@@ -8,15 +8,20 @@ import os
 from collections.abc import Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from webline.errors import LineFileError, SimulationError
 from webline.line import Line
-from webline.sim.results.result import Result
+from webline.sim.results.run_result import RunResult
 from webline.sim.simulate import simulate
+from webline.twin.traces.layout import default_substeps
 from webline.twin.traces.measurements import Measurements
 from webline.twin.traces.signals import line_signals, simulated
+
+if TYPE_CHECKING:
+    from webline.model.web_graph import BranchedLine
 
 
 @dataclass(frozen=True)
@@ -25,7 +30,7 @@ class Run:
     the data's compared points (``Measurements.time[::stride]``; NaN after a failure) and why
     it failed, if it did."""
 
-    result: Result | None
+    result: RunResult | None
     values: dict[str, np.ndarray]
     failure: str = ""
 
@@ -35,7 +40,7 @@ def compared_time(data: Measurements) -> np.ndarray:
     return data.time[::data.stride]
 
 
-def run_case(line: Line, data: Measurements, names: Sequence[str],
+def run_case(line: Line | BranchedLine, data: Measurements, names: Sequence[str],
              substeps: int | None = None) -> Run:
     """Simulate ``line`` over the data's duration, recording at its compared points, with
     ``substeps`` RK4 steps per tick (default: from the line's fastest mode)."""
@@ -54,10 +59,10 @@ def run_case(line: Line, data: Measurements, names: Sequence[str],
         n = min(len(t), len(result.time))
         y[:n] = np.interp(t[:n], result.time, raw[name])
         values[name] = y
-    return Run(result, values, result.message if result.failure is not None else "")
+    return Run(result, values, result.failure_text)
 
 
-def run_cases(base: Line, data: Measurements, names: Sequence[str],
+def run_cases(base: Line | BranchedLine, data: Measurements, names: Sequence[str],
               cases: Sequence[Mapping[str, float]], workers: int | None = 1,
               substeps: int | None = None) -> list[Run]:
     """``run_case`` of ``base.replace(case)`` for each case [SI values], as one batch over
@@ -79,17 +84,14 @@ def run_cases(base: Line, data: Measurements, names: Sequence[str],
         return list(pool.map(one, cases))
 
 
-def common_substeps(base: Line, cases: Sequence[Mapping[str, float]]) -> int:
+def common_substeps(base: Line | BranchedLine, cases: Sequence[Mapping[str, float]]) -> int:
     """RK4 sub-steps per tick enough for every line of ``cases`` (``base`` changed by each):
     a fit keeps one number for all its simulations, since a step that changed with a
     parameter (through the fastest mode) would make the residuals jump as it crossed."""
-    from webline.sim.core.plan import compile_plan
-    from webline.sim.simulate import choose_substeps
-
-    steps = choose_substeps(compile_plan(base))
+    steps = default_substeps(base)
     for case in cases:
         try:
-            steps = max(steps, choose_substeps(compile_plan(base.replace(dict(case)))))
-        except LineFileError:
+            steps = max(steps, default_substeps(base.replace(dict(case))))
+        except (LineFileError, SimulationError):  # (a case past a step limit: its run says)
             continue
     return steps

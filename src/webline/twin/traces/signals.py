@@ -10,15 +10,20 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from webline.twin.traces.layout import layout
+
 if TYPE_CHECKING:
     from webline.line import Line
-    from webline.sim.results.result import Result
+    from webline.model.web_graph import BranchedLine
+    from webline.sim.results.run_result import RunResult
 
-#: signal kind -> (element dimension, unit kind of ``webline.units``, ``Result`` attribute)
+#: signal kind -> (element dimension, unit kind of ``webline.units``, ``Result`` attribute);
+#: a log's tension and speed are what its loadcells and encoders show: they compare with the
+#: readings of the line's sensors (``spec.sensors``; the true values where none is calibrated)
 COMPARED: dict[str, tuple[str, str, str]] = {
-    "tension": ("span", "force", "tension"),
+    "tension": ("span", "force", "tension_measured"),
     "tension_ref": ("span", "force", "tension_ref"),
-    "speed": ("node", "speed", "speed"),
+    "speed": ("node", "speed", "speed_measured"),
     "surface_speed": ("node", "speed", "surface_speed"),
     "omega": ("node", "angular_frequency", "omega"),
     "radius": ("node", "length", "radius"),
@@ -30,11 +35,14 @@ COMPARED: dict[str, tuple[str, str, str]] = {
     "dancer_position": ("dancer", "length", "dancer_position"),
 }
 #: signals of webline's own results files that are read but never compared (flags, the
-#: controllers' internal estimates, web bookkeeping): a run's own file loads without a mapping
+#: controllers' internal estimates, web bookkeeping, a branched run's strains, layers and
+#: lanes' cores): a run's own file loads without a mapping
 IGNORED = ("slack", "slipping", "slip_velocity", "slip_power", "twist", "contact",
            "friction_estimate", "control_radius", "equilibrium_input", "inertia",
            "web_unwound", "web_rewound", "web_stored", "mrac_gain_tension", "mrac_gain_speed",
-           "mrac_bias")
+           "mrac_bias", "strain", "layer_tension", "layer_strain", "web_in", "web_out",
+           "layer_in", "layer_out", "layer_stored", "core_omega", "radius_calc",
+           "tension_measured", "speed_measured")
 #: references: they drive a replay, and are compared only to show they were followed
 REFERENCES = ("tension_ref", "speed_ref")
 
@@ -52,30 +60,23 @@ class Signal:
     column: int
 
 
-def elements(line: Line, dim: str) -> list[str]:
-    """Element names of a dimension (span, node, drive), in web order."""
-    if dim == "span":
-        return [line.span_name(k) for k in range(line.n_spans)]
-    if dim == "node":
-        return [line.node_name(i) for i in range(line.n_nodes)]
-    if dim == "dancer":
-        from webline.sim.core.dancer import dancer_nodes
-
-        return [line.node_name(i) for i in dancer_nodes(line)]
-    return [line.node_name(i) for i in line.drives]
-
-
-def line_signals(line: Line) -> dict[str, Signal]:
-    """Every comparable signal of ``line`` by name (``tension[process_span]`` ...)."""
+def line_signals(line: Line | BranchedLine) -> dict[str, Signal]:
+    """Every comparable signal of ``line`` by name (``tension[process_span]`` ...): the kinds
+    its runs record, each on its elements (a branched line's radii per roll,
+    ``radius[rewind/laminate]``, as its results files name them)."""
+    view = layout(line)
     out = {}
     for kind, (dim, unit_kind, attribute) in COMPARED.items():
-        for column, element in enumerate(elements(line, dim)):
+        if kind in view.missing:
+            continue
+        dim = view.dims.get(kind, dim)
+        for column, element in enumerate(view.elements[dim]):
             name = f"{kind}[{element}]"
             out[name] = Signal(name, kind, element, unit_kind, attribute, column)
     return out
 
 
-def is_ignored(line: Line, name: str) -> bool:
+def is_ignored(line: Line | BranchedLine, name: str) -> bool:
     """Whether ``name`` is a signal webline writes that is never compared."""
     kind = name.partition("[")[0]
     return kind in IGNORED
@@ -87,13 +88,18 @@ def suggestions(name: str, known: list[str]) -> str:
     return f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
 
 
-def simulated(result: Result, signals: list[Signal]) -> dict[str, np.ndarray]:
-    """The values [SI] of ``signals`` over ``result.time``."""
+def simulated(result: RunResult, signals: list[Signal]) -> dict[str, np.ndarray]:
+    """The values [SI] of ``signals`` over ``result.time``: the result's attribute of that
+    name where it has one (a single-path run has them all), else its signal of that name
+    (``result.signals``: a branched run's speeds, radii, dancer positions)."""
     cache: dict[str, np.ndarray] = {}
     out = {}
     for signal in signals:
         if signal.attribute not in cache:
-            cache[signal.attribute] = np.asarray(getattr(result, signal.attribute))
+            values = getattr(result, signal.attribute, None)
+            if values is None:
+                values = result.signals[signal.attribute].values
+            cache[signal.attribute] = np.asarray(values)
         out[signal.name] = cache[signal.attribute][:, signal.column]
     return out
 

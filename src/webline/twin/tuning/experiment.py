@@ -2,14 +2,13 @@
 
 Each test drives the line with references an engineer can command (line speed ramps, a
 zone's tension set point, a dancer's loading pressure) and records what every drive logs.
-Its durations follow from the line's own time scales, computed here:
-
-* a speed loop's closed-loop time constant τ_s = 1/(ζ ω_s) and a tension loop's
-  τ_t = 1/(ζ ω_t) (the bandwidths and damping of each cascaded PI): a response has settled
-  to e⁻⁵ < 1 % after 5 of them;
-* a zone's transport time L/v (its web length over the line speed): the open-loop tension
-  dynamics of a span;
-* a dancer carriage's decay time 2m/c (mass over damping): its free motion dies out in 5.
+Its timing follows from the line's linearized closed loop (``experiment_design``): each
+step of a reference is a ramp, the shortest that keeps every drive's torque within 80 % of
+its limit (from the drives' inertias, loops and the step's size, all in the closed loop's
+step response); each hold lasts until every logged signal has settled to 1 % (or
+``MIN_HOLD``, to average the noise); and the logging rate is 10 samples per period of the
+fastest closed-loop mode the logged signals show above their sensor noise. A dancer's
+carriage decays in 2m/c (mass over damping): its free motion dies out in 5.
 
 ``accel-ramps`` identifies inertias and friction: during a ramp of acceleration a the drive
 torque carries J a/(n r) above the steady torque; at constant speed it carries b ω plus the
@@ -35,7 +34,9 @@ from webline.errors import ArgumentError
 from webline.line import Line
 from webline.sim.core.plan import compile_plan
 from webline.sim.elements import layout as L
+from webline.sim.linear.linearize import plan_linear_model
 from webline.spec.schema import CascadedPISpec, DancerSpec
+from webline.twin.tuning.experiment_design import StepDesign, design_step, mode_rate
 
 #: settled after this many time constants (e⁻⁵ < 1 %)
 SETTLE = 5.0
@@ -68,12 +69,15 @@ class ExperimentPlan:
     duration: float
     derivation: tuple[str, ...]
     record: tuple[str, ...] = field(default_factory=tuple)
+    logging_rate: float = 0.0  #: the rate the record needs [Hz]
+    rate_reason: str = ""  #: the mode that sets it, in words
 
     def as_dict(self) -> dict[str, object]:
         return {"experiment": self.experiment.name, "title": self.experiment.title,
                 "identifies": list(self.experiment.identifies),
                 "duration_rule": self.experiment.duration_rule, "duration_s": self.duration,
-                "derivation": list(self.derivation), "record": list(self.record)}
+                "derivation": list(self.derivation), "record": list(self.record),
+                "logging_rate_hz": self.logging_rate, "logging_rate_reason": self.rate_reason}
 
 
 EXPERIMENTS = {e.name: e for e in (
@@ -81,12 +85,16 @@ EXPERIMENTS = {e.name: e for e in (
                ("inertia of every driven roller and roll", "viscous friction of every drive",
                 "Coulomb (speed-independent) losses"),
                "ramps of acceleration a = the smallest over drives of 30 % of the torque "
-               "limit x n r / J (and no shorter than 5 speed-loop time constants); holds of "
-               "max(5 τ_t, 5 τ_s, 3 L/v, 2 s) at 1/3, 2/3 and 3/3 of the line speed"),
-    Experiment("tension-step", "a +10 % step of each loadcell zone's tension set point",
+               "limit x n r / J (and no shorter than 5 speed-loop time constants); holds at "
+               "1/3, 2/3 and 3/3 of the line speed until the linearized closed loop has "
+               "settled to 1 % (at least 2 s)"),
+    Experiment("tension-step", "a +10 % step of each loadcell zone's tension set point, "
+               "ramped within the drives' torque limits",
                ("web modulus EA (the draw per tension)", "each tension loop's bandwidth "
                 "and damping"),
-               "each step held max(5 τ_t, 10 L/v, 2 s), zones one after the other"),
+               "each step a ramp keeping every drive within 80 % of its torque limit, held "
+               "until the linearized closed loop has settled to 1 % (at least 2 s), zones "
+               "one after the other"),
     Experiment("dancer-step", "a +10 % step of each dancer's load (loading pressure)",
                ("dancer damping and moving mass (carriage mode)", "the zone's position "
                 "loop response"),
@@ -106,12 +114,6 @@ def _loop_times(line: Line) -> tuple[float, float]:
     return tau_s, tau_t
 
 
-def _zone_transport(line: Line, speed: float) -> float:
-    """Longest zone length over the line speed [s]."""
-    longest = max(sum(line.spec.spans[k].length for k in z.spans) for z in line.zones)
-    return longest / speed
-
-
 def _up(value: float, step: float = 0.5) -> float:
     """``value`` rounded up to a multiple of ``step`` (times an engineer types)."""
     return math.ceil(value / step - 1e-9) * step
@@ -120,7 +122,7 @@ def _up(value: float, step: float = 0.5) -> float:
 def accel_ramps(line: Line) -> ExperimentPlan:
     plan = compile_plan(line)
     v = plan.op.line_speed
-    tau_s, tau_t = _loop_times(line)
+    tau_s, _ = _loop_times(line)
     accel = math.inf
     for d, i in enumerate(line.drives):
         roller = line.spec.rollers[i]
@@ -129,21 +131,51 @@ def accel_ramps(line: Line) -> ExperimentPlan:
         radius = float(plan.op.radius[i])
         accel = min(accel, RAMP_TORQUE_SHARE * plan.drives[d, L.D_LIMIT] * drive.ratio
                     * radius / inertia)
-    speed, duration, derivation = speed_ramps(v, accel, tau_s, tau_t, _zone_transport(line, v))
+
+    def design(level: float, ramp: float) -> StepDesign:
+        return chain_step(line.replace({"speed": level}), {"line_speed_ref": v / 3.0}, ramp)
+
+    speed, duration, derivation, rate = speed_ramps(v, accel, tau_s, design)
     return ExperimentPlan(EXPERIMENTS["accel-ramps"], line.replace({"speed": speed}), duration,
-                          derivation, ("speed[*]", "torque[*]", "tension[*]"))
+                          derivation, ("speed[*]", "torque[*]", "tension[*]"), *rate)
 
 
-def speed_ramps(v: float, accel: float, tau_s: float, tau_t: float, transport: float
-                ) -> tuple[dict[str, object], float, tuple[str, ...]]:
+def chain_step(line: Line, steps: dict[str, float], ramp: float | None = None) -> StepDesign:
+    """``design_step`` on ``line``'s closed loop at its operating point: ``steps`` of its
+    inputs (``line_speed_ref`` [m/s], ``zoneN_tension_ref`` [N]: the size of each)."""
+    plan = compile_plan(line)
+    return design_step(plan_linear_model(plan), steps,
+                       [line.spec.rollers[i].name for i in line.drives], plan.op.torque,
+                       plan.drives[:, L.D_LIMIT], ramp)
+
+
+def rate_of(designs: list[StepDesign]) -> tuple[float, str]:
+    """The logging rate [Hz] a test of these steps needs, and why."""
+    top = max(designs, key=lambda d: d.rate)
+    if top.fastest == 0.0:
+        return top.rate, (f"10 samples across each {top.ramp:g} s ramp (no closed-loop mode "
+                          "moves a logged signal above its noise)")
+    why = (f"10 samples per period of its fastest visible closed-loop mode "
+           f"({top.fastest / (2 * math.pi):.3g} Hz, {top.fastest_state}) and across each "
+           f"{top.ramp:g} s ramp")
+    return top.rate, why
+
+
+def speed_ramps(v: float, accel: float, tau_s: float,
+                design: Callable[[float, float], StepDesign]
+                ) -> tuple[dict[str, object], float, tuple[str, ...], tuple[float, str]]:
     """The accel-ramps test's speed profile from rest to line speed ``v`` [m/s] in three
-    ramps of v/3 at most ``accel`` [m/s²] (each at least 5 ``tau_s`` [s]), each held 5 loop
-    times (``tau_s``, ``tau_t`` [s]), 3 zone transports (``transport`` [s]) or ``MIN_HOLD``,
-    then back to rest at the same rate: (the line file's ``speed`` table, the test's
-    duration [s], the derivation's lines)."""
+    ramps of v/3 at most ``accel`` [m/s²] (each at least 5 ``tau_s`` [s]), each held until
+    the closed loop at that speed has settled (``design(speed, ramp)``: the step's
+    ``StepDesign``) or ``MIN_HOLD``, then back to rest at the same rate: (the line file's
+    ``speed`` table, the test's duration [s], the derivation's lines, the logging rate [Hz]
+    and why)."""
     step_v = v / 3.0
     ramp = _up(max(step_v / accel, SETTLE * tau_s))
-    hold = _up(max(SETTLE * tau_t, SETTLE * tau_s, 3.0 * transport, MIN_HOLD))
+    designs = [design(k * step_v, ramp) for k in (1, 2, 3)]
+    settle = max(d.settle for d in designs) - ramp  # after the ramp's end
+    hold = _up(max(settle, MIN_HOLD))
+    rate = rate_of(designs)
     times, values, t = [0.0, 1.0], [0.0, 0.0], 1.0
     for k in (1, 2, 3):
         t += ramp
@@ -160,22 +192,21 @@ def speed_ramps(v: float, accel: float, tau_s: float, tau_t: float, transport: f
         f"acceleration a = {step_v / ramp:.4g} m/s² (30 % of the weakest drive's torque "
         f"limit allows {accel:.4g} m/s²; a ramp of v/3 = {step_v:.4g} m/s lasts at least "
         f"5 τ_s = {SETTLE * tau_s:.3g} s): each ramp {ramp:g} s",
-        f"holds {hold:g} s = max(5 τ_t = {SETTLE * tau_t:.3g} s, 5 τ_s = {SETTLE * tau_s:.3g} s,"
-        f" 3 L/v = {3 * transport:.3g} s, {MIN_HOLD:g} s)",
+        f"holds {hold:g} s = max(settled {settle:.3g} s after a ramp's end (linearized closed "
+        f"loop at each speed), {MIN_HOLD:g} s); torques at most "
+        f"{100 * max(d.peak_share for d in designs):.0f} % of the limits",
         f"total {duration:g} s: rest 1 s, three ramps and holds, deceleration {3 * ramp:g} s, "
-        f"rest {hold:g} s")
-    return {"type": "table", "time": times, "value": values}, duration, derivation
+        f"rest {hold:g} s",
+        f"log at {rate[0]:g} Hz or faster: {rate[1]}")
+    return {"type": "table", "time": times, "value": values}, duration, derivation, rate
 
 
 def tension_step(line: Line) -> ExperimentPlan:
     plan = compile_plan(line)
-    v = plan.op.line_speed
-    _, tau_t = _loop_times(line)
-    hold = _up(max(SETTLE * tau_t, 10.0 * _zone_transport(line, v), MIN_HOLD))
     changes: dict[str, object] = {}
     t = 1.0
-    stepped = []
-    for zone in line.zones:
+    stepped, designs = [], []
+    for z, zone in enumerate(line.zones):
         d = line.drives.index(zone.controller)
         row = plan.drives[d]
         if row[L.D_DANCER] >= 0 and row[L.D_DUSE] == L.DANCER_POSITION:
@@ -186,20 +217,32 @@ def tension_step(line: Line) -> ExperimentPlan:
         if not isinstance(ref, float | int):
             raise ArgumentError(f"{line.name}: spans.{name}.tension: tension-step needs a "
                                 "constant set point to step from")
-        changes[f"spans.{name}.tension"] = {
-            "type": "steps", "initial": ref,
-            "steps": [{"time": t, "value": ref * (1 + STEP)}, {"time": t + hold, "value": ref}]}
-        stepped.append(f"{name} {ref:g} -> {ref * (1 + STEP):g} N at {t:g} s, back at "
-                       f"{t + hold:g} s")
-        t += 2.0 * hold
+        design = chain_step(line, {f"zone{z + 1}_tension_ref": STEP * ref})
+        changes[f"spans.{name}.tension"], t, words = step_table(name, float(ref), t, design)
+        stepped.append(words)
+        designs.append(design)
     if not stepped:
         raise ArgumentError(f"{line.name}: tension-step: no zone with a loadcell in tension "
                             "control (dancer zones: dancer-step)")
-    derivation = (f"each step held {hold:g} s = max(5 τ_t = {SETTLE * tau_t:.3g} s, "
-                  f"10 L/v = {10 * _zone_transport(line, v):.3g} s, {MIN_HOLD:g} s)",
-                  *stepped)
-    return ExperimentPlan(EXPERIMENTS["tension-step"], line.replace(changes), t, derivation,
-                          ("tension[*]", "speed[*]", "torque[*]"))
+    rate = rate_of(designs)
+    return ExperimentPlan(EXPERIMENTS["tension-step"], line.replace(changes), t,
+                          (*stepped, f"log at {rate[0]:g} Hz or faster: {rate[1]}"),
+                          ("tension[*]", "speed[*]", "torque[*]"), *rate)
+
+
+def step_table(name: str, ref: float, t: float, design: StepDesign
+               ) -> tuple[dict[str, object], float, str]:
+    """A set point ``ref`` [N] stepped by ``STEP`` at ``t`` [s] as ``design``'s ramp, held
+    until settled (at least ``MIN_HOLD``), ramped back and held again: (the profile as a
+    line-file table, the time after it [s], the derivation's line for ``name``)."""
+    hold = _up(max(design.settle, MIN_HOLD))
+    top, ramp = ref * (1 + STEP), design.ramp
+    table: dict[str, object] = {
+        "type": "table", "time": [0.0, t, t + ramp, t + hold, t + hold + ramp],
+        "value": [ref, ref, top, top, ref]}
+    words = (f"{name} {ref:g} -> {top:g} N at {t:g} s, back at {t + hold:g} s: "
+             f"{design.words()}; held {hold:g} s")
+    return table, t + 2.0 * hold, words
 
 
 def dancer_step(line: Line) -> ExperimentPlan:
@@ -230,8 +273,10 @@ def dancer_step(line: Line) -> ExperimentPlan:
                      f"back at {t + hold:g} s; held {hold:g} s = max(5 x 2m/c = "
                      f"{SETTLE * decay:.3g} s, 5 τ_t = {SETTLE * tau_t:.3g} s, {MIN_HOLD:g} s)")
         t += 2.0 * hold
-    return ExperimentPlan(EXPERIMENTS["dancer-step"], line.replace(changes), t, tuple(lines),
-                          ("dancer_position[*]", "tension[*]", "speed[*]"))
+    rate = mode_rate(plan_linear_model(plan))
+    return ExperimentPlan(EXPERIMENTS["dancer-step"], line.replace(changes), t,
+                          (*lines, f"log at {rate[0]:g} Hz or faster: {rate[1]}"),
+                          ("dancer_position[*]", "tension[*]", "speed[*]"), *rate)
 
 
 PLANNERS: dict[str, Callable[[Line], ExperimentPlan]] = {
@@ -257,7 +302,8 @@ def write_experiment(line: Line, name: str, out: Path,
 
     place = claim or (lambda relative: out / relative)
     plan = plan_experiment(line, name)
-    result = simulate(plan.line, plan.duration, raise_on_failure=False)
+    result = simulate(plan.line, plan.duration, raise_on_failure=False,
+                      record_interval=1.0 / plan.logging_rate)
     result.to_csv(place("results.csv"))
     data = plan.as_dict() | {"line": line.name, "verdict": result.verdict.headline}
     place("experiment.json").write_text(json.dumps(data, indent=2), encoding="utf-8")

@@ -2,16 +2,19 @@
 the chain's identification tests (``experiment``) laid out on a branched line's drives and
 zones and simulated in the branch kernel.
 
-The test signals are the chain's, with the chain's duration rules computed from the branched
-line's own time scales: ``accel-ramps`` ramps the line speed (every drive of every web
-follows it; the acceleration is 30 % of the weakest drive's torque limit over its J/(n r));
-``tension-step`` steps each tension zone's set point by 10 % in turn (every loadcell of the
-zone together: lanes on one shaft are controlled as their sum; a zone held by a dancer in
-position control or a differential shaft's drive, which holds speed only, is left out);
+The test signals are the chain's, with the chain's rules (``experiment_design``: ramps,
+holds and logging rate from the linearized closed loop, here ``sim.branches.linear``'s)
+computed from the branched line's own model: ``accel-ramps`` ramps the line speed (every
+drive of every web follows it; the acceleration is 30 % of the weakest drive's torque limit
+over its J/(n r)); ``tension-step`` ramps each tension zone's set point up by 10 % in turn
+(every loadcell of the zone together: lanes on one shaft are controlled as their sum; a zone
+held by a dancer in position control or a differential shaft's drive, which holds speed
+only, is left out);
 ``dancer-step`` steps each dancer's load by 10 %. The traces (``results.csv``: every span's
 tension, every roller's surface speed, every drive's torque and command, each dancer's
-position, with webline's names and units) lay out the test to run on the machine; replay
-and fit take a single-path line's traces.
+position, each loadcell's tension set point and the master's speed reference, with webline's
+names and units) lay out the test to run on the machine, and ``replay`` and ``fit`` read them
+back as they read a single-path line's.
 """
 
 from __future__ import annotations
@@ -27,6 +30,8 @@ import numpy as np
 from webline.errors import ArgumentError
 from webline.model.web_graph import BranchedLine
 from webline.profiles import breakpoints
+from webline.sim.branches.equilibrium import operating_point
+from webline.sim.branches.linear import branch_linear_model
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.plan import compile_branches
 from webline.sim.sweeps.branch_study import derive_branched
@@ -39,8 +44,11 @@ from webline.twin.tuning.experiment import (
     STEP,
     ExperimentPlan,
     _up,
+    rate_of,
     speed_ramps,
+    step_table,
 )
+from webline.twin.tuning.experiment_design import StepDesign, design_step, mode_rate
 
 
 def _loop_times(line: BranchedLine) -> tuple[float, float]:
@@ -55,17 +63,6 @@ def _loop_times(line: BranchedLine) -> tuple[float, float]:
     return tau_s, tau_t
 
 
-def _zone_transport(line: BranchedLine, speed: float) -> float:
-    """The longest zone's web length (per web: a zone may hold several) over the line speed
-    [s]."""
-    longest = 0.0
-    for zone in line.zones.values():
-        for web in {line.spans[s].web for s in zone.spans}:
-            longest = max(longest, sum(line.spans[s].length for s in zone.spans
-                                       if line.spans[s].web == web))
-    return longest / speed
-
-
 def _line_speed(line: BranchedLine) -> float:
     """The line's top reference speed [m/s]."""
     return float(np.max(breakpoints(line.spec.speed)[1]))
@@ -74,49 +71,66 @@ def _line_speed(line: BranchedLine) -> float:
 def accel_ramps(line: BranchedLine) -> ExperimentPlan:
     plan = compile_branches(line)
     v = _line_speed(line)
-    tau_s, tau_t = _loop_times(line)
+    tau_s, _ = _loop_times(line)
     # D_GAINNORM = J / (n r) of each drive at its initial radius [kg·m]: a = share x limit / it
     accel = min(RAMP_TORQUE_SHARE * plan.df[d, B.D_LIMIT] / plan.df[d, B.D_GAINNORM]
                 for d in range(len(line.drives)))
-    speed, duration, derivation = speed_ramps(v, accel, tau_s, tau_t,
-                                              _zone_transport(line, v))
+
+    def design(level: float, ramp: float) -> StepDesign:
+        return branched_step(derive_branched(line, {"speed": level}),
+                             {"line_speed_ref": v / 3.0}, ramp)
+
+    speed, duration, derivation, rate = speed_ramps(v, accel, tau_s, design)
     return ExperimentPlan(EXPERIMENTS["accel-ramps"], derive_branched(line, {"speed": speed}),
-                          duration, derivation, ("speed[*]", "torque[*]", "tension[*]"))
+                          duration, derivation, ("speed[*]", "torque[*]", "tension[*]"), *rate)
+
+
+def branched_step(line: BranchedLine, steps: dict[str, float], ramp: float | None = None
+                  ) -> StepDesign:
+    """``design_step`` on branched ``line``'s closed loop at its operating point: ``steps``
+    of its inputs (``line_speed_ref`` [m/s], ``SPAN_tension_ref`` [N]: the size of each)."""
+    plan = compile_branches(line)
+    point = operating_point(plan, 0.0)
+    return design_step(branch_linear_model(plan, point), steps,
+                       [line.spec.rollers[i].name for i in line.drives], point.torque,
+                       plan.df[:, B.D_LIMIT], ramp)
 
 
 def tension_step(line: BranchedLine) -> ExperimentPlan:
     plan = compile_branches(line)
-    _, tau_t = _loop_times(line)
-    hold = _up(max(SETTLE * tau_t, 10.0 * _zone_transport(line, _line_speed(line)), MIN_HOLD))
     shafts = {int(n) for n in plan.cores[:, B.C_NODE]}
     changes: dict[str, object] = {}
-    stepped, t = [], 1.0
+    stepped, designs, t = [], [], 1.0
     for d, i in enumerate(line.drives):
         first = int(plan.di[d, B.DI_CELLS])
         if i not in line.zones or i in shafts or (
                 plan.di[d, B.DI_NCELLS] and plan.cells[first, B.CELL_DANCER] >= 0):
             continue  # no zone; a slip shaft holds speed; a dancer sets it: dancer-step
+        refs = {}
         for k in line.zones[i].loadcells:
             span = line.spans[k]
-            web = line.spec.webs[span.web]
-            key = f"webs.{web.name}.spans.{span.k}.tension"
+            key = f"webs.{line.spec.webs[span.web].name}.spans.{span.k}.tension"
             ref = line.span_tension_spec(k)
             if not isinstance(ref, float | int):
                 raise ArgumentError(f"{line.name}: {key}: tension-step needs a constant set "
                                     "point to step from")
-            changes[key] = {"type": "steps", "initial": ref, "steps": [
-                {"time": t, "value": ref * (1 + STEP)}, {"time": t + hold, "value": ref}]}
-            stepped.append(f"{span.name} ({line.spec.rollers[i].name}) {ref:g} -> "
-                           f"{ref * (1 + STEP):g} N at {t:g} s, back at {t + hold:g} s")
-        t += 2.0 * hold
+            refs[k] = (key, float(ref))
+        # the zone's loadcells step together, each by a tenth of its own set point
+        design = branched_step(line, {f"{line.spans[k].name}_tension_ref": STEP * ref
+                                      for k, (_, ref) in refs.items()})
+        start = t
+        for k, (key, ref) in refs.items():
+            name = f"{line.spans[k].name} ({line.spec.rollers[i].name})"
+            changes[key], t, words = step_table(name, ref, start, design)
+            stepped.append(words)
+        designs.append(design)
     if not stepped:
         raise ArgumentError(f"{line.name}: tension-step: no zone with a loadcell in tension "
                             "control (dancer zones: dancer-step)")
-    derivation = (f"each step held {hold:g} s = max(5 τ_t = {SETTLE * tau_t:.3g} s, "
-                  f"10 L/v = {10 * _zone_transport(line, _line_speed(line)):.3g} s, "
-                  f"{MIN_HOLD:g} s)", *stepped)
+    rate = rate_of(designs)
     return ExperimentPlan(EXPERIMENTS["tension-step"], derive_branched(line, changes), t,
-                          derivation, ("tension[*]", "speed[*]", "torque[*]"))
+                          (*stepped, f"log at {rate[0]:g} Hz or faster: {rate[1]}"),
+                          ("tension[*]", "speed[*]", "torque[*]"), *rate)
 
 
 def dancer_step(line: BranchedLine) -> ExperimentPlan:
@@ -148,8 +162,10 @@ def dancer_step(line: BranchedLine) -> ExperimentPlan:
                      f"back at {t + hold:g} s; held {hold:g} s = max(5 x 2m/c = "
                      f"{SETTLE * decay:.3g} s, 5 τ_t = {SETTLE * tau_t:.3g} s, {MIN_HOLD:g} s)")
         t += 2.0 * hold
+    rate = mode_rate(branch_linear_model(plan, operating_point(plan, 0.0)))
     return ExperimentPlan(EXPERIMENTS["dancer-step"], derive_branched(line, changes), t,
-                          tuple(lines), ("dancer_position[*]", "tension[*]", "speed[*]"))
+                          (*lines, f"log at {rate[0]:g} Hz or faster: {rate[1]}"),
+                          ("dancer_position[*]", "tension[*]", "speed[*]"), *rate)
 
 
 PLANNERS: dict[str, Callable[[BranchedLine], ExperimentPlan]] = {
@@ -160,9 +176,12 @@ SIGNALS = (("tension", "span"), ("speed", "node"), ("torque", "drive"),
            ("torque_cmd", "drive"), ("dancer_position", "dancer"))
 
 
-def results_csv(dataset: Any, path: Path) -> None:
+def results_csv(result: Any, path: Path) -> None:
     """One column per signal and element, ``tension[film_zone] [N]``, time first (the
-    chain's ``results.csv`` layout)."""
+    chain's ``results.csv`` layout), and the references a replay is driven by, as a PLC logs
+    them: each loadcell span's tension set point (``tension_ref[film_zone]``) and the
+    master's speed reference, the line's speed (``speed_ref[nip]``)."""
+    dataset = result.dataset
     headers, columns = ["time [s]"], [dataset["time"].values]
     for name, dim in SIGNALS:
         if name not in dataset:
@@ -172,6 +191,13 @@ def results_csv(dataset: Any, path: Path) -> None:
         for j, element in enumerate(dataset[dim].values):
             headers.append(f"{name}[{element}] [{unit}]")
             columns.append(var.values[:, j])
+    for j, span in enumerate(result.span_names):
+        if np.isfinite(result.tension_ref[:, j]).all():
+            headers.append(f"tension_ref[{span}] [N]")
+            columns.append(result.tension_ref[:, j])
+    master = result.line.spec.rollers[result.line.master].name
+    headers.append(f"speed_ref[{master}] [m/s]")
+    columns.append(np.interp(result.time, *breakpoints(result.line.spec.speed)))
     np.savetxt(path, np.column_stack(columns), delimiter=",", header=",".join(headers),
                comments="", fmt="%.9g")
 
@@ -190,9 +216,10 @@ def write_branched_experiment(line: BranchedLine, name: str, out: Path,
     if name not in PLANNERS:
         raise ArgumentError(f"no experiment named {name!r}; known: {', '.join(PLANNERS)}")
     plan = PLANNERS[name](line)
-    result = simulate_branches(plan.line, plan.duration, raise_on_failure=False)
+    result = simulate_branches(plan.line, plan.duration, raise_on_failure=False,
+                               record_interval=1.0 / plan.logging_rate)
     ds = result.dataset
-    results_csv(ds, place("results.csv"))
+    results_csv(result, place("results.csv"))
     data = plan.as_dict() | {"line": line.name, "verdict": result.verdict.headline}
     place("experiment.json").write_text(json.dumps(data, indent=2), encoding="utf-8")
     shown = ("speed", "torque") if name == "accel-ramps" else ("tension", "speed")

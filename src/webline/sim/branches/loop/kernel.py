@@ -152,14 +152,23 @@ def compiled_advance(offsets: np.ndarray, si: np.ndarray, layers: np.ndarray,
     as constants (as the chain's ``sim.core.kernel.compiled_loop``), so the loops over spans,
     nodes and drives have known trip counts and table look-ups fold away. Called with the
     remaining arguments of ``advance`` (the float tables stay run-time arrays)."""
-    return _compiled(*((*np.asarray(a).ravel().tolist(), np.asarray(a).shape)
-                       for a in (offsets, si, layers, webs, di, cells, cores, lawi, kv)))
+    return _compiled(*structure_key(offsets, si, layers, webs, di, cells, cores, lawi, kv))
+
+
+def structure_key(*tables: np.ndarray) -> tuple[tuple[Any, ...], ...]:
+    """The integer tables of a structure as a hashable key: each table's values, then its
+    shape (``structure_tables`` reads them back)."""
+    return tuple((*np.asarray(a).ravel().tolist(), np.asarray(a).shape) for a in tables)
+
+
+def structure_tables(key: tuple[tuple[Any, ...], ...]) -> tuple[np.ndarray, ...]:
+    """The integer tables of ``structure_key``'s key, as int64 arrays."""
+    return tuple(np.array(t[:-1], dtype=np.int64).reshape(t[-1]) for t in key)
 
 
 @functools.cache
 def _compiled(*tables: tuple[Any, ...]) -> Any:
-    offsets, si, layers, webs, di, cells, cores, lawi, kv = (
-        np.array(t[:-1], dtype=np.int64).reshape(t[-1]) for t in tables)
+    offsets, si, layers, webs, di, cells, cores, lawi, kv = structure_tables(tables)
 
     @loop_njit
     def loop(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
