@@ -76,7 +76,8 @@ def _guess(plan: BranchPlan, refs: np.ndarray) -> np.ndarray:
         for k in spans:
             guess[k] = refs[k] if np.isfinite(refs[k]) else (known[0] if known else mean)
     for k in range(len(refs) if plan.lawi.shape[0] else 0):  # web laws: the stretch of it
-        guess[k] = law_stretch(k, guess[k], plan.si, plan.lawi, plan.lawf, plan.laws)
+        guess[k] = law_stretch(k, guess[k], plan.const.si, plan.const.lawi, plan.lawf,
+                               plan.laws)
     return guess
 
 
@@ -106,7 +107,7 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
         j = plan.di[d, B.DI_ROLL]
         if j >= 0:
             arms[plan.di[d, B.DI_NODE]] = x[off_r + j]
-    tables = (plan.offsets, nodes, *plan.tables()[2:])
+    tables = (plan.tables()[0], nodes, *plan.tables()[2:])
     dx = np.zeros(plan.n_x)
     work = plan.scratch()
     cmd = np.zeros(n_d)
@@ -228,7 +229,7 @@ def operating_point(plan: BranchPlan, t: float = 0.0, *,
         rhs(at, cmd, plan.held(t), *plan.tables(), dx, plan.scratch())
         for d in range(n_d):  # J dω/dt = web torque + n τ = 0
             i = plan.di[d, B.DI_NODE]
-            web_torque = dx[off_w + i] * node_inertia(i, at, plan.offsets, plan.nodes,
+            web_torque = dx[off_w + i] * node_inertia(i, at, plan.const.offsets, plan.nodes,
                                                       plan.rolls)
             at[off_tq + d] = -web_torque / plan.df[d, B.D_RATIO]
         steady_trains(at, plan.offsets, plan.di, plan.df, plan.rolls)

@@ -195,8 +195,8 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
                 gr[q_t, 1 + c] = row[B.D_KIT] * on_ref
         gain = 1.0
         if row[B.D_ADAPTIVE] > 0.0:  # the speed gains follow the roll's inertia
-            inertia = node_inertia(i, point.x, plan.offsets, plan.nodes, plan.rolls) + (
-                reflected_motor(d, plan.di, plan.df))
+            inertia = node_inertia(i, point.x, plan.const.offsets, plan.nodes, plan.rolls) + (
+                reflected_motor(d, plan.const.di, plan.df))
             gain = inertia / (row[B.D_RATIO] * speed_arm(plan, point, i)) / row[B.D_GAINNORM]
         kps, kis = row[B.D_KPS] * gain, row[B.D_KIS] * gain
         kx[d], ki[d], kr[d] = kps * ev_x, kps * ev_q, kps * ev_r
@@ -259,8 +259,8 @@ def wound_gains(plan: BranchPlan, point: BranchPoint,
             gw[n_d + zoned.index(d)] -= row[B.D_KIT] * felt[k]
         gain = 1.0
         if row[B.D_ADAPTIVE] > 0.0:  # as controller_matrices
-            inertia = node_inertia(i, point.x, plan.offsets, plan.nodes, plan.rolls) + (
-                reflected_motor(d, plan.di, plan.df))
+            inertia = node_inertia(i, point.x, plan.const.offsets, plan.nodes, plan.rolls) + (
+                reflected_motor(d, plan.const.di, plan.df))
             gain = inertia / (row[B.D_RATIO] * speed_arm(plan, point, i)) / row[B.D_GAINNORM]
         kw[d], gw[d] = row[B.D_KPS] * gain * ev_w, row[B.D_KIS] * gain * ev_w
     return kw, gw

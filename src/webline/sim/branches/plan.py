@@ -4,8 +4,10 @@ compiled loop (``sim.branches.loop``), with the PI gains of every drive.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -91,11 +93,23 @@ class BranchPlan:
     def n_x(self) -> int:
         return int(self.offsets[B.O_N])
 
+    @functools.cached_property
+    def const(self) -> Any:
+        """The integer tables the compiled loop holds as constants (``offsets``, ``si``,
+        ``layers``, ``webs``, ``di``, ``cores``, ``lawi``, ``kv``) as read-only views, the
+        type numba gives those constants: a compiled function called from Python with them
+        (``rhs``, ``node_inertia``, ...) reuses what the loop compiled instead of compiling
+        again for writable arrays (issue 37: the first run's compile time). Views: the set-up
+        that fills the plan's own tables (observer rows) shows through."""
+        return SimpleNamespace(**{name: _read_only(getattr(self, name)) for name in (
+            "offsets", "si", "layers", "webs", "di", "cores", "lawi", "kv")})
+
     def tables(self) -> tuple[np.ndarray, ...]:
-        """The tables ``kernel.rhs`` takes after ``wound``, in order."""
-        return (self.offsets, self.nodes, self.si, self.sf, self.layers, self.rolls, self.webs,
-                self.di, self.df, self.cores, self.clutch, self.lawi, self.lawf, self.laws,
-                self.kv)
+        """The tables ``kernel.rhs`` takes after ``wound``, in order (the integer ones from
+        ``const``)."""
+        c = self.const
+        return (c.offsets, self.nodes, c.si, self.sf, c.layers, self.rolls, c.webs, c.di,
+                self.df, c.cores, self.clutch, c.lawi, self.lawf, self.laws, c.kv)
 
     def scratch(self) -> np.ndarray:
         """Scratch for ``kernel.rhs``."""
@@ -143,6 +157,13 @@ class BranchPlan:
     def profile(self, p: int, t: float) -> float:
         a, b = self.prof_off[p], self.prof_off[p + 1]
         return float(np.interp(t, self.prof_t[a:b], self.prof_v[a:b]))
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    """A read-only view of ``array`` (the plan's own table stays writable for its set-up)."""
+    view = array.view()
+    view.setflags(write=False)
+    return view
 
 
 def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> BranchPlan:
@@ -346,7 +367,7 @@ def _tune(plan: BranchPlan) -> None:
         j = plan.di[d, B.DI_ROLL]
         radius = x[plan.offsets[B.O_RADIUS] + j] if j >= 0 else roller.radius
         inertia, seen = tuning_inertia(plan.di, plan.df, d, float(
-            node_inertia(i, x, plan.offsets, plan.nodes, plan.rolls)))
+            node_inertia(i, x, plan.const.offsets, plan.nodes, plan.rolls)))
         zone = i in line.zones
         compliance = zone_compliance(line, i) if zone else 1.0
         auto = tune(inertia, drive.ratio, radius, compliance, 1.0, c.speed_bandwidth,

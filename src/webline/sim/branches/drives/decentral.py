@@ -63,8 +63,8 @@ def section_model(plan: BranchPlan, point: BranchPoint, d: int) -> SectionModel:
     i = int(plan.di[d, B.DI_NODE])
     off_w = plan.offsets[B.O_OMEGA]
     r = _arm(plan, x, int(plan.di[d, B.DI_ROLL]), i)
-    inertia = float(node_inertia(i, x, plan.offsets, plan.nodes, plan.rolls)
-                    + reflected_motor(d, plan.di, plan.df))  # (the motor across a belt, lumped)
+    inertia = float(node_inertia(i, x, plan.const.offsets, plan.nodes, plan.rolls)
+                    + reflected_motor(d, plan.const.di, plan.df))  # (a belt's motor, lumped)
     n = plan.df[d, B.D_RATIO]  # (the drive's: a compliant drive's node has none)
     b = plan.nodes[i, B.N_VISCOUS]
     zone = line.zones.get(i)
@@ -235,7 +235,7 @@ def linear_rows(plan: BranchPlan, point: BranchPoint, d: int, n_x: int, n_q: int
     r = _arm(plan, point.x, int(plan.di[d, B.DI_ROLL]), i)
     n = plan.df[d, B.D_RATIO]  # (the drive's: a compliant drive's node has none)
     inertia = float(node_inertia(i, point.x, plan.offsets, plan.nodes, plan.rolls)
-                    + reflected_motor(d, plan.di, plan.df))
+                    + reflected_motor(d, plan.const.di, plan.df))
     off_w = plan.offsets[B.O_OMEGA]
     # the column of the measured speed and its arm: the roller's r ω, or the motor's r ω_m / n
     speed, arm = off_w + i, r

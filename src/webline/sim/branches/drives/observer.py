@@ -139,7 +139,7 @@ def observer_rows(plan: BranchPlan, point: BranchPoint, kept: np.ndarray,
         sensitivity = plan.refs[:len(plan.line.spans), 1:]  # per span, per loadcell reference
         gr[t_hat, 1:] += _sources_in(plan, k) @ sensitivity * by_t_in
         # J dω̂/dt = ±a T̂ + n τ - b ω̂ (+ the others at their references) + J l_ω (ω - ω̂)
-        inertia = float(node_inertia(i, x, plan.offsets, plan.nodes, plan.rolls))
+        inertia = float(node_inertia(i, x, plan.const.offsets, plan.nodes, plan.rolls))
         sign = 1.0 if a == i else -1.0
         gi[w_hat, t_hat] = sign * (arm_a if a == i else arm_b) / inertia
         torque = column[plan.offsets[B.O_TORQUE] + d]

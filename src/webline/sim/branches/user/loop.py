@@ -99,8 +99,8 @@ def branch_context(plan: BranchPlan, point: BranchPoint, group: Group,
         j = int(plan.di[d, B.DI_ROLL])
         radius = float(point.x[plan.offsets[B.O_RADIUS] + j]) if j >= 0 else float(
             plan.nodes[i, B.N_RADIUS])
-        inertia = float(node_inertia(i, point.x, plan.offsets, plan.nodes, plan.rolls)
-                        + TR.reflected_motor(d, plan.di, plan.df))
+        inertia = float(node_inertia(i, point.x, plan.const.offsets, plan.nodes, plan.rolls)
+                        + TR.reflected_motor(d, plan.const.di, plan.df))
         infos.append(DriveInfo(
             line.spec.rollers[i].name, i, j >= 0,
             "tension" if row[B.D_SIGMA] != 0.0 and plan.di[d, B.DI_NCELLS] > 0 else "master",
