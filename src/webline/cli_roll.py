@@ -132,6 +132,7 @@ def taper_command(
 
         result = webline.simulate(tapered, run_s)
         for design in designs:  # every lane the taper winds
+            which = f", {design.roll_name}" if len(designs) > 1 else ""
             wound = result.wound_rolls.get(design.roll_name)
             found = wound.findings() if wound is not None else []
             meets = wound is not None and not any(f.kind in LIMIT_KINDS for f in found)
@@ -140,7 +141,7 @@ def taper_command(
                 s = wound.stress
                 typer.echo(
                     f"check: {run_s:g} s of {base.name} with {best.form} taper "
-                    f"{best.taper:.3f}, {design.roll_name}: min hoop "
+                    f"{best.taper:.3f}{which}: min hoop "
                     f"{s.hoop.min() / 1e6:.3g} MPa, max pressure {s.pressure.max() / 1e6:.3g}"
                     f" MPa, core {s.core_pressure / 1e6:.3g} MPa: "
                     + ("meets the limits" if meets else "breaks them")
