@@ -143,3 +143,18 @@ def test_which_roll_is_one_clear_line(roll: list[str], says: str, tmp_path) -> N
     run = _taper(str(tmp_path / "x.toml"), "--no-check", *roll)
     assert run.exit_code == 2, run.output
     assert says in run.output and "Traceback" not in run.output
+
+
+def test_naming_the_shaft_designs_for_its_lanes_and_one_lane_beyond_reach_fails_it(
+        tmp_path) -> None:
+    """``--roll rewind_shaft`` is the shaft (both lanes, as without --roll); with lane_2 at
+    130 N no hyperbolic taper up to 0.9 keeps lane_2's hoop above -0.4 MPa, though lane_1
+    alone has one (0.797): the shaft has none, lane_2 named as the one breaking, exit 1."""
+    run = _taper(str(tmp_path / "x.toml"), "--no-check", "--roll", "rewind_shaft",
+                 "--set", "webs.lane_2.spans.0.tension=130 N")
+    assert run.exit_code == 1, run.output
+    assert "rewind_shaft/lane_1: roll" in run.output and "rewind_shaft/lane_2: roll" in run.output
+    (hyperbolic,) = [x for x in run.output.splitlines() if x.startswith("hyperbolic:")]
+    assert "no taper up to 0.9" in hyperbolic and "rewind_shaft/lane_2: hoop" in hyperbolic
+    assert "rewind_shaft/lane_1" not in hyperbolic
+    assert not (tmp_path / "x.toml").exists()
