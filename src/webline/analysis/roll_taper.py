@@ -323,6 +323,9 @@ def least_taper(design: RollDesign | Sequence[RollDesign], form: str) -> TaperCh
     taper = max(need)
     while broken(taper) and taper < MAX_TAPER:  # feasibility should rise with the taper
         taper = min(MAX_TAPER, taper + TAPER_TOLERANCE)
+    if broken(taper):  # it did not: no taper holds every lane at once
+        lanes = tuple(LaneMargin(d.roll_name, a, {}) for d, a in zip(designs, need, strict=True))
+        return TaperChoice(form, None, broken(taper), math.nan, None, lanes=lanes)
     rolls = [d.roll(form, taper) for d in designs]
     k = int(np.argmax(need))
     lanes = tuple(LaneMargin(d.roll_name, a, d.limits.margins(r))
