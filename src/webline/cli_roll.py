@@ -58,8 +58,9 @@ def taper_command(
         str | None,
         typer.Option(
             "--roll",
-            help="The roll to design for on a branched line: ROLLER/WEB (a lane on a "
-            "shaft), or a rewind winding one roll (default: the line's only rewound roll).",
+            help="The roll to design for on a branched line: ROLLER/WEB (one lane), or a "
+            "rewind (every lane on its shaft; default: the only rewind with a roll_stress "
+            "table).",
         ),
     ] = None,
     sets: SetOpt = None,
@@ -67,9 +68,10 @@ def taper_command(
 ) -> None:
     """Design LINE's rewind taper so that the roll meets the limits of its roll_stress table
     with the most tension, check it by simulating, and write it into a line file. On a
-    branched line, the taper of --roll's rewind (a shaft's, for all its lanes). Exit 0 when
-    the simulated roll meets its limits, 1 when it does not or no taper does."""
-    from webline.analysis.roll_taper import design_roll, design_taper, with_taper
+    branched line, the taper of --roll's rewind: on a shaft, one taper under which every
+    lane's roll meets the limits (the lane needing most binds), unless --roll names one lane.
+    Exit 0 when every simulated roll meets its limits, 1 when one does not or no taper does."""
+    from webline.analysis.roll_taper import design_rolls, design_taper, with_taper
     from webline.model.lines import load_line
     from webline.spec.load import dump_spec
     from webline.units import to_si
@@ -89,15 +91,16 @@ def taper_command(
     target = out or Path(f"{base.name}-taper.toml")
     if target.exists() and not force:
         raise BadInput(f"{target}: exists (--force to overwrite)")
-    design = design_roll(base, d, roll)
-    lim = design.limits
-    typer.echo(
-        f"{design.roll_name}: roll {1e3 * design.core_radius:.4g}-"
-        f"{1e3 * design.outer_radius:.4g} mm of {1e6 * design.thickness:.4g} um web at "
-        f"{design.tension:.4g} N x taper; limits: hoop >= {lim.min_hoop / 1e6:.3g} MPa"
-        + (f", pressure <= {lim.max_pressure / 1e6:.3g} MPa" if lim.max_pressure else "")
-        + (f", core <= {lim.core_rating / 1e6:.3g} MPa" if lim.core_rating else "")
-    )
+    designs = design_rolls(base, d, roll)
+    for design in designs:
+        lim = design.limits
+        typer.echo(
+            f"{design.roll_name}: roll {1e3 * design.core_radius:.4g}-"
+            f"{1e3 * design.outer_radius:.4g} mm of {1e6 * design.thickness:.4g} um web at "
+            f"{design.tension:.4g} N x taper; limits: hoop >= {lim.min_hoop / 1e6:.3g} MPa"
+            + (f", pressure <= {lim.max_pressure / 1e6:.3g} MPa" if lim.max_pressure else "")
+            + (f", core <= {lim.core_rating / 1e6:.3g} MPa" if lim.core_rating else "")
+        )
     choices = design_taper(base, tuple(form or ("linear", "hyperbolic")), d, roll)
     for c in choices:
         if c.taper is None:
@@ -108,6 +111,13 @@ def taper_command(
             f"{c.form}: taper {c.taper:.3f} (mean wound-on stress "
             f"{c.mean_stress / 1e6:.3g} MPa){below}"
         )
+        if len(c.lanes) > 1:  # a shaft: which lane binds, what the others keep
+            for lane in c.lanes:
+                kind, margin = lane.tightest
+                typer.echo(
+                    f"  {lane.roll_name}: alone {lane.alone:.3f}; {kind} margin "
+                    f"{margin / 1e6:.3g} MPa" + (" (binds)" if lane.roll_name == c.binding
+                                                 else ""))
     best = choices[0]
     if best.taper is None:
         typer.echo(
@@ -121,19 +131,23 @@ def taper_command(
         import webline
 
         result = webline.simulate(tapered, run_s)
-        wound = result.wound_rolls.get(design.roll_name)
-        found = wound.findings() if wound is not None else []
-        ok = wound is not None and not any(f.kind in LIMIT_KINDS for f in found)
-        if wound is not None:
-            s = wound.stress
-            typer.echo(
-                f"check: {run_s:g} s of {base.name} with {best.form} taper "
-                f"{best.taper:.3f}: min hoop {s.hoop.min() / 1e6:.3g} MPa, max pressure "
-                f"{s.pressure.max() / 1e6:.3g} MPa, core {s.core_pressure / 1e6:.3g} MPa: "
-                + ("meets the limits" if ok else "breaks them")
-            )
-        for f in found:
-            typer.echo(f"  {f.message}")
+        for design in designs:  # every lane the taper winds
+            which = f", {design.roll_name}" if len(designs) > 1 else ""
+            wound = result.wound_rolls.get(design.roll_name)
+            found = wound.findings() if wound is not None else []
+            meets = wound is not None and not any(f.kind in LIMIT_KINDS for f in found)
+            ok = ok and meets
+            if wound is not None:
+                s = wound.stress
+                typer.echo(
+                    f"check: {run_s:g} s of {base.name} with {best.form} taper "
+                    f"{best.taper:.3f}{which}: min hoop "
+                    f"{s.hoop.min() / 1e6:.3g} MPa, max pressure {s.pressure.max() / 1e6:.3g}"
+                    f" MPa, core {s.core_pressure / 1e6:.3g} MPa: "
+                    + ("meets the limits" if meets else "breaks them")
+                )
+            for f in found:
+                typer.echo(f"  {f.message}")
     target.write_text(dump_spec(tapered.spec), encoding="utf-8")
     typer.echo(str(target.resolve()))
     if not ok:

@@ -225,6 +225,9 @@ class WoundRoll:
                     t0,
                     {
                         "radius_m": [r0, r1],
+                        # where the hoop departs most: the transient's own layers (a stiff
+                        # web's band reaches below them, its pressure pressing the stack)
+                        "peak_radius_m": float(s.radius[k]),
                         "time_s": [t0, t1],
                         "layers": b.last - b.first + 1,
                         "hoop_departure": float(departure[k]),
