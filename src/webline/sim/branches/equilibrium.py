@@ -181,6 +181,8 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
                 continue
             cells = plan.cells[first:first + count, 0]
             felt = felt_view(work, n_s, n_n, plan.lawi.shape[0] > 0, plan.kv.shape[0] > 0)
+            if plan.offsets[B.O_SENSORS]:  # its loadcells read gain T + offset (sensors)
+                felt = plan.sf[:, B.SF_TGAIN] * felt + plan.sf[:, B.SF_TOFFSET]
             out[row] = (np.sum(felt[cells]) - np.sum(refs[cells])) / t_scale  # (web laws: F(s))
         return out
 

@@ -188,7 +188,8 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
             for c in range(first, first + int(plan.di[d, B.DI_NCELLS])):
                 k = int(plan.cells[c, 0])
                 reading = reading_row(plan, c, kept)  # a dancer's position or tension
-                on_x, on_ref = (-felt[k], 1.0) if reading is None else reading  # (a loadcell)
+                on_x, on_ref = (-plan.sf[k, B.SF_TGAIN] * felt[k], 1.0) if reading is None else (
+                    reading)  # (a loadcell: its gain, spec.sensors)
                 ev_x += row[B.D_SIGMA] * row[B.D_KPT] * on_x
                 ev_r[1 + c] += row[B.D_SIGMA] * row[B.D_KPT] * on_ref
                 gx[q_t] += row[B.D_KIT] * on_x
@@ -255,8 +256,8 @@ def wound_gains(plan: BranchPlan, point: BranchPoint,
             k = int(plan.cells[c, 0])
             if plan.cells[c, B.CELL_DANCER] >= 0:  # a dancer's position: no loadcell
                 continue
-            ev_w -= row[B.D_SIGMA] * row[B.D_KPT] * felt[k]
-            gw[n_d + zoned.index(d)] -= row[B.D_KIT] * felt[k]
+            ev_w -= row[B.D_SIGMA] * row[B.D_KPT] * plan.sf[k, B.SF_TGAIN] * felt[k]
+            gw[n_d + zoned.index(d)] -= row[B.D_KIT] * plan.sf[k, B.SF_TGAIN] * felt[k]
         gain = 1.0
         if row[B.D_ADAPTIVE] > 0.0:  # as controller_matrices
             inertia = node_inertia(i, point.x, plan.const.offsets, plan.nodes, plan.rolls) + (

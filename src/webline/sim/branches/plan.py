@@ -31,6 +31,7 @@ from webline.sim.branches.loop.dancer_taper import taper_loads
 from webline.sim.branches.loop.draw import refs_rows
 from webline.sim.branches.loop.kernel import compiled_advance
 from webline.sim.branches.loop.plant import node_inertia, work_size
+from webline.sim.branches.sensors import sensor_columns
 from webline.sim.branches.traction import traction_columns
 from webline.sim.branches.web_laws import law_tables
 from webline.sim.branches.winder import (
@@ -182,7 +183,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     n_dn = len(dancer_nodes(line))
     offsets = np.array([off_w, off_r, off_tq, off_q, off_c, off_c + len(cores),
                         off_dn + 2 * n_dn, -1, 0, 0, 0, off_dn, off_dn + 2 * n_dn, 0, 0,
-                        int(line.exact)],
+                        int(line.exact), 0],
                        dtype=np.int64)
     nodes = np.zeros((n_n, B.N_COLS))
     for i, r in enumerate(spec.rollers):
@@ -268,6 +269,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     radius0 = diameter_columns(line, df, di)
     winder_columns(line, di, df, profiles)  # centre winders: compensation, open loop, ramp
     offsets[B.O_RAMP] = ramp_column(line, profiles)
+    sensor_columns(line, offsets, sf, di, cells)  # calibrated loadcells (spec.sensors)
     events = np.vstack([events, np.reshape(splice_rows(line, 1.0 / (
         spec.control.sample_rate if sample_rate is None else sample_rate)), (-1, B.E_COLS))])
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)

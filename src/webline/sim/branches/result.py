@@ -100,6 +100,14 @@ class BranchResult(RunResult):
         return self.dataset["tension"].values
 
     @cached_property
+    def tension_measured(self) -> np.ndarray:
+        """Span tensions [N] as the loadcells show them, without their noise: gain T + offset
+        on a calibrated loadcell's span (``spec.sensors``), ``tension`` elsewhere."""
+        if not self.plan.offsets[B.O_SENSORS]:
+            return self.tension
+        return self.plan.sf[:, B.SF_TGAIN] * self.tension + self.plan.sf[:, B.SF_TOFFSET]
+
+    @cached_property
     def tension_ref(self) -> np.ndarray:
         """Tension reference of each loadcell (or dancer) span [N] as its drive sets it: the
         taper applied to the radius its controller uses (``findings.winder_states``, as

@@ -95,5 +95,6 @@ class BranchedLineSpec(Strict):
     #: thresholds of the verdict's winder-state findings, per web and lane zone, roll and
     #: dancer (docs/branching.md, "Winder states in the verdict")
     checks: StateChecksSpec = StateChecksSpec()
-    #: refused for now (``check_branched``): sensors act in the single-path loop only
+    #: loadcells' calibration (docs/branching.md, "Sensors"); encoders and delays act on
+    #: single-path lines only (``check_branched``)
     sensors: list[SensorSpec] = Field(default_factory=list)

@@ -27,6 +27,7 @@ from webline.sim.branches.loop.breaks import (
 from webline.sim.branches.loop.dancer import position_error, sensed_tension
 from webline.sim.branches.loop.decentral import decentral_command, reference_changes
 from webline.sim.branches.loop.draw import draw_factor, start_references
+from webline.sim.branches.loop.loadcell import loadcell_reading
 from webline.sim.branches.loop.observer import observe
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.loop.user import user_tick
@@ -183,7 +184,7 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
                     continue
                 e_t += position_error(cells[c, B.CELL_DANCER], x, nodes)  # dancer position
                 continue
-            measured = _tension(x[cells[c, 0]])
+            measured = loadcell_reading(cells[c, 0], _tension(x[cells[c, 0]]), offsets, sf)
             if noisy:
                 measured += sigma_t * gaussian(seed, tick, 2 * c + 1)
             e_t += factor * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - measured
@@ -198,7 +199,7 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
                 cmd[d] = user_tick(d, i, t, tick, dt, v_meas, radius, v_line * draw, a_line,
                                    factor,
                                    stopping, x, istate, offsets, nodes, rolls, di, df, cells,
-                                   dist, prof_t, prof_v, prof_off, sigma_t, seed, noisy)
+                                   dist, prof_t, prof_v, prof_off, sigma_t, seed, noisy, sf)
                 continue
             if offsets[B.O_BREAK] and stopping == 0.0 and df[d, B.D_BHOLD] != (
                     B.HOLD_ZERO_SPEED) and df[d, B.D_BHOLD] != B.HOLD_STALL:  # "off", "brakes":

@@ -255,3 +255,11 @@ LI_SPAN, LI_STATE, LI_UP, LI_UPSTATE, LI_LIN, LI_LOUT = range(LI_COLS, LI_COLS +
 LI_COLS += 6
 LF_UPSCALE, LF_EA, LF_STRENGTH = range(LF_COLS, LF_COLS + 3)
 LF_COLS += 3
+
+# calibrated loadcells (spec.sensors; docs/branching.md, "Sensors"): the offsets row's entry
+# O_SENSORS, 1 where a loadcell is other than ideal (the loop reads the columns only then, so
+# a line without sensors compiles and runs as before); span table (float): the gain [-] and
+# offset [N] of the loadcell on the span (1, 0: ideal or none), its reading gain T + offset
+O_SENSORS = O_EXACT + 1
+SF_TGAIN, SF_TOFFSET = SF_COLS, SF_COLS + 1
+SF_COLS += 2

@@ -23,6 +23,7 @@ from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop import transmission as TR
 from webline.sim.branches.loop.breaks import held_command
 from webline.sim.branches.loop.dancer import position_error, sensed_tension
+from webline.sim.branches.loop.loadcell import loadcell_reading
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.loop.winder import compensation
 from webline.sim.elements.signals import gaussian, jit, profile_at, sines
@@ -37,7 +38,7 @@ def user_command(d: int, t: float, tick: int, v_meas: float, radius: float, iner
                  istate: np.ndarray, offsets: np.ndarray, nodes: np.ndarray, di: np.ndarray,
                  df: np.ndarray, cells: np.ndarray, dist: np.ndarray, prof_t: np.ndarray,
                  prof_v: np.ndarray, prof_off: np.ndarray, sigma_t: float, seed: int,
-                 noisy: bool) -> float:
+                 noisy: bool, sf: np.ndarray) -> float:
     """Store user drive ``d``'s readings at tick ``tick`` (time ``t`` [s]) and return its
     torque command [N·m]: the held ``I_UCMD`` saturated at the torque limit, plus ``comp``
     (a centre winder's compensation, saturated again). Its zone's tension is the sum of its
@@ -57,7 +58,7 @@ def user_command(d: int, t: float, tick: int, v_meas: float, radius: float, iner
                 continue
             tension += ref - position_error(cells[c, B.CELL_DANCER], x, nodes)
             continue
-        measured = _tension(x[cells[c, 0]])
+        measured = loadcell_reading(cells[c, 0], _tension(x[cells[c, 0]]), offsets, sf)
         if noisy:
             measured += sigma_t * gaussian(seed, tick, 2 * c + 1)
         tension += measured
@@ -81,7 +82,7 @@ def user_tick(d: int, i: int, t: float, tick: int, dt: float, v_meas: float, rad
               istate: np.ndarray, offsets: np.ndarray, nodes: np.ndarray, rolls: np.ndarray,
               di: np.ndarray, df: np.ndarray, cells: np.ndarray, dist: np.ndarray,
               prof_t: np.ndarray, prof_v: np.ndarray, prof_off: np.ndarray, sigma_t: float,
-              seed: int, noisy: bool) -> float:
+              seed: int, noisy: bool, sf: np.ndarray) -> float:
     """User drive ``d``'s (node ``i``) command [N·m] at its tick, as ``control_tick`` issues a
     cascaded PI's: its speed reference line speed ``v_line`` (times the change of its draw,
     ``loop.draw``) x its draw at the start + its speed ripple
@@ -104,4 +105,4 @@ def user_tick(d: int, i: int, t: float, tick: int, dt: float, v_meas: float, rad
     return user_command(d, t, tick, v_meas, radius, inertia, v_line * df[d, B.D_FF] + ripple,
                         factor, offsets[B.O_BREAK] != 0 and stopping < 1.0, comp, x, istate,
                         offsets, nodes, di, df, cells, dist, prof_t, prof_v, prof_off, sigma_t,
-                        seed, noisy)
+                        seed, noisy, sf)

@@ -1,0 +1,96 @@
+"""Calibrated loadcells on a branched line (``[[sensors]]`` with ``[[webs]]``,
+docs/branching.md "Sensors"): the zone's PI holds the loadcell's reading gain T + offset on
+its reference, so the web settles at (T_ref - offset) / gain, as on a single-path line
+(tests/integration/test_sensors.py). The laminator (src/webline/data/lines/laminator.toml):
+film 120 N, foil 60 N, laminate 180 N."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from test_branch_dancers import dancer_laminator
+
+import webline
+from webline.errors import LineFileError
+from webline.model.web_graph import load_branched
+
+FILM, FOIL, LAMINATE = 120.0, 60.0, 180.0
+
+
+def laminator(sensors):
+    return load_branched("laminator").replace({"sensors": sensors})
+
+
+def span(result, name):
+    return result.span_names.index(name)
+
+
+@pytest.fixture(scope="module")
+def ideal():
+    return webline.simulate("laminator", duration=0.5)
+
+
+def test_an_ideal_declared_loadcell_changes_nothing(ideal):
+    """gain 1, offset 0: the loop compiles as without sensors, bit for bit."""
+    result = webline.simulate(laminator([{"name": "lc", "type": "loadcell",
+                                          "span": "laminate_zone"}]), duration=0.5)
+    assert np.array_equal(result.states, ideal.states)
+    assert np.array_equal(result.tension_measured, result.tension)
+
+
+def test_a_loadcell_reading_high_holds_the_laminate_below_its_set_point(ideal):
+    """gain 1.03 on the laminate zone: the rewind's PI holds 1.03 T on 180 N, so the web
+    carries 180 / 1.03 N; the operating point knows it (the run starts there), and the
+    reading then follows the ideal line's tension (the growing rewind drifts both by 0.02 N
+    in 0.5 s) within 1e-3 N; the film and foil zones, held by their own loadcells, keep
+    theirs."""
+    result = webline.simulate(laminator([{"name": "lc", "type": "loadcell",
+                                          "span": "laminate_zone", "gain": 1.03}]),
+                              duration=0.5)
+    k = span(result, "laminate_zone")
+    assert result.tension[0, k] == pytest.approx(LAMINATE / 1.03, abs=1e-6)
+    assert result.tension_measured[:, k] == pytest.approx(ideal.tension[:, k], abs=1e-3)
+    assert result.tension[:, k] == pytest.approx(ideal.tension[:, k] / 1.03, abs=1e-3)
+    for name, ref in (("film_zone", FILM), ("foil_zone", FOIL)):
+        j = span(result, name)
+        assert result.tension[0, j] == pytest.approx(ref, abs=1e-6)
+        assert result.tension[-1, j] == pytest.approx(ideal.tension[-1, j], abs=1e-5)
+
+
+def test_the_loop_follows_a_step_to_the_calibrated_tension():
+    """layer-upset: the film reference steps 120 -> 150 N at 2 s; with the film loadcell
+    reading 3 % high and 1 N over, the film settles at (150 - 1) / 1.03 N (8 rad/s tension
+    loop: settled to 1e-3 N within 3 s), having started at (120 - 1) / 1.03 N."""
+    line = laminator([{"name": "lc", "type": "loadcell", "span": "film_zone", "gain": 1.03,
+                       "offset": "1 N"}]).with_scenario("layer-upset")
+    result = webline.simulate(line, duration=5.0)
+    k = span(result, "film_zone")
+    assert result.tension[0, k] == pytest.approx((FILM - 1.0) / 1.03, abs=1e-5)
+    assert result.tension[-1, k] == pytest.approx((150.0 - 1.0) / 1.03, abs=1e-3)
+    assert result.tension_measured[-1, k] == pytest.approx(150.0, abs=1.03e-3)
+    # the ideal loadcell would have held 150 N: the calibration error is 4.5 N, not noise
+    assert 150.0 - result.tension[-1, k] > 4.0
+
+
+@pytest.mark.parametrize(("sensor", "key", "words"), [
+    ({"name": "e", "type": "encoder", "roller": "nip"}, "sensors[0].type", "encoders act"),
+    ({"name": "lc", "type": "loadcell", "span": "film_zone", "delay": "5 ms"},
+     "sensors[0].delay", "delays act"),
+    ({"name": "lc", "type": "loadcell", "span": "laminate[1]"}, "sensors[0].span",
+     "no tension reference"),
+    ({"name": "lc", "type": "loadcell", "span": "nowhere"}, "sensors[0].span", "no span"),
+])
+def test_what_a_branched_line_refuses(sensor, key, words):
+    with pytest.raises(LineFileError) as error:
+        laminator([sensor])
+    assert key in str(error.value) and words in str(error.value)
+
+
+def test_a_loadcell_on_a_zone_its_dancer_holds_is_refused():
+    """The film zone held by its dancer's position: the loadcell is not in the loop, its
+    calibration would not act, so the run refuses it naming the key (as the chain's)."""
+    data = dancer_laminator()
+    data["sensors"] = [{"name": "lc", "type": "loadcell", "span": "film_zone", "gain": 1.02}]
+    with pytest.raises(LineFileError, match=r"sensors\[0\]\.span: the dancer of "
+                       r"'unwind_film' controls span 'film_zone'"):
+        webline.simulate(load_branched(data), 0.1)
