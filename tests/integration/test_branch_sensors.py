@@ -113,3 +113,21 @@ def test_a_fit_finds_the_laminate_loadcells_gain(tmp_path):
     assert result.value[0] == pytest.approx(1.03, rel=0.01), result
     assert result.ci95[0, 0] <= 1.03 <= result.ci95[0, 1], result
     assert result.verdict.status == "good", result.verdict
+
+
+@pytest.mark.parametrize("gain", [1.0, 1.03])
+def test_the_linear_model_holds_the_reading_on_the_reference(gain):
+    """Closed loop, the film zone's steady gain from its reference to its tension,
+    -C A⁻¹ B: the tension integrator drives the reading's error to 0, so 1 N more reference
+    is 1 / gain N more web (1 / 1.03 = 0.97087), to the solver's 1e-9."""
+    from webline.sim.branches.equilibrium import operating_point
+    from webline.sim.branches.linear import branch_linear_model
+    from webline.sim.branches.plan import compile_branches
+
+    plan = compile_branches(laminator([{"name": "lc", "type": "loadcell", "span": "film_zone",
+                                        "gain": gain}]))
+    model = branch_linear_model(plan, operating_point(plan), "closed")
+    b = model.b[:, model.inputs.index("film_zone_tension_ref")]
+    row = model.c[model.outputs.index("film_zone_tension")]
+    assert max(np.linalg.eigvals(model.a).real) < 0.0  # (stable: the steady gain exists)
+    assert row @ np.linalg.solve(model.a, -b) == pytest.approx(1.0 / gain, abs=1e-9)
