@@ -50,6 +50,7 @@ def test_a_loadcell_reading_high_holds_the_laminate_below_its_set_point(ideal):
     k = span(result, "laminate_zone")
     assert result.tension[0, k] == pytest.approx(LAMINATE / 1.03, abs=1e-6)
     assert result.tension_measured[:, k] == pytest.approx(ideal.tension[:, k], abs=1e-3)
+    assert "tension_measured" in result.dataset and "tension_measured" not in ideal.dataset
     assert result.tension[:, k] == pytest.approx(ideal.tension[:, k] / 1.03, abs=1e-3)
     for name, ref in (("film_zone", FILM), ("foil_zone", FOIL)):
         j = span(result, name)

@@ -105,7 +105,7 @@ class BranchResult(RunResult):
         on a calibrated loadcell's span (``spec.sensors``), ``tension`` elsewhere."""
         if not self.plan.offsets[B.O_SENSORS]:
             return self.tension
-        return self.plan.sf[:, B.SF_TGAIN] * self.tension + self.plan.sf[:, B.SF_TOFFSET]
+        return self.dataset["tension_measured"].values
 
     @cached_property
     def tension_ref(self) -> np.ndarray:
@@ -255,6 +255,10 @@ class BranchResult(RunResult):
             "core_omega": var(("core",), core_omega, "rad/s",
                               "angular speed of a lane's core on a differential shaft"),
         }
+        if plan.offsets[B.O_SENSORS]:  # what the calibrated loadcells show (spec.sensors)
+            data["tension_measured"] = var(
+                ("span",), plan.sf[:, B.SF_TGAIN] * tension + plan.sf[:, B.SF_TOFFSET], "N",
+                "span tension as its loadcell shows it (gain, offset; no noise)")
         if np.any(plan.di[:, B.DI_TSTATE] >= 0):  # compliant transmissions (drive_trains)
             data.update(train_signals(plan.offsets, plan.di, plan.df, x, var))
         coords = {"time": ("time", t, {"units": "s"}),

@@ -126,7 +126,8 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
                  layers: np.ndarray) -> None:
     """One sample ``tick`` of every drive's cascaded PI (thesis Fig. 4.3, as the chain's
     ``sim.drives.controllers.pi_command``): line speed x draw is the speed feedforward, a
-    tension PI on the zone's loadcell (or the sum of its loadcells) trims it, a speed PI gives
+    tension PI on the zone's loadcell's reading (or the sum of its loadcells'; calibrated in
+    ``sf``, ``loop.loadcell``) trims it, a speed PI gives
     the torque, clipped, with conditional integration. ``cells`` rows: (span, profile).
     ``dist``: a drive's speed ripple adds to its speed reference; measurement noise to the
     measured speed (channel 2 d, then rounded to the resolution) and each loadcell's tension

@@ -42,7 +42,8 @@ def user_command(d: int, t: float, tick: int, v_meas: float, radius: float, iner
     """Store user drive ``d``'s readings at tick ``tick`` (time ``t`` [s]) and return its
     torque command [N·m]: the held ``I_UCMD`` saturated at the torque limit, plus ``comp``
     (a centre winder's compensation, saturated again). Its zone's tension is the sum of its
-    loadcells (a shaft of lanes: one per lane), with the same noise draws as the built-in
+    loadcells' readings (calibrated in ``sf``, ``loop.loadcell``; a shaft of lanes: one per
+    lane), with the same noise draws as the built-in
     loop; its reference the sum of theirs times the taper ``factor``; a dancer as tension
     sensor reads the tension it senses, one in position control reference - (y - y_set), so
     that reference - reading is the position error [m] the built-in loop uses; ``frozen``
