@@ -132,3 +132,14 @@ def test_the_linear_model_holds_the_reading_on_the_reference(gain):
     row = model.c[model.outputs.index("film_zone_tension")]
     assert max(np.linalg.eigvals(model.a).real) < 0.0  # (stable: the steady gain exists)
     assert row @ np.linalg.solve(model.a, -b) == pytest.approx(1.0 / gain, abs=1e-9)
+
+
+def test_show_lists_the_calibrated_loadcells():
+    """``webline show`` of a branched line: a sensors table (the single-path one's rows)."""
+    from webline.report.text.branch_tables import line_tables
+
+    line = laminator([{"name": "lc", "type": "loadcell", "span": "laminate_zone",
+                       "gain": 1.03, "offset": "-1 N"}])
+    (table,) = [t for t in line_tables(line) if t.key == "sensors"]
+    assert table.rows == (("lc", "loadcell", "span laminate_zone", "1.03 x T - 1 N"),)
+    assert not [t for t in line_tables(load_branched("laminator")) if t.key == "sensors"]

@@ -5,7 +5,7 @@ drives with their zones; per web and lane the run's tensions and the verdict's f
 from __future__ import annotations
 
 from webline.model.web_graph import BranchedLine
-from webline.report.text.describe import backlash_text, transmission_text
+from webline.report.text.describe import backlash_text, sensors_table, transmission_text
 from webline.report.text.display import Display, number_text, profile_text
 from webline.report.text.tables import Table, make_table
 from webline.sim.branches.result import BranchResult
@@ -91,7 +91,7 @@ def force_label(display: Display, name: str) -> str:
 def line_tables(line: BranchedLine, display: Display = SI) -> list[Table]:
     """The line's tables in ``display``'s units ('si' or 'imperial', or per width: each web's
     EA and each span's tension reference per its own web's width): line, webs, rollers,
-    spans, drives and their zones, scenarios."""
+    spans, drives and their zones, calibrated sensors, scenarios."""
     spec = line.spec
     small, small_unit = small_length(display)
     thin, thin_unit = thin_length(display)
@@ -158,6 +158,7 @@ def line_tables(line: BranchedLine, display: Display = SI) -> list[Table]:
             make_table("drives", "Drives and their tension zones", [
                 "drive", "controls", "zone spans", display.label("torque limit", "torque"),
                 "ratio", *(TRAIN_COLUMNS if trains else [])], drives),
+            *([sensors_table(line, display)] if spec.sensors else []),
             make_table("scenarios", "Scenarios", ["scenario", "duration [s]", "description"],
                        [(name, number_text(sc.duration), sc.description or "–")
                         for name, sc in spec.scenarios.items()])]

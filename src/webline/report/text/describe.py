@@ -4,6 +4,7 @@ chosen units: what ``webline show`` prints and the report's line section shows."
 from __future__ import annotations
 
 from webline.line import Line
+from webline.model.web_graph import BranchedLine
 from webline.report.text.describe_winder import winder_table, zones_table
 from webline.report.text.display import Display, profile_text
 from webline.report.text.tables import Table, make_table, node_kind
@@ -24,7 +25,7 @@ def line_tables(line: Line, display: Display) -> list[Table]:
         _disturbances(line, display), _scenarios(line)]
 
 
-def sensors_table(line: Line, d: Display) -> Table:
+def sensors_table(line: Line | BranchedLine, d: Display) -> Table:
     """The calibrated sensors (``spec.sensors``): what each measures and what its controller
     reads there."""
     rows = []
