@@ -3,13 +3,17 @@ chosen units: what ``webline show`` prints and the report's line section shows."
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from webline.line import Line
-from webline.model.web_graph import BranchedLine
 from webline.report.text.describe_winder import winder_table, zones_table
 from webline.report.text.display import Display, profile_text
 from webline.report.text.tables import Table, make_table, node_kind
 from webline.spec.roll_inertia import roll_constants
 from webline.spec.schema import IdleSpec, RewindSpec, UnwindSpec
+
+if TYPE_CHECKING:  # (a single-path run imports no branched line: tests/unit/test_startup.py)
+    from webline.model.web_graph import BranchedLine
 
 
 def line_tables(line: Line, display: Display) -> list[Table]:
