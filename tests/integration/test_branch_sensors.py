@@ -143,3 +143,25 @@ def test_show_lists_the_calibrated_loadcells():
     (table,) = [t for t in line_tables(line) if t.key == "sensors"]
     assert table.rows == (("lc", "loadcell", "span laminate_zone", "1.03 x T - 1 N"),)
     assert not [t for t in line_tables(load_branched("laminator")) if t.key == "sensors"]
+
+
+def test_a_state_feedback_drive_holds_its_loadcells_reading():
+    """State feedback on every drive (docs/branching.md, "State feedback"), the film
+    reference stepped 120 -> 130 N at 0.5 s, the film loadcell at gain 1.03: its reference
+    tables are the readings', so the zone starts at 120 / 1.03 N and ends, 3.5 s on, with
+    the reading at 130 N within 1e-4 N (the ideal line's: 130 - 8e-6 N), the web at
+    130 / 1.03 N."""
+    data = load_branched("laminator").spec.model_dump(exclude_none=True)
+    data.pop("scenarios")
+    for roller in data["rollers"]:
+        if "controller" in roller:
+            roller["controller"] = {"type": "state_feedback"}
+    data["webs"][0]["spans"][1]["tension"] = {
+        "type": "steps", "initial": 120.0, "steps": [{"time": 0.5, "value": 130.0}]}
+    data["sensors"] = [{"name": "lc", "type": "loadcell", "span": "film_zone", "gain": 1.03}]
+    result = webline.simulate(load_branched(data), 4.0)
+    k = span(result, "film_zone")
+    assert result.failure is None
+    assert result.tension[0, k] == pytest.approx(FILM / 1.03, abs=1e-6)
+    assert result.tension_measured[-1, k] == pytest.approx(130.0, abs=1e-4)
+    assert result.tension[-1, k] == pytest.approx(130.0 / 1.03, abs=1e-4)

@@ -161,11 +161,12 @@ def prepare(plan: BranchPlan) -> list[SectionDesign | None]:
     refs[n_s:n_s + n_d, 0] = point.ratio * point.line_speed
     refs[-2, 0] = point.line_speed
     for c, (k, p, *_) in enumerate(plan.cells):
-        refs[-2, 1 + c] = point.x[k]
+        gain = plan.sf[k, B.SF_TGAIN]  # its loadcell reads gain T + offset (spec.sensors)
+        refs[-2, 1 + c] = gain * point.x[k] + plan.sf[k, B.SF_TOFFSET]
         prof_v = plan.prof_v.copy()
         prof_v[plan.prof_off[p]:plan.prof_off[p + 1]] += 1.0
         moved = operating_point(dataclasses.replace(plan, prof_v=prof_v), t)
-        step = moved.x[k] - point.x[k]  # 1 N times the taper factor at the start
+        step = gain * (moved.x[k] - point.x[k])  # 1 N times the taper factor at the start
         refs[:n_s, 1 + c] = (moved.x[:n_s] - point.x[:n_s]) / step
         refs[n_s:n_s + n_d, 1 + c] = (moved.ratio - point.ratio) * point.line_speed / step
     designs: list[SectionDesign | None] = []
