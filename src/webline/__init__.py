@@ -66,6 +66,7 @@ _LAZY_ABOVE = {
     "fit": "webline.twin.fitting.fit",
     "tune": "webline.twin.tuning.tune",
     "benchmark": "webline.studies.benchmark.run",
+    "export_fmu": "webline.fmu.export",
 }
 
 __all__ = [
@@ -85,6 +86,7 @@ __all__ = [
     "WeblineError",
     "__version__",
     "benchmark",
+    "export_fmu",
     "fit",
     "linearize",
     "load_line",

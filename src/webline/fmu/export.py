@@ -1,0 +1,99 @@
+"""``export_fmu``: a line with its built-in controllers as an FMI 2.0 or 3.0 co-simulation FMU
+(docs/fmu.md): the general loop's object (``loop_object``), the C wrapper (``fmi_wrapper.c``)
+with the line's tables (``c_model``), linked by the system's C compiler into a shared library
+and zipped with its ``modelDescription.xml``."""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import subprocess
+import tempfile
+import uuid
+import zipfile
+from importlib import resources
+from pathlib import Path
+
+import numba
+
+from webline.errors import ArgumentError, WeblineError
+from webline.fmu.c_model import model_header
+from webline.fmu.loop_object import loop_arrays, loop_object
+from webline.fmu.model_description import _identifier, model_description
+from webline.fmu.variables import fmu_variables
+from webline.model.web_graph import BranchedLine, load_branched
+from webline.sim.branches.run import plan_and_step, run_start
+from webline.spec.ranges import argument
+
+#: the FMI platform folder of the binary each version's FMU holds
+PLATFORM = {2: "linux64", 3: "x86_64-linux"}
+
+
+class FmuBuildError(WeblineError):
+    """The FMU could not be built (no C compiler, a compiler error)."""
+
+
+def export_fmu(line: BranchedLine | str | Path, path: str | Path, fmi: int = 3,
+               step: float | str | None = None, scenario: str | None = None) -> Path:
+    """Write the FMU of ``line`` (a line object, a line file or a built-in name) with its
+    built-in controllers to ``path``: FMI ``fmi`` (2 or 3) co-simulation, a shared library
+    for Linux x86-64 inside, no Python. ``step``: the communication step of its default
+    experiment [s] (or with units), a whole number of controller periods (default: one);
+    ``scenario``: a named scenario of the line file whose references and events the FMU
+    runs. The start state (the operating point at t = 0) is computed here, from the file's
+    values: parameters changed at instantiation start from it. The first export of a line
+    structure compiles the loop (minutes); later ones read it from numba's cache folder.
+    Returns the path."""
+    if fmi not in PLATFORM:
+        raise ArgumentError(f"fmi: expected 2 or 3, got {fmi!r}")
+    branched = load_branched(line)
+    if scenario is not None:
+        branched = branched.with_scenario(scenario)
+    plan, point, substeps = plan_and_step(branched, None, None)
+    dt = plan.dt
+    comm = dt if step is None else argument(step, "time", "step")
+    k = round(comm / dt)
+    if k < 1 or not math.isclose(k * dt, comm, rel_tol=1e-9):
+        raise ArgumentError(f"step: must be a whole number of the line's controller period "
+                            f"{dt:g} s, got {comm:g} s")
+    arrays = loop_arrays(plan, *run_start(plan, point))
+    variables = fmu_variables(plan, arrays)
+    name = branched.name + (f"_{scenario}" if scenario else "")
+    guid = "{" + str(uuid.uuid4()) + "}"
+    obj = loop_object(plan, arrays, substeps,
+                      cache=Path(numba.config.CACHE_DIR) / "fmu")  # type: ignore[attr-defined]
+    ident = _identifier(name)
+    out = Path(path)
+    with tempfile.TemporaryDirectory(prefix="webline-fmu-") as tmp:
+        folder = Path(tmp)
+        (folder / "loop.o").write_bytes(obj)
+        (folder / "model.h").write_text(model_header(name, guid, dt, arrays, plan.prof_off,
+                                                     variables))
+        wrapper = folder / "fmi_wrapper.c"
+        wrapper.write_text(resources.files("webline.fmu").joinpath("fmi_wrapper.c").read_text())
+        library = folder / f"{ident}.so"
+        _compile(folder, wrapper, library, fmi)
+        xml = model_description(fmi, name, guid, k * dt, variables,
+                                f"webline line {branched.name} with its controllers")
+        tmp_out = out.with_name(f".{out.name}.{os.getpid()}.tmp")
+        with zipfile.ZipFile(tmp_out, "w", zipfile.ZIP_DEFLATED) as fmu:
+            fmu.writestr("modelDescription.xml", xml)
+            fmu.write(library, f"binaries/{PLATFORM[fmi]}/{ident}.so")
+        tmp_out.replace(out)
+    return out
+
+
+def _compile(folder: Path, wrapper: Path, library: Path, fmi: int) -> None:
+    """Link the wrapper and the loop's object into ``library`` with the system's C compiler
+    (``CC``, else cc or gcc)."""
+    cc = os.environ.get("CC") or shutil.which("cc") or shutil.which("gcc")
+    if cc is None:
+        raise FmuBuildError("export --fmu needs a C compiler (cc or gcc, or set CC) to link "
+                            "the FMU's shared library")
+    command = [cc, "-shared", "-fPIC", "-O2", "-fvisibility=hidden", f"-DFMI_VERSION={fmi}",
+               "-I", str(folder), "-o", str(library), str(wrapper), str(folder / "loop.o"),
+               "-lm"]
+    done = subprocess.run(command, capture_output=True, text=True)
+    if done.returncode != 0:
+        raise FmuBuildError(f"the C compiler failed to build the FMU: {done.stderr.strip()}")
