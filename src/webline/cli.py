@@ -50,6 +50,7 @@ from webline.cli_roll import taper_command
 from webline.cli_sweep import sweep_command
 from webline.cli_tune import experiment_command, tune_command
 from webline.cli_twin import fit_command, replay_command
+from webline.cli_export import export_command
 from webline.cli_warm import warm_command
 from webline.version import __version__
 
@@ -362,6 +363,7 @@ app.command("experiment")(handles_errors(runs_code(experiment_command)))
 app.command("taper")(handles_errors(runs_code(taper_command)))
 app.command("benchmark")(handles_errors(runs_code(benchmark_command)))
 app.command("warm")(handles_errors(warm_command))
+app.command("export")(handles_errors(export_command))
 
 
 def main() -> None:

@@ -1,0 +1,41 @@
+"""``webline export LINE --fmu OUT.fmu``: the line with its built-in controllers as an FMI 2.0
+or 3.0 co-simulation FMU (``webline.fmu``, docs/fmu.md).
+
+Registered on the app by ``webline.cli``; it imports nothing from there (no cycle).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from webline.errors import ArgumentError
+
+
+def export_command(
+    line: Annotated[str, typer.Argument(help="A built-in line name or a line file.")],
+    fmu: Annotated[Path | None, typer.Option("--fmu", help="Write the FMU to this file.")] = None,
+    fmi: Annotated[int, typer.Option("--fmi", help="FMI version: 2 or 3.")] = 3,
+    step: Annotated[str | None, typer.Option(
+        "--step", help="Communication step (e.g. '10 ms'), a whole number of controller "
+        "periods; default: one period.")] = None,
+    scenario: Annotated[str | None, typer.Option(
+        "--scenario", help="A named scenario of the line file for the FMU's references "
+        "and events.")] = None,
+    plant_only: Annotated[bool, typer.Option(
+        "--plant-only", help="Torque commands as inputs, controllers out (not yet: "
+        "docs/fmu.md).")] = False,
+) -> None:
+    """Export LINE with its built-in controllers as a co-simulation FMU for Linux x86-64 that
+    runs without Python (docs/fmu.md). Needs a C compiler (cc or gcc) to link it."""
+    from webline.fmu.export import export_fmu
+
+    if fmu is None:
+        raise ArgumentError("export: say where to write the FMU with --fmu OUT.fmu")
+    if plant_only:
+        raise ArgumentError("export --plant-only: not available yet; the FMU holds the line's "
+                            "controllers (docs/fmu.md, 'Plant only')")
+    path = export_fmu(line, fmu, fmi=fmi, step=step, scenario=scenario)
+    typer.echo(str(path))
