@@ -45,12 +45,12 @@ from webline.cli_common import (
     runs_code,
     sigterm_as_interrupt,
 )
+from webline.cli_export import export_command
 from webline.cli_hints import WeblineGroup
 from webline.cli_roll import taper_command
 from webline.cli_sweep import sweep_command
 from webline.cli_tune import experiment_command, tune_command
 from webline.cli_twin import fit_command, replay_command
-from webline.cli_export import export_command
 from webline.cli_warm import warm_command
 from webline.version import __version__
 

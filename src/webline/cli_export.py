@@ -25,17 +25,15 @@ def export_command(
         "--scenario", help="A named scenario of the line file for the FMU's references "
         "and events.")] = None,
     plant_only: Annotated[bool, typer.Option(
-        "--plant-only", help="Torque commands as inputs, controllers out (not yet: "
-        "docs/fmu.md).")] = False,
+        "--plant-only", help="The drives' torque commands as inputs, the controllers left "
+        "out (for a PLC's or a user's controller to close the loop).")] = False,
 ) -> None:
-    """Export LINE with its built-in controllers as a co-simulation FMU for Linux x86-64 that
-    runs without Python (docs/fmu.md). Needs a C compiler (cc or gcc) to link it."""
+    """Export LINE with its built-in controllers (or, with --plant-only, without them) as a
+    co-simulation FMU for Linux x86-64 that runs without Python (docs/fmu.md). Needs a C
+    compiler (cc or gcc) to link it."""
     from webline.fmu.export import export_fmu
 
     if fmu is None:
         raise ArgumentError("export: say where to write the FMU with --fmu OUT.fmu")
-    if plant_only:
-        raise ArgumentError("export --plant-only: not available yet; the FMU holds the line's "
-                            "controllers (docs/fmu.md, 'Plant only')")
-    path = export_fmu(line, fmu, fmi=fmi, step=step, scenario=scenario)
+    path = export_fmu(line, fmu, fmi=fmi, step=step, scenario=scenario, plant_only=plant_only)
     typer.echo(str(path))

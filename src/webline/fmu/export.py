@@ -5,6 +5,7 @@ and zipped with its ``modelDescription.xml``."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import shutil
@@ -23,6 +24,8 @@ from webline.fmu.loop_object import loop_arrays, loop_object
 from webline.fmu.model_description import _identifier, model_description
 from webline.fmu.variables import fmu_variables
 from webline.model.web_graph import BranchedLine, load_branched
+from webline.sim.branches.loop import layout as B
+from webline.sim.branches.plan import BranchPlan
 from webline.sim.branches.run import plan_and_step, run_start
 from webline.spec.ranges import argument
 
@@ -35,14 +38,17 @@ class FmuBuildError(WeblineError):
 
 
 def export_fmu(line: BranchedLine | str | Path, path: str | Path, fmi: int = 3,
-               step: float | str | None = None, scenario: str | None = None) -> Path:
+               step: float | str | None = None, scenario: str | None = None,
+               plant_only: bool = False) -> Path:
     """Write the FMU of ``line`` (a line object, a line file or a built-in name) with its
     built-in controllers to ``path``: FMI ``fmi`` (2 or 3) co-simulation, a shared library
     for Linux x86-64 inside, no Python. ``step``: the communication step of its default
     experiment [s] (or with units), a whole number of controller periods (default: one);
     ``scenario``: a named scenario of the line file whose references and events the FMU
-    runs. The start state (the operating point at t = 0) is computed here, from the file's
-    values: parameters changed at instantiation start from it. The first export of a line
+    runs. ``plant_only``: the drives' torque commands are inputs and the controllers are left
+    out (each drive's readings are outputs, as a user controller gets them). The start
+    state (the operating point at t = 0) is computed here, from the file's values:
+    parameters changed at instantiation start from it. The first export of a line
     structure compiles the loop (minutes); later ones read it from numba's cache folder.
     Returns the path."""
     if fmi not in PLATFORM:
@@ -57,9 +63,14 @@ def export_fmu(line: BranchedLine | str | Path, path: str | Path, fmi: int = 3,
     if k < 1 or not math.isclose(k * dt, comm, rel_tol=1e-9):
         raise ArgumentError(f"step: must be a whole number of the line's controller period "
                             f"{dt:g} s, got {comm:g} s")
-    arrays = loop_arrays(plan, *run_start(plan, point))
-    variables = fmu_variables(plan, arrays)
-    name = branched.name + (f"_{scenario}" if scenario else "")
+    start = run_start(plan, point)
+    if plant_only:  # every drive a user drive: its command from its memory row (loop.user)
+        plan = plant_plan(plan)
+        start[1][:, B.I_UCMD] = point.torque  # held at the operating point until set
+    arrays = loop_arrays(plan, *start)
+    variables = fmu_variables(plan, arrays, plant_only)
+    name = branched.name + (f"_{scenario}" if scenario else "") + (
+        "_plant" if plant_only else "")
     guid = "{" + str(uuid.uuid4()) + "}"
     obj = loop_object(plan, arrays, substeps,
                       cache=Path(numba.config.CACHE_DIR) / "fmu")  # type: ignore[attr-defined]
@@ -82,6 +93,15 @@ def export_fmu(line: BranchedLine | str | Path, path: str | Path, fmi: int = 3,
             fmu.write(library, f"binaries/{PLATFORM[fmi]}/{ident}.so")
         tmp_out.replace(out)
     return out
+
+
+def plant_plan(plan: BranchPlan) -> BranchPlan:
+    """``plan`` with every drive a user drive (``FAMILY_USER``, ``loop.user``): the loop
+    issues the command held in the drive's memory row; a new structure, compiled once (the
+    run starts from the state and memory of ``plan``'s own controllers, as a user run)."""
+    di = plan.di.copy()
+    di[:, B.DI_FAMILY] = B.FAMILY_USER
+    return dataclasses.replace(plan, di=di)
 
 
 def _compile(folder: Path, wrapper: Path, library: Path, fmi: int) -> None:

@@ -15,7 +15,7 @@ int32_t webline_loop(int64_t *status, void **excinfo, double **arrays, int64_t *
                      int64_t tick0, int64_t n_ticks, int64_t record_every, int64_t include_end,
                      double *out);
 
-enum { OP_COPY, OP_CLIP0, OP_MUL, OP_LE0, OP_SAT, OP_GE0, OP_STATUS, OP_PARAM, OP_INPUT, OP_TIME };
+enum { OP_COPY, OP_CLIP0, OP_MUL, OP_LE0, OP_SAT, OP_GE0, OP_STATUS, OP_PARAM, OP_INPUT, OP_TIME, OP_LIVE };
 enum { T_REAL, T_BOOL, T_INT };
 enum { MODE_INSTANTIATED, MODE_INIT, MODE_STEP, MODE_TERMINATED, MODE_ERROR };
 
@@ -81,7 +81,7 @@ static double value_of(Model *m, int v) {
     case OP_SAT: return fabs(s[a]) >= s[b] * (1.0 - 1e-12) ? 1.0 : 0.0;
     case OP_GE0: return s[a] >= 0.0 ? 1.0 : 0.0;
     case OP_STATUS: return (double)m->status;
-    case OP_PARAM: return m->store[a];
+    case OP_PARAM: case OP_LIVE: return m->store[a];
     case OP_INPUT: return m->inputs[v];
     case OP_TIME: return (double)m->tick * DT;
     }
@@ -95,6 +95,11 @@ static int set_value(Model *m, int v, double value) {
         if (m->mode != MODE_INSTANTIATED && m->mode != MODE_INIT) return 1;
         m->store[VAR_A[v]] = value;
         if (VAR_B[v] >= 0) m->store[VAR_B[v]] = 1.0 / value;  /* its reciprocal (1/EA, 1/J) */
+        return 0;
+    }
+    if (VAR_OP[v] == OP_LIVE) {  /* a torque command (plant only): held from now on */
+        if (m->mode == MODE_TERMINATED || m->mode == MODE_ERROR) return 1;
+        m->store[VAR_A[v]] = value;
         return 0;
     }
     if (VAR_OP[v] == OP_INPUT) {  /* hold the profile's value from now on */

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import hashlib
 import re
-import subprocess
 from pathlib import Path
 from typing import Any
 
@@ -31,13 +30,12 @@ FLOAT_ARRAYS = ("x", "istate", "wound", "done", "rec", "stages", "cmd", "work", 
                 "sf", "rolls", "df", "clutch", "events", "dist", "prof_t", "prof_v", "lawf",
                 "laws", "fb", "refs")
 
-#: the C prototype of the object's entry point: numba's calling convention (the status is 0 on
-#: success; the return slot and the exception slot are never read, the loop raises nothing:
-#: it is compiled with numpy's error model and has no ``raise``), then the step's arguments:
-#: the float arrays' pointers in ``FLOAT_ARRAYS`` order, the profile offsets, the first tick,
-#: the ticks to run, ticks per record, 1 to record the state after the last tick, and two
-#: outputs (records written, time of failure [s]); returns in ``out``; status of the run in
-#: the return slot.
+#: the C prototype of the object's entry point, numba's calling convention: it returns 0 (the
+#: loop raises nothing: numpy's error model, no ``raise``; the exception slot is never
+#: written) and puts the run's status (``layout`` STATUS_*) in the first argument; then the
+#: step's arguments: the float arrays' pointers in ``FLOAT_ARRAYS`` order, the profile
+#: offsets, the first tick, the ticks to run, ticks per record, 1 to record the state after
+#: the last tick, and two outputs (records written, time of failure [s]).
 C_PROTOTYPE = ("int32_t webline_loop(int64_t *status, void **excinfo, double **arrays, "
                "int64_t *prof_off, int64_t tick0, int64_t n_ticks, int64_t record_every, "
                "int64_t include_end, double *out);")
@@ -99,11 +97,11 @@ def loop_ir(plan: BranchPlan, shapes: tuple[tuple[int, ...], ...], substeps: int
     space: dict[str, Any] = {"carray": carray, "S": shapes, "N_OFF": plan.prof_off.shape[0],
                              "loop": plan.loop(), "DT": float(plan.dt), "SUBSTEPS": substeps,
                              "SPEED_MAX": float(plan.speed_max)}
-    exec(compile("\n".join(lines), "<webline.fmu step>", "exec"), space)  # noqa: S102
+    exec(compile("\n".join(lines), "<webline.fmu step>", "exec"), space)
     f64p = types.CPointer(types.float64)
     signature = types.int64(types.CPointer(f64p), types.CPointer(types.int64), types.int64,
                             types.int64, types.int64, types.int64, f64p)
-    compiled = numba.cfunc(signature, nopython=True, error_model="numpy",
+    compiled = numba.cfunc(signature, error_model="numpy",
                            fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})(space["step"])
     ir = _cut(compiled.inspect_llvm(), r"@cfunc\.")
     inner = re.search(r"^define [^@]*@(_Z\w*4step\w+)\(", ir, re.M)
@@ -136,14 +134,6 @@ def compile_object(ir: str) -> bytes:
     passes.run(module, llvm.create_pass_builder(machine, llvm.create_pipeline_tuning_options()))
     module.verify()
     return bytes(machine.emit_object(module))
-
-
-def undefined_symbols(path: Path) -> list[str]:
-    """The symbols the object or shared library at ``path`` needs from elsewhere
-    (``nm -u``; versions such as ``@GLIBC_2.2.5`` cut)."""
-    out = subprocess.run(["nm", "-u", "-D" if path.suffix == ".so" else "-u", str(path)],
-                         capture_output=True, text=True, check=True).stdout
-    return sorted({line.split()[-1].split("@")[0] for line in out.splitlines() if line.strip()})
 
 
 def _cut(ir: str, name: str) -> str:

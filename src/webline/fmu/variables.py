@@ -21,7 +21,7 @@ from webline.sim.branches.plan import BranchPlan
 
 #: the C wrapper's operations (fmi_wrapper.c, in its order)
 (OP_COPY, OP_CLIP0, OP_MUL, OP_LE0, OP_SAT, OP_GE0, OP_STATUS, OP_PARAM,
- OP_INPUT, OP_TIME) = range(10)
+ OP_INPUT, OP_TIME, OP_LIVE) = range(11)
 
 Cell = tuple[str, int]  # (array name, flat index)
 
@@ -50,17 +50,56 @@ TIME = Variable("time", "Real", "independent", "s", OP_TIME, ("", -1), ("", -1),
                 "simulation time")
 
 
-def fmu_variables(plan: BranchPlan, arrays: dict[str, np.ndarray]) -> list[Variable]:
+def fmu_variables(plan: BranchPlan, arrays: dict[str, np.ndarray],
+                  plant_only: bool = False) -> list[Variable]:
     """The variables of ``plan``'s FMU, outputs first, then inputs and parameters; ``arrays``:
     the loop's start tables (``loop_object.loop_arrays``), for the parameters' start
-    values."""
+    values. ``plant_only``: ``plan``'s drives are all user drives (``FAMILY_USER``): their
+    torque commands are inputs, and what each drive measures is an output
+    (``plant_variables``)."""
+    if plant_only:
+        plant_out, plant_in = plant_variables(plan, arrays)
+        return (outputs(plan, plant_only=True) + plant_out + inputs(plan) + plant_in
+                + parameters(plan, arrays) + [TIME])
     return outputs(plan) + inputs(plan) + parameters(plan, arrays) + [TIME]
 
 
-def outputs(plan: BranchPlan) -> list[Variable]:
-    """Span tensions, roller surface speeds, roll radii, motor torques and their commands,
-    calculated radii, dancer positions, and flags: slack per span, a torque command at its
-    limit per drive, a web break detected, the run's status."""
+def plant_variables(plan: BranchPlan, arrays: dict[str, np.ndarray]
+                    ) -> tuple[list[Variable], list[Variable]]:
+    """Outputs and inputs of a plant-only FMU: per drive, what a user controller reads
+    (``sim.core.user_protocol`` MEASURED, REFERENCES: ``unwind.speed`` [m/s], ``.tension``
+    [N], ``.radius`` [m], ``.inertia`` [kg·m²], ``.speed_reference`` [m/s],
+    ``.tension_reference`` [N], as ``loop.user`` stores them at the tick), and its torque
+    command ``torque_cmd[unwind]`` [N·m] (held until set again, saturated at the drive's
+    limit)."""
+    line = plan.line
+    none: Cell = ("", -1)
+    readings = (("speed", "m/s", B.I_USPEED, "surface speed the drive measures"),
+                ("tension", "N", B.I_UTENSION, "tension of its zone as its loadcells read it "
+                 "(NaN: none)"),
+                ("radius", "m", B.I_URADIUS, "radius the drive works with"),
+                ("inertia", "kg.m2", B.I_UINERTIA, "inertia at its roller"),
+                ("speed_reference", "m/s", B.I_UVREF, "its speed reference"),
+                ("tension_reference", "N", B.I_UTREF, "its zone's tension reference (NaN: "
+                 "none)"))
+    out, into = [], []
+    for d, i in enumerate(line.drives):
+        name = line.spec.rollers[i].name
+        for what, unit, column, text in readings:
+            out.append(Variable(f"{name}.{what}", "Real", "output", unit, OP_COPY,
+                                ("istate", d * B.I_COLS + column), none, 0.0, text))
+        cell = d * B.I_COLS + B.I_UCMD
+        into.append(Variable(f"torque_cmd[{name}]", "Real", "input", "N.m", OP_LIVE,
+                             ("istate", cell), none, float(arrays["istate"].ravel()[cell]),
+                             "torque command of the drive (held, saturated at its limit)"))
+    return out, into
+
+
+def outputs(plan: BranchPlan, plant_only: bool = False) -> list[Variable]:
+    """Span tensions, roller surface speeds, roll radii, motor torques and their commands
+    (not ``plant_only``: there they are inputs), calculated radii, dancer positions, and
+    flags: slack per span, a torque command at its limit per drive, a web break detected,
+    the run's status."""
     line, o = plan.line, plan.offsets
     n_x, n_d, n_s = plan.n_x, plan.di.shape[0], len(line.spans)
     rec = 1  # the record's x starts after its time
@@ -94,7 +133,7 @@ def outputs(plan: BranchPlan) -> list[Variable]:
     for d, name in enumerate(drives):
         add(f"torque[{name}]", "N.m", OP_COPY, ("rec", rec + int(o[B.O_TORQUE]) + d), none,
             "motor torque")
-    for d, name in enumerate(drives):
+    for d, name in enumerate(drives if not plant_only else []):
         add(f"torque_cmd[{name}]", "N.m", OP_COPY, ("rec", rec + n_x + d), none,
             "torque command of the drive's controller")
     for d, name in enumerate(drives):

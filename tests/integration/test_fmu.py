@@ -1,0 +1,203 @@
+"""FMU export (issue 39, docs/fmu.md): fmpy, an importer webline does not write, validates the
+FMI 2.0 and 3.0 FMUs of laminator and of hswl as a line of one web, and its simulation of
+each equals ``webline.simulate`` of the same line at every communication point; the shared
+library needs no Python, and fmpy runs it where webline cannot be imported."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import sysconfig
+import time
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import webline
+
+fmpy = pytest.importorskip("fmpy")
+from fmpy import simulate_fmu  # noqa: E402
+from fmpy.validation import validate_fmu  # noqa: E402
+
+from webline.fmu.export import PLATFORM, export_fmu  # noqa: E402
+
+HSWL = Path(__file__).resolve().parents[1] / "data" / "hswl_one_web.toml"
+LINES = {"laminator": "laminator", "hswl": str(HSWL)}
+STEP = 0.01  # [s] communication step: 10 controller periods of both lines (1 kHz)
+
+#: symbols the FMU's library may take from the system: libc and libm, and the weak hooks of
+#: the C runtime's start files (gcc's crtstuff)
+ALLOWED = {"calloc", "malloc", "free", "memcpy", "memset", "strcmp", "snprintf", "vsnprintf",
+           "llround", "fabs", "sin", "cos", "tanh", "pow", "log", "floor", "sqrt", "exp",
+           "__stack_chk_fail", "__cxa_finalize", "__gmon_start__", "_ITM_deregisterTMCloneTable",
+           "_ITM_registerTMCloneTable", "__memcpy_chk", "__vsnprintf_chk", "__snprintf_chk"}
+
+
+@pytest.fixture(scope="module")
+def fmus(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[str, int], Path]:
+    folder = tmp_path_factory.mktemp("fmu")
+    return {(name, fmi): export_fmu(line, folder / f"{name}{fmi}.fmu", fmi=fmi, step=STEP)
+            for name, line in LINES.items() for fmi in (2, 3)}
+
+
+@pytest.mark.parametrize("fmi", [2, 3])
+@pytest.mark.parametrize("name", list(LINES))
+def test_fmpy_validates_and_matches_simulate(fmus: dict, name: str, fmi: int) -> None:
+    path = fmus[name, fmi]
+    assert validate_fmu(str(path)) == []
+    with zipfile.ZipFile(path) as z:  # the platform folder of the FMI version
+        assert any(n.startswith(f"binaries/{PLATFORM[fmi]}/") for n in z.namelist())
+    duration = 1.0
+    got = simulate_fmu(str(path), stop_time=duration, output_interval=STEP)
+    ref = webline.simulate(LINES[name], duration, record_interval=STEP).to_dataframe()
+    assert len(got) == len(ref) == round(duration / STEP) + 1
+    np.testing.assert_allclose(got["time"], ref.index.values, rtol=0, atol=1e-12)
+    compared = 0
+    for column in got.dtype.names[1:]:
+        if column in ref.columns:
+            a, b = got[column].astype(float), ref[column].values.astype(float)
+            # 1e-9 of each signal's own size: the two runs differ only by the compiler's
+            # rounding (the FMU's loop is built for generic x86-64, no fused multiply-add)
+            scale = max(float(np.max(np.abs(b))), 1e-300)
+            assert np.max(np.abs(a - b)) <= 1e-9 * scale, column
+            compared += 1
+    tensions = [c for c in got.dtype.names if c.startswith("tension[")]
+    assert compared >= len(tensions) > 0  # every tension, speed, radius, torque ... compared
+    for column in tensions:  # slack flags the spans whose tension is zero
+        assert np.array_equal(got["slack" + column[len("tension"):]], got[column] <= 0.0)
+    assert np.all(got["status"] == 0)
+
+
+def test_library_links_no_python(fmus: dict) -> None:
+    with zipfile.ZipFile(fmus["laminator", 2]) as z:
+        name = next(n for n in z.namelist() if n.endswith(".so"))
+        library = Path(z.extract(name, fmus["laminator", 2].parent / "unzipped"))
+    needed = subprocess.run(["readelf", "-d", str(library)], capture_output=True, text=True,
+                            check=True).stdout
+    assert "NEEDED" in needed and "python" not in needed.lower()
+    undefined = subprocess.run(["nm", "-D", "-u", str(library)], capture_output=True,
+                               text=True, check=True).stdout
+    symbols = {line.split()[-1].split("@")[0] for line in undefined.splitlines() if line.strip()}
+    assert symbols <= ALLOWED, symbols - ALLOWED
+    assert not any(s.startswith(("Py", "NRT_", "numba")) for s in symbols)
+
+
+def test_fmpy_runs_it_without_webline(fmus: dict, tmp_path: Path) -> None:
+    """A Python without site processing (``-I -S``): the venv's editable install of webline
+    (a .pth hook) is not loaded, so only fmpy and its dependencies are importable."""
+    script = tmp_path / "run.py"
+    script.write_text(
+        "import importlib.util, sys\n"
+        f"sys.path.append({sysconfig.get_paths()['purelib']!r})\n"
+        "assert importlib.util.find_spec('webline') is None, 'webline importable'\n"
+        "from fmpy import simulate_fmu\n"
+        f"r = simulate_fmu({str(fmus['hswl', 3])!r}, stop_time=0.5, output_interval=0.01)\n"
+        "print(len(r), float(r['tension[span2]'][-1]))\n")
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    done = subprocess.run([sys.executable, "-I", "-S", str(script)], capture_output=True,
+                          text=True, env=env, timeout=300)
+    assert done.returncode == 0, done.stderr
+    rows, tension = done.stdout.split()
+    ref = webline.simulate(str(HSWL), 0.5, record_interval=0.01)
+    assert int(rows) == 51
+    assert float(tension) == pytest.approx(float(ref.signals.tension[-1, 1]), rel=1e-9)
+
+
+def test_hswl_runs_200_times_real_time_in_fmpy(fmus: dict) -> None:
+    """Issue 39: at a 10 ms communication step fmpy runs hswl's FMU >= 200x real time
+    (every output recorded at every step); best of two runs on the loaded test box."""
+    duration = 20.0
+    best = np.inf
+    for _ in range(2):
+        start = time.perf_counter()
+        simulate_fmu(str(fmus["hswl", 2]), stop_time=duration, output_interval=STEP)
+        best = min(best, time.perf_counter() - start)
+    load = os.getloadavg()[0]
+    print(f"hswl FMU in fmpy: {duration / best:.0f}x real time (load {load:.2f})")
+    assert duration / best >= 200.0
+
+
+def test_parameters_and_inputs_reach_the_loop(fmus: dict) -> None:
+    """A parameter set at instantiation and an input set at a communication point change
+    what the loop computes: a stiffer web (EA x 2) and a tension set point step."""
+    path = str(fmus["hswl", 2])
+    base = simulate_fmu(path, stop_time=0.3, output_interval=STEP)
+    stiff = simulate_fmu(path, stop_time=0.3, output_interval=STEP,
+                         start_values={"EA[span2]": 2.0 * _start(path, "EA[span2]")})
+    assert not np.allclose(stiff["tension[span2]"], base["tension[span2]"], rtol=1e-6)
+    ref = _start(path, "tension_ref[span2]")
+    signal = np.array([(0.0, ref), (0.1, ref + 5.0)],
+                      dtype=[("time", float), ("tension_ref[span2]", float)])
+    stepped = simulate_fmu(path, stop_time=2.0, output_interval=STEP, input=signal)
+    assert stepped["tension[span2]"][-1] == pytest.approx(ref + 5.0, rel=0.01)
+
+
+def _start(path: str, name: str) -> float:
+    from fmpy import read_model_description
+
+    variables = read_model_description(path).modelVariables
+    return float(next(v.start for v in variables if v.name == name))
+
+
+def test_plant_only_fmu_closed_by_a_python_pi_reproduces_the_built_in_run(
+        tmp_path: Path) -> None:
+    """Issue 39: the plant-only FMU of hswl, its loop closed in Python around fmpy by the
+    cascaded PI written out (``test_branch_user_control.UserPI``, the built-in gains), equals
+    the built-in run. The PI reads at each tick what the compiled PI reads (the FMU's outputs
+    at a communication point are the tick's readings, sampled as the loop samples them) and
+    does the same float operations: equal to round-off; 1e-9 of each tension is a margin."""
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+    from test_branch_user_control import UserPI  # (tests/integration on sys.path)
+
+    line = webline.load_line(str(HSWL))  # the process zone's reference steps 25 % at 2 s
+    dt = 1.0 / line.spec.control.sample_rate
+    path = export_fmu(line, tmp_path / "plant.fmu", fmi=2, scenario="tension-step",
+                      plant_only=True)
+    line = line.with_scenario("tension-step")
+
+    class Probe(UserPI):  # the context the PI gets in a webline run
+        def reset(self, context):
+            super().reset(context)
+            self.context = context
+
+    probe = Probe()
+    webline.simulate(line, dt, controller=probe)
+    pi = UserPI()
+    pi.reset(probe.context)
+    description = read_model_description(str(path))
+    vr = {v.name: v.valueReference for v in description.modelVariables}
+    drives = [d.name for d in probe.context.drives]
+    readings = [vr[f"{d}.{m}"] for d in drives for m in ("speed", "tension", "radius",
+                                                        "inertia")]
+    references = [vr[f"{d}.{r}"] for d in drives for r in ("speed_reference",
+                                                          "tension_reference")]
+    commands = [vr[f"torque_cmd[{d}]"] for d in drives]
+    spans = [vr[f"tension[{s.name}]"] for s in line.spans]
+    fmu = FMU2Slave(guid=description.guid, unzipDirectory=extract(str(path)),
+                    modelIdentifier=description.coSimulation.modelIdentifier,
+                    instanceName="plant")
+    fmu.instantiate()
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.exitInitializationMode()
+    duration = 2.5
+    n = round(duration / dt)
+    tensions = []
+    for k in range(n + 1):
+        tensions.append(fmu.getReal(spans))
+        if k == n:
+            break
+        u = pi(k * dt, np.array(fmu.getReal(readings)), np.array(fmu.getReal(references)))
+        fmu.setReal(commands, list(u))
+        fmu.doStep(currentCommunicationPoint=k * dt, communicationStepSize=dt)
+    fmu.terminate()
+    fmu.freeInstance()
+    built_in = webline.simulate(line, duration).dataset["tension"].values
+    got = np.array(tensions)
+    assert got.shape == built_in.shape
+    assert np.ptp(built_in[:, 1]) > 10.0  # the step went through the run compared [N]
+    assert np.max(np.abs(got - built_in)) <= 1e-9 * np.max(np.abs(built_in))
