@@ -33,6 +33,7 @@ typedef struct {
 } Model;
 
 static void say(Model *m, int status, const char *fmt, ...);
+static int refresh(Model *m);
 
 static void reset_model(Model *m) {
     memcpy(m->store, START, sizeof(double) * N_FLOATS);
@@ -41,6 +42,7 @@ static void reset_model(Model *m) {
     m->tick = 0;
     m->status = 0;
     m->mode = MODE_INSTANTIATED;
+    refresh(m);  /* the outputs at t = 0, readable before initialization ends */
 }
 
 static Model *new_model(const char *name, void *env, void *logger) {
