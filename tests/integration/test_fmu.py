@@ -107,28 +107,28 @@ def test_fmpy_runs_it_without_webline(fmus: dict, tmp_path: Path) -> None:
 
 
 def test_hswl_runs_200_times_real_time_in_fmpy(fmus: dict) -> None:
-    """Issue 39: at a 10 ms communication step fmpy runs hswl's FMU >= 200x real time on the
-    2-core box, recording the tensions, speeds and torques at every step; best of three.
-    fmpy's own Python per step (its ctypes calls, its recorder) is most of the time (the
-    FMU's doStep alone is a fraction of it), so the box's load slows it: on a box loaded
-    beyond its cores the bar scales with the share of a core the test gets (the figure and
-    the load are printed)."""
+    """Issue 39: at a 10 ms communication step fmpy runs hswl's FMU >= 200x real time,
+    recording the tensions, speeds and torques at every step; best of three. Measured in
+    the process's CPU time: the 2-core test box runs several suites at once, and wall time
+    there counts the waits for a core (the wall figure and the load are printed beside it).
+    fmpy's own Python per step (its ctypes calls, its recorder) is most of the time: recording
+    every output (about 60 here) runs near 170x."""
     from fmpy import read_model_description
 
     path = str(fmus["hswl", 2])
     names = [v.name for v in read_model_description(path).modelVariables
              if v.name.startswith(("tension[", "speed[", "torque["))]
     duration = 20.0
-    best = np.inf
+    wall = cpu = np.inf
     for _ in range(3):
-        start = time.perf_counter()
+        start, start_cpu = time.perf_counter(), time.process_time()
         simulate_fmu(path, stop_time=duration, output_interval=STEP, output=names)
-        best = min(best, time.perf_counter() - start)
-    load, cores = os.getloadavg()[0], os.cpu_count() or 1
-    share = min(1.0, cores / max(load, 1e-9))
-    print(f"hswl FMU in fmpy: {duration / best:.0f}x real time, {len(names)} outputs "
-          f"(load {load:.2f} on {cores} cores)")
-    assert duration / best >= 200.0 * share
+        wall = min(wall, time.perf_counter() - start)
+        cpu = min(cpu, time.process_time() - start_cpu)
+    print(f"hswl FMU in fmpy, {len(names)} outputs: {duration / cpu:.0f}x real time per "
+          f"CPU second, {duration / wall:.0f}x in wall time (load {os.getloadavg()[0]:.2f} "
+          f"on {os.cpu_count()} cores)")
+    assert duration / cpu >= 200.0
 
 
 def test_parameters_and_inputs_reach_the_loop(fmus: dict) -> None:
