@@ -18,9 +18,9 @@ from pathlib import Path
 
 import numba
 
-from webline.errors import ArgumentError, WeblineError
+from webline.errors import ArgumentError
 from webline.fmu.c_model import model_header
-from webline.fmu.loop_object import loop_arrays, loop_object
+from webline.fmu.loop_object import FmuBuildError, loop_arrays, loop_object
 from webline.fmu.model_description import _identifier, model_description
 from webline.fmu.variables import fmu_variables
 from webline.model.web_graph import BranchedLine, load_branched
@@ -31,10 +31,6 @@ from webline.spec.ranges import argument
 
 #: the FMI platform folder of the binary each version's FMU holds
 PLATFORM = {2: "linux64", 3: "x86_64-linux"}
-
-
-class FmuBuildError(WeblineError):
-    """The FMU could not be built (no C compiler, a compiler error)."""
 
 
 def export_fmu(line: BranchedLine | str | Path, path: str | Path, fmi: int = 3,

@@ -20,8 +20,10 @@ from typing import Any
 import numba
 import numpy as np
 
+from webline.errors import WeblineError
 from webline.sim.branches.loop.kernel import structure_key
 from webline.sim.branches.plan import BranchPlan
+from webline.sim.elements.signals import FAST
 from webline.version import __version__
 
 #: the float arrays the loop takes, in the order of ``webline_loop``'s pointer table (rec:
@@ -41,6 +43,18 @@ C_PROTOTYPE = ("int32_t webline_loop(int64_t *status, void **excinfo, double **a
                "int64_t include_end, double *out);")
 
 ENTRY = "webline_loop"
+
+#: the functions the loop's object may take from the system: libm's (what numba's math and
+#: LLVM's intrinsics lower to); anything else (Python's C API, numba's runtime) is refused
+LIBM = frozenset({"sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh",
+                  "tanh", "exp", "expm1", "log", "log1p", "log10", "log2", "pow", "sqrt",
+                  "floor", "ceil", "fmod", "round", "trunc", "hypot", "cbrt", "erf", "erfc",
+                  "memcpy", "memset", "memmove"})
+
+
+class FmuBuildError(WeblineError):
+    """The FMU could not be built (no C compiler, a compiler error, a loop that needs more
+    than libm)."""
 _TRIPLE = "x86_64-unknown-linux-gnu"
 
 
@@ -97,12 +111,13 @@ def loop_ir(plan: BranchPlan, shapes: tuple[tuple[int, ...], ...], substeps: int
     space: dict[str, Any] = {"carray": carray, "S": shapes, "N_OFF": plan.prof_off.shape[0],
                              "loop": plan.loop(), "DT": float(plan.dt), "SUBSTEPS": substeps,
                              "SPEED_MAX": float(plan.speed_max)}
+    # generated source: the shapes are constants of the step, so the arrays it makes have
+    # known extents, as the loop's frozen integer tables do
     exec(compile("\n".join(lines), "<webline.fmu step>", "exec"), space)
     f64p = types.CPointer(types.float64)
     signature = types.int64(types.CPointer(f64p), types.CPointer(types.int64), types.int64,
                             types.int64, types.int64, types.int64, f64p)
-    compiled = numba.cfunc(signature, error_model="numpy",
-                           fastmath={"nsz", "arcp", "contract", "afn", "reassoc"})(space["step"])
+    compiled = numba.cfunc(signature, error_model="numpy", fastmath=FAST)(space["step"])
     ir = _cut(compiled.inspect_llvm(), r"@cfunc\.")
     inner = re.search(r"^define [^@]*@(_Z\w*4step\w+)\(", ir, re.M)
     if inner is None:
@@ -113,7 +128,8 @@ def loop_ir(plan: BranchPlan, shapes: tuple[tuple[int, ...], ...], substeps: int
 def compile_object(ir: str) -> bytes:
     """``ir`` compiled for generic x86-64 Linux as position-independent code, every symbol but
     ``ENTRY`` internal and what nothing uses dropped (numba's ``NRT_decref``, the
-    environments of its functions)."""
+    environments of its functions); ``FmuBuildError`` if it still needs more than
+    ``LIBM``."""
     import llvmlite.binding as llvm
 
     llvm.initialize_native_target()
@@ -133,6 +149,11 @@ def compile_object(ir: str) -> bytes:
     passes.add_strip_dead_prototype_pass()
     passes.run(module, llvm.create_pass_builder(machine, llvm.create_pipeline_tuning_options()))
     module.verify()
+    needed = {fn.name for fn in module.functions
+              if fn.is_declaration and not fn.name.startswith("llvm.")}
+    if not needed <= LIBM:
+        raise FmuBuildError(f"the compiled loop needs {', '.join(sorted(needed - LIBM))} "
+                            "beyond libm: it cannot run without Python (webline.fmu)")
     return bytes(machine.emit_object(module))
 
 
