@@ -46,6 +46,6 @@ def test_only_libm_and_one_entry_point(tmp_path: Path) -> None:
 
 
 def test_a_loop_that_needs_python_is_refused() -> None:
-    with pytest.raises(FmuBuildError, match="PyErr_SetNone.*beyond libm"):
+    with pytest.raises(FmuBuildError, match=r"PyErr_SetNone.*beyond libm"):
         compile_object(MODULE.format(extra="PyErr_SetNone",
                                      call="call void @PyErr_SetNone(ptr %out)"))
