@@ -147,6 +147,9 @@ def test_parameters_and_inputs_reach_the_loop(fmus: dict) -> None:
         assert run["tension[span2]"][0] == pytest.approx(ref, rel=1e-9)
         assert run["tension[span2]"][-1] == pytest.approx(ref + 5.0, rel=0.01)
     assert np.max(np.abs(soft["tension[span2]"] - stepped["tension[span2]"])) > 0.05  # [N]
+    with pytest.raises(Exception, match="fmi2SetReal"):  # EA <= 0: out of its range
+        simulate_fmu(path, stop_time=0.1, output_interval=STEP,
+                     start_values={"EA[span2]": 0.0}, validate=False)
 
 
 def _start(path: str, name: str) -> float:
@@ -232,3 +235,17 @@ def test_cli_export_writes_the_fmu_and_bad_options_are_one_line(tmp_path: Path) 
     assert_one_line_error(invoke("export", "laminator", "--fmu", str(out), "--fmi", "4"), 2,
                           "fmi", "2 or 3")
     assert_one_line_error(invoke("export", "laminator"), 2, "--fmu")
+
+
+def test_a_python_controller_in_the_file_is_refused_in_one_line(tmp_path: Path) -> None:
+    """A line file's Python controller cannot go into the FMU: refused, naming its key, before
+    anything is compiled or imported (the module beside it would raise if imported)."""
+    from test_branch_user_control import _laminator_with
+    from test_cli import assert_one_line_error, invoke
+
+    path = _laminator_with(tmp_path, 'controller = { type = "python", '
+                                     'object = "user_pi_module.py:UserPI" }')
+    (tmp_path / "user_pi_module.py").write_text("raise SystemExit('imported')\n")
+    assert_one_line_error(invoke("export", path, "--fmu", str(tmp_path / "x.fmu")), 2,
+                          "controller.object", "user_pi_module.py:UserPI", "--plant-only")
+    assert not (tmp_path / "x.fmu").exists()

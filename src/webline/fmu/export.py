@@ -27,6 +27,7 @@ from webline.model.web_graph import BranchedLine, load_branched
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.plan import BranchPlan
 from webline.sim.branches.run import plan_and_step, run_start
+from webline.sim.user_objects import named_code
 from webline.spec.ranges import argument
 
 #: the FMI platform folder of the binary each version's FMU holds
@@ -52,6 +53,12 @@ def export_fmu(line: BranchedLine | str | Path, path: str | Path, fmi: int = 3,
     branched = load_branched(line)
     if scenario is not None:
         branched = branched.with_scenario(scenario)
+    code = named_code(branched)  # (read from the file, nothing imported)
+    if code and not plant_only:
+        key, text = code[0]
+        raise ArgumentError(f"{branched.name}: {key} = {text!r}: a Python controller cannot go "
+                            "into an FMU; export with --plant-only and close the loop around "
+                            "it (docs/fmu.md)")
     plan, point, substeps = plan_and_step(branched, None, None)
     dt = plan.dt
     comm = dt if step is None else argument(step, "time", "step")

@@ -90,11 +90,12 @@ static double value_of(Model *m, int v) {
     return NAN;
 }
 
-/* 0: set; 1: not settable now; 2: unknown reference */
+/* 0: set; 1: not settable now; 2: unknown reference; 3: out of range */
 static int set_value(Model *m, int v, double value) {
     if (v < 0 || v >= N_VARS) return 2;
     if (VAR_OP[v] == OP_PARAM) {
         if (m->mode != MODE_INSTANTIATED && m->mode != MODE_INIT) return 1;
+        if (!(value >= 0.0) || (VAR_B[v] >= 0 && value == 0.0)) return 3;  /* (min, 1/0) */
         m->store[VAR_A[v]] = value;
         if (VAR_B[v] >= 0) m->store[VAR_B[v]] = 1.0 / value;  /* its reciprocal (1/EA, 1/J) */
         return 0;
@@ -248,11 +249,14 @@ EXPORT fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], 
                                 fmi2String value[]) { return n ? 3 : 0; }
 EXPORT fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                               const fmi2Real value[]) {
-    for (size_t k = 0; k < n; k++)
-        if (vr[k] >= N_VARS || VAR_TYPE[vr[k]] != T_REAL || set_value(c, vr[k], value[k])) {
-            say(c, 3, "fmi2SetReal: value reference %u cannot be set now", vr[k]);
+    for (size_t k = 0; k < n; k++) {
+        int why = vr[k] >= N_VARS || VAR_TYPE[vr[k]] != T_REAL ? 2 : set_value(c, vr[k], value[k]);
+        if (why) {
+            say(c, 3, "fmi2SetReal: value reference %u %s (%g)", vr[k], why == 3 ? "out of its range"
+                : why == 2 ? "is no Real variable" : "cannot be set now", value[k]);
             return 3;
         }
+    }
     return 0;
 }
 EXPORT fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n,
@@ -386,11 +390,14 @@ EXPORT fmi3Status fmi3GetBoolean(fmi3Instance c, const fmi3ValueReference vr[], 
 }
 EXPORT fmi3Status fmi3SetFloat64(fmi3Instance c, const fmi3ValueReference vr[], size_t n,
                                  const fmi3Float64 value[], size_t nv) {
-    for (size_t k = 0; k < n; k++)
-        if (vr[k] >= N_VARS || VAR_TYPE[vr[k]] != T_REAL || set_value(c, vr[k], value[k])) {
-            say(c, 3, "fmi3SetFloat64: value reference %u cannot be set now", vr[k]);
+    for (size_t k = 0; k < n; k++) {
+        int why = vr[k] >= N_VARS || VAR_TYPE[vr[k]] != T_REAL ? 2 : set_value(c, vr[k], value[k]);
+        if (why) {
+            say(c, 3, "fmi3SetFloat64: value reference %u %s (%g)", vr[k], why == 3 ? "out of its range"
+                : why == 2 ? "is no Real variable" : "cannot be set now", value[k]);
             return 3;
         }
+    }
     return 0;
 }
 

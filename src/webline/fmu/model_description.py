@@ -76,6 +76,8 @@ def _variable(parent: ET.Element, fmi: int, vr: int, v: Variable) -> None:
     else:
         attrs["variability"] = "continuous" if v.kind == "Real" else "discrete"
     type_attrs = {"unit": v.unit} if v.unit else {}
+    if v.low is not None:
+        type_attrs["min"] = repr(v.low)
     start = {"start": repr(v.start)} if v.causality in ("input", "parameter") else {}
     if v.causality == "independent":
         del attrs["variability"]

@@ -31,8 +31,8 @@ class Variable:
     """One FMU variable: ``name`` as webline names the signal (``tension[zone2]``), ``kind``
     "Real" | "Boolean" | "Integer", ``causality`` "output" | "input" | "parameter", ``unit``
     (SI, "" for none), the operation ``op`` (``OP_*``) on cells ``a`` and ``b`` (an input:
-    ``a`` = (``"profile"``, its profile number)), ``start`` (inputs and parameters) and a
-    description."""
+    ``a`` = (``"profile"``, its profile number)), ``start`` (inputs and parameters), a
+    description and, for a parameter, its smallest value ``low``."""
 
     name: str
     kind: str
@@ -43,6 +43,7 @@ class Variable:
     b: Cell
     start: float
     text: str
+    low: float | None = None  #: the smallest value a parameter takes (FMI ``min``)
 
 
 #: the independent variable (FMI 3.0 requires it; FMI 2.0 leaves it out)
@@ -185,7 +186,7 @@ def parameters(plan: BranchPlan, arrays: dict[str, np.ndarray]) -> list[Variable
     def add(name: str, unit: str, array: str, index: int, text: str, inverse: int = -1) -> None:
         value = float(arrays[array].ravel()[index])
         out.append(Variable(name, "Real", "parameter", unit, OP_PARAM, (array, index),
-                            (array, inverse), value, text))
+                            (array, inverse), value, text, 0.0))
 
     if plan.lawi.shape[0] == 0 and plan.kv.shape[0] == 0:
         for k, span in enumerate(line.spans):
