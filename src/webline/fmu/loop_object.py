@@ -7,7 +7,8 @@ the plan's shapes. Its final LLVM module (the loop and every helper, inlined) is
 llvmlite for generic x86-64 (``reloc='pic'``). numba's C wrapper of the function (the
 ``cfunc`` entry that converts an error status into a Python exception) is cut from the module
 before compiling: the object exports only ``webline_loop``, numba's own calling convention
-(below), and needs only libm. An object is kept on disk per plan structure and numba version.
+(below), and needs only libm. An object is kept on disk per plan structure, kernel source
+and numba version.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ import numba
 import numpy as np
 
 from webline.errors import WeblineError
+from webline.sim import _kernel_source_hash
 from webline.sim.branches.loop.kernel import structure_key
 from webline.sim.branches.plan import BranchPlan
 from webline.sim.elements.signals import FAST
@@ -82,7 +84,8 @@ def loop_object(plan: BranchPlan, arrays: dict[str, np.ndarray], substeps: int,
     key = repr((structure_key(plan.offsets, plan.si, plan.layers, plan.webs, plan.di,
                               plan.cells, plan.cores, plan.lawi, plan.kv),
                 shapes, plan.prof_off.shape, float(plan.dt).hex(),
-                float(plan.speed_max).hex(), int(substeps), numba.__version__, __version__))
+                float(plan.speed_max).hex(), int(substeps), numba.__version__, __version__,
+                _kernel_source_hash()))  # (also where NUMBA_CACHE_DIR is the user's)
     name = hashlib.sha256(key.encode()).hexdigest()[:24] + ".o"
     if cache is not None and (cache / name).is_file():
         return (cache / name).read_bytes()
