@@ -114,14 +114,15 @@ def one_web_spec(data: Mapping[str, Any], file: str = "<dict>", text: str | None
     TOML line of a problem). The line is checked as a single-path line first, then its
     translation (``one_web_data``) as a line of webs; either raises ``LineFileError``
     naming ``file`` and each problem at the key the single-path file gives it."""
+    lines = key_lines(text) if text is not None else {}
     try:
         spec_from_dict(data, file)  # a valid single-path line, named in its own keys
-        return branched_from_dict(one_web_data(data, file), file)
     except LineFileError as exc:
-        lines = key_lines(text) if text is not None else None
-        problems = []
-        for p in exc.problems:
-            key = chain_key(p.key)
-            line = p.line or (locate(lines, key) if lines is not None else None)
-            problems.append(Problem(key, p.problem, line))
+        raise LineFileError.of(file, [Problem(p.key, p.problem, p.line or locate(lines, p.key))
+                                      for p in exc.problems]) from None
+    try:
+        return branched_from_dict(one_web_data(data, file), file)
+    except LineFileError as exc:  # the same problems, at the single-path file's keys
+        problems = [Problem(chain_key(p.key), p.problem,
+                            p.line or locate(lines, chain_key(p.key))) for p in exc.problems]
         raise LineFileError.of(file, problems) from None
