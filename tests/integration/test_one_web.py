@@ -1,16 +1,15 @@
-"""hswl written as a line of one web (``tests/data/hswl_one_web.toml``) runs through the
-general (branched) loop as the single-path hswl runs through the chain's (issue 33): the same
-step, the same trajectories."""
+"""hswl read as a line of one web (``spec.one_web``; the same line as the hand-written
+``tests/data/hswl_one_web.toml``, tests/unit/test_one_web_spec.py) runs through the general
+(branched) loop as the single-path hswl runs through the chain's (issue 33): the same step,
+the same trajectories."""
 
 from __future__ import annotations
-
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import webline
-from webline.model.web_graph import load_branched
+from webline.model.one_web import load_one_web
 from webline.sim.branches.linear import fastest_rate
 from webline.sim.branches.run import plan_and_step
 from webline.sim.core.plan import compile_plan
@@ -18,12 +17,10 @@ from webline.sim.linear.linearize import fastest_mode
 from webline.sim.simulate import choose_substeps
 from webline.sim.user_control import builtin_stand_in
 
-ONE_WEB = Path(__file__).parents[1] / "data" / "hswl_one_web.toml"
-
 
 @pytest.fixture(scope="module")
 def one_web():
-    return load_branched(ONE_WEB)
+    return load_one_web("hswl")
 
 
 def test_one_web_takes_the_chains_sub_steps(one_web):

@@ -222,6 +222,9 @@ class BranchResult(RunResult):
         for d, i in enumerate(line.drives):  # a shaft: the lane its drive measures speed on
             if plan.di[d, B.DI_ROLL] >= 0:
                 arm[:, i] = radius[:, plan.di[d, B.DI_ROLL]]
+        for node in np.flatnonzero(plan.nodes[:, B.N_ANGLE] >= 0):  # out of round: the web
+            angle = x[:, o[B.O_ANGLE] + int(plan.nodes[node, B.N_ANGLE])]  # leaves r + e cos
+            arm[:, node] += plan.nodes[node, B.N_ECC] * np.cos(angle)  # (the plant's, E1)
         t = self.time
 
         def var(dims: tuple[str, ...], values: np.ndarray, units: str, text: str) -> xr.Variable:

@@ -1,0 +1,36 @@
+"""A single-path line loaded as a line of one web (``spec.one_web``; issue 33): a
+``BranchedLine`` that the general loop runs as the chain's loop runs the single-path line."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+from typing import Any
+
+from webline.errors import ArgumentError
+from webline.line import Line
+from webline.model.web_graph import BranchedLine, load_branched
+from webline.spec.load import read_any
+from webline.spec.one_web import one_web_spec
+from webline.spec.schema import LineSpec
+
+
+def load_one_web(source: Line | LineSpec | str | Path | dict[str, Any]) -> BranchedLine:
+    """The single-path line ``source`` (a line, its spec, a dict as read from TOML, a line
+    file path or a built-in line's name) as a line of one web (``spec.one_web``), labelled
+    as ``source`` is. Raises ``LineFileError`` naming the file and the key the single-path
+    file gives each problem (a problem of the line, or a feature the line of webs does not
+    run), ``ArgumentError`` for a ``source`` of another type."""
+    text = None
+    if isinstance(source, Line):
+        data, label = source.spec.model_dump(exclude_none=True), source.source
+    elif isinstance(source, LineSpec):
+        data, label = source.model_dump(exclude_none=True), "<python>"
+    elif isinstance(source, dict):
+        data, label = source, "<dict>"
+    elif isinstance(source, str | Path):
+        data, text, label = read_any(source)
+    else:
+        raise ArgumentError(f"line: expected a single-path line, its spec, a dict, a line "
+                            f"file path or a built-in line's name, got {type(source).__name__}")
+    return dataclasses.replace(load_branched(one_web_spec(data, label, text)), source=label)
