@@ -118,17 +118,19 @@ def _cpu_seconds(command: list[str]) -> float:
     return after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
 
 
-def test_the_main_job_needs_at_most_45_imports_of_numpy_in_cpu_time(tmp_path) -> None:
+def test_the_main_job_needs_at_most_35_imports_of_numpy_in_cpu_time(tmp_path) -> None:
     """``webline run hswl --scenario speed-change`` (warm numba cache) in CPU time, the
     command's and its report processes', against ``import numpy``'s in the same test: a
     ratio, so that a machine slowed by other work moves both (session 12, load 9 on 2 cores:
     2.8 s against 0.08 s, 35x; quieter, 2.3-2.5 s against 0.11 s, about 22x; issue 37's goal
-    is 1.6 s, about 13x). The bound, 45x, catches a regression of about a CPU-second (a
-    library imported for nothing, a compiled function compiled again) without failing on a
-    loaded machine."""
+    is 1.6 s, about 13x). Since the report's process forks after the line and the simulation
+    are loaded (``report.early``), measured at load 8-14 on 2 cores: 5.8-6.1 s against
+    0.22-0.25 s, 23-24x (30x before, in the same conditions). The bound, 35x, catches a
+    regression of about a CPU-second (a library imported for nothing or twice, a compiled
+    function compiled again) without failing on a loaded machine."""
     numpy = min(_cpu_seconds([sys.executable, "-c", "import numpy"]) for _ in range(3))
     job = [sys.executable, "-c", "from webline.cli import main; main()", "run", "hswl",
            "--scenario", "speed-change", "-q", "--out", str(tmp_path / "run")]
     _cpu_seconds(job)  # compiles and caches the loop for this line's structure if need be
     cpu = min(_cpu_seconds(job) for _ in range(2))
-    assert cpu <= 45 * numpy, f"main job {cpu:.2f} s CPU, import numpy {numpy:.3f} s"
+    assert cpu <= 35 * numpy, f"main job {cpu:.2f} s CPU, import numpy {numpy:.3f} s"
