@@ -127,21 +127,15 @@ def run(
     loaded = load_line(line)
     if loaded.branched:  # its own files (docs/branching.md)
         from webline.cli_branches import run_branched
-        from webline.report.early import drop_ahead
-
-        drop_ahead()
 
         run_branched(loaded, _duration(duration), scenario, out, force, quiet,
                      svg=svg, units=units.value, sets=sets, data_format=data_format.value,
                      precision=precision.value,
                      family=None if controller is None else FAMILY_TYPES[controller.value])
         return
-    from webline.report.early import Reporter
-
-    # first (or forked by main before the arguments were parsed): it loads the report's
-    # libraries while we simulate
-    reporter = Reporter.take()
+    reporter = None
     try:
+        from webline.report.early import Reporter
         from webline.report.outputs import default_folder
         from webline.report.run_output import write_run
         from webline.report.text.verdict_text import verdict_lines
@@ -160,6 +154,9 @@ def run(
 
         folder = open_output(out or default_folder(scenario_line.name, scenario), force, "run",
                              (results_name(data_format.value), "report.html", "summary.json"))
+        # the report's process, forked once the line and the simulation's modules are loaded
+        # (it shares them): it imports matplotlib while we simulate (report.early)
+        reporter = Reporter.start()
         err = Console(stderr=True, highlight=False)
         started = time.perf_counter()
         if not quiet:
@@ -373,18 +370,11 @@ def main() -> None:
     closed), the process ends without Python's module teardown, which takes 0.6-1 s after
     numba, scipy and matplotlib are loaded; exit handlers and output buffers still run."""
     with sigterm_as_interrupt() as terminated:
-        if sys.argv[1:2] == ["run"]:  # the report's process forks before typer loads pydantic
-            from webline.report.early import fork_ahead
-
-            fork_ahead()
         try:
             app(prog_name="webline")
             code: object = 0
         except SystemExit as done:
             code = done.code
-        finally:  # a copy no command took (--help, a usage error): end it, or exit waits on it
-            if "webline.report.early" in sys.modules:
-                sys.modules["webline.report.early"].drop_ahead()
     if terminated() and code == INTERRUPTED:  # stopped by SIGTERM rather than Ctrl-C
         code = TERMINATED
     end_process(code)

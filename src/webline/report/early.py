@@ -4,11 +4,14 @@ line is simulated (issue 12: the main job's wall time).
 Drawing the report needs matplotlib: importing it and drawing the figures was over half of the
 main job, all of it after the simulation. Where ``fork`` is available, the process is still
 single-threaded and there is more than one core, ``Reporter.start`` forks a copy of the
-command before the line is loaded. The copy imports the report's modules while the line is
-simulated, then receives the job (the result, pickled through a pipe) and writes the figures
-(half of them on a further fork, ``report.render``), summary and report, while this process
-writes the results file. Should the copy fail in any way, ``collect`` says so and the caller
-writes the report itself, as it would without the copy: a report is never lost.
+command once the line is loaded and the simulation's modules imported (``webline run``): the
+copy shares them (forked any earlier, it imported pydantic, the line's schema and numba again
+to read the result: about a CPU-second more in all, issue 37). The copy imports the report's
+modules while the line is simulated, then receives the job (the result, pickled through a
+pipe) and writes the figures (half of them on a further fork, ``report.render``), summary and
+report, while this process writes the results file. Should the copy fail in any way,
+``collect`` says so and the caller writes the report itself, as it would without the copy: a
+report is never lost.
 
 The manifest (``report.outputs``) stays consistent: the results file is claimed before the
 job is handed over, the copy claims its own files in its copy of the output folder, and
@@ -90,11 +93,6 @@ class Reporter:
         theirs.close()
         return cls(process, mine)
 
-    @classmethod
-    def take(cls) -> Reporter | None:
-        """The copy ``fork_ahead`` forked, else a new one (``start``)."""
-        return _AHEAD.pop() if _AHEAD else cls.start()
-
     def submit(self, job: ReportJob) -> bool:
         """Hand ``job`` to the copy; False if it could not take it."""
         try:
@@ -130,21 +128,3 @@ class Reporter:
             self._process.terminate()
             self._process.join()
 
-
-#: the copy ``fork_ahead`` forked, until ``Reporter.take`` takes it
-_AHEAD: list[Reporter] = []
-
-
-def fork_ahead() -> None:
-    """Fork the copy now, before the command's arguments are parsed (``webline.cli.main`` for
-    ``webline run``; issue 37): typer's parsing imports pydantic, which the copy then does not
-    wait for. ``Reporter.take`` hands it to the command; ``drop_ahead`` ends it unused."""
-    reporter = Reporter.start()
-    if reporter is not None:
-        _AHEAD.append(reporter)
-
-
-def drop_ahead() -> None:
-    """End the copy ``fork_ahead`` forked, if it was not taken (a branched line's run)."""
-    while _AHEAD:
-        _AHEAD.pop().close()

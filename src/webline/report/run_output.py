@@ -25,6 +25,7 @@ def write_run(result: Result, folder: OutputFolder, fmt: Format = "netcdf",
     it fails, it is written here."""
     try:
         results_file = folder.claim(results_name(fmt))  # before the reporter copies the folder
+        result.verdict  # noqa: B018  judged once: the copy receives it cached with the result
         handed = reporter is not None and reporter.submit(ReportJob(
             result, folder, units, scenario, results_file, svg))
         write_results(result, folder.path, fmt, precision=precision, folder=folder)

@@ -51,7 +51,13 @@ def schematic(line: Line, display: Display | None = None) -> Figure:
     largest = max(r.radius for r in rollers)
     size = [drawn_radius(r.radius, largest) for r in rollers]
     x = [i * SPACING for i in range(line.n_nodes)]
-    fig = Figure(figsize=(max(8.0, 1.9 * line.n_nodes), 4.4), layout="constrained")
+    width, height = max(8.0, 1.9 * line.n_nodes), 4.4
+    # fixed margins [in] (a thin edge, the title's room on top) instead of a layout engine,
+    # which draws the figure twice when it is saved (``frame``): the axes carry no ticks and
+    # keep their aspect inside this box
+    fig = Figure(figsize=(width, height))
+    fig.subplots_adjust(left=0.05 / width, right=1 - 0.05 / width, bottom=0.05 / height,
+                        top=1 - 0.25 / height)
     ax = fig.add_subplot()
     nips = [getattr(r, "nip", None) for r in rollers]
     top = max(s + (0.0 if nip is None else 2 * drawn_radius(nip.radius, largest))
