@@ -137,7 +137,8 @@ def test_precision_float32_halves_the_signals_and_equals_float64_rounded(precisi
         # the same run rounded once to float32: equal bit for bit to float64 -> float32
         np.testing.assert_array_equal(f32[name].values, f64[name].values.astype(np.float32))
         assert f32[name].attrs["units"] == f64[name].attrs["units"]
-    assert f32.attrs["line_spec_toml"] == f64.attrs["line_spec_toml"]  # every output embeds its inputs
+    # every output embeds its inputs
+    assert f32.attrs["line_spec_toml"] == f64.attrs["line_spec_toml"]
 
 
 def test_format_csv_writes_each_signal_as_columns_with_its_unit(precisions):

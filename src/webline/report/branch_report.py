@@ -24,8 +24,14 @@ from webline.report.text.branch_tables import (
 )
 from webline.report.text.display import Display, number_text
 from webline.report.text.html import Image, Section, Text, render, table_html
-from webline.report.text.tables import Table, least_damped, make_table, modes_table
-from webline.report.text.verdict_text import STATUS_CLASS
+from webline.report.text.tables import (
+    Table,
+    least_damped,
+    make_table,
+    modes_table,
+    summary_tables,
+)
+from webline.report.text.verdict_text import STATUS_CLASS, events_parts
 from webline.sim.branches.result import BranchResult
 from webline.sim.branches.winder import splice_summary
 from webline.spec.load import dump_spec
@@ -147,6 +153,8 @@ def report_html(result: BranchResult, images: dict[str, Image],
                  "limit and the run went to its end.")])]),
         Section("Line", [*tables[:1], *([images["schematic"]] if "schematic" in images else []),
                          *tables[1:]]),
+        # the single-path report's summary: span tensions, drives and events
+        Section("Summary", [*summary_tables(result, display), *events_parts(result.events)]),
         Section("Time plots", [image for key, image in images.items()
                                if key != "schematic" and not key.startswith("wound_roll")]),
         *([Section("Wound rolls", rolls)] if (rolls := [

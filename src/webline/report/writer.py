@@ -34,7 +34,7 @@ from webline.report.text.tables import (
     summary_tables,
     summary_values,
 )
-from webline.report.text.verdict_text import STATUS_CLASS, events_table
+from webline.report.text.verdict_text import STATUS_CLASS, events_parts
 from webline.report.text.zone_tables import (
     leak_lines,
     roll_modes_table,
@@ -259,9 +259,4 @@ def _verdict_parts(result: Result) -> list[Table | Text]:
     """The verdict's findings, and the events table (one row per kind and element)."""
     parts: list[Table | Text] = [Text(f"Verdict: {f.level}, {f.kind} in {f.where}: {f.message}.")
                                  for f in result.verdict.findings if f.level != "warning"]
-    if result.events:
-        parts.append(events_table(result.events))
-    else:
-        parts.append(Text("No events: the web never went slack, no drive sat at its torque "
-                          "limit, no web slipped, no backlash gap opened."))
-    return parts
+    return parts + events_parts(result.events)
