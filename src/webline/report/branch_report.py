@@ -26,10 +26,12 @@ from webline.report.text.display import Display, number_text
 from webline.report.text.html import Image, Section, Text, render, table_html
 from webline.report.text.tables import (
     Table,
+    json_safe,
     least_damped,
     make_table,
     modes_table,
     summary_tables,
+    summary_values,
 )
 from webline.report.text.verdict_text import STATUS_CLASS, events_parts
 from webline.sim.branches.result import BranchResult
@@ -45,8 +47,9 @@ def write_branch_report(result: BranchResult, out_dir: Path, *,
                         folder: OutputFolder | None = None, results_file: Path | None = None,
                         svg: bool = False, display: Display = SI) -> ReportFiles:
     """Write ``figures/KEY.png`` (and ``figures/KEY.svg`` with ``svg``) for every figure,
-    ``summary.json`` (settings, verdict, per web its span tensions and length balance, each
-    wound roll's numbers: ``WoundRoll.summary``) and a
+    ``summary.json`` (settings, verdict, a single-path run's ``summary``: spans, drives and
+    events; per web its span tensions and length balance, each wound roll's numbers:
+    ``WoundRoll.summary``) and a
     self-contained ``report.html`` for ``result`` into ``out_dir``, each atomically; with
     ``folder`` (the ``OutputFolder`` of ``out_dir``) each joins its manifest. The figures and
     the report's tables and captions are in ``display``'s units ('si' or 'imperial');
@@ -68,6 +71,8 @@ def write_branch_report(result: BranchResult, out_dir: Path, *,
     line = result.plan.line
     summary = {"line": line.name, "scenario": line.scenario, "webline_version": __version__,
                "settings": result.settings, "verdict": result.verdict.as_dict(),
+               # the single-path summary (spans, drives, events; its speed errors null)
+               "summary": json_safe(summary_values(result, SI)),
                "webs": result.web_summary(), "splices": splice_summary(result),
                "wound_rolls": [roll.summary() for roll in result.wound_rolls.values()],
                "failure": result.failure}

@@ -80,6 +80,18 @@ def summary_values(result: RunResult, display: Display) -> dict[str, object]:
     }
 
 
+def json_safe(value: object) -> object:
+    """``value`` with every NaN or infinite float replaced by None (strict JSON, as
+    ``summary.json`` is written)."""
+    if isinstance(value, dict):
+        return {k: json_safe(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [json_safe(v) for v in value]
+    if isinstance(value, float):
+        return float(value) if math.isfinite(value) else None
+    return value
+
+
 def summary_tables(result: RunResult, display: Display) -> list[Table]:
     """The span-tension and drive tables of any run's summary (a line of webs' too), in the
     chosen units."""
