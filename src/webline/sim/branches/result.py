@@ -109,7 +109,7 @@ class BranchResult(RunResult):
         on a calibrated loadcell's span (``spec.sensors``), ``tension`` elsewhere."""
         if not self.plan.offsets[B.O_SENSORS]:
             return self.tension
-        return self.dataset["tension_measured"].values
+        return self.plan.sf[:, B.SF_TGAIN] * self.tension + self.plan.sf[:, B.SF_TOFFSET]
 
     @cached_property
     def tension_ref(self) -> np.ndarray:
@@ -350,9 +350,8 @@ class BranchResult(RunResult):
                      "slip_velocity": var(("node",), zeros, "slip_velocity"),
                      "slip_power": var(("node",), zeros, "slip_power")}
         if plan.offsets[B.O_SENSORS]:  # what the calibrated loadcells show (spec.sensors)
-            data["tension_measured"] = var(
-                ("span",), plan.sf[:, B.SF_TGAIN] * tension + plan.sf[:, B.SF_TOFFSET],
-                "tension_measured")
+            data["tension_measured"] = var(("span",), self.tension_measured,
+                                           "tension_measured")
         if np.any(tstate >= 0):  # compliant transmissions: the motor at the load shaft
             data["motor_omega"] = var(("drive",), train_motor_omega(plan.offsets, plan.di,
                                                                     plan.df, x), "motor_omega")
