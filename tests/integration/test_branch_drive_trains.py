@@ -153,14 +153,15 @@ def test_a_brake_on_the_nip_costs_its_motor_the_brake_torque():
 
 
 def test_a_direct_drive_has_no_twist_and_keeps_its_run():
-    """A direct drive's motor is its roller: the run's twist is 0 and its motor speed is the
-    roller's, bit for bit."""
+    """A direct drive's motor is its roller: it has no transmission to twist (NaN, as a
+    single-path run's rigid drive) and its motor speed is the roller's, bit for bit."""
     ds = webline.simulate(load_branched(_laminator(brake=None)), 0.05).dataset
-    assert "twist" not in ds  # no compliant drive: no drive-train signals
+    assert "motor_omega" not in ds  # no compliant drive: no load-side motor speed
+    assert np.all(np.isnan(ds.twist.values)) and np.all(np.isnan(ds.contact.values))
     data = _laminator(_belt())
     ds = webline.simulate(load_branched(data), 0.05).dataset
     direct = [d for d in ds.drive.values if d != "nip"]
-    assert np.all(ds.twist.sel(drive=direct).values == 0.0)
+    assert np.all(np.isnan(ds.twist.sel(drive=direct).values))
     for d in direct:
         assert np.array_equal(ds.motor_omega.sel(drive=d).values, ds.omega.sel(node=d).values)
 

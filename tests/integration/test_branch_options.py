@@ -34,7 +34,7 @@ def test_run_set_a_zones_tension_holds_it_at_steady_state(tmp_path):
     foil = summary["webs"][1]["spans"]["foil_zone"]
     assert foil["final_N"] == pytest.approx(60.0, abs=0.1)  # the other layer keeps its 60 N
     with xr.open_dataset(out / "results.nc") as ds:  # the run's file embeds the changed line
-        assert "140 N" in ds.attrs["line_spec"] or "140.0" in ds.attrs["line_spec"]
+        assert "140 N" in ds.attrs["line_spec_toml"] or "140.0" in ds.attrs["line_spec_toml"]
         final = float(ds["tension"].sel(span="film_zone").isel(time=-1))
     assert final == pytest.approx(140.0, abs=0.1)
 
@@ -137,7 +137,8 @@ def test_precision_float32_halves_the_signals_and_equals_float64_rounded(precisi
         # the same run rounded once to float32: equal bit for bit to float64 -> float32
         np.testing.assert_array_equal(f32[name].values, f64[name].values.astype(np.float32))
         assert f32[name].attrs["units"] == f64[name].attrs["units"]
-    assert f32.attrs["line_spec"] == f64.attrs["line_spec"]  # every output embeds its inputs
+    # every output embeds its inputs
+    assert f32.attrs["line_spec_toml"] == f64.attrs["line_spec_toml"]
 
 
 def test_format_csv_writes_each_signal_as_columns_with_its_unit(precisions):

@@ -140,6 +140,11 @@ def test_webline_run_writes_a_report_with_the_verdict_and_every_web(tmp_path):
     rows = re.findall(r'<table id="verdict">(.*?)</table>', page, re.S)[0]
     for web in ("base", "lane_1", "lane_2", "lane_3"):
         assert f'<td class="text">{web}</td>' in rows
+    # the single-path report's summary: every span's tension, every drive, the events
+    assert '<table id="summary-spans">' in page and '<table id="summary-drives">' in page
+    spans = [s.name for s in load_branched("slitter").spans]
+    assert list(summary["summary"]["spans"]) == spans
+    assert summary["summary"]["drives"]["rewind_3"]["mean_reference"] is None  # not recorded
     for key in ("schematic", "tensions", "speeds", "radii", "torques"):
         assert (out / "figures" / f"{key}.png").stat().st_size > 5_000
         assert f'id="fig-{key}"' in page

@@ -174,7 +174,7 @@ def test_webline_run_writes_a_branched_lines_files(tmp_path):
     assert foil["max_deviation_N"] == pytest.approx(60.0 - foil["min_N"], abs=1e-9)
     with xr.open_dataset(out / "results.nc") as ds:
         assert float(ds["time"][-1]) == pytest.approx(3.0)
-        assert "webs" in ds.attrs["line_spec"]
+        assert "webs" in ds.attrs["line_spec_toml"]
     assert (out / "figures" / "tensions.png").stat().st_size > 10_000
     valid = CliRunner().invoke(app, ["validate", "slitter"])
     assert valid.exit_code == 0 and "branched line 'slitter' with 4 webs" in valid.output

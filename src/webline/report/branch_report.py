@@ -24,8 +24,16 @@ from webline.report.text.branch_tables import (
 )
 from webline.report.text.display import Display, number_text
 from webline.report.text.html import Image, Section, Text, render, table_html
-from webline.report.text.tables import Table, least_damped, make_table, modes_table
-from webline.report.text.verdict_text import STATUS_CLASS
+from webline.report.text.tables import (
+    Table,
+    json_safe,
+    least_damped,
+    make_table,
+    modes_table,
+    summary_tables,
+    summary_values,
+)
+from webline.report.text.verdict_text import STATUS_CLASS, events_parts
 from webline.sim.branches.result import BranchResult
 from webline.sim.branches.winder import splice_summary
 from webline.spec.load import dump_spec
@@ -39,8 +47,9 @@ def write_branch_report(result: BranchResult, out_dir: Path, *,
                         folder: OutputFolder | None = None, results_file: Path | None = None,
                         svg: bool = False, display: Display = SI) -> ReportFiles:
     """Write ``figures/KEY.png`` (and ``figures/KEY.svg`` with ``svg``) for every figure,
-    ``summary.json`` (settings, verdict, per web its span tensions and length balance, each
-    wound roll's numbers: ``WoundRoll.summary``) and a
+    ``summary.json`` (settings, verdict, a single-path run's ``summary``: spans, drives and
+    events; per web its span tensions and length balance, each wound roll's numbers:
+    ``WoundRoll.summary``) and a
     self-contained ``report.html`` for ``result`` into ``out_dir``, each atomically; with
     ``folder`` (the ``OutputFolder`` of ``out_dir``) each joins its manifest. The figures and
     the report's tables and captions are in ``display``'s units ('si' or 'imperial');
@@ -62,6 +71,8 @@ def write_branch_report(result: BranchResult, out_dir: Path, *,
     line = result.plan.line
     summary = {"line": line.name, "scenario": line.scenario, "webline_version": __version__,
                "settings": result.settings, "verdict": result.verdict.as_dict(),
+               # the single-path summary (spans, drives, events; its speed errors null)
+               "summary": json_safe(summary_values(result, SI)),
                "webs": result.web_summary(), "splices": splice_summary(result),
                "wound_rolls": [roll.summary() for roll in result.wound_rolls.values()],
                "failure": result.failure}
@@ -147,6 +158,8 @@ def report_html(result: BranchResult, images: dict[str, Image],
                  "limit and the run went to its end.")])]),
         Section("Line", [*tables[:1], *([images["schematic"]] if "schematic" in images else []),
                          *tables[1:]]),
+        # the single-path report's summary: span tensions, drives and events
+        Section("Summary", [*summary_tables(result, display), *events_parts(result.events)]),
         Section("Time plots", [image for key, image in images.items()
                                if key != "schematic" and not key.startswith("wound_roll")]),
         *([Section("Wound rolls", rolls)] if (rolls := [

@@ -4,7 +4,6 @@ summary and the results (NetCDF or CSV, always SI)."""
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
@@ -27,6 +26,7 @@ from webline.report.text.display import SYSTEMS, Display, System
 from webline.report.text.html import Image, Section, Text, render
 from webline.report.text.tables import (
     Table,
+    json_safe,
     make_table,
     modes_table,
     operating_point_tables,
@@ -34,7 +34,7 @@ from webline.report.text.tables import (
     summary_tables,
     summary_values,
 )
-from webline.report.text.verdict_text import STATUS_CLASS, events_table
+from webline.report.text.verdict_text import STATUS_CLASS, events_parts
 from webline.report.text.zone_tables import (
     leak_lines,
     roll_modes_table,
@@ -145,7 +145,7 @@ def write_report(result: Result | BranchResult, out_dir: Path, *, units: System 
                 _target(out_dir, folder, f"figures/{fig.key}.svg"), fig.svg))
 
     summary = summary_values(result, display)
-    summary_path = atomic_write_text(_target(out_dir, folder, "summary.json"), json.dumps(_finite({
+    content = json_safe({
         "summary": summary, "webline_version": __version__, "scenario": scenario,
         "operating_point": (operating_point_values(analysis.point, display)
                             if analysis.point else None),
@@ -157,7 +157,9 @@ def write_report(result: Result | BranchResult, out_dir: Path, *, units: System 
         "wound_roll": (result.wound_roll.summary() if result.wound_roll is not None
                        else None),
         "verdict": result.verdict.as_dict(),
-    }), indent=2, allow_nan=False))
+    })
+    summary_path = atomic_write_text(_target(out_dir, folder, "summary.json"),
+                                     json.dumps(content, indent=2, allow_nan=False))
 
     html = render(
         title=f"webline report: {line.name}" + (f", scenario {scenario}" if scenario else ""),
@@ -171,17 +173,6 @@ def write_report(result: Result | BranchResult, out_dir: Path, *, units: System 
     )
     report = atomic_write_text(_target(out_dir, folder, "report.html"), html)
     return ReportFiles(report, summary_path, tuple(written))
-
-
-def _finite(value: object) -> object:
-    """``value`` with every NaN or infinite float replaced by None (strict JSON)."""
-    if isinstance(value, dict):
-        return {k: _finite(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_finite(v) for v in value]
-    if isinstance(value, float):
-        return float(value) if math.isfinite(value) else None
-    return value
 
 
 def _status_text(result: Result, display: Display) -> str:
@@ -259,9 +250,4 @@ def _verdict_parts(result: Result) -> list[Table | Text]:
     """The verdict's findings, and the events table (one row per kind and element)."""
     parts: list[Table | Text] = [Text(f"Verdict: {f.level}, {f.kind} in {f.where}: {f.message}.")
                                  for f in result.verdict.findings if f.level != "warning"]
-    if result.events:
-        parts.append(events_table(result.events))
-    else:
-        parts.append(Text("No events: the web never went slack, no drive sat at its torque "
-                          "limit, no web slipped, no backlash gap opened."))
-    return parts
+    return parts + events_parts(result.events)

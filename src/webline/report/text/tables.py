@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -13,8 +14,11 @@ from webline.analysis.modes import Mode
 from webline.line import Line
 from webline.model.operating_point import OperatingPoint
 from webline.report.text.display import Display, number_text
-from webline.sim.results.result import Result
+from webline.sim.results.run_result import RunResult
 from webline.spec.schema import DrivenSpec
+
+if TYPE_CHECKING:
+    from webline.model.web_graph import BranchedLine
 
 
 @dataclass(frozen=True)
@@ -33,7 +37,7 @@ def make_table(key: str, title: str, columns: Sequence[str],
     return Table(key, title, tuple(columns), tuple(tuple(row) for row in rows))
 
 
-def node_kind(line: Line, i: int) -> str:
+def node_kind(line: Line | BranchedLine, i: int) -> str:
     """'unwind', 'rewind', 'idle', 'master' or 'tension' (a tension-controlling driven roller)."""
     roller = line.spec.rollers[i]
     return roller.role if isinstance(roller, DrivenSpec) else roller.type
@@ -51,7 +55,7 @@ _DRIVE_STATS = (("mean_reference", "speed reference (mean)", "speed"),
                 ("max_abs_torque", "largest |torque|", "torque"))
 
 
-def summary_values(result: Result, display: Display) -> dict[str, object]:
+def summary_values(result: RunResult, display: Display) -> dict[str, object]:
     """The run's summary in the chosen units: per span tension statistics (reference mean,
     mean, std, mean/largest/rms error against the reference; errors absent where a span has
     no loadcell), per drive speed-error statistics and largest torque, the event statistics
@@ -76,8 +80,21 @@ def summary_values(result: Result, display: Display) -> dict[str, object]:
     }
 
 
-def summary_tables(result: Result, display: Display) -> list[Table]:
-    """The span-tension and drive tables of the run summary, in the chosen units."""
+def json_safe(value: object) -> object:
+    """``value`` with every NaN or infinite float replaced by None (strict JSON, as
+    ``summary.json`` is written)."""
+    if isinstance(value, dict):
+        return {k: json_safe(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [json_safe(v) for v in value]
+    if isinstance(value, float):
+        return float(value) if math.isfinite(value) else None
+    return value
+
+
+def summary_tables(result: RunResult, display: Display) -> list[Table]:
+    """The span-tension and drive tables of any run's summary (a line of webs' too), in the
+    chosen units."""
     values = summary_values(result, display)
     spans: dict[str, dict[str, float]] = values["spans"]  # type: ignore[assignment]
     drives: dict[str, dict[str, float]] = values["drives"]  # type: ignore[assignment]

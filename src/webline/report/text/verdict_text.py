@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from webline.report.text.html import Text
 from webline.report.text.tables import Table, make_table
 from webline.sim.results.events import EventStats
 from webline.verdict import Verdict
@@ -32,3 +33,11 @@ def events_table(events: Sequence[EventStats]) -> Table:
     return make_table("events", "Events (per span and drive)",
                       ["event", "where", "count", "first [s]", "total [s]", "longest [s]",
                        "share of run"], rows)
+
+
+def events_parts(events: Sequence[EventStats]) -> list[Table | Text]:
+    """The events table of any run, or a line saying there were none."""
+    if events:
+        return [events_table(events)]
+    return [Text("No events: the web never went slack, no drive sat at its torque limit, no "
+                 "web slipped, no backlash gap opened.")]

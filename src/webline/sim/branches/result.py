@@ -11,7 +11,7 @@ import numpy as np
 
 from webline.sim.branches.dancer_views import end_stop_findings, span_lengths
 from webline.sim.branches.dancers import dancer_nodes
-from webline.sim.branches.drives.drive_trains import train_signals
+from webline.sim.branches.drives.drive_trains import train_motor_omega
 from webline.sim.branches.findings.break_verdict import break_findings, intact, without_cut_jump
 from webline.sim.branches.findings.layer_findings import compressed_findings
 from webline.sim.branches.findings.web_findings import felt_records, layer_tension, yield_findings
@@ -45,7 +45,9 @@ if TYPE_CHECKING:
     from webline.sim.results.wound_roll import WoundRoll
 
 #: the deprecated name of ``control_radius`` in a branched run's dataset (docs/branching.md
-#: used it until this release); kept in ``dataset``, left out of files and tables
+#: used it until this release): the calculator's radius (0 without one), where
+#: ``control_radius`` is now the radius the drive uses, as a single-path run's; kept in
+#: ``dataset``, left out of files and tables
 OLD_CONTROL_RADIUS = "radius_calc"
 
 
@@ -97,7 +99,9 @@ class BranchResult(RunResult):
 
     @cached_property
     def tension(self) -> np.ndarray:
-        return self.dataset["tension"].values
+        """Span tensions [N] the rollers feel (the clipped stretch of linear webs,
+        ``findings.web_findings.felt_records``), records x spans."""
+        return felt_records(self.plan, self.time, self.states)
 
     @cached_property
     def tension_measured(self) -> np.ndarray:
@@ -105,7 +109,7 @@ class BranchResult(RunResult):
         on a calibrated loadcell's span (``spec.sensors``), ``tension`` elsewhere."""
         if not self.plan.offsets[B.O_SENSORS]:
             return self.tension
-        return self.dataset["tension_measured"].values
+        return self.plan.sf[:, B.SF_TGAIN] * self.tension + self.plan.sf[:, B.SF_TOFFSET]
 
     @cached_property
     def tension_ref(self) -> np.ndarray:
@@ -113,9 +117,9 @@ class BranchResult(RunResult):
         taper applied to the radius its controller uses (``findings.winder_states``, as
         ``Result.tension_ref``); NaN on spans without one."""
         out = np.full(self.tension.shape, np.nan)
-        plan, ds = self.plan, self.dataset
+        plan = self.plan
         for d in range(len(self.line.drives)):
-            used = drive_radius(plan, d, ds["radius"].values, ds["control_radius"].values)
+            used = self.control_radius[:, d]
             first = int(plan.di[d, B.DI_CELLS])
             for c in range(first, first + int(plan.di[d, B.DI_NCELLS])):
                 out[:, int(plan.cells[c, 0])] = set_tension(plan, d, c, self.time, used)
@@ -123,17 +127,69 @@ class BranchResult(RunResult):
 
     @cached_property
     def torque(self) -> np.ndarray:
-        return self.dataset["torque"].values
+        """Motor torque of each drive [N·m], records x drives."""
+        o = self.plan.offsets
+        return self.states[:, o[B.O_TORQUE]:o[B.O_WEB]]
 
     @cached_property
     def torque_cmd(self) -> np.ndarray:
-        return self.dataset["torque_cmd"].values
+        """Motor torque command of each drive [N·m], records x drives."""
+        n_x, n_d = self.plan.n_x, len(self.line.drives)
+        return self.rec[:, 1 + n_x:1 + n_x + n_d]
+
+    @cached_property
+    def calculated_radius(self) -> np.ndarray:
+        """Radius a diameter calculator gives each drive [m] (0: none), records x drives, as
+        the loop records it."""
+        return self.rec[:, 1 + self.plan.n_x + len(self.line.drives):]
+
+    @cached_property
+    def control_radius(self) -> np.ndarray:
+        """Radius each drive's controllers use [m], records x drives: its calculator's where
+        it has one, else its roll's (lane's) true radius, else its roller's (as
+        ``Result.control_radius``; ``findings.winder_states.drive_radius``)."""
+        if not len(self.line.drives):
+            return self.calculated_radius
+        return np.stack([drive_radius(self.plan, d, self.roll_radius, self.calculated_radius)
+                         for d in range(len(self.line.drives))], axis=1)
+
+    @cached_property
+    def omega(self) -> np.ndarray:
+        """Angular speed of each roller [rad/s], records x nodes."""
+        off = self.plan.offsets[B.O_OMEGA]
+        return self.states[:, off:off + self.plan.nodes.shape[0]]
+
+    @cached_property
+    def arm(self) -> np.ndarray:
+        """Mean radius [m] at which each roller carries its web, records x nodes: a roll's
+        wound radius (its first web's), a shaft's the lane its drive measures speed on, a
+        roller's own radius (without an out-of-round roller's eccentricity)."""
+        plan, line = self.plan, self.line
+        arm = np.tile(plan.nodes[:, B.N_RADIUS], (len(self.time), 1))
+        for j in reversed(range(len(line.rolls))):
+            arm[:, line.rolls[j].node] = self.roll_radius[:, j]
+        for d, i in enumerate(line.drives):
+            if plan.di[d, B.DI_ROLL] >= 0:
+                arm[:, i] = self.roll_radius[:, plan.di[d, B.DI_ROLL]]
+        return arm
+
+    @cached_property
+    def surface_speed(self) -> np.ndarray:
+        """Surface speed r ω of each roller [m/s], records x nodes, with an out-of-round
+        roller's radius r + e cos(angle) (docs/winder.md E1) as the web sees it."""
+        plan, o = self.plan, self.plan.offsets
+        radius = self.arm.copy()
+        for i in np.flatnonzero(plan.nodes[:, B.N_ECC]):
+            angle = self.states[:, o[B.O_ANGLE] + int(plan.nodes[i, B.N_ANGLE])]
+            radius[:, i] += plan.nodes[i, B.N_ECC] * np.cos(angle)
+        return radius * self.omega
 
     @cached_property
     def drive_speed(self) -> np.ndarray:
-        """Surface speed of each drive's roller [m/s] (a shaft's: the lane its drive
-        measures)."""
-        return self.dataset["speed"].values[:, self.line.drives]
+        """Web speed each drive measures [m/s]: its roller's mean arm x ω (a shaft's: the
+        lane its drive measures), records x drives."""
+        drives = list(self.line.drives)
+        return self.arm[:, drives] * self.omega[:, drives]
 
     @cached_property
     def speed_ref(self) -> np.ndarray:
@@ -143,7 +199,9 @@ class BranchResult(RunResult):
 
     @cached_property
     def roll_radius(self) -> np.ndarray:
-        return self.dataset["radius"].values
+        """Wound radius of each roll or lane [m], records x rolls."""
+        o = self.plan.offsets
+        return self.states[:, o[B.O_RADIUS]:o[B.O_TORQUE]]
 
     @cached_property
     def events(self) -> list[EventStats]:
@@ -168,9 +226,7 @@ class BranchResult(RunResult):
         this roll's own records)."""
         from webline.sim.branches.findings.wound_rolls import branch_wound_rolls
 
-        ds = self.dataset
-        return branch_wound_rolls(self.plan, self.time, ds["radius"].values,
-                                  ds["tension"].values)
+        return branch_wound_rolls(self.plan, self.time, self.roll_radius, self.tension)
 
     def summary(self) -> dict[str, dict[str, dict[str, float]]]:
         """Per span: tension mean, standard deviation and, with a loadcell, its errors [N];
@@ -181,23 +237,48 @@ class BranchResult(RunResult):
         return run_summary(self)
 
     @cached_property
+    def inertia(self) -> np.ndarray:
+        """Inertia about each roll's shaft [kg·m²], records x rolls: the roller's rotating
+        parts plus every roll wound on it (thesis 6.1; a lane on a clutch core: the core's
+        and its own roll's), as the loop's ``plant.rhs`` sums them."""
+        from webline.physics.roll import roll_inertia
+
+        plan, line = self.plan, self.line
+        rolls, radius = plan.rolls, self.roll_radius
+        web = np.stack([roll_inertia(0.0, radius[:, j], rolls[j, B.R_CORE],
+                                     rolls[j, B.R_WIDTH], rolls[j, B.R_RHO])
+                        for j in range(len(line.rolls))], axis=1)
+        out = np.empty_like(radius)
+        clutch = {int(plan.cores[c, B.C_ROLL]): c for c in range(plan.cores.shape[0])}
+        for j, roll in enumerate(line.rolls):
+            if j in clutch:
+                out[:, j] = plan.clutch[clutch[j], B.CF_INERTIA] + web[:, j]
+                continue
+            shared = [m for m, other in enumerate(line.rolls)
+                      if other.node == roll.node and m not in clutch]
+            out[:, j] = plan.nodes[roll.node, B.N_JCONST] + web[:, shared].sum(axis=1)
+        return out
+
+    @cached_property
     def dataset(self) -> xr.Dataset:
-        """Signals with units (attrs ``units``): tension and strain per span, layer tensions of
-        laminate spans, node angular and surface speeds, roll radii, torques per drive, web
-        length in/out and stored per web."""
+        """Signals with units and long names (attrs ``units``, ``long_name``: the names of a
+        single-path run, ``sim.results.signal_attrs``): tension, its reference, slack and
+        strain per span, layer tensions of laminate spans, node angular, surface and web
+        speeds (and slip where no roller can slip), roll radii and inertias, torques, motor
+        speed, twist and backlash contact per drive, web length in/out and stored per web.
+        The verdict reads it; ``to_xarray`` adds the run's global attributes."""
         import xarray as xr  # here: a single-path run's report imports this module, not xarray
+
+        from webline.sim.results.derived_signals import backlash_contact, transmission_twist
+        from webline.sim.results.signal_attrs import signal_attrs
 
         plan, line = self.plan, self.plan.line
         x = self.states
-        n_s, n_n, n_d = len(line.spans), plan.nodes.shape[0], len(line.drives)
+        n_s, n_n = len(line.spans), plan.nodes.shape[0]
         o = plan.offsets
         ea = plan.sf[:, B.SF_EA]
-        tension = felt_records(plan, self.time, x)  # (the clipped stretch of linear webs)
-        omega = x[:, o[B.O_OMEGA]:o[B.O_OMEGA] + n_n]
-        radius = x[:, o[B.O_RADIUS]:o[B.O_TORQUE]]
-        torque = x[:, o[B.O_TORQUE]:o[B.O_WEB]]
+        tension = self.tension
         q = x[:, o[B.O_WEB]:o[B.O_CORE]]
-        core_omega = x[:, o[B.O_CORE]:o[B.O_ANGLE]]
         lengths = span_lengths(plan, x)  # beside a dancer: L + g (y - y_set)
         held = (ea / (ea + x[:, :n_s]) if line.exact  # L/(1 + ε), else L (1 - ε) (E-6.6)
                 else 1.0 - x[:, :n_s] / ea)
@@ -215,69 +296,81 @@ class BranchResult(RunResult):
         layer_webs, layer_in, layer_out, layer_stored = layer_lengths(plan, x, lengths)
         roll_names = [f"{line.spec.rollers[r.node].name}/{line.spec.webs[r.web].name}"
                       for r in line.rolls]
-        drives = [line.spec.rollers[i].name for i in line.drives]
-        arm = np.tile(plan.nodes[:, B.N_RADIUS], (len(x), 1))  # a roll: its first web's radius
-        for j in reversed(range(len(line.rolls))):
-            arm[:, line.rolls[j].node] = radius[:, j]
-        for d, i in enumerate(line.drives):  # a shaft: the lane its drive measures speed on
-            if plan.di[d, B.DI_ROLL] >= 0:
-                arm[:, i] = radius[:, plan.di[d, B.DI_ROLL]]
-        for node in np.flatnonzero(plan.nodes[:, B.N_ANGLE] >= 0):  # out of round: the web
-            angle = x[:, o[B.O_ANGLE] + int(plan.nodes[node, B.N_ANGLE])]  # leaves r + e cos
-            arm[:, node] += plan.nodes[node, B.N_ECC] * np.cos(angle)  # (the plant's, E1)
         t = self.time
+        n_d = len(line.drives)
+        tstate = plan.di[:, B.DI_TSTATE]
+        twist = transmission_twist(tstate, x)
+        motor = np.empty((len(t), n_d))  # the motor's shaft: n ω of its roller when rigid
+        for d, i in enumerate(line.drives):
+            state = int(tstate[d])
+            motor[:, d] = x[:, state] if state >= 0 else plan.df[d, B.D_RATIO] * self.omega[:, i]
 
-        def var(dims: tuple[str, ...], values: np.ndarray, units: str, text: str) -> xr.Variable:
-            return xr.Variable(("time", *dims), values, {"units": units, "long_name": text})
+        def var(dims: tuple[str, ...], values: np.ndarray, name: str,
+                **attrs: str) -> xr.Variable:
+            return xr.Variable(("time", *dims), values, signal_attrs(name) | attrs)
 
+        def layers(values: list[np.ndarray]) -> np.ndarray:
+            return np.array(values).T.reshape(len(t), len(layer_names))
+
+        slips = bool(np.any(plan.nodes[:, B.N_TRACTION]))  # (its slip is not recorded)
         data = {
-            "tension": var(("span",), tension, "N", "span tension"),
-            "strain": var(("span",), x[:, :n_s] / ea, "1", "span strain EA·ε / EA"),
-            "layer_tension": var(("layer_span",), np.array(layer_values).T.reshape(
-                len(t), len(layer_names)), "N", "layer tension in a laminate span"),
-            "layer_strain": var(("layer_span",), np.array(layer_strains).T.reshape(
-                len(t), len(layer_names)), "1", "layer's own strain in a laminate span"),
-            "omega": var(("node",), omega, "rad/s", "roller angular speed"),
-            "speed": var(("node",), arm * omega, "m/s", "surface speed of a roller (of a "
-                         "shaft: the lane its drive measures)"),
-            "radius": var(("roll",), radius, "m", "wound radius of a roll or lane"),
-            "torque": var(("drive",), torque, "N*m", "motor torque"),
-            "torque_cmd": var(("drive",), self.rec[:, 1 + plan.n_x:1 + plan.n_x + n_d], "N*m",
-                              "torque command"),
-            "control_radius": var(("drive",), self.rec[:, 1 + plan.n_x + n_d:], "m",
-                                  "radius a diameter calculator gives its drive (0: none)"),
-            "web_in": var(("web",), q[:, 0::2], "m", "unstrained web in at the path's start"),
-            "web_out": var(("web",), q[:, 1::2], "m", "unstrained web out at the path's end"),
-            "web_stored": var(("web",), stored, "m", "unstrained web in the path's spans"),
-            "layer_in": var(("layer_web",), layer_in, "m", "unstrained layer in at its "
-                            "laminate's start"),
-            "layer_out": var(("layer_web",), layer_out, "m", "unstrained layer out at its "
-                             "laminate's end"),
-            "layer_stored": var(("layer_web",), layer_stored, "m", "unstrained layer in its "
-                                "laminate's spans"),
-            "core_omega": var(("core",), core_omega, "rad/s",
-                              "angular speed of a lane's core on a differential shaft"),
+            "tension": var(("span",), tension, "tension"),
+            "tension_ref": var(("span",), self.tension_ref, "tension_ref"),
+            "slack": var(("span",), ((x[:, :n_s] < 0.0) & intact(plan, t)).astype(np.int8),
+                         "slack"),
+            "strain": var(("span",), x[:, :n_s] / ea, "strain"),
+            "layer_tension": var(("layer_span",), layers(layer_values), "layer_tension"),
+            "layer_strain": var(("layer_span",), layers(layer_strains), "layer_strain"),
+            "omega": var(("node",), self.omega, "omega"),
+            "speed": var(("node",), self.surface_speed, "speed", **({"long_name": (
+                "roller surface speed (the web's slip over a traction roller is not "
+                "recorded)")} if slips else {})),
+            "surface_speed": var(("node",), self.surface_speed, "surface_speed"),
+            "radius": var(("roll",), self.roll_radius, "radius",
+                          long_name="wound radius of a roll or lane"),
+            "inertia": var(("roll",), self.inertia, "inertia"),
+            "torque": var(("drive",), self.torque, "torque"),
+            "torque_cmd": var(("drive",), self.torque_cmd, "torque_cmd"),
+            "motor_speed": var(("drive",), motor, "motor_speed"),
+            "twist": var(("drive",), twist, "twist"),
+            "contact": var(("drive",), backlash_contact(
+                tstate, plan.df[:, B.D_GAPNEG], plan.df[:, B.D_GAPPOS], twist), "contact"),
+            "control_radius": var(("drive",), self.control_radius, "control_radius"),
+            "web_in": var(("web",), q[:, 0::2], "web_in"),
+            "web_out": var(("web",), q[:, 1::2], "web_out"),
+            "web_stored": var(("web",), stored, "web_stored"),
+            "layer_in": var(("layer_web",), layer_in, "layer_in"),
+            "layer_out": var(("layer_web",), layer_out, "layer_out"),
+            "layer_stored": var(("layer_web",), layer_stored, "layer_stored"),
+            "core_omega": var(("core",), x[:, o[B.O_CORE]:o[B.O_ANGLE]], "core_omega"),
         }
+        if not slips:  # no roller the web can slip over: it sticks at every node
+            zeros = np.zeros((len(t), n_n))
+            data |= {"slipping": var(("node",), zeros.astype(np.int8), "slipping"),
+                     "slip_velocity": var(("node",), zeros, "slip_velocity"),
+                     "slip_power": var(("node",), zeros, "slip_power")}
         if plan.offsets[B.O_SENSORS]:  # what the calibrated loadcells show (spec.sensors)
-            data["tension_measured"] = var(
-                ("span",), plan.sf[:, B.SF_TGAIN] * tension + plan.sf[:, B.SF_TOFFSET], "N",
-                "span tension as its loadcell shows it (gain, offset; no noise)")
-        if np.any(plan.di[:, B.DI_TSTATE] >= 0):  # compliant transmissions (drive_trains)
-            data.update(train_signals(plan.offsets, plan.di, plan.df, x, var))
+            data["tension_measured"] = var(("span",), self.tension_measured,
+                                           "tension_measured")
+        if np.any(tstate >= 0):  # compliant transmissions: the motor at the load shaft
+            data["motor_omega"] = var(("drive",), train_motor_omega(plan.offsets, plan.di,
+                                                                    plan.df, x), "motor_omega")
         coords = {"time": ("time", t, {"units": "s"}),
                   "span": [s.name for s in line.spans],
                   "span_web": ("span", [line.spec.webs[s.web].name for s in line.spans]),
                   "layer_span": layer_names, "layer_web": layer_webs,
                   "node": [r.name for r in line.spec.rollers],
-                  "roll": roll_names, "drive": drives,
+                  "roll": roll_names, "drive": [line.spec.rollers[i].name for i in line.drives],
                   "core": [roll_names[j] for j in plan.cores[:, B.C_ROLL]],
                   "web": [w.name for w in line.spec.webs]}
-        data[OLD_CONTROL_RADIUS] = data["control_radius"].copy()
-        data[OLD_CONTROL_RADIUS].attrs["deprecated"] = "renamed control_radius"
+        data[OLD_CONTROL_RADIUS] = var(("drive",), self.calculated_radius, "control_radius",
+                                       long_name="radius a diameter calculator gives its "
+                                       "drive (0: none)",
+                                       deprecated="control_radius: the radius the drive uses")
         dancers = dancer_nodes(line)
         if dancers:  # (only where there are: the built-in lines' records stay as they were)
-            data["dancer_position"] = var(("dancer",), x[:, o[B.O_DANCER]:o[B.O_DANCER_END]:2], "m",
-                                          "dancer carriage position y (0 .. travel)")
+            data["dancer_position"] = var(("dancer",), x[:, o[B.O_DANCER]:o[B.O_DANCER_END]:2],
+                                          "dancer_position")
             coords["dancer"] = [line.spec.rollers[i].name for i in dancers]
         return xr.Dataset(data, coords, attrs={
             "line": line.name, "scenario": line.scenario or "", "webline_version": __version__,
@@ -291,12 +384,31 @@ class BranchResult(RunResult):
         return str(_view(HTML_VIEW)(self))
 
     def to_xarray(self) -> xr.Dataset:
-        return self.dataset
+        """``dataset`` with a single-path run's global attributes (CF conventions, title,
+        history, the resolved line file ``line_spec_toml``, status, message, verdict, the
+        settings as ``setting_NAME``: ``sim.results.result_dataset.result_attrs``), its
+        scenario and failure, and each coordinate's ``long_name``. A new Dataset each call;
+        ``signals`` keeps one."""
+        from webline.sim.results.result_dataset import (
+            COORD_NAMES,
+            TIME_ATTRS,
+            WEB_ROLL_NAME,
+            result_attrs,
+        )
+
+        ds = self.dataset.copy()
+        ds.attrs = {"scenario": ds.attrs["scenario"], "failure": ds.attrs["failure"],
+                    **result_attrs(self)}
+        for name in ds.coords:
+            ds[name].attrs = (dict(TIME_ATTRS) if name == "time" else
+                              {"long_name": WEB_ROLL_NAME if name == "roll"
+                               else COORD_NAMES[str(name)]})
+        return ds
 
     @property
     def _filed(self) -> xr.Dataset:
         """The dataset as files and tables give it (without the deprecated names)."""
-        return self.dataset.drop_vars(OLD_CONTROL_RADIUS)
+        return self.signals.drop_vars(OLD_CONTROL_RADIUS)
 
     def to_dataframe(self) -> Any:
         """One row per record indexed by ``time`` [s], one column per signal and element
@@ -310,13 +422,12 @@ class BranchResult(RunResult):
                   ) -> Path:
         """Write every signal to NetCDF-4, compressed and chunked along time as a single-path
         run's file, float signals as ``precision`` (time stays float64), the resolved line
-        file in attribute ``line_spec`` (TOML, SI), each wound roll per layer in the group
+        file in attribute ``line_spec_toml`` (TOML, SI), each wound roll per layer in the group
         ``wound_roll/ROLLER/WEB`` (``wound_rolls``), atomically. Returns the path
         (``sim.results.dataset_files``)."""
         from webline.sim.results.dataset_files import write_dataset
-        from webline.spec.load import dump_spec
 
-        filed = self._filed.assign_attrs(line_spec=dump_spec(self.plan.line.spec))
+        filed = self._filed
         rolls = {f"wound_roll/{name}": roll.to_xarray()
                  for name, roll in self.wound_rolls.items()}
         return write_dataset(filed, path, "netcdf", precision, rolls)
@@ -334,7 +445,6 @@ class BranchResult(RunResult):
         ``tension_limit`` are warnings; so is a drive's command at its torque limit; a run
         stopped early is a failure."""
         line = self.plan.line
-        ds = self.dataset
         findings = []
         if self.failure is not None:
             kind = "nonfinite" if "finite" in self.failure else (
@@ -348,7 +458,7 @@ class BranchResult(RunResult):
                                         self.time) else 0.0))
         for w, web in enumerate(line.spec.webs):
             spans = line.web_spans(w)
-            tension = ds["tension"].values[:, spans]
+            tension = self.tension[:, spans]
             taut = np.where(intact(self.plan, self.time)[:, spans], tension, np.inf)
             label = f"{kind_of(web)} {web.name}"  # (a broken span: the break's finding)
             slack = np.nonzero(np.any(taut <= 0.0, axis=1))[0]
@@ -364,17 +474,17 @@ class BranchResult(RunResult):
                                         f"{label} exceeds its tension limit {limit:.4g} N "
                                         f"(max {np.max(tension):.4g} N)",
                                         float(self.time[first])))
-        findings += splice_findings(line, self.plan.dt, self.time, ds["tension"].values)
+        findings += splice_findings(line, self.plan.dt, self.time, self.tension)
         findings += yield_findings(self.plan, self.time, self.states)
         findings += compressed_findings(self.plan, self.time, self.states)
-        findings += break_findings(self.plan, self.time, ds["speed"].values, self.settings,
-                                   ds["tension"].values)
+        findings += break_findings(self.plan, self.time, self.arm * self.omega, self.settings,
+                                   self.tension)
         findings += slip_findings(self.plan.line, self.plan.nodes, self.plan.si)
         findings += end_stop_findings(self.plan, self.time, self.states)
-        findings += tension_findings(self.plan, self.time, ds["tension"].values,  # [checks]
-                                     ds["radius"].values, ds["control_radius"].values)
-        findings += diameter_findings(self.plan, self.time, ds["radius"].values,
-                                      ds["control_radius"].values)
+        findings += tension_findings(self.plan, self.time, self.tension,  # [checks]
+                                     self.roll_radius, self.calculated_radius)
+        findings += diameter_findings(self.plan, self.time, self.roll_radius,
+                                      self.calculated_radius)
         rolls = self.wound_rolls
         for j, roll in enumerate(line.rolls):  # each roll's under its web or lane (its
             wound = rolls.get(roll_name(self.plan, j))  # message names the roll)
@@ -382,8 +492,8 @@ class BranchResult(RunResult):
                 owner = line.spec.webs[roll.web].name
                 findings += [replace(f, where=owner) for f in wound.findings()]
         limits = self.plan.df[:, B.D_LIMIT]
-        for d, name in enumerate(ds["drive"].values):  # a drive at its torque limit
-            at_limit = np.nonzero(np.abs(ds["torque_cmd"].values[:, d]) >= limits[d])[0]
+        for d, name in enumerate(self.drive_names):  # a drive at its torque limit
+            at_limit = np.nonzero(np.abs(self.torque_cmd[:, d]) >= limits[d])[0]
             if len(at_limit):
                 when = float(self.time[at_limit[0]])
                 findings.append(Finding(

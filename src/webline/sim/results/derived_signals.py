@@ -33,26 +33,27 @@ def slip_velocities(plan: Plan, tension: np.ndarray, surface_speed: np.ndarray,
     return out
 
 
-def transmission_twist(plan: Plan, states: np.ndarray) -> np.ndarray:
+def transmission_twist(tstate: np.ndarray, states: np.ndarray) -> np.ndarray:
     """Twist θm/n - θL of each compliant transmission [rad] (records x drives; NaN for
-    rigid drives)."""
-    out = np.full((states.shape[0], plan.drives.shape[0]), np.nan)
-    for d in range(plan.drives.shape[0]):
-        state = int(plan.drives[d, L.D_TSTATE])
+    rigid drives) from the records ``states``; ``tstate``: each drive's first transmission
+    state (motor speed, then twist), -1 for a rigid drive (any loop's drive table)."""
+    out = np.full((states.shape[0], len(tstate)), np.nan)
+    for d, state in enumerate(tstate):
         if state >= 0:
-            out[:, d] = states[:, state + 1]
+            out[:, d] = states[:, int(state) + 1]
     return out
 
 
-def backlash_contact(plan: Plan, twist: np.ndarray) -> np.ndarray:
-    """Backlash contact of each drive from its ``twist`` [rad]: +1 forward flank, -1 backward
-    flank, 0 in the gap (NaN for drives without backlash)."""
+def backlash_contact(tstate: np.ndarray, gap_neg: np.ndarray, gap_pos: np.ndarray,
+                     twist: np.ndarray) -> np.ndarray:
+    """Backlash contact of each drive from its ``twist`` [rad] and its gap's backward and
+    forward travel [rad]: +1 forward flank, -1 backward flank, 0 in the gap (NaN for drives
+    without backlash; ``tstate`` as in ``transmission_twist``)."""
     out = np.full_like(twist, np.nan)
-    for d in range(plan.drives.shape[0]):
-        row = plan.drives[d]
-        if row[L.D_TSTATE] >= 0 and row[L.D_GAPNEG] + row[L.D_GAPPOS] > 0:
-            out[:, d] = np.where(twist[:, d] > row[L.D_GAPPOS], 1.0,
-                                 np.where(twist[:, d] < -row[L.D_GAPNEG], -1.0, 0.0))
+    for d in range(len(tstate)):
+        if tstate[d] >= 0 and gap_neg[d] + gap_pos[d] > 0:
+            out[:, d] = np.where(twist[:, d] > gap_pos[d], 1.0,
+                                 np.where(twist[:, d] < -gap_neg[d], -1.0, 0.0))
     return out
 
 

@@ -307,7 +307,7 @@ class Result(RunResult):
         """Twist θm/n - θL of each compliant transmission [rad] (NaN for rigid drives)."""
         from webline.sim.results.derived_signals import transmission_twist
 
-        return transmission_twist(self.plan, self.states)
+        return transmission_twist(self.plan.drives[:, L.D_TSTATE], self.states)
 
     @cached_property
     def contact(self) -> np.ndarray:
@@ -315,7 +315,9 @@ class Result(RunResult):
         (NaN for drives without backlash)."""
         from webline.sim.results.derived_signals import backlash_contact
 
-        return backlash_contact(self.plan, self.twist)
+        drives = self.plan.drives
+        return backlash_contact(drives[:, L.D_TSTATE], drives[:, L.D_GAPNEG],
+                                drives[:, L.D_GAPPOS], self.twist)
 
     @cached_property
     def inertia(self) -> np.ndarray:

@@ -19,7 +19,18 @@ if TYPE_CHECKING:
 #: CF ``long_name`` of each element coordinate (names, so no units)
 COORD_NAMES = {"span": "span name (web order)", "node": "roller name (web order)",
                "drive": "driven roller name (web order)", "roll": "roll name (unwind, rewind)",
-               "dancer": "dancer name (web order)"}
+               "dancer": "dancer name (web order)",
+               # a line of several webs: its webs, laminate layers, and lanes' cores
+               "web": "web name", "span_web": "web of each span",
+               "layer_span": "laminate span/layer name", "layer_web": "layer web name",
+               "core": "roll on a differential shaft's clutch core"}
+
+#: the roll coordinate's ``long_name`` of a line of webs: a roll is named ``roller/web`` (a
+#: shaft's lanes one each)
+WEB_ROLL_NAME = "roll name (roller/web)"
+
+#: CF attributes of the time coordinate
+TIME_ATTRS = {"units": "s", "long_name": "simulated time", "standard_name": "time", "axis": "T"}
 
 #: one exported variable: dimensions, values and CF attributes
 Variable = tuple[tuple[str, ...], np.ndarray, dict[str, object]]
@@ -39,8 +50,6 @@ def result_variables(result: Any) -> ResultVariables:
     """``result`` (a ``Result``, which imports this module) as named variables over time with
     span, node and drive coordinates; SI units as attributes; the resolved line (TOML) and the
     webline version embedded."""
-    from webline.version import __version__
-
     dims_span, dims_node, dims_drive = ("time", "span"), ("time", "node"), ("time", "drive")
     data = {
         "tension": (dims_span, result.tension),
@@ -82,12 +91,22 @@ def result_variables(result: Any) -> ResultVariables:
         data["dancer_position"] = (("time", "dancer"), result.dancer_position)
         names["dancer"] = result.dancer_names
     coords: dict[str, Variable] = {
-        "time": (("time",), result.time, {"units": "s", "long_name": "simulated time",
-                                          "standard_name": "time", "axis": "T"}),
+        "time": (("time",), result.time, dict(TIME_ATTRS)),
         **{dim: ((dim,), np.array(values, dtype=object), {"long_name": COORD_NAMES[dim]})
            for dim, values in names.items()},
     }
-    attrs = {
+    return ResultVariables(
+        coords, {name: (dims, values, signal_attrs(name)) for name, (dims, values) in data.items()},
+        result_attrs(result))
+
+
+def result_attrs(result: Any) -> dict[str, object]:
+    """The global CF attributes of any run's dataset (``RunResult``): conventions, title,
+    source, history, the line's name and resolved file (TOML, SI), the webline version, the
+    verdict's status, message and headline, and each setting as ``setting_NAME``."""
+    from webline.version import __version__
+
+    return {
         "Conventions": "CF-1.8",
         "title": f"webline simulation of line {result.line.name}",
         "source": f"webline {__version__}: compiled RK4 plant with sampled controllers",
@@ -101,9 +120,6 @@ def result_variables(result: Any) -> ResultVariables:
         "verdict": result.verdict.headline,
         **{f"setting_{k}": v for k, v in result.settings.items()},
     }
-    return ResultVariables(
-        coords, {name: (dims, values, signal_attrs(name)) for name, (dims, values) in data.items()},
-        attrs)
 
 
 def to_xarray(result: Any) -> xr.Dataset:

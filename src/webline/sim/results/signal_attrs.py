@@ -15,6 +15,10 @@ SIGNAL_UNITS = {
     "web_rewound": "m", "web_stored": "m", "wound_in": "N",
     "mrac_gain_tension": "m", "mrac_gain_speed": "N*s", "mrac_bias": "N*m",
     "dancer_position": "m", "tension_measured": "N", "speed_measured": "m/s",
+    # a line of several webs (and laminates, differential shafts) also gives these
+    "strain": "1", "layer_tension": "N", "layer_strain": "1",
+    "web_in": "m", "web_out": "m", "layer_in": "m", "layer_out": "m", "layer_stored": "m",
+    "core_omega": "rad/s", "motor_omega": "rad/s",
 }
 
 
@@ -40,9 +44,20 @@ LONG_NAMES = {
     "dancer_position": "dancer carriage position (0 and its stroke: the end stops)",
     "tension_measured": "span tension as its loadcell shows it (gain, offset; no noise)",
     "speed_measured": "web speed as its drive's encoder shows it (scale; no noise)",
+    "strain": "span strain EA·ε / EA", "layer_tension": "layer tension in a laminate span",
+    "layer_strain": "layer's own strain in a laminate span",
+    "web_in": "unstrained web in at the path's start",
+    "web_out": "unstrained web out at the path's end",
+    "layer_in": "unstrained layer in at its laminate's start",
+    "layer_out": "unstrained layer out at its laminate's end",
+    "layer_stored": "unstrained layer in its laminate's spans",
+    "core_omega": "angular speed of a lane's core on a differential shaft",
+    "motor_omega": "motor angular speed / ratio (at the load shaft)",
 }
 #: flag meanings (CF) of the integer-coded signals
 FLAGS = {"slack": ([0, 1], "taut slack"), "slipping": ([0, 1], "stuck slipping")}
+
+
 def signal_attrs(name: str) -> dict[str, object]:
     """CF attributes of signal ``name``: ``long_name`` and ``units`` (UDUNITS syntax; "1" for
     a ratio), flags for the coded ones."""

@@ -18,9 +18,8 @@ from typing import Any
 #: ``signals.COMPARED`` says: a branched run records a radius per roll (a shaft's lanes one
 #: each, named ``roller/web``), a single-path run per node
 BRANCHED_DIMS = {"radius": "roll"}
-#: signal kinds a branched run does not record (its loop has no trim, no feedforward split
-#: and no slip of the web against the surface, so no separate surface speed)
-BRANCHED_MISSING = ("surface_speed", "trim", "motor_speed")
+#: signal kinds a branched run does not record (its loop records no trim)
+BRANCHED_MISSING = ("trim",)
 
 
 @dataclass(frozen=True)

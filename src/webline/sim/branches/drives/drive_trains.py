@@ -7,9 +7,6 @@ linear model's rows.
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import Any
-
 import numpy as np
 
 from webline.model.web_graph import BranchedLine
@@ -126,21 +123,14 @@ def tuning_inertia(di: np.ndarray, df: np.ndarray, d: int,
     return inertia + motor, motor if row[B.D_FEEDBACK] > 0 else inertia + motor
 
 
-def train_signals(offsets: np.ndarray, di: np.ndarray, df: np.ndarray, x: np.ndarray,
-                  var: Callable[..., Any]) -> dict[str, Any]:
-    """A run's ``motor_omega`` [rad/s] (the motor's speed / n: the roller's for a direct
-    drive) and ``twist`` [rad] (θ_m/n - θ_L at the load shaft, 0 for a direct drive) per
-    drive, from the records ``x``; ``var`` makes a variable (dims, values, units, text)."""
-    n_d = di.shape[0]
-    omega = np.empty((len(x), n_d))
-    twist = np.zeros((len(x), n_d))
-    for d in range(n_d):
+def train_motor_omega(offsets: np.ndarray, di: np.ndarray, df: np.ndarray,
+                      x: np.ndarray) -> np.ndarray:
+    """A run's motor speed / n [rad/s] per drive (at the load shaft: the roller's own for a
+    direct drive), records x drives, from the records ``x``. The twist θ_m/n - θ_L is
+    ``sim.results.derived_signals.transmission_twist``."""
+    omega = np.empty((len(x), di.shape[0]))
+    for d in range(di.shape[0]):
         state, i = int(di[d, B.DI_TSTATE]), int(di[d, B.DI_NODE])
-        if state < 0:
-            omega[:, d] = x[:, offsets[B.O_OMEGA] + i]
-        else:
-            omega[:, d] = x[:, state] / df[d, B.D_RATIO]
-            twist[:, d] = x[:, state + 1]
-    return {"motor_omega": var(("drive",), omega, "rad/s", "motor speed / ratio"),
-            "twist": var(("drive",), twist, "rad", "transmission twist θm/n - θL at the load "
-                         "shaft (motor-load angle difference)")}
+        omega[:, d] = (x[:, offsets[B.O_OMEGA] + i] if state < 0
+                       else x[:, state] / df[d, B.D_RATIO])
+    return omega
