@@ -6,10 +6,12 @@ through the general (branched) loop (issue 33).
 Each loop runs ``--seconds`` of simulated time from its operating point (plant, sampled
 controllers, records: what a run costs) after a warm-up that compiles it; the best of
 ``--repeat`` wall times, the loops alternated so that a busy spell hits all, divided by the
-ticks. The general loop is timed at the sub-steps the one step rule gives it now (one, as the
-chain) and at the two its eigen-solve's 500.000000002 1/s gave it before
-(``sim.linear.steps``): the before/after of that rule in one run. The machine should be
-quiet.
+ticks. The laminator is timed too, through the general loop: with ``--frozen`` each loop's
+cost now is set against the frozen tree's, measured alternately in the same run, and the
+load (``uptime``) printed with them. The general loop is timed at the sub-steps the one step
+rule gives it now (one, as the chain) and at the two its eigen-solve's 500.000000002 1/s
+gave it before (``sim.linear.steps``): the before/after of that rule in one run. The machine
+should be quiet.
 """
 
 from __future__ import annotations
@@ -33,6 +35,8 @@ from webline.sim.core.plan import compile_plan, equilibrium_plan_state
 from webline.sim.simulate import choose_substeps
 
 ONE_WEB = Path(__file__).parents[1] / "tests" / "data" / "hswl_one_web.toml"
+#: the laminator of this tree: its per-tick cost is compared with the frozen tree's (--frozen)
+LAMINATOR = Path(webline.__file__).parent / "data" / "lines" / "laminator.toml"
 
 
 def chain_tick(seconds: float) -> tuple[float, int]:
@@ -48,9 +52,11 @@ def chain_tick(seconds: float) -> tuple[float, int]:
     return (time.perf_counter() - started) / n_ticks, substeps
 
 
-def general_tick(seconds: float, substeps: int | None) -> tuple[float, int]:
-    """(wall time [s] per tick of hswl as one web through the general loop, sub-steps)."""
-    plan, point, steps = plan_and_step(load_branched(ONE_WEB), None, substeps)
+def general_tick(seconds: float, substeps: int | None,
+                 path: Path = ONE_WEB) -> tuple[float, int]:
+    """(wall time [s] per tick of the line file ``path`` (hswl as one web) through the general
+    loop, sub-steps)."""
+    plan, point, steps = plan_and_step(load_branched(path), None, substeps)
     n_ticks = round(seconds / plan.dt)
 
     def once(ticks: int) -> float:
@@ -84,6 +90,7 @@ def measure(seconds: float, repeat: int) -> dict[str, tuple[float, int]]:
             ("chain", lambda: chain_tick(seconds)),
             ("general", lambda: general_tick(seconds, None)),
             ("general (2 sub-steps, before)", lambda: general_tick(seconds, 2)),
+            ("laminator", lambda: general_tick(seconds, None, LAMINATOR)),
         ):
             cost, steps = run()
             if name not in best or cost < best[name][0]:
@@ -132,8 +139,16 @@ def main() -> None:
                     best[tree][name] = (cost, steps)
     for tree, rows in best.items():
         for name, (cost, steps) in rows.items():
-            print(f"{tree:6s} hswl {name:30s} {cost * 1e9:7.0f} ns per tick ({steps} sub-steps)")
+            line = name if name == "laminator" else f"hswl {name}"
+            print(f"{tree:6s} {line:35s} {cost * 1e9:7.0f} ns per tick ({steps} sub-steps)")
         print(f"{tree:6s} general / chain: {rows['general'][0] / rows['chain'][0]:.2f}")
+    if "before" in best:
+        for name in ("chain", "general", "laminator"):
+            now, before = best["now"][name][0], best["before"][name][0]
+            print(f"{name} now / before: {now / before:.2f}")
+        print(f"general now / chain before: "
+              f"{best['now']['general'][0] / best['before']['chain'][0]:.2f}")
+    print("uptime:", subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip())
 
 
 if __name__ == "__main__":

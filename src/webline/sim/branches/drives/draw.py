@@ -65,6 +65,8 @@ def draw_coefficients(plan: BranchPlan) -> np.ndarray:
     as the chain's draw term −V/(EA − T₀), docs/errata.md)."""
     n_s, n_d = len(plan.line.spans), plan.di.shape[0]
     first, start = draw_rows(n_s, n_d)
-    if plan.refs[start, 0] == 0.0:
+    if plan.refs[start, 0] == 0.0:  # into a copy: the plan's stay empty where no reference
+        # moves, so that its run's draw factor is 1 without work (``loop.draw``; issue 33)
+        plan = dataclasses.replace(plan, refs=plan.refs.copy())
         fill_draw(plan, operating_point(plan, 0.0), always=True)
     return plan.refs[first:first + n_d, 1:].copy()
