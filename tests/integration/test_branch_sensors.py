@@ -184,7 +184,8 @@ def test_an_encoder_scale_and_delays_act_on_a_branched_line():
     """The nip's encoder 2 % high: its speed loop holds 1.02 v on the reference, so the
     laminate runs at 150 m/min / 1.02 from the start (the operating point knows it) and
     ``speed_measured`` shows the reference; the film loadcell 5 ms and the rewind's encoder
-    2 ms late leave the start steady (their buffers start at the initial readings)."""
+    2 ms late leave the start steady (their buffers start at the initial readings): the
+    film zone's first five records (the delay) within 1e-8 N of its reference."""
     result = webline.simulate(laminator([
         {"name": "enc", "type": "encoder", "roller": "nip", "scale": 1.02},
         {"name": "lc", "type": "loadcell", "span": "film_zone", "delay": "5 ms"},
@@ -194,8 +195,10 @@ def test_an_encoder_scale_and_delays_act_on_a_branched_line():
     assert speed[0] == pytest.approx(2.5 / 1.02, rel=1e-9)
     assert np.max(np.abs(speed - 2.5 / 1.02)) < 1e-6
     assert np.max(np.abs(result.dataset.speed_measured.values[:, nip] - 2.5)) < 1.1e-6
-    k = span(result, "film_zone")
-    assert np.max(np.abs(result.tension[:, k] - FILM)) < 1e-6
+    k = span(result, "film_zone")  # (a buffer started empty would read 0 N for 5 ms: the
+    # PI would pull tens of newtons; the unwinding roll drifts the zone 9e-4 N in 0.3 s)
+    assert np.max(np.abs(result.tension[:5, k] - FILM)) < 1e-8
+    assert np.max(np.abs(result.tension[:, k] - FILM)) < 2e-3
 
 
 def test_a_delay_beyond_the_modelled_samples_is_refused_on_the_cli(tmp_path):

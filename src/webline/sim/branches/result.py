@@ -24,6 +24,7 @@ from webline.sim.branches.findings.winder_states import (
 from webline.sim.branches.findings.wound_rolls import roll_name
 from webline.sim.branches.laminates import layer_lengths, layer_strain
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.sensors import measured_signals
 from webline.sim.branches.traction import slip_findings
 from webline.sim.branches.winder import splice_findings
 from webline.sim.results.run_result import RunResult
@@ -101,11 +102,19 @@ class BranchResult(RunResult):
 
     @cached_property
     def tension_measured(self) -> np.ndarray:
-        """Span tensions [N] as the loadcells show them, without their noise: gain T + offset
-        on a calibrated loadcell's span (``spec.sensors``), ``tension`` elsewhere."""
+        """Span tensions [N] as the loadcells show them, without their noise: gain T + offset,
+        delayed, on a calibrated loadcell's span (``spec.sensors``), ``tension`` elsewhere."""
         if not self.plan.offsets[B.O_SENSORS]:
             return self.tension
         return self.dataset["tension_measured"].values
+
+    @cached_property
+    def speed_measured(self) -> np.ndarray:
+        """Surface speed at each node [m/s] as the encoders show it, without their noise:
+        scale x speed, delayed, on a driven node (``spec.sensors``), ``speed`` elsewhere."""
+        if not self.plan.offsets[B.O_SENSORS]:
+            return self.dataset["speed"].values
+        return self.dataset["speed_measured"].values
 
     @cached_property
     def tension_ref(self) -> np.ndarray:
@@ -255,10 +264,12 @@ class BranchResult(RunResult):
             "core_omega": var(("core",), core_omega, "rad/s",
                               "angular speed of a lane's core on a differential shaft"),
         }
-        if plan.offsets[B.O_SENSORS]:  # what the calibrated loadcells show (spec.sensors)
-            data["tension_measured"] = var(
-                ("span",), plan.sf[:, B.SF_TGAIN] * tension + plan.sf[:, B.SF_TOFFSET], "N",
-                "span tension as its loadcell shows it (gain, offset; no noise)")
+        if plan.offsets[B.O_SENSORS]:  # what the calibrated sensors show (spec.sensors)
+            shown_t, shown_v = measured_signals(plan, t, tension, arm * omega)
+            data["tension_measured"] = var(("span",), shown_t, "N", "span tension as its "
+                                           "loadcell shows it (gain, offset, delay; no noise)")
+            data["speed_measured"] = var(("node",), shown_v, "m/s", "surface speed as its "
+                                         "drive's encoder shows it (scale, delay; no noise)")
         if np.any(plan.di[:, B.DI_TSTATE] >= 0):  # compliant transmissions (drive_trains)
             data.update(train_signals(plan.offsets, plan.di, plan.df, x, var))
         coords = {"time": ("time", t, {"units": "s"}),

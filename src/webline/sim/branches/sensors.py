@@ -14,7 +14,7 @@ from webline.model.web_graph import BranchedLine
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.plant import rhs
 from webline.sim.branches.loop.web_law import felt_view
-from webline.sim.elements.sensor_loop import delay_samples, fill_buffers
+from webline.sim.elements.sensor_loop import delay_samples, fill_buffers, late
 from webline.spec.sensors import LoadcellSensor
 
 if TYPE_CHECKING:
@@ -118,3 +118,23 @@ def start_sensors(plan: BranchPlan, torque: np.ndarray, x: np.ndarray,
             istate[d, B.I_TENSION] = plan.df[d, B.D_SIGMA] * (
                 plan.df[d, B.D_VSCALE] * arm * x[off_w + i] - v_line * plan.df[d, B.D_FF])
     fill_buffers(istate, B.I_TBUF, B.I_VBUF, tension, plan.df[:, B.D_VSCALE] * speed)
+
+
+def measured_signals(plan: BranchPlan, time: np.ndarray, tension: np.ndarray,
+                     speed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """What the sensors show over ``time`` [s] (records), without their noise, as the
+    chain's ``sensor_loop.measured_tensions`` and ``measured_speeds``: span tensions [N]
+    (records x spans), gain T + offset its drive's loadcell delay late on a loadcell span;
+    surface speeds [m/s] (records x nodes), scale x speed its encoder's delay late on a
+    driven node; the true values elsewhere."""
+    shown_t = plan.sf[:, B.SF_TGAIN] * tension + plan.sf[:, B.SF_TOFFSET]
+    shown_v = np.array(speed, dtype=float, copy=True)
+    for d in range(plan.di.shape[0]):
+        first, count = plan.di[d, B.DI_CELLS], plan.di[d, B.DI_NCELLS]
+        for k, _, dancer, *_ in plan.cells[first:first + count]:
+            if dancer < 0:
+                shown_t[:, k] = late(time, shown_t[:, k], plan.df[d, B.D_TDELAY] * plan.dt)
+        i = plan.di[d, B.DI_NODE]
+        shown_v[:, i] = late(time, plan.df[d, B.D_VSCALE] * speed[:, i],
+                             plan.df[d, B.D_VDELAY] * plan.dt)
+    return shown_t, shown_v
