@@ -220,3 +220,21 @@ def test_a_delay_beyond_the_modelled_samples_is_refused_on_the_cli(tmp_path):
     assert result.exit_code == 2, result.output
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and "sensors[0].delay" in lines[0] and "at most 32" in lines[0], lines
+
+
+@pytest.mark.parametrize("scale", [1.0, 1.02])
+def test_the_linear_model_holds_the_masters_reading_on_the_line_speed(scale):
+    """Closed loop, the steady gain from the line speed reference to the nip's surface
+    speed, -C A⁻¹ B: the nip's speed loop integrates its encoder's error away, so the nip
+    runs at the reference / scale (1 / 1.02 = 0.98039), to the solver's 1e-9."""
+    from webline.sim.branches.equilibrium import operating_point
+    from webline.sim.branches.linear import branch_linear_model
+    from webline.sim.branches.plan import compile_branches
+
+    plan = compile_branches(laminator([{"name": "enc", "type": "encoder", "roller": "nip",
+                                        "scale": scale}]))
+    model = branch_linear_model(plan, operating_point(plan), "closed")
+    b = model.b[:, model.inputs.index("line_speed_ref")]
+    row = model.c[model.outputs.index("nip_speed")]
+    assert max(np.linalg.eigvals(model.a).real) < 0.0
+    assert row @ np.linalg.solve(model.a, -b) == pytest.approx(1.0 / scale, abs=1e-9)

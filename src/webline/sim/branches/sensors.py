@@ -33,7 +33,7 @@ def sensor_columns(line: BranchedLine, offsets: np.ndarray, sf: np.ndarray, di: 
     sf[:, B.SF_TGAIN], sf[:, B.SF_TOFFSET] = 1.0, 0.0
     df[:, B.D_VSCALE], df[:, B.D_TDELAY], df[:, B.D_VDELAY] = 1.0, 0.0, 0.0
     spans = {span.name: span.index for span in line.spans}
-    delayed_by: dict[int, int] = {}  # drive -> the sensor that set its loadcells' delay
+    delayed_by: dict[int, str] = {}  # drive -> the sensor that set its loadcells' delay
     for s, sensor in enumerate(line.spec.sensors):
         samples = delay_samples(line.source, f"sensors[{s}].delay", sensor.delay, dt)
         if not isinstance(sensor, LoadcellSensor):
