@@ -13,6 +13,7 @@ from test_branch_dancers import dancer_laminator
 import webline
 from webline.errors import LineFileError
 from webline.model.web_graph import load_branched
+from webline.sim.branches.loop import layout as B
 
 FILM, FOIL, LAMINATE = 120.0, 60.0, 180.0
 
@@ -238,3 +239,21 @@ def test_the_linear_model_holds_the_masters_reading_on_the_line_speed(scale):
     row = model.c[model.outputs.index("nip_speed")]
     assert max(np.linalg.eigvals(model.a).real) < 0.0
     assert row @ np.linalg.solve(model.a, -b) == pytest.approx(1.0 / scale, abs=1e-9)
+
+
+def test_loadcells_one_zone_sums_take_one_delay():
+    """The slitter's shaft sums its lanes' loadcells and its loop delays that sum: two
+    delays in one zone are refused naming the key; one delay for both is taken."""
+    from webline.sim.branches.plan import compile_branches
+
+    def sensors(second):
+        return [{"name": "a", "type": "loadcell", "span": "lane_1_span", "delay": "3 ms"},
+                {"name": "b", "type": "loadcell", "span": "lane_2_span", "delay": second}]
+
+    slitter = load_branched("slitter")
+    with pytest.raises(LineFileError, match=r"sensors\[1\]\.delay: the zone of "
+                       r"'rewind_shaft' sums this loadcell with 'a'"):
+        compile_branches(slitter.replace({"sensors": sensors("2 ms")}))
+    plan = compile_branches(slitter.replace({"sensors": sensors("3 ms")}))
+    d = list(plan.line.drives).index(plan.line.node_index["rewind_shaft"])
+    assert plan.df[d, B.D_TDELAY] == 3.0 and plan.offsets[B.O_SENSORS] == 1
