@@ -32,7 +32,7 @@ from webline.sim.branches.loop.control import taper_at
 from webline.sim.branches.loop.plant import node_inertia, rhs
 from webline.sim.branches.loop.web_law import felt_view, law_stretch
 from webline.sim.branches.plan import BranchPlan
-from webline.sim.branches.sensors import master_scale
+from webline.sim.branches.sensor_views import master_scale
 from webline.sim.branches.winder import open_loop_torque
 
 #: the solver's relative tolerance on the scaled unknowns [-]

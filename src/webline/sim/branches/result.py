@@ -24,7 +24,7 @@ from webline.sim.branches.findings.winder_states import (
 from webline.sim.branches.findings.wound_rolls import roll_name
 from webline.sim.branches.laminates import layer_lengths, layer_strain
 from webline.sim.branches.loop import layout as B
-from webline.sim.branches.sensors import measured_signals
+from webline.sim.branches.sensor_views import measured_signals
 from webline.sim.branches.traction import slip_findings
 from webline.sim.branches.winder import splice_findings
 from webline.sim.results.run_result import RunResult

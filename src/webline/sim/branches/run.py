@@ -21,7 +21,7 @@ from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.kernel import new_records
 from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.branches.result import BranchResult
-from webline.sim.branches.sensors import start_sensors
+from webline.sim.branches.sensor_views import start_sensors
 from webline.sim.branches.winder import initial_compensation
 from webline.sim.linear.steps import MAX_SUBSTEPS, record_every, substeps_for
 from webline.spec.ranges import argument, whole_argument
