@@ -81,3 +81,32 @@ def test_a_session_reference_step_moves_the_draw_as_in_the_chain(one_web):
     assert np.array_equal(ran.time[:n], held.time[:n]) and n >= 1200
     gap = np.abs(ran.dataset.tension.values[:n] - held.tension[:n])
     assert float(np.max(gap)) < 1e-9
+
+
+#: process drive's encoder 2 % high and 2 ms late, span2's loadcell 3 ms late, the master's
+#: encoder 1 % low (the line runs 1 % fast): every sensor path of the loops (docs/line-file.md,
+#: "sensors")
+SENSORS = [
+    {"name": "enc", "type": "encoder", "roller": "process", "scale": 1.02, "delay": "2 ms"},
+    {"name": "lc2", "type": "loadcell", "span": "span2", "delay": "3 ms"},
+    {"name": "enc_master", "type": "encoder", "roller": "master", "scale": 0.99},
+]
+
+
+def test_one_web_reproduces_the_chain_with_encoder_scales_and_sensor_delays(one_web):
+    """The same ``[[sensors]]`` on both lines over the tension step: the master's encoder
+    scale moves the operating point's line speed (v_ref / 0.99), the process encoder's
+    scale its tension integrator's start, the delays start filled with the initial
+    readings (the run starts steady); from there both loops read the same late, scaled
+    signals. 1e-9 N as the tests above (the step makes the delays act: the 3 ms late
+    loadcell costs the process loop damping)."""
+    chain_line = webline.load_line("hswl").replace({"sensors": SENSORS})
+    chain = webline.simulate(chain_line, 4.0, scenario="tension-step")
+    general = webline.simulate(one_web.replace({"sensors": SENSORS}), 4.0,
+                               scenario="tension-step")
+    ideal = webline.simulate("hswl", 4.0, scenario="tension-step")
+    gap = np.abs(general.dataset.tension.values - chain.tension)
+    assert float(np.max(gap)) < 1e-9
+    # (the sensors act: the delays change the step's transient by far more than 1e-9 N)
+    assert float(np.max(np.abs(chain.tension - ideal.tension))) > 1e-3
+    assert np.allclose(general.dataset.speed.values, chain.speed, rtol=0.0, atol=1e-9)

@@ -129,14 +129,6 @@ def test_a_delay_beyond_the_modelled_samples_is_refused_naming_its_key():
         webline.simulate(line, 0.1)
 
 
-def test_a_branched_line_refuses_encoders_in_one_line():
-    """Loadcells act on branched lines (tests/integration/test_branch_sensors.py); encoders
-    not yet."""
-    with pytest.raises(LineFileError, match=r"sensors\[0\]\.type: encoders act on single-path"):
-        webline.load_line("laminator").replace(
-            {"sensors": [{"name": "a", "type": "encoder", "roller": "nip"}]})
-
-
 def test_a_loadcell_on_a_zone_a_dancer_holds_is_refused():
     """The converter's unwind zone is held by its dancer (the loadcell only monitors): a
     calibration there would not act in the loop, so it is refused naming the key."""

@@ -3,8 +3,9 @@
 Solved on the kernel's own right-hand side (``sim.branches.loop.plant.rhs``), so a run started
 there stays put to the solver's tolerance: unknowns are the span stretches, node speeds and
 motor torques; equations are every span's and node's balance (a roll node turning at the
-rate that holds its surface speed while its radius changes), the master at the line speed
-and every tension drive's loadcell (or sum of loadcells) at its reference. Speeds follow from
+rate that holds its surface speed while its radius changes), the master's encoder reading
+the line speed (the master at the line speed / its encoder's scale, ``spec.sensors``) and
+every tension drive's loadcell (or sum of loadcells) at its reference. Speeds follow from
 mass flow along each web (v (1 - ε) is the same at both ends of a steady span), so the draw
 between drives comes out of the solution, and each drive's speed feedforward is its speed at
 the operating point over the line speed.
@@ -31,6 +32,7 @@ from webline.sim.branches.loop.control import taper_at
 from webline.sim.branches.loop.plant import node_inertia, rhs
 from webline.sim.branches.loop.web_law import felt_view, law_stretch
 from webline.sim.branches.plan import BranchPlan
+from webline.sim.branches.sensor_views import master_scale
 from webline.sim.branches.winder import open_loop_torque
 
 #: the solver's relative tolerance on the scaled unknowns [-]
@@ -40,7 +42,9 @@ XTOL = 1e-13
 @dataclass(frozen=True)
 class BranchPoint:
     """An operating point: ``x`` the full state, ``torque`` [N·m] per drive, ``ratio`` [-]
-    each drive's surface speed over the line speed, ``line_speed`` [m/s]."""
+    each drive's surface speed over the line speed as the drives reference it (times the
+    master encoder's scale, ``spec.sensors``: the line runs at the reference / scale),
+    ``line_speed`` [m/s]."""
 
     x: np.ndarray
     torque: np.ndarray
@@ -115,6 +119,7 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
     c_scale = w_scale[plan.cores[:, B.C_NODE]]
     tq_scale = t_scale * plan.nodes[plan.di[:, B.DI_NODE], B.N_RADIUS]
     master = plan.line.master
+    scale = master_scale(plan)
     bonded = plan.lawi[plan.lawi[:, B.LI_STATE] >= 0]  # a laminate's layers' offsets
     layer_states = bonded[:, B.LI_STATE]
     layer_spans = bonded[:, B.LI_SPAN]
@@ -161,8 +166,8 @@ def _solve(plan: BranchPlan, speed: float, nodes: np.ndarray, t: float,
         for d in range(n_d):
             i = plan.di[d, B.DI_NODE]
             row = n_s + n_n + n_c + d
-            if i == master:
-                out[row] = (arms[i] * x[off_w + i] - speed) / max(speed, 1e-9)
+            if i == master:  # its encoder's reading on the line speed (spec.sensors)
+                out[row] = (scale * arms[i] * x[off_w + i] - speed) / max(speed, 1e-9)
                 continue
             if i in shafts:  # a differential shaft overspeeds its fastest lane's core
                 on = plan.cores[:, B.C_NODE] == i
@@ -219,6 +224,8 @@ def operating_point(plan: BranchPlan, t: float = 0.0, *,
         i, j = plan.di[d, B.DI_NODE], plan.di[d, B.DI_ROLL]
         arm = at[off_r + j] if j >= 0 else plan.nodes[i, B.N_RADIUS]
         ratio[d] = arm * at[off_w + i] / (speed if speed > 0.0 else max(top, 1.0))
+    if plan.offsets[B.O_SENSORS]:  # the drives' references: the speeds as the master's
+        ratio *= master_scale(plan)  # encoder sees them (spec.sensors)
     if speed <= 0.0:  # at rest: frictionless tensions, no motion, torques that hold it
         nodes = plan.nodes.copy()
         nodes[:, B.N_VISCOUS] = nodes[:, B.N_COULOMB] = 0.0

@@ -176,11 +176,12 @@ def controller_matrices(plan: BranchPlan, point: BranchPoint,
         if motor >= 0 and row[B.D_FEEDBACK] > 0:  # the motor's encoder: ω_m / n
             kept = kept_states(plan, radii)
             ev_x[int(np.flatnonzero(kept == motor)[0])] = -speed_arm(plan, point, i) / row[
-                B.D_RATIO]
+                B.D_RATIO] * row[B.D_VSCALE]  # (its encoder's scale, spec.sensors)
         else:
-            ev_x[off_w + i] = -speed_arm(plan, point, i)
+            ev_x[off_w + i] = -speed_arm(plan, point, i) * row[B.D_VSCALE]
         if radii and plan.di[d, B.DI_ROLL] >= 0:
-            ev_x[plan.offsets[B.O_RADIUS] + plan.di[d, B.DI_ROLL]] = -point.x[off_w + i]
+            ev_x[plan.offsets[B.O_RADIUS] + plan.di[d, B.DI_ROLL]] = -point.x[off_w + i] * row[
+                B.D_VSCALE]
         if d in zoned:
             q_t = n_d + zoned.index(d)
             ev_q[q_t] = row[B.D_SIGMA]

@@ -269,7 +269,7 @@ def compile_branches(line: BranchedLine, sample_rate: float | None = None) -> Br
     radius0 = diameter_columns(line, df, di)
     winder_columns(line, di, df, profiles)  # centre winders: compensation, open loop, ramp
     offsets[B.O_RAMP] = ramp_column(line, profiles)
-    sensor_columns(line, offsets, sf, di, cells)  # calibrated loadcells (spec.sensors)
+    sensor_columns(line, offsets, sf, di, df, cells, 1.0 / rate)  # (spec.sensors)
     events = np.vstack([events, np.reshape(splice_rows(line, 1.0 / (
         spec.control.sample_rate if sample_rate is None else sample_rate)), (-1, B.E_COLS))])
     offs = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)

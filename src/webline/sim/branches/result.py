@@ -24,6 +24,7 @@ from webline.sim.branches.findings.winder_states import (
 from webline.sim.branches.findings.wound_rolls import roll_name
 from webline.sim.branches.laminates import layer_lengths, layer_strain
 from webline.sim.branches.loop import layout as B
+from webline.sim.branches.sensor_views import measured_signals
 from webline.sim.branches.traction import slip_findings
 from webline.sim.branches.winder import splice_findings
 from webline.sim.results.run_result import RunResult
@@ -105,11 +106,24 @@ class BranchResult(RunResult):
 
     @cached_property
     def tension_measured(self) -> np.ndarray:
-        """Span tensions [N] as the loadcells show them, without their noise: gain T + offset
-        on a calibrated loadcell's span (``spec.sensors``), ``tension`` elsewhere."""
+        """Span tensions [N] as the loadcells show them, without their noise: gain T + offset,
+        delayed, on a calibrated loadcell's span (``spec.sensors``), ``tension`` elsewhere."""
         if not self.plan.offsets[B.O_SENSORS]:
             return self.tension
-        return self.plan.sf[:, B.SF_TGAIN] * self.tension + self.plan.sf[:, B.SF_TOFFSET]
+        return self._shown[0]
+
+    @cached_property
+    def speed_measured(self) -> np.ndarray:
+        """Surface speed at each node [m/s] as the encoders show it, without their noise:
+        scale x speed, delayed, on a driven node (``spec.sensors``), ``speed`` elsewhere."""
+        if not self.plan.offsets[B.O_SENSORS]:
+            return self.surface_speed
+        return self._shown[1]
+
+    @cached_property
+    def _shown(self) -> tuple[np.ndarray, np.ndarray]:
+        """(tensions, speeds) the sensors show (``sensor_views.measured_signals``)."""
+        return measured_signals(self.plan, self.time, self.tension, self.surface_speed)
 
     @cached_property
     def tension_ref(self) -> np.ndarray:
@@ -349,9 +363,10 @@ class BranchResult(RunResult):
             data |= {"slipping": var(("node",), zeros.astype(np.int8), "slipping"),
                      "slip_velocity": var(("node",), zeros, "slip_velocity"),
                      "slip_power": var(("node",), zeros, "slip_power")}
-        if plan.offsets[B.O_SENSORS]:  # what the calibrated loadcells show (spec.sensors)
+        if plan.offsets[B.O_SENSORS]:  # what the calibrated sensors show (spec.sensors)
             data["tension_measured"] = var(("span",), self.tension_measured,
                                            "tension_measured")
+            data["speed_measured"] = var(("node",), self.speed_measured, "speed_measured")
         if np.any(tstate >= 0):  # compliant transmissions: the motor at the load shaft
             data["motor_omega"] = var(("drive",), train_motor_omega(plan.offsets, plan.di,
                                                                     plan.df, x), "motor_omega")

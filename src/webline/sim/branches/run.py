@@ -21,6 +21,7 @@ from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop.kernel import new_records
 from webline.sim.branches.plan import BranchPlan, compile_branches
 from webline.sim.branches.result import BranchResult
+from webline.sim.branches.sensor_views import start_sensors
 from webline.sim.branches.winder import initial_compensation
 from webline.sim.linear.steps import MAX_SUBSTEPS, record_every, substeps_for
 from webline.spec.ranges import argument, whole_argument
@@ -141,6 +142,7 @@ def start_state(plan: BranchPlan, point: BranchPoint) -> tuple[np.ndarray, np.nd
     istate[:, B.I_DETECT] = -1.0  # no web break detected yet
     start_memory(plan, istate)  # the decentralized families' (sim.branches.drives.decentral)
     start_observers(plan, istate, x)  # (section observers: at the initial state)
+    start_sensors(plan, point.torque, x, istate)  # (delays full, an encoder's scale trimmed)
     return x, istate
 
 

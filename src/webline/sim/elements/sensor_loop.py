@@ -14,14 +14,15 @@ from webline.sim.elements.signals import jit
 from webline.spec.sensors import LoadcellSensor
 
 
-def delay_samples(line: Line, s: int, dt: float) -> int:
-    """Sensor ``s``'s delay as a whole number of controller periods ``dt`` [s] (the nearest);
-    ``LineFileError`` beyond ``MAX_DELAY``."""
-    samples = round(line.spec.sensors[s].delay / dt)
+def delay_samples(source: str, key: str, delay: float, dt: float) -> int:
+    """A sensor's ``delay`` [s] as a whole number of controller periods ``dt`` [s] (the
+    nearest); ``LineFileError`` naming ``key`` (``sensors[s].delay``) of the line file
+    ``source`` beyond ``MAX_DELAY``. Every line's sensors (the chain's and a branched
+    line's, ``sim.branches.sensors``)."""
+    samples = round(delay / dt)
     if samples > L.MAX_DELAY:
-        raise LineFileError(line.source, f"sensors[{s}].delay",
-                            f"{line.spec.sensors[s].delay:g} s is {samples} controller "
-                            f"samples of {dt:g} s; at most {L.MAX_DELAY} are modelled")
+        raise LineFileError(source, key, f"{delay:g} s is {samples} controller samples of "
+                            f"{dt:g} s; at most {L.MAX_DELAY} are modelled")
     return samples
 
 
@@ -37,7 +38,7 @@ def sensor_columns(drives: np.ndarray, line: Line, dt: float) -> bool:
     spans = {line.span_name(k): k for k in range(line.n_spans)}
     nodes = {line.node_name(i): i for i in range(line.n_nodes)}
     for s, sensor in enumerate(line.spec.sensors):
-        samples = delay_samples(line, s, dt)
+        samples = delay_samples(line.source, f"sensors[{s}].delay", sensor.delay, dt)
         if isinstance(sensor, LoadcellSensor):
             k = spans[sensor.span]
             for d in range(len(line.drives)):
@@ -69,10 +70,20 @@ def fill_delays(drives: np.ndarray, istate: np.ndarray, tension: np.ndarray,
                 speed: np.ndarray) -> None:
     """Start every drive's delay buffers at its readings of the initial state: ``tension``
     [N] (its loadcell span's, NaN for none) and ``speed`` [m/s] per drive."""
-    for d in range(drives.shape[0]):
-        reading = drives[d, L.D_TGAIN] * tension[d] + drives[d, L.D_TOFFSET]
-        istate[d, L.I_TBUF:L.I_TBUF + L.DELAY_SLOTS] = 0.0 if np.isnan(reading) else reading
-        istate[d, L.I_VBUF:L.I_VBUF + L.DELAY_SLOTS] = drives[d, L.D_VSCALE] * speed[d]
+    reading = drives[:, L.D_TGAIN] * tension + drives[:, L.D_TOFFSET]
+    fill_buffers(istate, L.I_TBUF, L.I_VBUF, np.where(np.isnan(reading), 0.0, reading),
+                 drives[:, L.D_VSCALE] * speed)
+
+
+def fill_buffers(istate: np.ndarray, tension_first: int, speed_first: int,
+                 tension: np.ndarray, speed: np.ndarray) -> None:
+    """Fill each drive's ring buffers of ``delayed`` (``DELAY_SLOTS`` columns of ``istate``
+    from ``tension_first`` and from ``speed_first``) with its reading at the start: the
+    loadcell's ``tension`` [N] and the encoder's ``speed`` [m/s] per drive (a line steady
+    before its start shows the same readings all along)."""
+    for d in range(istate.shape[0]):
+        istate[d, tension_first:tension_first + L.DELAY_SLOTS] = tension[d]
+        istate[d, speed_first:speed_first + L.DELAY_SLOTS] = speed[d]
 
 
 @jit
@@ -90,7 +101,7 @@ def loadcell_reading(d: int, tension: float, drives: np.ndarray) -> float:
     return drives[d, L.D_TGAIN] * tension + drives[d, L.D_TOFFSET]
 
 
-def _late(time: np.ndarray, values: np.ndarray, delay: float) -> np.ndarray:
+def late(time: np.ndarray, values: np.ndarray, delay: float) -> np.ndarray:
     """``values`` over ``time`` [s] as seen ``delay`` [s] late (the first value before)."""
     return values if delay == 0.0 else np.interp(time - delay, time, values)
 
@@ -105,7 +116,7 @@ def measured_tensions(line: Line, drives: np.ndarray, dt: float, time: np.ndarra
         k = int(drives[d, L.D_LOADCELL])
         if k >= 0:
             reading = drives[d, L.D_TGAIN] * tension[:, k] + drives[d, L.D_TOFFSET]
-            out[:, k] = _late(time, reading, drives[d, L.D_TDELAY] * dt)
+            out[:, k] = late(time, reading, drives[d, L.D_TDELAY] * dt)
     return out
 
 
@@ -116,6 +127,6 @@ def measured_speeds(line: Line, drives: np.ndarray, dt: float, time: np.ndarray,
     driven node; the true speed elsewhere."""
     out = np.array(speed, dtype=float, copy=True)
     for d, i in enumerate(line.drives):
-        out[:, i] = _late(time, drives[d, L.D_VSCALE] * speed[:, i],
+        out[:, i] = late(time, drives[d, L.D_VSCALE] * speed[:, i],
                           drives[d, L.D_VDELAY] * dt)
     return out

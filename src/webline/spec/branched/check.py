@@ -28,7 +28,7 @@ from webline.spec.schema import (
     RollerSpec,
     UnwindSpec,
 )
-from webline.spec.sensors import EncoderSensor, check_sensors
+from webline.spec.sensors import check_sensors
 from webline.spec.winder import check_taper
 
 Fail = Callable[[str, str], NoReturn]
@@ -107,21 +107,14 @@ def _check_features(spec: BranchedLineSpec, fail: Fail) -> None:
 
 
 def _check_sensors(spec: BranchedLineSpec, fail: Fail) -> None:
-    """Loadcells on a branched line (docs/branching.md, "Sensors"): the chain's checks, by
-    the spans' names (``name`` or ``WEB[k]``); encoders and delays act on single-path lines
-    only."""
+    """Sensors on a branched line (docs/branching.md, "Sensors"): the chain's checks, by the
+    spans' names (``name`` or ``WEB[k]``). Their delays in controller samples are checked
+    with the sample rate, in the plan (``sim.branches.sensors``), as the chain's."""
     spans = {(s.name or f"{web.name}[{k}]"): s.tension is not None
              for web in spec.webs for k, s in enumerate(web.spans)}
     driven = {r.name for r in spec.rollers if not isinstance(r, IdleSpec)}
     check_sensors(spec.sensors, list(spans), {n for n, ref in spans.items() if ref}, driven,
                   {r.name for r in spec.rollers}, fail)
-    for s, sensor in enumerate(spec.sensors):
-        if isinstance(sensor, EncoderSensor):
-            fail(f"sensors[{s}].type", "encoders act on single-path lines only, for now: on a "
-                 "line with [[webs]] give loadcells")
-        if sensor.delay:
-            fail(f"sensors[{s}].delay", "sensor delays act on single-path lines only, for "
-                 "now: on a line with [[webs]] give delay = 0")
 
 
 def _check_dancer(carriage: DancerCarriage, key: str, fail: Fail) -> None:

@@ -95,6 +95,7 @@ class BranchedLineSpec(Strict):
     #: thresholds of the verdict's winder-state findings, per web and lane zone, roll and
     #: dancer (docs/branching.md, "Winder states in the verdict")
     checks: StateChecksSpec = StateChecksSpec()
-    #: loadcells' calibration (docs/branching.md, "Sensors"); encoders and delays act on
-    #: single-path lines only (``check_branched``)
+    #: loadcells' and encoders' calibration and delays (docs/branching.md, "Sensors"), as on
+    #: a single-path line; the delays are checked against the sample rate in the plan
+    #: (``sim.branches.sensors``)
     sensors: list[SensorSpec] = Field(default_factory=list)

@@ -243,6 +243,7 @@ def linear_rows(plan: BranchPlan, point: BranchPoint, d: int, n_x: int, n_q: int
     motor = int(plan.di[d, B.DI_TSTATE])
     if motor >= 0 and plan.df[d, B.D_FEEDBACK] > 0.0 and kept is not None:
         speed, arm = int(np.flatnonzero(kept == motor)[0]), r / n
+    arm *= plan.df[d, B.D_VSCALE]  # its encoder reads scale x the speed (spec.sensors)
     gain = inertia / (n * r) / plan.df[d, B.D_GAINNORM]
     friction = row[B.FB_BMODEL] + row[B.FB_BMOTOR]
     # x_V = r ω - v_ref; the velocity-squared term f: -dir J h / (2π r³ n) 2 v δv

@@ -33,6 +33,7 @@ from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.loop.user import user_tick
 from webline.sim.branches.loop.winder import compensation, open_loop, zone_reference
 from webline.sim.drives.measure import quantized
+from webline.sim.elements.sensor_loop import delayed
 from webline.sim.elements.signals import gaussian, jit, profile_at, profile_slope_at, sines
 
 _tension: Any = jit(span.tension)
@@ -127,7 +128,8 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
     """One sample ``tick`` of every drive's cascaded PI (thesis Fig. 4.3, as the chain's
     ``sim.drives.controllers.pi_command``): line speed x draw is the speed feedforward, a
     tension PI on the zone's loadcell's reading (or the sum of its loadcells'; calibrated in
-    ``sf``, ``loop.loadcell``) trims it, a speed PI gives
+    ``sf``, ``loop.loadcell``; its encoder's scale and both signals' delays in ``df``,
+    ``sim.branches.sensors``) trims it, a speed PI gives
     the torque, clipped, with conditional integration. ``cells`` rows: (span, profile).
     ``dist``: a drive's speed ripple adds to its speed reference; measurement noise to the
     measured speed (channel 2 d, then rounded to the resolution) and each loadcell's tension
@@ -164,6 +166,8 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
                     istate[d, B.I_RADIUS] = radius if preset <= 0.0 else preset
             radius = istate[d, B.I_RADIUS]
         v_meas = radius * TR.measured_omega(d, i, x, offsets, di, df)  # (a motor encoder)
+        if offsets[B.O_SENSORS]:  # the encoder's scale (spec.sensors)
+            v_meas *= df[d, B.D_VSCALE]
         if noisy:
             v_meas = quantized(v_meas + sigma_v * gaussian(seed, tick, 2 * d), resolution)
         if df[d, B.D_DCALC] != B.DCALC_NONE:  # W2: the radius the controllers use
@@ -172,7 +176,10 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
                                        df)
             istate[d, B.I_RADIUS] = radius
             v_meas = radius * omega_meas
+        if offsets[B.O_SENSORS]:  # the encoder's delay (spec.sensors)
+            v_meas = delayed(d, tick, v_meas, B.I_VBUF, df[d, B.D_VDELAY], istate)
         e_t = measured = 0.0
+        reading, noise, wanted, read = 0.0, 0.0, 0.0, False  # (sensors: the loadcells' sum)
         factor = taper_at(d, radius, nodes[i, B.N_CORE], df, prof_t, prof_v, prof_off)
         if offsets[B.O_RAMP] >= 0:  # the tension ramp at start and stop (docs/winder.md R1)
             factor *= profile_at(offsets[B.O_RAMP], t, prof_t, prof_v, prof_off)
@@ -186,9 +193,19 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
                 e_t += position_error(cells[c, B.CELL_DANCER], x, nodes)  # dancer position
                 continue
             measured = loadcell_reading(cells[c, 0], _tension(x[cells[c, 0]]), offsets, sf)
+            if offsets[B.O_SENSORS]:  # summed, then delayed below (spec.sensors)
+                reading += measured
+                wanted += factor * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off)
+                if noisy:
+                    noise += sigma_t * gaussian(seed, tick, 2 * c + 1)
+                read = True
+                continue
             if noisy:
                 measured += sigma_t * gaussian(seed, tick, 2 * c + 1)
             e_t += factor * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off) - measured
+        if offsets[B.O_SENSORS] and read:  # the zone's reading, its delay late (noise after)
+            measured = delayed(d, tick, reading, B.I_TBUF, df[d, B.D_TDELAY], istate) + noise
+            e_t += wanted - measured
         if offsets[B.O_BREAK] and stopping < 1.0:  # tension loops frozen, trims faded
             e_t = 0.0
             if stopping > 0.0 or df[d, B.D_BHOLD] != B.HOLD_STALL:  # (the stall hold's

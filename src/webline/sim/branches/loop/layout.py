@@ -8,6 +8,7 @@ angles [rad] of eccentric rollers.
 
 from __future__ import annotations
 
+from webline.sim.elements.layout import DELAY_SLOTS
 from webline.spec.winder import MAX_PRESETS
 
 # offsets row
@@ -256,10 +257,19 @@ LI_COLS += 6
 LF_UPSCALE, LF_EA, LF_STRENGTH = range(LF_COLS, LF_COLS + 3)
 LF_COLS += 3
 
-# calibrated loadcells (spec.sensors; docs/branching.md, "Sensors"): the offsets row's entry
-# O_SENSORS, 1 where a loadcell is other than ideal (the loop reads the columns only then, so
-# a line without sensors compiles and runs as before); span table (float): the gain [-] and
-# offset [N] of the loadcell on the span (1, 0: ideal or none), its reading gain T + offset
+# sensors (spec.sensors; docs/branching.md, "Sensors"): the offsets row's entry O_SENSORS, 1
+# where a sensor is other than ideal (the loop reads the columns only then, so a line without
+# sensors compiles and runs as before); span table (float): the gain [-] and offset [N] of
+# the loadcell on the span (1, 0: ideal or none), its reading gain T + offset; drive table
+# (float): its encoder's scale [-] (1: ideal), the delay of its zone's loadcells' reading
+# and of its encoder's, in whole controller samples (at most MAX_DELAY); controller memory:
+# their ring buffers, the last DELAY_SLOTS readings of the zone's loadcells (their sum) [N]
+# and of the encoder [m/s] (``sim.elements.sensor_loop.delayed``, as the chain's)
 O_SENSORS = O_EXACT + 1
 SF_TGAIN, SF_TOFFSET = SF_COLS, SF_COLS + 1
 SF_COLS += 2
+D_VSCALE, D_TDELAY, D_VDELAY = D_COLS, D_COLS + 1, D_COLS + 2
+D_COLS += 3
+I_TBUF = I_COLS
+I_VBUF = I_TBUF + DELAY_SLOTS
+I_COLS = I_VBUF + DELAY_SLOTS

@@ -26,6 +26,7 @@ from webline.sim.branches.loop.dancer import position_error, sensed_tension
 from webline.sim.branches.loop.loadcell import loadcell_reading
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.loop.winder import compensation
+from webline.sim.elements.sensor_loop import delayed
 from webline.sim.elements.signals import gaussian, jit, profile_at, sines
 
 _tension: Any = jit(span.tension)
@@ -42,13 +43,15 @@ def user_command(d: int, t: float, tick: int, v_meas: float, radius: float, iner
     """Store user drive ``d``'s readings at tick ``tick`` (time ``t`` [s]) and return its
     torque command [N·m]: the held ``I_UCMD`` saturated at the torque limit, plus ``comp``
     (a centre winder's compensation, saturated again). Its zone's tension is the sum of its
-    loadcells' readings (calibrated in ``sf``, ``loop.loadcell``; a shaft of lanes: one per
-    lane), with the same noise draws as the built-in
+    loadcells' readings (calibrated in ``sf``, ``loop.loadcell``, delayed as the built-in
+    loop delays them; a shaft of lanes: one per lane), with the same noise draws as the
+    built-in
     loop; its reference the sum of theirs times the taper ``factor``; a dancer as tension
     sensor reads the tension it senses, one in position control reference - (y - y_set), so
     that reference - reading is the position error [m] the built-in loop uses; ``frozen``
     (after a detected break, W5): the tension reads its reference."""
     tension, reference = 0.0, 0.0
+    reading, noise, read = 0.0, 0.0, False  # (sensors: the loadcells' sum)
     for c in range(di[d, B.DI_CELLS], di[d, B.DI_CELLS] + di[d, B.DI_NCELLS]):
         ref = factor * profile_at(cells[c, 1], t, prof_t, prof_v, prof_off)
         reference += ref
@@ -60,9 +63,17 @@ def user_command(d: int, t: float, tick: int, v_meas: float, radius: float, iner
             tension += ref - position_error(cells[c, B.CELL_DANCER], x, nodes)
             continue
         measured = loadcell_reading(cells[c, 0], _tension(x[cells[c, 0]]), offsets, sf)
+        if offsets[B.O_SENSORS]:  # summed, then delayed below (spec.sensors)
+            reading += measured
+            if noisy:
+                noise += sigma_t * gaussian(seed, tick, 2 * c + 1)
+            read = True
+            continue
         if noisy:
             measured += sigma_t * gaussian(seed, tick, 2 * c + 1)
         tension += measured
+    if offsets[B.O_SENSORS] and read:  # the zone's reading its delay late, as the PI's
+        tension += delayed(d, tick, reading, B.I_TBUF, df[d, B.D_TDELAY], istate) + noise
     if di[d, B.DI_NCELLS] == 0:
         tension, reference = math.nan, math.nan
     elif frozen:
