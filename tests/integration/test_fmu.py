@@ -130,11 +130,12 @@ def test_fmpy_runs_it_without_webline(fmus: dict, tmp_path: Path) -> None:
     assert float(tension) == pytest.approx(float(ref["tension[span2]"].iloc[-1]), rel=1e-9)
 
 
-def test_hswl_runs_200_times_real_time_in_fmpy(fmus: dict) -> None:
-    """Issue 39: at a 10 ms communication step fmpy runs hswl's FMU >= 200x real time,
-    recording the tensions, speeds and torques at every step; best of three. Measured in
-    the process's CPU time: the 2-core test box runs several suites at once, and wall time
-    there counts the waits for a core (the wall figure and the load are printed beside it).
+def test_hswl_runs_200_times_real_time_per_cpu_second_in_fmpy(fmus: dict) -> None:
+    """Issue 39: at a 10 ms communication step fmpy runs hswl's FMU >= 200x real time per
+    CPU second of this process (what is asserted), recording the tensions, speeds and
+    torques at every step; best of three. Not asserted in wall time: the 2-core test box
+    runs several suites at once, and wall time there counts the waits for a core (the wall
+    figure, the CPU figure and the load are printed).
     fmpy's own Python per step (its ctypes calls, its recorder) is most of the time: recording
     every output (about 60 here) runs near 170x."""
     from fmpy import read_model_description
@@ -149,10 +150,12 @@ def test_hswl_runs_200_times_real_time_in_fmpy(fmus: dict) -> None:
         simulate_fmu(path, stop_time=duration, output_interval=STEP, output=names)
         wall = min(wall, time.perf_counter() - start)
         cpu = min(cpu, time.process_time() - start_cpu)
-    print(f"hswl FMU in fmpy, {len(names)} outputs: {duration / cpu:.0f}x real time per "
-          f"CPU second, {duration / wall:.0f}x in wall time (load {os.getloadavg()[0]:.2f} "
-          f"on {os.cpu_count()} cores)")
-    assert duration / cpu >= 200.0
+    load = " ".join(f"{x:.2f}" for x in os.getloadavg())
+    print(f"hswl FMU in fmpy, {len(names)} outputs, {duration:g} s at {STEP:g} s steps: "
+          f"CPU {cpu:.3f} s ({duration / cpu:.0f}x real time per CPU second), wall "
+          f"{wall:.3f} s ({duration / wall:.0f}x real time in wall time); load {load} on "
+          f"{os.cpu_count()} cores")
+    assert duration / cpu >= 200.0, "real time per CPU second of the process running fmpy"
 
 
 def test_parameters_and_inputs_reach_the_loop(fmus: dict) -> None:
@@ -259,6 +262,12 @@ def test_cli_export_writes_the_fmu_and_bad_options_are_one_line(tmp_path: Path) 
     assert_one_line_error(invoke("export", "laminator", "--fmu", str(out), "--fmi", "4"), 2,
                           "fmi", "2 or 3")
     assert_one_line_error(invoke("export", "laminator"), 2, "--fmu")
+    assert done.stderr.strip() == ""  # a line of webs: nothing said
+    single = invoke("export", "hswl", "--fmu", str(tmp_path / "hswl.fmu"), "--fmi", "2")
+    assert single.exit_code == 0, single.output
+    assert single.stdout.strip() == str(tmp_path / "hswl.fmu")
+    assert single.stderr.strip() == ("hswl: a single-path line, exported as its line of one "
+                                     "web (docs/fmu.md)")
 
 
 def test_a_python_controller_in_the_file_is_refused_in_one_line(tmp_path: Path) -> None:
