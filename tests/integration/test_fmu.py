@@ -81,6 +81,11 @@ def test_fmpy_validates_and_matches_simulate(fmus: dict, name: str, fmi: int) ->
     for column in got.dtype.names[1:]:
         if column in ref.columns:
             a, b = got[column].astype(float), ref[column].values.astype(float)
+            if column.startswith("control_radius[") and not np.any(a):
+                # a drive without a diameter calculator: 0 in the FMU (and the general
+                # loop's result), its roll's radius in the chain's result
+                assert np.all(b > 0.0), column
+                continue
             # 1e-9 of each signal's own size: the two runs differ only by the compiler's
             # rounding (the FMU's loop is built for generic x86-64, no fused multiply-add)
             scale = max(float(np.max(np.abs(b))), 1e-300)
