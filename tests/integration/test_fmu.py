@@ -81,9 +81,9 @@ def test_fmpy_validates_and_matches_simulate(fmus: dict, name: str, fmi: int) ->
     for column in got.dtype.names[1:]:
         if column in ref.columns:
             a, b = got[column].astype(float), ref[column].values.astype(float)
-            if column.startswith("control_radius[") and not np.any(a):
+            if column.startswith("control_radius[") and not np.any(a) and np.any(b):
                 # a drive without a diameter calculator: 0 in the FMU (and the general
-                # loop's result), its roll's radius in the chain's result
+                # loop's result), its roll's radius in the chain's result (hswl)
                 assert np.all(b > 0.0), column
                 continue
             # 1e-9 of each signal's own size: the two runs differ only by the compiler's
