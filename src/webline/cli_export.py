@@ -29,11 +29,15 @@ def export_command(
         "out (for a PLC's or a user's controller to close the loop).")] = False,
 ) -> None:
     """Export LINE with its built-in controllers (or, with --plant-only, without them) as a
-    co-simulation FMU for Linux x86-64 that runs without Python (docs/fmu.md). Needs a C
-    compiler (cc or gcc) to link it."""
+    co-simulation FMU for Linux x86-64 that runs without Python (docs/fmu.md); a single-path
+    line as its line of one web. Needs a C compiler (cc or gcc) to link it."""
     from webline.fmu.export import export_fmu
+    from webline.spec.source import file_is_branched
 
     if fmu is None:
         raise ArgumentError("export: say where to write the FMU with --fmu OUT.fmu")
     path = export_fmu(line, fmu, fmi=fmi, step=step, scenario=scenario, plant_only=plant_only)
+    if not file_is_branched(line):  # (read: the export above took it)
+        typer.echo(f"{line}: a single-path line, exported as its line of one web "
+                   "(docs/fmu.md)", err=True)
     typer.echo(str(path))

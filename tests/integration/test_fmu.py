@@ -1,7 +1,9 @@
 """FMU export (issue 39, docs/fmu.md): fmpy, an importer webline does not write, validates the
-FMI 2.0 and 3.0 FMUs of laminator and of hswl as a line of one web, and its simulation of
-each equals ``webline.simulate`` of the same line at every communication point; the shared
-library needs no Python, and fmpy runs it where webline cannot be imported."""
+FMI 2.0 and 3.0 FMUs of laminator and of the single-path hswl (exported by its built-in name
+as its line of one web) and the FMI 3.0 FMU of the single-path converter, and its simulation
+of each equals ``webline.simulate`` at every communication point (hswl: of the chain itself;
+converter: of its line of one web, docs/fmu.md); the shared library needs no Python, and
+fmpy runs it where webline cannot be imported."""
 
 from __future__ import annotations
 
@@ -12,21 +14,32 @@ import sysconfig
 import time
 import zipfile
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pytest
 
 import webline
 
+if TYPE_CHECKING:
+    import pandas as pd
+
 fmpy = pytest.importorskip("fmpy")
 from fmpy import simulate_fmu  # noqa: E402
 from fmpy.validation import validate_fmu  # noqa: E402
 
 from webline.fmu.export import PLATFORM, export_fmu  # noqa: E402
+from webline.model.one_web import load_one_web  # noqa: E402
 
-HSWL = Path(__file__).resolve().parents[1] / "data" / "hswl_one_web.toml"
-LINES = {"laminator": "laminator", "hswl": str(HSWL)}
-STEP = 0.01  # [s] communication step: 10 controller periods of both lines (1 kHz)
+#: the FMUs exported once for the module: (built-in line, FMI version)
+EXPORTS = [("laminator", 2), ("laminator", 3), ("hswl", 2), ("hswl", 3), ("converter", 3)]
+#: the single-path lines whose FMU is compared with the run of their line of one web, not
+#: with their chain run: hswl as one web equals its chain to ~1e-13 (docs/architecture.md,
+#: Chain lines on the general loop), so its FMU is held to the chain itself; converter's
+#: chain starts its dancer and its rewind taper otherwise than the general loop (a few 1e-2
+#: of the largest torque apart, the table there)
+ONE_WEB_REFERENCE = {"converter"}
+STEP = 0.01  # [s] communication step: 10 controller periods of the three lines (1 kHz)
 
 #: symbols the FMU's library may take from the system: libc and libm, and the weak hooks of
 #: the C runtime's start files (gcc's crtstuff)
@@ -39,12 +52,21 @@ ALLOWED = {"calloc", "malloc", "free", "memcpy", "memset", "strcmp", "snprintf",
 @pytest.fixture(scope="module")
 def fmus(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[str, int], Path]:
     folder = tmp_path_factory.mktemp("fmu")
-    return {(name, fmi): export_fmu(line, folder / f"{name}{fmi}.fmu", fmi=fmi, step=STEP)
-            for name, line in LINES.items() for fmi in (2, 3)}
+    return {(name, fmi): export_fmu(name, folder / f"{name}{fmi}.fmu", fmi=fmi, step=STEP)
+            for name, fmi in EXPORTS}
 
 
-@pytest.mark.parametrize("fmi", [2, 3])
-@pytest.mark.parametrize("name", list(LINES))
+def _reference(name: str, duration: float, interval: float) -> pd.DataFrame:
+    """``webline.simulate`` of the built-in line ``name`` (its line of one web where
+    ``ONE_WEB_REFERENCE`` has it) as a frame, a roll's radius named by its
+    roller alone as the single-path line's FMU names it (``radius[unwind/web]`` ->
+    ``radius[unwind]``)."""
+    line = load_one_web(name) if name in ONE_WEB_REFERENCE else name
+    frame = webline.simulate(line, duration, record_interval=interval).to_dataframe()
+    return frame.rename(columns=lambda c: c.replace("/web]", "]"))
+
+
+@pytest.mark.parametrize(("name", "fmi"), EXPORTS)
 def test_fmpy_validates_and_matches_simulate(fmus: dict, name: str, fmi: int) -> None:
     path = fmus[name, fmi]
     assert validate_fmu(str(path)) == []
@@ -52,20 +74,27 @@ def test_fmpy_validates_and_matches_simulate(fmus: dict, name: str, fmi: int) ->
         assert any(n.startswith(f"binaries/{PLATFORM[fmi]}/") for n in z.namelist())
     duration = 1.0
     got = simulate_fmu(str(path), stop_time=duration, output_interval=STEP)
-    ref = webline.simulate(LINES[name], duration, record_interval=STEP).to_dataframe()
+    ref = _reference(name, duration, STEP)
     assert len(got) == len(ref) == round(duration / STEP) + 1
     np.testing.assert_allclose(got["time"], ref.index.values, rtol=0, atol=1e-12)
     compared = 0
     for column in got.dtype.names[1:]:
         if column in ref.columns:
             a, b = got[column].astype(float), ref[column].values.astype(float)
+            if column.startswith("control_radius[") and not np.any(a) and np.any(b):
+                # a drive without a diameter calculator: 0 in the FMU (and the general
+                # loop's result), its roll's radius in the chain's result (hswl)
+                assert np.all(b > 0.0), column
+                continue
             # 1e-9 of each signal's own size: the two runs differ only by the compiler's
             # rounding (the FMU's loop is built for generic x86-64, no fused multiply-add)
             scale = max(float(np.max(np.abs(b))), 1e-300)
             assert np.max(np.abs(a - b)) <= 1e-9 * scale, column
             compared += 1
     tensions = [c for c in got.dtype.names if c.startswith("tension[")]
-    assert compared >= len(tensions) > 0  # every tension, speed, radius, torque ... compared
+    radii = [c for c in got.dtype.names if c.startswith("radius[")]
+    assert set(tensions + radii) <= set(ref.columns)  # the single-path line's names
+    assert compared >= len(tensions) + len(radii) > len(tensions) > 0  # tensions, speeds ...
     for column in tensions:  # slack flags the spans whose tension is zero
         assert np.array_equal(got["slack" + column[len("tension"):]], got[column] <= 0.0)
     assert np.all(got["status"] == 0)
@@ -101,16 +130,17 @@ def test_fmpy_runs_it_without_webline(fmus: dict, tmp_path: Path) -> None:
                           text=True, env=env, timeout=300)
     assert done.returncode == 0, done.stderr
     rows, tension = done.stdout.split()
-    ref = webline.simulate(str(HSWL), 0.5, record_interval=0.01)
+    ref = _reference("hswl", 0.5, 0.01)
     assert int(rows) == 51
-    assert float(tension) == pytest.approx(float(ref.signals.tension[-1, 1]), rel=1e-9)
+    assert float(tension) == pytest.approx(float(ref["tension[span2]"].iloc[-1]), rel=1e-9)
 
 
-def test_hswl_runs_200_times_real_time_in_fmpy(fmus: dict) -> None:
-    """Issue 39: at a 10 ms communication step fmpy runs hswl's FMU >= 200x real time,
-    recording the tensions, speeds and torques at every step; best of three. Measured in
-    the process's CPU time: the 2-core test box runs several suites at once, and wall time
-    there counts the waits for a core (the wall figure and the load are printed beside it).
+def test_hswl_runs_200_times_real_time_per_cpu_second_in_fmpy(fmus: dict) -> None:
+    """Issue 39: at a 10 ms communication step fmpy runs hswl's FMU >= 200x real time per
+    CPU second of this process (what is asserted), recording the tensions, speeds and
+    torques at every step; best of three. Not asserted in wall time: the 2-core test box
+    runs several suites at once, and wall time there counts the waits for a core (the wall
+    figure, the CPU figure and the load are printed).
     fmpy's own Python per step (its ctypes calls, its recorder) is most of the time: recording
     every output (about 60 here) runs near 170x."""
     from fmpy import read_model_description
@@ -125,10 +155,12 @@ def test_hswl_runs_200_times_real_time_in_fmpy(fmus: dict) -> None:
         simulate_fmu(path, stop_time=duration, output_interval=STEP, output=names)
         wall = min(wall, time.perf_counter() - start)
         cpu = min(cpu, time.process_time() - start_cpu)
-    print(f"hswl FMU in fmpy, {len(names)} outputs: {duration / cpu:.0f}x real time per "
-          f"CPU second, {duration / wall:.0f}x in wall time (load {os.getloadavg()[0]:.2f} "
-          f"on {os.cpu_count()} cores)")
-    assert duration / cpu >= 200.0
+    load = " ".join(f"{x:.2f}" for x in os.getloadavg())
+    print(f"hswl FMU in fmpy, {len(names)} outputs, {duration:g} s at {STEP:g} s steps: "
+          f"CPU {cpu:.3f} s ({duration / cpu:.0f}x real time per CPU second), wall "
+          f"{wall:.3f} s ({duration / wall:.0f}x real time in wall time); load {load} on "
+          f"{os.cpu_count()} cores")
+    assert duration / cpu >= 200.0, "real time per CPU second of the process running fmpy"
 
 
 def test_parameters_and_inputs_reach_the_loop(fmus: dict) -> None:
@@ -170,9 +202,9 @@ def test_plant_only_fmu_closed_by_a_python_pi_reproduces_the_built_in_run(
     from fmpy.fmi2 import FMU2Slave
     from test_branch_user_control import UserPI  # (tests/integration on sys.path)
 
-    line = webline.load_line(str(HSWL))  # the process zone's reference steps 25 % at 2 s
+    line = load_one_web("hswl")  # the process zone's reference steps 25 % at 2 s
     dt = 1.0 / line.spec.control.sample_rate
-    path = export_fmu(line, tmp_path / "plant.fmu", fmi=2, scenario="tension-step",
+    path = export_fmu("hswl", tmp_path / "plant.fmu", fmi=2, scenario="tension-step",
                       plant_only=True)
     line = line.with_scenario("tension-step")
 
@@ -235,6 +267,12 @@ def test_cli_export_writes_the_fmu_and_bad_options_are_one_line(tmp_path: Path) 
     assert_one_line_error(invoke("export", "laminator", "--fmu", str(out), "--fmi", "4"), 2,
                           "fmi", "2 or 3")
     assert_one_line_error(invoke("export", "laminator"), 2, "--fmu")
+    assert done.stderr.strip() == ""  # a line of webs: nothing said
+    single = invoke("export", "hswl", "--fmu", str(tmp_path / "hswl.fmu"), "--fmi", "2")
+    assert single.exit_code == 0, single.output
+    assert single.stdout.strip() == str(tmp_path / "hswl.fmu")
+    assert single.stderr.strip() == ("hswl: a single-path line, exported as its line of one "
+                                     "web (docs/fmu.md)")
 
 
 def test_a_python_controller_in_the_file_is_refused_in_one_line(tmp_path: Path) -> None:

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from webline.errors import LineFileError
-from webline.model.one_web import load_one_web
+from webline.model.one_web import load_general, load_one_web
 from webline.spec.load import branched_from_dict, read_any, spec_from_dict
 from webline.spec.one_web import WEB, chain_key, one_web_data, one_web_path, one_web_spec
 
@@ -120,6 +120,21 @@ def test_a_file_and_its_loaded_line_give_the_same_line_of_one_web():
     by_name, by_line = load_one_web("hswl"), load_one_web(webline.load_line("hswl"))
     assert by_name.spec == by_line.spec
     assert by_name.source == by_line.source == "hswl.toml (built-in)"
+
+
+def test_load_general_translates_single_path_lines_only():
+    """What the general loop runs (``load_general``, the FMU export's loader): a line of webs
+    as it is, untranslated; a single-path line, by name, file, dict or ``Line``, as its line
+    of one web."""
+    import webline
+
+    laminator, translated = load_general("laminator")
+    assert not translated and laminator is load_general(laminator)[0]
+    assert laminator.spec == load_general(read_any("laminator")[0])[0].spec
+    for source in ("hswl", read_any("hswl")[0], webline.load_line("hswl")):
+        line, translated = load_general(source)
+        assert translated and line.spec == load_one_web("hswl").spec
+        assert [w.name for w in line.spec.webs] == [WEB]
 
 
 def test_the_generated_hswl_is_the_hand_written_one():

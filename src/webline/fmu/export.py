@@ -23,7 +23,9 @@ from webline.fmu.c_model import model_header
 from webline.fmu.loop_object import FmuBuildError, loop_arrays, loop_object
 from webline.fmu.model_description import _identifier, model_description
 from webline.fmu.variables import fmu_variables
-from webline.model.web_graph import BranchedLine, load_branched
+from webline.line import Line
+from webline.model.one_web import load_general
+from webline.model.web_graph import BranchedLine
 from webline.sim.branches.loop import layout as B
 from webline.sim.branches.plan import BranchPlan
 from webline.sim.branches.run import plan_and_step, run_start
@@ -34,7 +36,7 @@ from webline.spec.ranges import argument
 PLATFORM = {2: "linux64", 3: "x86_64-linux"}
 
 
-def export_fmu(line: BranchedLine | str | Path, path: str | Path, fmi: int = 3,
+def export_fmu(line: BranchedLine | Line | str | Path, path: str | Path, fmi: int = 3,
                step: float | str | None = None, scenario: str | None = None,
                plant_only: bool = False) -> Path:
     """Write the FMU of ``line`` (a line object, a line file or a built-in name) with its
@@ -47,10 +49,12 @@ def export_fmu(line: BranchedLine | str | Path, path: str | Path, fmi: int = 3,
     state (the operating point at t = 0) is computed here, from the file's values:
     parameters changed at instantiation start from it. The first export of a line
     structure compiles the loop (minutes); later ones read it from numba's cache folder.
-    Returns the path."""
+    A single-path line (``hswl``, ``converter``: a ``Line``, its file or name) is exported
+    as its line of one web (``model.one_web``), its variables named as its own result names
+    them (``radius[unwind]``, not ``radius[unwind/web]``). Returns the path."""
     if fmi not in PLATFORM:
         raise ArgumentError(f"fmi: expected 2 or 3, got {fmi!r}")
-    branched = load_branched(line)
+    branched, single_path = load_general(line)
     if scenario is not None:
         branched = branched.with_scenario(scenario)
     code = named_code(branched)  # (read from the file, nothing imported)
@@ -71,7 +75,7 @@ def export_fmu(line: BranchedLine | str | Path, path: str | Path, fmi: int = 3,
         plan = plant_plan(plan)
         start[1][:, B.I_UCMD] = point.torque  # held at the operating point until set
     arrays = loop_arrays(plan, *start)
-    variables = fmu_variables(plan, arrays, plant_only)
+    variables = fmu_variables(plan, arrays, plant_only, single_path=single_path)
     name = branched.name + (f"_{scenario}" if scenario else "") + (
         "_plant" if plant_only else "")
     guid = "{" + str(uuid.uuid4()) + "}"

@@ -52,17 +52,18 @@ TIME = Variable("time", "Real", "independent", "s", OP_TIME, ("", -1), ("", -1),
 
 
 def fmu_variables(plan: BranchPlan, arrays: dict[str, np.ndarray],
-                  plant_only: bool = False) -> list[Variable]:
+                  plant_only: bool = False, single_path: bool = False) -> list[Variable]:
     """The variables of ``plan``'s FMU, outputs first, then inputs and parameters; ``arrays``:
     the loop's start tables (``loop_object.loop_arrays``), for the parameters' start
     values. ``plant_only``: ``plan``'s drives are all user drives (``FAMILY_USER``): their
     torque commands are inputs, and what each drive measures is an output
-    (``plant_variables``)."""
+    (``plant_variables``). ``single_path``: ``plan`` is a single-path line's line of one web,
+    whose rolls are named by their roller alone, as the single-path line's result names them."""
     if plant_only:
         plant_out, plant_in = plant_variables(plan, arrays)
-        return (outputs(plan, plant_only=True) + plant_out + inputs(plan) + plant_in
-                + parameters(plan, arrays) + [TIME])
-    return outputs(plan) + inputs(plan) + parameters(plan, arrays) + [TIME]
+        return (outputs(plan, plant_only=True, single_path=single_path) + plant_out
+                + inputs(plan) + plant_in + parameters(plan, arrays) + [TIME])
+    return outputs(plan, single_path=single_path) + inputs(plan) + parameters(plan, arrays) + [TIME]
 
 
 def plant_variables(plan: BranchPlan, arrays: dict[str, np.ndarray]
@@ -96,11 +97,12 @@ def plant_variables(plan: BranchPlan, arrays: dict[str, np.ndarray]
     return out, into
 
 
-def outputs(plan: BranchPlan, plant_only: bool = False) -> list[Variable]:
+def outputs(plan: BranchPlan, plant_only: bool = False, single_path: bool = False
+            ) -> list[Variable]:
     """Span tensions, roller surface speeds, roll radii, motor torques and their commands
     (not ``plant_only``: there they are inputs), calculated radii, dancer positions, and
     flags: slack per span, a torque command at its limit per drive, a web break detected,
-    the run's status."""
+    the run's status. ``single_path``: a roll's radius named by its roller alone."""
     line, o = plan.line, plan.offsets
     n_x, n_d, n_s = plan.n_x, plan.di.shape[0], len(line.spans)
     rec = 1  # the record's x starts after its time
@@ -127,7 +129,8 @@ def outputs(plan: BranchPlan, plant_only: bool = False) -> list[Variable]:
         add(f"speed[{roller.name}]", "m/s", OP_MUL, arm[i], ("rec", rec + int(o[B.O_OMEGA]) + i),
             "surface speed of the roller")
     for j, roll in enumerate(line.rolls):
-        name = f"{line.spec.rollers[roll.node].name}/{line.spec.webs[roll.web].name}"
+        name = line.spec.rollers[roll.node].name
+        name += "" if single_path else f"/{line.spec.webs[roll.web].name}"
         add(f"radius[{name}]", "m", OP_COPY, ("rec", rec + int(o[B.O_RADIUS]) + j), none,
             "wound radius of the roll")
     drives = [line.spec.rollers[i].name for i in line.drives]

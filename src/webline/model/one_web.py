@@ -9,8 +9,9 @@ from typing import Any
 
 from webline.errors import ArgumentError
 from webline.line import Line
-from webline.model.web_graph import BranchedLine, load_branched
-from webline.spec.load import read_any
+from webline.model.web_graph import BranchedLine, branched_from_file, load_branched
+from webline.spec.branched.schema import BranchedLineSpec
+from webline.spec.load import is_branched, read_any
 from webline.spec.one_web import one_web_spec
 from webline.spec.schema import LineSpec
 
@@ -22,15 +23,37 @@ def load_one_web(source: Line | LineSpec | str | Path | dict[str, Any]) -> Branc
     file gives each problem (a problem of the line, or a feature the line of webs does not
     run), ``ArgumentError`` for a ``source`` of another type."""
     text = None
+    if isinstance(source, str | Path):
+        data, text, label = read_any(source)
+        return _one_web(data, text, label)
     if isinstance(source, Line):
         data, label = source.spec.model_dump(exclude_none=True), source.source
     elif isinstance(source, LineSpec):
         data, label = source.model_dump(exclude_none=True), "<python>"
     elif isinstance(source, dict):
         data, label = source, "<dict>"
-    elif isinstance(source, str | Path):
-        data, text, label = read_any(source)
     else:
         raise ArgumentError(f"line: expected a single-path line, its spec, a dict, a line "
                             f"file path or a built-in line's name, got {type(source).__name__}")
+    return _one_web(data, text, label)
+
+
+def load_general(source: BranchedLine | BranchedLineSpec | Line | LineSpec | str | Path
+                 | dict[str, Any]) -> tuple[BranchedLine, bool]:
+    """Any line as the general loop runs it, and whether it was translated: a branched line
+    (``[[webs]]``) as it is (False), a single-path line as its line of one web
+    (``load_one_web``, True). Raises as ``load_branched`` and ``load_one_web`` do."""
+    if isinstance(source, BranchedLine | BranchedLineSpec):
+        return load_branched(source), False
+    if isinstance(source, dict) and is_branched(source):
+        return load_branched(source), False
+    if isinstance(source, str | Path):
+        data, text, label = read_any(source)
+        if is_branched(data):
+            return branched_from_file(data, text, label), False
+        return _one_web(data, text, label), True
+    return load_one_web(source), True
+
+
+def _one_web(data: dict[str, Any], text: str | None, label: str) -> BranchedLine:
     return dataclasses.replace(load_branched(one_web_spec(data, label, text)), source=label)
