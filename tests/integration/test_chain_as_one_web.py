@@ -111,8 +111,7 @@ CASES: list[tuple[str, str | None, float, str | None]] = [
     ("rockwell", "web-break", 4.0, DANCER),  # break at 3 s
     ("rockwell", "backlash-slowdown", 3.0, f"{DANCER}; {BACKLASH}"),  # slow-down from 2 s
     ("own_line", None, 2.0, None),  # ramp from 1 s
-    # (a diameter calculator: the rewind's first command 3.4e-9 N*m apart, 5e-10 of it,
-    # not located; the tensions 8.3e-10 apart within 1 s)
+    # (a diameter calculator: both adaptive gains at the calculated radius, errata E-B6)
     ("converter without dancer, taper", None, 1.0, None),
     ("converter without dancer, taper", "startup", 2.0, STANDSTILL),
     ("converter without dancer, taper", "web-break", 7.0, BREAK_TORQUE),
