@@ -29,7 +29,7 @@ from webline.sim.branches.loop.decentral import decentral_command, reference_cha
 from webline.sim.branches.loop.draw import draw_factor, start_references
 from webline.sim.branches.loop.loadcell import loadcell_reading
 from webline.sim.branches.loop.observer import observe
-from webline.sim.branches.loop.plant import node_inertia
+from webline.sim.branches.loop.plant import inertia_seen
 from webline.sim.branches.loop.user import user_tick
 from webline.sim.branches.loop.winder import compensation, open_loop, zone_reference
 from webline.sim.drives.measure import quantized
@@ -249,7 +249,9 @@ def control_tick(t: float, tick: int, dt: float, x: np.ndarray, istate: np.ndarr
         e_v = v_line * df[d, B.D_FF] * draw + ripple + trim - v_meas
         gain = 1.0
         if df[d, B.D_ADAPTIVE] > 0.0:  # speed gains follow the roll's inertia
-            inertia = node_inertia(i, x, offsets, nodes, rolls) + TR.reflected_motor(d, di, df)
+            # (at the radius it knows: its calculator's, as the chain's controller)
+            inertia = inertia_seen(i, j if df[d, B.D_DCALC] != B.DCALC_NONE else -1, radius,
+                                   x, offsets, nodes, rolls) + TR.reflected_motor(d, di, df)
             gain = inertia / (
                 df[d, B.D_RATIO] * radius) / df[d, B.D_GAINNORM]
         if offsets[B.O_BREAK] and stopping == 0.0:  # stopped: the drives hold (W8)

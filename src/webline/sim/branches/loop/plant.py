@@ -68,12 +68,22 @@ def node_inertia(i: int, x: np.ndarray, offsets: np.ndarray, nodes: np.ndarray,
                  rolls: np.ndarray) -> float:
     """Inertia [kg·m²] of node ``i``: rotating parts plus every roll wound on it (6.1), but
     for the lanes on its clutch cores (a differential shaft: they turn on their own)."""
+    return inertia_seen(i, -1, 0.0, x, offsets, nodes, rolls)
+
+
+@jit
+def inertia_seen(i: int, own: int, radius: float, x: np.ndarray, offsets: np.ndarray,
+                 nodes: np.ndarray, rolls: np.ndarray) -> float:
+    """Inertia [kg·m²] of node ``i`` as its drive's controller knows it: ``node_inertia``
+    with roll ``own`` at ``radius`` [m] (its diameter calculator's, docs/winder.md W2: a
+    drive does not know the true radius; ``own`` < 0: every roll at its true radius)."""
     inertia = nodes[i, B.N_JCONST]
     off_r = offsets[B.O_RADIUS]
     for j in range(rolls.shape[0]):
         if int(rolls[j, B.R_NODE]) == i and rolls[j, B.R_CLUTCH] == 0.0:
-            inertia += _roll_inertia(0.0, x[off_r + j], rolls[j, B.R_CORE],
-                                     rolls[j, B.R_WIDTH], rolls[j, B.R_RHO])
+            r = radius if j == own else x[off_r + j]
+            inertia += _roll_inertia(0.0, r, rolls[j, B.R_CORE], rolls[j, B.R_WIDTH],
+                                     rolls[j, B.R_RHO])
     return inertia
 
 

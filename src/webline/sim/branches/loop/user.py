@@ -24,7 +24,7 @@ from webline.sim.branches.loop import transmission as TR
 from webline.sim.branches.loop.breaks import held_command
 from webline.sim.branches.loop.dancer import position_error, sensed_tension
 from webline.sim.branches.loop.loadcell import loadcell_reading
-from webline.sim.branches.loop.plant import node_inertia
+from webline.sim.branches.loop.plant import inertia_seen
 from webline.sim.branches.loop.winder import compensation
 from webline.sim.elements.sensor_loop import delayed
 from webline.sim.elements.signals import gaussian, jit, profile_at, sines
@@ -104,7 +104,9 @@ def user_tick(d: int, i: int, t: float, tick: int, dt: float, v_meas: float, rad
     for r in range(dist.shape[0]):
         if int(dist[r, B.DS_KIND]) == B.DIST_SPEED_RIPPLE and int(dist[r, B.DS_INDEX]) == d:
             ripple += sines(dist[r:r + 1, B.DS_A:B.DS_C + 1], t)
-    inertia = node_inertia(i, x, offsets, nodes, rolls) + TR.reflected_motor(d, di, df)
+    own = di[d, B.DI_ROLL] if df[d, B.D_DCALC] != B.DCALC_NONE else -1  # (the radius the
+    inertia = inertia_seen(i, own, radius, x, offsets, nodes, rolls) + (  # drive knows)
+        TR.reflected_motor(d, di, df))
     if offsets[B.O_BREAK] and stopping == 0.0:  # stopped: the drive holds (W8), as a PI's
         gain = 1.0
         if df[d, B.D_ADAPTIVE] > 0.0:
