@@ -14,7 +14,7 @@ import pytest
 
 import webline
 from webline import CompiledController
-from webline.errors import ControllerError
+from webline.errors import ControllerError, LineFileError
 from webline.sim.compiled_control import CHECKED_HINT
 
 ONE_WEB = Path(__file__).parents[1] / "data" / "hswl_one_web.toml"
@@ -117,10 +117,10 @@ def test_a_nonfinite_command_stops_the_run_as_on_the_chain(in_the_loop: None) ->
         with pytest.raises(ControllerError) as info:
             webline.simulate(line, 1.0, controller=_hold(nan_at=0.25))
         errors.append(info.value)
-    chain, general = (str(e).partition(": ")[2] for e in errors)
-    assert general == chain
-    assert general == ("controller 'hold' (compiled law hold) returned a non-finite torque "
-                       "for unwind at tick 250 (t = 0.25 s)" + CHECKED_HINT)
+    chain, general = (str(e) for e in errors)
+    assert chain == ("controller 'line' (compiled law hold) returned a non-finite torque "
+                     "for unwind at tick 250 (t = 0.25 s)" + CHECKED_HINT)
+    assert general == f"hswl_one_web: {chain}"  # (a branched line's errors name the line)
     partial = errors[1].partial
     assert partial.failure is not None
     assert float(partial.dataset.time.values[-1]) == pytest.approx(0.249)
@@ -132,7 +132,40 @@ def test_a_law_that_raises_is_named_with_its_message(in_the_loop: None) -> None:
     ctrl = CompiledController(raises, params=lambda c: [c.drives[0].equilibrium_command])
     with pytest.raises(ControllerError) as info:
         webline.simulate(ONE_WEB, 1.0, controller={"rewind": ctrl})
-    assert str(info.value).partition(": ")[2] == (
-        "controller 'rewind' (compiled law raises) raised ValueError: gain table empty at "
-        "tick 250 (t = 0.25 s)" + CHECKED_HINT)
+    assert str(info.value) == (
+        "hswl_one_web: controller 'rewind' (compiled law raises) raised ValueError: gain "
+        "table empty at tick 250 (t = 0.25 s)" + CHECKED_HINT)
     assert float(info.value.partial.dataset.time.values[-1]) == pytest.approx(0.249)
+
+
+def test_a_line_files_law_runs_in_the_loop_with_consent_only(tmp_path: Path,
+                                                              in_the_loop: None) -> None:
+    """``controller = { type = "python", function = "laws.py:hold", params, states }`` on a
+    branched file's rewind: refused without consent (one line naming the key), and with it
+    the same law in the loop as the same law given through the API (1e-12 N: the same
+    operations in the same order)."""
+    (tmp_path / "laws.py").write_text(
+        "def hold(t, meas, refs, params, state, out):\n"
+        "    state[0] += 1.0\n"
+        "    for k in range(out.shape[0]):\n"
+        "        out[k] = params[k]\n"
+        "    if params[params.shape[0] - 1] > 0.0 and t >= params[params.shape[0] - 1]:\n"
+        "        out[0] = np.nan\n")
+    api = _hold()
+    direct = webline.simulate(ONE_WEB, 0.5, controller={"rewind": api})
+    text = ONE_WEB.read_text()
+    builtin = ('controller = { type = "cascaded_pi", speed_bandwidth = "40 rad/s", '
+               'tension_bandwidth = "8 rad/s", damping = 1.0 }')
+    rewind = text.index('name = "rewind"')
+    at = text.index(builtin, rewind)
+    path = tmp_path / "line.toml"
+    path.write_text(text[:at] + f'controller = {{ type = "python", function = "laws.py:hold", '
+                    f'params = [{float(api.params[0])!r}, 0.0], states = 1 }}'
+                    + text[at + len(builtin):])
+    (tmp_path / "laws.py").write_text("import numpy as np\n\n"
+                                      + (tmp_path / "laws.py").read_text())
+    with pytest.raises(LineFileError, match=r"rollers\[\d\]\.controller"):
+        webline.simulate(path, 0.5, allow_code=False)
+    from_file = webline.simulate(path, 0.5, allow_code=True)
+    assert np.max(np.abs(from_file.dataset.tension.values
+                         - direct.dataset.tension.values)) < 1e-12

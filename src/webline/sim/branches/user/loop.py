@@ -159,7 +159,8 @@ class BranchUserLoop:
         self.references = np.empty(self.reference_at.size)
         if self.laws is not None:  # the laws' params and state: views of the live memory
             start = x.size + len(cmd) * istate.shape[1]
-            self.laws.attach(self.live_buffer[start:start + self.laws.size])
+            self.law_memory = self.live_buffer[start:start + self.laws.size]
+            self.laws.attach(self.law_memory)
         self.loop = self.plan.loop(None if self.laws is None else (self.laws.users,
                                                                    self.laws.key))
         p = self.plan
@@ -269,7 +270,6 @@ class BranchUserLoop:
                 return stored, status, t_fail, j
         return stored, B.STATUS_OK, math.nan, count
 
-
     def _law_failure(self, t: float) -> tuple[str, str]:
         """(controller name, one-line error) of a compiled law that raised or gave a
         non-finite command at time ``t`` [s] (``sim.core.laws.LawBuffer.failure``)."""
@@ -277,9 +277,8 @@ class BranchUserLoop:
         istate = self.live[1]
         where = next((d for d in sorted(self.users)
                       if not math.isfinite(istate[d, B.I_UCMD])), -1)
-        start = self.live[0].size + self.live[4].size * istate.shape[1]
         return self.laws.failure(
-            self.live_buffer[start:start + self.laws.size], where, t, self.plan.dt,
+            self.law_memory, where, t, self.plan.dt,
             lambda d: self.plan.line.spec.rollers[self.plan.line.drives[d]].name)
 
 
