@@ -187,8 +187,11 @@ def structure_tables(key: tuple[tuple[Any, ...], ...]) -> tuple[np.ndarray, ...]
 def _compiled(*tables: tuple[Any, ...],
               law: tuple[tuple[int, ...], LawKey] | None = None) -> Any:
     offsets, si, layers, webs, di, cells, cores, lawi, kv = structure_tables(tables)
-    step = None if law is None else law_step(di.shape[0], *law)
+    if law is not None:
+        return _with_laws(offsets, si, layers, webs, di, cells, cores, lawi, kv,
+                          law_step(di.shape[0], *law))
 
+    @loop_njit
     def loop(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
              rec: np.ndarray, stages: np.ndarray, cmd: np.ndarray, work: np.ndarray,
              held: np.ndarray,
@@ -201,13 +204,42 @@ def _compiled(*tables: tuple[Any, ...],
         return advance(x, istate, wound, done, rec, stages, cmd, work, held, tick0, n_ticks, dt,
                        substeps, record_every, include_end, speed_max, offsets, nodes, si, sf,
                        layers, rolls, webs, di, df, cores, clutch, cells, events, dist, prof_t,
-                       prof_v, prof_off, lawi, lawf, laws, kv, fb, refs, step)
+                       prof_v, prof_off, lawi, lawf, laws, kv, fb, refs, None)
 
-    return (loop_njit if step is None else _law_loop_njit)(loop)
+    return loop
 
 
-#: the loop with users' laws: as ``loop_njit``, without the disk cache
+#: the loop with users' laws and its ``advance``: as ``loop_njit`` and ``advance``, without
+#: numba's disk cache (a cached function given the laws would pickle a reference to the
+#: user's module into its cache index, which another process cannot load)
 _law_loop_njit = nb.njit(fastmath=FAST, error_model="numpy", **_NO_NRT)
+_advance_with_laws: Any = nb.njit(fastmath=FAST, error_model="numpy", forceinline=True,
+                                  **_NO_NRT)(advance.py_func)
+
+
+def _with_laws(offsets: np.ndarray, si: np.ndarray, layers: np.ndarray, webs: np.ndarray,
+               di: np.ndarray, cells: np.ndarray, cores: np.ndarray, lawi: np.ndarray,
+               kv: np.ndarray, step: Any) -> Any:
+    """``_compiled``'s loop with the laws' ``step`` (``loop.user.law_step``) in it; the same
+    call."""
+
+    @_law_loop_njit
+    def loop(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
+             rec: np.ndarray, stages: np.ndarray, cmd: np.ndarray, work: np.ndarray,
+             held: np.ndarray,
+             tick0: int, n_ticks: int, dt: float, substeps: int, record_every: int,
+             include_end: bool, speed_max: float, nodes: np.ndarray, sf: np.ndarray,
+             rolls: np.ndarray, df: np.ndarray, clutch: np.ndarray, events: np.ndarray,
+             dist: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
+             prof_off: np.ndarray, lawf: np.ndarray, laws: np.ndarray, fb: np.ndarray,
+             refs: np.ndarray) -> tuple[int, int, float]:
+        return _advance_with_laws(
+            x, istate, wound, done, rec, stages, cmd, work, held, tick0, n_ticks, dt, substeps,
+            record_every, include_end, speed_max, offsets, nodes, si, sf, layers, rolls, webs,
+            di, df, cores, clutch, cells, events, dist, prof_t, prof_v, prof_off, lawi, lawf,
+            laws, kv, fb, refs, step)
+
+    return loop
 
 
 def new_records(n_ticks: int, record_every: int, n_x: int, n_d: int) -> np.ndarray:
