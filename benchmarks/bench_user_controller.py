@@ -1,13 +1,14 @@
 """Cost of the user controller paths against the built-in loop (issue 25).
 
-    python benchmarks/bench_user_controller.py [--seconds 6] [--line hswl]
+    python benchmarks/bench_user_controller.py [--seconds 6] [--line hswl laminator]
 
-Runs ``hswl`` (or ``--line``) for the given time with its built-in controllers (the compiled
-loop), then with a user controller that only returns held torques for every drive (the
-Python path's own cost: one compiled call per tick, the measurement pass, the Python call),
+Runs ``hswl`` and the branched ``laminator`` (or the ``--line`` lines) for the given time
+with their built-in controllers (the compiled loop), then with a user controller that only
+returns held torques for every drive (the Python path's own cost: one compiled call per
+tick, the measurement pass, the Python call),
 then with the built-in cascaded PI written in Python (examples/user_pi.py: the path plus a
 controller's own arithmetic), then with that PI as a compiled law
-(examples/user_pi_numba.py: in the loop).
+(examples/user_pi_numba.py: in the loop, on a single-path and a branched line alike).
 Each run is timed after a warm-up (compilation excluded); the per-tick numbers are (user
 run - built-in run) / ticks, the ratios user run / built-in run, all from this one process.
 Times are the process's CPU time, best of five (built-in and compiled: best of 15, the two
@@ -73,33 +74,42 @@ def interleaved(first: object, second: object, repeat: int = 15) -> tuple[float,
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seconds", type=float, default=6.0)
-    parser.add_argument("--line", default="hswl", help="a built-in line or a line file")
+    parser.add_argument("--line", nargs="+", default=["hswl", "laminator"],
+                        help="built-in lines or line files")
     args = parser.parse_args()
-    line = webline.load_line(args.line)
+    met = [measure(webline.load_line(name), args.seconds) for name in args.line]
+    print(f"compiled user PI / built-in PI <= 1.5 on every line: "
+          f"{'met' if all(met) else 'NOT met'}")
+
+
+def measure(line: Any, seconds: float) -> bool:
+    """Print ``line``'s costs (module docstring); whether the compiled law's run is within
+    1.5x of the built-in run."""
     pi = _example("user_pi").CascadedPI
     compiled_pi = _example("user_pi_numba").cascaded_pi
     for controller in (None, Hold(), pi(), compiled_pi()):  # warm-up: compile every path
         webline.simulate(line, 0.01, controller=controller)
     dt = webline.simulate(line, 0.01).settings["dt"]
-    ticks = round(args.seconds / dt) + 1
-    hold = best(lambda: webline.simulate(line, args.seconds, controller=Hold()))
-    python_pi = best(lambda: webline.simulate(line, args.seconds, controller=pi()))
+    ticks = round(seconds / dt) + 1
+    hold = best(lambda: webline.simulate(line, seconds, controller=Hold()))
+    python_pi = best(lambda: webline.simulate(line, seconds, controller=pi()))
     builtin, compiled = interleaved(  # the ratio's two sides, alternately: the same load
-        lambda: webline.simulate(line, args.seconds),
-        lambda: webline.simulate(line, args.seconds, controller=compiled_pi()))
+        lambda: webline.simulate(line, seconds),
+        lambda: webline.simulate(line, seconds, controller=compiled_pi()))
     load = ", ".join(f"{v:.2f}" for v in os.getloadavg())
-    print(f"{line.name}, {args.seconds:g} s, {ticks} ticks, {len(line.drives)} drives; "
+    print(f"{line.name}, {seconds:g} s, {ticks} ticks, {len(line.drives)} drives; "
           f"load average {load}")
     print(f"built-in (compiled loop)      {builtin * 1e3:8.1f} ms  {builtin / ticks * 1e6:6.2f} "
           f"us/tick")
-    for name, seconds in (("user: held torques", hold), ("user: PI in Python", python_pi),
-                          ("user: PI compiled (numba)", compiled)):
-        extra = (seconds - builtin) / ticks * 1e6
-        print(f"{name:29s} {seconds * 1e3:8.1f} ms  {seconds / ticks * 1e6:6.2f} us/tick  "
-              f"+{extra:5.2f} us/tick above the compiled loop ({seconds / builtin:5.2f}x)")
+    for name, cost in (("user: held torques", hold), ("user: PI in Python", python_pi),
+                       ("user: PI compiled (numba)", compiled)):
+        extra = (cost - builtin) / ticks * 1e6
+        print(f"{name:29s} {cost * 1e3:8.1f} ms  {cost / ticks * 1e6:6.2f} us/tick  "
+              f"+{extra:5.2f} us/tick above the compiled loop ({cost / builtin:5.2f}x)")
     ratio = compiled / builtin
     print(f"compiled user PI / built-in PI: {ratio:.2f} (must show: <= 1.5: "
           f"{'met' if ratio <= 1.5 else 'NOT met'})")
+    return ratio <= 1.5
 
 
 if __name__ == "__main__":

@@ -116,10 +116,11 @@ class BranchPlan:
         """Scratch for ``kernel.rhs``."""
         return np.zeros(work_size(len(self.line.spans), self.nodes.shape[0]))
 
-    def loop(self) -> Any:
-        """The compiled loop of this plan's structure (``kernel.compiled_advance``)."""
+    def loop(self, law: Any = None) -> Any:
+        """The compiled loop of this plan's structure (``kernel.compiled_advance``; ``law``:
+        users' compiled laws in it, as ``compiled_advance`` takes them)."""
         return compiled_advance(self.offsets, self.si, self.layers, self.webs, self.di,
-                                self.cells, self.cores, self.lawi, self.kv)
+                                self.cells, self.cores, self.lawi, self.kv, law)
 
     def run(self, x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
             rec: np.ndarray, cmd: np.ndarray, tick0: int, n_ticks: int, substeps: int,

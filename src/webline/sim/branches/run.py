@@ -70,7 +70,7 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
         from webline.sim.branches.user.loop import BranchUserLoop, branch_groups
 
         users = BranchUserLoop(plan, point, branch_groups(line, controller), x, istate, wound,
-                               done, cmd, substeps, every)
+                               done, cmd, substeps, every, in_loop=True)
         plan, (x, istate, wound, done, cmd) = users.plan, users.live
     status, t_fail, n_rec, tick = B.STATUS_OK, math.nan, 0, 0
     interrupted = False
@@ -103,7 +103,8 @@ def simulate_branches(line: BranchedLine | str | Path, duration: float | str | N
                else run_failure(plan, x, status, t_fail))
     if interrupted:
         failure = f"interrupted by the user (Ctrl-C) at t = {rec[n_rec - 1, 0]:.4g} s"
-    result = run_result(plan, rec[:n_rec].copy(), failure, istate, duration, substeps, every)
+    result = run_result(plan, rec[:n_rec].copy(), failure, istate[:plan.di.shape[0]],
+                        duration, substeps, every)  # (the drives' memory: no laws' rows)
     if failure is not None and raise_on_failure:
         if users is not None and users.failed is not None:
             raise ControllerError(f"{line.name}: {failure}", partial=result)

@@ -18,13 +18,13 @@ away.
 from __future__ import annotations
 
 import functools
-from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 import numba as nb
 import numpy as np
 
 from webline.sim.core.kernel import advance
+from webline.sim.core.laws import LawKey, buffer_layout, chained_laws
 from webline.sim.core.plan import StructureKey, structure_arrays
 from webline.sim.drives.user_loop import (
     N_MEASURED,
@@ -43,68 +43,17 @@ if TYPE_CHECKING:
 
 #: the hook's type: (t [s], out (``U_ROWS`` x drives), buffer) -> None
 HOOK_SIGNATURE = nb.void(nb.float64, nb.float64[:, ::1], nb.float64[::1])
-#: the laws' helpers: inlined into the hook, no reference counting (every array is the run's)
-_inline = nb.njit(fastmath=FAST, error_model="numpy", forceinline=True, **_NO_NRT)
-
-
-@_inline
-def _no_law(t: float, meas: np.ndarray, refs: np.ndarray, params: np.ndarray,
-            state: np.ndarray, out: np.ndarray, raised: np.ndarray) -> None:
-    """The start of a chain of laws (``_chained``): nothing."""
-
-
-def _chained(before: Any, law: Any, group: int, first: int, count: int,
-             params: tuple[int, int], state: tuple[int, int]) -> Any:
-    """``before``, then ``law`` (of group number ``group``) on the user drives ``first`` ..
-    ``first + count - 1`` and its (start, stop) of the parameters and state. A law that
-    raises sets ``raised[0]`` to its group number + 1 (the first to raise is kept): a
-    ``cfunc`` cannot pass an exception on, it would print it and go on."""
-    m0, m1 = N_MEASURED * first, N_MEASURED * (first + count)
-    r0, r1 = N_REFERENCES * first, N_REFERENCES * (first + count)
-    p0, p1 = params
-    s0, s1 = state
-    o0, o1 = first, first + count
-
-    @_inline
-    def call(t: float, meas: np.ndarray, refs: np.ndarray, all_params: np.ndarray,
-             all_state: np.ndarray, commands: np.ndarray, raised: np.ndarray) -> None:
-        before(t, meas, refs, all_params, all_state, commands, raised)
-        try:
-            law(t, meas[m0:m1], refs[r0:r1], all_params[p0:p1], all_state[s0:s1],
-                commands[o0:o1])
-        except Exception:  # the user's law: any error stops the run
-            if raised[0] == 0.0:
-                raised[0] = group + 1.0
-
-    return call
-
-
-def buffer_layout(n_users: int, n_params: int, n_state: int) -> dict[str, tuple[int, int]]:
-    """(start, stop) in the hook's buffer of the user drives' measurements, references and
-    commands, the laws' parameters and states (each concatenated in group order), and the
-    number + 1 of the first group whose law raised (0: none)."""
-    sizes = {"meas": N_MEASURED * n_users, "refs": N_REFERENCES * n_users,
-             "commands": n_users, "params": n_params, "state": n_state, "raised": 1}
-    layout, start = {}, 0
-    for name, size in sizes.items():
-        layout[name] = (start, start + size)
-        start += size
-    return layout
 
 
 @functools.cache
-def law_hook(users: tuple[int, ...],
-             laws: Sequence[tuple[Any, int, int, int]]) -> Any:
+def law_hook(users: tuple[int, ...], laws: LawKey) -> Any:
     """The hook (module docstring) for user drives ``users`` (indices into the drive table,
-    in group order) and ``laws``: per group its dispatcher, number of drives, of parameters
-    and of state values. Compiled once per (users, laws) in a process."""
-    n_params = sum(p for _, _, p, _ in laws)
-    n_state = sum(s for _, _, _, s in laws)
-    layout = buffer_layout(len(users), n_params, n_state)
-    call, first, p0, s0 = _no_law, 0, 0, 0
-    for group, (law, count, n_p, n_s) in enumerate(laws):
-        call = _chained(call, law, group, first, count, (p0, p0 + n_p), (s0, s0 + n_s))
-        first, p0, s0 = first + count, p0 + n_p, s0 + n_s
+    in group order) and ``laws`` (``laws.chained_laws``: per group its dispatcher, number of
+    drives, of parameters and of state values). Compiled once per (users, laws) in a
+    process."""
+    layout = buffer_layout(len(users), sum(p for _, _, p, _ in laws),
+                           sum(s for _, _, _, s in laws))
+    call = chained_laws(laws)
     drive_of = np.array(users, dtype=np.int64)
     (m0, m1), (r0, r1), (c0, c1) = layout["meas"], layout["refs"], layout["commands"]
     (q0, q1), (s0, s1), (f0, f1) = layout["params"], layout["state"], layout["raised"]

@@ -58,6 +58,6 @@ def _compiled_cases(*key: tuple[Any, ...]) -> Any:
                 n_ticks[c], dt[c], substeps[c], every[c], True, speed_max[c], offsets,
                 nodes[c], si, sf[c], layers, rolls[c], webs, di, df[c], cores, clutch[c],
                 cells, events[c], dist[c], prof_t[c], prof_v[c], prof_off[c], lawi, lawf[c],
-                laws[c], kv, fb[c], refs[c])
+                laws[c], kv, fb[c], refs[c], None)
 
     return run_cases

@@ -9,6 +9,7 @@ import functools
 import math
 from typing import Any
 
+import numba as nb
 import numpy as np
 
 from webline.sim.branches.loop import layout as B
@@ -18,9 +19,12 @@ from webline.sim.branches.loop.dancer_taper import taper_loads
 from webline.sim.branches.loop.laminate import beyond_strength, cut_layers
 from webline.sim.branches.loop.plant import rhs
 from webline.sim.branches.loop.traction import update_slip
+from webline.sim.branches.loop.user import law_commands, law_step
 from webline.sim.branches.loop.web_law import felt_start_jit
 from webline.sim.branches.loop.winder import splices
-from webline.sim.elements.signals import jit, loop_njit
+from webline.sim.core.laws import LawKey
+from webline.sim.drives.user_loop import STATUS_USER_NONFINITE
+from webline.sim.elements.signals import _NO_NRT, FAST, jit, loop_njit
 
 
 @jit
@@ -53,7 +57,7 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
             cells: np.ndarray, events: np.ndarray, dist: np.ndarray, prof_t: np.ndarray,
             prof_v: np.ndarray, prof_off: np.ndarray, lawi: np.ndarray, lawf: np.ndarray,
             laws: np.ndarray, kv: np.ndarray, fb: np.ndarray,
-            refs: np.ndarray) -> tuple[int, int, float]:
+            refs: np.ndarray, law: Any) -> tuple[int, int, float]:
     """Advance ``n_ticks`` controller periods from tick ``tick0``, recording ``new_records``'
     rows every ``record_every`` ticks and, with ``include_end``, the state after the last (a
     chunked run leaves that tick to the next chunk); returns (records, status, time of
@@ -61,7 +65,10 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
     web's strength (``layout``). With web laws or Kelvin-Voigt spans the loadcells read the
     tension the rollers feel (``loop.web_law``).
     ``held``: scratch for the inputs held over a period (``held_inputs``); ``fb``, ``refs``:
-    the decentralized drives' tables (``loop.decentral``)."""
+    the decentralized drives' tables (``loop.decentral``). ``law``: the users' compiled laws
+    (``loop.user.law_step``, called each tick after every drive is measured; their buffer in
+    ``istate``'s rows after the drives'), or None (folded away); a law's non-finite command
+    stops the run before its tick is recorded, status ``user_loop.STATUS_USER_NONFINITE``."""
     n_x = x.shape[0]
     n_d = di.shape[0]
     n_s = si.shape[0]
@@ -91,6 +98,10 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
                 measured[m] = work[start + m] if m < n_s else x[m]
         control_tick(t, tick0 + j, dt, measured, istate, cmd, offsets, nodes, rolls, di, df,
                      cells, dist, prof_t, prof_v, prof_off, si, fb, refs, sf, layers)
+        if law is not None:  # users' compiled laws: their commands replace the held ones
+            law(t, istate)
+            if law_commands(cmd, istate, di, df) >= 0:
+                return n_rec, STATUS_USER_NONFINITE, t
         if offsets[B.O_DANCER] < offsets[B.O_DANCER_END]:  # taper through a dancer (frozen: folds)
             taper_loads(held, istate, x, offsets, nodes, di, df, cells, prof_t, prof_v,
                         prof_off)
@@ -147,12 +158,18 @@ def advance(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarr
 
 def compiled_advance(offsets: np.ndarray, si: np.ndarray, layers: np.ndarray,
                      webs: np.ndarray, di: np.ndarray, cells: np.ndarray,
-                     cores: np.ndarray, lawi: np.ndarray, kv: np.ndarray) -> Any:
+                     cores: np.ndarray, lawi: np.ndarray, kv: np.ndarray,
+                     law: tuple[tuple[int, ...], LawKey] | None = None) -> Any:
     """``advance`` compiled for one line structure: its integer tables frozen into the loop
     as constants (as the chain's ``sim.core.kernel.compiled_loop``), so the loops over spans,
     nodes and drives have known trip counts and table look-ups fold away. Called with the
-    remaining arguments of ``advance`` (the float tables stay run-time arrays)."""
-    return _compiled(*structure_key(offsets, si, layers, webs, di, cells, cores, lawi, kv))
+    remaining arguments of ``advance`` (the float tables stay run-time arrays), the same
+    for every line. ``law``: the users' compiled laws (their drives in group order and
+    ``sim.core.laws.LawBuffer.key``), compiled into the loop (``loop.user.law_step``): part
+    of the cache key, compiled once per process (not disk-cached: a law has no stable key);
+    None: the built-in loop, disk-cached."""
+    return _compiled(*structure_key(offsets, si, layers, webs, di, cells, cores, lawi, kv),
+                     law=law)
 
 
 def structure_key(*tables: np.ndarray) -> tuple[tuple[Any, ...], ...]:
@@ -167,8 +184,12 @@ def structure_tables(key: tuple[tuple[Any, ...], ...]) -> tuple[np.ndarray, ...]
 
 
 @functools.cache
-def _compiled(*tables: tuple[Any, ...]) -> Any:
+def _compiled(*tables: tuple[Any, ...],
+              law: tuple[tuple[int, ...], LawKey] | None = None) -> Any:
     offsets, si, layers, webs, di, cells, cores, lawi, kv = structure_tables(tables)
+    if law is not None:
+        return _with_laws(offsets, si, layers, webs, di, cells, cores, lawi, kv,
+                          law_step(di.shape[0], *law))
 
     @loop_njit
     def loop(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
@@ -183,7 +204,40 @@ def _compiled(*tables: tuple[Any, ...]) -> Any:
         return advance(x, istate, wound, done, rec, stages, cmd, work, held, tick0, n_ticks, dt,
                        substeps, record_every, include_end, speed_max, offsets, nodes, si, sf,
                        layers, rolls, webs, di, df, cores, clutch, cells, events, dist, prof_t,
-                       prof_v, prof_off, lawi, lawf, laws, kv, fb, refs)
+                       prof_v, prof_off, lawi, lawf, laws, kv, fb, refs, None)
+
+    return loop
+
+
+#: the loop with users' laws and its ``advance``: as ``loop_njit`` and ``advance``, without
+#: numba's disk cache (a cached function given the laws would pickle a reference to the
+#: user's module into its cache index, which another process cannot load)
+_law_loop_njit = nb.njit(fastmath=FAST, error_model="numpy", **_NO_NRT)
+_advance_with_laws: Any = nb.njit(fastmath=FAST, error_model="numpy", forceinline=True,
+                                  **_NO_NRT)(advance.py_func)
+
+
+def _with_laws(offsets: np.ndarray, si: np.ndarray, layers: np.ndarray, webs: np.ndarray,
+               di: np.ndarray, cells: np.ndarray, cores: np.ndarray, lawi: np.ndarray,
+               kv: np.ndarray, step: Any) -> Any:
+    """``_compiled``'s loop with the laws' ``step`` (``loop.user.law_step``) in it; the same
+    call."""
+
+    @_law_loop_njit
+    def loop(x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
+             rec: np.ndarray, stages: np.ndarray, cmd: np.ndarray, work: np.ndarray,
+             held: np.ndarray,
+             tick0: int, n_ticks: int, dt: float, substeps: int, record_every: int,
+             include_end: bool, speed_max: float, nodes: np.ndarray, sf: np.ndarray,
+             rolls: np.ndarray, df: np.ndarray, clutch: np.ndarray, events: np.ndarray,
+             dist: np.ndarray, prof_t: np.ndarray, prof_v: np.ndarray,
+             prof_off: np.ndarray, lawf: np.ndarray, laws: np.ndarray, fb: np.ndarray,
+             refs: np.ndarray) -> tuple[int, int, float]:
+        return _advance_with_laws(
+            x, istate, wound, done, rec, stages, cmd, work, held, tick0, n_ticks, dt, substeps,
+            record_every, include_end, speed_max, offsets, nodes, si, sf, layers, rolls, webs,
+            di, df, cores, clutch, cells, events, dist, prof_t, prof_v, prof_off, lawi, lawf,
+            laws, kv, fb, refs, step)
 
     return loop
 

@@ -235,11 +235,13 @@ I_COLS += 2
 # DI_FAMILY FAMILY_USER issues the command a Python controller wrote into its memory row
 # (I_UCMD [N·m]) and stores what it measured there: surface speed [m/s], its zone's tension
 # [N] (the sum of its loadcells; NaN without one), the radius it works with [m], the inertia
-# at its roller [kg·m²], speed reference [m/s] and tension reference [N] (NaN without a zone)
+# at its roller [kg·m²], speed reference [m/s] and tension reference [N] (NaN without a zone);
+# and the compensation its tick adds to the command [N·m] (NaN: the drive holds, W8), which
+# a compiled law's command gets in the loop (loop.user.law_commands)
 FAMILY_USER = FAMILY_MRAC + 1
 (I_UCMD, I_USPEED, I_UTENSION, I_URADIUS, I_UINERTIA, I_UVREF,
- I_UTREF) = range(I_COLS, I_COLS + 7)
-I_COLS += 7
+ I_UTREF, I_UCOMP) = range(I_COLS, I_COLS + 8)
+I_COLS += 8
 
 # bonded laminates (docs/branching.md, (B2); sim.branches.laminates, loop.laminate):
 # the offsets row's entries O_LAYER, the first layer state, and O_LAYER_END after the last.

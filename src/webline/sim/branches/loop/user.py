@@ -9,10 +9,17 @@ adds and ``user_command`` stores those readings in the drive's memory row (``lay
 issues the command the Python side wrote there (``I_UCMD``), saturated, plus a centre
 winder's compensation as on a built-in command. A line without user drives never reaches it:
 ``DI_FAMILY`` is frozen into the compiled loop.
+
+Users' compiled laws (``sim.core.laws``) run inside the loop: ``law_step`` (compiled into
+the loop with the laws, ``kernel.compiled_advance``) gathers the readings ``user_command``
+stored, calls the laws and writes their commands into ``I_UCMD``; ``law_commands`` then issues
+them as ``user_command`` issues a Python controller's (the compensation it kept in
+``I_UCOMP``; a holding drive keeps its hold).
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
@@ -26,6 +33,8 @@ from webline.sim.branches.loop.dancer import position_error, sensed_tension
 from webline.sim.branches.loop.loadcell import loadcell_reading
 from webline.sim.branches.loop.plant import inertia_seen
 from webline.sim.branches.loop.winder import compensation
+from webline.sim.core.laws import LawKey, buffer_layout, chained_laws, law_njit
+from webline.sim.drives.user_loop import N_MEASURED, N_REFERENCES
 from webline.sim.elements.sensor_loop import delayed
 from webline.sim.elements.signals import gaussian, jit, profile_at, sines
 
@@ -84,6 +93,7 @@ def user_command(d: int, t: float, tick: int, v_meas: float, radius: float, iner
     istate[d, B.I_UINERTIA] = inertia
     istate[d, B.I_UVREF] = speed_ref
     istate[d, B.I_UTREF] = reference
+    istate[d, B.I_UCOMP] = comp
     u = _saturate(istate[d, B.I_UCMD], df[d, B.D_LIMIT])
     return u if comp == 0.0 else _saturate(u + comp, df[d, B.D_LIMIT])
 
@@ -111,6 +121,7 @@ def user_tick(d: int, i: int, t: float, tick: int, dt: float, v_meas: float, rad
         gain = 1.0
         if df[d, B.D_ADAPTIVE] > 0.0:
             gain = inertia / (df[d, B.D_RATIO] * radius) / df[d, B.D_GAINNORM]
+        istate[d, B.I_UCOMP] = math.nan  # (a compiled law's command does not replace it)
         return held_command(d, dt, v_meas, gain, istate, df)
     comp = 0.0
     if di[d, B.DI_WINDER] != B.WINDER_NONE:  # a centre winder (docs/winder.md W3)
@@ -120,3 +131,55 @@ def user_tick(d: int, i: int, t: float, tick: int, dt: float, v_meas: float, rad
                         factor, offsets[B.O_BREAK] != 0 and stopping < 1.0, comp, x, istate,
                         offsets, nodes, di, df, cells, dist, prof_t, prof_v, prof_off, sigma_t,
                         seed, noisy, sf)
+
+
+@jit
+def law_commands(cmd: np.ndarray, istate: np.ndarray, di: np.ndarray, df: np.ndarray) -> int:
+    """Issue the commands compiled laws wrote into the user drives' ``I_UCMD`` at this tick
+    (``kernel.advance`` calls the laws after ``control_tick`` has measured every drive):
+    saturated, the tick's compensation added (``I_UCOMP``) as ``user_command`` adds it; a
+    drive that holds (W8, ``I_UCOMP`` NaN) keeps its hold. Returns the first user drive whose
+    command is not finite (-1: none): the loop stops there, as the chain's."""
+    for d in range(di.shape[0]):
+        if di[d, B.DI_FAMILY] != B.FAMILY_USER:
+            continue
+        if not math.isfinite(istate[d, B.I_UCMD]):
+            return d
+        comp = istate[d, B.I_UCOMP]
+        if not math.isnan(comp):
+            u = _saturate(istate[d, B.I_UCMD], df[d, B.D_LIMIT])
+            cmd[d] = u if comp == 0.0 else _saturate(u + comp, df[d, B.D_LIMIT])
+    return -1
+
+
+@functools.cache
+def law_step(n_drives: int, users: tuple[int, ...], laws: LawKey) -> Any:
+    """The compiled laws' step of a run (``kernel.advance`` calls it each tick, after
+    ``control_tick``): ``step(t, istate)`` gathers user drives ``users``' readings (stored by
+    ``user_command`` in their memory rows) into the laws' arrays, calls ``laws``
+    (``sim.core.laws.chained_laws``) and writes their commands into ``I_UCMD`` (NaN for every
+    drive after a law raised). The laws' buffer (``sim.core.laws.LawBuffer``) lies in the
+    rows of ``istate`` after its ``n_drives`` drives' (the run's controller memory)."""
+    start = n_drives * B.I_COLS
+    layout = buffer_layout(len(users), sum(p for _, _, p, _ in laws),
+                           sum(s for _, _, _, s in laws))
+    (m0, m1), (r0, r1), (c0, c1) = layout["meas"], layout["refs"], layout["commands"]
+    (q0, q1), (s0, s1), (f0, f1) = layout["params"], layout["state"], layout["raised"]
+    drive_of = np.array(users, dtype=np.int64)
+    call = chained_laws(laws)
+
+    @law_njit
+    def step(t: float, istate: np.ndarray) -> None:
+        flat = istate.reshape(istate.size)
+        buf = flat[start:]
+        meas, refs, commands = buf[m0:m1], buf[r0:r1], buf[c0:c1]
+        for u in range(drive_of.shape[0]):
+            for q in range(N_MEASURED):
+                meas[N_MEASURED * u + q] = istate[drive_of[u], B.I_USPEED + q]
+            for q in range(N_REFERENCES):
+                refs[N_REFERENCES * u + q] = istate[drive_of[u], B.I_UVREF + q]
+        call(t, meas, refs, buf[q0:q1], buf[s0:s1], commands, buf[f0:f1])
+        for u in range(drive_of.shape[0]):
+            istate[drive_of[u], B.I_UCMD] = commands[u] if buf[f0] == 0.0 else math.nan
+
+    return step

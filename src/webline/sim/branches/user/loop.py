@@ -6,7 +6,10 @@ integrated), which yields exactly the readings the live tick will take (measurem
 a function of seed, tick and channel; the calculated radius, break monitor and splices are
 deterministic); Python calls the controllers with those readings, writes their commands into
 the user drives' memory (``layout.I_UCMD``), and the live arrays advance one tick. The
-drives without a user controller keep their compiled controllers.
+drives without a user controller keep their compiled controllers. Where every controller of
+a run is a compiled law (``in_loop``), no Python runs per tick: the laws run inside the
+compiled loop (``loop.user.law_step``), their buffer in rows of the controller memory after
+the drives'.
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ from webline.sim.branches.loop import layout as B
 from webline.sim.branches.loop import transmission as TR
 from webline.sim.branches.loop.plant import node_inertia
 from webline.sim.branches.plan import BranchPlan
+from webline.sim.core.laws import LawBuffer, all_compiled
 from webline.sim.core.user_protocol import (
     ENDINGS,
     MEASURED,
@@ -39,6 +43,7 @@ from webline.sim.core.user_protocol import (
     reset_all,
     shape_of,
 )
+from webline.sim.drives.user_loop import STATUS_USER_NONFINITE
 
 #: the readings stored per user drive, in ``MEASURED`` then ``REFERENCES`` order
 READINGS = (B.I_USPEED, B.I_UTENSION, B.I_URADIUS, B.I_UINERTIA, B.I_UVREF, B.I_UTREF)
@@ -121,9 +126,23 @@ class BranchUserLoop:
 
     def __init__(self, plan: BranchPlan, point: BranchPoint, groups: Sequence[Group],
                  x: np.ndarray, istate: np.ndarray, wound: np.ndarray, done: np.ndarray,
-                 cmd: np.ndarray, substeps: int, every: int, reset: bool = True) -> None:
+                 cmd: np.ndarray, substeps: int, every: int, reset: bool = True,
+                 in_loop: bool = False) -> None:
         self.plan = user_branch_plan(plan, groups)
         self.groups = list(groups)
+        self.failed: tuple[str, str, float] | None = None
+        ended = (reset_all(groups, lambda g: branch_context(self.plan, point, g, istate))
+                 if reset else None)  # (reset=False: a copied session's controllers)
+        if ended is not None:  # a reset that failed ends the run before its first tick
+            self.failed = (ended[0].name, ended[1], 0.0)
+        #: with ``in_loop`` and every controller a compiled law: the laws, which run inside
+        #: the compiled loop (``loop.user.law_step``), their buffer in rows of the controller
+        #: memory after the drives' (``live[1]``); None: each controller called from Python
+        self.laws = (LawBuffer.of(groups) if in_loop and ended is None and all_compiled(groups)
+                     else None)
+        if self.laws is not None:
+            rows = -(-self.laws.size // istate.shape[1])
+            istate = np.vstack([istate, np.zeros((rows, istate.shape[1]))])
         # the live arrays in one buffer and their scratch copy in another: one copy a tick
         arrays = (x, istate, wound, done, cmd)
         self.live_buffer = np.concatenate([a.ravel() for a in arrays])
@@ -138,7 +157,12 @@ class BranchUserLoop:
         self.reference_at = (at + np.array(READINGS[len(MEASURED):])).ravel()
         self.readings = np.empty(self.reading_at.size)  # (reused every tick)
         self.references = np.empty(self.reference_at.size)
-        self.loop = self.plan.loop()
+        if self.laws is not None:  # the laws' params and state: views of the live memory
+            start = x.size + len(cmd) * istate.shape[1]
+            self.law_memory = self.live_buffer[start:start + self.laws.size]
+            self.laws.attach(self.law_memory)
+        self.loop = self.plan.loop(None if self.laws is None else (self.laws.users,
+                                                                   self.laws.key))
         p = self.plan
         self.stages, self.work = np.empty((5, p.n_x)), p.scratch()
         self.held, self.rec_s = np.empty_like(wound), np.empty((2, 1 + p.n_x + 2 * len(cmd)))
@@ -154,11 +178,6 @@ class BranchUserLoop:
                                x.size + self.users[first:first + k] * istate.shape[1]
                                + B.I_UCMD))
             first += k
-        self.failed: tuple[str, str, float] | None = None
-        ended = (reset_all(groups, lambda g: branch_context(self.plan, point, g, istate))
-                 if reset else None)  # (reset=False: a copied session's controllers)
-        if ended is not None:  # a reset that failed ends the run before its first tick
-            self.failed = (ended[0].name, ended[1], 0.0)
         self.stored_in_chunk = 0  # records ``ticks`` wrote in its current call
         #: the names of ``readings``, as the controllers' contexts name them
         self.measurement_names = tuple(
@@ -237,6 +256,12 @@ class BranchUserLoop:
         """``count`` ticks from ``tick0`` (and, with ``include_end``, the sample of the run's
         last tick), recording into ``rec``; (records, status, time of failure, ticks done)."""
         stored = self.stored_in_chunk = 0  # (what a Ctrl-C between two ticks keeps)
+        if self.laws is not None and self.failed is None:  # the laws in the loop: one call
+            stored, status, t_fail = self._call(self.live, rec, tick0, count, include_end)
+            self.stored_in_chunk = stored
+            if status == STATUS_USER_NONFINITE:
+                self.failed = (*self._law_failure(t_fail), t_fail)
+            return stored, status, t_fail, count
         for j in range(count + int(include_end)):
             n, status, t_fail = self.tick(rec[stored:], tick0 + j, j == count)
             stored += n
@@ -244,6 +269,17 @@ class BranchUserLoop:
             if status != B.STATUS_OK:
                 return stored, status, t_fail, j
         return stored, B.STATUS_OK, math.nan, count
+
+    def _law_failure(self, t: float) -> tuple[str, str]:
+        """(controller name, one-line error) of a compiled law that raised or gave a
+        non-finite command at time ``t`` [s] (``sim.core.laws.LawBuffer.failure``)."""
+        assert self.laws is not None
+        istate = self.live[1]
+        where = next((d for d in sorted(self.users)
+                      if not math.isfinite(istate[d, B.I_UCMD])), -1)
+        return self.laws.failure(
+            self.law_memory, where, t, self.plan.dt,
+            lambda d: self.plan.line.spec.rollers[self.plan.line.drives[d]].name)
 
 
 def _views(buffer: np.ndarray, arrays: tuple[np.ndarray, ...]) -> tuple[np.ndarray, ...]:
