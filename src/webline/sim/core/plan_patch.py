@@ -10,8 +10,9 @@ patched plan equals the case's full plan to the last bit.
 
 Which changes take a patch (``patch_kind``), and why each may:
 
-- ``web.ea`` (or ``web.modulus``, of which EA follows): read by the operating point's equilibrium (the draw, 6.22), the drive table (PI
-  tuning, designs, observers) and the web's row; not by the operating point's inputs
+- ``web.ea`` (or ``web.modulus``, of which EA follows): read by the operating point's
+  equilibrium (the draw, 6.22), the drive table (PI tuning, designs, observers) and the
+  web's row; not by the operating point's inputs
   (``model.operating_point.OperatingInputs``: references, radii, inertias, drags), which are
   the base's, so only the equilibrium is solved again (``solve_operating_point``);
 - ``web.strength``: the web's row only (the operating point is the base's);
