@@ -14,8 +14,8 @@ machine's core count and load average (at the start and at the end):
     interleaved rounds, and the kernel alone (the batch's own work per case beside it: goal
     < 20 %; and the same batch with every case's plan compiled in full, without the plan
     patches of ``sim.core.plan_patch``); their ratio (goal <= 0.5), its range round by
-    round (the spread the machine's load makes), and where a batch case's time goes (plans in Python, compiled
-    batch, verdicts and Dataset); the floor of the ratio (the compiled batch alone over a
+    round (the spread the machine's load makes), and where a batch case's time goes
+    (plans in Python, compiled batch, verdicts and Dataset); the floor of the ratio (the compiled batch alone over a
     loop case) and the time per case the goal leaves for the plans; for scale, the same
     batch against a loop that also computes the metrics, and against the loop the issue
     called today's (reading the line file every case);
