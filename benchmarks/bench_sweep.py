@@ -15,10 +15,10 @@ machine's core count and load average (at the start and at the end):
     < 20 %; and the same batch with every case's plan compiled in full, without the plan
     patches of ``sim.core.plan_patch``); their ratio (goal <= 0.5), its range round by
     round (the spread the machine's load makes), and where a batch case's time goes
-    (plans in Python, compiled batch, verdicts and Dataset); the floor of the ratio (the compiled batch alone over a
-    loop case) and the time per case the goal leaves for the plans; for scale, the same
-    batch against a loop that also computes the metrics, and against the loop the issue
-    called today's (reading the line file every case);
+    (plans in Python, compiled batch, verdicts and Dataset); the floor of the ratio (the
+    compiled batch alone over a loop case) and the time per case the goal leaves for the
+    plans; for scale, the same batch against a loop that also computes the metrics, and
+    against the loop the issue called today's (reading the line file every case);
 (b) all cores: the same batch with ``workers`` = the cores, best of ``--repeat`` runs, its
     speed-up over (a)'s batch (goal >= 1.7 on 2 cores) and the CPU it kept busy; beside it
     the machine's ceiling at that moment: the speed-up of the compiled batch alone (cases
