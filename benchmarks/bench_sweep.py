@@ -12,12 +12,13 @@ machine's core count and load average (at the start and at the end):
     ``simulate(line.replace(case), 10)`` in a loop (today's way) and of ``webline.monte_carlo``
     with ``workers=1``, as wall time and as CPU time of the thread, best of ``--repeat``
     interleaved rounds, and the kernel alone (the batch's own work per case beside it: goal
-    < 20 %); their ratio (goal <= 0.5), its range round by round (the spread the
-    machine's load makes), and where a batch case's time goes (plans in Python, compiled
-    batch, verdicts and Dataset); the floor of the ratio (the compiled batch alone over a
-    loop case) and the time per case the goal leaves for the plans; for scale, the same
-    batch against a loop that also computes the metrics, and against the loop the issue
-    called today's (reading the line file every case);
+    < 20 %; and the same batch with every case's plan compiled in full, without the plan
+    patches of ``sim.core.plan_patch``); their ratio (goal <= 0.5), its range round by
+    round (the spread the machine's load makes), and where a batch case's time goes
+    (plans in Python, compiled batch, verdicts and Dataset); the floor of the ratio (the
+    compiled batch alone over a loop case) and the time per case the goal leaves for the
+    plans; for scale, the same batch against a loop that also computes the metrics, and
+    against the loop the issue called today's (reading the line file every case);
 (b) all cores: the same batch with ``workers`` = the cores, best of ``--repeat`` runs, its
     speed-up over (a)'s batch (goal >= 1.7 on 2 cores) and the CPU it kept busy; beside it
     the machine's ceiling at that moment: the speed-up of the compiled batch alone (cases
@@ -66,7 +67,9 @@ def memory_child(n: int) -> None:
 
 
 def _load() -> str:
-    return "/".join(f"{x:.2f}" for x in os.getloadavg())
+    """The load average (1/5/15 min) and ``uptime``'s line, as every timing here is read."""
+    line = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
+    return "/".join(f"{x:.2f}" for x in os.getloadavg()) + (f" (uptime: {line})" if line else "")
 
 
 def _warm_worker() -> int:
@@ -115,6 +118,18 @@ def one_core(line: object, cases: int, loop_cases: int, repeat: int) -> dict[str
         if batch_wall < best["batch_wall"]:
             best["batch_wall"] = batch_wall
             split |= {k: ds.attrs[f"seconds_{k}"] / cases for k in ("build", "loop", "collect")}
+    # for scale: the same batch with every case's plan compiled in full (no plan patches,
+    # ``sim.core.plan_patch``), one round
+    from webline.sim.core import plan_patch
+
+    patch_kind = plan_patch.patch_kind
+    plan_patch.patch_kind = lambda changes: None  # type: ignore[assignment]
+    try:
+        cpu = time.thread_time()
+        webline.monte_carlo(line, DISTS, cases, seed=3, duration=DURATION, workers=1)
+        split["full_plans_cpu"] = (time.thread_time() - cpu) / cases
+    finally:
+        plan_patch.patch_kind = patch_kind
     return {**best, **split, "round_min": min(rounds), "round_max": max(rounds)}
 
 
@@ -225,6 +240,9 @@ def main() -> None:
     print(f"    kernel alone      {kernel_cpu * 1e3:7.2f} ms/case CPU (cases built beforehand); "
           f"the batch's own work per case {overhead * 100:.0f} % of it (goal < 20 %: "
           f"{'met' if overhead < 0.2 else 'not met'})")
+    print(f"    (for scale: the batch with every plan compiled in full, no plan patches: "
+          f"{a['full_plans_cpu'] * 1e3:.2f} ms CPU/case, one round; its own work "
+          f"{(a['full_plans_cpu'] / kernel_cpu - 1.0) * 100:.0f} % of the kernel)")
     print(f"    (for scale: a loop that also computes the batch's metrics and verdict, "
           f"{a['metrics_loop_cpu'] * 1e3:.2f} ms CPU/case, one round: batch / that "
           f"{a['batch_cpu'] / a['metrics_loop_cpu']:.2f})")

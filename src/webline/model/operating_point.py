@@ -117,7 +117,31 @@ def operating_point(line: Line | str, t: float | str = 0.0, *,
     unwind_radius, rewind_radius = (None if r is None else argument(r, "length", name)
                                     for r, name in ((unwind_radius, "unwind_radius"),
                                                     (rewind_radius, "rewind_radius")))
-    rollers = line.spec.rollers
+    return solve_operating_point(line, operating_inputs(line, t, unwind_radius, rewind_radius))
+
+
+@dataclass(frozen=True)
+class OperatingInputs:
+    """What the operating point of a line at time ``time`` [s] takes from its references,
+    rolls and rollers before the equilibrium is solved (``operating_inputs``): none of it
+    reads the web's EA, its thickness, the wound-in tension or the rollers' friction, so a
+    study case that changes only those solves its operating point from its base line's
+    inputs (``solve_operating_point``; ``sim.core.plan_patch``)."""
+
+    time: float
+    v_line: float  #: master reference speed [m/s]
+    a_line: float  #: its rate of change [m/s²]
+    radii: np.ndarray  #: radius per node [m]
+    inertia: np.ndarray  #: inertia per node [kg·m²]
+    drags: np.ndarray  #: drag torque per node [N·m]
+    tension: tuple[float, ...]  #: zone references per span (the loadcells' readings) [N]
+    scale: float  #: the master encoder's scale [1]
+
+
+def operating_inputs(line: Line, t: float, unwind_radius: float | None = None,
+                     rewind_radius: float | None = None) -> OperatingInputs:
+    """The ``OperatingInputs`` of ``line`` at time ``t`` [s], rolls at the given radii [m]
+    (None: initial)."""
     speed_t, speed_v = breakpoints(line.spec.speed)
     v_line = pwl_value(speed_t, speed_v, t)
     a_line = pwl_slope(speed_t, speed_v, t)
@@ -137,8 +161,19 @@ def operating_point(line: Line | str, t: float | str = 0.0, *,
             tension[k] = (tension[k] - sensor.offset) / sensor.gain
         elif sensor.roller == line.node_name(line.master):
             scale = sensor.scale
+    return OperatingInputs(t, v_line, a_line, radii, inertia, drags, tuple(tension.tolist()),
+                           scale)
+
+
+def solve_operating_point(line: Line, inputs: OperatingInputs) -> OperatingPoint:
+    """The operating point of ``line`` from its ``inputs`` (``operating_inputs`` of ``line``,
+    or of a line that differs from it only where ``OperatingInputs`` does not read):
+    the equilibrium motion (6.22) and each drive's equilibrium torque (6.20)."""
+    t, radii, inertia, drags = inputs.time, inputs.radii, inputs.inertia, inputs.drags
+    v_line, a_line, scale = inputs.v_line, inputs.a_line, inputs.scale
+    rollers = line.spec.rollers
     tension_l, speed_l, omega_l, accel_l = _equilibrium_motion(
-        line, tension.tolist(), v_line / scale, a_line / scale, radii, inertia, drags)
+        line, list(inputs.tension), v_line / scale, a_line / scale, radii, inertia, drags)
     tension, speed = np.array(tension_l), np.array(speed_l)
     omega, accel = np.array(omega_l), np.array(accel_l)
     if np.any(tension <= 0.0):
@@ -153,7 +188,7 @@ def operating_point(line: Line | str, t: float | str = 0.0, *,
         assert not isinstance(r, IdleSpec)
         t_out = tension_l[i] if i < line.n_spans else 0.0
         t_in = tension_l[i - 1] if i > 0 else 0.0
-        _, viscous, coulomb = shaft_terms(r)  # a nip's bearing friction included
+        _, viscous, coulomb = shaft_terms(r)  # a nip's bearing included
         friction = roller.friction_torque(omega_l[i], viscous, coulomb)
         friction += roller.friction_torque(omega_l[i], 0.0, drag[i])  # brake (4.12) or drag
         if r.friction_table is not None:  # measured against speed (docs/winder.md F1)
@@ -162,8 +197,9 @@ def operating_point(line: Line | str, t: float | str = 0.0, *,
         torque[d] = (j[i] * accel_l[i] - r_node[i] * (t_out - t_in) + friction) / n + (
             r.drive.motor_friction * n * omega_l[i])
     return OperatingPoint(
-        time=t, line_speed=v_line, tension=tension, speed=speed, omega=omega, radius=radii,
-        inertia=inertia, accel=accel, torque=torque, drives=line.drives,
+        time=t, line_speed=v_line, tension=tension, speed=speed, omega=omega,
+        radius=radii.copy(), inertia=inertia.copy(), accel=accel, torque=torque,
+        drives=line.drives,
         span_names=tuple(line.span_name(k) for k in range(line.n_spans)),
         node_names=tuple(line.node_name(i) for i in range(line.n_nodes)),
     )

@@ -16,7 +16,12 @@ from webline.physics.span import draw_ratio
 from webline.profiles import breakpoints, pwl_slope, pwl_value
 from webline.sim.core import dancer as dancers
 from webline.sim.core import winder
-from webline.sim.core.drive_table import drive_table, transmission, transmission_columns
+from webline.sim.core.drive_table import (
+    Designs,
+    drive_table,
+    transmission,
+    transmission_columns,
+)
 from webline.sim.elements import layout as L
 from webline.sim.elements import splice
 from webline.sim.elements.friction_loop import friction_columns
@@ -89,6 +94,8 @@ class Plan:
     state_names: tuple[str, ...]
     dt: float
     op: OperatingPoint
+    #: the rewind taper's profile index (``winder.taper_columns``), kept for ``patch_plan``
+    taper_profile: int = field(default=0, compare=False, repr=False)
     #: derived objects cached per plan (``webline.sim.linear.linearize``), never part of equality
     memo: dict[object, object] = field(default_factory=dict, compare=False, repr=False)
 
@@ -312,36 +319,10 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
     prof_off = np.cumsum([0] + [len(t) for t, _ in profiles]).astype(np.int64)
 
     rate = sample_rate if sample_rate is not None else spec.control.sample_rate
-    drives, gains, designs = drive_table(line, op, rate)
-    for d, i in enumerate(line.drives):
-        state = off_tr + 2 * compliant.index(i) if i in compliant else -1
-        transmission_columns(drives[d], rollers[i].drive, state)  # type: ignore[union-attr]
-    dancers.drive_columns(drives, line)
-    winder.taper_columns(drives, line, taper_profile)
-    winder.diameter_columns(drives, line)
-    winder.compensation_columns(drives, line)
-    friction = friction_columns(nodes, drives, line, 1.0 / rate)
-    sensors = sensor_columns(drives, line, 1.0 / rate)  # calibrated loadcells, encoders
+    drives, gains, designs, friction, sensors = _drive_rows(line, op, rate, nodes, off_tr,
+                                                            taper_profile)
     master_up = 1 + line.zone_of_span(line.master - 1)
-    web = np.zeros(L.W_COLS)
-    web[L.W_EA] = line.ea
-    web[L.W_THICK] = spec.web.thickness
-    web[L.W_WIDTH] = spec.web.width
-    web[L.W_DENSITY] = spec.web.density
-    web[L.W_T0] = line.unwind.wound_in_tension
-    web[L.W_RHOA] = spec.web.density * spec.web.width * spec.web.thickness
-    web[L.W_TRAMP] = ramp_profile_index
-    web[L.W_STRENGTH] = math.inf if spec.web.strength is None else spec.web.strength
-    if line.nonlinear:  # the kernel checks the stretch: the one where the law reaches it
-        web[L.W_STRENGTH] = line.stretch_of(web[L.W_STRENGTH])
-    web[L.W_STRETCH_MAX] = RUNAWAY_STRAIN * line.ea
-    top_speed = float(np.max(np.abs(breakpoints(spec.speed)[1])))
-    web[L.W_SPEED_MAX] = RUNAWAY_SPEED_FACTOR * top_speed + RUNAWAY_SPEED_FLOOR
-    noisy = False
-    for noise in (d for d in spec.disturbances if isinstance(d, MeasurementNoise)):
-        web[L.W_NOISE_T], web[L.W_NOISE_V], web[L.W_SEED] = noise.tension, noise.speed, noise.seed
-        web[L.W_RES_V] = noise.speed_resolution
-        noisy = noise.tension > 0 or noise.speed > 0 or noise.speed_resolution > 0
+    web, noisy = _web_row(line, ramp_profile_index)
     need_eq = bool(np.any((drives[:, L.D_FAMILY] != L.FAMILY_PI)
                           & (drives[:, L.D_FAMILY] != L.FAMILY_USER)))
     span_table = np.array([[s.length, 1.0 / s.length, 0.0, s.retardation or 0.0]
@@ -367,7 +348,94 @@ def _compile(line: Line, sample_rate: float | None) -> Plan:
         node_structure=nodes[:, list(L.NODE_STRUCTURE)].astype(np.int64),
         drive_structure=drives[:, list(L.DRIVE_STRUCTURE)].astype(np.int64),
         gains=gains, designs=designs, state_names=tuple(names), dt=1.0 / rate, op=op,
+        taper_profile=taper_profile,
     )
+
+
+def patch_plan(base: Plan, line: Line, op: OperatingPoint) -> Plan | None:
+    """The plan of ``line`` (at its file's sample rate) made from ``base``, the plan of a line
+    that differs from ``line`` only in values that the drive table, the web's row and the
+    operating point read (``sim.core.plan_patch`` says which paths qualify): the drive table
+    and the web's row are computed again at ``op``, ``line``'s operating point, by the
+    functions ``compile_plan`` uses; every other table is ``base``'s. None where the patched
+    flags or structure columns would differ from ``base``'s (a full plan is needed). Memoised
+    on ``line`` as ``compile_plan``'s plan."""
+    rate = line.spec.control.sample_rate
+    nodes = base.nodes.copy()  # friction_columns writes its columns again (the same values)
+    drives, gains, designs, friction, sensors = _drive_rows(
+        line, op, rate, nodes, int(base.offsets[8]), base.taper_profile)
+    web, noisy = _web_row(line, int(base.web[L.W_TRAMP]))
+    spans = base.spans.copy()
+    breaks = winder.break_columns(line, spans, web)
+    need_eq = bool(np.any((drives[:, L.D_FAMILY] != L.FAMILY_PI)
+                          & (drives[:, L.D_FAMILY] != L.FAMILY_USER)))
+    flags = {L.O_NOISE: noisy, L.O_NEED_EQ: need_eq, L.O_BREAK: breaks, L.O_FRICTION: friction,
+             L.O_LAW: line.nonlinear, L.O_EXACT: line.exact, L.O_SENSORS: sensors}
+    drive_structure = drives[:, list(L.DRIVE_STRUCTURE)].astype(np.int64)
+    if (any(int(base.offsets[k]) != int(v) for k, v in flags.items())
+            or 1.0 / rate != base.dt
+            or not np.array_equal(drive_structure, base.drive_structure)
+            or not np.array_equal(nodes, base.nodes) or not np.array_equal(spans, base.spans)
+            or line.law.size != base.web.size - L.W_COLS):
+        return None
+    plan = Plan(
+        line=line, nodes=base.nodes, drives=drives, spans=base.spans,
+        web=np.concatenate((web, line.law)), wound_ripple=base.wound_ripple,
+        speed_ripple=base.speed_ripple, prof_t=base.prof_t, prof_v=base.prof_v,
+        prof_off=base.prof_off, offsets=base.offsets, node_structure=base.node_structure,
+        drive_structure=base.drive_structure, gains=gains, designs=designs,
+        state_names=base.state_names, dt=1.0 / rate, op=op, taper_profile=base.taper_profile,
+    )
+    line.memo[("plan", None)] = plan
+    return plan
+
+
+def _drive_rows(line: Line, op: OperatingPoint, rate: float, nodes: np.ndarray, off_tr: int,
+                taper_profile: int,
+                ) -> tuple[np.ndarray, tuple[PIGains, ...], Designs, bool, bool]:
+    """The drive table of ``line`` at ``op`` for controllers sampled at ``rate`` [Hz], its PI
+    gains and decentralized designs, and whether friction tables (written into ``nodes``
+    too) and calibrated sensors are used; ``off_tr``: the first transmission state,
+    ``taper_profile``: the rewind taper's profile index."""
+    rollers = line.spec.rollers
+    compliant = [i for i in line.drives if transmission(line, i).type != "direct"]
+    drives, gains, designs = drive_table(line, op, rate)
+    for d, i in enumerate(line.drives):
+        state = off_tr + 2 * compliant.index(i) if i in compliant else -1
+        transmission_columns(drives[d], rollers[i].drive, state)  # type: ignore[union-attr]
+    dancers.drive_columns(drives, line)
+    winder.taper_columns(drives, line, taper_profile)
+    winder.diameter_columns(drives, line)
+    winder.compensation_columns(drives, line)
+    friction = friction_columns(nodes, drives, line, 1.0 / rate)
+    sensors = sensor_columns(drives, line, 1.0 / rate)  # calibrated loadcells, encoders
+    return drives, gains, designs, friction, sensors
+
+
+def _web_row(line: Line, ramp_profile_index: int) -> tuple[np.ndarray, bool]:
+    """The web's row of ``line`` (before the break columns and its law) and whether its
+    measurements are noisy; ``ramp_profile_index``: the tension ramp's profile (0: none)."""
+    spec = line.spec
+    web = np.zeros(L.W_COLS)
+    web[L.W_EA] = line.ea
+    web[L.W_THICK] = spec.web.thickness
+    web[L.W_WIDTH] = spec.web.width
+    web[L.W_DENSITY] = spec.web.density
+    web[L.W_T0] = line.unwind.wound_in_tension
+    web[L.W_RHOA] = spec.web.density * spec.web.width * spec.web.thickness
+    web[L.W_TRAMP] = ramp_profile_index
+    web[L.W_STRENGTH] = math.inf if spec.web.strength is None else spec.web.strength
+    if line.nonlinear:  # the kernel checks the stretch: the one where the law reaches it
+        web[L.W_STRENGTH] = line.stretch_of(web[L.W_STRENGTH])
+    web[L.W_STRETCH_MAX] = RUNAWAY_STRAIN * line.ea
+    top_speed = float(np.max(np.abs(breakpoints(spec.speed)[1])))
+    web[L.W_SPEED_MAX] = RUNAWAY_SPEED_FACTOR * top_speed + RUNAWAY_SPEED_FLOOR
+    noisy = False
+    for noise in (d for d in spec.disturbances if isinstance(d, MeasurementNoise)):
+        web[L.W_NOISE_T], web[L.W_NOISE_V], web[L.W_SEED] = noise.tension, noise.speed, noise.seed
+        web[L.W_RES_V] = noise.speed_resolution
+        noisy = noise.tension > 0 or noise.speed > 0 or noise.speed_resolution > 0
+    return web, noisy
 
 
 def _node(line: Line, name: str) -> int:

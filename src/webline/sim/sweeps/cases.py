@@ -9,8 +9,10 @@ still needs in Python, and why:
   (``spec.check.check_spec``). A path it cannot place (a whole list, ``scenarios``, a
   top-level profile) takes ``Line.replace``; so does a value the element refuses, so that the
   error is ``Line.replace``'s (a ``LineFileError`` naming the path);
-- **its plan** (``compile_plan``): the operating point, the controller designs and the
-  tables that depend on them;
+- **its plan**: patched from the base line's plan where only the drive table, the web's
+  row and the operating point's equilibrium can differ (``sim.core.plan_patch``), else
+  ``compile_plan``: the operating point, the controller designs and the tables that depend
+  on them;
 - **its initial state**, at that operating point;
 - **its linear models** at t = 0, open and closed loop: the verdict's stability check needs
   the closed loop (built on the open one) anyway, and the RK4 step is chosen from both.
@@ -34,7 +36,8 @@ from pydantic import BaseModel, TypeAdapter, ValidationError
 from webline.errors import ArgumentError, LineFileError
 from webline.line import Line
 from webline.sim.core import kernel
-from webline.sim.core.plan import Plan, compile_plan, equilibrium_plan_state
+from webline.sim.core.plan import Plan, equilibrium_plan_state
+from webline.sim.core.plan_patch import CasePlans
 from webline.sim.linear import budget
 from webline.sim.linear.fastest import DENSE_STATES
 from webline.sim.linear.linearize import fastest_mode, plan_linear_model
@@ -223,10 +226,14 @@ class Built:
     seconds: float
 
 
-def build_cases(base: Line, cases: Sequence[Mapping[str, object]], duration: float) -> Built:
-    """The ``Built`` block of ``cases`` (changes to ``base``) for runs of ``duration`` [s]."""
+def build_cases(base: Line, cases: Sequence[Mapping[str, object]], duration: float,
+                case_plans: CasePlans | None = None) -> Built:
+    """The ``Built`` block of ``cases`` (changes to ``base``) for runs of ``duration`` [s];
+    ``case_plans``: the study's ``CasePlans`` of ``base`` (default: made here), which patches
+    each case's plan from the base's where it can (``sim.core.plan_patch``)."""
     started = time.perf_counter()
-    plans = [compile_plan(derive_line(base, changes)) for changes in cases]
+    case_plans = CasePlans(base) if case_plans is None else case_plans
+    plans = [case_plans.plan_of(derive_line(base, changes), changes) for changes in cases]
     rates = batch_rates(plans)
     built = Built(plans, [], [], [], [], 0.0)
     for plan, rate in zip(plans, rates, strict=True):

@@ -23,6 +23,7 @@ from webline.limits import check_case_count
 from webline.line import Line, load_line
 from webline.model.lines import load_line as load_any
 from webline.sim.core.plan import compile_plan
+from webline.sim.core.plan_patch import CasePlans
 from webline.sim.linear.budget import StudyWork
 from webline.sim.linear.steps import record_every
 from webline.sim.sweeps.batch import BatchOutput, run_batch
@@ -74,8 +75,10 @@ def run_cases(line: Line | str | Path, cases: Sequence[Mapping[str, object]], *,
                      n_trace)
     seconds = {"build": 0.0, "loop": 0.0, "collect": 0.0}
 
+    case_plans = CasePlans(base)  # the base plan, compiled once; the cases patch it
+
     def build(block: range) -> Built:
-        built = build_cases(base, [cases[c] for c in block], duration)
+        built = build_cases(base, [cases[c] for c in block], duration, case_plans)
         seconds["build"] += built.seconds
         return built
 
