@@ -82,16 +82,19 @@ def test_a_single_path_lines_problem_is_named_in_its_own_keys(hswl):
     assert caught.value.key == "spans[1].length"
 
 
-def test_what_the_line_of_webs_does_not_run_is_refused_at_the_users_key(hswl):
-    """An encoder (a speed loop reading a scaled speed) acts on single-path lines only, so
-    far: refused in one line at the key the single-path file gives it, never dropped."""
+def test_sensors_are_carried_over_with_their_calibration_and_delay(hswl):
+    """An encoder's scale and a loadcell's delay act on the general loop too (issue 36 item
+    10): the translation carries each sensor over as the single-path file gives it, never
+    dropped (the loop's equality with the chain: test_branch_sensors)."""
     data = copy.deepcopy(hswl)
-    data["sensors"] = [{"name": "enc", "type": "encoder", "roller": "process", "scale": 1.01}]
+    data["sensors"] = [
+        {"name": "enc", "type": "encoder", "roller": "process", "scale": 1.01, "delay": "2 ms"},
+        {"name": "cell", "type": "loadcell", "span": "span2", "gain": 0.97, "delay": "3 ms"}]
     spec_from_dict(data)  # (a valid single-path line)
-    with pytest.raises(LineFileError) as caught:
-        one_web_spec(data, "x.toml")
-    assert caught.value.key == "sensors[0].type"
-    assert "single-path lines only" in caught.value.problem
+    sensors = one_web_spec(data, "x.toml").sensors
+    assert [(s.name, s.type) for s in sensors] == [("enc", "encoder"), ("cell", "loadcell")]
+    assert sensors[0].scale == 1.01 and sensors[0].delay == pytest.approx(2e-3)
+    assert sensors[1].gain == 0.97 and sensors[1].delay == pytest.approx(3e-3)
 
 
 def test_a_problem_of_the_line_of_webs_in_its_spans_names_the_single_path_key(hswl):
