@@ -181,6 +181,7 @@ def _run_files(folder: Path) -> dict[str, bytes]:
     return out
 
 
+@pytest.mark.serial  # xdist's worker runs an I/O thread: can_fork() is False there
 def test_the_report_process_writes_what_the_command_writes_itself(tmp_path, monkeypatch) -> None:
     """``webline run`` hands its report to a copy forked when it starts (report.early); the
     files, the manifest included, are byte for byte those it writes without the copy."""
