@@ -115,6 +115,28 @@ static int set_value(Model *m, int v, double value) {
     return 1;
 }
 
+/* 0 when each of the n value references names a variable of `type`, else 3 (fmiXError) */
+static int refs_of_type(const uint32_t vr[], size_t n, int type) {
+    for (size_t k = 0; k < n; k++)
+        if (vr[k] >= N_VARS || VAR_TYPE[vr[k]] != type) return 3;
+    return 0;
+}
+
+/* Set n Real variables: 0, or 3 (fmiXError) with the first refusal said to the logger as
+ * `fn` (fmi2SetReal, fmi3SetFloat64) names it */
+static int set_reals(Model *m, const char *fn, const uint32_t vr[], size_t n,
+                     const double value[]) {
+    for (size_t k = 0; k < n; k++) {
+        int why = vr[k] >= N_VARS || VAR_TYPE[vr[k]] != T_REAL ? 2 : set_value(m, vr[k], value[k]);
+        if (why) {
+            say(m, 3, "%s: value reference %u %s (%g)", fn, vr[k], why == 3 ? "out of its range"
+                : why == 2 ? "is no Real variable" : "cannot be set now", value[k]);
+            return 3;
+        }
+    }
+    return 0;
+}
+
 static int do_step(Model *m, double t, double h) {
     int64_t n = llround(h / DT), status = 0;
     void *exc = NULL;
@@ -223,41 +245,27 @@ EXPORT fmi2Status fmi2Reset(fmi2Component c) {
 
 EXPORT fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                               fmi2Real value[]) {
-    for (size_t k = 0; k < n; k++) {
-        if (vr[k] >= N_VARS || VAR_TYPE[vr[k]] != T_REAL) return 3;
-        value[k] = value_of(c, vr[k]);
-    }
+    if (refs_of_type(vr, n, T_REAL)) return 3;
+    for (size_t k = 0; k < n; k++) value[k] = value_of(c, vr[k]);
     return 0;
 }
 EXPORT fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                                  fmi2Integer value[]) {
-    for (size_t k = 0; k < n; k++) {
-        if (vr[k] >= N_VARS || VAR_TYPE[vr[k]] != T_INT) return 3;
-        value[k] = (fmi2Integer)value_of(c, vr[k]);
-    }
+    if (refs_of_type(vr, n, T_INT)) return 3;
+    for (size_t k = 0; k < n; k++) value[k] = (fmi2Integer)value_of(c, vr[k]);
     return 0;
 }
 EXPORT fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                                  fmi2Boolean value[]) {
-    for (size_t k = 0; k < n; k++) {
-        if (vr[k] >= N_VARS || VAR_TYPE[vr[k]] != T_BOOL) return 3;
-        value[k] = value_of(c, vr[k]) != 0.0;
-    }
+    if (refs_of_type(vr, n, T_BOOL)) return 3;
+    for (size_t k = 0; k < n; k++) value[k] = value_of(c, vr[k]) != 0.0;
     return 0;
 }
 EXPORT fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                                 fmi2String value[]) { return n ? 3 : 0; }
 EXPORT fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                               const fmi2Real value[]) {
-    for (size_t k = 0; k < n; k++) {
-        int why = vr[k] >= N_VARS || VAR_TYPE[vr[k]] != T_REAL ? 2 : set_value(c, vr[k], value[k]);
-        if (why) {
-            say(c, 3, "fmi2SetReal: value reference %u %s (%g)", vr[k], why == 3 ? "out of its range"
-                : why == 2 ? "is no Real variable" : "cannot be set now", value[k]);
-            return 3;
-        }
-    }
-    return 0;
+    return set_reals(c, "fmi2SetReal", vr, n, value);
 }
 EXPORT fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                                  const fmi2Integer value[]) { return n ? 3 : 0; }
@@ -366,39 +374,25 @@ EXPORT fmi3Status fmi3Reset(fmi3Instance c) {
 
 EXPORT fmi3Status fmi3GetFloat64(fmi3Instance c, const fmi3ValueReference vr[], size_t n,
                                  fmi3Float64 value[], size_t nv) {
-    for (size_t k = 0; k < n; k++) {
-        if (vr[k] >= N_VARS || VAR_TYPE[vr[k]] != T_REAL) return 3;
-        value[k] = value_of(c, vr[k]);
-    }
+    if (refs_of_type(vr, n, T_REAL)) return 3;
+    for (size_t k = 0; k < n; k++) value[k] = value_of(c, vr[k]);
     return 0;
 }
 EXPORT fmi3Status fmi3GetInt32(fmi3Instance c, const fmi3ValueReference vr[], size_t n,
                                fmi3Int32 value[], size_t nv) {
-    for (size_t k = 0; k < n; k++) {
-        if (vr[k] >= N_VARS || VAR_TYPE[vr[k]] != T_INT) return 3;
-        value[k] = (fmi3Int32)value_of(c, vr[k]);
-    }
+    if (refs_of_type(vr, n, T_INT)) return 3;
+    for (size_t k = 0; k < n; k++) value[k] = (fmi3Int32)value_of(c, vr[k]);
     return 0;
 }
 EXPORT fmi3Status fmi3GetBoolean(fmi3Instance c, const fmi3ValueReference vr[], size_t n,
                                  fmi3Boolean value[], size_t nv) {
-    for (size_t k = 0; k < n; k++) {
-        if (vr[k] >= N_VARS || VAR_TYPE[vr[k]] != T_BOOL) return 3;
-        value[k] = value_of(c, vr[k]) != 0.0;
-    }
+    if (refs_of_type(vr, n, T_BOOL)) return 3;
+    for (size_t k = 0; k < n; k++) value[k] = value_of(c, vr[k]) != 0.0;
     return 0;
 }
 EXPORT fmi3Status fmi3SetFloat64(fmi3Instance c, const fmi3ValueReference vr[], size_t n,
                                  const fmi3Float64 value[], size_t nv) {
-    for (size_t k = 0; k < n; k++) {
-        int why = vr[k] >= N_VARS || VAR_TYPE[vr[k]] != T_REAL ? 2 : set_value(c, vr[k], value[k]);
-        if (why) {
-            say(c, 3, "fmi3SetFloat64: value reference %u %s (%g)", vr[k], why == 3 ? "out of its range"
-                : why == 2 ? "is no Real variable" : "cannot be set now", value[k]);
-            return 3;
-        }
-    }
-    return 0;
+    return set_reals(c, "fmi3SetFloat64", vr, n, value);
 }
 
 EXPORT fmi3Status fmi3DoStep(fmi3Instance c, fmi3Float64 t, fmi3Float64 h, fmi3Boolean no_set,
