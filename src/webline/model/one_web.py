@@ -9,6 +9,7 @@ from typing import Any
 
 from webline.errors import ArgumentError
 from webline.line import Line
+from webline.model.lines import load_line
 from webline.model.web_graph import BranchedLine, branched_from_file, load_branched
 from webline.spec.branched.schema import BranchedLineSpec
 from webline.spec.load import is_branched, read_any
@@ -42,17 +43,14 @@ def load_general(source: BranchedLine | BranchedLineSpec | Line | LineSpec | str
                  | dict[str, Any]) -> tuple[BranchedLine, bool]:
     """Any line as the general loop runs it, and whether it was translated: a branched line
     (``[[webs]]``) as it is (False), a single-path line as its line of one web
-    (``load_one_web``, True). Raises as ``load_branched`` and ``load_one_web`` do."""
-    if isinstance(source, BranchedLine | BranchedLineSpec):
-        return load_branched(source), False
-    if isinstance(source, dict) and is_branched(source):
-        return load_branched(source), False
-    if isinstance(source, str | Path):
+    (``load_one_web``, True). Raises as ``load_line`` and ``load_one_web`` do."""
+    if isinstance(source, str | Path):  # (read once: a problem keeps the file's line number)
         data, text, label = read_any(source)
         if is_branched(data):
             return branched_from_file(data, text, label), False
         return _one_web(data, text, label), True
-    return load_one_web(source), True
+    line = load_line(source)
+    return (line, False) if line.branched else (load_one_web(line), True)
 
 
 def _one_web(data: dict[str, Any], text: str | None, label: str) -> BranchedLine:
