@@ -268,9 +268,10 @@ def test_cli_export_writes_the_fmu_and_bad_options_are_one_line(tmp_path: Path) 
                           "fmi", "2 or 3")
     assert_one_line_error(invoke("export", "laminator"), 2, "--fmu")
     assert done.stderr.strip() == ""  # a line of webs: nothing said
-    single = invoke("export", "hswl", "--fmu", str(tmp_path / "hswl.fmu"), "--fmi", "2")
+    nested = tmp_path / "new" / "folder" / "hswl.fmu"  # (its folders made before compiling)
+    single = invoke("export", "hswl", "--fmu", str(nested), "--fmi", "2")
     assert single.exit_code == 0, single.output
-    assert single.stdout.strip() == str(tmp_path / "hswl.fmu")
+    assert single.stdout.strip() == str(nested) and zipfile.is_zipfile(nested)
     assert single.stderr.strip() == ("hswl: a single-path line, exported as its line of one "
                                      "web (docs/fmu.md)")
 

@@ -54,6 +54,8 @@ def export_fmu(line: BranchedLine | Line | str | Path, path: str | Path, fmi: in
     them (``radius[unwind]``, not ``radius[unwind/web]``). Returns the path."""
     if fmi not in PLATFORM:
         raise ArgumentError(f"fmi: expected 2 or 3, got {fmi!r}")
+    out = Path(path)
+    out.parent.mkdir(parents=True, exist_ok=True)  # (before minutes of compiling, not after)
     branched, single_path = load_general(line)
     if scenario is not None:
         branched = branched.with_scenario(scenario)
@@ -82,7 +84,6 @@ def export_fmu(line: BranchedLine | Line | str | Path, path: str | Path, fmi: in
     obj = loop_object(plan, arrays, substeps,
                       cache=Path(numba.config.CACHE_DIR) / "fmu")  # type: ignore[attr-defined]
     ident = _identifier(name)
-    out = Path(path)
     with tempfile.TemporaryDirectory(prefix="webline-fmu-") as tmp:
         folder = Path(tmp)
         (folder / "loop.o").write_bytes(obj)
