@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 from webline.errors import ArgumentError
 from webline.line import Line
-from webline.spec.load import is_branched, parse_text_data, read_any, spec_from_dict
+from webline.spec.load import general_loop, is_branched, parse_text_data, read_any, spec_from_dict
 from webline.spec.schema import LineSpec
 
 if TYPE_CHECKING:
@@ -34,6 +34,8 @@ def load_line(
     ``ArgumentError`` for a ``source`` of another type."""
     if isinstance(source, Line):
         return source
+    if isinstance(source, LineSpec | dict | str | Path) and general_loop():
+        return _one_web(source)
     if isinstance(source, LineSpec):
         return Line(source)
     if isinstance(source, dict):
@@ -58,3 +60,17 @@ def load_line(
         f"line: expected a line, a line file path, a built-in line's name, "
         f"a dict or a line spec, got {type(source).__name__}"
     )
+
+
+def _one_web(source: LineSpec | dict[str, Any] | str | Path) -> BranchedLine:
+    """Under issue 33's migration switch: any line source as the general loop runs it."""
+    from webline.model.web_graph import branched_from_file, load_branched, one_web_line
+
+    if isinstance(source, LineSpec):
+        return one_web_line(source.model_dump(exclude_none=True), None, "<python>")
+    if isinstance(source, dict):
+        return (load_branched(source) if is_branched(source)
+                else one_web_line(source, None, "<dict>"))
+    data, text, label = read_any(source)
+    return (branched_from_file(data, text, label) if is_branched(data)
+            else one_web_line(data, text, label))

@@ -3,17 +3,15 @@
 
 from __future__ import annotations
 
-import dataclasses
 from pathlib import Path
 from typing import Any
 
 from webline.errors import ArgumentError
 from webline.line import Line
 from webline.model.lines import load_line
-from webline.model.web_graph import BranchedLine, branched_from_file, load_branched
+from webline.model.web_graph import BranchedLine, branched_from_file, one_web_line
 from webline.spec.branched.schema import BranchedLineSpec
 from webline.spec.load import is_branched, read_any
-from webline.spec.one_web import one_web_spec
 from webline.spec.schema import LineSpec
 
 
@@ -26,7 +24,9 @@ def load_one_web(source: Line | LineSpec | str | Path | dict[str, Any]) -> Branc
     text = None
     if isinstance(source, str | Path):
         data, text, label = read_any(source)
-        return _one_web(data, text, label)
+        return one_web_line(data, text, label)
+    if isinstance(source, BranchedLine) and source.single_path is not None:
+        return source
     if isinstance(source, Line):
         data, label = source.spec.model_dump(exclude_none=True), source.source
     elif isinstance(source, LineSpec):
@@ -36,7 +36,7 @@ def load_one_web(source: Line | LineSpec | str | Path | dict[str, Any]) -> Branc
     else:
         raise ArgumentError(f"line: expected a single-path line, its spec, a dict, a line "
                             f"file path or a built-in line's name, got {type(source).__name__}")
-    return _one_web(data, text, label)
+    return one_web_line(data, text, label)
 
 
 def load_general(source: BranchedLine | BranchedLineSpec | Line | LineSpec | str | Path
@@ -48,10 +48,8 @@ def load_general(source: BranchedLine | BranchedLineSpec | Line | LineSpec | str
         data, text, label = read_any(source)
         if is_branched(data):
             return branched_from_file(data, text, label), False
-        return _one_web(data, text, label), True
+        return one_web_line(data, text, label), True
     line = load_line(source)
-    return (line, False) if line.branched else (load_one_web(line), True)
-
-
-def _one_web(data: dict[str, Any], text: str | None, label: str) -> BranchedLine:
-    return dataclasses.replace(load_branched(one_web_spec(data, label, text)), source=label)
+    if line.branched:
+        return line, line.single_path is not None
+    return load_one_web(line), True

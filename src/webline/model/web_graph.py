@@ -20,8 +20,14 @@ from webline.spec.branched.schema import BranchedLineSpec, RollChangeSpec, WebPa
 from webline.spec.branched.values import set_roll_radii, set_values
 from webline.spec.branched.winder import check_roll_inertias, wound_web
 from webline.spec.check import web_ea
-from webline.spec.load import branched_from_dict, is_branched, parse_branched, read_any
-from webline.spec.schema import DrivenSpec, IdleSpec, RewindSpec, UnwindSpec
+from webline.spec.load import (
+    branched_from_dict,
+    general_loop,
+    is_branched,
+    parse_branched,
+    read_any,
+)
+from webline.spec.schema import DrivenSpec, IdleSpec, LineSpec, RewindSpec, UnwindSpec
 
 #: the notebook's view of a branched line, resolved by name when first displayed, as
 #: ``webline.line.HTML_VIEW`` is (this layer imports nothing of the report)
@@ -86,6 +92,8 @@ class BranchedLine:
     source: str = "<spec>"
     roll_change: RollChangeSpec | None = None
     scenario: str | None = field(default=None)
+    #: the single-path line this line of one web was read from (``spec.one_web``), or None
+    single_path: LineSpec | None = field(default=None, compare=False)
 
     @property
     def name(self) -> str:
@@ -316,8 +324,20 @@ def load_branched(source: BranchedLine | BranchedLineSpec | str | Path | dict[st
         return _checked(BranchedLine(branched_from_dict(source, "<dict>"), "<dict>"))
     data, text, label = read_any(source)
     if not is_branched(data):
+        if general_loop():
+            return one_web_line(data, text, label)
         raise LineFileError(label, "webs", "not a branched line (no [[webs]])")
     return branched_from_file(data, text, label)
+
+
+def one_web_line(data: Mapping[str, Any], text: str | None, label: str) -> BranchedLine:
+    """The single-path line file ``data`` (read from ``text``, None for a dict) as a checked
+    line of one web (``spec.one_web``) labelled ``label``, which keeps its single-path spec.
+    Raises ``LineFileError`` at the single-path file's keys."""
+    from webline.spec.one_web import one_web_specs
+
+    single_path, spec = one_web_specs(data, label, text)
+    return _checked(BranchedLine(spec, label, single_path=single_path))
 
 
 def branched_from_file(data: dict[str, Any], text: str, label: str) -> BranchedLine:

@@ -21,6 +21,7 @@ from webline.spec.source import (  # noqa: F401  (re-exported: callers import th
     MAX_FILE_BYTES,
     builtin_lines,
     file_is_branched,
+    general_loop,
     is_branched,
     parse_toml,
     read_any,

@@ -30,6 +30,7 @@ from webline.spec.locate import key_lines, locate
 
 if TYPE_CHECKING:
     from webline.spec.branched.schema import BranchedLineSpec
+    from webline.spec.schema import LineSpec
 
 #: the name of the one web of a single-path line read as a line of webs
 WEB = "web"
@@ -110,18 +111,26 @@ def one_web_data(data: Mapping[str, Any], file: str = "<dict>") -> dict[str, Any
 def one_web_spec(data: Mapping[str, Any], file: str = "<dict>", text: str | None = None
                  ) -> BranchedLineSpec:
     """The checked spec of the line of one web equivalent to the single-path line ``data``
+    (``one_web_specs``)."""
+    return one_web_specs(data, file, text)[1]
+
+
+def one_web_specs(data: Mapping[str, Any], file: str = "<dict>", text: str | None = None
+                  ) -> tuple[LineSpec, BranchedLineSpec]:
+    """The checked spec of the line of one web equivalent to the single-path line ``data``
     (a dict as read from TOML, or a dumped ``LineSpec``; ``text``: the file's text, for the
-    TOML line of a problem). The line is checked as a single-path line first, then its
-    translation (``one_web_data``) as a line of webs; either raises ``LineFileError``
-    naming ``file`` and each problem at the key the single-path file gives it."""
+    TOML line of a problem), with the single-path line's own spec. The line is checked as a
+    single-path line first, then its translation (``one_web_data``) as a line of webs;
+    either raises ``LineFileError`` naming ``file`` and each problem at the key the
+    single-path file gives it."""
     lines = key_lines(text) if text is not None else {}
     try:
-        spec_from_dict(data, file)  # a valid single-path line, named in its own keys
+        single_path = spec_from_dict(data, file)  # valid, its problems at its own keys
     except LineFileError as exc:
         raise LineFileError.of(file, [Problem(p.key, p.problem, p.line or locate(lines, p.key))
                                       for p in exc.problems]) from None
     try:
-        return branched_from_dict(one_web_data(data, file), file)
+        return single_path, branched_from_dict(one_web_data(data, file), file)
     except LineFileError as exc:  # the same problems, at the single-path file's keys
         problems = [Problem(chain_key(p.key), p.problem,
                             p.line or locate(lines, chain_key(p.key))) for p in exc.problems]

@@ -5,6 +5,7 @@ forks its report process first, then loads the line (issue 37)."""
 
 from __future__ import annotations
 
+import os
 import tomllib
 from importlib import resources
 from pathlib import Path
@@ -27,6 +28,13 @@ def builtin_lines() -> dict[str, str]:
             data = tomllib.loads(entry.read_text(encoding="utf-8"))
             lines[entry.name[:-5]] = str(data.get("description", "")).strip().split("\n")[0]
     return lines
+
+
+def general_loop() -> bool:
+    """Whether single-path lines load as lines of one web and run through the general loop:
+    issue 33's migration switch (``WEBLINE_GENERAL_LOOP=1``; docs/architecture.md, "Chain
+    lines on the general loop"), until it is the only way."""
+    return os.environ.get("WEBLINE_GENERAL_LOOP", "") not in ("", "0")
 
 
 def is_branched(data: Any) -> bool:
