@@ -51,6 +51,20 @@ def six_section_dict() -> dict:
     }
 
 
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Under issue 33's migration switch (``WEBLINE_GENERAL_LOOP=1``) a test of the chain
+    loop's own machinery is skipped: it goes with that loop (the ``chain_only`` marker)."""
+    from webline.spec.source import general_loop
+
+    if not general_loop():
+        return
+    for item in items:
+        mark = item.get_closest_marker("chain_only")
+        if mark is not None:
+            reason = mark.args[0] if mark.args else mark.kwargs.get("reason", "")
+            item.add_marker(pytest.mark.skip(reason=f"chain loop's machinery: {reason}"))
+
+
 @pytest.fixture(scope="session")
 def hswl() -> webline.Line:
     return webline.load_line("hswl")
