@@ -5,13 +5,15 @@ through the general (branched) loop (issue 33).
 
 Each loop runs ``--seconds`` of simulated time from its operating point (plant, sampled
 controllers, records: what a run costs) after a warm-up that compiles it; the best of
-``--repeat`` wall times, the loops alternated so that a busy spell hits all, divided by the
-ticks. The laminator is timed too, through the general loop: with ``--frozen`` each loop's
-cost now is set against the frozen tree's, measured alternately in the same run, and the
-load (``uptime``) printed with them. The general loop is timed at the sub-steps the one step
-rule gives it now (one, as the chain) and at the two its eigen-solve's 500.000000002 1/s
-gave it before (``sim.linear.steps``): the before/after of that rule in one run. The machine
-should be quiet.
+``--repeat`` CPU times of the running thread (``time.thread_time``: on a loaded box the
+time spent waiting for a core is left out; wall time there varied 4x run to run), the loops
+alternated so that a busy spell hits all, divided by the ticks. The laminator is timed
+too, through the general loop: with ``--frozen`` each loop's cost now is set against the
+frozen tree's, measured alternately in the same run, and the load (``uptime``) printed
+with them. The general loop is timed at the sub-steps the one step rule gives it now (one,
+as the chain) and at the two its eigen-solve's 500.000000002 1/s gave it before
+(``sim.linear.steps``): the before/after of that rule in one run. The machine should be
+quiet.
 """
 
 from __future__ import annotations
@@ -40,21 +42,21 @@ LAMINATOR = Path(webline.__file__).parent / "data" / "lines" / "laminator.toml"
 
 
 def chain_tick(seconds: float) -> tuple[float, int]:
-    """(wall time [s] of ``seconds`` of hswl through the chain's loop, sub-steps)."""
+    """(CPU time [s] per tick of ``seconds`` of hswl through the chain's loop, sub-steps)."""
     plan = compile_plan(webline.load_line("hswl"))
     substeps = choose_substeps(plan)
     x0, istate0 = equilibrium_plan_state(plan)
     slip = kernel.initial_slip(plan, x0)
     n_ticks = round(seconds / plan.dt)
     kernel.run(plan, x0, istate0, slip, 0, 100, substeps, 1, True)  # compile
-    started = time.perf_counter()
+    started = time.thread_time()
     kernel.run(plan, x0, istate0, slip, 0, n_ticks, substeps, 1, True)
-    return (time.perf_counter() - started) / n_ticks, substeps
+    return (time.thread_time() - started) / n_ticks, substeps
 
 
 def general_tick(seconds: float, substeps: int | None,
                  path: Path = ONE_WEB) -> tuple[float, int]:
-    """(wall time [s] per tick of the line file ``path`` (hswl as one web) through the general
+    """(CPU time [s] per tick of the line file ``path`` (hswl as one web) through the general
     loop, sub-steps)."""
     plan, point, steps = plan_and_step(load_branched(path), None, substeps)
     n_ticks = round(seconds / plan.dt)
@@ -62,7 +64,7 @@ def general_tick(seconds: float, substeps: int | None,
     def once(ticks: int) -> float:
         x, istate = start_state(plan, point)
         rec = new_records(ticks, 1, plan.n_x, plan.di.shape[0])
-        started = time.perf_counter()
+        started = time.thread_time()
         plan.run(
             x,
             istate,
@@ -76,14 +78,14 @@ def general_tick(seconds: float, substeps: int | None,
             1,
             True,
         )
-        return time.perf_counter() - started
+        return time.thread_time() - started
 
     once(100)  # compile
     return once(n_ticks) / n_ticks, steps
 
 
 def measure(seconds: float, repeat: int) -> dict[str, tuple[float, int]]:
-    """Best per-tick wall time [s] and sub-steps of each loop, alternated ``repeat`` times."""
+    """Best per-tick CPU time [s] and sub-steps of each loop, alternated ``repeat`` times."""
     best: dict[str, tuple[float, int]] = {}
     for _ in range(repeat):
         for name, run in (

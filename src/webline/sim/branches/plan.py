@@ -301,6 +301,7 @@ def _span_tables(line: BranchedLine) -> tuple[np.ndarray, np.ndarray, np.ndarray
         si[k, B.S_ARMA] = line.roll_of(span.a, span.web)
         si[k, B.S_ARMB] = line.roll_of(span.b, span.web)
         sf[k, B.SF_LENGTH] = span.length
+        sf[k, B.SF_INVLENGTH] = 1.0 / span.length
         sf[k, B.SF_EA] = line.materials[span.web].ea
         sf[k, B.SF_INVEA] = 1.0 / sf[k, B.SF_EA]
         if span.k > 0:

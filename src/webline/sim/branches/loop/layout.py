@@ -270,6 +270,10 @@ LF_COLS += 3
 O_SENSORS = O_EXACT + 1
 SF_TGAIN, SF_TOFFSET = SF_COLS, SF_COLS + 1
 SF_COLS += 2
+# span table (float): 1 / length [1/m], so that the plant multiplies where it would divide
+# each RK4 stage (as the chain's S_INVLENGTH; issue 33, the general loop's cost per tick)
+SF_INVLENGTH = SF_COLS
+SF_COLS += 1
 D_VSCALE, D_TDELAY, D_VDELAY = D_COLS, D_COLS + 1, D_COLS + 2
 D_COLS += 3
 I_TBUF = I_COLS
