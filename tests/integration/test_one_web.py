@@ -23,6 +23,17 @@ def one_web():
     return load_one_web("hswl")
 
 
+def test_one_web_takes_one_sub_step_at_the_unwinds_torque_lag(one_web):
+    """The general loop's fastest mode on hswl is the 500 1/s of its 2 ms torque lags (to
+    the eigen-solve's 1e-9: it gives 500.000000002), so the one step rule
+    (``sim.linear.steps``) takes one RK4 sub-step per 1 ms tick: the chain's count, and half
+    the work of the two it took before (issue 33)."""
+    plan, point, substeps = plan_and_step(one_web, None, None)
+    assert fastest_rate(plan, point) == pytest.approx(1.0 / 2e-3, rel=1e-9)
+    assert substeps == 1
+
+
+@pytest.mark.chain_only("test_one_web_takes_one_sub_step_at_the_unwinds_torque_lag")
 def test_one_web_takes_the_chains_sub_steps(one_web):
     """Both loops' fastest mode is the unwind's 500 1/s torque lag (1 / 2 ms); the branched
     eigen-solve rounds it to 500.000000002, which took two RK4 sub-steps per 1 ms tick
@@ -93,6 +104,8 @@ SENSORS = [
 ]
 
 
+@pytest.mark.chain_only("tests/integration/test_branch_sensors.py::"
+                        "test_an_encoder_scale_and_delays_act_on_a_branched_line")
 def test_one_web_reproduces_the_chain_with_encoder_scales_and_sensor_delays(one_web):
     """The same ``[[sensors]]`` on both lines over the tension step: the master's encoder
     scale moves the operating point's line speed (v_ref / 0.99), the process encoder's
