@@ -64,13 +64,10 @@ def load_line(
 
 def _one_web(source: LineSpec | dict[str, Any] | str | Path) -> BranchedLine:
     """Under issue 33's migration switch: any line source as the general loop runs it."""
-    from webline.model.web_graph import branched_from_file, load_branched, one_web_line
+    from webline.model.web_graph import general_from_file
 
     if isinstance(source, LineSpec):
-        return one_web_line(source.model_dump(exclude_none=True), None, "<python>")
+        return general_from_file(source.model_dump(exclude_none=True), None, "<python>")
     if isinstance(source, dict):
-        return (load_branched(source) if is_branched(source)
-                else one_web_line(source, None, "<dict>"))
-    data, text, label = read_any(source)
-    return (branched_from_file(data, text, label) if is_branched(data)
-            else one_web_line(data, text, label))
+        return general_from_file(source, None, "<dict>")
+    return general_from_file(*read_any(source))

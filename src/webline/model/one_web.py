@@ -9,7 +9,7 @@ from typing import Any
 from webline.errors import ArgumentError
 from webline.line import Line
 from webline.model.lines import load_line
-from webline.model.web_graph import BranchedLine, branched_from_file, one_web_line
+from webline.model.web_graph import BranchedLine, general_from_file, one_web_line
 from webline.spec.branched.schema import BranchedLineSpec
 from webline.spec.load import is_branched, read_any
 from webline.spec.schema import LineSpec
@@ -46,9 +46,7 @@ def load_general(source: BranchedLine | BranchedLineSpec | Line | LineSpec | str
     (``load_one_web``, True). Raises as ``load_line`` and ``load_one_web`` do."""
     if isinstance(source, str | Path):  # (read once: a problem keeps the file's line number)
         data, text, label = read_any(source)
-        if is_branched(data):
-            return branched_from_file(data, text, label), False
-        return one_web_line(data, text, label), True
+        return general_from_file(data, text, label), not is_branched(data)
     line = load_line(source)
     if line.branched:
         return line, line.single_path is not None

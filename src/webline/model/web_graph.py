@@ -323,11 +323,19 @@ def load_branched(source: BranchedLine | BranchedLineSpec | str | Path | dict[st
     if isinstance(source, dict):
         return _checked(BranchedLine(branched_from_dict(source, "<dict>"), "<dict>"))
     data, text, label = read_any(source)
-    if not is_branched(data):
-        if general_loop():
-            return one_web_line(data, text, label)
+    if not is_branched(data) and not general_loop():
         raise LineFileError(label, "webs", "not a branched line (no [[webs]])")
-    return branched_from_file(data, text, label)
+    return general_from_file(data, text, label)
+
+
+def general_from_file(data: dict[str, Any], text: str | None, label: str) -> BranchedLine:
+    """Any line file's ``data`` (read from ``text``, None for a dict) as the general loop runs
+    it: a file of ``[[webs]]`` as it is, a single-path file as its line of one web. The one
+    place that tells the two by the file's format."""
+    if is_branched(data):
+        return (branched_from_file(data, text, label) if text is not None
+                else _checked(BranchedLine(branched_from_dict(data, label), label)))
+    return one_web_line(data, text, label)
 
 
 def one_web_line(data: Mapping[str, Any], text: str | None, label: str) -> BranchedLine:
